@@ -1,1 +1,3 @@
-//! Placeholder: filled in by its own work item.
+//! The paper's model: the Jeffcott rotor with a preloaded snubber ring.
+pub mod free_flight;
+pub mod onset;

@@ -1,0 +1,286 @@
+//! The rotor's free flight in closed form.
+//!
+//! Out of contact each axis is a damped linear oscillator under the rotating out-of-balance.
+//! In complex notation $z = x + iy$:
+//!
+//! $$z'' + 2\nu_1 z' + z = e + B e^{i\theta(\tau)},\qquad \theta = \varphi_0 + \eta\tau,\quad
+//! B = \beta\eta^2.$$
+//!
+//! The particular solution is the circular orbit $z_p = e + Z e^{i\theta}$ with
+//! $Z = B/(1 - \eta^2 + 2i\nu_1\eta)$; the rest $w = z - z_p$ solves the homogeneous equation,
+//!
+//! $$w(\tau_0 + u) = e^{-\nu_1 u}\big(w_0\,c(u) + (w_0' + \nu_1 w_0)\,S(u)\big),$$
+//!
+//! with $c = \cos\omega_d u$, $S = \sin(\omega_d u)/\omega_d$, $\omega_d^2 = 1 - \nu_1^2$
+//! ($\cosh$/$\sinh$ when over-damped, $c = 1$, $S = u$ when critical).
+//!
+//! The energy $|w|^2 + |w'|^2$ of the homogeneous part never grows
+//! ($\tfrac{d}{d\tau}(|w|^2+|w'|^2) = -4\nu_1|w'|^2$), which gives the bounds that the contact
+//! search needs (see [`FreeFlight::bounds`]).
+
+use crate::params::Params;
+
+/// Complex number as `(re, im)`: only the few operations the closed form needs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct C(f64, f64);
+
+impl C {
+    fn mul(self, o: C) -> C {
+        C(self.0 * o.0 - self.1 * o.1, self.0 * o.1 + self.1 * o.0)
+    }
+    fn scale(self, k: f64) -> C {
+        C(self.0 * k, self.1 * k)
+    }
+    fn add(self, o: C) -> C {
+        C(self.0 + o.0, self.1 + o.1)
+    }
+    fn sub(self, o: C) -> C {
+        C(self.0 - o.0, self.1 - o.1)
+    }
+    fn norm2(self) -> f64 {
+        self.0 * self.0 + self.1 * self.1
+    }
+}
+
+/// The rotor's closed-form free-flight oscillator for one parameter set.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FreeOscillator {
+    nu1: f64,
+    eta: f64,
+    phi0: f64,
+    e: C,
+    /// Forcing amplitude $B = \beta\eta^2$.
+    amp: f64,
+    /// Complex amplitude $Z$ of the particular solution.
+    z: C,
+    /// $\omega_d^2 = 1 - \nu_1^2$ (negative when over-damped).
+    wd2: f64,
+    wd: f64,
+}
+
+/// Rotor state `[x, y, x', y']`.
+pub type RotorState = [f64; 4];
+
+impl FreeOscillator {
+    /// Builds the oscillator from (already validated) parameters.
+    pub fn new(p: &Params) -> Self {
+        let b = p.forcing_amplitude();
+        let den = C(1.0 - p.eta * p.eta, 2.0 * p.nu1 * p.eta);
+        let inv = den.norm2().recip();
+        let z = C(b * den.0 * inv, -b * den.1 * inv);
+        let wd2 = 1.0 - p.nu1 * p.nu1;
+        Self {
+            nu1: p.nu1,
+            eta: p.eta,
+            phi0: p.phi0,
+            e: C(p.ex, p.ey),
+            amp: b,
+            z,
+            wd2,
+            wd: wd2.abs().sqrt(),
+        }
+    }
+
+    /// Radius $|Z|$ of the particular (steady-state) circular orbit about $e$.
+    pub fn steady_radius(&self) -> f64 {
+        self.z.norm2().sqrt()
+    }
+
+    /// Particular solution (position, velocity) at time `t`, and the forcing phasor
+    /// $e^{i\theta(t)}$.
+    fn particular(&self, t: f64) -> (C, C, C) {
+        let (s, c) = (self.phi0 + self.eta * t).sin_cos();
+        let p = self.z.mul(C(c, s));
+        (self.e.add(p), C(-p.1, p.0).scale(self.eta), C(c, s))
+    }
+
+    /// $(c(u), S(u))$ of the homogeneous solution.
+    fn cs(&self, u: f64) -> (f64, f64) {
+        let a = self.wd * u;
+        if a.abs() < 1e-4 {
+            // Series in wd2 u^2: exact to rounding for the tiny arguments where the
+            // closed forms lose digits (critical damping).
+            let q = self.wd2 * u * u;
+            (
+                1.0 - q / 2.0 + q * q / 24.0,
+                u * (1.0 - q / 6.0 + q * q / 120.0),
+            )
+        } else if self.wd2 > 0.0 {
+            let (s, c) = a.sin_cos();
+            (c, s / self.wd)
+        } else {
+            (a.cosh(), a.sinh() / self.wd)
+        }
+    }
+
+    /// Starts a free-flight segment at time `t0` from rotor state `y0`.
+    pub fn segment(&self, t0: f64, y0: &RotorState) -> FreeFlight {
+        let (zp, vp, _) = self.particular(t0);
+        let w0 = C(y0[0], y0[1]).sub(zp);
+        let w0d = C(y0[2], y0[3]).sub(vp);
+        FreeFlight {
+            osc: *self,
+            t0,
+            w0,
+            b: w0d.add(w0.scale(self.nu1)),
+            energy_sqrt: (w0.norm2() + w0d.norm2()).sqrt(),
+        }
+    }
+}
+
+/// One free-flight segment: the exact rotor trajectory from `(t0, y0)` on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FreeFlight {
+    osc: FreeOscillator,
+    t0: f64,
+    w0: C,
+    /// $w_0' + \nu_1 w_0$.
+    b: C,
+    energy_sqrt: f64,
+}
+
+/// Bounds on the rotor's motion valid for every time after a segment's start.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MotionBounds {
+    /// Bound on $|r - e|$.
+    pub position: f64,
+    /// Bound on $|r'|$.
+    pub velocity: f64,
+    /// Bound on $|r''|$.
+    pub acceleration: f64,
+    /// Bound on $|r'''|$.
+    pub jerk: f64,
+}
+
+impl FreeFlight {
+    /// Start time of the segment.
+    pub fn start(&self) -> f64 {
+        self.t0
+    }
+
+    /// $|e|$: distance of the rotor's rest position from the ring's centre.
+    pub fn eccentricity_norm(&self) -> f64 {
+        self.osc.e.norm2().sqrt()
+    }
+
+    /// Exact rotor state `[x, y, x', y']` at time `t`.
+    pub fn state(&self, t: f64) -> RotorState {
+        self.state_accel(t).0
+    }
+
+    /// Exact rotor state and acceleration `[x'', y'']` at time `t`.
+    pub fn state_accel(&self, t: f64) -> (RotorState, [f64; 2]) {
+        let o = &self.osc;
+        let u = t - self.t0;
+        let (zp, vp, phasor) = o.particular(t);
+        let decay = (-o.nu1 * u).exp();
+        let (c, s) = o.cs(u);
+        let w = self.w0.scale(c).add(self.b.scale(s)).scale(decay);
+        // w' = e^{-nu u}((b - nu w0) c - (nu b + wd2 w0) S)
+        let wd = self
+            .b
+            .sub(self.w0.scale(o.nu1))
+            .scale(c)
+            .sub(self.b.scale(o.nu1).add(self.w0.scale(o.wd2)).scale(s))
+            .scale(decay);
+        let z = zp.add(w);
+        let v = vp.add(wd);
+        // z'' = B e^{i theta} - 2 nu z' - (z - e)
+        let acc = phasor
+            .scale(o.amp)
+            .sub(v.scale(2.0 * o.nu1))
+            .sub(z.sub(o.e));
+        ([z.0, z.1, v.0, v.1], [acc.0, acc.1])
+    }
+
+    /// Bounds on $|r-e|$, $|r'|$, $|r''|$, $|r'''|$ valid for all $t \ge t_0$: the particular
+    /// orbit is a circle of radius $|Z|$ run at speed $\eta$, and the homogeneous part's
+    /// energy $E_w = |w|^2 + |w'|^2$ is non-increasing, so $|w|, |w'| \le \sqrt{E_w}$,
+    /// $|w''| = |2\nu_1 w' + w| \le (1 + 2\nu_1)\sqrt{E_w}$ and
+    /// $|w'''| = |2\nu_1 w'' + w'| \le (1 + 2\nu_1(1 + 2\nu_1))\sqrt{E_w}$.
+    pub fn bounds(&self) -> MotionBounds {
+        let o = &self.osc;
+        let a = o.steady_radius();
+        let e = self.energy_sqrt;
+        let n2 = 2.0 * o.nu1;
+        MotionBounds {
+            position: a + e,
+            velocity: a * o.eta + e,
+            acceleration: a * o.eta * o.eta + (1.0 + n2) * e,
+            jerk: a * o.eta.powi(3) + (1.0 + n2 * (1.0 + n2)) * e,
+        }
+    }
+
+    /// The bounds from a later time `t` on (cheaper than a new segment: the homogeneous
+    /// energy at `t` is computed from the state there).
+    pub fn bounds_from(&self, t: f64, y: &RotorState) -> MotionBounds {
+        self.osc.segment(t, y).bounds()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::Preset;
+
+    /// Integrates the free oscillator with a tiny-step RK4 and compares with the closed form.
+    fn check(p: Params) {
+        let osc = FreeOscillator::new(&p);
+        let y0 = [0.3, -0.2, 0.5, 0.1];
+        let seg = osc.segment(0.7, &y0);
+        let f = |t: f64, y: &[f64; 4]| {
+            let b = p.forcing_amplitude();
+            let th = p.phi0 + p.eta * t;
+            [
+                y[2],
+                y[3],
+                b * th.cos() - 2.0 * p.nu1 * y[2] - (y[0] - p.ex),
+                b * th.sin() - 2.0 * p.nu1 * y[3] - (y[1] - p.ey),
+            ]
+        };
+        let mut y = y0;
+        let (mut t, h) = (0.7, 1e-3);
+        for _ in 0..5000 {
+            let k1 = f(t, &y);
+            let a = |k: &[f64; 4], c: f64| std::array::from_fn::<f64, 4, _>(|i| y[i] + c * k[i]);
+            let k2 = f(t + h / 2.0, &a(&k1, h / 2.0));
+            let k3 = f(t + h / 2.0, &a(&k2, h / 2.0));
+            let k4 = f(t + h, &a(&k3, h));
+            for i in 0..4 {
+                y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            }
+            t += h;
+        }
+        let ex = seg.state(t);
+        for i in 0..4 {
+            assert!((ex[i] - y[i]).abs() < 1e-10, "{i}: {} vs {}", ex[i], y[i]);
+        }
+        let (_, acc) = seg.state_accel(t);
+        let fy = f(t, &ex);
+        assert!((acc[0] - fy[2]).abs() < 1e-12 && (acc[1] - fy[3]).abs() < 1e-12);
+    }
+
+    #[test]
+    fn closed_form_matches_integration_in_every_damping_case() {
+        let base = Preset::Fig10b.params();
+        check(base);
+        check(Params { nu1: 0.0, ..base });
+        check(Params { nu1: 1.0, ..base });
+        check(Params { nu1: 1.0 + 1e-9, ..base });
+        check(Params { nu1: 2.5, ..base });
+    }
+
+    #[test]
+    fn bounds_hold_along_the_trajectory() {
+        let p = Preset::Fig8a.params();
+        let seg = FreeOscillator::new(&p).segment(0.0, &[0.0; 4]);
+        let b = seg.bounds();
+        for k in 0..2000 {
+            let t = k as f64 * 0.01;
+            let (y, a) = seg.state_accel(t);
+            assert!((y[0] - p.ex).hypot(y[1] - p.ey) <= b.position);
+            assert!(y[2].hypot(y[3]) <= b.velocity);
+            assert!(a[0].hypot(a[1]) <= b.acceleration);
+        }
+    }
+}
