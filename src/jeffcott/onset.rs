@@ -162,13 +162,19 @@ pub fn find_onset(
         let q1 = Vector2::new(y[2] - sd.x, y[3] - sd.y);
         let q2 = Vector2::new(acc[0] - sdd.x, acc[1] - sdd.y);
         let mut h = q.norm_squared() - gap2;
-        let h1 = 2.0 * q.dot(&q1);
+        let mut h1 = 2.0 * q.dot(&q1);
         let h2 = 2.0 * q1.norm_squared() + 2.0 * q.dot(&q2);
         if first {
             // An onset that holds at the start (right after contact loss) does not fire again
             // unless h is moving into contact.
             first = false;
             if h.abs() <= eps_h {
+                // Right after contact loss h' is zero up to the loss time's rounding
+                // (h' = 2 gamma N / c exactly at N = 0). A positive h' whose excursion above
+                // zero, 2 h' / |h''|, is shorter than the time resolution is that rounding.
+                if h1 > 0.0 && h2 < 0.0 && 2.0 * h1 <= -h2 * 16.0 * f64::EPSILON * t.abs().max(1.0) {
+                    h1 = 0.0;
+                }
                 if h1 > 0.0 || (h1 == 0.0 && h2 > 0.0) {
                     return Onset::At(t);
                 }
