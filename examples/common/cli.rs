@@ -331,7 +331,14 @@ impl Cli {
     }
 
     /// [`Cli::try_usize_in`], exiting with status 2 on bad input.
-    pub fn usize_in(&mut self, name: &str, default: usize, lo: usize, hi: usize, help: &str) -> usize {
+    pub fn usize_in(
+        &mut self,
+        name: &str,
+        default: usize,
+        lo: usize,
+        hi: usize,
+        help: &str,
+    ) -> usize {
         let r = self.try_usize_in(name, default, lo, hi, help);
         self.or_exit(r)
     }

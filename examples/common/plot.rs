@@ -15,7 +15,9 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use plotters::coord::types::RangedCoordf64;
+use plotters::coord::ranged1d::{
+    KeyPointHint, KeyPointWeight, NoDefaultFormatting, Ranged, ValueFormatter,
+};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
@@ -263,7 +265,11 @@ pub fn viridis(t: f64) -> RGBColor {
         (109, 205, 89),
         (253, 231, 37),
     ];
-    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     let s = t * (STOPS.len() - 1) as f64;
     let i = (s.floor() as usize).min(STOPS.len() - 2);
     let f = s - i as f64;
@@ -278,10 +284,17 @@ enum Format {
 }
 
 fn format_of(path: &Path) -> Result<Format, PlotError> {
-    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase) {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+    {
         Some(e) if e == "png" => Ok(Format::Png),
         Some(e) if e == "svg" => Ok(Format::Svg),
-        _ => Err(perr(path, "the figure's file name must end in .png or .svg")),
+        _ => Err(perr(
+            path,
+            "the figure's file name must end in .png or .svg",
+        )),
     }
 }
 
@@ -391,7 +404,98 @@ fn tick_label(v: f64) -> String {
     }
 }
 
-type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+/// A linear axis (in plot coordinates: `log10` of the data on a log axis) with our own tick
+/// positions: multiples of 1, 2 or 5 × 10ᵏ computed from integers (so the end ticks are never
+/// lost to rounding), whole decades on log axes with minor lines at 2…9 × 10ᵏ.
+#[derive(Clone)]
+struct Axis {
+    lo: f64,
+    hi: f64,
+    log: bool,
+}
+
+/// The nice step (1, 2 or 5 × 10ᵏ) giving at most `max` ticks on `[lo, hi]`.
+fn nice_step(lo: f64, hi: f64, max: usize) -> f64 {
+    let span = (hi - lo).max(f64::MIN_POSITIVE);
+    let max = max.max(2) as f64;
+    let mut step = 10f64.powf((span / max).log10().floor());
+    for _ in 0..8 {
+        for m in [1.0, 2.0, 5.0] {
+            let s = step * m;
+            if (span / s).floor() + 1.0 <= max {
+                return s;
+            }
+        }
+        step *= 10.0;
+    }
+    span
+}
+
+/// Multiples of `step` inside `[lo, hi]`, each computed as `k · step`.
+fn multiples(lo: f64, hi: f64, step: f64) -> Vec<f64> {
+    let k0 = (lo / step - 1e-9).ceil() as i64;
+    let k1 = (hi / step + 1e-9).floor() as i64;
+    (k0..=k1.max(k0 - 1)).map(|k| k as f64 * step).collect()
+}
+
+impl Ranged for Axis {
+    type FormatOption = NoDefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, v: &f64, limit: (i32, i32)) -> i32 {
+        let f = (v - self.lo) / (self.hi - self.lo);
+        let px = limit.0 as f64 + f * (limit.1 - limit.0) as f64;
+        px.round().clamp(-1e7, 1e7) as i32
+    }
+
+    fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        let bold_max = hint.bold_points().max(2);
+        let mut bold = nice_step(self.lo, self.hi, bold_max);
+        if self.log && self.hi - self.lo >= 2.0 {
+            bold = bold.max(1.0).round();
+        }
+        if matches!(hint.weight(), KeyPointWeight::Bold) {
+            return multiples(self.lo, self.hi, bold);
+        }
+        if self.log && bold == 1.0 {
+            let mut out = Vec::new();
+            for k in (self.lo.floor() as i64)..=(self.hi.ceil() as i64) {
+                for m in 1..10 {
+                    let v = k as f64 + (m as f64).log10();
+                    if v >= self.lo && v <= self.hi {
+                        out.push(v);
+                    }
+                }
+            }
+            return out;
+        }
+        let minor = if (bold / 10f64.powf(bold.log10().floor()) - 2.0).abs() < 1e-9 {
+            bold / 4.0
+        } else {
+            bold / 5.0
+        };
+        multiples(self.lo, self.hi, minor)
+    }
+
+    fn range(&self) -> Range<f64> {
+        self.lo..self.hi
+    }
+}
+
+impl ValueFormatter<f64> for Axis {
+    fn format(value: &f64) -> String {
+        tick_label(*value)
+    }
+    fn format_ext(&self, value: &f64) -> String {
+        if self.log {
+            pow10_label(*value)
+        } else {
+            tick_label(*value)
+        }
+    }
+}
+
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
 
 /// Builds the axes, mesh, labels and reference marks.
 fn axes<'a, DB: DrawingBackend>(
@@ -410,8 +514,18 @@ fn axes<'a, DB: DrawingBackend>(
     if title {
         builder.caption(&fig.title, ("sans-serif", 28));
     }
+    let x_axis = Axis {
+        lo: xr.start,
+        hi: xr.end,
+        log: fig.log_x,
+    };
+    let y_axis = Axis {
+        lo: yr.start,
+        hi: yr.end,
+        log: fig.log_y,
+    };
     let mut chart = builder
-        .build_cartesian_2d(xr.clone(), yr.clone())
+        .build_cartesian_2d(x_axis, y_axis)
         .map_err(|e| e.to_string())?;
     let xf = |v: &f64| {
         if fig.log_x {
@@ -454,11 +568,14 @@ fn axes<'a, DB: DrawingBackend>(
             )))
             .map_err(|e| e.to_string())?;
         chart
-            .draw_series(std::iter::once(Text::new(
-                label.clone(),
-                (x, yr.end),
-                ("sans-serif", 15).into_font().color(&mark_colour),
-            )))
+            .draw_series(std::iter::once(
+                EmptyElement::at((x, yr.end))
+                    + Text::new(
+                        label.clone(),
+                        (4, 4),
+                        ("sans-serif", 16).into_font().color(&mark_colour),
+                    ),
+            ))
             .map_err(|e| e.to_string())?;
     }
     Ok(chart)
@@ -481,15 +598,19 @@ fn draw_dots<DB: DrawingBackend>(
         let (a, b) = (-(s / 2), s - s / 2);
         chart
             .draw_series(
-                pts.iter()
-                    .map(|&p| EmptyElement::at(p) + Rectangle::new([(a, a), (b, b)], style.filled())),
+                pts.iter().map(|&p| {
+                    EmptyElement::at(p) + Rectangle::new([(a, a), (b, b)], style.filled())
+                }),
             )
             .map_err(|e| e.to_string())?;
     }
     Ok(())
 }
 
-fn draw_legend<DB: DrawingBackend>(chart: &mut Chart<'_, DB>, fig: &Figure) -> Result<(), String> {
+fn draw_legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+    fig: &Figure,
+) -> Result<(), String> {
     chart
         .configure_series_labels()
         .position(fig.legend.clone())
@@ -522,7 +643,9 @@ fn draw_points_chart<DB: DrawingBackend>(
                 .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
                 .map_err(|e| e.to_string())?
                 .label(label)
-                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 10, y + 5)], colour.filled()));
+                .legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 5), (x + 10, y + 5)], colour.filled())
+                });
         }
     }
     if labels.iter().any(|l| !l.is_empty()) {
@@ -535,7 +658,11 @@ fn draw_points_chart<DB: DrawingBackend>(
 ///
 /// Meant for hundreds of thousands of points; use `fig.with_dots(1, 0.6)` for very dense
 /// diagrams. Writes `path` and the CSV (`fig.x_column`, `fig.y_column`).
-pub fn bifurcation(path: impl AsRef<Path>, fig: &Figure, points: &[(f64, f64)]) -> Result<(), PlotError> {
+pub fn bifurcation(
+    path: impl AsRef<Path>,
+    fig: &Figure,
+    points: &[(f64, f64)],
+) -> Result<(), PlotError> {
     let path = path.as_ref();
     let mapped: Vec<(f64, f64)> = points.iter().filter_map(|&p| fig.map(p)).collect();
     on_backend!(
@@ -560,7 +687,11 @@ pub fn scatter(path: impl AsRef<Path>, fig: &Figure, series: &[Series]) -> Resul
         .map(|s| s.points.iter().filter_map(|&p| fig.map(p)).collect())
         .collect();
     let labels: Vec<&str> = series.iter().map(|s| s.label.as_str()).collect();
-    on_backend!(path, fig.size, draw_points_chart(fig, &mapped, &labels, None))?;
+    on_backend!(
+        path,
+        fig.size,
+        draw_points_chart(fig, &mapped, &labels, None)
+    )?;
     write_series_csv(path, fig, series)
 }
 
@@ -581,38 +712,56 @@ fn write_series_csv(path: &Path, fig: &Figure, series: &[Series]) -> Result<(), 
 }
 
 /// Splits a polyline (already in plot coordinates, `None` = undrawable point) into pieces at
-/// undrawable points and at steps longer than `max_jump` of the normalised diagonal.
+/// undrawable points and at steps longer than `max_jump` of the normalised diagonal. Points
+/// closer than `min_step` (normalised) to the last kept point are skipped, except the last
+/// point of each piece, so dense curves are not drawn as a pile of tiny thick segments.
 fn split_curve(
     pts: &[Option<(f64, f64)>],
     max_jump: Option<f64>,
+    min_step: f64,
     xr: &Range<f64>,
     yr: &Range<f64>,
 ) -> Vec<Vec<(f64, f64)>> {
     let (w, h) = (xr.end - xr.start, yr.end - yr.start);
+    let dist = |a: (f64, f64), b: (f64, f64)| {
+        let dx = (a.0 - b.0) / w;
+        let dy = (a.1 - b.1) / h;
+        (dx * dx + dy * dy).sqrt()
+    };
     let mut pieces = Vec::new();
     let mut cur: Vec<(f64, f64)> = Vec::new();
+    // The previous point, if it was skipped (not yet in `cur`).
+    let mut pending: Option<(f64, f64)> = None;
+    let mut prev: Option<(f64, f64)> = None;
+    let close = |cur: &mut Vec<(f64, f64)>,
+                 pending: &mut Option<(f64, f64)>,
+                 pieces: &mut Vec<Vec<(f64, f64)>>| {
+        cur.extend(pending.take());
+        if !cur.is_empty() {
+            pieces.push(std::mem::take(cur));
+        }
+    };
     for p in pts {
-        match *p {
-            None => {
-                if !cur.is_empty() {
-                    pieces.push(std::mem::take(&mut cur));
-                }
+        let Some(q) = *p else {
+            close(&mut cur, &mut pending, &mut pieces);
+            prev = None;
+            continue;
+        };
+        if let Some(pr) = prev {
+            if max_jump.is_some_and(|limit| dist(q, pr) > limit * std::f64::consts::SQRT_2) {
+                close(&mut cur, &mut pending, &mut pieces);
             }
-            Some(q) => {
-                if let (Some(&last), Some(limit)) = (cur.last(), max_jump) {
-                    let dx = (q.0 - last.0) / w;
-                    let dy = (q.1 - last.1) / h;
-                    if (dx * dx + dy * dy).sqrt() > limit * std::f64::consts::SQRT_2 {
-                        pieces.push(std::mem::take(&mut cur));
-                    }
-                }
+        }
+        prev = Some(q);
+        match cur.last() {
+            Some(&last) if dist(q, last) < min_step => pending = Some(q),
+            _ => {
+                pending = None;
                 cur.push(q);
             }
         }
     }
-    if !cur.is_empty() {
-        pieces.push(cur);
-    }
+    close(&mut cur, &mut pending, &mut pieces);
     pieces
 }
 
@@ -632,7 +781,8 @@ fn draw_lines_chart<DB: DrawingBackend>(
     for (i, (s, pts)) in series.iter().zip(&mapped).enumerate() {
         let colour = series_colour(i);
         let style = colour.stroke_width(2);
-        let pieces = split_curve(pts, fig.max_jump, &xr, &yr);
+        let min_step = 1.5 / f64::from(fig.size.0.max(fig.size.1).max(1));
+        let pieces = split_curve(pts, fig.max_jump, min_step, &xr, &yr);
         let mut labelled = s.label.is_empty();
         for piece in pieces {
             let ann = chart
@@ -642,7 +792,8 @@ fn draw_lines_chart<DB: DrawingBackend>(
                 labelled = true;
                 let marker = fig.markers;
                 ann.label(s.label.as_str()).legend(move |(x, y)| {
-                    let line = PathElement::new(vec![(x - 4, y), (x + 20, y)], colour.stroke_width(3));
+                    let line =
+                        PathElement::new(vec![(x - 4, y), (x + 20, y)], colour.stroke_width(3));
                     let dot = Circle::new((x + 8, y), if marker { 4 } else { 0 }, colour.filled());
                     EmptyElement::at((0, 0)) + line + dot
                 });
@@ -696,13 +847,20 @@ fn draw_heatmap_chart<DB: DrawingBackend>(
 ) -> Result<(), String> {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
     let body = root
+        .margin(8, 0, 0, 0)
         .titled(&fig.title, ("sans-serif", 28))
         .map_err(|e| e.to_string())?;
     let (w, _) = body.dim_in_pixel();
     let (main, bar) = body.split_horizontally(w.saturating_sub(170));
     let (ex, ey) = (edges(&grid.xs), edges(&grid.ys));
-    let xr = auto_range(ex.iter().copied(), fig.x_range.or(Some((ex[0], ex[ex.len() - 1]))));
-    let yr = auto_range(ey.iter().copied(), fig.y_range.or(Some((ey[0], ey[ey.len() - 1]))));
+    let xr = auto_range(
+        ex.iter().copied(),
+        fig.x_range.or(Some((ex[0], ex[ex.len() - 1]))),
+    );
+    let yr = auto_range(
+        ey.iter().copied(),
+        fig.y_range.or(Some((ey[0], ey[ey.len() - 1]))),
+    );
     let mut chart = axes(&main, fig, xr, yr, false)?;
     let nx = grid.xs.len();
     let colour = |v: f64| {
@@ -729,8 +887,19 @@ fn draw_heatmap_chart<DB: DrawingBackend>(
         .margin(12)
         .margin_left(8)
         .x_label_area_size(62)
-        .right_y_label_area_size(110)
-        .build_cartesian_2d(0.0..1.0, zr.clone())
+        .right_y_label_area_size(95)
+        .build_cartesian_2d(
+            Axis {
+                lo: 0.0,
+                hi: 1.0,
+                log: false,
+            },
+            Axis {
+                lo: zr.start,
+                hi: zr.end,
+                log: false,
+            },
+        )
         .map_err(|e| e.to_string())?;
     let steps = 256;
     let dz = (zr.end - zr.start) / steps as f64;
@@ -739,18 +908,27 @@ fn draw_heatmap_chart<DB: DrawingBackend>(
         Rectangle::new([(0.0, z0), (1.0, z0 + dz)], colour(z0 + 0.5 * dz).filled())
     }))
     .map_err(|e| e.to_string())?;
-    let zf = |v: &f64| tick_label(*v);
+    // The mesh draws only the axis and its title; ticks and labels are ours, so that they
+    // sit clear of the bar.
+    let blank = |_: &f64| String::new();
     cb.configure_mesh()
         .disable_x_mesh()
         .disable_y_mesh()
         .disable_x_axis()
         .y_desc(bar_label)
-        .y_label_formatter(&zf)
+        .y_label_formatter(&blank)
         .axis_desc_style(("sans-serif", 22))
-        .label_style(("sans-serif", 18))
-        .y_labels(8)
+        .y_labels(2)
         .draw()
         .map_err(|e| e.to_string())?;
+    let font = ("sans-serif", 18).into_font();
+    for v in multiples(zr.start, zr.end, nice_step(zr.start, zr.end, 8)) {
+        let (px, py) = cb.backend_coord(&(1.0, v));
+        root.draw(&PathElement::new(vec![(px, py), (px + 7, py)], BLACK))
+            .map_err(|e| e.to_string())?;
+        root.draw(&Text::new(tick_label(v), (px + 11, py - 9), font.clone()))
+            .map_err(|e| e.to_string())?;
+    }
     Ok(())
 }
 

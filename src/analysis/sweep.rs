@@ -205,7 +205,7 @@ impl StderrProgress {
             "{}: {done}/{total} ({pct:.1} %), {elapsed:.1} s elapsed",
             self.label
         );
-        if done > 0 && done < total {
+        if done > 0 && done < total && elapsed >= 1.0 {
             let left = elapsed * (total - done) as f64 / done as f64;
             s.push_str(&format!(", ~{left:.0} s left"));
         }
