@@ -150,7 +150,7 @@ fn main() {
         x += v * dt;
         if x < 0.0 {
             x = -x;
-            v = -e * v;
+            v *= -e;
         }
         ball.push((x, v));
     }

@@ -343,7 +343,7 @@ fn auto_range(values: impl Iterator<Item = f64>, fixed: Option<(f64, f64)>) -> R
         return 0.0..1.0;
     }
     if hi - lo <= 1e-12 * (1.0 + lo.abs()) {
-        let pad = 0.5 * (1.0 + lo.abs()).min(1.0).max(1e-3);
+        let pad = if lo == 0.0 { 0.5 } else { 0.1 * lo.abs() };
         return lo - pad..hi + pad;
     }
     let pad = 0.03 * (hi - lo);
@@ -951,13 +951,20 @@ pub fn heatmap(
             ),
         ));
     }
-    let zr = auto_range(grid.values.iter().copied(), grid.z_range);
-    // The colour bar spans exactly the data (no padding) unless a range is given.
+    // The colour bar spans exactly the finite values (no padding) unless a range is given.
     let zr = match grid.z_range {
-        Some(_) => zr,
-        None => {
-            let pad = (zr.end - zr.start) / 1.06 * 0.03;
-            zr.start + pad..zr.end - pad
+        Some((a, b)) if a.is_finite() && b.is_finite() && a < b => a..b,
+        _ => {
+            let finite = grid.values.iter().copied().filter(|v| v.is_finite());
+            let lo = finite.clone().fold(f64::INFINITY, f64::min);
+            let hi = finite.fold(f64::NEG_INFINITY, f64::max);
+            if !lo.is_finite() {
+                0.0..1.0
+            } else if hi > lo {
+                lo..hi
+            } else {
+                lo - 0.5..hi + 0.5
+            }
         }
     };
     on_backend!(path, fig.size, draw_heatmap_chart(fig, grid, zr, bar_label))?;
