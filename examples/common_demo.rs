@@ -38,7 +38,7 @@ fn main() {
         "state carried from value to value, or reset",
     );
     let chunks = cli.usize_in("chunks", 8, 1, 100_000, "contiguous chunks in carry mode");
-    let threads = cli.opt_usize_in("threads", 1, 1024, "worker threads (default: all cores)");
+    let threads = cli.opt_usize_in("threads", 1, 1024, "worker threads, unset = all cores");
     let format = cli.choice(
         "lines-format",
         "png",

@@ -1,7 +1,6 @@
 //! The examples' CSV and figure helpers (`examples/common/`): files appear, numbers round-trip,
 //! awkward data (empty, NaN, constant, non-positive on log axes) draws without panicking.
 
-#[allow(dead_code)]
 #[path = "../examples/common/mod.rs"]
 mod common;
 

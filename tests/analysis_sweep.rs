@@ -204,6 +204,19 @@ fn progress_is_called_once_per_value() {
         seen.sort_unstable();
         assert_eq!(seen, (1..=40).collect::<Vec<_>>());
     }
+    // A closure observer.
+    let calls = AtomicUsize::new(0);
+    let count = |_: usize, _: usize| {
+        calls.fetch_add(1, Ordering::Relaxed);
+    };
+    sweep(
+        &p,
+        &SweepConfig::carry_over(3).with_threads(2),
+        logistic,
+        Some(&count),
+    )
+    .unwrap();
+    assert_eq!(calls.load(Ordering::Relaxed), 40);
     // The no-op observer and the stderr line from two threads.
     sweep(
         &p,

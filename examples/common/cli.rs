@@ -220,7 +220,7 @@ impl Cli {
         help: &str,
     ) -> Result<Option<usize>, String> {
         let help = format!("{help} (range {lo} to {hi})");
-        match self.raw(name, "count", "none".to_string(), help)? {
+        match self.raw(name, "count", "unset".to_string(), help)? {
             None => Ok(None),
             Some(v) => {
                 let x = parse_usize(name, &v)?;

@@ -9,7 +9,8 @@
 //!
 //! It receives the parameter value and, optionally, the state `S` left by the previous value;
 //! it returns what to record (`T`) and the state to hand on, or an error `E`. `None` means
-//! "start from your reset state" (for the rotor: zero initial conditions).
+//! "start from your reset state" (for the rotor: zero initial conditions); a runner that needs
+//! a longer transient after a reset can tell from the `None`.
 //!
 //! # Modes
 //!
@@ -159,6 +160,13 @@ pub trait Progress: Sync {
 
 impl Progress for () {
     fn update(&self, _done: usize, _total: usize) {}
+}
+
+/// Any `Fn(done, total)` closure is an observer.
+impl<F: Fn(usize, usize) + Sync> Progress for F {
+    fn update(&self, done: usize, total: usize) {
+        self(done, total)
+    }
 }
 
 /// A progress line on standard error: `label: 37/150 (24.7 %), 3.2 s elapsed, ~10 s left`.
