@@ -107,7 +107,7 @@ fn main() {
     )
     .with_columns("r", "x")
     .with_size(1600, 1000)
-    .with_dots(1, 0.5)
+    .with_dots(0, 0.6)
     .with_mark(3.0, "r = 3")
     .with_mark(1.0 + 6f64.sqrt(), "1 + √6")
     .with_mark(1.0 + 8f64.sqrt(), "1 + √8");
@@ -136,7 +136,6 @@ fn main() {
     )
     .with_columns("theta", "p")
     .with_size(1200, 1000)
-    .with_dots(2, 0.9)
     .with_x_range(0.0, TAU)
     .with_y_range(0.0, TAU);
     common::or_exit(plot::scatter(out.join("scatter.png"), &fig, &series));

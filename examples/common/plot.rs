@@ -89,7 +89,8 @@ pub struct Figure {
     pub log_x: bool,
     /// Logarithmic y axis.
     pub log_y: bool,
-    /// Side of the square dot in pixels for point plots (default 2; 1 is a single pixel).
+    /// Side of the square dot in pixels for point plots; 1 is a single pixel. 0 (default)
+    /// chooses from the number of points: 3 below 20 000 points, 2 below 300 000, else 1.
     pub dot: u32,
     /// Opacity of dots (default 0.8); lower it to show density in crowded plots.
     pub dot_alpha: f64,
@@ -118,7 +119,7 @@ impl Figure {
             y_range: None,
             log_x: false,
             log_y: false,
-            dot: 2,
+            dot: 0,
             dot_alpha: 0.8,
             markers: false,
             max_jump: None,
@@ -153,9 +154,9 @@ impl Figure {
         self.log_y = log_y;
         self
     }
-    /// Dot size (pixels) and opacity for point plots.
+    /// Dot size (pixels; 0 = automatic) and opacity for point plots.
     pub fn with_dots(mut self, side: u32, alpha: f64) -> Self {
-        self.dot = side.max(1);
+        self.dot = side;
         self.dot_alpha = alpha.clamp(0.05, 1.0);
         self
     }
@@ -633,9 +634,15 @@ fn draw_points_chart<DB: DrawingBackend>(
     let all: Vec<(f64, f64)> = series.iter().flatten().copied().collect();
     let (xr, yr) = ranges(fig, &all);
     let mut chart = axes(root, fig, xr, yr, true)?;
+    let side = match fig.dot {
+        0 if all.len() < 20_000 => 3,
+        0 if all.len() < 300_000 => 2,
+        0 => 1,
+        s => s,
+    };
     for (i, pts) in series.iter().enumerate() {
         let colour = single_colour.unwrap_or_else(|| series_colour(i));
-        draw_dots(&mut chart, pts, colour, fig.dot, fig.dot_alpha)?;
+        draw_dots(&mut chart, pts, colour, side, fig.dot_alpha)?;
         let label = labels.get(i).copied().unwrap_or("");
         if !label.is_empty() {
             // An empty series carries the legend entry (dots have no legend of their own).
@@ -656,8 +663,8 @@ fn draw_points_chart<DB: DrawingBackend>(
 
 /// A bifurcation diagram: `points` are `(parameter, value)` pairs, drawn as small dark dots.
 ///
-/// Meant for hundreds of thousands of points; use `fig.with_dots(1, 0.6)` for very dense
-/// diagrams. Writes `path` and the CSV (`fig.x_column`, `fig.y_column`).
+/// Meant for up to hundreds of thousands of points; the dot size adapts to the number of
+/// points unless set with `fig.with_dots`. Writes `path` and the CSV (`fig.x_column`, `fig.y_column`).
 pub fn bifurcation(
     path: impl AsRef<Path>,
     fig: &Figure,
