@@ -32,6 +32,10 @@ fn linear_and_hermite_find_the_crossings() {
     assert_eq!(fall.len(), 2);
     assert!(fall.iter().all(|c| !c.rising));
     assert!((fall[0].t - PI).abs() < 1e-3);
+    let fall_h = section_crossings_hermite(&t, &x, &d, |_, s| s[1], Direction::Falling).unwrap();
+    assert_eq!(fall_h.len(), 2);
+    assert!((fall_h[0].t - PI).abs() < 1e-6 && (fall_h[1].t - 3.0 * PI).abs() < 1e-6);
+    assert!((fall_h[0].state[0] + 1.0).abs() < 1e-6);
     let both = section_crossings(&t, &x, |_, s| s[1], Direction::Both).unwrap();
     assert_eq!(both.len(), 4);
     assert!(both.windows(2).all(|w| w[0].t < w[1].t));
