@@ -1,0 +1,26 @@
+//! Infrastructure shared by the examples: command-line flags, CSV output, figures.
+//!
+//! Each example includes this folder with
+//!
+//! ```ignore
+//! #[path = "common/mod.rs"]
+//! mod common;
+//! ```
+//!
+//! Not every example uses every helper, hence the `dead_code` allowance.
+#![allow(dead_code)]
+
+pub mod cli;
+pub mod csv;
+pub mod plot;
+
+use std::fmt::Display;
+
+/// Unwraps `r`, or prints `error: {e}` on stderr and exits with status 1 (a failure while
+/// running, as opposed to a bad command line, which exits with status 2).
+pub fn or_exit<T, E: Display>(r: Result<T, E>) -> T {
+    r.unwrap_or_else(|e| {
+        eprintln!("error: {e}");
+        std::process::exit(1)
+    })
+}

@@ -1,0 +1,92 @@
+//! The error type shared by the analysis layer.
+
+use thiserror::Error;
+
+/// What went wrong in an analysis routine.
+///
+/// Every variant names the offending argument and carries its value, so the message alone says
+/// what to fix. New variants may be added in minor releases.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum AnalysisError {
+    /// A real-valued argument is NaN, infinite or outside its allowed range.
+    #[error("invalid {name} = {value}: expected {expected}")]
+    InvalidValue {
+        /// Name of the argument.
+        name: &'static str,
+        /// The value received.
+        value: f64,
+        /// What the argument must satisfy, in words.
+        expected: &'static str,
+    },
+    /// A count argument (a period bound, a number of chunks or threads) is out of range.
+    #[error("invalid {name} = {value}: expected {expected}")]
+    InvalidCount {
+        /// Name of the argument.
+        name: &'static str,
+        /// The value received.
+        value: usize,
+        /// What the argument must satisfy, in words.
+        expected: &'static str,
+    },
+    /// Too few samples to run the requested test.
+    #[error("too few samples: got {got}, need at least {needed} ({why})")]
+    TooFewSamples {
+        /// Number of samples received.
+        got: usize,
+        /// Minimum number of samples needed.
+        needed: usize,
+        /// Why that many are needed.
+        why: &'static str,
+    },
+    /// A sample (state vector) has a different length from the first one.
+    #[error("sample {index} has {found} components, but sample 0 has {expected}")]
+    DimensionMismatch {
+        /// Index of the offending sample.
+        index: usize,
+        /// Length of sample 0.
+        expected: usize,
+        /// Length of the offending sample.
+        found: usize,
+    },
+    /// A sample holds NaN or an infinity (a diverged trajectory, usually).
+    #[error("sample {index}, component {component} is not finite ({value}); did the trajectory diverge?")]
+    NonFiniteSample {
+        /// Index of the offending sample.
+        index: usize,
+        /// Index of the offending component within the sample.
+        component: usize,
+        /// The value found.
+        value: f64,
+    },
+    /// Two slices that must have the same length do not.
+    #[error("{first} has {first_len} entries but {second} has {second_len}; they must match")]
+    LengthMismatch {
+        /// Name of the first slice.
+        first: &'static str,
+        /// Its length.
+        first_len: usize,
+        /// Name of the second slice.
+        second: &'static str,
+        /// Its length.
+        second_len: usize,
+    },
+    /// Sample times are not strictly increasing.
+    #[error("times must increase strictly, but times[{index}] = {time} follows {previous}")]
+    TimesNotIncreasing {
+        /// Index of the offending time.
+        index: usize,
+        /// The time before it.
+        previous: f64,
+        /// The offending time.
+        time: f64,
+    },
+    /// The worker thread pool for a sweep could not be built.
+    #[error("could not build a pool of {threads} worker threads: {message}")]
+    ThreadPool {
+        /// Number of threads requested.
+        threads: usize,
+        /// The message of the underlying error.
+        message: String,
+    },
+}

@@ -1,0 +1,398 @@
+//! A parallel, deterministic parameter sweep.
+//!
+//! [`sweep`] runs a user-supplied *runner* once per parameter value and returns the results in
+//! parameter order. The runner has the signature
+//!
+//! ```text
+//! Fn(&P, Option<S>) -> Result<(T, S), E>
+//! ```
+//!
+//! It receives the parameter value and, optionally, the state `S` left by the previous value;
+//! it returns what to record (`T`) and the state to hand on, or an error `E`. `None` means
+//! "start from your reset state" (for the rotor: zero initial conditions); a runner that needs
+//! a longer transient after a reset can tell from the `None`.
+//!
+//! # Modes
+//!
+//! * [`SweepMode::Reset`]: every value starts from the reset state (the runner always gets
+//!   `None`). The values are independent and run in parallel, one task per value.
+//! * [`SweepMode::CarryOver`]: the state at the end of value `k` seeds value `k + 1`, as when a
+//!   physical experiment turns the speed up slowly. A chain is sequential by nature, so the list
+//!   is split into `chunks` contiguous chunks ([`chunk_ranges`]); each chunk starts from the
+//!   reset state and the chunks run in parallel. With `chunks = 1` the whole sweep is one chain
+//!   (serial); more chunks use more cores at the price of a fresh transient at each chunk start.
+//!
+//! # Determinism
+//!
+//! The chunk boundaries depend only on the number of values and on `chunks`, which the caller
+//! fixes; they never depend on the number of threads. Each value is computed by exactly one call
+//! of the runner, with inputs (the parameter and the carried state) that are themselves fixed by
+//! the parameter list and the mode. So if the runner is a deterministic function of its inputs,
+//! the results are **bitwise identical for any number of threads** (1, 2 or the whole machine),
+//! and they are returned in parameter order whatever order the threads finish in.
+//!
+//! # Failures
+//!
+//! A runner error at one value is recorded in that value's slot (`Err(e)`) and the sweep goes
+//! on. In carry-over mode there is no state to carry past a failure, so the **next value starts
+//! from the reset state** (the runner gets `None`), exactly as at a chunk start. A panic inside
+//! the runner is not caught: it propagates out of [`sweep`] (a panic is a bug, not a result).
+//!
+//! # Progress
+//!
+//! After each value a [`Progress`] observer, if given, is called with `(done, total)`. Calls come
+//! from the worker threads; each `done` in `1..=total` is reported exactly once, but not
+//! necessarily in increasing order. [`StderrProgress`] prints a throttled progress line.
+
+use std::io::{IsTerminal, Write};
+use std::ops::Range;
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+
+use super::AnalysisError;
+
+/// How successive parameter values are linked. See the [module docs](self).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum SweepMode {
+    /// Every value starts from the reset state; values run in parallel.
+    Reset,
+    /// The final state of each value seeds the next, within `chunks` contiguous chunks that each
+    /// start from the reset state and run in parallel.
+    CarryOver {
+        /// Number of contiguous chunks (at least 1). If larger than the number of values, each
+        /// value is its own chunk.
+        chunks: usize,
+    },
+}
+
+/// Settings of a [`sweep`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct SweepConfig {
+    /// How successive values are linked. Default: [`SweepMode::Reset`].
+    pub mode: SweepMode,
+    /// Number of worker threads. `None` (default) uses rayon's global pool (all cores, or
+    /// `RAYON_NUM_THREADS`); `Some(n)` builds a dedicated pool of `n ≥ 1` threads for this sweep.
+    /// The results do not depend on it.
+    pub threads: Option<usize>,
+}
+
+impl Default for SweepConfig {
+    fn default() -> Self {
+        SweepConfig {
+            mode: SweepMode::Reset,
+            threads: None,
+        }
+    }
+}
+
+impl SweepConfig {
+    /// Independent values ([`SweepMode::Reset`]) on the global pool.
+    pub fn reset() -> Self {
+        SweepConfig::default()
+    }
+
+    /// Carried-over state ([`SweepMode::CarryOver`]) in `chunks` chunks, on the global pool.
+    pub fn carry_over(chunks: usize) -> Self {
+        SweepConfig {
+            mode: SweepMode::CarryOver { chunks },
+            threads: None,
+        }
+    }
+
+    /// The same settings with a dedicated pool of `threads` worker threads.
+    pub fn with_threads(self, threads: usize) -> Self {
+        SweepConfig {
+            threads: Some(threads),
+            ..self
+        }
+    }
+}
+
+/// The results of a [`sweep`], in parameter order.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct SweepResult<T, E> {
+    /// One entry per parameter value, in the order of the parameter list.
+    pub results: Vec<Result<T, E>>,
+    /// The index ranges of the chains that were run: one per value in reset mode, the
+    /// [`chunk_ranges`] in carry-over mode. A chain restarts after a failure (not listed here).
+    pub chains: Vec<Range<usize>>,
+    /// Number of worker threads the sweep ran on (does not affect the results).
+    pub threads: usize,
+}
+
+impl<T, E> SweepResult<T, E> {
+    /// Number of values whose runner failed.
+    pub fn failure_count(&self) -> usize {
+        self.results.iter().filter(|r| r.is_err()).count()
+    }
+
+    /// The failed values, as `(index, error)` pairs in parameter order.
+    pub fn failures(&self) -> impl Iterator<Item = (usize, &E)> {
+        self.results
+            .iter()
+            .enumerate()
+            .filter_map(|(i, r)| r.as_ref().err().map(|e| (i, e)))
+    }
+
+    /// The successful values, as `(index, output)` pairs in parameter order.
+    pub fn successes(&self) -> impl Iterator<Item = (usize, &T)> {
+        self.results
+            .iter()
+            .enumerate()
+            .filter_map(|(i, r)| r.as_ref().ok().map(|t| (i, t)))
+    }
+}
+
+/// Observer of a sweep's progress. Object-safe; `()` does nothing.
+///
+/// Implementations are called concurrently from the worker threads, hence `Sync`.
+pub trait Progress: Sync {
+    /// Called once after each value finishes (successfully or not), with the number of values
+    /// finished so far and the total. Each `done` in `1..=total` is reported once, in no
+    /// guaranteed order.
+    fn update(&self, done: usize, total: usize);
+}
+
+impl Progress for () {
+    fn update(&self, _done: usize, _total: usize) {}
+}
+
+/// Any `Fn(done, total)` closure is an observer.
+impl<F: Fn(usize, usize) + Sync> Progress for F {
+    fn update(&self, done: usize, total: usize) {
+        self(done, total)
+    }
+}
+
+/// A progress line on standard error: `label: 37/150 (24.7 %), 3.2 s elapsed, ~10 s left`.
+///
+/// Prints at most once per `interval` (default 0.5 s), plus always when the last value
+/// finishes. On a terminal the line rewrites itself (`\r`); otherwise each update is a new
+/// line. Safe to call from many threads: the throttle is a lock-free atomic.
+#[derive(Debug)]
+pub struct StderrProgress {
+    label: String,
+    start: Instant,
+    interval: Duration,
+    /// Milliseconds since `start` of the last print, plus 1 (0 = never printed).
+    last_print_ms: AtomicU64,
+    finished: AtomicBool,
+    terminal: bool,
+}
+
+impl StderrProgress {
+    /// A progress line with the given label, printing at most every 0.5 s.
+    pub fn new(label: impl Into<String>) -> Self {
+        StderrProgress {
+            label: label.into(),
+            start: Instant::now(),
+            interval: Duration::from_millis(500),
+            last_print_ms: AtomicU64::new(0),
+            finished: AtomicBool::new(false),
+            terminal: std::io::stderr().is_terminal(),
+        }
+    }
+
+    /// The same line, printing at most once per `interval`.
+    pub fn with_interval(self, interval: Duration) -> Self {
+        StderrProgress { interval, ..self }
+    }
+
+    fn line(&self, done: usize, total: usize, elapsed: f64) -> String {
+        let pct = if total == 0 {
+            100.0
+        } else {
+            100.0 * done as f64 / total as f64
+        };
+        let mut s = format!(
+            "{}: {done}/{total} ({pct:.1} %), {elapsed:.1} s elapsed",
+            self.label
+        );
+        if done > 0 && done < total && elapsed >= 1.0 {
+            let left = elapsed * (total - done) as f64 / done as f64;
+            s.push_str(&format!(", ~{left:.0} s left"));
+        }
+        s
+    }
+}
+
+impl Progress for StderrProgress {
+    fn update(&self, done: usize, total: usize) {
+        let elapsed = self.start.elapsed();
+        let last = done >= total;
+        if last {
+            if self.finished.swap(true, Ordering::AcqRel) {
+                return;
+            }
+        } else {
+            let now = u64::try_from(elapsed.as_millis())
+                .unwrap_or(u64::MAX - 1)
+                .saturating_add(1);
+            let prev = self.last_print_ms.load(Ordering::Acquire);
+            let gap = u64::try_from(self.interval.as_millis()).unwrap_or(u64::MAX);
+            if prev != 0 && now.saturating_sub(prev) < gap {
+                return;
+            }
+            // Only the thread that wins the exchange prints.
+            if self
+                .last_print_ms
+                .compare_exchange(prev, now, Ordering::AcqRel, Ordering::Acquire)
+                .is_err()
+            {
+                return;
+            }
+            if self.finished.load(Ordering::Acquire) {
+                return;
+            }
+        }
+        let text = self.line(done, total, elapsed.as_secs_f64());
+        let out = if self.terminal {
+            if last {
+                format!("\r{text}\x1b[K\n")
+            } else {
+                format!("\r{text}\x1b[K")
+            }
+        } else {
+            format!("{text}\n")
+        };
+        // Progress output is best effort: a closed stderr must not fail the sweep.
+        let mut err = std::io::stderr().lock();
+        let _ = err.write_all(out.as_bytes());
+        let _ = err.flush();
+    }
+}
+
+/// Splits `0..len` into `chunks` contiguous ranges whose lengths differ by at most one (the
+/// longer ones first). If `chunks > len`, returns `len` ranges of one value; if `len` is 0,
+/// returns no range. Depends only on `len` and `chunks`, never on the thread count.
+///
+/// # Errors
+///
+/// [`AnalysisError::InvalidCount`] if `chunks` is 0.
+///
+/// ```
+/// use jeffcott::analysis::chunk_ranges;
+/// assert_eq!(chunk_ranges(7, 3).unwrap(), vec![0..3, 3..5, 5..7]);
+/// ```
+pub fn chunk_ranges(len: usize, chunks: usize) -> Result<Vec<Range<usize>>, AnalysisError> {
+    if chunks == 0 {
+        return Err(AnalysisError::InvalidCount {
+            name: "chunks",
+            value: 0,
+            expected: "at least 1",
+        });
+    }
+    let n = chunks.min(len);
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    let base = len / n;
+    let extra = len % n;
+    let mut ranges = Vec::with_capacity(n);
+    let mut start = 0;
+    for k in 0..n {
+        let size = base + usize::from(k < extra);
+        ranges.push(start..start + size);
+        start += size;
+    }
+    Ok(ranges)
+}
+
+/// Runs `runner` over `params` and returns the results in parameter order.
+///
+/// See the [module docs](self) for the runner's contract, the two modes, the determinism
+/// guarantee and what happens on failure.
+///
+/// # Errors
+///
+/// Only for a bad configuration, before any value runs:
+/// [`AnalysisError::InvalidCount`] if `chunks` or `threads` is 0, and
+/// [`AnalysisError::ThreadPool`] if the dedicated pool cannot be built.
+/// Runner errors are not errors of `sweep`: they are recorded in [`SweepResult::results`].
+///
+/// # Example
+///
+/// ```
+/// use jeffcott::analysis::{sweep, SweepConfig};
+/// // A "simulation" whose state is a running sum, carried from value to value.
+/// let params = [1.0, 2.0, 3.0, 4.0];
+/// let runner = |p: &f64, state: Option<f64>| -> Result<(f64, f64), String> {
+///     let s = state.unwrap_or(0.0) + p;
+///     Ok((s, s))
+/// };
+/// let out = sweep(&params, &SweepConfig::carry_over(2).with_threads(2), runner, None).unwrap();
+/// let values: Vec<f64> = out.results.into_iter().map(Result::unwrap).collect();
+/// assert_eq!(values, vec![1.0, 3.0, 3.0, 7.0]); // chunks [1, 2] and [3, 4]
+/// ```
+pub fn sweep<P, T, S, E, F>(
+    params: &[P],
+    config: &SweepConfig,
+    runner: F,
+    progress: Option<&dyn Progress>,
+) -> Result<SweepResult<T, E>, AnalysisError>
+where
+    P: Sync,
+    T: Send,
+    S: Send,
+    E: Send,
+    F: Fn(&P, Option<S>) -> Result<(T, S), E> + Sync,
+{
+    let chains = match config.mode {
+        SweepMode::Reset => (0..params.len()).map(|i| i..i + 1).collect(),
+        SweepMode::CarryOver { chunks } => chunk_ranges(params.len(), chunks)?,
+    };
+    let total = params.len();
+    let done = AtomicUsize::new(0);
+    let run_chain = |range: &Range<usize>| -> Vec<Result<T, E>> {
+        let mut state: Option<S> = None;
+        let mut out = Vec::with_capacity(range.len());
+        for p in &params[range.clone()] {
+            match runner(p, state.take()) {
+                Ok((t, s)) => {
+                    out.push(Ok(t));
+                    state = Some(s);
+                }
+                Err(e) => out.push(Err(e)),
+            }
+            let d = done.fetch_add(1, Ordering::AcqRel) + 1;
+            if let Some(pr) = progress {
+                pr.update(d, total);
+            }
+        }
+        out
+    };
+    let run_all = || -> Vec<Result<T, E>> {
+        let per_chain: Vec<Vec<Result<T, E>>> = chains.par_iter().map(run_chain).collect();
+        per_chain.into_iter().flatten().collect()
+    };
+    let (results, threads) = match config.threads {
+        None => (run_all(), rayon::current_num_threads()),
+        Some(0) => {
+            return Err(AnalysisError::InvalidCount {
+                name: "threads",
+                value: 0,
+                expected: "at least 1 (or None for the global pool)",
+            })
+        }
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| AnalysisError::ThreadPool {
+                    threads: n,
+                    message: e.to_string(),
+                })?;
+            (pool.install(run_all), n)
+        }
+    };
+    Ok(SweepResult {
+        results,
+        chains,
+        threads,
+    })
+}
