@@ -458,7 +458,7 @@ where
                 to: model.mode_label(next),
             });
         }
-        keep_step = model.flow(mode) == Flow::Integrated && model.flow(next) == Flow::Integrated;
+        keep_step = true;
         mode = next;
         if t >= plan.t_end {
             break;

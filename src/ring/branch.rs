@@ -138,6 +138,9 @@ impl SnubberRing {
         let (kx, ky) = (self.x.stiffness, self.y.stiffness);
         let ax = kx * (r.x + sx * self.x.preload);
         let ay = ky * (r.y + sy * self.y.preload);
+        if kx == ky && cx == cy {
+            return self.locate_on_uniform(r, branches, ax, ay, cx);
+        }
         let inv_gap = self.gap.recip();
         // Pole of d(mu): mu must stay above -min(K_i / c_i).
         let pole = -(kx / cx).min(ky / cy);
@@ -147,7 +150,7 @@ impl SnubberRing {
             // Exact when both axes share K and c.
             let c = 0.5 * (cx + cy);
             let k = 0.5 * (kx + ky);
-            (k * ax.hypot(ay) / k.max(f64::MIN_POSITIVE) * inv_gap - k) / c
+            (k * (ax * ax + ay * ay).sqrt() / k.max(f64::MIN_POSITIVE) * inv_gap - k) / c
         };
         if !mu.is_finite() || mu <= pole {
             mu = 0.0f64.max(pole * 0.5);
@@ -205,6 +208,45 @@ impl SnubberRing {
             damping: Vector2::new(unit(branches.x), unit(branches.y)),
             elastic: dvec * (2.0 * mu),
             iterations,
+        })
+    }
+}
+
+impl SnubberRing {
+    /// Closed form when both axes share $K$ and $c$ (regimes II and V of an isotropic
+    /// ring): $|d| = K|a|/(K + c\mu) = \gamma$ with $a = r + \sigma D$, so
+    /// $\mu = K(|a|/\gamma - 1)/c$, $d = \gamma a/|a|$, and with $\alpha = g' + 2\mu$ the same on
+    /// both axes, $J = (2\mu/\alpha) I + (1 - 2\mu/\alpha)\, n n^T$.
+    fn locate_on_uniform(
+        &self,
+        r: &Vector2<f64>,
+        branches: Branches,
+        ax: f64,
+        ay: f64,
+        c: f64,
+    ) -> Option<BranchContact> {
+        let k = self.x.stiffness;
+        // Plain sqrt, not hypot: the arguments are O(K), far from overflow, and hypot is slow.
+        let an = (ax * ax + ay * ay).sqrt() / k;
+        if !(an > 0.0 && an.is_finite()) {
+            return None;
+        }
+        let mu = k * (an / self.gap - 1.0) / c;
+        let normal = Vector2::new(ax, ay) / (k * an);
+        let dvec = normal * self.gap;
+        let outer = branches.x.is_outer();
+        let alpha = if outer { k } else { 2.0 * k } + 2.0 * mu;
+        let ratio = 2.0 * mu / alpha;
+        let jacobian = Matrix2::identity() * ratio + normal * normal.transpose() * (1.0 - ratio);
+        let unit = if outer { 2.0 } else { 4.0 } * self.damping;
+        Some(BranchContact {
+            s: r - dvec,
+            mu,
+            normal,
+            jacobian,
+            damping: Vector2::new(unit, unit),
+            elastic: dvec * (2.0 * mu),
+            iterations: 0,
         })
     }
 }
