@@ -1,4 +1,75 @@
-//! Jeffcott rotor with a preloaded snubber ring (crate docs are written in the integration step).
+//! # jeffcott — a Jeffcott rotor with a preloaded snubber ring
+//!
+//! A reference implementation of the model of Pavlovskaja, Karpenko and Wiercigroch,
+//! *Non-linear dynamic interactions of a Jeffcott rotor with preloaded snubber ring*,
+//! J. Sound Vib. 276 (2004) 361–379: a two-degree-of-freedom rotor driven by its
+//! out-of-balance, making intermittent frictionless contact with a massless ring held by
+//! preloaded spring-damper units. The system is piecewise smooth; this crate simulates it
+//! exactly where it can and to a stated tolerance where it must, and analyses it with
+//! stroboscopic (Poincaré) maps, phase portraits and bifurcation diagrams.
+//!
+//! ## The model in one page
+//!
+//! Non-dimensional (gap $\gamma = 1$, time $\tau = \omega_n t$), rotor centre $r = (x, y)$,
+//! ring centre $s = (x_s, y_s)$:
+//!
+//! $$x'' + 2\nu_1 x' + (x - e_x) + f_x = \beta\eta^2\cos(\varphi_0 + \eta\tau),\qquad
+//!   y'' + 2\nu_1 y' + (y - e_y) + f_y = \beta\eta^2\sin(\varphi_0 + \eta\tau).$$
+//!
+//! **The ring** ([`ring`]). Each axis has two preloaded units of stiffness $K$ and damping
+//! $2\nu_2$; a unit only pushes, so beyond the preload $D$ one lifts off:
+//!
+//! $$f_i = \begin{cases} 2K s_i + 4\nu_2 s_i' & |s_i| < D_i\\
+//!   \operatorname{sign}(s_i)\,K(|s_i| + D_i) + 2\nu_2 s_i' & |s_i| \ge D_i.\end{cases}$$
+//!
+//! **Five regimes.** I: no contact, $|r - s| < 1$. In contact ($|r - s| = 1$) the massless
+//! ring sits where its elastic energy $E(s)$ is least under that constraint (a Lagrange
+//! problem, $\nabla E = 2\mu (r - s)$, $\mu > 0$); regimes II–V say which axes are beyond their
+//! preload (II none, III x, IV y, V both). With zero preload only I and V exist.
+//!
+//! **Switching.** Contact starts when $|r - s|$ reaches 1; it ends when the normal contact
+//! force $n\cdot f$ turns negative (or $|r|$ falls to 1). Out of contact the rotor is a damped
+//! linear oscillator and the ring relaxes exponentially with time constant $2\nu_2/K$: both
+//! are solved **in closed form** ([`jeffcott::free_flight`]), and contact onset is found on the
+//! closed form by a **certified** search that cannot step over a contact
+//! ([`jeffcott::onset`]). Contact phases are integrated (DOP853 by default, [`ode`]); regime
+//! boundaries inside contact are events, so no step straddles a kink.
+//!
+//! ## Layers
+//!
+//! | module | role |
+//! |---|---|
+//! | [`params`] | non-dimensional and SI parameters, validation, the paper's presets |
+//! | [`ring`] | the snubber ring as a reusable contact element: force, energy, minimum-energy location and its Jacobian, regimes, relaxation |
+//! | [`ode`] | generic explicit Runge–Kutta integrators (DOP853, DOPRI5, RK4) with dense output and event location |
+//! | [`hybrid`] | the [`hybrid::RotorModel`] trait of piecewise-smooth rotor models and the driver through modes and events |
+//! | [`jeffcott`] | the paper's model implementing [`hybrid::RotorModel`] |
+//! | [`analysis`] | period detection, section crossings, deterministic parallel parameter sweeps |
+//!
+//! Long-form guides live in the repository's `docs/` folder: `model.md` (the model as
+//! implemented, every erratum of the paper and every choice), `integrators.md`, `ring.md`,
+//! `reproduction.md`, `accuracy.md`, `performance.md`.
+//!
+//! ## Example
+//!
+//! Stroboscopic states of the paper's Fig. 8b scene from rest, after 300 forcing periods:
+//!
+//! ```
+//! use jeffcott::hybrid::SimOptions;
+//! use jeffcott::jeffcott::{JeffcottModel, State};
+//! use jeffcott::params::Preset;
+//!
+//! let model = JeffcottModel::new(Preset::Fig8b.params().with_eta(2.0))?;
+//! let (orbit, stats) = model.stroboscopic(&State::zeros(), 300, 305, &SimOptions::default())?;
+//! for (k, tau, y, regime) in &orbit.strobe {
+//!     println!("k = {k}, tau = {tau:.4}: x = {:.6}, regime {regime}", y[0]);
+//! }
+//! // Period 1 at eta = 2: consecutive stroboscopic points coincide.
+//! let (a, b) = (orbit.strobe[0].2, orbit.strobe[5].2);
+//! assert!((a - b).norm() < 1e-8);
+//! assert!(stats.transitions > 0); // the rotor hits the ring
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 

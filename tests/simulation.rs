@@ -1,0 +1,259 @@
+//! The hybrid simulation of the paper's model: convergence, determinism, events, grazing,
+//! starts in contact, and failures that keep what was computed.
+
+use jeffcott::hybrid::{OutputPlan, SimErrorKind, SimOptions};
+use jeffcott::jeffcott::{guard, JeffcottModel, State};
+use jeffcott::ode::{Dop853, Integrator, Options};
+use jeffcott::params::{Params, Preset};
+use nalgebra::{SVector, Vector2};
+
+fn opts(rtol: f64) -> SimOptions {
+    SimOptions {
+        rtol,
+        atol: rtol * 1e-2,
+        ..SimOptions::default()
+    }
+}
+
+fn end_state(model: &JeffcottModel, periods: u64, o: &SimOptions) -> State {
+    let (traj, _) = model
+        .stroboscopic(&State::zeros(), periods, periods, o)
+        .unwrap();
+    traj.strobe[0].2
+}
+
+#[test]
+fn error_falls_as_the_tolerance_tightens() {
+    // Period-2 scene with preload (regime changes inside contact), 12 periods from rest.
+    let model = JeffcottModel::new(Preset::Fig8b.params().with_eta(3.0)).unwrap();
+    let reference = end_state(&model, 12, &opts(1e-13));
+    let errs: Vec<f64> = [1e-5, 1e-7, 1e-9, 1e-11]
+        .iter()
+        .map(|&tol| (end_state(&model, 12, &opts(tol)) - reference).norm())
+        .collect();
+    println!("errors: {errs:?}");
+    for w in errs.windows(2) {
+        assert!(w[1] < w[0] * 0.5, "{errs:?}");
+    }
+    assert!(errs[3] < 1e-8, "{errs:?}");
+}
+
+#[test]
+fn reruns_are_bitwise_identical() {
+    let model = JeffcottModel::new(Preset::Fig9d.params()).unwrap();
+    let plan = OutputPlan {
+        t_end: 40.0 * model.params().forcing_period(),
+        strobe: Some((0, 40)),
+        dense: Some((0.0, 0.05)),
+        events: true,
+    };
+    let a = model.run(0.0, &State::zeros(), &plan, &opts(1e-9)).unwrap();
+    let b = model.run(0.0, &State::zeros(), &plan, &opts(1e-9)).unwrap();
+    assert_eq!(a, b);
+    assert!(a.0.events.len() > 10);
+}
+
+#[test]
+fn exact_free_flight_agrees_with_dop853() {
+    // An orbit far from the ring: the whole run is exact free flight.
+    let p = Params {
+        beta: 0.01,
+        ex: 0.1,
+        ..Preset::Fig8a.params().with_eta(1.3)
+    };
+    let model = JeffcottModel::new(p).unwrap();
+    let y0 = model.state_at([0.2, -0.1], [0.3, 0.1]).unwrap();
+    let (traj, stats) = model.stroboscopic(&y0, 0, 8, &opts(1e-10)).unwrap();
+    assert_eq!(stats.steps, 0, "no integrated phase expected");
+    let sys = |t: f64, y: &SVector<f64, 4>, dy: &mut SVector<f64, 4>| {
+        let th = p.phi0 + p.eta * t;
+        let b = p.forcing_amplitude();
+        dy[0] = y[2];
+        dy[1] = y[3];
+        dy[2] = b * th.cos() - 2.0 * p.nu1 * y[2] - (y[0] - p.ex);
+        dy[3] = b * th.sin() - 2.0 * p.nu1 * y[3] - (y[1] - p.ey);
+    };
+    let mut integ = Dop853::new(Options::with_tol(1e-13, 1e-15)).unwrap();
+    let mut y = SVector::<f64, 4>::new(0.2, -0.1, 0.3, 0.1);
+    integ.reset(&sys, 0.0, &y, false).unwrap();
+    for (_, t, ye, label) in &traj.strobe[1..] {
+        while integ.t() < *t {
+            integ.step(&sys, *t).unwrap();
+        }
+        y.copy_from(integ.y());
+        for i in 0..4 {
+            assert!((ye[i] - y[i]).abs() < 1e-11, "t = {t}: {} vs {}", ye[i], y[i]);
+        }
+        assert_eq!(*label, 1);
+    }
+}
+
+/// A rotor started on its steady circular orbit, whose outermost point is at radius
+/// `1 + depth` from the ring's centre.
+fn grazing_scene(depth: f64) -> (JeffcottModel, State) {
+    let base = Preset::Fig8a.params().with_eta(1.5);
+    let b = base.forcing_amplitude();
+    let den = Vector2::new(1.0 - base.eta * base.eta, 2.0 * base.nu1 * base.eta);
+    let z = b / den.norm();
+    let p = Params {
+        ex: 1.0 + depth - z,
+        ey: 0.0,
+        ..base
+    };
+    let model = JeffcottModel::new(p).unwrap();
+    // Particular solution at t = 0: r = e + Z, v = i eta Z, Z = b / (den_re + i den_im).
+    let zc = Vector2::new(b * den.x, -b * den.y) / den.norm_squared();
+    let y0 = model
+        .state_at(
+            [p.ex + zc.x, p.ey + zc.y],
+            [-p.eta * zc.y, p.eta * zc.x],
+        )
+        .unwrap();
+    (model, y0)
+}
+
+#[test]
+fn a_contact_one_micron_of_the_gap_deep_is_found() {
+    for (depth, expect_contact) in [(1e-6, true), (-1e-6, false), (1e-9, true)] {
+        let (model, y0) = grazing_scene(depth);
+        let plan = OutputPlan {
+            t_end: 5.0 * model.params().forcing_period(),
+            strobe: None,
+            dense: None,
+            events: true,
+        };
+        let (traj, _) = model.run(0.0, &y0, &plan, &opts(1e-10)).unwrap();
+        let onsets = traj.events.iter().filter(|e| e.kind == guard::ONSET).count();
+        if expect_contact {
+            assert!(onsets >= 4, "depth {depth}: {onsets} onsets");
+            for e in traj.events.iter().filter(|e| e.kind == guard::ONSET) {
+                let r = Vector2::new(e.before[0], e.before[1]);
+                let s = Vector2::new(e.before[4], e.before[5]);
+                assert!(((r - s).norm() - 1.0).abs() < 1e-13);
+            }
+        } else {
+            assert_eq!(onsets, 0, "depth {depth}");
+        }
+    }
+}
+
+#[test]
+fn events_alternate_and_sit_on_their_surfaces() {
+    // Fig. 10b: preload 0.05 on both axes, crossed on both.
+    let model = JeffcottModel::new(Preset::Fig10b.params()).unwrap();
+    let plan = OutputPlan {
+        t_end: 30.0 * model.params().forcing_period(),
+        strobe: None,
+        dense: None,
+        events: true,
+    };
+    let (traj, _) = model.run(0.0, &State::zeros(), &plan, &opts(1e-10)).unwrap();
+    let mut in_contact = false;
+    let mut regime_changes = 0;
+    for e in &traj.events {
+        match e.kind {
+            guard::ONSET => {
+                assert!(!in_contact);
+                in_contact = true;
+                assert_eq!(e.from, 1);
+                assert!(e.to >= 2);
+            }
+            guard::LOSS | guard::GAP => {
+                assert!(in_contact);
+                in_contact = false;
+                assert_eq!(e.to, 1);
+            }
+            _ => {
+                assert!(in_contact);
+                regime_changes += 1;
+                // On a preload boundary: |x_s| = 0.05 or |y_s| = 0.05.
+                let (sx, sy) = (e.before[4].abs(), e.before[5].abs());
+                let off = (sx - 0.05).abs().min((sy - 0.05).abs());
+                assert!(off < 1e-12, "{e:?}");
+            }
+        }
+    }
+    assert!(regime_changes > 0, "this scene crosses the preload");
+}
+
+#[test]
+fn zero_preload_has_only_regimes_one_and_five() {
+    let model = JeffcottModel::new(Preset::Fig9c.params()).unwrap();
+    let plan = OutputPlan {
+        t_end: 20.0 * model.params().forcing_period(),
+        strobe: None,
+        dense: Some((0.0, 0.01)),
+        events: true,
+    };
+    let (traj, _) = model.run(0.0, &State::zeros(), &plan, &opts(1e-9)).unwrap();
+    assert!(traj.samples.iter().all(|s| s.label == 1 || s.label == 5));
+    assert!(traj
+        .events
+        .iter()
+        .all(|e| e.kind == guard::ONSET || e.kind == guard::LOSS || e.kind == guard::GAP));
+    assert!(traj.samples.iter().any(|s| s.label == 5));
+}
+
+#[test]
+fn a_run_can_start_in_contact() {
+    let model = JeffcottModel::new(Preset::Fig8b.params()).unwrap();
+    let y0 = model.state_at([1.08, 0.3], [0.0, 0.5]).unwrap();
+    assert!(((Vector2::new(y0[0] - y0[4], y0[1] - y0[5])).norm() - 1.0).abs() < 1e-14);
+    let plan = OutputPlan {
+        t_end: 3.0,
+        strobe: None,
+        dense: None,
+        events: true,
+    };
+    let (traj, _) = model.run(0.0, &y0, &plan, &opts(1e-10)).unwrap();
+    assert!(traj.events[0].from >= 2, "starts in contact: {:?}", traj.events[0]);
+}
+
+#[test]
+fn a_rotor_beyond_the_ring_is_a_typed_error() {
+    let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
+    let y0 = State::from([1.5, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    let err = model.stroboscopic(&y0, 0, 3, &opts(1e-9)).unwrap_err();
+    assert!(matches!(err.error.kind, SimErrorKind::Model(_)), "{err}");
+    assert_eq!(err.error.y, y0);
+    let bad = State::from([f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    let err = model.stroboscopic(&bad, 0, 3, &opts(1e-9)).unwrap_err();
+    assert!(matches!(err.error.kind, SimErrorKind::NonFinite));
+}
+
+#[test]
+fn chattering_bound_ends_the_run_with_what_was_computed() {
+    // About 3 transitions per period: a bound of 2 must stop the run.
+    let model = JeffcottModel::new(Preset::Fig10b.params()).unwrap();
+    let o = SimOptions {
+        max_events_per_period: 2,
+        ..opts(1e-9)
+    };
+    let err = model.stroboscopic(&State::zeros(), 0, 50, &o).unwrap_err();
+    assert!(matches!(err.error.kind, SimErrorKind::Chattering { .. }), "{err}");
+    assert!(!err.partial.strobe.is_empty());
+    assert!(err.error.t > 0.0 && err.error.y.iter().all(|v| v.is_finite()));
+}
+
+#[test]
+fn invalid_options_are_typed_errors() {
+    let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
+    for o in [
+        SimOptions {
+            rtol: f64::NAN,
+            ..SimOptions::default()
+        },
+        SimOptions {
+            rtol: 0.0,
+            atol: 0.0,
+            ..SimOptions::default()
+        },
+        SimOptions {
+            max_step_fraction: -1.0,
+            ..SimOptions::default()
+        },
+    ] {
+        let err = model.stroboscopic(&State::zeros(), 0, 3, &o).unwrap_err();
+        assert!(matches!(err.error.kind, SimErrorKind::InvalidOption { .. }), "{err}");
+    }
+}
