@@ -82,7 +82,12 @@ fn exact_free_flight_agrees_with_dop853() {
         }
         y.copy_from(integ.y());
         for i in 0..4 {
-            assert!((ye[i] - y[i]).abs() < 1e-11, "t = {t}: {} vs {}", ye[i], y[i]);
+            assert!(
+                (ye[i] - y[i]).abs() < 1e-11,
+                "t = {t}: {} vs {}",
+                ye[i],
+                y[i]
+            );
         }
         assert_eq!(*label, 1);
     }
@@ -104,10 +109,7 @@ fn grazing_scene(depth: f64) -> (JeffcottModel, State) {
     // Particular solution at t = 0: r = e + Z, v = i eta Z, Z = b / (den_re + i den_im).
     let zc = Vector2::new(b * den.x, -b * den.y) / den.norm_squared();
     let y0 = model
-        .state_at(
-            [p.ex + zc.x, p.ey + zc.y],
-            [-p.eta * zc.y, p.eta * zc.x],
-        )
+        .state_at([p.ex + zc.x, p.ey + zc.y], [-p.eta * zc.y, p.eta * zc.x])
         .unwrap();
     (model, y0)
 }
@@ -123,7 +125,11 @@ fn a_contact_one_micron_of_the_gap_deep_is_found() {
             events: true,
         };
         let (traj, _) = model.run(0.0, &y0, &plan, &opts(1e-10)).unwrap();
-        let onsets = traj.events.iter().filter(|e| e.kind == guard::ONSET).count();
+        let onsets = traj
+            .events
+            .iter()
+            .filter(|e| e.kind == guard::ONSET)
+            .count();
         if expect_contact {
             assert!(onsets >= 4, "depth {depth}: {onsets} onsets");
             for e in traj.events.iter().filter(|e| e.kind == guard::ONSET) {
@@ -147,7 +153,9 @@ fn events_alternate_and_sit_on_their_surfaces() {
         dense: None,
         events: true,
     };
-    let (traj, _) = model.run(0.0, &State::zeros(), &plan, &opts(1e-10)).unwrap();
+    let (traj, _) = model
+        .run(0.0, &State::zeros(), &plan, &opts(1e-10))
+        .unwrap();
     let mut in_contact = false;
     let mut regime_changes = 0;
     for e in &traj.events {
@@ -206,7 +214,11 @@ fn a_run_can_start_in_contact() {
         events: true,
     };
     let (traj, _) = model.run(0.0, &y0, &plan, &opts(1e-10)).unwrap();
-    assert!(traj.events[0].from >= 2, "starts in contact: {:?}", traj.events[0]);
+    assert!(
+        traj.events[0].from >= 2,
+        "starts in contact: {:?}",
+        traj.events[0]
+    );
 }
 
 #[test]
@@ -230,7 +242,10 @@ fn chattering_bound_ends_the_run_with_what_was_computed() {
         ..opts(1e-9)
     };
     let err = model.stroboscopic(&State::zeros(), 0, 50, &o).unwrap_err();
-    assert!(matches!(err.error.kind, SimErrorKind::Chattering { .. }), "{err}");
+    assert!(
+        matches!(err.error.kind, SimErrorKind::Chattering { .. }),
+        "{err}"
+    );
     assert!(!err.partial.strobe.is_empty());
     assert!(err.error.t > 0.0 && err.error.y.iter().all(|v| v.is_finite()));
 }
@@ -254,6 +269,9 @@ fn invalid_options_are_typed_errors() {
         },
     ] {
         let err = model.stroboscopic(&State::zeros(), 0, 3, &o).unwrap_err();
-        assert!(matches!(err.error.kind, SimErrorKind::InvalidOption { .. }), "{err}");
+        assert!(
+            matches!(err.error.kind, SimErrorKind::InvalidOption { .. }),
+            "{err}"
+        );
     }
 }
