@@ -41,9 +41,13 @@
 //! [`EventState::new`]/[`EventState::reset`], or the time of the last hit
 //! returned. At the origin $t_o$:
 //!
-//! 1. an event with $|g_i(t_o)| \le$ `value_tol` is *disarmed*: it ignores
-//!    sign changes until the first sample with $|g_i| >$ `value_tol`, which
-//!    becomes its reference value;
+//! 1. an event with $|g_i(t_o)| \le$ `value_tol` (default: exactly 0) is
+//!    *disarmed*: it ignores sign changes until the first sample with
+//!    $|g_i| >$ `value_tol`, which becomes its reference value — except the
+//!    event of the hit that defined the origin (if the state was not reset
+//!    since), which stays armed with its post-crossing sign, so that a
+//!    crossing back inside the same sample interval (the second root of a
+//!    grazing pair) is still found;
 //! 2. a root located within the re-arm window
 //!    $\max(\text{rearm\_time}, 2\cdot\text{tol})$ after $t_o$ is treated
 //!    as the zero at the start time (round-off of the event that just fired
@@ -251,6 +255,8 @@ pub struct EventState<const N: usize> {
     /// `(t_prev, t_hit)` of the last hit: scanning of a step with the same
     /// `t_prev` resumes at `t_hit`.
     resume: Option<(f64, f64)>,
+    /// Index and direction of the last hit (cleared by `reset`).
+    last_hit: Option<(usize, Direction)>,
     _marker: PhantomData<[f64; N]>,
 }
 
@@ -266,6 +272,7 @@ impl<const N: usize> EventState<N> {
         EventState {
             origin: None,
             resume: None,
+            last_hit: None,
             _marker: PhantomData,
         }
     }
@@ -468,6 +475,19 @@ where
         } else {
             g != 0.0
         };
+        if at_origin && !armed[i] {
+            if let Some((j, d)) = state.last_hit {
+                if j == i {
+                    // The event that just fired keeps its post-crossing sign.
+                    armed[i] = true;
+                    g_ref[i] = if d == Direction::Falling {
+                        -f64::MIN_POSITIVE
+                    } else {
+                        f64::MIN_POSITIVE
+                    };
+                }
+            }
+        }
         if has_der[i] {
             d_ref[i] = events.derivative(i, start, &y_a, &f_a).unwrap_or(0.0);
         }
@@ -581,6 +601,7 @@ where
             y_at(integ, sys, r, &mut y_hit);
             state.origin = Some(r);
             state.resume = Some((t_prev, r));
+            state.last_hit = Some((i, d));
             integ.stats_mut().events += 1;
             return Some(EventHit {
                 index: i,
