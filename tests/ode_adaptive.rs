@@ -1,6 +1,9 @@
 //! Adaptive step-size control: tolerance proportionality on problems with
 //! known solutions, work counters, bounds, h_max, reset and truncate.
 
+// Reference values are written with all their published/computed digits.
+#![allow(clippy::excessive_precision)]
+
 use jeffcott::ode::{
     solve, AnyIntegrator, Dop853, Dopri5, Integrator, Method, NoEvents, OdeError, OdeSystem,
     Options, Recorder, Rk4, Stopped, Tolerance,

@@ -40,7 +40,10 @@ impl EventSet<2> for Crossings {
     }
 }
 
-fn run(method: Method) -> (Vec<(u64, Vec<u64>)>, Vec<(usize, u64)>, Stats) {
+/// Bit patterns of `(t, y)` points.
+type Points = Vec<(u64, Vec<u64>)>;
+
+fn run(method: Method) -> (Points, Vec<(usize, u64)>, Stats) {
     let opts = if method == Method::Rk4 {
         Options::fixed(0.01)
     } else {
@@ -61,7 +64,7 @@ fn run(method: Method) -> (Vec<(u64, Vec<u64>)>, Vec<(usize, u64)>, Stats) {
     )
     .unwrap();
     let bits = |v: &V2| v.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
-    let mut out: Vec<(u64, Vec<u64>)> = rec
+    let mut out: Points = rec
         .outputs
         .iter()
         .map(|(t, y)| (t.to_bits(), bits(y)))

@@ -105,11 +105,11 @@ pub(crate) fn initial_step<const N: usize, S: OdeSystem<N>>(
     }
     let der2 = (der2 / n).sqrt() / h;
     let der12 = der2.max(dnf.sqrt());
-    let h1 = if !(der12 > 1e-15) {
-        // also catches NaN: fall back to a cautious step
-        (h * 1e-3).max(1e-6)
-    } else {
+    let h1 = if der12 > 1e-15 {
         (0.01 / der12).powf(1.0 / order)
+    } else {
+        // also taken for NaN: fall back to a cautious step
+        (h * 1e-3).max(1e-6)
     };
     let h = (100.0 * h).min(h1).min(opts.h_max);
     // Never start below the step-size underflow threshold (Hairer's estimate

@@ -415,7 +415,7 @@ where
     let t_prev = integ.t_prev();
     let t_end = integ.t();
     let ne = events.len().min(MAX_EVENTS);
-    if ne == 0 || !(t_end > t_prev) {
+    if ne == 0 || t_end.partial_cmp(&t_prev) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
     // Where to start: after the last hit on this same step, else t_prev.

@@ -229,7 +229,7 @@ impl<const N: usize> Options<N> {
                 );
             }
         }
-        if !(self.h_max > 0.0) {
+        if self.h_max.is_nan() || self.h_max <= 0.0 {
             return bad(
                 "h_max",
                 self.h_max,
