@@ -147,7 +147,7 @@ pub struct Options<const N: usize> {
     /// integrator returns [`OdeError::StepSizeUnderflow`]. Default `0`.
     pub h_min: f64,
     /// Maximum number of step attempts (accepted + rejected) between two
-    /// calls of [`Integrator::reset`] (so per call of [`solve`]).
+    /// calls of [`Integrator::reset`] (so per call of [`solve()`]).
     /// Default `1_000_000`.
     pub max_steps: u64,
     /// Safety factor of the step-size controller, in (0, 1]. Default `0.9`.
