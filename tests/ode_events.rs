@@ -569,3 +569,49 @@ fn root_finder_reaches_a_few_ulp() {
         assert!(ulps <= 4.0);
     }
 }
+
+/// Hybrid use as in the rotor driver: a bouncing ball ($\ddot x = -1$,
+/// impact when $x$ crosses 0, velocity reversed with restitution 0.8) with
+/// the event direction `Either`, so that a round-off re-crossing right after
+/// the reset map would be reported if the re-arming rule failed. Impact
+/// times are known in closed form.
+#[test]
+fn bouncing_ball_with_reset_map_never_refires() {
+    let ball = |_t: f64, y: &V2, dy: &mut V2| {
+        dy[0] = y[1];
+        dy[1] = -1.0;
+    };
+    let ev = comp0(Direction::Either, true);
+    let opts = EventOptions::default();
+    let e = 0.8;
+    for method in [Method::Dop853, Method::Dopri5] {
+        let mut integ = AnyIntegrator::new(method, Options::with_tol(1e-12, 1e-12)).unwrap();
+        integ.reset(&ball, 0.0, &V2::new(0.5, 0.0), false).unwrap();
+        let mut st = EventState::new();
+        let mut impacts = vec![];
+        while integ.t() < 5.0 {
+            integ.step(&ball, 5.0).unwrap();
+            if let Some(h) = find_first_event(&mut integ, &ball, &ev, &opts, &mut st) {
+                assert_eq!(h.direction, Direction::Falling, "re-fired at {}", h.t);
+                integ.truncate(&ball, h.t).unwrap();
+                let y = V2::new(h.y[0], -e * h.y[1]);
+                integ.reset(&ball, h.t, &y, true).unwrap();
+                st.reset();
+                impacts.push(h.t);
+            }
+        }
+        // t1 = 1 (from x = 0.5, v = 0); flight k lasts 2 e^k (v1 = 1).
+        let mut t = 1.0;
+        let mut flight = 2.0 * e;
+        for (k, ti) in impacts.iter().enumerate() {
+            assert!(
+                (ti - t).abs() < 1e-12,
+                "{} impact {k}: {ti} vs {t}",
+                method.name()
+            );
+            t += flight;
+            flight *= e;
+        }
+        assert_eq!(impacts.len(), 4, "{}: {impacts:?}", method.name());
+    }
+}

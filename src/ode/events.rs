@@ -511,7 +511,6 @@ where
         }
         // Best candidate of this interval: (t, index, direction).
         let mut best: Option<(f64, usize, Direction)> = None;
-        let first_interval = k == 1;
         for i in 0..ne {
             if !active[i] {
                 continue;
@@ -539,7 +538,7 @@ where
             let allowed = events.direction(i);
             let tol = tol_at(t_a.abs().max(t_b.abs()));
             let mut candidate: Option<(f64, Direction)> = None;
-            let ignorable = |r: f64| first_interval && at_origin && r - start <= window;
+            let ignorable = |r: f64| at_origin && r - start <= window;
             if g_b == 0.0 || (g_b > 0.0) != (g_a > 0.0) {
                 if allowed.allows(dir_first) {
                     let r = locate(integ, sys, events, i, (t_a, g_a), (t_b, g_b), tol, max_iter);
