@@ -56,6 +56,7 @@
 //! Away from the origin, a sample with $g_i = 0$ exactly is the right end of
 //! a reported crossing (if its direction was allowed) and the event stays
 //! disarmed until $g_i \ne 0$ again, so a root is never reported twice.
+//! Samples where $g_i$ is NaN are skipped (the previous reference is kept).
 
 use super::{Integrator, OdeError, OdeSystem};
 use nalgebra::SVector;
@@ -473,7 +474,7 @@ where
         armed[i] = if at_origin {
             g.abs() > opts.value_tol
         } else {
-            g != 0.0
+            g != 0.0 && !g.is_nan()
         };
         if at_origin && !armed[i] {
             if let Some((j, d)) = state.last_hit {
@@ -521,6 +522,10 @@ where
             } else {
                 0.0
             };
+            if g_b.is_nan() {
+                // No information at this sample: keep the previous reference.
+                continue;
+            }
             if !armed[i] {
                 if g_b.abs() > opts.value_tol && g_b != 0.0 {
                     armed[i] = true;
