@@ -197,6 +197,14 @@ fn invalid_options_name_the_field() {
             "h_min",
         ),
         (Options { max_steps: 0, ..d }, "max_steps"),
+        (
+            Options {
+                h_init: Some(1e-9),
+                h_min: 1e-6,
+                ..d
+            },
+            "h_init",
+        ),
         (Options { safety: 1.5, ..d }, "safety"),
         (Options { safety: 0.0, ..d }, "safety"),
         (Options { fac_min: 0.0, ..d }, "fac_min"),

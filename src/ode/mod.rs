@@ -226,7 +226,8 @@ pub struct Options<const N: usize> {
     /// [`Dop853`] `Some(h)` switches error control off and takes steps of
     /// exactly `h` (the last one before a bound is shortened to land on it);
     /// this is meant for convergence studies and reproducing fixed grids.
-    /// Default `None`.
+    /// In fixed-step mode `h_init`, `h_min`, `h_max` and the controller
+    /// fields are not used. Default `None`.
     pub fixed_step: Option<f64>,
 }
 
@@ -304,6 +305,11 @@ impl<const N: usize> Options<N> {
                 self.h_min,
                 "h_min must be finite, >= 0 and <= h_max",
             );
+        }
+        if let Some(h) = self.h_init {
+            if h < self.h_min {
+                return bad("h_init", h, "h_init must be >= h_min");
+            }
         }
         if self.max_steps == 0 {
             return bad("max_steps", 0.0, "max_steps must be >= 1");
