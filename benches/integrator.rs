@@ -1,2 +1,115 @@
-//! Placeholder bench.
-fn main() {}
+//! Generic integrator benchmarks: DOP853 (and DOPRI5 for comparison) on a
+//! harmonic oscillator and on the Arenstorf orbit. Throughput is reported
+//! in accepted steps per second (`elements/s`).
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use jeffcott::ode::{
+    find_first_event, AnyIntegrator, Direction, EventOptions, EventSet, EventState, Integrator,
+    Method, OdeSystem, Options,
+};
+use nalgebra::SVector;
+use std::hint::black_box;
+
+type V2 = SVector<f64, 2>;
+type V4 = SVector<f64, 4>;
+
+fn oscillator(_t: f64, y: &V2, dy: &mut V2) {
+    dy[0] = y[1];
+    dy[1] = -y[0];
+}
+
+struct Arenstorf;
+const MU: f64 = 0.012277471;
+const T_ARENSTORF: f64 = 17.065_216_560_157_96;
+
+impl OdeSystem<4> for Arenstorf {
+    fn rhs(&self, _t: f64, y: &V4, dy: &mut V4) {
+        let mu1 = 1.0 - MU;
+        let d1 = ((y[0] + MU).powi(2) + y[1] * y[1]).powf(1.5);
+        let d2 = ((y[0] - mu1).powi(2) + y[1] * y[1]).powf(1.5);
+        dy[0] = y[2];
+        dy[1] = y[3];
+        dy[2] = y[0] + 2.0 * y[3] - mu1 * (y[0] + MU) / d1 - MU * (y[0] - mu1) / d2;
+        dy[3] = y[1] - 2.0 * y[2] - mu1 * y[1] / d1 - MU * y[1] / d2;
+    }
+}
+
+struct X0;
+impl EventSet<2> for X0 {
+    fn len(&self) -> usize {
+        1
+    }
+    fn direction(&self, _i: usize) -> Direction {
+        Direction::Either
+    }
+    fn terminal(&self, _i: usize) -> bool {
+        false
+    }
+    fn value(&self, _i: usize, _t: f64, y: &V2) -> f64 {
+        y[0]
+    }
+}
+
+/// Integrates to `t_end`, returning the number of accepted steps.
+fn run<const N: usize, S: OdeSystem<N>>(
+    integ: &mut AnyIntegrator<N>,
+    sys: &S,
+    y0: &SVector<f64, N>,
+    t_end: f64,
+) -> u64 {
+    integ.reset(sys, 0.0, y0, false).unwrap();
+    let s0 = integ.stats().steps;
+    while integ.t() < t_end {
+        integ.step(sys, t_end).unwrap();
+    }
+    integ.stats().steps - s0
+}
+
+fn bench(c: &mut Criterion) {
+    let y_osc = V2::new(1.0, 0.0);
+    let y_are = V4::new(0.994, 0.0, 0.0, -2.001_585_106_379_082_5);
+    for method in [Method::Dop853, Method::Dopri5] {
+        let mut integ = AnyIntegrator::new(method, Options::with_tol(1e-10, 1e-10)).unwrap();
+        let steps = run(&mut integ, &oscillator, &y_osc, 100.0);
+        let mut g = c.benchmark_group(format!("{}/oscillator", method.name()));
+        g.throughput(Throughput::Elements(steps));
+        g.bench_function("t=100,tol=1e-10", |b| {
+            b.iter(|| black_box(run(&mut integ, &oscillator, black_box(&y_osc), 100.0)))
+        });
+        g.finish();
+
+        let mut integ = AnyIntegrator::new(method, Options::with_tol(1e-10, 1e-10)).unwrap();
+        let steps = run(&mut integ, &Arenstorf, &y_are, T_ARENSTORF);
+        let mut g = c.benchmark_group(format!("{}/arenstorf", method.name()));
+        g.throughput(Throughput::Elements(steps));
+        g.bench_function("one period,tol=1e-10", |b| {
+            b.iter(|| black_box(run(&mut integ, &Arenstorf, black_box(&y_are), T_ARENSTORF)))
+        });
+        g.finish();
+    }
+
+    // Cost of event detection on every step (DOP853, oscillator).
+    let mut integ = AnyIntegrator::new(Method::Dop853, Options::with_tol(1e-10, 1e-10)).unwrap();
+    let steps = run(&mut integ, &oscillator, &y_osc, 100.0);
+    let opts = EventOptions::default();
+    let mut g = c.benchmark_group("DOP853/oscillator+events");
+    g.throughput(Throughput::Elements(steps));
+    g.bench_function("t=100,tol=1e-10", |b| {
+        b.iter(|| {
+            integ.reset(&oscillator, 0.0, &y_osc, false).unwrap();
+            let mut st = EventState::new();
+            let mut hits = 0u32;
+            while integ.t() < 100.0 {
+                integ.step(&oscillator, 100.0).unwrap();
+                while find_first_event(&mut integ, &oscillator, &X0, &opts, &mut st).is_some() {
+                    hits += 1;
+                }
+            }
+            black_box(hits)
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -67,7 +67,8 @@ impl PiController {
 /// norms: $d_0 = \|y_0\|$, $d_1 = \|f_0\|$, $h_0 = 0.01\, d_0/d_1$ (or
 /// $10^{-6}$ if either is tiny), one explicit Euler step to estimate
 /// $d_2 = \|f(t+h_0, y_0+h_0f_0) - f_0\|/h_0$, and
-/// $h = \min\big(100 h_0,\ (0.01/\max(d_1,d_2))^{1/p},\ h_{\max}\big)$.
+/// $h = \min\big(100 h_0,\ (0.01/\max(d_1,d_2))^{1/p},\ h_{\max}\big)$,
+/// raised to at least $\max(h_{\min}, 100\,\varepsilon\,|t|)$.
 pub(crate) fn initial_step<const N: usize, S: OdeSystem<N>>(
     sys: &S,
     t: f64,
@@ -104,16 +105,19 @@ pub(crate) fn initial_step<const N: usize, S: OdeSystem<N>>(
     }
     let der2 = (der2 / n).sqrt() / h;
     let der12 = der2.max(dnf.sqrt());
-    let h1 = if !(der12 > 1e-15) {
-        // also catches NaN: fall back to a cautious step
-        (h * 1e-3).max(1e-6)
-    } else {
+    let h1 = if der12 > 1e-15 {
         (0.01 / der12).powf(1.0 / order)
+    } else {
+        // also taken for NaN: fall back to a cautious step
+        (h * 1e-3).max(1e-6)
     };
     let h = (100.0 * h).min(h1).min(opts.h_max);
+    // Never start below the step-size underflow threshold (Hairer's estimate
+    // can be tiny when |y0| is small compared with atol but above it).
+    let floor = opts.h_min.max(100.0 * f64::EPSILON * t.abs());
     if h.is_finite() && h > 0.0 {
-        h
+        h.max(floor).min(opts.h_max)
     } else {
-        1e-6f64.min(opts.h_max)
+        1e-6f64.max(floor).min(opts.h_max)
     }
 }

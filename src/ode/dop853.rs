@@ -10,6 +10,10 @@
 //! ($k_{14}, k_{15}, k_{16}$), computed lazily on the first call of
 //! `dense` after a step.
 
+// The coefficients are kept with all the digits Hairer publishes, so that
+// they can be checked against the source; Rust rounds them correctly.
+#![allow(clippy::excessive_precision)]
+
 use super::core::{core_accessors, Core, Trial};
 use super::{controller::scale, Integrator, OdeError, OdeSystem, Options, Stats};
 use nalgebra::SVector;

@@ -41,9 +41,13 @@
 //! [`EventState::new`]/[`EventState::reset`], or the time of the last hit
 //! returned. At the origin $t_o$:
 //!
-//! 1. an event with $|g_i(t_o)| \le$ `value_tol` is *disarmed*: it ignores
-//!    sign changes until the first sample with $|g_i| >$ `value_tol`, which
-//!    becomes its reference value;
+//! 1. an event with $|g_i(t_o)| \le$ `value_tol` (default: exactly 0) is
+//!    *disarmed*: it ignores sign changes until the first sample with
+//!    $|g_i| >$ `value_tol`, which becomes its reference value — except the
+//!    event of the hit that defined the origin (if the state was not reset
+//!    since), which stays armed with its post-crossing sign, so that a
+//!    crossing back inside the same sample interval (the second root of a
+//!    grazing pair) is still found;
 //! 2. a root located within the re-arm window
 //!    $\max(\text{rearm\_time}, 2\cdot\text{tol})$ after $t_o$ is treated
 //!    as the zero at the start time (round-off of the event that just fired
@@ -52,6 +56,7 @@
 //! Away from the origin, a sample with $g_i = 0$ exactly is the right end of
 //! a reported crossing (if its direction was allowed) and the event stays
 //! disarmed until $g_i \ne 0$ again, so a root is never reported twice.
+//! Samples where $g_i$ is NaN are skipped (the previous reference is kept).
 
 use super::{Integrator, OdeError, OdeSystem};
 use nalgebra::SVector;
@@ -251,6 +256,8 @@ pub struct EventState<const N: usize> {
     /// `(t_prev, t_hit)` of the last hit: scanning of a step with the same
     /// `t_prev` resumes at `t_hit`.
     resume: Option<(f64, f64)>,
+    /// Index and direction of the last hit (cleared by `reset`).
+    last_hit: Option<(usize, Direction)>,
     _marker: PhantomData<[f64; N]>,
 }
 
@@ -266,6 +273,7 @@ impl<const N: usize> EventState<N> {
         EventState {
             origin: None,
             resume: None,
+            last_hit: None,
             _marker: PhantomData,
         }
     }
@@ -408,7 +416,7 @@ where
     let t_prev = integ.t_prev();
     let t_end = integ.t();
     let ne = events.len().min(MAX_EVENTS);
-    if ne == 0 || !(t_end > t_prev) {
+    if ne == 0 || t_end.partial_cmp(&t_prev) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
     // Where to start: after the last hit on this same step, else t_prev.
@@ -466,8 +474,21 @@ where
         armed[i] = if at_origin {
             g.abs() > opts.value_tol
         } else {
-            g != 0.0
+            g != 0.0 && !g.is_nan()
         };
+        if at_origin && !armed[i] {
+            if let Some((j, d)) = state.last_hit {
+                if j == i {
+                    // The event that just fired keeps its post-crossing sign.
+                    armed[i] = true;
+                    g_ref[i] = if d == Direction::Falling {
+                        -f64::MIN_POSITIVE
+                    } else {
+                        f64::MIN_POSITIVE
+                    };
+                }
+            }
+        }
         if has_der[i] {
             d_ref[i] = events.derivative(i, start, &y_a, &f_a).unwrap_or(0.0);
         }
@@ -491,7 +512,6 @@ where
         }
         // Best candidate of this interval: (t, index, direction).
         let mut best: Option<(f64, usize, Direction)> = None;
-        let first_interval = k == 1;
         for i in 0..ne {
             if !active[i] {
                 continue;
@@ -502,6 +522,10 @@ where
             } else {
                 0.0
             };
+            if g_b.is_nan() {
+                // No information at this sample: keep the previous reference.
+                continue;
+            }
             if !armed[i] {
                 if g_b.abs() > opts.value_tol && g_b != 0.0 {
                     armed[i] = true;
@@ -519,7 +543,7 @@ where
             let allowed = events.direction(i);
             let tol = tol_at(t_a.abs().max(t_b.abs()));
             let mut candidate: Option<(f64, Direction)> = None;
-            let ignorable = |r: f64| first_interval && at_origin && r - start <= window;
+            let ignorable = |r: f64| at_origin && r - start <= window;
             if g_b == 0.0 || (g_b > 0.0) != (g_a > 0.0) {
                 if allowed.allows(dir_first) {
                     let r = locate(integ, sys, events, i, (t_a, g_a), (t_b, g_b), tol, max_iter);
@@ -581,6 +605,7 @@ where
             y_at(integ, sys, r, &mut y_hit);
             state.origin = Some(r);
             state.resume = Some((t_prev, r));
+            state.last_hit = Some((i, d));
             integ.stats_mut().events += 1;
             return Some(EventHit {
                 index: i,

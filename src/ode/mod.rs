@@ -17,6 +17,68 @@
 //! never allocates. Integration runs forward in time only
 //! ($t_{\text{bound}} \ge t$).
 //!
+//! # Examples
+//!
+//! The convenience driver with outputs on a grid:
+//!
+//! ```
+//! use jeffcott::ode::{solve, Dop853, NoEvents, Options, Recorder};
+//! use nalgebra::SVector;
+//!
+//! let osc = |_t: f64, y: &SVector<f64, 2>, dy: &mut SVector<f64, 2>| {
+//!     dy[0] = y[1];
+//!     dy[1] = -y[0];
+//! };
+//! let mut integ = Dop853::new(Options::with_tol(1e-10, 1e-12))?;
+//! let mut rec = Recorder::with_grid(vec![1.0, 2.0]);
+//! let y0 = SVector::<f64, 2>::new(1.0, 0.0);
+//! let rep = solve(&mut integ, &osc, 0.0, &y0, 2.0, &NoEvents, &mut rec)?;
+//! assert_eq!(rep.t, 2.0);
+//! assert!((rec.outputs[0].1[0] - 1f64.cos()).abs() < 1e-8);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! A hybrid loop (as a piecewise-smooth driver would write it): step, look
+//! for an event on the step, truncate there, apply a reset map, restart.
+//!
+//! ```
+//! use jeffcott::ode::{
+//!     find_first_event, Direction, Dop853, EventOptions, EventSet, EventState, Integrator,
+//!     Options,
+//! };
+//! use nalgebra::SVector;
+//! type V2 = SVector<f64, 2>;
+//!
+//! /// Impact when the height x[0] falls through 0.
+//! struct Floor;
+//! impl EventSet<2> for Floor {
+//!     fn len(&self) -> usize { 1 }
+//!     fn direction(&self, _i: usize) -> Direction { Direction::Falling }
+//!     fn value(&self, _i: usize, _t: f64, y: &V2) -> f64 { y[0] }
+//! }
+//! let ball = |_t: f64, y: &V2, dy: &mut V2| {
+//!     dy[0] = y[1];
+//!     dy[1] = -1.0;
+//! };
+//! let mut integ = Dop853::new(Options::with_tol(1e-12, 1e-12))?;
+//! integ.reset(&ball, 0.0, &V2::new(0.5, 0.0), false)?;
+//! let mut state = EventState::new();
+//! let opts = EventOptions::default();
+//! let mut impacts = Vec::new();
+//! while integ.t() < 3.0 {
+//!     integ.step(&ball, 3.0)?;
+//!     if let Some(hit) = find_first_event(&mut integ, &ball, &Floor, &opts, &mut state) {
+//!         integ.truncate(&ball, hit.t)?;
+//!         let y_new = V2::new(hit.y[0], -0.8 * hit.y[1]); // reset map
+//!         integ.reset(&ball, hit.t, &y_new, true)?; // keep the step size
+//!         state.reset();
+//!         impacts.push(hit.t);
+//!     }
+//! }
+//! assert!((impacts[0] - 1.0).abs() < 1e-12 && (impacts[1] - 2.6).abs() < 1e-12);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! # Step-size control
 //!
 //! For a trial step $y_0 \to y_1$ with local error estimate $e$ the scaled
@@ -147,7 +209,7 @@ pub struct Options<const N: usize> {
     /// integrator returns [`OdeError::StepSizeUnderflow`]. Default `0`.
     pub h_min: f64,
     /// Maximum number of step attempts (accepted + rejected) between two
-    /// calls of [`Integrator::reset`] (so per call of [`solve`]).
+    /// calls of [`Integrator::reset`] (so per call of [`solve()`]).
     /// Default `1_000_000`.
     pub max_steps: u64,
     /// Safety factor of the step-size controller, in (0, 1]. Default `0.9`.
@@ -164,7 +226,8 @@ pub struct Options<const N: usize> {
     /// [`Dop853`] `Some(h)` switches error control off and takes steps of
     /// exactly `h` (the last one before a bound is shortened to land on it);
     /// this is meant for convergence studies and reproducing fixed grids.
-    /// Default `None`.
+    /// In fixed-step mode `h_init`, `h_min`, `h_max` and the controller
+    /// fields are not used. Default `None`.
     pub fixed_step: Option<f64>,
 }
 
@@ -229,7 +292,7 @@ impl<const N: usize> Options<N> {
                 );
             }
         }
-        if !(self.h_max > 0.0) {
+        if self.h_max.is_nan() || self.h_max <= 0.0 {
             return bad(
                 "h_max",
                 self.h_max,
@@ -242,6 +305,11 @@ impl<const N: usize> Options<N> {
                 self.h_min,
                 "h_min must be finite, >= 0 and <= h_max",
             );
+        }
+        if let Some(h) = self.h_init {
+            if h < self.h_min {
+                return bad("h_init", h, "h_init must be >= h_min");
+            }
         }
         if self.max_steps == 0 {
             return bad("max_steps", 0.0, "max_steps must be >= 1");

@@ -247,23 +247,18 @@ where
     let mut y_out = SVector::<f64, N>::zeros();
     while integ.t() < t_end {
         integ.step(sys, t_end).map_err(|e| fail(integ, e))?;
-        loop {
-            match find_first_event(integ, sys, events, event_opts, &mut state) {
-                Some(hit) => {
-                    emit_outputs(integ, sys, hit.t, &mut pending, out, &mut y_out);
-                    out.on_event(&hit);
-                    if events.terminal(hit.index) {
-                        integ.truncate(sys, hit.t).map_err(|e| fail(integ, e))?;
-                        out.on_step(integ.t(), integ.y());
-                        return Ok(SolveReport {
-                            stopped: Stopped::Event(hit.index, hit.t),
-                            t: integ.t(),
-                            y: *integ.y(),
-                            stats: *integ.stats(),
-                        });
-                    }
-                }
-                None => break,
+        while let Some(hit) = find_first_event(integ, sys, events, event_opts, &mut state) {
+            emit_outputs(integ, sys, hit.t, &mut pending, out, &mut y_out);
+            out.on_event(&hit);
+            if events.terminal(hit.index) {
+                integ.truncate(sys, hit.t).map_err(|e| fail(integ, e))?;
+                out.on_step(integ.t(), integ.y());
+                return Ok(SolveReport {
+                    stopped: Stopped::Event(hit.index, hit.t),
+                    t: integ.t(),
+                    y: *integ.y(),
+                    stats: *integ.stats(),
+                });
             }
         }
         let t_now = integ.t();

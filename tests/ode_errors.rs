@@ -1,0 +1,416 @@
+//! Typed errors: step-size underflow, non-finite right-hand sides, invalid
+//! options, misuse of the stepping API.
+
+use jeffcott::ode::{
+    solve, solve_with, AnyIntegrator, Direction, Dop853, Dopri5, EventOptions, EventSet,
+    Integrator, Method, NoEvents, OdeError, Options, Rk4, Tolerance,
+};
+use nalgebra::SVector;
+
+type V1 = SVector<f64, 1>;
+type V2 = SVector<f64, 2>;
+
+/// $y' = y^2$, $y(0) = 1$: $y = 1/(1-t)$ blows up at $t = 1$.
+fn blowup(_t: f64, y: &V1, dy: &mut V1) {
+    dy[0] = y[0] * y[0];
+}
+
+#[test]
+fn finite_time_blow_up_gives_step_size_underflow_with_last_good_state() {
+    for method in [Method::Dop853, Method::Dopri5] {
+        let mut integ = AnyIntegrator::new(method, Options::with_tol(1e-8, 1e-8)).unwrap();
+        let err = solve(
+            &mut integ,
+            &blowup,
+            0.0,
+            &V1::new(1.0),
+            2.0,
+            &NoEvents,
+            &mut (),
+        )
+        .unwrap_err();
+        println!("{}: {err}", method.name());
+        match err.error {
+            OdeError::StepSizeUnderflow { t, h, h_min } => {
+                // the numerical blow-up time differs from 1 by the global error
+                assert!((t - 1.0).abs() < 1e-6, "t = {t}");
+                assert!(h < h_min);
+            }
+            e => panic!("{}: expected StepSizeUnderflow, got {e:?}", method.name()),
+        }
+
+        assert_eq!(err.t, integ.t());
+        assert_eq!(err.y, *integ.y());
+        // last good state: finite and huge (the solution blows up)
+        assert!(err.y[0].is_finite() && err.y[0] > 1e6, "{}", err.y[0]);
+        assert!(err.stats.steps > 10);
+        assert_eq!(err.stats, *integ.stats());
+        let msg = err.to_string();
+        assert!(msg.contains("underflow") && msg.contains("event"), "{msg}");
+    }
+    // A user-set h_min triggers earlier.
+    let opts = Options {
+        h_min: 1e-6,
+        ..Options::with_tol(1e-8, 1e-8)
+    };
+    let mut integ = Dop853::new(opts).unwrap();
+    let err = solve(
+        &mut integ,
+        &blowup,
+        0.0,
+        &V1::new(1.0),
+        2.0,
+        &NoEvents,
+        &mut (),
+    )
+    .unwrap_err();
+    assert!(matches!(err.error, OdeError::StepSizeUnderflow { h_min, .. } if h_min == 1e-6));
+    assert!(err.t < 1.0 - 1e-6);
+}
+
+#[test]
+fn nan_in_rhs_gives_typed_error() {
+    // NaN for t > 0.5
+    let nan_late = |t: f64, y: &V1, dy: &mut V1| {
+        dy[0] = if t > 0.5 { f64::NAN } else { -y[0] };
+    };
+    for method in [Method::Dop853, Method::Dopri5] {
+        let mut integ = AnyIntegrator::new(method, Options::with_tol(1e-8, 1e-8)).unwrap();
+        let err = solve(
+            &mut integ,
+            &nan_late,
+            0.0,
+            &V1::new(1.0),
+            2.0,
+            &NoEvents,
+            &mut (),
+        )
+        .unwrap_err();
+        println!("{}: {err}", method.name());
+        assert!(
+            matches!(err.error, OdeError::NonFiniteRhs { .. }),
+            "{err:?}"
+        );
+        assert!(err.t <= 0.5 && err.y[0].is_finite());
+        assert!((err.y[0] - (-err.t).exp()).abs() < 1e-6);
+    }
+    // Fixed steps cannot shrink: immediate error.
+    let mut integ = Rk4::new(Options::fixed(0.3)).unwrap();
+    let err = solve(
+        &mut integ,
+        &nan_late,
+        0.0,
+        &V1::new(1.0),
+        2.0,
+        &NoEvents,
+        &mut (),
+    )
+    .unwrap_err();
+    assert!(matches!(err.error, OdeError::NonFiniteRhs { t, .. } if t == 0.3));
+    // NaN already at the initial point.
+    let nan_always = |_t: f64, _y: &V1, dy: &mut V1| dy[0] = f64::NAN;
+    let mut integ = Dop853::new(Options::default()).unwrap();
+    assert!(matches!(
+        integ.reset(&nan_always, 0.0, &V1::new(1.0), false),
+        Err(OdeError::NonFiniteRhs { .. })
+    ));
+    // Non-finite initial data.
+    assert!(matches!(
+        integ.reset(&blowup, 0.0, &V1::new(f64::INFINITY), false),
+        Err(OdeError::NonFiniteInitial { component: 0, .. })
+    ));
+    assert!(matches!(
+        integ.reset(&blowup, f64::NAN, &V1::new(1.0), false),
+        Err(OdeError::NonFiniteInitial { .. })
+    ));
+}
+
+fn field_of(e: OdeError) -> &'static str {
+    match e {
+        OdeError::InvalidOption { field, .. } => field,
+        other => panic!("expected InvalidOption, got {other:?}"),
+    }
+}
+
+#[test]
+fn invalid_options_name_the_field() {
+    let d = Options::<2>::default();
+    let cases: Vec<(Options<2>, &str)> = vec![
+        (
+            Options {
+                rtol: Tolerance::Scalar(-1.0),
+                ..d
+            },
+            "rtol",
+        ),
+        (
+            Options {
+                rtol: Tolerance::Scalar(f64::NAN),
+                ..d
+            },
+            "rtol",
+        ),
+        (
+            Options {
+                atol: Tolerance::PerComponent(V2::new(1e-9, f64::NAN)),
+                ..d
+            },
+            "atol",
+        ),
+        (
+            Options {
+                rtol: Tolerance::Scalar(0.0),
+                atol: Tolerance::Scalar(0.0),
+                ..d
+            },
+            "atol",
+        ),
+        (
+            Options {
+                h_init: Some(0.0),
+                ..d
+            },
+            "h_init",
+        ),
+        (
+            Options {
+                h_init: Some(f64::NAN),
+                ..d
+            },
+            "h_init",
+        ),
+        (Options { h_max: 0.0, ..d }, "h_max"),
+        (
+            Options {
+                h_max: f64::NAN,
+                ..d
+            },
+            "h_max",
+        ),
+        (Options { h_min: -1.0, ..d }, "h_min"),
+        (
+            Options {
+                h_min: 2.0,
+                h_max: 1.0,
+                ..d
+            },
+            "h_min",
+        ),
+        (Options { max_steps: 0, ..d }, "max_steps"),
+        (
+            Options {
+                h_init: Some(1e-9),
+                h_min: 1e-6,
+                ..d
+            },
+            "h_init",
+        ),
+        (Options { safety: 1.5, ..d }, "safety"),
+        (Options { safety: 0.0, ..d }, "safety"),
+        (Options { fac_min: 0.0, ..d }, "fac_min"),
+        (Options { fac_max: 0.5, ..d }, "fac_max"),
+        (
+            Options {
+                fac_max: f64::INFINITY,
+                ..d
+            },
+            "fac_max",
+        ),
+        (
+            Options {
+                beta: Some(0.5),
+                ..d
+            },
+            "beta",
+        ),
+        (
+            Options {
+                fixed_step: Some(-0.1),
+                ..d
+            },
+            "fixed_step",
+        ),
+    ];
+    for (opts, field) in cases {
+        for method in Method::ALL {
+            let opts = if method == Method::Rk4 && opts.fixed_step.is_none() {
+                Options {
+                    fixed_step: Some(0.1),
+                    ..opts
+                }
+            } else {
+                opts
+            };
+            let e = AnyIntegrator::new(method, opts).unwrap_err();
+            assert_eq!(field_of(e), field, "{} {opts:?}", method.name());
+            assert!(e.to_string().contains(field));
+        }
+        assert_eq!(field_of(opts.validate().unwrap_err()), field);
+    }
+    // RK4 needs a fixed step.
+    let e = Rk4::<2>::new(Options::default()).unwrap_err();
+    assert_eq!(field_of(e), "fixed_step");
+    assert!(e.to_string().contains("fixed_step"));
+    // Valid defaults.
+    assert!(Dop853::<2>::new(Options::default()).is_ok());
+    assert!(Dopri5::<2>::new(Options::default()).is_ok());
+}
+
+#[test]
+fn invalid_event_options_and_too_many_events() {
+    let osc = |_t: f64, y: &V2, dy: &mut V2| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    };
+    let mut integ = Dop853::new(Options::default()).unwrap();
+    let bad = EventOptions {
+        samples_per_step: 0,
+        ..EventOptions::default()
+    };
+    let e = solve_with(
+        &mut integ,
+        &osc,
+        0.0,
+        &V2::new(1.0, 0.0),
+        1.0,
+        &NoEvents,
+        &bad,
+        &mut (),
+    )
+    .unwrap_err();
+    assert_eq!(field_of(e.error), "samples_per_step");
+    let bad = EventOptions {
+        root_tol: -1.0,
+        ..EventOptions::default()
+    };
+    let e = solve_with(
+        &mut integ,
+        &osc,
+        0.0,
+        &V2::new(1.0, 0.0),
+        1.0,
+        &NoEvents,
+        &bad,
+        &mut (),
+    )
+    .unwrap_err();
+    assert_eq!(field_of(e.error), "root_tol");
+
+    struct Many;
+    impl EventSet<2> for Many {
+        fn len(&self) -> usize {
+            40
+        }
+        fn direction(&self, _i: usize) -> Direction {
+            Direction::Either
+        }
+        fn value(&self, _i: usize, _t: f64, y: &V2) -> f64 {
+            y[0]
+        }
+    }
+    let e = solve(
+        &mut integ,
+        &osc,
+        0.0,
+        &V2::new(1.0, 0.0),
+        1.0,
+        &Many,
+        &mut (),
+    )
+    .unwrap_err();
+    assert!(matches!(e.error, OdeError::TooManyEvents { len: 40, .. }));
+}
+
+#[test]
+fn api_misuse_is_an_error_not_a_panic() {
+    let osc = |_t: f64, y: &V2, dy: &mut V2| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    };
+    for method in Method::ALL {
+        let mut integ = AnyIntegrator::new(method, Options::fixed(0.1)).unwrap();
+        assert!(matches!(
+            integ.step(&osc, 1.0),
+            Err(OdeError::NotInitialized)
+        ));
+        assert!(matches!(
+            integ.truncate(&osc, 1.0),
+            Err(OdeError::NotInitialized)
+        ));
+        // dense before reset/step: no panic
+        let mut out = V2::zeros();
+        integ.dense(&osc, 0.5, &mut out);
+        integ.reset(&osc, 0.0, &V2::new(1.0, 0.0), false).unwrap();
+        assert!(matches!(
+            integ.step(&osc, -1.0),
+            Err(OdeError::InvalidBound { .. })
+        ));
+        assert!(matches!(
+            integ.step(&osc, f64::NAN),
+            Err(OdeError::InvalidBound { .. })
+        ));
+        assert!(matches!(
+            integ.step(&osc, f64::INFINITY),
+            Err(OdeError::InvalidBound { .. })
+        ));
+        // truncate without a step: (t_prev, t] is empty
+        assert!(matches!(
+            integ.truncate(&osc, 0.0),
+            Err(OdeError::TruncateOutOfRange { .. })
+        ));
+    }
+    // solve with t_end < t0
+    let mut integ = Dop853::new(Options::default()).unwrap();
+    let e = solve(
+        &mut integ,
+        &osc,
+        1.0,
+        &V2::new(1.0, 0.0),
+        0.0,
+        &NoEvents,
+        &mut (),
+    )
+    .unwrap_err();
+    assert!(matches!(e.error, OdeError::InvalidBound { .. }));
+}
+
+#[test]
+fn too_many_steps() {
+    let osc = |_t: f64, y: &V2, dy: &mut V2| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    };
+    let opts = Options {
+        max_steps: 10,
+        ..Options::with_tol(1e-12, 1e-12)
+    };
+    let mut integ = Dop853::new(opts).unwrap();
+    let e = solve(
+        &mut integ,
+        &osc,
+        0.0,
+        &V2::new(1.0, 0.0),
+        100.0,
+        &NoEvents,
+        &mut (),
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e.error, OdeError::TooManySteps { max_steps: 10, .. }),
+        "{e:?}"
+    );
+    assert_eq!(e.stats.steps + e.stats.rejected, 10);
+    assert!(e.to_string().contains("max_steps"));
+    // The limit is per reset: a fresh solve can run again.
+    let e2 = solve(
+        &mut integ,
+        &osc,
+        0.0,
+        &V2::new(1.0, 0.0),
+        100.0,
+        &NoEvents,
+        &mut (),
+    )
+    .unwrap_err();
+    assert!(matches!(e2.error, OdeError::TooManySteps { .. }));
+}

@@ -1,0 +1,617 @@
+//! Event detection and location.
+
+use jeffcott::ode::{
+    find_first_event, solve, solve_with, AnyIntegrator, Direction, Dop853, EventOptions, EventSet,
+    EventState, Integrator, Method, OdeSystem, Options, Recorder, Stopped,
+};
+use nalgebra::SVector;
+use std::f64::consts::PI;
+
+type V1 = SVector<f64, 1>;
+type V2 = SVector<f64, 2>;
+
+/// $y' = \cos t$, $y(0) = 0$: $y = \sin t$ (a pure quadrature, so the
+/// integration error is at round-off level and the event accuracy is the
+/// root finder's).
+fn quad_sin(t: f64, _y: &V1, dy: &mut V1) {
+    dy[0] = t.cos();
+}
+
+/// Harmonic oscillator $x'' = -x$.
+fn osc(_t: f64, y: &V2, dy: &mut V2) {
+    dy[0] = y[1];
+    dy[1] = -y[0];
+}
+
+/// A list of event functions given by closures.
+struct Events<F> {
+    fs: Vec<(F, Direction, bool)>,
+}
+
+impl<const N: usize, F: Fn(f64, &SVector<f64, N>) -> f64> EventSet<N> for Events<F> {
+    fn len(&self) -> usize {
+        self.fs.len()
+    }
+    fn direction(&self, i: usize) -> Direction {
+        self.fs[i].1
+    }
+    fn terminal(&self, i: usize) -> bool {
+        self.fs[i].2
+    }
+    fn value(&self, i: usize, t: f64, y: &SVector<f64, N>) -> f64 {
+        (self.fs[i].0)(t, y)
+    }
+}
+
+/// Single event $g = y_0$ with optional derivative $\dot g = \dot y_0$.
+struct Comp0 {
+    dir: Direction,
+    terminal: bool,
+    with_derivative: bool,
+}
+
+impl<const N: usize> EventSet<N> for Comp0 {
+    fn len(&self) -> usize {
+        1
+    }
+    fn direction(&self, _i: usize) -> Direction {
+        self.dir
+    }
+    fn terminal(&self, _i: usize) -> bool {
+        self.terminal
+    }
+    fn value(&self, _i: usize, _t: f64, y: &SVector<f64, N>) -> f64 {
+        y[0]
+    }
+    fn derivative(
+        &self,
+        _i: usize,
+        _t: f64,
+        _y: &SVector<f64, N>,
+        dy: &SVector<f64, N>,
+    ) -> Option<f64> {
+        self.with_derivative.then_some(dy[0])
+    }
+}
+
+fn comp0(dir: Direction, terminal: bool) -> Comp0 {
+    Comp0 {
+        dir,
+        terminal,
+        with_derivative: false,
+    }
+}
+
+#[test]
+fn sine_zero_crossings_located_to_machine_precision() {
+    for method in [Method::Dop853, Method::Dopri5] {
+        let mut integ = AnyIntegrator::new(method, Options::with_tol(1e-14, 1e-15)).unwrap();
+        let mut rec = Recorder::default();
+        let ev = comp0(Direction::Either, false);
+        let rep = solve(
+            &mut integ,
+            &quad_sin,
+            0.0,
+            &V1::zeros(),
+            10.0,
+            &ev,
+            &mut rec,
+        )
+        .unwrap();
+        assert_eq!(rep.stopped, Stopped::Reached);
+        // g(0) = 0 at the start does not fire; crossings at pi, 2pi, 3pi.
+        let times: Vec<f64> = rec.events.iter().map(|h| h.t).collect();
+        println!("{}: events {times:?}", method.name());
+        assert_eq!(rec.events.len(), 3, "{times:?}");
+        for (k, h) in rec.events.iter().enumerate() {
+            let exact = (k + 1) as f64 * PI;
+            println!("  error {:.2e}", h.t - exact);
+            assert!((h.t - exact).abs() < 1e-14, "{} vs {exact}", h.t);
+            let want = if k % 2 == 0 {
+                Direction::Falling
+            } else {
+                Direction::Rising
+            };
+            assert_eq!(h.direction, want);
+            assert_eq!(h.index, 0);
+        }
+        assert_eq!(rep.stats.events, 3);
+    }
+}
+
+#[test]
+fn oscillator_crossings_with_adaptive_dop853() {
+    let mut integ = Dop853::new(Options::with_tol(1e-13, 1e-13)).unwrap();
+    let mut rec = Recorder::default();
+    let ev = comp0(Direction::Either, false);
+    let y0 = V2::new(1.0, 0.0); // x = cos t
+    solve(&mut integ, &osc, 0.0, &y0, 20.0, &ev, &mut rec).unwrap();
+    assert_eq!(rec.events.len(), 6);
+    let mut worst = 0.0f64;
+    for (k, h) in rec.events.iter().enumerate() {
+        let exact = PI / 2.0 + k as f64 * PI;
+        worst = worst.max((h.t - exact).abs());
+    }
+    println!("worst event time error (x'' = -x, rtol 1e-13, DOP853): {worst:.2e}");
+    assert!(worst < 1e-11);
+}
+
+#[test]
+fn direction_filtering() {
+    let mut integ = Dop853::new(Options::with_tol(1e-14, 1e-15)).unwrap();
+    let mut rec = Recorder::default();
+    solve(
+        &mut integ,
+        &quad_sin,
+        0.0,
+        &V1::zeros(),
+        10.0,
+        &comp0(Direction::Rising, false),
+        &mut rec,
+    )
+    .unwrap();
+    assert_eq!(rec.events.len(), 1);
+    assert!((rec.events[0].t - 2.0 * PI).abs() < 1e-14);
+    assert_eq!(rec.events[0].direction, Direction::Rising);
+
+    let mut rec = Recorder::default();
+    solve(
+        &mut integ,
+        &quad_sin,
+        0.0,
+        &V1::zeros(),
+        10.0,
+        &comp0(Direction::Falling, false),
+        &mut rec,
+    )
+    .unwrap();
+    let t: Vec<f64> = rec.events.iter().map(|h| h.t).collect();
+    assert_eq!(t.len(), 2);
+    assert!((t[0] - PI).abs() < 1e-14 && (t[1] - 3.0 * PI).abs() < 1e-14);
+}
+
+/// One big fixed step [0, 2] of $y' = 1$ (so $y = t$), events inside it.
+fn one_big_step() -> Dop853<1> {
+    let sys = |_t: f64, _y: &V1, dy: &mut V1| dy[0] = 1.0;
+    let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
+    integ.reset(&sys, 0.0, &V1::zeros(), false).unwrap();
+    integ.step(&sys, 10.0).unwrap();
+    assert_eq!(integ.t(), 2.0);
+    integ
+}
+
+fn unit(_t: f64, _y: &V1, dy: &mut V1) {
+    dy[0] = 1.0;
+}
+
+#[test]
+fn two_events_in_one_step_earliest_wins_and_ties_go_to_lower_index() {
+    type F = fn(f64, &V1) -> f64;
+    let opts = EventOptions::default();
+    // Same sample interval [1.2, 1.6] and different ones; both orders of indices.
+    for (a, b) in [(1.5, 1.3), (1.3, 1.5), (0.5, 1.7), (1.7, 0.5)] {
+        let mut integ = one_big_step();
+        let fa = move |_t: f64, y: &V1| y[0] - a;
+        let fb = move |_t: f64, y: &V1| y[0] - b;
+        let ev = Events {
+            fs: vec![
+                (
+                    Box::new(fa) as Box<dyn Fn(f64, &V1) -> f64>,
+                    Direction::Either,
+                    true,
+                ),
+                (Box::new(fb), Direction::Either, true),
+            ],
+        };
+        let mut st = EventState::new();
+        let hit = find_first_event(&mut integ, &unit, &ev, &opts, &mut st).unwrap();
+        let (want_idx, want_t) = if a < b { (0, a) } else { (1, b) };
+        assert_eq!(hit.index, want_idx);
+        assert!((hit.t - want_t).abs() < 2e-15, "{} vs {want_t}", hit.t);
+        // The next call on the same step resumes after the first hit.
+        let hit2 = find_first_event(&mut integ, &unit, &ev, &opts, &mut st).unwrap();
+        assert_eq!(hit2.index, 1 - want_idx);
+        assert!(find_first_event(&mut integ, &unit, &ev, &opts, &mut st).is_none());
+    }
+    // Tie: identical functions -> index 0, deterministically.
+    let g: F = |_t, y| y[0] - 1.3;
+    let ev = Events {
+        fs: vec![
+            (g, Direction::Either, true),
+            (g, Direction::Either, true),
+            (g, Direction::Either, true),
+        ],
+    };
+    for _ in 0..3 {
+        let mut integ = one_big_step();
+        let hit = find_first_event(&mut integ, &unit, &ev, &opts, &mut EventState::new()).unwrap();
+        assert_eq!(hit.index, 0);
+    }
+}
+
+#[test]
+fn event_at_start_time_does_not_refire() {
+    // g(0) = 0 exactly.
+    let mut integ = Dop853::new(Options::with_tol(1e-14, 1e-15)).unwrap();
+    let mut rec = Recorder::default();
+    solve(
+        &mut integ,
+        &quad_sin,
+        0.0,
+        &V1::zeros(),
+        4.0,
+        &comp0(Direction::Either, true),
+        &mut rec,
+    )
+    .unwrap();
+    assert_eq!(rec.events.len(), 1);
+    assert!((rec.events[0].t - PI).abs() < 1e-14);
+
+    // Start at t = pi with y = sin(pi) = 1.2e-16 > 0: it falls through zero
+    // within an ulp of the start; this is the start-time zero, not an event.
+    let t0 = PI;
+    let y0 = V1::new(PI.sin());
+    assert!(y0[0] > 0.0);
+    let mut rec = Recorder::default();
+    let rep = solve(
+        &mut integ,
+        &quad_sin,
+        t0,
+        &y0,
+        10.0,
+        &comp0(Direction::Falling, true),
+        &mut rec,
+    )
+    .unwrap();
+    assert_eq!(rep.stopped, Stopped::Event(0, rep.t));
+    assert!((rep.t - 3.0 * PI).abs() < 1e-14, "{}", rep.t);
+
+    // Restart exactly at a previous hit (reset + fresh EventState): the hit
+    // does not fire again, the next crossing does.
+    let mut integ = Dop853::new(Options::with_tol(1e-14, 1e-15)).unwrap();
+    let ev = comp0(Direction::Either, true);
+    let opts = EventOptions::default();
+    integ.reset(&quad_sin, 0.0, &V1::zeros(), false).unwrap();
+    let mut st = EventState::new();
+    let mut hits = vec![];
+    while integ.t() < 10.0 && hits.len() < 3 {
+        integ.step(&quad_sin, 10.0).unwrap();
+        if let Some(h) = find_first_event(&mut integ, &quad_sin, &ev, &opts, &mut st) {
+            integ.truncate(&quad_sin, h.t).unwrap();
+            let (t, y) = (integ.t(), *integ.y());
+            integ.reset(&quad_sin, t, &y, true).unwrap();
+            st.reset();
+            hits.push(h.t);
+        }
+    }
+    println!("hits with truncate + reset: {hits:?}");
+    assert_eq!(hits.len(), 3);
+    for (k, t) in hits.iter().enumerate() {
+        assert!((t - (k + 1) as f64 * PI).abs() < 1e-14);
+    }
+
+    // Same without reset: truncate and continue, the EventState re-arms.
+    integ.reset(&quad_sin, 0.0, &V1::zeros(), false).unwrap();
+    let mut st = EventState::new();
+    let mut hits = vec![];
+    while integ.t() < 10.0 {
+        integ.step(&quad_sin, 10.0).unwrap();
+        if let Some(h) = find_first_event(&mut integ, &quad_sin, &ev, &opts, &mut st) {
+            integ.truncate(&quad_sin, h.t).unwrap();
+            hits.push(h.t);
+        }
+    }
+    assert_eq!(hits.len(), 3, "{hits:?}");
+}
+
+/// $y' = 2(t-1)$, $y(0) = 1 - 10^{-6}$: $y = (t-1)^2 - 10^{-6}$, a dip of
+/// depth $10^{-6}$ below zero around $t = 1$ with roots $1 \pm 10^{-3}$,
+/// inside one step $[0, 2]$.
+fn dip(t: f64, _y: &V1, dy: &mut V1) {
+    dy[0] = 2.0 * (t - 1.0);
+}
+
+#[test]
+fn grazing_dip_found_with_derivative_missed_without() {
+    let depth = 1e-6;
+    let make = || {
+        let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
+        integ
+            .reset(&dip, 0.0, &V1::new(1.0 - depth), false)
+            .unwrap();
+        integ.step(&dip, 2.0).unwrap();
+        assert_eq!((integ.t_prev(), integ.t()), (0.0, 2.0));
+        integ
+    };
+    let opts = EventOptions::default();
+
+    // Plain end-point sign check: g(0) > 0 and g(2) > 0, nothing to see.
+    let integ = make();
+    let g0 = integ.y_prev()[0];
+    let g1 = integ.y()[0];
+    assert!(g0 > 0.0 && g1 > 0.0, "end points {g0} {g1}");
+
+    // Sampled detector without derivative: all samples positive -> missed.
+    let mut integ = make();
+    let without = Comp0 {
+        dir: Direction::Either,
+        terminal: true,
+        with_derivative: false,
+    };
+    assert!(find_first_event(&mut integ, &dip, &without, &opts, &mut EventState::new()).is_none());
+
+    // With the derivative: found, both roots, to machine precision.
+    let mut integ = make();
+    let with = Comp0 {
+        dir: Direction::Either,
+        terminal: true,
+        with_derivative: true,
+    };
+    let mut st = EventState::new();
+    let h1 = find_first_event(&mut integ, &dip, &with, &opts, &mut st).expect("dip must be found");
+    let r1 = 1.0 - depth.sqrt();
+    println!(
+        "grazing: first root {} (exact {r1}), error {:.2e}",
+        h1.t,
+        h1.t - r1
+    );
+    // The roots are ill-conditioned (|g'| = 2e-3 there) and DOP853's dense
+    // output has round-off of a few 1e-16 (its coefficients reach ~500), so
+    // the time is accurate to about 1e-16 / 2e-3 * 10.
+    assert_eq!(h1.direction, Direction::Falling);
+    assert!((h1.t - r1).abs() < 2e-12);
+    let h2 = find_first_event(&mut integ, &dip, &with, &opts, &mut st).expect("second root");
+    let r2 = 1.0 + depth.sqrt();
+    assert_eq!(h2.direction, Direction::Rising);
+    assert!((h2.t - r2).abs() < 2e-12, "{} vs {r2}", h2.t);
+
+    // Only rising allowed: the second root of the pair is reported.
+    let mut integ = make();
+    let rising = Comp0 {
+        dir: Direction::Rising,
+        terminal: true,
+        with_derivative: true,
+    };
+    let h = find_first_event(&mut integ, &dip, &rising, &opts, &mut EventState::new()).unwrap();
+    assert!((h.t - r2).abs() < 2e-12);
+
+    // A dip that stays above zero is not an event.
+    let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
+    integ
+        .reset(&dip, 0.0, &V1::new(1.0 + depth), false)
+        .unwrap();
+    integ.step(&dip, 2.0).unwrap();
+    assert!(find_first_event(&mut integ, &dip, &with, &opts, &mut EventState::new()).is_none());
+}
+
+#[test]
+fn terminal_versus_non_terminal() {
+    type F = fn(f64, &V2) -> f64;
+    let x: F = |_t, y| y[0];
+    let tstop: F = |t, _y| t - 5.0;
+    // non-terminal crossings of x, terminal at t = 5
+    let ev = Events {
+        fs: vec![
+            (x, Direction::Either, false),
+            (tstop, Direction::Rising, true),
+        ],
+    };
+    let mut integ = Dop853::new(Options::with_tol(1e-12, 1e-12)).unwrap();
+    let mut rec = Recorder::with_grid(vec![1.0, 4.0, 6.0]);
+    let rep = solve(
+        &mut integ,
+        &osc,
+        0.0,
+        &V2::new(1.0, 0.0),
+        10.0,
+        &ev,
+        &mut rec,
+    )
+    .unwrap();
+    assert_eq!(rep.stopped, Stopped::Event(1, rep.t));
+    assert!((rep.t - 5.0).abs() < 1e-14);
+    assert_eq!(integ.t(), rep.t);
+    // x crosses zero at pi/2 and 3pi/2 before t = 5, then the terminal event.
+    let idx: Vec<usize> = rec.events.iter().map(|h| h.index).collect();
+    assert_eq!(idx, vec![0, 0, 1]);
+    // Outputs only up to the terminal event.
+    let ts: Vec<f64> = rec.outputs.iter().map(|o| o.0).collect();
+    assert_eq!(ts, vec![1.0, 4.0]);
+    assert!((rec.outputs[1].1[0] - 4f64.cos()).abs() < 1e-10);
+
+    // All non-terminal: runs to the end.
+    let ev = Events {
+        fs: vec![
+            (x, Direction::Either, false),
+            (tstop, Direction::Rising, false),
+        ],
+    };
+    let mut rec = Recorder::default();
+    let rep = solve(
+        &mut integ,
+        &osc,
+        0.0,
+        &V2::new(1.0, 0.0),
+        10.0,
+        &ev,
+        &mut rec,
+    )
+    .unwrap();
+    assert_eq!(rep.stopped, Stopped::Reached);
+    assert_eq!(rep.t, 10.0);
+    assert_eq!(rec.events.len(), 4); // pi/2, 3pi/2, 5, 5pi/2
+}
+
+#[test]
+fn inactive_events_are_ignored() {
+    struct Switchable(bool);
+    impl EventSet<1> for Switchable {
+        fn len(&self) -> usize {
+            1
+        }
+        fn direction(&self, _i: usize) -> Direction {
+            Direction::Either
+        }
+        fn value(&self, _i: usize, _t: f64, y: &V1) -> f64 {
+            y[0]
+        }
+        fn terminal(&self, _i: usize) -> bool {
+            false
+        }
+        fn active(&self, _i: usize) -> bool {
+            self.0
+        }
+    }
+    let mut integ = Dop853::new(Options::with_tol(1e-10, 1e-12)).unwrap();
+    let mut rec = Recorder::default();
+    solve(
+        &mut integ,
+        &quad_sin,
+        0.0,
+        &V1::zeros(),
+        10.0,
+        &Switchable(false),
+        &mut rec,
+    )
+    .unwrap();
+    assert!(rec.events.is_empty());
+    solve(
+        &mut integ,
+        &quad_sin,
+        0.0,
+        &V1::zeros(),
+        10.0,
+        &Switchable(true),
+        &mut rec,
+    )
+    .unwrap();
+    assert_eq!(rec.events.len(), 3, "{:?}", rec.events);
+}
+
+#[test]
+fn event_options_samples_and_tolerance() {
+    // A coarse root tolerance is honoured; more samples still find the event.
+    let opts = EventOptions {
+        root_tol: 1e-6,
+        samples_per_step: 16,
+        ..EventOptions::default()
+    };
+    let mut integ = Dop853::new(Options::with_tol(1e-14, 1e-15)).unwrap();
+    let mut rec = Recorder::default();
+    solve_with(
+        &mut integ,
+        &quad_sin,
+        0.0,
+        &V1::zeros(),
+        4.0,
+        &comp0(Direction::Either, true),
+        &opts,
+        &mut rec,
+    )
+    .unwrap();
+    let t = rec.events[0].t;
+    assert!((t - PI).abs() < 1e-6);
+    // post-crossing side: sin(t) <= 0
+    assert!(t.sin() <= 1e-15);
+}
+
+/// Use from a generic function of the trait: the system is a struct.
+struct Pendulum;
+impl OdeSystem<2> for Pendulum {
+    fn rhs(&self, _t: f64, y: &V2, dy: &mut V2) {
+        dy[0] = y[1];
+        dy[1] = -y[0].sin();
+    }
+}
+
+#[test]
+fn pendulum_half_period_by_symmetry() {
+    // Released from rest at angle a: crosses zero (falling) at T/4 and comes to
+    // rest (velocity rising through 0) at T/2; check 2 * t(x=0) = t(v=0).
+    type F = fn(f64, &V2) -> f64;
+    let v: F = |_t, y| y[1];
+    let x: F = |_t, y| y[0];
+    let ev = Events {
+        fs: vec![(x, Direction::Falling, false), (v, Direction::Rising, true)],
+    };
+    let mut integ = Dop853::new(Options::with_tol(1e-13, 1e-13)).unwrap();
+    let mut rec = Recorder::default();
+    let rep = solve(
+        &mut integ,
+        &Pendulum,
+        0.0,
+        &V2::new(2.0, 0.0),
+        100.0,
+        &ev,
+        &mut rec,
+    )
+    .unwrap();
+    let quarter = rec.events[0].t;
+    assert_eq!(rec.events.len(), 2);
+    assert!((2.0 * quarter - rep.t).abs() < 1e-11, "{quarter} {}", rep.t);
+}
+
+/// With an event function of time only ($g = \sin t$), the located time is
+/// limited only by the root finder: within 4 ulp of the true root.
+#[test]
+fn root_finder_reaches_a_few_ulp() {
+    let mut integ = Dop853::new(Options::fixed(0.7)).unwrap();
+    let ev = Events {
+        fs: vec![(|t: f64, _y: &V1| t.sin(), Direction::Either, false)],
+    };
+    let mut rec = Recorder::default();
+    solve(&mut integ, &unit, 0.0, &V1::zeros(), 20.0, &ev, &mut rec).unwrap();
+    assert_eq!(rec.events.len(), 6);
+    for (k, h) in rec.events.iter().enumerate() {
+        let exact = (k + 1) as f64 * PI;
+        let ulps = (h.t - exact).abs() / (f64::EPSILON * exact);
+        println!("root {k}: error {:.2e} = {ulps:.1} ulp", h.t - exact);
+        assert!(ulps <= 4.0);
+    }
+}
+
+/// Hybrid use as in the rotor driver: a bouncing ball ($\ddot x = -1$,
+/// impact when $x$ crosses 0, velocity reversed with restitution 0.8) with
+/// the event direction `Either`, so that a round-off re-crossing right after
+/// the reset map would be reported if the re-arming rule failed. Impact
+/// times are known in closed form.
+#[test]
+fn bouncing_ball_with_reset_map_never_refires() {
+    let ball = |_t: f64, y: &V2, dy: &mut V2| {
+        dy[0] = y[1];
+        dy[1] = -1.0;
+    };
+    let ev = comp0(Direction::Either, true);
+    let opts = EventOptions::default();
+    let e = 0.8;
+    for method in [Method::Dop853, Method::Dopri5] {
+        let mut integ = AnyIntegrator::new(method, Options::with_tol(1e-12, 1e-12)).unwrap();
+        integ.reset(&ball, 0.0, &V2::new(0.5, 0.0), false).unwrap();
+        let mut st = EventState::new();
+        let mut impacts = vec![];
+        while integ.t() < 5.0 {
+            integ.step(&ball, 5.0).unwrap();
+            if let Some(h) = find_first_event(&mut integ, &ball, &ev, &opts, &mut st) {
+                assert_eq!(h.direction, Direction::Falling, "re-fired at {}", h.t);
+                integ.truncate(&ball, h.t).unwrap();
+                let y = V2::new(h.y[0], -e * h.y[1]);
+                integ.reset(&ball, h.t, &y, true).unwrap();
+                st.reset();
+                impacts.push(h.t);
+            }
+        }
+        // t1 = 1 (from x = 0.5, v = 0); flight k lasts 2 e^k (v1 = 1).
+        let mut t = 1.0;
+        let mut flight = 2.0 * e;
+        for (k, ti) in impacts.iter().enumerate() {
+            assert!(
+                (ti - t).abs() < 1e-12,
+                "{} impact {k}: {ti} vs {t}",
+                method.name()
+            );
+            t += flight;
+            flight *= e;
+        }
+        assert_eq!(impacts.len(), 4, "{}: {impacts:?}", method.name());
+    }
+}
