@@ -144,6 +144,9 @@ impl<M: RotorModel<N>, const N: usize> EventSet<N> for ModeSystem<'_, M, N> {
         self.model
             .guard_derivative(self.mode, i, t, y, dy, self.cache)
     }
+    fn derivative_needs_rhs(&self) -> bool {
+        self.model.guard_derivative_needs_rhs()
+    }
 }
 
 /// Pending outputs, in time order.

@@ -137,6 +137,13 @@ pub trait RotorModel<const N: usize> {
         None
     }
 
+    /// Whether [`RotorModel::guard_derivative`] reads its `dy` argument; `false` saves a
+    /// right-hand side evaluation per event sample (see
+    /// [`crate::ode::EventSet::derivative_needs_rhs`]).
+    fn guard_derivative_needs_rhs(&self) -> bool {
+        true
+    }
+
     /// Short name of guard `i` of `mode`, for event logs.
     fn guard_label(&self, mode: Self::Mode, i: usize) -> &'static str;
 

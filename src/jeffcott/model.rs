@@ -415,8 +415,9 @@ impl RotorModel<6> for JeffcottModel {
         let Mode::Contact(b) = mode else {
             return None;
         };
+        let _ = dy; // velocities are part of the state
         if i == 1 {
-            return Some(2.0 * (y[0] * dy[0] + y[1] * dy[1]));
+            return Some(2.0 * (y[0] * y[2] + y[1] * y[3]));
         }
         let (axis, br) = self.axis_guard(b, i)?;
         let c = self.contact(b, y, cache)?;
@@ -430,6 +431,10 @@ impl RotorModel<6> for JeffcottModel {
             Branch::Inner => s.signum() * v,
             Branch::Outer(sg) => f64::from(sg) * v,
         })
+    }
+
+    fn guard_derivative_needs_rhs(&self) -> bool {
+        false
     }
 
     fn guard_label(&self, mode: Mode, i: usize) -> &'static str {

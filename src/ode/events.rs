@@ -127,6 +127,14 @@ pub trait EventSet<const N: usize> {
         let _ = (i, t, y, dy);
         None
     }
+    /// Whether [`EventSet::derivative`] reads its `dy` argument. When `false`
+    /// the detector does not evaluate $f$ at the samples (saving one
+    /// right-hand side per sample) and passes zeros as `dy`: return `false`
+    /// when the derivatives are computed from `y` alone (e.g. a mechanical
+    /// system whose velocities are part of the state).
+    fn derivative_needs_rhs(&self) -> bool {
+        true
+    }
     /// Whether event `i` is currently active (lets a model switch events off
     /// without reallocating).
     fn active(&self, i: usize) -> bool {
@@ -460,8 +468,9 @@ where
             any_der |= has_der[i];
         }
     }
+    let need_rhs = any_der && events.derivative_needs_rhs();
     let mut f_a = SVector::<f64, N>::zeros();
-    if any_der {
+    if need_rhs {
         sys.rhs(start, &y_a, &mut f_a);
         integ.stats_mut().rhs_evals += 1;
     }
@@ -506,7 +515,7 @@ where
             start + span * (k as f64 / (m + 1) as f64)
         };
         y_at(integ, sys, t_b, &mut y_b);
-        if any_der {
+        if need_rhs {
             sys.rhs(t_b, &y_b, &mut f_b);
             integ.stats_mut().rhs_evals += 1;
         }
@@ -569,8 +578,10 @@ where
                         crossed = Some((t, g));
                         return 0.0;
                     }
-                    sys.rhs(t, &tmp, &mut f_c);
-                    evals += 1;
+                    if need_rhs {
+                        sys.rhs(t, &tmp, &mut f_c);
+                        evals += 1;
+                    }
                     events.derivative(i, t, &tmp, &f_c).unwrap_or(0.0)
                 });
                 integ.stats_mut().rhs_evals += evals;
