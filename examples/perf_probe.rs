@@ -16,7 +16,10 @@ fn main() {
             let opts = SimOptions {
                 rtol: 1e-9,
                 atol: 1e-12,
-                event_samples: std::env::var("S").ok().and_then(|s| s.parse().ok()).unwrap_or(4),
+                event_samples: std::env::var("S")
+                    .ok()
+                    .and_then(|s| s.parse().ok())
+                    .unwrap_or(4),
                 ..SimOptions::default()
             };
             let (_tr, s) = m.stroboscopic(&State::zeros(), 300, 450, &opts).unwrap();

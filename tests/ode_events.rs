@@ -615,3 +615,62 @@ fn bouncing_ball_with_reset_map_never_refires() {
         assert_eq!(impacts.len(), 4, "{}: {impacts:?}", method.name());
     }
 }
+
+/// The dip event with its derivative computed from the time alone
+/// ($\dot g = 2(t - 1)$), so the detector need not evaluate the right-hand side.
+struct DipFromState;
+
+impl EventSet<1> for DipFromState {
+    fn len(&self) -> usize {
+        1
+    }
+    fn direction(&self, _i: usize) -> Direction {
+        Direction::Either
+    }
+    fn value(&self, _i: usize, _t: f64, y: &V1) -> f64 {
+        y[0]
+    }
+    fn derivative(&self, _i: usize, t: f64, _y: &V1, _dy: &V1) -> Option<f64> {
+        Some(2.0 * (t - 1.0))
+    }
+    fn derivative_needs_rhs(&self) -> bool {
+        false
+    }
+}
+
+#[test]
+fn derivatives_from_the_state_alone_save_right_hand_sides() {
+    let depth = 1e-6;
+    let run = |with_rhs: bool| {
+        let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
+        integ
+            .reset(&dip, 0.0, &V1::new(1.0 - depth), false)
+            .unwrap();
+        integ.step(&dip, 2.0).unwrap();
+        let before = integ.stats().rhs_evals;
+        let opts = EventOptions::default();
+        let hit = if with_rhs {
+            let ev = Comp0 {
+                dir: Direction::Either,
+                terminal: true,
+                with_derivative: true,
+            };
+            find_first_event(&mut integ, &dip, &ev, &opts, &mut EventState::new())
+        } else {
+            find_first_event(
+                &mut integ,
+                &dip,
+                &DipFromState,
+                &opts,
+                &mut EventState::new(),
+            )
+        };
+        (hit.expect("dip found").t, integ.stats().rhs_evals - before)
+    };
+    let (t_rhs, evals_rhs) = run(true);
+    let (t_state, evals_state) = run(false);
+    assert!((t_rhs - t_state).abs() < 2e-12, "{t_rhs} vs {t_state}");
+    // Only the dense output's three extra stages remain.
+    assert_eq!(evals_state, 3, "{evals_state}");
+    assert!(evals_rhs > evals_state, "{evals_rhs} vs {evals_state}");
+}
