@@ -377,6 +377,9 @@ where
                     }
                     if let Some((g, tg)) = hit {
                         seg.eval(tg, &mut y, &mut dy);
+                        if !y.iter().all(|v| v.is_finite()) {
+                            return Err(fail(SimErrorKind::NonFinite, t, y, stats));
+                        }
                         break Some((g, tg));
                     }
                     t = target;

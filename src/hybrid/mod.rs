@@ -75,6 +75,25 @@ pub trait ExactSegment<const N: usize> {
     fn evaluations(&self) -> u64;
 }
 
+/// The [`RotorModel::Segment`] of a model without exact modes: never started by the
+/// driver when every mode is [`Flow::Integrated`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct NoExactModes;
+
+impl<const N: usize> ExactSegment<N> for NoExactModes {
+    fn eval(&self, _t: f64, y: &mut SVector<f64, N>, dy: &mut SVector<f64, N>) {
+        y.fill(f64::NAN);
+        dy.fill(f64::NAN);
+    }
+    fn next_guard(&mut self, _t_from: f64, t_to: f64) -> Option<(usize, f64)> {
+        let _ = t_to;
+        None
+    }
+    fn evaluations(&self) -> u64 {
+        0
+    }
+}
+
 /// A piecewise-smooth rotor model with state dimension `N`.
 ///
 /// See the [module docs](self) for the contract. Methods take `&self`: a model is immutable
