@@ -1,1 +1,300 @@
-//! Placeholder: filled in by its own work item.
+//! The preloaded snubber ring as a reusable contact element.
+//!
+//! All quantities are non-dimensional (lengths in units of the physical gap, forces in units of
+//! `k_r * gamma`, time `tau = omega_n t`), but the constraint radius [`SnubberRing::gap`] is kept
+//! as a field so the element can be used with any scaling (it is 1 in the paper's).
+//!
+//! # Model
+//!
+//! Per axis `i` in `{x, y}` the ring is held by two preloaded spring-damper units of unit
+//! stiffness `K_i > 0` and preload `D_i >= 0` (see [`RingAxis`]). With `s` the ring centre:
+//!
+//! * elastic energy `e_i(s) = K s^2` for `|s| <= D`, `e_i(s) = (K/2)((|s| + D)^2 - 2 D^2)` for
+//!   `|s| >= D` (both give `K D^2` at `|s| = D`); total `E(s) = e_x(s_x) + e_y(s_y)`;
+//! * elastic force `g_i(s) = e_i'(s) = 2 K s` inside the preload and `sign(s) K (|s| + D)` beyond it
+//!   (continuous at `|s| = D`, slope `2K -> K`);
+//! * damping `c_i(s) s'` with `c_i = 4 nu2` inside (both units act) and `2 nu2` beyond (one unit
+//!   has lifted off);
+//! * total force of the ring `f = g(s) + C(s) s'`, `C = diag(c_x, c_y)`.
+//!
+//! An axis is *inside* its preload when `D > 0` and `|s| <= D`, and *beyond* it otherwise: an axis
+//! with zero preload is always beyond (then `g = K s`, `c = 2 nu2`). The same predicate decides the
+//! energy branch, the force branch, the damping coefficient, the Jacobian and the regime, so they
+//! never disagree (the paper's strict `|s| < D` for the damping only differs on the set `|s| = D`).
+//!
+//! In contact (`|r| > gap`) the ring sits at the energy minimiser `s*(r)` on the circle
+//! `|r - s| = gap` ([`SnubberRing::locate`], see `locate.rs` and `docs/ring.md` for the solver);
+//! out of contact the massless ring relaxes exactly ([`SnubberRing::relax`]).
+
+use nalgebra::Vector2;
+use thiserror::Error;
+
+mod locate;
+mod regime;
+mod relax;
+
+pub use locate::{regime_ii_position, regime_v_position, RingContact};
+pub use regime::{boundaries, Regime};
+
+/// Errors of the snubber-ring element: every variant names the offending field and its value.
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[non_exhaustive]
+pub enum RingError {
+    /// A parameter or input is NaN or infinite.
+    #[error("{field} must be finite, got {value}")]
+    NonFinite {
+        /// Name of the field or argument (e.g. `"x.stiffness"`, `"r.y"`).
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// A parameter that must be `>= 0` is negative.
+    #[error("{field} must be >= 0, got {value}")]
+    Negative {
+        /// Name of the field.
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// A parameter that must be `> 0` is zero or negative.
+    #[error("{field} must be > 0, got {value}")]
+    NotPositive {
+        /// Name of the field.
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// A routine that assumes equal stiffness on both axes got an anisotropic ring.
+    #[error("x.stiffness = {x} and y.stiffness = {y} differ; an isotropic stiffness is required")]
+    AnisotropicStiffness {
+        /// `K_x`.
+        x: f64,
+        /// `K_y`.
+        y: f64,
+    },
+    /// The rotor is not in contact: `|r| <= gap`, so there is no contact position.
+    #[error("rotor at distance |r| = {distance} is inside the gap {gap}: no contact")]
+    InsideGap {
+        /// `|r|`, the distance of the rotor centre from the ring's rest position.
+        distance: f64,
+        /// The gap (constraint radius).
+        gap: f64,
+    },
+}
+
+/// Checks that `value` is finite.
+pub(crate) fn check_finite(field: &'static str, value: f64) -> Result<f64, RingError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(RingError::NonFinite { field, value })
+    }
+}
+
+/// Checks that `value` is finite and `>= 0`.
+pub(crate) fn check_non_negative(field: &'static str, value: f64) -> Result<f64, RingError> {
+    check_finite(field, value)?;
+    if value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(RingError::Negative { field, value })
+    }
+}
+
+/// Checks that `value` is finite and `> 0`.
+pub(crate) fn check_positive(field: &'static str, value: f64) -> Result<f64, RingError> {
+    check_finite(field, value)?;
+    if value > 0.0 {
+        Ok(value)
+    } else {
+        Err(RingError::NotPositive { field, value })
+    }
+}
+
+/// One axis of the ring: the two opposing spring-damper units along `x` or `y`.
+///
+/// * `stiffness` `K > 0`: stiffness of one unit (`k_s / k_r`). `K = 0` is rejected: with no
+///   stiffness on an axis the ring can slide freely along it and the contact position is not
+///   unique (any point of a chord of the circle has the same energy).
+/// * `preload` `D >= 0`: the preload displacement (`Delta / gamma`); `D = 0` means no preload.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RingAxis {
+    /// Unit stiffness `K > 0` of this axis.
+    pub stiffness: f64,
+    /// Preload `D >= 0` of this axis.
+    pub preload: f64,
+}
+
+impl RingAxis {
+    /// An axis with stiffness `K` and preload `D` (validated when the ring is built).
+    pub fn new(stiffness: f64, preload: f64) -> Self {
+        Self { stiffness, preload }
+    }
+
+    /// `true` when `s` is inside the preload on this axis: `D > 0` and `|s| <= D`.
+    #[inline]
+    pub fn is_inside(&self, s: f64) -> bool {
+        self.preload > 0.0 && s.abs() <= self.preload
+    }
+
+    /// Elastic energy of the axis,
+    /// `e(s) = K s^2` inside the preload, `(K/2)((|s| + D)^2 - 2 D^2)` beyond it.
+    #[inline]
+    pub fn energy(&self, s: f64) -> f64 {
+        let (k, d) = (self.stiffness, self.preload);
+        if self.is_inside(s) {
+            k * s * s
+        } else {
+            let a = s.abs() + d;
+            0.5 * k * (a * a - 2.0 * d * d)
+        }
+    }
+
+    /// Elastic force `g(s) = e'(s)`: `2 K s` inside the preload, `sign(s) K (|s| + D)` beyond it.
+    #[inline]
+    pub fn elastic_force(&self, s: f64) -> f64 {
+        let (k, d) = (self.stiffness, self.preload);
+        if self.is_inside(s) {
+            2.0 * k * s
+        } else if s == 0.0 {
+            0.0
+        } else {
+            k * (s + d.copysign(s))
+        }
+    }
+
+    /// Elastic stiffness `g'(s)`: `2 K` inside the preload, `K` beyond it (one-sided at `|s| = D`,
+    /// where the inside value is returned).
+    #[inline]
+    pub fn elastic_slope(&self, s: f64) -> f64 {
+        if self.is_inside(s) {
+            2.0 * self.stiffness
+        } else {
+            self.stiffness
+        }
+    }
+
+    /// Damping coefficient: `4 nu2` inside the preload, `2 nu2` beyond it.
+    #[inline]
+    pub fn damping_coefficient(&self, s: f64, damping: f64) -> f64 {
+        if self.is_inside(s) {
+            4.0 * damping
+        } else {
+            2.0 * damping
+        }
+    }
+}
+
+/// The preloaded snubber ring: two [`RingAxis`], the damping ratio `nu2` and the gap.
+///
+/// Build it with [`SnubberRing::new`] or [`SnubberRing::isotropic`], which validate the parameters.
+/// The fields are public for reading; every fallible method re-validates, so a ring edited into
+/// an invalid state yields a [`RingError`] (never a panic).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SnubberRing {
+    /// The horizontal axis.
+    pub x: RingAxis,
+    /// The vertical axis.
+    pub y: RingAxis,
+    /// Damping ratio `nu2 >= 0` of one unit (`c_s / (2 sqrt(k_r M))`); a unit's damping force is
+    /// `2 nu2 s'`.
+    pub damping: f64,
+    /// Constraint radius (radial clearance) `gap > 0`; 1 in the paper's scaling.
+    pub gap: f64,
+}
+
+impl SnubberRing {
+    /// A ring with axes `x`, `y`, damping ratio `nu2 = damping` and constraint radius `gap`.
+    ///
+    /// # Errors
+    /// [`RingError::NonFinite`] for NaN/inf, [`RingError::NotPositive`] for `K <= 0` or
+    /// `gap <= 0`, [`RingError::Negative`] for `D < 0` or `nu2 < 0`; the field is named as
+    /// `"x.stiffness"`, `"y.preload"`, `"damping"`, `"gap"`.
+    pub fn new(x: RingAxis, y: RingAxis, damping: f64, gap: f64) -> Result<Self, RingError> {
+        let ring = Self {
+            x,
+            y,
+            damping,
+            gap,
+        };
+        ring.validate()?;
+        Ok(ring)
+    }
+
+    /// An isotropic ring (`K_x = K_y = stiffness`, `D_x = D_y = preload`) with gap 1.
+    ///
+    /// # Errors
+    /// As [`SnubberRing::new`].
+    pub fn isotropic(stiffness: f64, preload: f64, damping: f64) -> Result<Self, RingError> {
+        let axis = RingAxis::new(stiffness, preload);
+        Self::new(axis, axis, damping, 1.0)
+    }
+
+    /// Checks all parameters (see [`SnubberRing::new`]).
+    ///
+    /// # Errors
+    /// The first invalid field, as a typed [`RingError`].
+    pub fn validate(&self) -> Result<(), RingError> {
+        check_positive("x.stiffness", self.x.stiffness)?;
+        check_non_negative("x.preload", self.x.preload)?;
+        check_positive("y.stiffness", self.y.stiffness)?;
+        check_non_negative("y.preload", self.y.preload)?;
+        check_non_negative("damping", self.damping)?;
+        check_positive("gap", self.gap)?;
+        Ok(())
+    }
+
+    /// `true` when both axes have the same stiffness and the same preload.
+    pub fn is_isotropic(&self) -> bool {
+        self.x == self.y
+    }
+
+    /// `true` when at least one axis is preloaded (`D_x > 0` or `D_y > 0`).
+    pub fn has_preload(&self) -> bool {
+        self.x.preload > 0.0 || self.y.preload > 0.0
+    }
+
+    /// Elastic energy `E(s) = e_x(s_x) + e_y(s_y)` (see [`RingAxis::energy`]).
+    pub fn energy(&self, s: &Vector2<f64>) -> f64 {
+        self.x.energy(s.x) + self.y.energy(s.y)
+    }
+
+    /// Elastic force `g(s) = grad E(s) = (g_x(s_x), g_y(s_y))` (see [`RingAxis::elastic_force`]).
+    pub fn elastic_force(&self, s: &Vector2<f64>) -> Vector2<f64> {
+        Vector2::new(self.x.elastic_force(s.x), self.y.elastic_force(s.y))
+    }
+
+    /// Diagonal of the elastic stiffness matrix `g'(s)`: `2K` inside, `K` beyond the preload.
+    pub fn elastic_slopes(&self, s: &Vector2<f64>) -> Vector2<f64> {
+        Vector2::new(self.x.elastic_slope(s.x), self.y.elastic_slope(s.y))
+    }
+
+    /// Diagonal of the damping matrix `C(s)`: `4 nu2` inside, `2 nu2` beyond the preload.
+    pub fn damping_coefficients(&self, s: &Vector2<f64>) -> Vector2<f64> {
+        Vector2::new(
+            self.x.damping_coefficient(s.x, self.damping),
+            self.y.damping_coefficient(s.y, self.damping),
+        )
+    }
+
+    /// Total force of the ring `f = g(s) + C(s) s'` at position `s` and velocity `s_dot`.
+    pub fn force(&self, s: &Vector2<f64>, s_dot: &Vector2<f64>) -> Vector2<f64> {
+        let c = self.damping_coefficients(s);
+        self.elastic_force(s) + c.component_mul(s_dot)
+    }
+
+    /// The contact regime (II..V) of a ring at `s`, from the preload predicates of its axes:
+    /// II both inside, III `x` beyond, IV `y` beyond, V both beyond. (An axis with zero preload
+    /// is always beyond.)
+    pub fn regime_of_ring(&self, s: &Vector2<f64>) -> Regime {
+        Regime::from_beyond(!self.x.is_inside(s.x), !self.y.is_inside(s.y))
+    }
+
+    /// Relaxation time constants `(T_x, T_y)`, `T_i = 2 nu2 / K_i`, of the free ring.
+    pub fn relaxation_time(&self) -> Vector2<f64> {
+        Vector2::new(
+            2.0 * self.damping / self.x.stiffness,
+            2.0 * self.damping / self.y.stiffness,
+        )
+    }
+}
