@@ -137,7 +137,9 @@ where
 
 fn main() -> Result<(), Box<dyn Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let out: PathBuf = args.first().map_or_else(|| "out/fig6".into(), PathBuf::from);
+    let out: PathBuf = args
+        .first()
+        .map_or_else(|| "out/fig6".into(), PathBuf::from);
     let dx: f64 = args.get(1).map_or(Ok(1.5), |s| s.parse())?;
     let dy: f64 = args.get(2).map_or(Ok(1.1), |s| s.parse())?;
     fs::create_dir_all(&out)?;

@@ -33,7 +33,11 @@ fn boundary_points(ring: &SnubberRing, rays: usize) -> Vec<(Vector2<f64>, Regime
     for k in 0..rays {
         let t = std::f64::consts::TAU * (k as f64 + 0.213) / rays as f64;
         let dir = Vector2::new(t.cos(), t.sin());
-        out.push((dir * ring.gap, Regime::I, state(ring, &(dir * ring.gap * 1.0001)).0));
+        out.push((
+            dir * ring.gap,
+            Regime::I,
+            state(ring, &(dir * ring.gap * 1.0001)).0,
+        ));
         let mut prev_r = ring.gap * (1.0 + 1e-9);
         let mut prev = state(ring, &(dir * prev_r)).0;
         for i in 1..=600 {
@@ -134,7 +138,12 @@ fn jacobian_and_damping_force_jump_across_preload_boundaries() {
     }
 }
 
-fn damping_force(ring: &SnubberRing, s: &Vector2<f64>, j: &Matrix2<f64>, n: &Vector2<f64>) -> Vector2<f64> {
+fn damping_force(
+    ring: &SnubberRing,
+    s: &Vector2<f64>,
+    j: &Matrix2<f64>,
+    n: &Vector2<f64>,
+) -> Vector2<f64> {
     ring.damping_coefficients(s).component_mul(&(j * n))
 }
 
@@ -187,16 +196,28 @@ fn contact_onset_ring_moves_proportionally_to_penetration() {
             // projection's norm for an anisotropic one).
             assert!(ratios.iter().all(|&q| q <= 3.0), "{name}: {ratios:?}");
             if ring.is_isotropic() {
-                assert!(ratios.iter().all(|&q| q <= 1.0 + 1e-6), "{name}: {ratios:?}");
+                assert!(
+                    ratios.iter().all(|&q| q <= 1.0 + 1e-6),
+                    "{name}: {ratios:?}"
+                );
             }
-            assert!((ratios[1] - ratios[2]).abs() <= 0.05 * ratios[2] + 1e-9, "{name}: {ratios:?}");
+            assert!(
+                (ratios[1] - ratios[2]).abs() <= 0.05 * ratios[2] + 1e-9,
+                "{name}: {ratios:?}"
+            );
         }
     }
 }
 
 #[test]
 fn analytic_curves_agree_with_classifier() {
-    let cases = [(1.5, 1.1, 1.0), (0.1, 0.1, 1.0), (0.4, 0.9, 0.5), (0.0, 0.6, 1.0), (0.7, 0.0, 1.0)];
+    let cases = [
+        (1.5, 1.1, 1.0),
+        (0.1, 0.1, 1.0),
+        (0.4, 0.9, 0.5),
+        (0.0, 0.6, 1.0),
+        (0.7, 0.0, 1.0),
+    ];
     for (dx, dy, gap) in cases {
         let ring = ring(30.0, dx, 30.0, dy, gap);
         let b = RegionBoundaries::from_ring(&ring).unwrap();
@@ -205,7 +226,9 @@ fn analytic_curves_agree_with_classifier() {
         for i in 1..400 {
             let theta = std::f64::consts::FRAC_PI_2 * i as f64 / 400.0;
             for which in Boundary::ALL {
-                let Some(p) = b.point(which, theta) else { continue };
+                let Some(p) = b.point(which, theta) else {
+                    continue;
+                };
                 if let Some(c) = b.corner() {
                     if (p - c).norm() < 1e-4 {
                         continue;
@@ -259,7 +282,8 @@ fn analytic_curves_agree_with_classifier() {
 fn corner_and_domains() {
     let b = RegionBoundaries::new(1.5, 1.1, 1.0).unwrap();
     let c = b.corner().unwrap();
-    let ring = SnubberRing::new(RingAxis::new(30.0, 1.5), RingAxis::new(30.0, 1.1), 0.0, 1.0).unwrap();
+    let ring =
+        SnubberRing::new(RingAxis::new(30.0, 1.5), RingAxis::new(30.0, 1.1), 0.0, 1.0).unwrap();
     let s = ring.locate(&c).unwrap().s;
     assert!((s - Vector2::new(1.5, 1.1)).norm() < 1e-12);
     // The four curves meet at the corner.
@@ -281,6 +305,7 @@ fn corner_and_domains() {
     assert!(none.polyline(Boundary::IvV, 100, 5.0).is_empty());
     assert!(RegionBoundaries::new(-1.0, 0.0, 1.0).is_err());
     assert!(RegionBoundaries::new(0.0, 0.0, f64::NAN).is_err());
-    let aniso = SnubberRing::new(RingAxis::new(30.0, 1.0), RingAxis::new(20.0, 1.0), 0.0, 1.0).unwrap();
+    let aniso =
+        SnubberRing::new(RingAxis::new(30.0, 1.0), RingAxis::new(20.0, 1.0), 0.0, 1.0).unwrap();
     assert!(RegionBoundaries::from_ring(&aniso).is_err());
 }

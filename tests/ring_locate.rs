@@ -34,7 +34,10 @@ fn brute_force(ring: &SnubberRing, r: &Vector2<f64>) -> Vector2<f64> {
         ring.elastic_force(&s).dot(&Vector2::new(t.sin(), -t.cos()))
     };
     let (mut a, mut b) = (best - h, best + h);
-    assert!(deriv(a) <= 0.0 && deriv(b) >= 0.0, "no sign change around the minimum");
+    assert!(
+        deriv(a) <= 0.0 && deriv(b) >= 0.0,
+        "no sign change around the minimum"
+    );
     for _ in 0..200 {
         let m = 0.5 * (a + b);
         if m <= a || m >= b {
@@ -98,7 +101,10 @@ fn sweep_against_brute_force_reports_accuracy() {
         }
         println!("{name:>22}: max ||r-s|-gap|/gap = {wc:.2e}, max |s - s_bf| = {wd:.2e}, regimes II..V seen {:?}", &seen[2..]);
         if ring.x.preload > 0.0 && ring.y.preload > 0.0 {
-            assert!(seen[2..].iter().all(|&n| n > 0), "{name}: not all regimes hit");
+            assert!(
+                seen[2..].iter().all(|&n| n > 0),
+                "{name}: not all regimes hit"
+            );
         }
         worst_c = worst_c.max(wc);
         worst_d = worst_d.max(wd);
@@ -216,8 +222,8 @@ fn closed_forms_agree_with_solver() {
                             // written on |y_r|, |y_s| (they share the sign).
                             let (yr, ys) = (r.y.abs(), c.s.y.abs());
                             if yr > 0.0 {
-                                let xs = (2.0 * ys * (r.x.abs() + dx) / (yr + ys) - dx)
-                                    * r.x.signum();
+                                let xs =
+                                    (2.0 * ys * (r.x.abs() + dx) / (yr + ys) - dx) * r.x.signum();
                                 assert_relative_eq!(xs, c.s.x, epsilon = 1e-12);
                                 let lhs = (yr - ys).powi(2)
                                     * ((r.x.abs() + dx).powi(2) + (yr + ys).powi(2));
@@ -274,7 +280,9 @@ fn normal_force_elastic_part_is_two_mu_gap() {
         // Force with velocity equals g + C J r'.
         let rd = Vector2::new(0.3, -1.1);
         let f = c.force(&ring, &rd);
-        let expect = g + ring.damping_coefficients(&c.s).component_mul(&(c.jacobian * rd));
+        let expect = g + ring
+            .damping_coefficients(&c.s)
+            .component_mul(&(c.jacobian * rd));
         assert!((f - expect).norm() <= 1e-12 * f.norm());
     }
 }
@@ -285,7 +293,10 @@ fn ring_velocity_keeps_contact() {
     let ring = ring(30.0, 1.5, 30.0, 1.1, 1.0);
     for i in 0..200 {
         let t = (1.9 * i as f64).to_radians();
-        let r = Vector2::new((1.01 + 0.02 * i as f64) * t.cos(), (1.01 + 0.02 * i as f64) * t.sin());
+        let r = Vector2::new(
+            (1.01 + 0.02 * i as f64) * t.cos(),
+            (1.01 + 0.02 * i as f64) * t.sin(),
+        );
         let c = ring.locate(&r).unwrap();
         for rd in [Vector2::new(1.0, 0.0), Vector2::new(0.0, 1.0)] {
             let v = rd - c.ring_velocity(&rd);
@@ -298,29 +309,70 @@ fn ring_velocity_keeps_contact() {
 fn typed_errors_name_the_field() {
     let ok = RingAxis::new(30.0, 0.1);
     let e = SnubberRing::new(RingAxis::new(f64::NAN, 0.1), ok, 0.0, 1.0).unwrap_err();
-    assert!(matches!(e, RingError::NonFinite { field: "x.stiffness", .. }));
+    assert!(matches!(
+        e,
+        RingError::NonFinite {
+            field: "x.stiffness",
+            ..
+        }
+    ));
     let e = SnubberRing::new(ok, RingAxis::new(30.0, -0.1), 0.0, 1.0).unwrap_err();
-    assert_eq!(e, RingError::Negative { field: "y.preload", value: -0.1 });
+    assert_eq!(
+        e,
+        RingError::Negative {
+            field: "y.preload",
+            value: -0.1
+        }
+    );
     let e = SnubberRing::new(ok, RingAxis::new(0.0, 0.1), 0.0, 1.0).unwrap_err();
-    assert!(matches!(e, RingError::NotPositive { field: "y.stiffness", .. }));
+    assert!(matches!(
+        e,
+        RingError::NotPositive {
+            field: "y.stiffness",
+            ..
+        }
+    ));
     let e = SnubberRing::new(ok, ok, -1.0, 1.0).unwrap_err();
-    assert!(matches!(e, RingError::Negative { field: "damping", .. }));
+    assert!(matches!(
+        e,
+        RingError::Negative {
+            field: "damping",
+            ..
+        }
+    ));
     let e = SnubberRing::new(ok, ok, 0.0, 0.0).unwrap_err();
     assert!(matches!(e, RingError::NotPositive { field: "gap", .. }));
     let e = SnubberRing::new(ok, ok, f64::INFINITY, 1.0).unwrap_err();
-    assert!(matches!(e, RingError::NonFinite { field: "damping", .. }));
+    assert!(matches!(
+        e,
+        RingError::NonFinite {
+            field: "damping",
+            ..
+        }
+    ));
     let e = SnubberRing::isotropic(30.0, f64::NAN, 0.0).unwrap_err();
-    assert!(matches!(e, RingError::NonFinite { field: "x.preload", .. }));
+    assert!(matches!(
+        e,
+        RingError::NonFinite {
+            field: "x.preload",
+            ..
+        }
+    ));
     assert!(e.to_string().contains("x.preload"));
 
     let ring = SnubberRing::isotropic(30.0, 0.1, 0.002).unwrap();
     let e = ring.locate(&Vector2::new(0.5, 0.5)).unwrap_err();
     assert!(matches!(e, RingError::InsideGap { .. }));
     let e = ring.locate(&Vector2::new(1.0, 0.0)).unwrap_err();
-    assert!(matches!(e, RingError::InsideGap { .. }), "|r| = gap is not contact");
+    assert!(
+        matches!(e, RingError::InsideGap { .. }),
+        "|r| = gap is not contact"
+    );
     let e = ring.locate(&Vector2::new(f64::NAN, 2.0)).unwrap_err();
     assert!(matches!(e, RingError::NonFinite { field: "r.x", .. }));
-    let e = ring.regime(&Vector2::new(0.0, f64::NEG_INFINITY)).unwrap_err();
+    let e = ring
+        .regime(&Vector2::new(0.0, f64::NEG_INFINITY))
+        .unwrap_err();
     assert!(matches!(e, RingError::NonFinite { field: "r.y", .. }));
     assert_eq!(ring.regime(&Vector2::new(0.5, 0.5)).unwrap(), Regime::I);
 
@@ -360,6 +412,9 @@ fn extreme_inputs_do_not_panic() {
     ] {
         let c = ring.locate(&r).unwrap();
         assert!(c.s.iter().all(|v| v.is_finite()), "{r:?}: {c:?}");
-        assert!(((r - c.s).norm() - 1.0).abs() <= 1e-12 * r.norm().max(1.0), "{r:?}");
+        assert!(
+            ((r - c.s).norm() - 1.0).abs() <= 1e-12 * r.norm().max(1.0),
+            "{r:?}"
+        );
     }
 }

@@ -96,8 +96,16 @@ fn continuity_at_the_preload() {
     }
     // Closed-form t1 = T ln((|s0| + D)/(2D)).
     let tc = ring.relaxation_time();
-    assert_relative_eq!(t1.x, tc.x * ((0.8 + 0.1) / 0.2f64).ln(), max_relative = 1e-14);
-    assert_relative_eq!(t1.y, tc.y * ((0.3 + 0.05) / 0.1f64).ln(), max_relative = 1e-14);
+    assert_relative_eq!(
+        t1.x,
+        tc.x * ((0.8 + 0.1) / 0.2f64).ln(),
+        max_relative = 1e-14
+    );
+    assert_relative_eq!(
+        t1.y,
+        tc.y * ((0.3 + 0.05) / 0.1f64).ln(),
+        max_relative = 1e-14
+    );
 }
 
 #[test]
@@ -122,7 +130,11 @@ fn odd_times() {
     assert_eq!(ring.relax(&s0, f64::INFINITY), Vector2::zeros());
     // Zero preload axis: pure exponential, never "inside".
     let tc = ring.relaxation_time().y;
-    assert_relative_eq!(ring.relax(&s0, tc).y, -0.05 * (-1.0f64).exp(), max_relative = 1e-14);
+    assert_relative_eq!(
+        ring.relax(&s0, tc).y,
+        -0.05 * (-1.0f64).exp(),
+        max_relative = 1e-14
+    );
     assert_eq!(ring.time_to_preload(&s0).y, f64::INFINITY);
 }
 
@@ -133,7 +145,11 @@ fn energy_force_and_damping_tables() {
     let s = Vector2::new(0.1, 0.3);
     assert_relative_eq!(ring.elastic_force(&s).x, 6.0, max_relative = 1e-15);
     assert_relative_eq!(ring.elastic_force(&s).y, 3.0, max_relative = 1e-15);
-    assert_relative_eq!(ring.energy(&s), 30.0 * 0.01 + 5.0 * 0.09, max_relative = 1e-15);
+    assert_relative_eq!(
+        ring.energy(&s),
+        30.0 * 0.01 + 5.0 * 0.09,
+        max_relative = 1e-15
+    );
     assert_eq!(ring.damping_coefficients(&s), Vector2::new(0.008, 0.004));
     assert_eq!(ring.regime_of_ring(&s), Regime::IV);
     // Beyond on x: sign(s) K (|s| + D), continuous at |s| = D.
@@ -146,13 +162,24 @@ fn energy_force_and_damping_tables() {
     for x in [-0.7, -0.2, -0.1, 0.0, 0.15, 0.2, 0.35] {
         let s = Vector2::new(x, 0.4 * x);
         let h = 1e-6;
-        let gx = (ring.energy(&(s + Vector2::new(h, 0.0))) - ring.energy(&(s - Vector2::new(h, 0.0)))) / (2.0 * h);
-        let gy = (ring.energy(&(s + Vector2::new(0.0, h))) - ring.energy(&(s - Vector2::new(0.0, h)))) / (2.0 * h);
+        let gx = (ring.energy(&(s + Vector2::new(h, 0.0)))
+            - ring.energy(&(s - Vector2::new(h, 0.0))))
+            / (2.0 * h);
+        let gy = (ring.energy(&(s + Vector2::new(0.0, h)))
+            - ring.energy(&(s - Vector2::new(0.0, h))))
+            / (2.0 * h);
         let g = ring.elastic_force(&s);
-        assert!((gx - g.x).abs() < 5e-5 && (gy - g.y).abs() < 5e-5, "{x}: {gx} {gy} {g:?}");
+        assert!(
+            (gx - g.x).abs() < 5e-5 && (gy - g.y).abs() < 5e-5,
+            "{x}: {gx} {gy} {g:?}"
+        );
     }
     assert!(ring.has_preload());
     assert!(!ring.is_isotropic());
-    assert!(SnubberRing::isotropic(30.0, 0.1, 0.0).unwrap().is_isotropic());
-    assert!(!SnubberRing::isotropic(30.0, 0.0, 0.0).unwrap().has_preload());
+    assert!(SnubberRing::isotropic(30.0, 0.1, 0.0)
+        .unwrap()
+        .is_isotropic());
+    assert!(!SnubberRing::isotropic(30.0, 0.0, 0.0)
+        .unwrap()
+        .has_preload());
 }

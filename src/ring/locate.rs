@@ -35,8 +35,8 @@
 
 use nalgebra::{Matrix2, Vector2};
 
-use super::{check_finite, check_non_negative, check_positive, Regime, RingAxis, RingError};
 use super::SnubberRing;
+use super::{check_finite, check_non_negative, check_positive, Regime, RingAxis, RingError};
 
 /// Maximum number of safeguarded Newton iterations (never reached in tests: 2..6 are typical).
 const MAX_ITERATIONS: u32 = 100;
@@ -326,5 +326,8 @@ pub fn regime_v_position(
     let rt = tx.hypot(ty);
     let q = (rt - gap) / rt;
     let sign = |v: f64| if v < 0.0 { -1.0 } else { 1.0 };
-    Ok(Vector2::new((tx * q - dx) * sign(r.x), (ty * q - dy) * sign(r.y)))
+    Ok(Vector2::new(
+        (tx * q - dx) * sign(r.x),
+        (ty * q - dy) * sign(r.y),
+    ))
 }

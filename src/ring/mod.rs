@@ -211,12 +211,7 @@ impl SnubberRing {
     /// `gap <= 0`, [`RingError::Negative`] for `D < 0` or `nu2 < 0`; the field is named as
     /// `"x.stiffness"`, `"y.preload"`, `"damping"`, `"gap"`.
     pub fn new(x: RingAxis, y: RingAxis, damping: f64, gap: f64) -> Result<Self, RingError> {
-        let ring = Self {
-            x,
-            y,
-            damping,
-            gap,
-        };
+        let ring = Self { x, y, damping, gap };
         ring.validate()?;
         Ok(ring)
     }

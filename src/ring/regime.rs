@@ -273,11 +273,9 @@ pub mod boundaries {
         pub fn point(&self, b: Boundary, theta: f64) -> Option<Vector2<f64>> {
             let (c, s) = (self.gap * theta.cos(), self.gap * theta.sin());
             match b {
-                Boundary::IContact => {
-                    (0.0..=std::f64::consts::FRAC_PI_2)
-                        .contains(&theta)
-                        .then(|| Vector2::new(c, s))
-                }
+                Boundary::IContact => (0.0..=std::f64::consts::FRAC_PI_2)
+                    .contains(&theta)
+                    .then(|| Vector2::new(c, s)),
                 Boundary::IiIii => {
                     let x = self.dx + c;
                     self.ii_iii(x).map(|y| Vector2::new(x, y))
