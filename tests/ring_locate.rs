@@ -86,6 +86,7 @@ fn sweep_against_brute_force_reports_accuracy() {
     let (mut worst_c, mut worst_d) = (0.0f64, 0.0f64);
     for (name, ring) in rings {
         let mut seen = [0usize; 6];
+        let mut iters = (0u32, 0u64, 0u64);
         let (mut wc, mut wd) = (0.0f64, 0.0f64);
         for i in 0..120 {
             let theta = std::f64::consts::TAU * (i as f64 + 0.37) / 120.0;
@@ -95,11 +96,13 @@ fn sweep_against_brute_force_reports_accuracy() {
                 let r = Vector2::new(rad * theta.cos(), rad * theta.sin());
                 let (c, d) = check_against_brute(&ring, &r);
                 seen[ring.regime(&r).unwrap().number() as usize] += 1;
+                let it = ring.locate(&r).unwrap().iterations;
+                iters = (iters.0.max(it), iters.1 + u64::from(it), iters.2 + 1);
                 wc = wc.max(c);
                 wd = wd.max(d);
             }
         }
-        println!("{name:>22}: max ||r-s|-gap|/gap = {wc:.2e}, max |s - s_bf| = {wd:.2e}, regimes II..V seen {:?}", &seen[2..]);
+        println!("{name:>22}: max ||r-s|-gap|/gap = {wc:.2e}, max |s - s_bf| = {wd:.2e}, regimes II..V seen {:?}, Newton iterations max {} mean {:.2}", &seen[2..], iters.0, iters.1 as f64 / iters.2 as f64);
         if ring.x.preload > 0.0 && ring.y.preload > 0.0 {
             assert!(
                 seen[2..].iter().all(|&n| n > 0),

@@ -146,13 +146,14 @@ impl SnubberRing {
                 gap,
             });
         }
-        let (mu, iterations) = self.solve_mu(r.x.abs(), r.y.abs(), hint);
-        Ok(self.contact_from_mu(r, mu, iterations))
+        let (mu, iterations, cx, cy) = self.solve_mu(r.x.abs(), r.y.abs(), hint);
+        Ok(self.contact_from_mu(r, mu, iterations, cx, cy))
     }
 
-    /// Solves `|d(mu)| = gap` for `a = (|r_x|, |r_y|)` with `|a| > gap`; returns `(mu, iterations)`.
+    /// Solves `|d(mu)| = gap` for `a = (|r_x|, |r_y|)` with `|a| > gap`; returns
+    /// `(mu, iterations, (alpha_x, beta_x), (alpha_y, beta_y))` of the root's piece.
     #[inline]
-    fn solve_mu(&self, ax: f64, ay: f64, hint: f64) -> (f64, u32) {
+    fn solve_mu(&self, ax: f64, ay: f64, hint: f64) -> (f64, u32, (f64, f64), (f64, f64)) {
         let gap = self.gap;
         let g2 = gap * gap;
         let bx = breakpoint(&self.x, ax);
@@ -178,15 +179,16 @@ impl SnubberRing {
         let (alx, bex) = coefficients(&self.x, ax, bx <= lo);
         let (aly, bey) = coefficients(&self.y, ay, by <= lo);
         // Closed forms: a single active axis, or equal betas.
+        let (cx, cy) = ((alx, bex), (aly, bey));
         if alx == 0.0 {
-            return ((aly / gap - bey).max(lo).min(hi), 0);
+            return ((aly / gap - bey).max(lo).min(hi), 0, cx, cy);
         }
         if aly == 0.0 {
-            return ((alx / gap - bex).max(lo).min(hi), 0);
+            return ((alx / gap - bex).max(lo).min(hi), 0, cx, cy);
         }
         let norm = (alx * alx + aly * aly).sqrt();
         if bex == bey {
-            return ((norm / gap - bex).max(lo).min(hi), 0);
+            return ((norm / gap - bex).max(lo).min(hi), 0, cx, cy);
         }
         let (bmin, bmax) = if bex < bey { (bex, bey) } else { (bey, bex) };
         let mut left = lo.max(norm / gap - bmax);
@@ -231,21 +233,23 @@ impl SnubberRing {
                 break;
             }
         }
-        (mu, iterations)
+        (mu, iterations, cx, cy)
     }
 
     /// Builds the contact record from the multiplier: position, normal, regime, Jacobian.
     #[inline]
-    fn contact_from_mu(&self, r: &Vector2<f64>, mu: f64, iterations: u32) -> RingContact {
-        let (ax, ay) = (r.x.abs(), r.y.abs());
-        let bx = breakpoint(&self.x, ax);
-        let by = breakpoint(&self.y, ay);
-        let (alx, bex) = coefficients(&self.x, ax, bx <= mu);
-        let (aly, bey) = coefficients(&self.y, ay, by <= mu);
+    fn contact_from_mu(
+        &self,
+        r: &Vector2<f64>,
+        mu: f64,
+        iterations: u32,
+        (alx, bex): (f64, f64),
+        (aly, bey): (f64, f64),
+    ) -> RingContact {
         let dx = (alx / (bex + mu)).copysign(r.x);
         let dy = (aly / (bey + mu)).copysign(r.y);
-        let len = (dx * dx + dy * dy).sqrt();
-        let normal = Vector2::new(dx / len, dy / len);
+        let inv = 1.0 / (dx * dx + dy * dy).sqrt();
+        let normal = Vector2::new(dx * inv, dy * inv);
         let gap = self.gap;
         let d = normal * gap;
         let s = r - d;
@@ -253,14 +257,15 @@ impl SnubberRing {
         let slopes = self.elastic_slopes(&s);
         let two_mu = 2.0 * mu;
         let (ax_, ay_) = (slopes.x + two_mu, slopes.y + two_mu);
-        let w = Vector2::new(d.x / ax_, d.y / ay_);
+        let (ix, iy) = (1.0 / ax_, 1.0 / ay_);
+        let w = Vector2::new(d.x * ix, d.y * iy);
         let dw = d.dot(&w);
-        let v = (d - w * two_mu) / dw;
+        let v = (d - w * two_mu) * (1.0 / dw);
         let jacobian = Matrix2::new(
-            two_mu / ax_ + w.x * v.x,
+            two_mu * ix + w.x * v.x,
             w.x * v.y,
             w.y * v.x,
-            two_mu / ay_ + w.y * v.y,
+            two_mu * iy + w.y * v.y,
         );
         RingContact {
             s,
