@@ -28,7 +28,10 @@
 //!    a step from the right of the root lands left of it. The bracket
 //!    `[max(lo, |alpha|/gap - beta_max), min(hi, |alpha|/gap - beta_min)]` (from
 //!    `|alpha|^2/(beta_max + mu)^2 <= f <= |alpha|^2/(beta_min + mu)^2`) is kept, steps leaving it
-//!    are replaced by bisection, and a warm start `mu_hint` inside it is used as the first iterate.
+//!    are replaced by bisection, and a warm start `mu_hint` inside it is used as the first iterate
+//!    (else the first-order guess `|alpha|/gap - beta_bar`, `beta_bar` the `alpha^2`-weighted mean
+//!    of the betas, exact for `mu >> beta`). It stops after a Newton step
+//!    `|delta| <= 1e-10 (beta_max + mu)` (the error left is `<~ delta^2/(beta + mu)`).
 //!
 //! The Newton step is `delta = f (sqrt(f)/gap - 1) / sum_i alpha_i^2/(beta_i + mu)^3`, one square
 //! root per iteration. See `docs/ring.md` for the global bound `mu <= K_max (R~/gap - 1)`.
