@@ -64,7 +64,7 @@ where
 {
     root.fill(&WHITE)?;
     let title = format!(
-        "Regions of operation (Fig. 6): Dx = {}, Dy = {}, gap = {}",
+        "Fig. 6: regions (shading: classifier; lines: eqs. 23-27), Dx = {}, Dy = {}, gap = {}",
         ring.x.preload, ring.y.preload, ring.gap
     );
     let mut chart = ChartBuilder::on(root)
@@ -88,13 +88,6 @@ where
             region_colour(reg).filled(),
         )
     }))?;
-    for reg in [Regime::I, Regime::II, Regime::III, Regime::IV, Regime::V] {
-        let c = region_colour(reg);
-        chart
-            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())?
-            .label(format!("region {reg} (classifier)"))
-            .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 16, y + 6)], c.filled()));
-    }
     for (b, pts) in curves {
         let c = boundary_colour(*b);
         chart
@@ -105,24 +98,37 @@ where
             .label(format!("{} ({})", b.label(), equation(*b)))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(3)));
     }
-    // Region names at representative points.
+    // Region names near each region's centroid (the nearest cell of that region to it).
+    for reg in [Regime::I, Regime::II, Regime::III, Regime::IV, Regime::V] {
+        let cells: Vec<(f64, f64)> = grid
+            .iter()
+            .filter(|c| c.2 == reg)
+            .map(|c| (c.0, c.1))
+            .collect();
+        if cells.len() < 200 {
+            continue;
+        }
+        let n = cells.len() as f64;
+        let (cx, cy) = cells
+            .iter()
+            .fold((0.0, 0.0), |a, c| (a.0 + c.0 / n, a.1 + c.1 / n));
+        let &(x, y) = cells
+            .iter()
+            .min_by(|a, b| {
+                let da = (a.0 - cx).hypot(a.1 - cy);
+                let db = (b.0 - cx).hypot(b.1 - cy);
+                da.total_cmp(&db)
+            })
+            .unwrap_or(&(cx, cy));
+        chart.draw_series(std::iter::once(Text::new(
+            reg.to_string(),
+            (x, y),
+            ("sans-serif", 28).into_font().color(&BLACK),
+        )))?;
+    }
     let bounds = RegionBoundaries::from_ring(ring)?;
     if let Some(c) = bounds.corner() {
         chart.draw_series(std::iter::once(Circle::new((c.x, c.y), 5, BLACK.filled())))?;
-        let labels = [
-            ("I", 0.35, 0.35),
-            ("II", 0.55 * c.x, 0.55 * c.y + 0.2),
-            ("III", c.x + 0.5, 0.35),
-            ("IV", 0.35, c.y + 0.8),
-            ("V", c.x + 0.4, c.y + 0.6),
-        ];
-        for (t, x, y) in labels {
-            chart.draw_series(std::iter::once(Text::new(
-                t.to_string(),
-                (x, y),
-                ("sans-serif", 28).into_font().color(&BLACK),
-            )))?;
-        }
     }
     chart
         .configure_series_labels()
