@@ -103,9 +103,9 @@ pub struct Params {
     pub nu1: f64,
     /// Ring damping ratio $\nu_2 = c_s/(2\sqrt{k_r M})$ per spring-damper unit (>= 0). Default 0.002.
     pub nu2: f64,
-    /// Ring unit stiffness ratio along x, $K_x = k_{sx}/k_r$ (>= 0). Default 30.
+    /// Ring unit stiffness ratio along x, $K_x = k_{sx}/k_r$ (> 0). Default 30.
     pub kx: f64,
-    /// Ring unit stiffness ratio along y, $K_y = k_{sy}/k_r$ (>= 0). Default 30.
+    /// Ring unit stiffness ratio along y, $K_y = k_{sy}/k_r$ (> 0). Default 30.
     pub ky: f64,
     /// Out-of-balance $\beta = (m/M)(\rho/\gamma)$ (>= 0); the forcing amplitude is $\beta\eta^2$.
     /// Default 0.119 (= 70 x 0.0017).
@@ -162,8 +162,8 @@ impl Params {
         positive("eta", self.eta)?;
         non_negative("nu1", self.nu1)?;
         non_negative("nu2", self.nu2)?;
-        non_negative("kx", self.kx)?;
-        non_negative("ky", self.ky)?;
+        positive("kx", self.kx)?;
+        positive("ky", self.ky)?;
         non_negative("beta", self.beta)?;
         non_negative("dx", self.dx)?;
         non_negative("dy", self.dy)?;

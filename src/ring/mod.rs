@@ -1,214 +1,297 @@
-//! TEMPORARY stand-in for the ring element (replaced by the `ring` branch at merge).
-#![allow(missing_docs)]
-use nalgebra::{Matrix2, Vector2};
-use thiserror::Error;
-pub mod branch;
-pub use branch::{Branch, BranchContact, Branches};
+//! The preloaded snubber ring as a reusable contact element.
+//!
+//! All quantities are non-dimensional (lengths in units of the physical gap, forces in units of
+//! `k_r * gamma`, time `tau = omega_n t`), but the constraint radius [`SnubberRing::gap`] is kept
+//! as a field so the element can be used with any scaling (it is 1 in the paper's).
+//!
+//! # Model
+//!
+//! Per axis `i` in `{x, y}` the ring is held by two preloaded spring-damper units of unit
+//! stiffness `K_i > 0` and preload `D_i >= 0` (see [`RingAxis`]). With `s` the ring centre:
+//!
+//! * elastic energy `e_i(s) = K s^2` for `|s| <= D`, `e_i(s) = (K/2)((|s| + D)^2 - 2 D^2)` for
+//!   `|s| >= D` (both give `K D^2` at `|s| = D`); total `E(s) = e_x(s_x) + e_y(s_y)`;
+//! * elastic force `g_i(s) = e_i'(s) = 2 K s` inside the preload and `sign(s) K (|s| + D)` beyond it
+//!   (continuous at `|s| = D`, slope `2K -> K`);
+//! * damping `c_i(s) s'` with `c_i = 4 nu2` inside (both units act) and `2 nu2` beyond (one unit
+//!   has lifted off);
+//! * total force of the ring `f = g(s) + C(s) s'`, `C = diag(c_x, c_y)`.
+//!
+//! An axis is *inside* its preload when `D > 0` and `|s| <= D`, and *beyond* it otherwise: an axis
+//! with zero preload is always beyond (then `g = K s`, `c = 2 nu2`). The same predicate decides the
+//! energy branch, the force branch, the damping coefficient, the Jacobian and the regime, so they
+//! never disagree (the paper's strict `|s| < D` for the damping only differs on the set `|s| = D`).
+//!
+//! In contact (`|r| > gap`) the ring sits at the energy minimiser `s*(r)` on the circle
+//! `|r - s| = gap` ([`SnubberRing::locate`], see `locate.rs` and `docs/ring.md` for the solver);
+//! out of contact the massless ring relaxes exactly ([`SnubberRing::relax`]).
 
-#[derive(Debug, Clone, PartialEq, Error)]
+use nalgebra::Vector2;
+use thiserror::Error;
+
+pub mod branch;
+mod locate;
+mod regime;
+mod relax;
+
+pub use branch::{Branch, BranchContact, Branches};
+pub use locate::{regime_ii_position, regime_v_position, RingContact};
+pub use regime::{boundaries, Regime};
+
+/// Errors of the snubber-ring element: every variant names the offending field and its value.
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
 #[non_exhaustive]
 pub enum RingError {
-    #[error("rotor inside the gap")]
-    InsideGap { r: f64 },
+    /// A parameter or input is NaN or infinite.
+    #[error("{field} must be finite, got {value}")]
+    NonFinite {
+        /// Name of the field or argument (e.g. `"x.stiffness"`, `"r.y"`).
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// A parameter that must be `>= 0` is negative.
+    #[error("{field} must be >= 0, got {value}")]
+    Negative {
+        /// Name of the field.
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// A parameter that must be `> 0` is zero or negative.
+    #[error("{field} must be > 0, got {value}")]
+    NotPositive {
+        /// Name of the field.
+        field: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// A routine that assumes equal stiffness on both axes got an anisotropic ring.
+    #[error("x.stiffness = {x} and y.stiffness = {y} differ; an isotropic stiffness is required")]
+    AnisotropicStiffness {
+        /// `K_x`.
+        x: f64,
+        /// `K_y`.
+        y: f64,
+    },
+    /// The rotor is not in contact: `|r| <= gap`, so there is no contact position.
+    #[error("rotor at distance |r| = {distance} is inside the gap {gap}: no contact")]
+    InsideGap {
+        /// `|r|`, the distance of the rotor centre from the ring's rest position.
+        distance: f64,
+        /// The gap (constraint radius).
+        gap: f64,
+    },
 }
 
+/// Checks that `value` is finite.
+pub(crate) fn check_finite(field: &'static str, value: f64) -> Result<f64, RingError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(RingError::NonFinite { field, value })
+    }
+}
+
+/// Checks that `value` is finite and `>= 0`.
+pub(crate) fn check_non_negative(field: &'static str, value: f64) -> Result<f64, RingError> {
+    check_finite(field, value)?;
+    if value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(RingError::Negative { field, value })
+    }
+}
+
+/// Checks that `value` is finite and `> 0`.
+pub(crate) fn check_positive(field: &'static str, value: f64) -> Result<f64, RingError> {
+    check_finite(field, value)?;
+    if value > 0.0 {
+        Ok(value)
+    } else {
+        Err(RingError::NotPositive { field, value })
+    }
+}
+
+/// One axis of the ring: the two opposing spring-damper units along `x` or `y`.
+///
+/// * `stiffness` `K > 0`: stiffness of one unit (`k_s / k_r`). `K = 0` is rejected: with no
+///   stiffness on an axis the ring can slide freely along it and the contact position is not
+///   unique (any point of a chord of the circle has the same energy).
+/// * `preload` `D >= 0`: the preload displacement (`Delta / gamma`); `D = 0` means no preload.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RingAxis {
+    /// Unit stiffness `K > 0` of this axis.
     pub stiffness: f64,
+    /// Preload `D >= 0` of this axis.
     pub preload: f64,
 }
 
+impl RingAxis {
+    /// An axis with stiffness `K` and preload `D` (validated when the ring is built).
+    pub fn new(stiffness: f64, preload: f64) -> Self {
+        Self { stiffness, preload }
+    }
+
+    /// `true` when `s` is inside the preload on this axis: `D > 0` and `|s| <= D`.
+    #[inline]
+    pub fn is_inside(&self, s: f64) -> bool {
+        self.preload > 0.0 && s.abs() <= self.preload
+    }
+
+    /// Elastic energy of the axis,
+    /// `e(s) = K s^2` inside the preload, `(K/2)((|s| + D)^2 - 2 D^2)` beyond it.
+    #[inline]
+    pub fn energy(&self, s: f64) -> f64 {
+        let (k, d) = (self.stiffness, self.preload);
+        if self.is_inside(s) {
+            k * s * s
+        } else {
+            let a = s.abs() + d;
+            0.5 * k * (a * a - 2.0 * d * d)
+        }
+    }
+
+    /// Elastic force `g(s) = e'(s)`: `2 K s` inside the preload, `sign(s) K (|s| + D)` beyond it.
+    #[inline]
+    pub fn elastic_force(&self, s: f64) -> f64 {
+        let (k, d) = (self.stiffness, self.preload);
+        if self.is_inside(s) {
+            2.0 * k * s
+        } else if s == 0.0 {
+            0.0
+        } else {
+            k * (s + d.copysign(s))
+        }
+    }
+
+    /// Elastic stiffness `g'(s)`: `2 K` inside the preload, `K` beyond it (one-sided at `|s| = D`,
+    /// where the inside value is returned).
+    #[inline]
+    pub fn elastic_slope(&self, s: f64) -> f64 {
+        if self.is_inside(s) {
+            2.0 * self.stiffness
+        } else {
+            self.stiffness
+        }
+    }
+
+    /// Damping coefficient: `4 nu2` inside the preload, `2 nu2` beyond it.
+    #[inline]
+    pub fn damping_coefficient(&self, s: f64, damping: f64) -> f64 {
+        if self.is_inside(s) {
+            4.0 * damping
+        } else {
+            2.0 * damping
+        }
+    }
+}
+
+/// The preloaded snubber ring: two [`RingAxis`], the damping ratio `nu2` and the gap.
+///
+/// Build it with [`SnubberRing::new`] or [`SnubberRing::isotropic`], which validate the parameters.
+/// The fields are public for reading; every fallible method re-validates, so a ring edited into
+/// an invalid state yields a [`RingError`] (never a panic).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SnubberRing {
+    /// The horizontal axis.
     pub x: RingAxis,
+    /// The vertical axis.
     pub y: RingAxis,
+    /// Damping ratio `nu2 >= 0` of one unit (`c_s / (2 sqrt(k_r M))`); a unit's damping force is
+    /// `2 nu2 s'`.
     pub damping: f64,
+    /// Constraint radius (radial clearance) `gap > 0`; 1 in the paper's scaling.
     pub gap: f64,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-#[repr(u8)]
-pub enum Regime {
-    I = 1,
-    II = 2,
-    III = 3,
-    IV = 4,
-    V = 5,
-}
-
-impl Regime {
-    pub fn number(self) -> u8 {
-        self as u8
+impl SnubberRing {
+    /// A ring with axes `x`, `y`, damping ratio `nu2 = damping` and constraint radius `gap`.
+    ///
+    /// # Errors
+    /// [`RingError::NonFinite`] for NaN/inf, [`RingError::NotPositive`] for `K <= 0` or
+    /// `gap <= 0`, [`RingError::Negative`] for `D < 0` or `nu2 < 0`; the field is named as
+    /// `"x.stiffness"`, `"y.preload"`, `"damping"`, `"gap"`.
+    pub fn new(x: RingAxis, y: RingAxis, damping: f64, gap: f64) -> Result<Self, RingError> {
+        let ring = Self { x, y, damping, gap };
+        ring.validate()?;
+        Ok(ring)
     }
-}
 
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RingContact {
-    pub s: Vector2<f64>,
-    pub mu: f64,
-    pub regime: Regime,
-    pub jacobian: Matrix2<f64>,
-    pub normal: Vector2<f64>,
-    pub iterations: u32,
-}
+    /// An isotropic ring (`K_x = K_y = stiffness`, `D_x = D_y = preload`) with gap 1.
+    ///
+    /// # Errors
+    /// As [`SnubberRing::new`].
+    pub fn isotropic(stiffness: f64, preload: f64, damping: f64) -> Result<Self, RingError> {
+        let axis = RingAxis::new(stiffness, preload);
+        Self::new(axis, axis, damping, 1.0)
+    }
 
-impl RingContact {
-    pub fn ring_velocity(&self, r_dot: &Vector2<f64>) -> Vector2<f64> {
-        self.jacobian * r_dot
+    /// Checks all parameters (see [`SnubberRing::new`]).
+    ///
+    /// # Errors
+    /// The first invalid field, as a typed [`RingError`].
+    pub fn validate(&self) -> Result<(), RingError> {
+        check_positive("x.stiffness", self.x.stiffness)?;
+        check_non_negative("x.preload", self.x.preload)?;
+        check_positive("y.stiffness", self.y.stiffness)?;
+        check_non_negative("y.preload", self.y.preload)?;
+        check_non_negative("damping", self.damping)?;
+        check_positive("gap", self.gap)?;
+        Ok(())
     }
-    pub fn force(&self, ring: &SnubberRing, r_dot: &Vector2<f64>) -> Vector2<f64> {
-        ring.force(&self.s, &self.ring_velocity(r_dot))
-    }
-    pub fn normal_force(&self, ring: &SnubberRing, r_dot: &Vector2<f64>) -> f64 {
-        self.normal.dot(&self.force(ring, r_dot))
-    }
-}
 
-fn axis_g(a: &RingAxis, s: f64) -> (f64, f64) {
-    if a.preload > 0.0 && s.abs() < a.preload {
-        (2.0 * a.stiffness * s, 2.0 * a.stiffness)
-    } else {
-        (
-            s.signum() * a.stiffness * (s.abs() + a.preload),
-            a.stiffness,
+    /// `true` when both axes have the same stiffness and the same preload.
+    pub fn is_isotropic(&self) -> bool {
+        self.x == self.y
+    }
+
+    /// `true` when at least one axis is preloaded (`D_x > 0` or `D_y > 0`).
+    pub fn has_preload(&self) -> bool {
+        self.x.preload > 0.0 || self.y.preload > 0.0
+    }
+
+    /// Elastic energy `E(s) = e_x(s_x) + e_y(s_y)` (see [`RingAxis::energy`]).
+    pub fn energy(&self, s: &Vector2<f64>) -> f64 {
+        self.x.energy(s.x) + self.y.energy(s.y)
+    }
+
+    /// Elastic force `g(s) = grad E(s) = (g_x(s_x), g_y(s_y))` (see [`RingAxis::elastic_force`]).
+    pub fn elastic_force(&self, s: &Vector2<f64>) -> Vector2<f64> {
+        Vector2::new(self.x.elastic_force(s.x), self.y.elastic_force(s.y))
+    }
+
+    /// Diagonal of the elastic stiffness matrix `g'(s)`: `2K` inside, `K` beyond the preload.
+    pub fn elastic_slopes(&self, s: &Vector2<f64>) -> Vector2<f64> {
+        Vector2::new(self.x.elastic_slope(s.x), self.y.elastic_slope(s.y))
+    }
+
+    /// Diagonal of the damping matrix `C(s)`: `4 nu2` inside, `2 nu2` beyond the preload.
+    pub fn damping_coefficients(&self, s: &Vector2<f64>) -> Vector2<f64> {
+        Vector2::new(
+            self.x.damping_coefficient(s.x, self.damping),
+            self.y.damping_coefficient(s.y, self.damping),
         )
     }
-}
 
-fn beyond(a: &RingAxis, s: f64) -> bool {
-    a.preload == 0.0 || s.abs() > a.preload
-}
-
-impl SnubberRing {
-    pub fn new(x: RingAxis, y: RingAxis, damping: f64, gap: f64) -> Result<Self, RingError> {
-        Ok(Self { x, y, damping, gap })
-    }
-    pub fn isotropic(stiffness: f64, preload: f64, damping: f64) -> Result<Self, RingError> {
-        let a = RingAxis { stiffness, preload };
-        Self::new(a, a, damping, 1.0)
-    }
-    pub fn elastic_force(&self, s: &Vector2<f64>) -> Vector2<f64> {
-        Vector2::new(axis_g(&self.x, s.x).0, axis_g(&self.y, s.y).0)
-    }
-    pub fn damping_coefficients(&self, s: &Vector2<f64>) -> Vector2<f64> {
-        let c = |a: &RingAxis, v: f64| {
-            if beyond(a, v) {
-                2.0 * self.damping
-            } else {
-                4.0 * self.damping
-            }
-        };
-        Vector2::new(c(&self.x, s.x), c(&self.y, s.y))
-    }
+    /// Total force of the ring `f = g(s) + C(s) s'` at position `s` and velocity `s_dot`.
     pub fn force(&self, s: &Vector2<f64>, s_dot: &Vector2<f64>) -> Vector2<f64> {
-        self.elastic_force(s) + self.damping_coefficients(s).component_mul(s_dot)
+        let c = self.damping_coefficients(s);
+        self.elastic_force(s) + c.component_mul(s_dot)
     }
+
+    /// The contact regime (II..V) of a ring at `s`, from the preload predicates of its axes:
+    /// II both inside, III `x` beyond, IV `y` beyond, V both beyond. (An axis with zero preload
+    /// is always beyond.)
     pub fn regime_of_ring(&self, s: &Vector2<f64>) -> Regime {
-        match (beyond(&self.x, s.x), beyond(&self.y, s.y)) {
-            (false, false) => Regime::II,
-            (true, false) => Regime::III,
-            (false, true) => Regime::IV,
-            (true, true) => Regime::V,
-        }
+        Regime::from_beyond(!self.x.is_inside(s.x), !self.y.is_inside(s.y))
     }
-    pub fn locate(&self, r: &Vector2<f64>) -> Result<RingContact, RingError> {
-        self.locate_from(r, f64::NAN)
-    }
-    pub fn locate_from(&self, r: &Vector2<f64>, _hint: f64) -> Result<RingContact, RingError> {
-        let rn = r.norm();
-        if rn <= self.gap || !rn.is_finite() {
-            return Err(RingError::InsideGap { r: rn });
-        }
-        let d_of = |mu: f64| {
-            let ax = |a: &RingAxis, ri: f64| {
-                let k = a.stiffness;
-                if mu * ri.abs() <= (k + mu) * a.preload {
-                    (k * ri / (k + mu), mu * ri / (k + mu))
-                } else {
-                    let sg = ri.signum();
-                    (
-                        k * (ri + sg * a.preload) / (k + 2.0 * mu),
-                        (2.0 * mu * ri - sg * k * a.preload) / (k + 2.0 * mu),
-                    )
-                }
-            };
-            let (dx, sx) = ax(&self.x, r.x);
-            let (dy, sy) = ax(&self.y, r.y);
-            (Vector2::new(dx, dy), Vector2::new(sx, sy))
-        };
-        let kmax = self.x.stiffness.max(self.y.stiffness);
-        let rt = (r.x.abs() + self.x.preload).hypot(r.y.abs() + self.y.preload);
-        let (mut lo, mut hi) = (0.0, kmax * (rt / self.gap - 1.0) + 1e-300);
-        let mut it = 0;
-        while it < 200 && hi - lo > 1e-16 * hi {
-            let mid = 0.5 * (lo + hi);
-            if d_of(mid).0.norm() > self.gap {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-            it += 1;
-        }
-        let mu = 0.5 * (lo + hi);
-        let (d, _) = d_of(mu);
-        let s = r - d * (self.gap / d.norm());
-        let d = r - s;
-        let gp = Vector2::new(axis_g(&self.x, s.x).1, axis_g(&self.y, s.y).1);
-        let a_inv = Vector2::new(1.0 / (gp.x + 2.0 * mu), 1.0 / (gp.y + 2.0 * mu));
-        let w = a_inv.component_mul(&d);
-        let jac = Matrix2::from_diagonal(&(a_inv * (2.0 * mu)))
-            + w * (d - w * (2.0 * mu)).transpose() / d.dot(&w);
-        Ok(RingContact {
-            s,
-            mu,
-            regime: self.regime_of_ring(&s),
-            jacobian: jac,
-            normal: d / d.norm(),
-            iterations: it,
-        })
-    }
+
+    /// Relaxation time constants `(T_x, T_y)`, `T_i = 2 nu2 / K_i`, of the free ring.
     pub fn relaxation_time(&self) -> Vector2<f64> {
         Vector2::new(
             2.0 * self.damping / self.x.stiffness,
             2.0 * self.damping / self.y.stiffness,
         )
-    }
-    pub fn relax(&self, s0: &Vector2<f64>, t: f64) -> Vector2<f64> {
-        let ax = |a: &RingAxis, s: f64, tc: f64| {
-            if tc == 0.0 || !tc.is_finite() {
-                return if t > 0.0 { 0.0 } else { s };
-            }
-            let d = a.preload;
-            if s.abs() > d {
-                let t1 = tc * ((s.abs() + d) / (2.0 * d)).ln();
-                if t < t1 || d == 0.0 {
-                    return s.signum() * ((s.abs() + d) * (-t / tc).exp() - d);
-                }
-                return s.signum() * d * (-(t - t1) / tc).exp();
-            }
-            s * (-t / tc).exp()
-        };
-        let tc = self.relaxation_time();
-        Vector2::new(ax(&self.x, s0.x, tc.x), ax(&self.y, s0.y, tc.y))
-    }
-    pub fn relax_velocity(&self, s: &Vector2<f64>) -> Vector2<f64> {
-        let tc = self.relaxation_time();
-        let ax = |a: &RingAxis, s: f64, tc: f64| {
-            if tc == 0.0 {
-                return 0.0;
-            }
-            if s.abs() > a.preload {
-                -(s + s.signum() * a.preload) / tc
-            } else {
-                -s / tc
-            }
-        };
-        Vector2::new(ax(&self.x, s.x, tc.x), ax(&self.y, s.y, tc.y))
-    }
-    pub fn has_preload(&self) -> bool {
-        self.x.preload > 0.0 || self.y.preload > 0.0
-    }
-    pub fn is_isotropic(&self) -> bool {
-        self.x.stiffness == self.y.stiffness
     }
 }

@@ -1,0 +1,122 @@
+//! Free relaxation of the massless ring out of contact.
+//!
+//! Out of contact the ring's force is zero, `g(s) + C(s) s' = 0`, i.e. per axis with the time
+//! constant `T = 2 nu2/K` (the same inside and beyond the preload):
+//!
+//! * inside (`|s| <= D`): `2 K s + 4 nu2 s' = 0`, so `s' = -s/T` and `s(t) = s0 e^{-t/T}`;
+//! * beyond (`|s| > D`, or `D = 0`): `K (s + sign(s) D) + 2 nu2 s' = 0`, so
+//!   `s' = -(s + sign(s) D)/T` and `s(t) = sign(s0) [ (|s0| + D) e^{-t/T} - D ]` until `|s| = D`
+//!   at `t1 = T ln((|s0| + D)/(2 D))`, then `s(t) = sign(s0) D e^{-(t - t1)/T}`.
+//!
+//! The solution never changes sign, `|s(t)|` is non-increasing and so is `|s'(t)|`: it decays
+//! exponentially on each piece and drops by the factor 2 at `t1` (from `2D/T` to `D/T`).
+//! With `nu2 = 0` the relaxation is instantaneous: `s(t) = 0` for every `t > 0`.
+
+use nalgebra::Vector2;
+
+use super::{RingAxis, SnubberRing};
+
+/// Position at time `t` of one axis started at `s0` (see the module docs).
+fn relax_axis(axis: &RingAxis, damping: f64, s0: f64, t: f64) -> f64 {
+    if t.is_nan() {
+        return f64::NAN;
+    }
+    if t <= 0.0 {
+        return s0;
+    }
+    if damping == 0.0 {
+        return 0.0;
+    }
+    let tc = 2.0 * damping / axis.stiffness;
+    let d = axis.preload;
+    if d == 0.0 || axis.is_inside(s0) {
+        return s0 * (-t / tc).exp();
+    }
+    let a = s0.abs();
+    let t1 = tc * ((a - d) / (2.0 * d)).ln_1p();
+    let mag = if t <= t1 {
+        (a + d) * (-t / tc).exp() - d
+    } else {
+        d * (-(t - t1) / tc).exp()
+    };
+    mag.copysign(s0)
+}
+
+/// Velocity of one free axis at state `s`.
+fn velocity_axis(axis: &RingAxis, damping: f64, s: f64) -> f64 {
+    let push = if axis.is_inside(s) || s == 0.0 {
+        s
+    } else {
+        s + axis.preload.copysign(s)
+    };
+    if damping == 0.0 {
+        if push == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY.copysign(-push)
+        }
+    } else {
+        -push * axis.stiffness / (2.0 * damping)
+    }
+}
+
+/// Time for one free axis to relax from `s0` to the preload `|s| = D`.
+fn time_to_preload_axis(axis: &RingAxis, damping: f64, s0: f64) -> f64 {
+    let d = axis.preload;
+    if axis.is_inside(s0) || damping == 0.0 {
+        0.0
+    } else if d == 0.0 {
+        f64::INFINITY
+    } else {
+        2.0 * damping / axis.stiffness * ((s0.abs() - d) / (2.0 * d)).ln_1p()
+    }
+}
+
+impl SnubberRing {
+    /// Exact position at time `t >= 0` of the free ring started at `s0` (module docs of
+    /// `relax.rs`): piecewise exponential per axis. `t <= 0` returns `s0`; a NaN `t` gives NaN;
+    /// with `nu2 = 0` every `t > 0` gives the rest position 0.
+    pub fn relax(&self, s0: &Vector2<f64>, t: f64) -> Vector2<f64> {
+        Vector2::new(
+            relax_axis(&self.x, self.damping, s0.x, t),
+            relax_axis(&self.y, self.damping, s0.y, t),
+        )
+    }
+
+    /// Velocity `s'` of the free ring at state `s`: `-s/T` inside the preload,
+    /// `-(s + sign(s) D)/T` beyond it (`T = 2 nu2/K`). With `nu2 = 0` the velocity is not finite:
+    /// `-sign(s) * infinity` per axis (0 where `s = 0`).
+    pub fn relax_velocity(&self, s: &Vector2<f64>) -> Vector2<f64> {
+        Vector2::new(
+            velocity_axis(&self.x, self.damping, s.x),
+            velocity_axis(&self.y, self.damping, s.y),
+        )
+    }
+
+    /// Exact velocity at time `t` of the free ring started at `s0`:
+    /// `relax_velocity(relax(s0, t))`.
+    pub fn relax_velocity_at(&self, s0: &Vector2<f64>, t: f64) -> Vector2<f64> {
+        self.relax_velocity(&self.relax(s0, t))
+    }
+
+    /// Per axis, the time the free ring started at `s0` needs to come back inside the preload,
+    /// `t1 = T ln((|s0| + D)/(2 D))` (0 if already inside or `nu2 = 0`; infinity if `D = 0` and
+    /// `s0 != 0`, since such an axis is never inside).
+    pub fn time_to_preload(&self, s0: &Vector2<f64>) -> Vector2<f64> {
+        Vector2::new(
+            time_to_preload_axis(&self.x, self.damping, s0.x),
+            time_to_preload_axis(&self.y, self.damping, s0.y),
+        )
+    }
+
+    /// Componentwise bounds `(lo, hi)` of the free ring's position over the whole interval
+    /// `[0, t]`: each coordinate moves monotonically towards 0 without changing sign, so it lies
+    /// between `s0` and `relax(s0, t)`. Useful to exclude contact over a step without sampling.
+    pub fn relax_bounds(&self, s0: &Vector2<f64>, t: f64) -> (Vector2<f64>, Vector2<f64>) {
+        let st = self.relax(s0, t);
+        (
+            Vector2::new(s0.x.min(st.x), s0.y.min(st.y)),
+            Vector2::new(s0.x.max(st.x), s0.y.max(st.y)),
+        )
+    }
+}
