@@ -1,12 +1,20 @@
-//! Generic integrator benchmarks: DOP853 (and DOPRI5 for comparison) on a
-//! harmonic oscillator and on the Arenstorf orbit. Throughput is reported
-//! in accepted steps per second (`elements/s`).
+//! Integrator benchmarks.
+//!
+//! * Generic: DOP853 (and DOPRI5 for comparison) on a harmonic oscillator and
+//!   on the Arenstorf orbit; throughput in accepted steps per second.
+//! * The rotor: the hybrid loop's integrated steps per second in contact
+//!   phases, and the cost of ten forcing periods (throughput: periods per
+//!   second) of a periodic and a chaotic scene, with and without preload,
+//!   started on the attractor (after 300 periods from rest).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use jeffcott::hybrid::{OutputPlan, SimOptions};
+use jeffcott::jeffcott::{JeffcottModel, State};
 use jeffcott::ode::{
     find_first_event, AnyIntegrator, Direction, EventOptions, EventSet, EventState, Integrator,
     Method, OdeSystem, Options,
 };
+use jeffcott::params::Preset;
 use nalgebra::SVector;
 use std::hint::black_box;
 
@@ -111,5 +119,62 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+fn rotor(c: &mut Criterion) {
+    let opts = SimOptions {
+        rtol: 1e-9,
+        atol: 1e-12,
+        ..SimOptions::default()
+    };
+    let scenes = [
+        ("periodic, D=0 (fig8a, eta=2)", Preset::Fig8a.params()),
+        ("periodic, D=0.1 (fig8b, eta=2)", Preset::Fig8b.params()),
+        ("chaotic, D=0 (fig9c, eta=2.442)", Preset::Fig9c.params()),
+        ("chaotic, D=0.1 (fig9d, eta=2.442)", Preset::Fig9d.params()),
+    ];
+    let mut g = c.benchmark_group("rotor/10 forcing periods");
+    g.sample_size(20);
+    for (name, p) in scenes {
+        let model = JeffcottModel::new(p).unwrap();
+        let period = p.forcing_period();
+        let (warm, _) = model
+            .stroboscopic(&State::zeros(), 300, 300, &opts)
+            .unwrap();
+        let (_, t0, y0, _) = warm.strobe[0];
+        let plan = OutputPlan {
+            t_end: t0 + 10.0 * period,
+            strobe: None,
+            dense: None,
+            events: false,
+        };
+        g.throughput(Throughput::Elements(10));
+        g.bench_function(name, |b| {
+            b.iter(|| black_box(model.run(t0, black_box(&y0), &plan, &opts).unwrap().1))
+        });
+    }
+    g.finish();
+
+    // Integrated steps per second: a contact-rich scene (two preloaded axes crossed).
+    let p = Preset::Fig10b.params();
+    let model = JeffcottModel::new(p).unwrap();
+    let plan = OutputPlan {
+        t_end: 20.0 * p.forcing_period(),
+        strobe: None,
+        dense: None,
+        events: false,
+    };
+    let steps = model
+        .run(0.0, &State::zeros(), &plan, &opts)
+        .unwrap()
+        .1
+        .steps;
+    let mut g = c.benchmark_group("rotor/contact steps (fig10b, 20 periods)");
+    g.sample_size(20);
+    g.throughput(Throughput::Elements(steps));
+    g.bench_function("DOP853 rtol 1e-9", |b| {
+        b.iter(|| black_box(model.run(0.0, &State::zeros(), &plan, &opts).unwrap().1))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench, rotor);
 criterion_main!(benches);

@@ -674,3 +674,60 @@ fn derivatives_from_the_state_alone_save_right_hand_sides() {
     assert_eq!(evals_state, 3, "{evals_state}");
     assert!(evals_rhs > evals_state, "{evals_rhs} vs {evals_state}");
 }
+
+/// $g = y_0 - c$ with its derivative, counting evaluations of $g$.
+struct CountingLevel {
+    level: f64,
+    calls: std::cell::Cell<u32>,
+}
+
+impl EventSet<1> for CountingLevel {
+    fn len(&self) -> usize {
+        1
+    }
+    fn direction(&self, _i: usize) -> Direction {
+        Direction::Either
+    }
+    fn value(&self, _i: usize, _t: f64, y: &V1) -> f64 {
+        self.calls.set(self.calls.get() + 1);
+        y[0] - self.level
+    }
+    fn derivative(&self, _i: usize, t: f64, _y: &V1, _dy: &V1) -> Option<f64> {
+        Some(2.0 * (t - 1.0))
+    }
+    fn derivative_needs_rhs(&self) -> bool {
+        false
+    }
+}
+
+#[test]
+fn extrema_far_from_zero_are_not_searched_near_ones_are() {
+    // y = (t - 1)^2 + y0 - 1 over one step [0, 2]; minimum y0 - 1 at t = 1.
+    let calls_for = |clearance: f64| {
+        let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
+        integ
+            .reset(&dip, 0.0, &V1::new(1.0 + clearance), false)
+            .unwrap();
+        integ.step(&dip, 2.0).unwrap();
+        let ev = CountingLevel {
+            level: 0.0,
+            calls: std::cell::Cell::new(0),
+        };
+        let hit = find_first_event(
+            &mut integ,
+            &dip,
+            &ev,
+            &EventOptions::default(),
+            &mut EventState::new(),
+        );
+        (hit.is_some(), ev.calls.get())
+    };
+    let samples = EventOptions::default().samples_per_step as u32 + 2;
+    // Minimum 0.5 above zero: only the samples are evaluated.
+    assert_eq!(calls_for(0.5), (false, samples));
+    // Minimum 1e-3 above zero: the extremum is searched, nothing found.
+    let (hit, calls) = calls_for(1e-3);
+    assert!(!hit && calls > samples, "{calls}");
+    // Minimum 1e-6 below zero: found.
+    assert!(calls_for(-1e-6).0);
+}

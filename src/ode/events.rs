@@ -27,13 +27,22 @@
 //! and the bracket is narrower than the time tolerance
 //! $\max(\text{root\_tol}, 4\varepsilon|t|)$.
 //!
+//!   The extremum is searched only when the cubic Hermite interpolant of
+//!   $g_i$ through the two samples (values and derivatives) gets at least
+//!   halfway from the nearer end value towards zero, or across it: an
+//!   extremum far from zero (the usual case, e.g. a ring coordinate turning
+//!   back well inside its preload) costs nothing.
+//!
 //! **Guarantee.** Relative to the dense-output interpolant $u(t)$, every
 //! crossing of an allowed direction is found, provided that between two
 //! consecutive samples $g_i(t, u(t))$ has at most one root, or has two roots
-//! and at most one extremum *and* the event supplies its derivative. Pairs of
-//! roots inside one sample interval are invisible without the derivative
-//! (see the tests: a $10^{-6}$-deep dip inside one large step is found with
-//! the derivative and missed by the plain sign check).
+//! and at most one extremum, the event supplies its derivative, and the
+//! cubic Hermite interpolant of the samples places that extremum at least
+//! halfway to zero (true whenever the Hermite interpolant's error is below
+//! half the end values: a dip missed by it is unresolved by the sampling).
+//! Pairs of roots inside one sample interval are invisible without the
+//! derivative (see the tests: a $10^{-6}$-deep dip inside one large step is
+//! found with the derivative and missed by the plain sign check).
 //!
 //! # Re-arming rule (no immediate re-firing)
 //!
@@ -374,6 +383,52 @@ fn y_at<const N: usize, S: OdeSystem<N>, I: Integrator<N>>(
     }
 }
 
+/// Whether the cubic Hermite interpolant through `(t, g, g')` at both ends of
+/// a sample interval (derivatives of opposite signs: one interior extremum)
+/// reaches zero, or at least half of the way from the nearer end value to
+/// zero, at its interior extremum.
+fn hermite_extremum_near_zero(a: (f64, f64, f64), b: (f64, f64, f64)) -> bool {
+    let (ta, ga, da) = a;
+    let (tb, gb, db) = b;
+    let h = tb - ta;
+    // p(s) = c0 + c1 s + c2 s^2 + c3 s^3 on s in [0, 1].
+    let (c0, c1) = (ga, h * da);
+    let c2 = 3.0 * (gb - ga) - h * (2.0 * da + db);
+    let c3 = 2.0 * (ga - gb) + h * (da + db);
+    let p = |s: f64| c0 + s * (c1 + s * (c2 + s * c3));
+    // p'(s) = c1 + 2 c2 s + 3 c3 s^2.
+    let (qa, qb, qc) = (3.0 * c3, 2.0 * c2, c1);
+    let mut roots = [f64::NAN; 2];
+    if qa.abs() <= 1e-14 * (qb.abs() + qc.abs()) {
+        if qb != 0.0 {
+            roots[0] = -qc / qb;
+        }
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc >= 0.0 {
+            let q = -0.5 * (qb + qb.signum() * disc.sqrt());
+            roots[0] = q / qa;
+            if q != 0.0 {
+                roots[1] = qc / q;
+            }
+        }
+    }
+    let nearer = ga.abs().min(gb.abs());
+    let mut any = false;
+    for s in roots {
+        if s > 0.0 && s < 1.0 {
+            any = true;
+            let v = p(s);
+            if v == 0.0 || (v > 0.0) != (ga > 0.0) || v.abs() <= 0.5 * nearer {
+                return true;
+            }
+        }
+    }
+    // No interior extremum of the interpolant despite the derivative signs:
+    // be safe and search.
+    !any
+}
+
 /// Locates the root of event `i` in the bracket `lo`..`hi` (values of
 /// opposite sign, or zero at `hi`); returns the post-crossing end.
 #[allow(clippy::too_many_arguments)]
@@ -560,7 +615,11 @@ where
                         candidate = Some((r, dir_first));
                     }
                 }
-            } else if has_der[i] && d_ref[i] != 0.0 && d_b != 0.0 && (d_ref[i] > 0.0) != (d_b > 0.0)
+            } else if has_der[i]
+                && d_ref[i] != 0.0
+                && d_b != 0.0
+                && (d_ref[i] > 0.0) != (d_b > 0.0)
+                && hermite_extremum_near_zero((t_a, g_a, d_ref[i]), (t_b, g_b, d_b))
             {
                 // Possible grazing pair: search the extremum of g, stop as
                 // soon as g changes sign.
