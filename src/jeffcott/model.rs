@@ -71,7 +71,10 @@ pub struct RunFailure {
 /// times) and the warm start of its solver.
 #[derive(Debug, Default)]
 pub struct Cache {
-    last: Cell<Option<(f64, f64, Branches, BranchContact)>>,
+    /// `(x, y, branches, mu)` of the last ring location.
+    key: Cell<Option<(f64, f64, Branches, f64)>>,
+    /// The last ring location.
+    contact: Cell<Option<BranchContact>>,
     /// `(t, cos, sin)` of the forcing phase at a recent time.
     phase: Cell<Option<(f64, f64, f64)>>,
 }
@@ -216,17 +219,19 @@ impl JeffcottModel {
     /// Ring location on the mode's branches, reusing the last one at the same point.
     fn contact(&self, b: Branches, y: &State, cache: &Cache) -> Option<BranchContact> {
         let (x, yy) = (y[0], y[1]);
-        let hint = match cache.last.get() {
-            Some((lx, ly, lb, c)) if lb == b => {
+        // The key is small to compare; the contact is copied out only on a hit.
+        let hint = match cache.key.get() {
+            Some((lx, ly, lb, mu)) if lb == b => {
                 if lx == x && ly == yy {
-                    return Some(c);
+                    return cache.contact.get();
                 }
-                c.mu
+                mu
             }
             _ => f64::NAN,
         };
         let c = self.ring.locate_on(&Vector2::new(x, yy), b, hint)?;
-        cache.last.set(Some((x, yy, b, c)));
+        cache.key.set(Some((x, yy, b, c.mu)));
+        cache.contact.set(Some(c));
         Some(c)
     }
 

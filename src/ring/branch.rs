@@ -227,17 +227,24 @@ impl SnubberRing {
     ) -> Option<BranchContact> {
         let k = self.x.stiffness;
         // Plain sqrt, not hypot: the arguments are O(K), far from overflow, and hypot is slow.
-        let an = (ax * ax + ay * ay).sqrt() / k;
-        if !(an > 0.0 && an.is_finite()) {
+        let a_norm = (ax * ax + ay * ay).sqrt();
+        if !(a_norm > 0.0 && a_norm.is_finite()) {
             return None;
         }
-        let mu = k * (an / self.gap - 1.0) / c;
-        let normal = Vector2::new(ax, ay) / (k * an);
+        let mu = (a_norm / self.gap - k) / c;
+        let normal = Vector2::new(ax, ay) * a_norm.recip();
         let dvec = normal * self.gap;
         let outer = branches.x.is_outer();
         let alpha = if outer { k } else { 2.0 * k } + 2.0 * mu;
         let ratio = 2.0 * mu / alpha;
-        let jacobian = Matrix2::identity() * ratio + normal * normal.transpose() * (1.0 - ratio);
+        let q = 1.0 - ratio;
+        let nxy = q * normal.x * normal.y;
+        let jacobian = Matrix2::new(
+            ratio + q * normal.x * normal.x,
+            nxy,
+            nxy,
+            ratio + q * normal.y * normal.y,
+        );
         let unit = if outer { 2.0 } else { 4.0 } * self.damping;
         Some(BranchContact {
             s: r - dvec,
