@@ -275,3 +275,69 @@ fn invalid_options_are_typed_errors() {
         );
     }
 }
+
+#[test]
+fn both_preloads_crossed_at_once_at_the_corner() {
+    // No forcing, rest position on the diagonal: a rotor launched along the diagonal stays on
+    // it bit for bit, so it crosses both preloads at the same instant, out and back.
+    let p = Params {
+        beta: 0.0,
+        ex: 0.3,
+        ey: 0.3,
+        nu2: 0.002,
+        ..Preset::Fig8b.params()
+    };
+    let model = JeffcottModel::new(p).unwrap();
+    let y0 = model.state_at([0.75, 0.75], [3.0, 3.0]).unwrap();
+    let plan = OutputPlan {
+        t_end: 2.0,
+        strobe: None,
+        dense: Some((0.0, 1e-3)),
+        events: true,
+    };
+    let (traj, _) = model.run(0.0, &y0, &plan, &opts(1e-10)).unwrap();
+    let labels: Vec<u8> = traj.events.iter().map(|e| e.to).collect();
+    println!(
+        "{:?}",
+        traj.events
+            .iter()
+            .map(|e| (e.t, e.kind, e.from, e.to))
+            .collect::<Vec<_>>()
+    );
+    assert!(labels.contains(&5), "regime V reached: {labels:?}");
+    // Never regime III or IV: the motion is symmetric.
+    assert!(traj.samples.iter().all(|s| s.label != 3 && s.label != 4));
+    // The ring never goes beyond its preload on one branch only.
+    for s in &traj.samples {
+        let (sx, sy) = (s.y[4], s.y[5]);
+        assert_eq!(sx, sy);
+        let beyond = sx.abs() > 0.1 + 1e-9;
+        if beyond {
+            assert_eq!(s.label, 5, "{s:?}");
+        }
+    }
+}
+
+#[test]
+fn zero_ring_damping_runs_and_stays_close_to_tiny_damping() {
+    let end = |nu2: f64| {
+        let p = Params {
+            nu2,
+            ..Preset::Fig8b.params().with_eta(3.0)
+        };
+        let model = JeffcottModel::new(p).unwrap();
+        let (traj, stats) = model
+            .stroboscopic(&State::zeros(), 0, 40, &opts(1e-10))
+            .unwrap();
+        assert!(stats.transitions > 10);
+        assert!(traj
+            .strobe
+            .iter()
+            .all(|s| s.2.iter().all(|v| v.is_finite())));
+        traj.strobe.last().unwrap().2
+    };
+    let zero = end(0.0);
+    let tiny = end(1e-9);
+    // The ring damping enters the force linearly: 1e-9 of it moves the state very little.
+    assert!((zero - tiny).norm() < 1e-5, "{}", (zero - tiny).norm());
+}

@@ -21,6 +21,10 @@ pub type State = SVector<f64, 6>;
 /// rotor's surface (the onset time is located to rounding).
 const ONSET_TOUCH: f64 = 1e-12;
 
+/// Relative distance to its preload within which the other axis counts as crossing at the
+/// same time as the axis whose guard fired (a corner of the regime map).
+const CORNER_TOL: f64 = 1e-10;
+
 /// A mode of the model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Mode {
@@ -511,6 +515,42 @@ impl RotorModel<6> for JeffcottModel {
                     } else {
                         next.y = nb;
                     }
+                    // At a corner both preloads are crossed at once; the other axis' guard
+                    // sits at zero at the new mode's start, where the event layer does not
+                    // fire it again, so it is switched here if it is on its boundary and
+                    // moving across it.
+                    let other = 1 - axis;
+                    let other_axis = if other == 0 {
+                        &self.ring.x
+                    } else {
+                        &self.ring.y
+                    };
+                    let other_branch = if other == 0 { b.x } else { b.y };
+                    if other_axis.preload > 0.0 {
+                        let r = Vector2::new(y[0], y[1]);
+                        if let Some(c) = self.ring.locate_on(&r, b, f64::NAN) {
+                            let v = c.ring_velocity(&Vector2::new(y[2], y[3]))[other];
+                            let sv = c.s[other];
+                            let d = other_axis.preload;
+                            let near = (sv.abs() - d).abs() <= CORNER_TOL * d;
+                            let flipped = match other_branch {
+                                Branch::Inner if near && sv * v > 0.0 => {
+                                    Some(Branch::Outer(if sv >= 0.0 { 1 } else { -1 }))
+                                }
+                                Branch::Outer(sg) if near && f64::from(sg) * v < 0.0 => {
+                                    Some(Branch::Inner)
+                                }
+                                _ => None,
+                            };
+                            if let Some(f) = flipped {
+                                if other == 0 {
+                                    next.x = f;
+                                } else {
+                                    next.y = f;
+                                }
+                            }
+                        }
+                    }
                     Ok(Mode::Contact(next))
                 }
             },
@@ -518,12 +558,16 @@ impl RotorModel<6> for JeffcottModel {
     }
 
     fn start_segment(&self, _mode: Mode, t: f64, y: &State) -> FreeSegment {
+        // Without ring damping the relaxation is instantaneous: the ring is at its centre as
+        // soon as free flight starts.
+        let s0 = if self.ring.damping > 0.0 {
+            Vector2::new(y[4], y[5])
+        } else {
+            Vector2::zeros()
+        };
         FreeSegment {
             rotor: self.osc.segment(t, &[y[0], y[1], y[2], y[3]]),
-            relax: RelaxingRing {
-                t0: t,
-                s0: Vector2::new(y[4], y[5]),
-            },
+            relax: RelaxingRing { t0: t, s0 },
             ring: self.ring,
             stats: OnsetStats::default(),
         }
