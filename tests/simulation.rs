@@ -341,3 +341,50 @@ fn zero_ring_damping_runs_and_stays_close_to_tiny_damping() {
     // The ring damping enters the force linearly: 1e-9 of it moves the state very little.
     assert!((zero - tiny).norm() < 1e-5, "{}", (zero - tiny).norm());
 }
+
+#[test]
+fn onsets_late_in_long_runs_resolve_at_the_time_resolution() {
+    // Found by the figure examples: late in a long run one ulp of time is far above 1e-12
+    // (4.7e-10 at t = 3e6), so an onset can only be placed some way inside the gap circle;
+    // it must start contact, not loop. The steady orbit of `grazing_scene` is started at a
+    // late time and enters the ring 1e-3 deep.
+    let (model, _) = grazing_scene(1e-3);
+    let p = *model.params();
+    for t0 in [1e5, 3e6] {
+        let b = p.forcing_amplitude();
+        let den = Vector2::new(1.0 - p.eta * p.eta, 2.0 * p.nu1 * p.eta);
+        let zc = Vector2::new(b * den.x, -b * den.y) / den.norm_squared();
+        let (s, c) = (p.phi0 + p.eta * t0).sin_cos();
+        let z = Vector2::new(zc.x * c - zc.y * s, zc.x * s + zc.y * c);
+        let y0 = model
+            .state_at([p.ex + z.x, p.ey + z.y], [-p.eta * z.y, p.eta * z.x])
+            .unwrap();
+        let plan = OutputPlan {
+            t_end: t0 + 20.0 * p.forcing_period(),
+            strobe: None,
+            dense: None,
+            events: true,
+        };
+        let (traj, _) = model
+            .run(t0, &y0, &plan, &opts(1e-10))
+            .unwrap_or_else(|f| panic!("t0 = {t0}: {}", f.error));
+        let onsets = traj
+            .events
+            .iter()
+            .filter(|e| e.kind == guard::ONSET)
+            .count();
+        assert!(onsets >= 18, "t0 = {t0}: {onsets} onsets");
+    }
+}
+
+#[test]
+fn the_first_output_is_the_initial_state_exactly() {
+    let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
+    let y0 = model.state_at([0.1, -0.2], [0.3, 0.05]).unwrap();
+    let (traj, _) = model.stroboscopic(&y0, 0, 2, &opts(1e-9)).unwrap();
+    assert_eq!(traj.strobe[0].2, y0);
+    let (traj, _) = model
+        .stroboscopic(&State::zeros(), 0, 0, &opts(1e-9))
+        .unwrap();
+    assert_eq!(traj.strobe[0].2, State::zeros());
+}

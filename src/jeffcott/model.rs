@@ -261,6 +261,7 @@ impl JeffcottModel {
 #[derive(Debug, Clone)]
 pub struct FreeSegment {
     rotor: FreeFlight,
+    start: [f64; 4],
     relax: RelaxingRing,
     ring: SnubberRing,
     stats: OnsetStats,
@@ -268,7 +269,12 @@ pub struct FreeSegment {
 
 impl ExactSegment<6> for FreeSegment {
     fn eval(&self, t: f64, y: &mut State, dy: &mut State) {
-        let (r, acc) = self.rotor.state_accel(t);
+        let (mut r, acc) = self.rotor.state_accel(t);
+        if t == self.rotor.start() {
+            // The closed form's particular and homogeneous parts cancel to rounding at the
+            // start; the start state is known exactly.
+            r = self.start;
+        }
         let (s, sd) = self.relax.at(&self.ring, t);
         *y = State::from([r[0], r[1], r[2], r[3], s.x, s.y]);
         *dy = State::from([r[2], r[3], acc[0], acc[1], sd.x, sd.y]);
@@ -471,7 +477,11 @@ impl RotorModel<6> for JeffcottModel {
         match mode {
             Mode::Free => {
                 let gap = self.ring.gap;
-                if r.norm() < gap * (1.0 - ONSET_TOUCH) {
+                // A touch of the gap circle, up to the rounding of the onset time: the rotor
+                // moves |r'| ulp(t) per representable time step.
+                let speed = y[2].hypot(y[3]);
+                let touch = (ONSET_TOUCH * gap).max(4.0 * f64::EPSILON * t.abs() * speed);
+                if r.norm() < gap - touch {
                     // The relaxing ring touched a rotor that is inside the gap circle: its
                     // minimum-energy location (the centre) is within reach, so the touch ends
                     // the relaxation and free flight goes on (docs/model.md).
@@ -565,8 +575,10 @@ impl RotorModel<6> for JeffcottModel {
         } else {
             Vector2::zeros()
         };
+        let start = [y[0], y[1], y[2], y[3]];
         FreeSegment {
-            rotor: self.osc.segment(t, &[y[0], y[1], y[2], y[3]]),
+            rotor: self.osc.segment(t, &start),
+            start,
             relax: RelaxingRing { t0: t, s0 },
             ring: self.ring,
             stats: OnsetStats::default(),

@@ -213,8 +213,10 @@ pub fn find_onset(
         }
         let t_next = t + du;
         if t_next <= t {
-            // Cannot certify any progress: the rotor is touching the ring.
-            return Onset::At(t);
+            // The certified step is below the time resolution ulp(t): the crossing is within
+            // one ulp. Report the first representable time after t when h is rising (so the
+            // onset lies on the contact side), t itself otherwise (a touch).
+            return Onset::At(if h1 > 0.0 { t.next_up().min(t_end) } else { t });
         }
         t = t_next.min(t_end);
     }
