@@ -2,8 +2,9 @@
 //! (a) and with (b) preload, with the paper's reported bifurcation points marked.
 //!
 //! `cargo run --release --example bifurcation` (no flags) draws both diagrams over η ∈ [2, 5]
-//! with 601 values, 300 discarded and 150 recorded forcing periods, the state carried from one
-//! value to the next in 8 contiguous chunks (see `--mode`, `--chunks`), into
+//! with 601 values, 300 discarded and 150 recorded forcing periods, every value from rest (zero
+//! initial conditions; `--mode carry` carries the state from one value to the next instead, in
+//! `--chunks` contiguous chunks that each start from rest), into
 //! `target/figures/bifurcation`: `fig8a.png`, `fig8b.png`, the points behind them
 //! (`fig8a.csv`, `fig8b.csv`: eta, x) and the detected period per value
 //! (`fig8a_periods.csv`, ...). Run with `--help` for the flags.
@@ -18,7 +19,8 @@ use common::cli::{fail, Cli};
 use common::csv::{fmt_f64, CsvWriter};
 use common::plot::{self, Figure};
 use jeffcott::analysis::{
-    bifurcation, linspace, BifurcationConfig, Periodicity, StderrProgress, SweepConfig,
+    bifurcation, linspace, locate_period_change, BifurcationConfig, LocatorConfig, Periodicity,
+    StderrProgress, SweepConfig,
 };
 use jeffcott::hybrid::SimOptions;
 use jeffcott::params::Preset;
@@ -63,7 +65,7 @@ fn main() {
     );
     let mode = cli.choice(
         "mode",
-        "carry",
+        "reset",
         &["carry", "reset"],
         "state carried over from the previous eta, or every eta from rest",
     );
@@ -96,7 +98,38 @@ fn main() {
         1.0,
         "relative tolerance of the period test",
     );
+    let locate_lo = cli.f64_in(
+        "locate-lo",
+        f64::NAN,
+        0.01,
+        100.0,
+        "with --locate-hi and --diagram a|b: locate by bisection, from rest, where the detected period changes in [lo, hi], then exit",
+    );
+    let locate_hi = cli.f64_in(
+        "locate-hi",
+        f64::NAN,
+        0.01,
+        100.0,
+        "upper end for --locate-lo",
+    );
+    let locate_transient = cli.usize_in(
+        "locate-transient",
+        2000,
+        0,
+        10_000_000,
+        "periods discarded at each bisection step",
+    );
+    let locate_record = cli.usize_in(
+        "locate-record",
+        200,
+        2,
+        1_000_000,
+        "periods recorded at each bisection step",
+    );
     cli.finish();
+    if locate_lo.is_nan() != locate_hi.is_nan() {
+        fail("--locate-lo and --locate-hi go together");
+    }
     if eta_min > eta_max || (eta_min == eta_max && steps > 1) {
         fail(format!(
             "--eta-min ({eta_min}) must be below --eta-max ({eta_max})"
@@ -104,6 +137,54 @@ fn main() {
     }
     if !preload.is_nan() && diagram == "both" {
         fail("--preload needs --diagram a or --diagram b");
+    }
+
+    if !locate_lo.is_nan() {
+        if diagram == "both" {
+            fail("--locate-lo needs --diagram a or --diagram b");
+        }
+        if locate_lo >= locate_hi {
+            fail(format!(
+                "--locate-lo ({locate_lo}) must be below --locate-hi ({locate_hi})"
+            ));
+        }
+        let base = if diagram == "a" {
+            Preset::Fig8a.params()
+        } else {
+            Preset::Fig8b.params()
+        };
+        let base = if preload.is_nan() {
+            base
+        } else {
+            base.with_preload(preload)
+        };
+        let mut lc = LocatorConfig {
+            transient: locate_transient as u64,
+            record: locate_record as u64,
+            opts: SimOptions {
+                rtol,
+                atol,
+                ..SimOptions::default()
+            },
+            ..LocatorConfig::default()
+        };
+        lc.period_test.tol = tol;
+        let t0 = Instant::now();
+        let c = common::or_exit(locate_period_change(&base, locate_lo, locate_hi, &lc));
+        println!(
+            "fig8{diagram} (D = {}): {} -> {} at eta = {:.3} (bracket [{:.5}, {:.5}], {} runs of {}+{} periods from rest, {:.1} s)",
+            base.dx,
+            describe(c.below),
+            describe(c.above),
+            c.value(),
+            c.lo,
+            c.hi,
+            c.evaluations,
+            locate_transient,
+            locate_record,
+            t0.elapsed().as_secs_f64()
+        );
+        return;
     }
 
     let etas = common::or_exit(linspace(eta_min, eta_max, steps));
