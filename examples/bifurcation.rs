@@ -99,18 +99,18 @@ fn main() {
         "relative tolerance of the period test",
     );
     let locate_lo = cli.f64_in(
-        "locate-lo",
+        "locate-from",
         f64::NAN,
         0.01,
         100.0,
-        "with --locate-hi and --diagram a|b: locate by bisection, from rest, where the detected period changes in [lo, hi], then exit",
+        "with --locate-to and --diagram a|b: locate by bisection (each run from rest) where the period detected at this eta ends towards --locate-to, print it and exit",
     );
     let locate_hi = cli.f64_in(
-        "locate-hi",
+        "locate-to",
         f64::NAN,
         0.01,
         100.0,
-        "upper end for --locate-lo",
+        "other end for --locate-from (above or below it)",
     );
     let locate_transient = cli.usize_in(
         "locate-transient",
@@ -128,7 +128,7 @@ fn main() {
     );
     cli.finish();
     if locate_lo.is_nan() != locate_hi.is_nan() {
-        fail("--locate-lo and --locate-hi go together");
+        fail("--locate-from and --locate-to go together");
     }
     if eta_min > eta_max || (eta_min == eta_max && steps > 1) {
         fail(format!(
@@ -141,11 +141,11 @@ fn main() {
 
     if !locate_lo.is_nan() {
         if diagram == "both" {
-            fail("--locate-lo needs --diagram a or --diagram b");
+            fail("--locate-from needs --diagram a or --diagram b");
         }
-        if locate_lo >= locate_hi {
+        if locate_lo == locate_hi {
             fail(format!(
-                "--locate-lo ({locate_lo}) must be below --locate-hi ({locate_hi})"
+                "--locate-from ({locate_lo}) must differ from --locate-to ({locate_hi})"
             ));
         }
         let base = if diagram == "a" {
@@ -172,13 +172,13 @@ fn main() {
         let t0 = Instant::now();
         let c = common::or_exit(locate_period_change(&base, locate_lo, locate_hi, &lc));
         println!(
-            "fig8{diagram} (D = {}): {} -> {} at eta = {:.3} (bracket [{:.5}, {:.5}], {} runs of {}+{} periods from rest, {:.1} s)",
+            "fig8{diagram} (D = {}): {} (at {:.5}) -> {} (at {:.5}): eta = {:.3} ({} runs of {}+{} periods from rest, {:.1} s)",
             base.dx,
-            describe(c.below),
-            describe(c.above),
+            describe(c.at_from),
+            c.from,
+            describe(c.at_to),
+            c.to,
             c.value(),
-            c.lo,
-            c.hi,
             c.evaluations,
             locate_transient,
             locate_record,

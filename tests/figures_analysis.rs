@@ -150,13 +150,21 @@ fn locator_finds_the_first_bifurcation_of_fig8a() {
         ..LocatorConfig::default()
     };
     let c = locate_period_change(&Preset::Fig8a.params(), 2.1, 2.2, &config).unwrap();
-    assert_eq!(c.below, Periodicity::Period(1));
-    assert!(c.hi - c.lo <= 2e-3);
+    assert_eq!(c.at_from, Periodicity::Period(1));
+    assert_eq!(c.at_to, Periodicity::Period(3));
+    assert!(c.to > c.from && c.to - c.from <= 2e-3);
     // The paper reports 2.165; the model gives 2.164 (docs/reproduction.md).
     assert!((c.value() - 2.164).abs() < 3e-3, "{c:?}");
     // Same period at both ends: an error, not a guess.
     let e = locate_period_change(&Preset::Fig8a.params(), 2.0, 2.05, &config).unwrap_err();
     assert!(matches!(e, OrbitError::NoChange { .. }), "{e}");
+    // From above: where period 3 ends going down is the same point.
+    let d = locate_period_change(&Preset::Fig8a.params(), 2.18, 2.1, &config).unwrap();
+    assert_eq!(d.at_from, Periodicity::Period(3));
+    assert!(
+        d.to < d.from && (d.value() - c.value()).abs() < 3e-3,
+        "{d:?}"
+    );
 }
 
 #[test]

@@ -293,16 +293,16 @@ pub enum OrbitError {
     #[error(transparent)]
     Analysis(#[from] AnalysisError),
     /// The locator's two ends have the same detected period: nothing to locate.
-    #[error("no change of period between {lo} ({at_lo:?}) and {hi} ({at_hi:?})")]
+    #[error("no change of period between {from} ({at_from:?}) and {to} ({at_to:?})")]
     NoChange {
-        /// Lower end.
-        lo: f64,
-        /// Upper end.
-        hi: f64,
-        /// Periodicity at the lower end.
-        at_lo: Periodicity,
-        /// Periodicity at the upper end.
-        at_hi: Periodicity,
+        /// Reference end.
+        from: f64,
+        /// Other end.
+        to: f64,
+        /// Periodicity at `from`.
+        at_from: Periodicity,
+        /// Periodicity at `to`.
+        at_to: Periodicity,
     },
 }
 
@@ -660,14 +660,14 @@ impl Default for LocatorConfig {
 /// The bracket found by [`locate_period_change`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PeriodChange {
-    /// Lower end of the final bracket (has the periodicity `below`).
-    pub lo: f64,
-    /// Upper end (its periodicity differs from `below`).
-    pub hi: f64,
-    /// Periodicity at `lo` (the same as at the initial lower end).
-    pub below: Periodicity,
-    /// Periodicity at `hi`.
-    pub above: Periodicity,
+    /// The end of the final bracket on the reference side (it has the periodicity `at_from`).
+    pub from: f64,
+    /// The other end (its periodicity differs from `at_from`); `|to − from| ≤ resolution`.
+    pub to: f64,
+    /// Periodicity at `from` (the same as at the initial `from`).
+    pub at_from: Periodicity,
+    /// Periodicity at `to`.
+    pub at_to: Periodicity,
     /// Simulations run.
     pub evaluations: usize,
 }
@@ -675,34 +675,35 @@ pub struct PeriodChange {
 impl PeriodChange {
     /// The midpoint of the bracket, the located bifurcation value.
     pub fn value(&self) -> f64 {
-        0.5 * (self.lo + self.hi)
+        0.5 * (self.from + self.to)
     }
 }
 
-/// Locates by bisection where the detected period changes between `lo` and `hi`.
+/// Locates by bisection where the detected period changes between `from` and `to`.
 ///
 /// Each evaluation runs the model at one value of `config.parameter` from `config.start`
 /// (every evaluation independent: the "reset" reading), discards `config.transient` periods and
-/// tests the next `config.record`. The classification at `lo` is kept as the reference: the
-/// bracket is halved, keeping the half whose lower end has the reference periodicity and whose
-/// upper end does not, until it is narrower than `config.resolution`. If several changes lie in
-/// `[lo, hi]` one of them is found (not necessarily the first).
+/// tests the next `config.record`. The periodicity at `from` is the reference: the bracket is
+/// halved, keeping the half whose `from` end has the reference periodicity and whose `to` end
+/// does not, until it is narrower than `config.resolution`. `to` may lie below or above
+/// `from`, so the search can find where a periodicity ends when coming from either side. If
+/// several changes lie between the ends, one of them is found (not necessarily the nearest).
 ///
 /// # Errors
-/// [`OrbitError::NoChange`] if `lo` and `hi` have the same periodicity; the errors of
-/// [`poincare_map`] at any evaluation; [`OrbitError::Analysis`] for a bad bracket or
-/// resolution.
+/// [`OrbitError::NoChange`] if `from` and `to` have the same periodicity; the errors of
+/// [`poincare_map`] at any evaluation; [`OrbitError::Analysis`] for equal or non-finite ends
+/// or a bad resolution.
 pub fn locate_period_change(
     base: &Params,
-    lo: f64,
-    hi: f64,
+    from: f64,
+    to: f64,
     config: &LocatorConfig,
 ) -> Result<PeriodChange, OrbitError> {
-    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+    if !(from.is_finite() && to.is_finite() && from != to) {
         return Err(AnalysisError::InvalidValue {
-            name: "hi",
-            value: hi,
-            expected: "finite, above a finite lo",
+            name: "to",
+            value: to,
+            expected: "finite and different from a finite `from`",
         }
         .into());
     }
@@ -728,35 +729,35 @@ pub fn locate_period_change(
         )
         .map(|(_, per)| per)
     };
-    let below = classify(lo)?;
-    let mut above = classify(hi)?;
-    if below == above {
+    let at_from = classify(from)?;
+    let mut at_to = classify(to)?;
+    if at_from == at_to {
         return Err(OrbitError::NoChange {
-            lo,
-            hi,
-            at_lo: below,
-            at_hi: above,
+            from,
+            to,
+            at_from,
+            at_to,
         });
     }
-    let (mut a, mut b) = (lo, hi);
-    while b - a > config.resolution {
+    let (mut a, mut b) = (from, to);
+    while (b - a).abs() > config.resolution {
         let m = 0.5 * (a + b);
-        if m <= a || m >= b {
+        if m == a || m == b {
             break;
         }
         let pm = classify(m)?;
-        if pm == below {
+        if pm == at_from {
             a = m;
         } else {
             b = m;
-            above = pm;
+            at_to = pm;
         }
     }
     Ok(PeriodChange {
-        lo: a,
-        hi: b,
-        below,
-        above,
+        from: a,
+        to: b,
+        at_from,
+        at_to,
         evaluations,
     })
 }
