@@ -18,6 +18,24 @@ use jeffcott::analysis::{poincare_map, PeriodTest, Periodicity};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::params::Preset;
 
+/// The range of the values padded by 5 %, and at least `MIN_SPAN` wide: a periodic orbit's
+/// points coincide to the integration tolerance, and an automatic range would blow that
+/// rounding noise up to fill the picture.
+fn padded_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    const MIN_SPAN: f64 = 0.05;
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            (l.min(v), h.max(v))
+        });
+    if lo > hi {
+        return (-1.0, 1.0);
+    }
+    let mid = 0.5 * (lo + hi);
+    let half = (0.5 * (hi - lo) * 1.05).max(0.5 * MIN_SPAN);
+    (mid - half, mid + half)
+}
+
 fn main() {
     let mut cli = Cli::new("Poincaré maps (x_r, x_r') of the paper's Fig. 9a-d.");
     let out = PathBuf::from(cli.string("out", "target/figures/poincare", "output folder"));
@@ -93,6 +111,10 @@ fn main() {
             Periodicity::NotPeriodic { up_to } => format!("not periodic up to {up_to}"),
         };
         let pts = orbit.pairs(0, 2);
+        let (xr, vr) = (
+            padded_range(pts.iter().map(|p| p.0)),
+            padded_range(pts.iter().map(|p| p.1)),
+        );
         let fig = Figure::new(
             &format!(
                 "Fig. 9{name}: (x_r, x_r′) at τ = 2πk/η, η = {}, D = {}, φ₀ = {}; k = {}..{} from rest: {per_text}",
@@ -106,7 +128,9 @@ fn main() {
             "x_r′ = dx_r/dτ",
         )
         .with_columns("x", "vx")
-        .with_size(1200, 1000);
+        .with_size(1200, 1000)
+        .with_x_range(xr.0, xr.1)
+        .with_y_range(vr.0, vr.1);
         let path = out.join(format!("fig9{name}.png"));
         common::or_exit(plot::scatter(&path, &fig, &[Series::new("", pts)]));
         println!(
