@@ -572,7 +572,7 @@ fn run_value(
 /// the other parameters from `base`), discard `config.transient` periods, record
 /// `config.record` stroboscopic points and detect their period.
 ///
-/// Runs on [`sweep`]: in reset mode every value starts from `config.reset_state`; in
+/// Runs on [`sweep()`]: in reset mode every value starts from `config.reset_state`; in
 /// carry-over mode the final state at one value starts the next, within contiguous chunks
 /// that each start from the reset state and run in parallel. The chunking depends only on the
 /// number of values and `chunks`, never on the thread count, so **the results are bitwise
@@ -582,7 +582,7 @@ fn run_value(
 /// the reset state. `progress` is called once per value.
 ///
 /// # Errors
-/// Only for a bad sweep configuration ([`AnalysisError`] from [`sweep`]).
+/// Only for a bad sweep configuration ([`AnalysisError`] from [`sweep()`]).
 pub fn bifurcation(
     base: &Params,
     values: &[f64],
