@@ -150,7 +150,7 @@ pub fn strobe_orbit<const N: usize, M: RotorModel<N>>(
         });
     }
     let last_k = transient.saturating_add(record);
-    let plan = OutputPlan::strobe(model.forcing_period(), transient + 1, last_k);
+    let plan = OutputPlan::strobe(model.forcing_period(), transient.saturating_add(1), last_k);
     let mut traj = Trajectory::default();
     let stats = simulate(model, 0.0, y0, &plan, opts, &mut traj)?;
     let last = traj.strobe.last().map_or(*y0, |s| s.2);
