@@ -1,8 +1,9 @@
 //! The command-line contract of `examples/simulate.rs`, tested on the built example.
 //!
-//! The example binary is built by `cargo build --example simulate` from this test (a no-op when
-//! `cargo test` has already built it, which it does for a plain `cargo test`), so the test also
-//! runs under `cargo test --test figures_simulate` and never uses a stale binary. If cargo is
+//! The example binary is built by `cargo build --profile test --example simulate` from this
+//! test (a no-op when `cargo test` has already built it, which it does for a plain
+//! `cargo test`), so the test also runs under `cargo test --test figures_simulate` and never
+//! uses a stale binary. If cargo is
 //! not available the test falls back to a binary next to the test's own, and is skipped with a
 //! message if there is none.
 
@@ -26,9 +27,12 @@ fn simulate_exe() -> Option<PathBuf> {
         cmd.args(["build", "--quiet", "--example", "simulate"])
             .arg("--manifest-path")
             .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml"));
-        // Build into the same profile folder as this test (release for `cargo test --release`).
+        // Build with the profile `cargo test` itself builds examples with, so that the build is
+        // a no-op after a plain `cargo test` (release for `cargo test --release`).
         if profile_dir.file_name().is_some_and(|n| n == "release") {
             cmd.arg("--release");
+        } else {
+            cmd.args(["--profile", "test"]);
         }
         match cmd.status() {
             Ok(s) if s.success() => {}
