@@ -103,11 +103,7 @@ fn main() {
         .with_columns("xs", "vxs")
         .with_size(1200, 1000);
         let path = out.join(format!("fig10{name}.png"));
-        common::or_exit(plot::lines(
-            &path,
-            &fig,
-            &[Series::new("", ring), Series::new("", Vec::new())],
-        ));
+        common::or_exit(plot::lines(&path, &fig, &[Series::new("", ring)]));
         let fig = Figure::new(
             &format!("Fig. 10{name} (y axis): ring phase portrait, {params_text}"),
             "y_s",
