@@ -11,11 +11,17 @@
 //! * [`poincare`]: where a densely sampled trajectory crosses a section.
 
 mod error;
+pub mod jeffcott;
 pub mod period;
 pub mod poincare;
 pub mod sweep;
 
 pub use error::AnalysisError;
+pub use jeffcott::{
+    bifurcation, linspace, locate_period_change, phase_portrait, poincare_map, strobe_orbit,
+    Bifurcation, BifurcationConfig, Column, LocatorConfig, OrbitError, PeriodChange, PeriodTest,
+    PhasePortrait, StrobeOrbit, StrobePoint, SweepParameter,
+};
 pub use period::{
     count_distinct, detect_period, detect_period_scalar, distinct_values, recurrence_residual,
     Periodicity,

@@ -1,0 +1,313 @@
+//! The paper's Fig. 8: bifurcation diagrams of the rotor's x_r(τ = 2πk/η) against η, without
+//! (a) and with (b) preload, with the paper's reported bifurcation points marked.
+//!
+//! `cargo run --release --example bifurcation` (no flags) draws both diagrams over η ∈ [2, 5]
+//! with 601 values, 300 discarded and 150 recorded forcing periods, every value from rest (zero
+//! initial conditions; `--mode carry` carries the state from one value to the next instead, in
+//! `--chunks` contiguous chunks that each start from rest), into
+//! `target/figures/bifurcation`: `fig8a.png`, `fig8b.png`, the points behind them
+//! (`fig8a.csv`, `fig8b.csv`: eta, x) and the detected period per value
+//! (`fig8a_periods.csv`, ...). Run with `--help` for the flags.
+
+#[path = "common/mod.rs"]
+mod common;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use common::cli::{fail, Cli};
+use common::csv::{fmt_f64, CsvWriter};
+use common::plot::{self, Figure};
+use jeffcott::analysis::{
+    bifurcation, linspace, locate_period_change, BifurcationConfig, LocatorConfig, Periodicity,
+    StderrProgress, SweepConfig,
+};
+use jeffcott::hybrid::SimOptions;
+use jeffcott::params::Preset;
+
+/// The paper's reported points: (diagram, eta, label).
+const PAPER_MARKS: [(&str, f64, &str); 9] = [
+    ("a", 2.165, "2.165"),
+    ("a", 2.717, "2.717"),
+    ("a", 3.803, "3.803"),
+    ("b", 2.213, "2.213"),
+    ("b", 2.824, "2.824"),
+    ("b", 3.107, "3.107"),
+    ("b", 3.893, "3.893"),
+    ("b", 4.211, "4.211"),
+    ("b", 4.484, "4.484"),
+];
+
+fn describe(p: Periodicity) -> String {
+    match p {
+        Periodicity::Period(n) => format!("period {n}"),
+        Periodicity::NotPeriodic { up_to } => format!("not periodic up to {up_to}"),
+    }
+}
+
+fn main() {
+    let mut cli = Cli::new(
+        "Bifurcation diagrams of x_r against eta (paper Fig. 8a: D = 0, Fig. 8b: D = 0.1).",
+    );
+    let out = PathBuf::from(cli.string("out", "target/figures/bifurcation", "output folder"));
+    let eta_min = cli.f64_in("eta-min", 2.0, 0.01, 100.0, "lowest eta");
+    let eta_max = cli.f64_in("eta-max", 5.0, 0.01, 100.0, "highest eta");
+    let steps = cli.usize_in("steps", 601, 1, 1_000_000, "number of eta values");
+    let transient = cli.usize_in("transient", 300, 0, 10_000_000, "periods discarded");
+    let record = cli.usize_in("record", 150, 2, 1_000_000, "periods recorded");
+    let diagram = cli.choice("diagram", "both", &["a", "b", "both"], "which diagram");
+    let preload = cli.f64_in(
+        "preload",
+        f64::NAN,
+        0.0,
+        10.0,
+        "preload D = Dx = Dy for a single diagram (default: the paper's 0 for a, 0.1 for b)",
+    );
+    let mode = cli.choice(
+        "mode",
+        "reset",
+        &["carry", "reset"],
+        "state carried over from the previous eta, or every eta from rest",
+    );
+    let chunks = cli.usize_in(
+        "chunks",
+        8,
+        1,
+        1_000_000,
+        "carry mode: contiguous chunks, each starting from rest (1 = one serial chain)",
+    );
+    let threads = cli.opt_usize_in("threads", 1, 1024, "worker threads, unset = all cores");
+    let rtol = cli.f64_in(
+        "rtol",
+        SimOptions::default().rtol,
+        1e-15,
+        1e-2,
+        "relative tolerance",
+    );
+    let atol = cli.f64_in(
+        "atol",
+        SimOptions::default().atol,
+        1e-18,
+        1e-2,
+        "absolute tolerance",
+    );
+    let tol = cli.f64_in(
+        "period-tol",
+        1e-6,
+        0.0,
+        1.0,
+        "relative tolerance of the period test",
+    );
+    let locate_lo = cli.f64_in(
+        "locate-from",
+        f64::NAN,
+        0.01,
+        100.0,
+        "with --locate-to and --diagram a|b: locate by bisection (each run from rest) where the period detected at this eta ends towards --locate-to, print it and exit",
+    );
+    let locate_hi = cli.f64_in(
+        "locate-to",
+        f64::NAN,
+        0.01,
+        100.0,
+        "other end for --locate-from (above or below it)",
+    );
+    let locate_transient = cli.usize_in(
+        "locate-transient",
+        2000,
+        0,
+        10_000_000,
+        "periods discarded at each bisection step",
+    );
+    let locate_record = cli.usize_in(
+        "locate-record",
+        200,
+        2,
+        1_000_000,
+        "periods recorded at each bisection step",
+    );
+    cli.finish();
+    if locate_lo.is_nan() != locate_hi.is_nan() {
+        fail("--locate-from and --locate-to go together");
+    }
+    if eta_min > eta_max || (eta_min == eta_max && steps > 1) {
+        fail(format!(
+            "--eta-min ({eta_min}) must be below --eta-max ({eta_max})"
+        ));
+    }
+    if !preload.is_nan() && diagram == "both" {
+        fail("--preload needs --diagram a or --diagram b");
+    }
+
+    if !locate_lo.is_nan() {
+        if diagram == "both" {
+            fail("--locate-from needs --diagram a or --diagram b");
+        }
+        if locate_lo == locate_hi {
+            fail(format!(
+                "--locate-from ({locate_lo}) must differ from --locate-to ({locate_hi})"
+            ));
+        }
+        let base = if diagram == "a" {
+            Preset::Fig8a.params()
+        } else {
+            Preset::Fig8b.params()
+        };
+        let base = if preload.is_nan() {
+            base
+        } else {
+            base.with_preload(preload)
+        };
+        let mut lc = LocatorConfig {
+            transient: locate_transient as u64,
+            record: locate_record as u64,
+            opts: SimOptions {
+                rtol,
+                atol,
+                ..SimOptions::default()
+            },
+            ..LocatorConfig::default()
+        };
+        lc.period_test.tol = tol;
+        let t0 = Instant::now();
+        let c = common::or_exit(locate_period_change(&base, locate_lo, locate_hi, &lc));
+        println!(
+            "fig8{diagram} (D = {}): {} (at {:.5}) -> {} (at {:.5}): eta = {:.3} ({} runs of {}+{} periods from rest, {:.1} s)",
+            base.dx,
+            describe(c.at_from),
+            c.from,
+            describe(c.at_to),
+            c.to,
+            c.value(),
+            c.evaluations,
+            locate_transient,
+            locate_record,
+            t0.elapsed().as_secs_f64()
+        );
+        return;
+    }
+
+    let etas = common::or_exit(linspace(eta_min, eta_max, steps));
+    let mut config = BifurcationConfig {
+        transient: transient as u64,
+        record: record as u64,
+        opts: SimOptions {
+            rtol,
+            atol,
+            ..SimOptions::default()
+        },
+        ..BifurcationConfig::default()
+    };
+    config.period_test.tol = tol;
+    config.sweep = match mode.as_str() {
+        "carry" => SweepConfig::carry_over(chunks),
+        _ => SweepConfig::reset(),
+    };
+    if let Some(n) = threads {
+        config.sweep = config.sweep.with_threads(n);
+    }
+    let mode_text = if mode == "carry" {
+        format!("carried over ({chunks} chunks)")
+    } else {
+        "each η from rest".to_string()
+    };
+
+    let which: Vec<&str> = match diagram.as_str() {
+        "both" => vec!["a", "b"],
+        d => vec![d],
+    };
+    let start_all = Instant::now();
+    let mut total_periods = 0.0;
+    for d in which {
+        let base = if d == "a" {
+            Preset::Fig8a.params()
+        } else {
+            Preset::Fig8b.params()
+        };
+        let base = if preload.is_nan() {
+            base
+        } else {
+            base.with_preload(preload)
+        };
+        let label = format!("fig8{d}");
+        let progress = StderrProgress::new(format!("{label} (D = {})", base.dx));
+        let t0 = Instant::now();
+        let result = common::or_exit(bifurcation(&base, &etas, &config, Some(&progress)));
+        let secs = t0.elapsed().as_secs_f64();
+        let periods = (steps * (transient + record)) as f64;
+        total_periods += periods;
+        eprintln!(
+            "{label}: {steps} values x {} periods in {secs:.2} s on {} threads = {:.1} µs per forcing period (wall)",
+            transient + record,
+            result.threads,
+            secs / periods * 1e6
+        );
+
+        // Failures and periods.
+        for (v, e) in result.failures() {
+            eprintln!("warning: {label}: eta = {v} failed: {e}");
+        }
+        let path = out.join(format!("{label}_periods.csv"));
+        let mut w = common::or_exit(CsvWriter::create(
+            &path,
+            &["eta", "period", "from_reset", "error"],
+        ));
+        for (v, c) in result.values.iter().zip(&result.columns) {
+            let fields = match c {
+                Ok(col) => [
+                    fmt_f64(*v),
+                    col.periodicity
+                        .period()
+                        .map_or("0".into(), |p| p.to_string()),
+                    col.from_reset.to_string(),
+                    String::new(),
+                ],
+                Err(e) => [fmt_f64(*v), String::new(), String::new(), e.to_string()],
+            };
+            common::or_exit(w.record(&fields));
+        }
+        common::or_exit(w.finish());
+
+        println!(
+            "{label} (D = {}): changes of the detected period (tol {tol}):",
+            base.dx
+        );
+        for (a, b, pa, pb) in result.period_changes() {
+            println!(
+                "  between eta = {a:.4} and {b:.4}: {} -> {}",
+                describe(pa),
+                describe(pb)
+            );
+        }
+
+        // The figure.
+        let pts = result.points(0);
+        let mut fig = Figure::new(
+            &format!(
+                "Fig. 8{d}: x_r(2πk/η), D = {}, ν₁ = {}, ν₂ = {}, K = {}, β = {}, e_x = {}, φ₀ = {}; {transient}+{record} periods, {mode_text}",
+                base.dx, base.nu1, base.nu2, base.kx, base.beta, base.ex, base.phi0
+            ),
+            "η = Ω/ωₙ",
+            "x_r",
+        )
+        .with_columns("eta", "x")
+        .with_size(1600, 1000)
+        .with_x_range(eta_min, eta_max.max(eta_min + 1e-9));
+        if preload.is_nan() {
+            for &(_, v, l) in PAPER_MARKS.iter().filter(|m| m.0 == d) {
+                if (eta_min..=eta_max).contains(&v) {
+                    fig = fig.with_mark(v, &format!("paper {l}"));
+                }
+            }
+        }
+        let png = out.join(format!("{label}.png"));
+        common::or_exit(plot::bifurcation(&png, &fig, &pts));
+        eprintln!("wrote {} ({} points)", png.display(), pts.len());
+    }
+    let secs = start_all.elapsed().as_secs_f64();
+    eprintln!(
+        "total {secs:.2} s, {:.1} µs per forcing period (wall); figures and CSV in {}",
+        secs / total_periods * 1e6,
+        out.display()
+    );
+}
