@@ -342,6 +342,9 @@ where
     }
     let period = model.forcing_period();
     let cache = M::Cache::default();
+    // Outputs use their own scratch so that asking for them never changes the trajectory
+    // (warm starts and the like would otherwise differ at the rounding level).
+    let out_cache = M::Cache::default();
     let mut mode = model
         .initial_mode(t0, y0)
         .map_err(|e| fail(e.into(), t0, *y0, stats))?;
@@ -435,8 +438,8 @@ where
                             integ.dense(&sys, to, &mut out);
                             out
                         };
-                        model.project(mode, to, &mut yo, &cache);
-                        model.rhs(mode, to, &yo, &mut dy, &cache);
+                        model.project(mode, to, &mut yo, &out_cache);
+                        model.rhs(mode, to, &yo, &mut dy, &out_cache);
                         emit(model, mode, obs, due, to, &yo, &dy);
                     }
                     if let Some(h) = hit {

@@ -265,6 +265,13 @@ pub struct FreeSegment {
     relax: RelaxingRing,
     ring: SnubberRing,
     stats: OnsetStats,
+    /// The search is run in chunks ending on multiples of this (the forcing period), never at
+    /// output times, so that asking for outputs does not move the onset by a rounding.
+    chunk: f64,
+    /// No onset before this time (certified).
+    searched_to: f64,
+    /// The onset, once found.
+    found: Option<f64>,
 }
 
 impl ExactSegment<6> for FreeSegment {
@@ -281,16 +288,27 @@ impl ExactSegment<6> for FreeSegment {
     }
 
     fn next_guard(&mut self, t_from: f64, t_to: f64) -> Option<(usize, f64)> {
-        match find_onset(
-            &self.rotor,
-            &self.relax,
-            &self.ring,
-            t_from,
-            t_to,
-            &mut self.stats,
-        ) {
-            Onset::None => None,
-            Onset::At(t) => Some((0, t)),
+        self.searched_to = self.searched_to.max(t_from);
+        loop {
+            if let Some(t) = self.found {
+                return (t <= t_to).then_some((0, t));
+            }
+            if self.searched_to >= t_to {
+                return None;
+            }
+            let k = (self.searched_to / self.chunk).floor() + 1.0;
+            let chunk_end = (k * self.chunk).max(self.searched_to.next_up());
+            match find_onset(
+                &self.rotor,
+                &self.relax,
+                &self.ring,
+                self.searched_to,
+                chunk_end,
+                &mut self.stats,
+            ) {
+                Onset::None => self.searched_to = chunk_end,
+                Onset::At(t) => self.found = Some(t),
+            }
         }
     }
 
@@ -582,6 +600,9 @@ impl RotorModel<6> for JeffcottModel {
             relax: RelaxingRing { t0: t, s0 },
             ring: self.ring,
             stats: OnsetStats::default(),
+            chunk: self.params.forcing_period(),
+            searched_to: t,
+            found: None,
         }
     }
 
