@@ -170,14 +170,30 @@ fn main() {
         "Work-precision diagrams (error against wall time and right-hand-side evaluations) of\n\
          DOP853, DOPRI5 and RK4 on four fixed scenes of the Jeffcott rotor with snubber ring.",
     );
-    let out = PathBuf::from(cli.string(
-        "out",
-        "target/figures/work_precision",
-        "output folder",
-    ));
-    let repeat = cli.usize_in("repeat", 5, 1, 1000, "runs per point; the minimum time is kept");
-    let only = cli.string("scene", "all", "one scene (fig8a, fig8b, stiff, chaos) or all");
+    let out = PathBuf::from(cli.string("out", "target/figures/work_precision", "output folder"));
+    let repeat = cli.usize_in(
+        "repeat",
+        5,
+        1,
+        1000,
+        "runs per point; the minimum time is kept",
+    );
+    let only = cli.string(
+        "scene",
+        "all",
+        "one scene (fig8a, fig8b, stiff, chaos) or all",
+    );
+    let single = cli.string(
+        "single",
+        "",
+        "run once with METHOD:SETTING (dop853:1e-10, dopri5:1e-8, rk4:400) and print the work \
+         done; no reference, no files (for instruction counts under valgrind)",
+    );
     cli.finish();
+    if !single.is_empty() {
+        run_single(&only, &single);
+        return;
+    }
     common::or_exit(std::fs::create_dir_all(&out));
 
     let tols: Vec<f64> = (3..=12).map(|e| 10f64.powi(-e)).collect();
@@ -343,6 +359,35 @@ fn main() {
     }
     common::or_exit(csv.finish());
     common::or_exit(refcsv.finish());
+}
+
+/// `--single`: one run per selected scene, printing the end state and the work done.
+fn run_single(only: &str, spec: &str) {
+    let (m, v) = spec
+        .split_once(':')
+        .unwrap_or_else(|| common::cli::fail(format!("--single {spec}: expected METHOD:SETTING")));
+    let v: f64 = v
+        .parse()
+        .unwrap_or_else(|_| common::cli::fail(format!("--single {spec}: bad setting")));
+    let opts = match m {
+        "dop853" => opts_for(Method::Dop853, v, 1),
+        "dopri5" => opts_for(Method::Dopri5, v, 1),
+        "rk4" if v >= 1.0 && v <= 1e7 => opts_for(Method::Rk4, 1e-6, v as u32),
+        _ => common::cli::fail(format!("--single {spec}: unknown method or bad setting")),
+    };
+    for scene in scenes() {
+        if only != "all" && only != scene.name {
+            continue;
+        }
+        let r = common::or_exit(run(&scene, &opts, 1));
+        println!(
+            "{} {spec}: end x = {:.15e}, {:?}, {:.3} ms",
+            scene.name,
+            r.end[0],
+            r.stats,
+            r.seconds * 1e3
+        );
+    }
 }
 
 /// The setting as printed: a tolerance, or RK4's steps per period.
