@@ -372,7 +372,7 @@ fn run_single(only: &str, spec: &str) {
     let opts = match m {
         "dop853" => opts_for(Method::Dop853, v, 1),
         "dopri5" => opts_for(Method::Dopri5, v, 1),
-        "rk4" if v >= 1.0 && v <= 1e7 => opts_for(Method::Rk4, 1e-6, v as u32),
+        "rk4" if (1.0..=1e7).contains(&v) => opts_for(Method::Rk4, 1e-6, v as u32),
         _ => common::cli::fail(format!("--single {spec}: unknown method or bad setting")),
     };
     for scene in scenes() {
