@@ -528,10 +528,7 @@ mod tests {
             }
         );
         assert!(e.to_string().contains("nu2"));
-        let e = Params::default()
-            .with_eta(f64::NAN)
-            .validated()
-            .unwrap_err();
+        let e = Params::default().with_eta(f64::NAN).validated().unwrap_err();
         assert!(matches!(e, ParamError::NotFinite { field: "eta", .. }));
         let e = Params::default().with_eta(0.0).validated().unwrap_err();
         assert!(matches!(e, ParamError::NotPositive { field: "eta", .. }));

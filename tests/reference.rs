@@ -37,11 +37,7 @@ fn load(name: &str) -> Reference {
             }
         } else if !line.starts_with('#') && !line.starts_with('k') && !line.is_empty() {
             let f: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
-            rows.push((
-                f[0] as u64,
-                [f[1], f[2], f[3], f[4], f[5], f[6]],
-                f[7] as u8,
-            ));
+            rows.push((f[0] as u64, [f[1], f[2], f[3], f[4], f[5], f[6]], f[7] as u8));
         }
     }
     Reference { params: p, rows }

@@ -286,19 +286,11 @@ fn check_options(opts: &SimOptions, plan: &OutputPlan, t0: f64) -> Result<(), Si
         );
     }
     if !(plan.t_end.is_finite() && plan.t_end >= t0) {
-        return bad(
-            "t_end",
-            plan.t_end,
-            "t_end must be finite and not before the start",
-        );
+        return bad("t_end", plan.t_end, "t_end must be finite and not before the start");
     }
     if let Some((_, dt)) = plan.dense {
         if !(dt.is_finite() && dt > 0.0) {
-            return bad(
-                "dense.dt",
-                dt,
-                "the dense sampling interval must be finite and > 0",
-            );
+            return bad("dense.dt", dt, "the dense sampling interval must be finite and > 0");
         }
     }
     Ok(())
@@ -412,12 +404,7 @@ where
                     }
                     if !integ.y().iter().all(|v| v.is_finite()) {
                         collect(&mut stats, &integ);
-                        return Err(fail(
-                            SimErrorKind::NonFinite,
-                            integ.t_prev(),
-                            *integ.y_prev(),
-                            stats,
-                        ));
+                        return Err(fail(SimErrorKind::NonFinite, integ.t_prev(), *integ.y_prev(), stats));
                     }
                     let hit = find_first_event(&mut integ, &sys, &sys, &ev_opts, &mut ev_state);
                     let t_stop = hit.as_ref().map_or(integ.t(), |h| h.t);

@@ -266,10 +266,7 @@ mod tests {
         check(base);
         check(Params { nu1: 0.0, ..base });
         check(Params { nu1: 1.0, ..base });
-        check(Params {
-            nu1: 1.0 + 1e-9,
-            ..base
-        });
+        check(Params { nu1: 1.0 + 1e-9, ..base });
         check(Params { nu1: 2.5, ..base });
     }
 

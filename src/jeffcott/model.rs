@@ -382,11 +382,7 @@ impl RotorModel<6> for JeffcottModel {
         let (axis, br) = self.axis_guard(b, i)?;
         let c = self.contact(b, y, cache)?;
         let sd = c.ring_velocity(&Vector2::new(y[2], y[3]));
-        let (s, v) = if axis == 0 {
-            (c.s.x, sd.x)
-        } else {
-            (c.s.y, sd.y)
-        };
+        let (s, v) = if axis == 0 { (c.s.x, sd.x) } else { (c.s.y, sd.y) };
         Some(match br {
             Branch::Inner => s.signum() * v,
             Branch::Outer(sg) => f64::from(sg) * v,
@@ -407,13 +403,7 @@ impl RotorModel<6> for JeffcottModel {
         }
     }
 
-    fn transition(
-        &self,
-        mode: Mode,
-        guard: usize,
-        t: f64,
-        y: &mut State,
-    ) -> Result<Mode, ModelError> {
+    fn transition(&self, mode: Mode, guard: usize, t: f64, y: &mut State) -> Result<Mode, ModelError> {
         let r = Vector2::new(y[0], y[1]);
         match mode {
             Mode::Free => {
@@ -437,13 +427,13 @@ impl RotorModel<6> for JeffcottModel {
                 } else {
                     Branches::of(&self.ring, &Vector2::zeros())
                 };
-                let c =
-                    self.ring
-                        .locate_on(&r, b, f64::NAN)
-                        .ok_or_else(|| ModelError::Transition {
-                            t,
-                            reason: format!("no ring location at r = {r:?}"),
-                        })?;
+                let c = self
+                    .ring
+                    .locate_on(&r, b, f64::NAN)
+                    .ok_or_else(|| ModelError::Transition {
+                        t,
+                        reason: format!("no ring location at r = {r:?}"),
+                    })?;
                 y[4] = c.s.x;
                 y[5] = c.s.y;
                 Ok(Mode::Contact(b))

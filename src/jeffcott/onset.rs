@@ -172,8 +172,7 @@ pub fn find_onset(
                 // Right after contact loss h' is zero up to the loss time's rounding
                 // (h' = 2 gamma N / c exactly at N = 0). A positive h' whose excursion above
                 // zero, 2 h' / |h''|, is shorter than the time resolution is that rounding.
-                if h1 > 0.0 && h2 < 0.0 && 2.0 * h1 <= -h2 * 16.0 * f64::EPSILON * t.abs().max(1.0)
-                {
+                if h1 > 0.0 && h2 < 0.0 && 2.0 * h1 <= -h2 * 16.0 * f64::EPSILON * t.abs().max(1.0) {
                     h1 = 0.0;
                 }
                 if h1 > 0.0 || (h1 == 0.0 && h2 > 0.0) {
@@ -206,8 +205,7 @@ pub fn find_onset(
         if du < 1e-3 * (t_end - t).max(1e-300) {
             let m3 = 6.0 * q1m * q2m + 2.0 * q0 * q3m;
             if m3 > 0.0 && (h < 0.0 || h1 < 0.0 || (h1 == 0.0 && h2 < 0.0)) {
-                du = du
-                    .max(first_root_cubic(h, h1, 0.5 * h2, m3 / 6.0) * (1.0 - 4.0 * f64::EPSILON));
+                du = du.max(first_root_cubic(h, h1, 0.5 * h2, m3 / 6.0) * (1.0 - 4.0 * f64::EPSILON));
             }
         }
         let t_next = t + du;
@@ -226,3 +224,4 @@ fn inv_or_zero(x: f64) -> f64 {
         0.0
     }
 }
+

@@ -47,12 +47,7 @@ fn finite<const N: usize>(v: &SVector<f64, N>) -> bool {
 }
 
 impl<const N: usize> Core<N> {
-    pub(crate) fn new(
-        opts: Options<N>,
-        q: f64,
-        coupling: f64,
-        order: f64,
-    ) -> Result<Self, OdeError> {
+    pub(crate) fn new(opts: Options<N>, q: f64, coupling: f64, order: f64) -> Result<Self, OdeError> {
         opts.validate()?;
         let beta = opts.beta.unwrap_or(0.04);
         let z = SVector::<f64, N>::zeros();
@@ -136,18 +131,16 @@ impl<const N: usize> Core<N> {
             return Err(OdeError::NotInitialized);
         }
         if !(t_bound.is_finite() && t_bound >= self.t) {
-            return Err(OdeError::InvalidBound { t: self.t, t_bound });
+            return Err(OdeError::InvalidBound {
+                t: self.t,
+                t_bound,
+            });
         }
         Ok(t_bound == self.t)
     }
 
     /// One accepted step using `attempt(sys, opts, t, y, f, h, y_new, f_new, stats)`.
-    pub(crate) fn step<S, A>(
-        &mut self,
-        sys: &S,
-        t_bound: f64,
-        mut attempt: A,
-    ) -> Result<(), OdeError>
+    pub(crate) fn step<S, A>(&mut self, sys: &S, t_bound: f64, mut attempt: A) -> Result<(), OdeError>
     where
         S: OdeSystem<N>,
         A: FnMut(
@@ -223,10 +216,7 @@ impl<const N: usize> Core<N> {
             }
             if !ok_values {
                 if fixed.is_some() {
-                    return Err(OdeError::NonFiniteRhs {
-                        t: self.t,
-                        h: h_try,
-                    });
+                    return Err(OdeError::NonFiniteRhs { t: self.t, h: h_try });
                 }
                 self.stats.rejected += 1;
                 rejected_before = true;

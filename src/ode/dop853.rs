@@ -307,98 +307,95 @@ impl<const N: usize> Integrator<N> for Dop853<N> {
             ..
         } = self;
         let before = core.stats.steps;
-        let r = core.step(
-            sys,
-            t_bound,
-            |sys, opts, t, y, f, h, y_new, _f_new, stats| {
-                k[0] = *f;
-                let mut yt = y + k[0] * (h * A21);
-                sys.rhs(t + C2 * h, &yt, &mut k[1]);
-                yt = y + (k[0] * A31 + k[1] * A32) * h;
-                sys.rhs(t + C3 * h, &yt, &mut k[2]);
-                yt = y + (k[0] * A41 + k[2] * A43) * h;
-                sys.rhs(t + C4 * h, &yt, &mut k[3]);
-                yt = y + (k[0] * A51 + k[2] * A53 + k[3] * A54) * h;
-                sys.rhs(t + C5 * h, &yt, &mut k[4]);
-                yt = y + (k[0] * A61 + k[3] * A64 + k[4] * A65) * h;
-                sys.rhs(t + C6 * h, &yt, &mut k[5]);
-                yt = y + (k[0] * A71 + k[3] * A74 + k[4] * A75 + k[5] * A76) * h;
-                sys.rhs(t + C7 * h, &yt, &mut k[6]);
-                yt = y + (k[0] * A81 + k[3] * A84 + k[4] * A85 + k[5] * A86 + k[6] * A87) * h;
-                sys.rhs(t + C8 * h, &yt, &mut k[7]);
-                yt = y
-                    + (k[0] * A91 + k[3] * A94 + k[4] * A95 + k[5] * A96 + k[6] * A97 + k[7] * A98)
-                        * h;
-                sys.rhs(t + C9 * h, &yt, &mut k[8]);
-                yt = y
-                    + (k[0] * A101
-                        + k[3] * A104
-                        + k[4] * A105
-                        + k[5] * A106
-                        + k[6] * A107
-                        + k[7] * A108
-                        + k[8] * A109)
-                        * h;
-                sys.rhs(t + C10 * h, &yt, &mut k[9]);
-                yt = y
-                    + (k[0] * A111
-                        + k[3] * A114
-                        + k[4] * A115
-                        + k[5] * A116
-                        + k[6] * A117
-                        + k[7] * A118
-                        + k[8] * A119
-                        + k[9] * A1110)
-                        * h;
-                sys.rhs(t + C11 * h, &yt, &mut k[10]);
-                yt = y
-                    + (k[0] * A121
-                        + k[3] * A124
-                        + k[4] * A125
-                        + k[5] * A126
-                        + k[6] * A127
-                        + k[7] * A128
-                        + k[8] * A129
-                        + k[9] * A1210
-                        + k[10] * A1211)
-                        * h;
-                sys.rhs(t + h, &yt, &mut k[11]);
-                stats.rhs_evals += 11;
-                let incr = k[0] * B1
-                    + k[5] * B6
-                    + k[6] * B7
-                    + k[7] * B8
-                    + k[8] * B9
-                    + k[9] * B10
-                    + k[10] * B11
-                    + k[11] * B12;
-                *y_new = y + incr * h;
-                let mut err5 = 0.0;
-                let mut err3 = 0.0;
-                for i in 0..N {
-                    let sk = scale(opts, i, y, y_new);
-                    let e3 = incr[i] - BHH1 * k[0][i] - BHH2 * k[8][i] - BHH3 * k[11][i];
-                    err3 += (e3 / sk) * (e3 / sk);
-                    let e5 = ER1 * k[0][i]
-                        + ER6 * k[5][i]
-                        + ER7 * k[6][i]
-                        + ER8 * k[7][i]
-                        + ER9 * k[8][i]
-                        + ER10 * k[9][i]
-                        + ER11 * k[10][i]
-                        + ER12 * k[11][i];
-                    err5 += (e5 / sk) * (e5 / sk);
-                }
-                let mut deno = err5 + 0.01 * err3;
-                if deno <= 0.0 {
-                    deno = 1.0;
-                }
-                Trial {
-                    err: h.abs() * err5 * (1.0 / (N.max(1) as f64 * deno)).sqrt(),
-                    f_new_done: false,
-                }
-            },
-        );
+        let r = core.step(sys, t_bound, |sys, opts, t, y, f, h, y_new, _f_new, stats| {
+            k[0] = *f;
+            let mut yt = y + k[0] * (h * A21);
+            sys.rhs(t + C2 * h, &yt, &mut k[1]);
+            yt = y + (k[0] * A31 + k[1] * A32) * h;
+            sys.rhs(t + C3 * h, &yt, &mut k[2]);
+            yt = y + (k[0] * A41 + k[2] * A43) * h;
+            sys.rhs(t + C4 * h, &yt, &mut k[3]);
+            yt = y + (k[0] * A51 + k[2] * A53 + k[3] * A54) * h;
+            sys.rhs(t + C5 * h, &yt, &mut k[4]);
+            yt = y + (k[0] * A61 + k[3] * A64 + k[4] * A65) * h;
+            sys.rhs(t + C6 * h, &yt, &mut k[5]);
+            yt = y + (k[0] * A71 + k[3] * A74 + k[4] * A75 + k[5] * A76) * h;
+            sys.rhs(t + C7 * h, &yt, &mut k[6]);
+            yt = y + (k[0] * A81 + k[3] * A84 + k[4] * A85 + k[5] * A86 + k[6] * A87) * h;
+            sys.rhs(t + C8 * h, &yt, &mut k[7]);
+            yt = y + (k[0] * A91
+                + k[3] * A94
+                + k[4] * A95
+                + k[5] * A96
+                + k[6] * A97
+                + k[7] * A98)
+                * h;
+            sys.rhs(t + C9 * h, &yt, &mut k[8]);
+            yt = y + (k[0] * A101
+                + k[3] * A104
+                + k[4] * A105
+                + k[5] * A106
+                + k[6] * A107
+                + k[7] * A108
+                + k[8] * A109)
+                * h;
+            sys.rhs(t + C10 * h, &yt, &mut k[9]);
+            yt = y + (k[0] * A111
+                + k[3] * A114
+                + k[4] * A115
+                + k[5] * A116
+                + k[6] * A117
+                + k[7] * A118
+                + k[8] * A119
+                + k[9] * A1110)
+                * h;
+            sys.rhs(t + C11 * h, &yt, &mut k[10]);
+            yt = y + (k[0] * A121
+                + k[3] * A124
+                + k[4] * A125
+                + k[5] * A126
+                + k[6] * A127
+                + k[7] * A128
+                + k[8] * A129
+                + k[9] * A1210
+                + k[10] * A1211)
+                * h;
+            sys.rhs(t + h, &yt, &mut k[11]);
+            stats.rhs_evals += 11;
+            let incr = k[0] * B1
+                + k[5] * B6
+                + k[6] * B7
+                + k[7] * B8
+                + k[8] * B9
+                + k[9] * B10
+                + k[10] * B11
+                + k[11] * B12;
+            *y_new = y + incr * h;
+            let mut err5 = 0.0;
+            let mut err3 = 0.0;
+            for i in 0..N {
+                let sk = scale(opts, i, y, y_new);
+                let e3 = incr[i] - BHH1 * k[0][i] - BHH2 * k[8][i] - BHH3 * k[11][i];
+                err3 += (e3 / sk) * (e3 / sk);
+                let e5 = ER1 * k[0][i]
+                    + ER6 * k[5][i]
+                    + ER7 * k[6][i]
+                    + ER8 * k[7][i]
+                    + ER9 * k[8][i]
+                    + ER10 * k[9][i]
+                    + ER11 * k[10][i]
+                    + ER12 * k[11][i];
+                err5 += (e5 / sk) * (e5 / sk);
+            }
+            let mut deno = err5 + 0.01 * err3;
+            if deno <= 0.0 {
+                deno = 1.0;
+            }
+            Trial {
+                err: h.abs() * err5 * (1.0 / (N.max(1) as f64 * deno)).sqrt(),
+                f_new_done: false,
+            }
+        });
         if core.stats.steps != before {
             *dense_ready = false;
         }

@@ -117,43 +117,39 @@ impl<const N: usize> Integrator<N> for Dopri5<N> {
             ..
         } = self;
         let before = core.stats.steps;
-        let r = core.step(
-            sys,
-            t_bound,
-            |sys, opts, t, y, f, h, y_new, f_new, stats| {
-                k[0] = *f;
-                let mut yt = y + k[0] * (h * A21);
-                sys.rhs(t + C2 * h, &yt, &mut k[1]);
-                yt = y + (k[0] * A31 + k[1] * A32) * h;
-                sys.rhs(t + C3 * h, &yt, &mut k[2]);
-                yt = y + (k[0] * A41 + k[1] * A42 + k[2] * A43) * h;
-                sys.rhs(t + C4 * h, &yt, &mut k[3]);
-                yt = y + (k[0] * A51 + k[1] * A52 + k[2] * A53 + k[3] * A54) * h;
-                sys.rhs(t + C5 * h, &yt, &mut k[4]);
-                yt = y + (k[0] * A61 + k[1] * A62 + k[2] * A63 + k[3] * A64 + k[4] * A65) * h;
-                sys.rhs(t + h, &yt, &mut k[5]);
-                *y_new = y + (k[0] * A71 + k[2] * A73 + k[3] * A74 + k[4] * A75 + k[5] * A76) * h;
-                sys.rhs(t + h, y_new, &mut k[6]);
-                *f_new = k[6];
-                stats.rhs_evals += 6;
-                let mut sum = 0.0;
-                for i in 0..N {
-                    let e = h
-                        * (E1 * k[0][i]
-                            + E3 * k[2][i]
-                            + E4 * k[3][i]
-                            + E5 * k[4][i]
-                            + E6 * k[5][i]
-                            + E7 * k[6][i]);
-                    let sk = scale(opts, i, y, y_new);
-                    sum += (e / sk) * (e / sk);
-                }
-                Trial {
-                    err: (sum / N.max(1) as f64).sqrt(),
-                    f_new_done: true,
-                }
-            },
-        );
+        let r = core.step(sys, t_bound, |sys, opts, t, y, f, h, y_new, f_new, stats| {
+            k[0] = *f;
+            let mut yt = y + k[0] * (h * A21);
+            sys.rhs(t + C2 * h, &yt, &mut k[1]);
+            yt = y + (k[0] * A31 + k[1] * A32) * h;
+            sys.rhs(t + C3 * h, &yt, &mut k[2]);
+            yt = y + (k[0] * A41 + k[1] * A42 + k[2] * A43) * h;
+            sys.rhs(t + C4 * h, &yt, &mut k[3]);
+            yt = y + (k[0] * A51 + k[1] * A52 + k[2] * A53 + k[3] * A54) * h;
+            sys.rhs(t + C5 * h, &yt, &mut k[4]);
+            yt = y + (k[0] * A61 + k[1] * A62 + k[2] * A63 + k[3] * A64 + k[4] * A65) * h;
+            sys.rhs(t + h, &yt, &mut k[5]);
+            *y_new = y + (k[0] * A71 + k[2] * A73 + k[3] * A74 + k[4] * A75 + k[5] * A76) * h;
+            sys.rhs(t + h, y_new, &mut k[6]);
+            *f_new = k[6];
+            stats.rhs_evals += 6;
+            let mut sum = 0.0;
+            for i in 0..N {
+                let e = h
+                    * (E1 * k[0][i]
+                        + E3 * k[2][i]
+                        + E4 * k[3][i]
+                        + E5 * k[4][i]
+                        + E6 * k[5][i]
+                        + E7 * k[6][i]);
+                let sk = scale(opts, i, y, y_new);
+                sum += (e / sk) * (e / sk);
+            }
+            Trial {
+                err: (sum / N.max(1) as f64).sqrt(),
+                f_new_done: true,
+            }
+        });
         if core.stats.steps != before {
             *dense_ready = false;
         }

@@ -228,9 +228,7 @@ impl EventOptions {
 }
 
 /// Checks that an event set is small enough for the detector.
-pub fn check_event_set<const N: usize, E: EventSet<N> + ?Sized>(
-    events: &E,
-) -> Result<(), OdeError> {
+pub fn check_event_set<const N: usize, E: EventSet<N> + ?Sized>(events: &E) -> Result<(), OdeError> {
     if events.len() > MAX_EVENTS {
         return Err(OdeError::TooManyEvents {
             len: events.len(),

@@ -44,7 +44,8 @@ pub mod solve;
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 pub use events::{
-    find_first_event, Direction, EventHit, EventOptions, EventSet, EventState, NoEvents, MAX_EVENTS,
+    find_first_event, Direction, EventHit, EventOptions, EventSet, EventState, NoEvents,
+    MAX_EVENTS,
 };
 pub use rk4::Rk4;
 pub use solve::{solve, solve_with, Observer, Recorder, SolveError, SolveReport, Stopped};
@@ -222,50 +223,26 @@ impl<const N: usize> Options<N> {
         }
         if let Some(h) = self.h_init {
             if !(h.is_finite() && h > 0.0) {
-                return bad(
-                    "h_init",
-                    h,
-                    "use a finite h_init > 0, or None for automatic",
-                );
+                return bad("h_init", h, "use a finite h_init > 0, or None for automatic");
             }
         }
         if !(self.h_max > 0.0) {
-            return bad(
-                "h_max",
-                self.h_max,
-                "h_max must be > 0 (f64::INFINITY = no limit)",
-            );
+            return bad("h_max", self.h_max, "h_max must be > 0 (f64::INFINITY = no limit)");
         }
         if !(self.h_min.is_finite() && self.h_min >= 0.0 && self.h_min <= self.h_max) {
-            return bad(
-                "h_min",
-                self.h_min,
-                "h_min must be finite, >= 0 and <= h_max",
-            );
+            return bad("h_min", self.h_min, "h_min must be finite, >= 0 and <= h_max");
         }
         if self.max_steps == 0 {
             return bad("max_steps", 0.0, "max_steps must be >= 1");
         }
         if !(self.safety > 0.0 && self.safety <= 1.0) {
-            return bad(
-                "safety",
-                self.safety,
-                "safety must be in (0, 1]; typical 0.9",
-            );
+            return bad("safety", self.safety, "safety must be in (0, 1]; typical 0.9");
         }
         if !(self.fac_min > 0.0 && self.fac_min <= 1.0) {
-            return bad(
-                "fac_min",
-                self.fac_min,
-                "fac_min must be in (0, 1]; typical 0.2",
-            );
+            return bad("fac_min", self.fac_min, "fac_min must be in (0, 1]; typical 0.2");
         }
         if !(self.fac_max >= 1.0 && self.fac_max.is_finite()) {
-            return bad(
-                "fac_max",
-                self.fac_max,
-                "fac_max must be finite and >= 1; typical 10",
-            );
+            return bad("fac_max", self.fac_max, "fac_max must be finite and >= 1; typical 10");
         }
         if let Some(b) = self.beta {
             if !(0.0..=0.2).contains(&b) {

@@ -46,25 +46,21 @@ impl<const N: usize> Integrator<N> for Rk4<N> {
     }
 
     fn step<S: OdeSystem<N>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError> {
-        self.core.step(
-            sys,
-            t_bound,
-            |sys, _opts, t, y, f, h, y_new, _f_new, stats| {
-                let mut k2 = SVector::<f64, N>::zeros();
-                let mut k3 = SVector::<f64, N>::zeros();
-                let mut k4 = SVector::<f64, N>::zeros();
-                let hh = 0.5 * h;
-                sys.rhs(t + hh, &(y + f * hh), &mut k2);
-                sys.rhs(t + hh, &(y + k2 * hh), &mut k3);
-                sys.rhs(t + h, &(y + k3 * h), &mut k4);
-                stats.rhs_evals += 3;
-                *y_new = y + (f + (k2 + k3) * 2.0 + k4) * (h / 6.0);
-                Trial {
-                    err: 0.0,
-                    f_new_done: false,
-                }
-            },
-        )
+        self.core.step(sys, t_bound, |sys, _opts, t, y, f, h, y_new, _f_new, stats| {
+            let mut k2 = SVector::<f64, N>::zeros();
+            let mut k3 = SVector::<f64, N>::zeros();
+            let mut k4 = SVector::<f64, N>::zeros();
+            let hh = 0.5 * h;
+            sys.rhs(t + hh, &(y + f * hh), &mut k2);
+            sys.rhs(t + hh, &(y + k2 * hh), &mut k3);
+            sys.rhs(t + h, &(y + k3 * h), &mut k4);
+            stats.rhs_evals += 3;
+            *y_new = y + (f + (k2 + k3) * 2.0 + k4) * (h / 6.0);
+            Trial {
+                err: 0.0,
+                f_new_done: false,
+            }
+        })
     }
 
     fn dense<S: OdeSystem<N>>(&mut self, _sys: &S, t: f64, out: &mut SVector<f64, N>) {

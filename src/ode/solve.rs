@@ -1,9 +1,7 @@
 //! A convenience driver: integrate from `t0` to `t_end` with outputs at
 //! requested times (from the dense output) and events.
 
-use super::events::{
-    check_event_set, find_first_event, EventHit, EventOptions, EventSet, EventState,
-};
+use super::events::{check_event_set, find_first_event, EventHit, EventOptions, EventSet, EventState};
 use super::{Integrator, OdeError, OdeSystem, Stats};
 use nalgebra::SVector;
 use thiserror::Error;
@@ -165,16 +163,7 @@ where
     I: Integrator<N>,
     E: EventSet<N> + ?Sized,
 {
-    solve_with(
-        integ,
-        sys,
-        t0,
-        y0,
-        t_end,
-        events,
-        &EventOptions::default(),
-        out,
-    )
+    solve_with(integ, sys, t0, y0, t_end, events, &EventOptions::default(), out)
 }
 
 /// Integrates from `(t0, y0)` to `t_end` (>= `t0`): resets `integ` (automatic
@@ -218,10 +207,7 @@ where
     check_event_set(events).map_err(fail0)?;
     event_opts.validate().map_err(fail0)?;
     if !(t_end.is_finite() && t0.is_finite() && t_end >= t0) {
-        return Err(fail0(OdeError::InvalidBound {
-            t: t0,
-            t_bound: t_end,
-        }));
+        return Err(fail0(OdeError::InvalidBound { t: t0, t_bound: t_end }));
     }
     integ.reset(sys, t0, y0, false).map_err(fail0)?;
     let mut state = EventState::<N>::new();

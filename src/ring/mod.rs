@@ -68,10 +68,7 @@ fn axis_g(a: &RingAxis, s: f64) -> (f64, f64) {
     if a.preload > 0.0 && s.abs() < a.preload {
         (2.0 * a.stiffness * s, 2.0 * a.stiffness)
     } else {
-        (
-            s.signum() * a.stiffness * (s.abs() + a.preload),
-            a.stiffness,
-        )
+        (s.signum() * a.stiffness * (s.abs() + a.preload), a.stiffness)
     }
 }
 
