@@ -371,7 +371,7 @@ fn corner_of_both_preloads_at_once() {
         let (t1, _) = ok(run(p, y1, 5, tol(1e-13, 1e-15)), "near corner");
         let d3 = strobe_diff(&tt, &t1);
         assert!(d1 < 1e-7 && d2 < 1e-8, "v = {v:?}: {d1:e} {d2:e}");
-        // Outward along the diagonal: see corner_outward_is_continuous_in_the_start (ignored).
+        // Outward along the diagonal: see corner_outward_is_continuous_in_the_start.
         if v != [0.2, 0.2] {
             assert!(d3 < 1e-6, "v = {v:?}: {d3:e}");
         }
@@ -379,7 +379,6 @@ fn corner_of_both_preloads_at_once() {
 }
 
 #[test]
-#[ignore = "bug: starting exactly at the corner |x_s| = Dx, |y_s| = Dy moving outward on both axes, only `x_s beyond preload` fires (regime 2 -> 3); the y guard, zero at the start of regime III and moving outward, is never fired, so the ring stays on the inner y branch; a start 1e-9 off the corner goes 3 -> 5 -> 3 -> 2 and the runs differ by 2.5e-4"]
 fn corner_outward_is_continuous_in_the_start() {
     let d = 0.1;
     let p = Preset::Fig8a.params().with_preload(d);
@@ -444,7 +443,6 @@ fn contact_lost_exactly_at_a_regime_boundary() {
 }
 
 #[test]
-#[ignore = "bug: a start in contact whose normal force is zero or tensile is integrated as contact (the loss guard starts at or below zero and never fires) until `rotor at gap` at t = 0.034; a hair-compressive start loses contact at once; end states differ by 4.9e-2"]
 fn tensile_start_in_contact_is_continuous() {
     let runs = loss_at_boundary_runs(&[1.0 - 1e-9, 1.0, 1.0 + 1e-9]);
     let ends: Vec<State> = runs.iter().map(last).collect();
@@ -549,7 +547,7 @@ fn small_and_large_eta() {
 fn huge_eccentricity() {
     // Rest position far beyond the gap: the rotor slams into the ring and stays pressed into it.
     // Finite, bounded, and near the static balance. (The comparison with a tighter tolerance
-    // is `huge_eccentricity_converges_with_tolerance`, ignored: bug.)
+    // is `huge_eccentricity_converges_with_tolerance`.)
     for ex in [10.0, 1e3] {
         let p = Params {
             ex,
@@ -571,7 +569,6 @@ fn huge_eccentricity() {
 }
 
 #[test]
-#[ignore = "bug: spurious re-onset after contact loss / rotor at gap keeps a contact mode alive with the rotor inside the gap circle (see no_contact_mode_inside_the_gap_circle)"]
 fn huge_eccentricity_converges_with_tolerance() {
     for ex in [10.0, 1e3] {
         let p = Params {
@@ -589,7 +586,6 @@ fn huge_eccentricity_converges_with_tolerance() {
 }
 
 #[test]
-#[ignore = "bug: after `contact loss` or `rotor at gap`, the free flight's onset search fires again at the same instant; the new contact mode starts with its loss and gap guards at zero and moving away from zero, which the driver never fires, so the rotor stays 'in contact' inside the gap circle (ex = 10: |r| - 1 down to -0.15 for t in 4.09..7.04)"]
 fn no_contact_mode_inside_the_gap_circle() {
     let p = Params {
         ex: 10.0,
@@ -619,7 +615,6 @@ fn no_contact_mode_inside_the_gap_circle() {
 }
 
 #[test]
-#[ignore = "bug: `contact onset` fires again at the instant of `contact loss` (grazing orbit 1 + 1e-9: extra onset + `rotor at gap` pairs)"]
 fn no_onset_at_the_instant_of_contact_loss() {
     let p = grazing_params(1.0 + 1e-9);
     let (y0, _) = steady_orbit(&p);
@@ -682,7 +677,6 @@ fn long_run_short_always_on() {
 }
 
 #[test]
-#[ignore = "bug: both fail with SimErrorKind::Chattering near t = 32800 (~12750 periods): `contact onset` 1 -> 1 repeats at one instant with |r| - 1 = -1.07e-12, just inside the 1e-12 touch threshold of the onset transition, while the onset search fires again at once"]
 fn long_run_1e5_periods_with_contact() {
     for preset in [Preset::Fig9c, Preset::Fig9d] {
         let (e, s) = long_run(preset.params(), State::zeros(), 100_000, 900);

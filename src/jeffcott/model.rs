@@ -12,7 +12,7 @@ use crate::hybrid::{
 };
 use crate::ode::Direction;
 use crate::params::{ParamError, Params};
-use crate::ring::{Branch, BranchContact, Branches, RingAxis, SnubberRing};
+use crate::ring::{Branch, BranchContact, Branches, RingAxis, RingContact, SnubberRing};
 
 /// State `[x, y, x', y', x_s, y_s]`: rotor position and velocity, ring position.
 pub type State = SVector<f64, 6>;
@@ -30,6 +30,10 @@ const CORNER_TOL: f64 = 1e-10;
 pub enum Mode {
     /// Regime I: no contact; rotor and ring move in closed form.
     Free,
+    /// Regime I right after contact loss (or a touch without load): as [`Mode::Free`], but
+    /// the contact onset search starts by separating, since the ring and rotor are touching
+    /// and, by the loss condition, parting (to rounding).
+    Separating,
     /// Contact on the given force-law branches (regimes II..V).
     Contact(Branches),
 }
@@ -239,6 +243,30 @@ impl JeffcottModel {
         Some(c)
     }
 
+    /// Branches of a contact that starts here: an axis exactly on its preload (within
+    /// [`CORNER_TOL`]) takes the branch it is moving into, since its guard, zero at the start,
+    /// would not fire.
+    fn branches_at_start(&self, c: &RingContact, r_dot: &Vector2<f64>) -> Branches {
+        let mut b = Branches::of(&self.ring, &c.s);
+        let v = c.ring_velocity(r_dot);
+        for (i, axis) in [self.ring.x, self.ring.y].iter().enumerate() {
+            let (s, d) = (c.s[i], axis.preload);
+            if d > 0.0 && (s.abs() - d).abs() <= CORNER_TOL * d {
+                let br = if s * v[i] > 0.0 {
+                    Branch::Outer(if s >= 0.0 { 1 } else { -1 })
+                } else {
+                    Branch::Inner
+                };
+                if i == 0 {
+                    b.x = br;
+                } else {
+                    b.y = br;
+                }
+            }
+        }
+        b
+    }
+
     /// Guards of a contact mode: loss, gap, then one per preloaded axis.
     fn axis_guard(&self, b: Branches, i: usize) -> Option<(usize, Branch)> {
         let mut k = 2;
@@ -272,6 +300,8 @@ pub struct FreeSegment {
     searched_to: f64,
     /// The onset, once found.
     found: Option<f64>,
+    /// Starts touching and parting (after contact loss).
+    separating: bool,
 }
 
 impl ExactSegment<6> for FreeSegment {
@@ -298,12 +328,14 @@ impl ExactSegment<6> for FreeSegment {
             }
             let k = (self.searched_to / self.chunk).floor() + 1.0;
             let chunk_end = (k * self.chunk).max(self.searched_to.next_up());
+            // Only the very start of the segment is a separation.
+            let separating = self.separating && self.searched_to == self.rotor.start();
             match find_onset(
                 &self.rotor,
                 &self.relax,
                 &self.ring,
-                self.searched_to,
-                chunk_end,
+                (self.searched_to, chunk_end),
+                separating,
                 &mut self.stats,
             ) {
                 Onset::None => self.searched_to = chunk_end,
@@ -352,12 +384,17 @@ impl RotorModel<6> for JeffcottModel {
                 ),
             });
         }
-        Ok(Mode::Contact(Branches::of(&self.ring, &c.s)))
+        // A start whose contact force would pull (or vanish) is a start at contact loss.
+        let v = Vector2::new(y[2], y[3]);
+        if c.normal_force(&self.ring, &v) <= 0.0 {
+            return Ok(Mode::Separating);
+        }
+        Ok(Mode::Contact(self.branches_at_start(&c, &v)))
     }
 
     fn flow(&self, mode: Mode) -> Flow {
         match mode {
-            Mode::Free => Flow::Exact,
+            Mode::Free | Mode::Separating => Flow::Exact,
             Mode::Contact(_) => Flow::Integrated,
         }
     }
@@ -390,7 +427,7 @@ impl RotorModel<6> for JeffcottModel {
 
     fn guard_count(&self, mode: Mode) -> usize {
         match mode {
-            Mode::Free => 1,
+            Mode::Free | Mode::Separating => 1,
             Mode::Contact(_) => {
                 2 + usize::from(self.ring.x.preload > 0.0) + usize::from(self.ring.y.preload > 0.0)
             }
@@ -399,7 +436,7 @@ impl RotorModel<6> for JeffcottModel {
 
     fn guard_direction(&self, mode: Mode, i: usize) -> Direction {
         match mode {
-            Mode::Free => Direction::Rising,
+            Mode::Free | Mode::Separating => Direction::Rising,
             Mode::Contact(b) => match self.axis_guard(b, i) {
                 None => Direction::Falling,
                 Some((_, Branch::Inner)) => Direction::Rising,
@@ -472,7 +509,7 @@ impl RotorModel<6> for JeffcottModel {
 
     fn guard_label(&self, mode: Mode, i: usize) -> &'static str {
         match mode {
-            Mode::Free => guard::ONSET,
+            Mode::Free | Mode::Separating => guard::ONSET,
             Mode::Contact(b) => match (i, self.axis_guard(b, i)) {
                 (0, _) => guard::LOSS,
                 (1, _) => guard::GAP,
@@ -493,7 +530,7 @@ impl RotorModel<6> for JeffcottModel {
     ) -> Result<Mode, ModelError> {
         let r = Vector2::new(y[0], y[1]);
         match mode {
-            Mode::Free => {
+            Mode::Free | Mode::Separating => {
                 let gap = self.ring.gap;
                 // A touch of the gap circle, up to the rounding of the onset time: the rotor
                 // moves |r'| ulp(t) per representable time step.
@@ -525,12 +562,24 @@ impl RotorModel<6> for JeffcottModel {
                             t,
                             reason: format!("no ring location at r = {r:?}"),
                         })?;
+                let v = Vector2::new(y[2], y[3]);
+                if c.normal.dot(&v) < 0.0 && c.normal.dot(&c.force(&v)) < 0.0 {
+                    // The contact would pull: an unrelaxed ring retreating as fast as an
+                    // inward-moving rotor touches it without load (right after contact loss,
+                    // to rounding). Free flight goes on; inside the gap circle the touch also
+                    // ends the relaxation (docs/model.md).
+                    if r.norm() <= gap {
+                        y[4] = 0.0;
+                        y[5] = 0.0;
+                    }
+                    return Ok(Mode::Separating);
+                }
                 y[4] = c.s.x;
                 y[5] = c.s.y;
                 Ok(Mode::Contact(b))
             }
             Mode::Contact(b) => match self.axis_guard(b, guard) {
-                None => Ok(Mode::Free),
+                None => Ok(Mode::Separating),
                 Some((axis, br)) => {
                     let s = if axis == 0 { y[4] } else { y[5] };
                     let nb = match br {
@@ -585,7 +634,7 @@ impl RotorModel<6> for JeffcottModel {
         }
     }
 
-    fn start_segment(&self, _mode: Mode, t: f64, y: &State) -> FreeSegment {
+    fn start_segment(&self, mode: Mode, t: f64, y: &State) -> FreeSegment {
         // Without ring damping the relaxation is instantaneous: the ring is at its centre as
         // soon as free flight starts.
         let s0 = if self.ring.damping > 0.0 {
@@ -603,6 +652,7 @@ impl RotorModel<6> for JeffcottModel {
             chunk: self.params.forcing_period(),
             searched_to: t,
             found: None,
+            separating: mode == Mode::Separating,
         }
     }
 
@@ -617,7 +667,7 @@ impl RotorModel<6> for JeffcottModel {
 
     fn mode_label(&self, mode: Mode) -> u8 {
         match mode {
-            Mode::Free => 1,
+            Mode::Free | Mode::Separating => 1,
             Mode::Contact(b) => b.regime().number(),
         }
     }

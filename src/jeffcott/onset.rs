@@ -137,13 +137,15 @@ fn first_root_quadratic(c0: f64, c1: f64, c2: f64) -> f64 {
 }
 
 /// Searches $(t_0, t_\text{end}]$ for contact onset. `rotor` and `ring_state` describe the
-/// exact motion from their start times (at most `t0`).
+/// exact motion from their start times (at most `t0`). With `separating`, the rotor and ring
+/// are known to be parting at `t0` (right after contact loss: $h' = 2\gamma N/c \le 0$ and
+/// $h'' < 0$ there), so a touching start never fires, whatever the rounding of $h'$.
 pub fn find_onset(
     rotor: &FreeFlight,
     ring_state: &RelaxingRing,
     ring: &SnubberRing,
-    t0: f64,
-    t_end: f64,
+    (t0, t_end): (f64, f64),
+    separating: bool,
     stats: &mut OnsetStats,
 ) -> Onset {
     let gap2 = ring.gap * ring.gap;
@@ -169,15 +171,19 @@ pub fn find_onset(
             // An onset that holds at the start (right after contact loss) does not fire again
             // unless h is moving into contact.
             first = false;
-            if h.abs() <= eps_h {
-                // Right after contact loss h' is zero up to the loss time's rounding
-                // (h' = 2 gamma N / c exactly at N = 0). A positive h' whose excursion above
-                // zero, 2 h' / |h''|, is shorter than the time resolution is that rounding.
-                if h1 > 0.0 && h2 < 0.0 && 2.0 * h1 <= -h2 * 16.0 * f64::EPSILON * t.abs().max(1.0)
-                {
-                    h1 = 0.0;
+            // |r - s|^2 is rounded relative to the size of r and s.
+            let eps_start =
+                eps_h.max(16.0 * f64::EPSILON * ring.gap * (y[0].hypot(y[1]) + s.norm()));
+            if h.abs() <= eps_start {
+                // Touching at the start: right after contact loss (where h' = 2 gamma N / c
+                // is zero up to the rounding of the loss time) or a start on the ring. Only a
+                // clear move into contact fires: h' above its rounding level (relative 1e-9
+                // of its scale), or h' at that level with h'' > 0.
+                let scale = 2.0 * q.norm() * (y[2].hypot(y[3]) + sd.norm() + 1e-300);
+                if h1.abs() <= 1e-9 * scale || separating {
+                    h1 = h1.min(0.0);
                 }
-                if h1 > 0.0 || (h1 == 0.0 && h2 > 0.0) {
+                if !separating && (h1 > 0.0 || (h1 == 0.0 && h2 > 0.0)) {
                     return Onset::At(t);
                 }
                 h = h.min(0.0);
@@ -211,7 +217,11 @@ pub fn find_onset(
                     .max(first_root_cubic(h, h1, 0.5 * h2, m3 / 6.0) * (1.0 - 4.0 * f64::EPSILON));
             }
         }
-        let t_next = t + du;
+        let mut t_next = t + du;
+        if t_next <= t && separating && t == t0 {
+            // Parting by assumption: make progress even when no bound certifies any.
+            t_next = t.next_up();
+        }
         if t_next <= t {
             // The certified step is below the time resolution ulp(t): the crossing is within
             // one ulp. Report the first representable time after t when h is rising (so the
