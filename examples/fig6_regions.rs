@@ -2,7 +2,7 @@
 //! shaded by the classifier `SnubberRing::regime` on a grid, with the analytic boundary curves
 //! (eqs. 23-27) overlaid.
 //!
-//! Usage: `cargo run --example fig6_regions [OUT_DIR] [DX DY]` (default `out/fig6`, Dx = 1.5,
+//! Usage: `cargo run --example fig6_regions [OUT_DIR] [DX DY]` (default `target/figures/fig6`, Dx = 1.5,
 //! Dy = 1.1 as in the paper's Fig. 7). Writes `fig6_regions.png`,
 //! `fig6_regions_grid.csv` (x_r, y_r, regime) and `fig6_boundaries.csv` (boundary, x_r, y_r).
 
@@ -145,7 +145,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let out: PathBuf = args
         .first()
-        .map_or_else(|| "out/fig6".into(), PathBuf::from);
+        .map_or_else(|| "target/figures/fig6".into(), PathBuf::from);
     let dx: f64 = args.get(1).map_or(Ok(1.5), |s| s.parse())?;
     let dy: f64 = args.get(2).map_or(Ok(1.1), |s| s.parse())?;
     fs::create_dir_all(&out)?;

@@ -9,7 +9,7 @@
 //! passes through the corner where II meets V directly, which is what the text describes. We plot
 //! 27, 36.25 and 85 deg, plus the paper's literal 66 deg for comparison.
 //!
-//! Usage: `cargo run --example fig7_restoring_force [OUT_DIR]` (default `out/fig7`). Writes
+//! Usage: `cargo run --example fig7_restoring_force [OUT_DIR]` (default `target/figures/fig7`). Writes
 //! `fig7_restoring_force.png`, `fig7_force_grid.csv` (x_r, y_r, regime, F_rx, F_ry, |F_r|) and
 //! `fig7_cuts.csv` (phi_deg, R, F_rx, regime).
 
@@ -151,7 +151,7 @@ where
 fn main() -> Result<(), Box<dyn Error>> {
     let out: PathBuf = std::env::args()
         .nth(1)
-        .map_or_else(|| "out/fig7".into(), PathBuf::from);
+        .map_or_else(|| "target/figures/fig7".into(), PathBuf::from);
     fs::create_dir_all(&out)?;
     register_font(
         "sans-serif",
