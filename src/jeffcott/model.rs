@@ -551,7 +551,7 @@ impl RotorModel<6> for JeffcottModel {
                         t,
                         reason: e.to_string(),
                     })?;
-                    Branches::of(&self.ring, &c.s)
+                    self.branches_at_start(&c, &Vector2::new(y[2], y[3]))
                 } else {
                     Branches::of(&self.ring, &Vector2::zeros())
                 };
