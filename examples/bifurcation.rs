@@ -77,20 +77,7 @@ fn main() {
         "carry mode: contiguous chunks, each starting from rest (1 = one serial chain)",
     );
     let threads = cli.opt_usize_in("threads", 1, 1024, "worker threads, unset = all cores");
-    let rtol = cli.f64_in(
-        "rtol",
-        SimOptions::default().rtol,
-        1e-15,
-        1e-2,
-        "relative tolerance",
-    );
-    let atol = cli.f64_in(
-        "atol",
-        SimOptions::default().atol,
-        1e-18,
-        1e-2,
-        "absolute tolerance",
-    );
+    let (rtol, atol) = common::tolerance_flags(&mut cli);
     let tol = cli.f64_in(
         "period-tol",
         1e-6,

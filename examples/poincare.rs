@@ -54,20 +54,7 @@ fn main() {
         100.0,
         "override the panel's eta (default: the paper's)",
     );
-    let rtol = cli.f64_in(
-        "rtol",
-        SimOptions::default().rtol,
-        1e-15,
-        1e-2,
-        "relative tolerance",
-    );
-    let atol = cli.f64_in(
-        "atol",
-        SimOptions::default().atol,
-        1e-18,
-        1e-2,
-        "absolute tolerance",
-    );
+    let (rtol, atol) = common::tolerance_flags(&mut cli);
     let tol = cli.f64_in(
         "period-tol",
         1e-6,

@@ -43,20 +43,7 @@ fn main() {
         1_000_000,
         "dense samples per forcing period",
     );
-    let rtol = cli.f64_in(
-        "rtol",
-        SimOptions::default().rtol,
-        1e-15,
-        1e-2,
-        "relative tolerance",
-    );
-    let atol = cli.f64_in(
-        "atol",
-        SimOptions::default().atol,
-        1e-18,
-        1e-2,
-        "absolute tolerance",
-    );
+    let (rtol, atol) = common::tolerance_flags(&mut cli);
     cli.finish();
 
     let panels: Vec<(&str, Preset)> = [

@@ -16,6 +16,14 @@ pub mod plot;
 
 use std::fmt::Display;
 
+/// The `--rtol` and `--atol` flags of the simulation examples, with the crate's defaults.
+pub fn tolerance_flags(cli: &mut cli::Cli) -> (f64, f64) {
+    let d = jeffcott::hybrid::SimOptions::default();
+    let rtol = cli.f64_in("rtol", d.rtol, 1e-15, 1e-2, "relative tolerance");
+    let atol = cli.f64_in("atol", d.atol, 1e-18, 1e-2, "absolute tolerance");
+    (rtol, atol)
+}
+
 /// Unwraps `r`, or prints `error: {e}` on stderr and exits with status 1 (a failure while
 /// running, as opposed to a bad command line, which exits with status 2).
 pub fn or_exit<T, E: Display>(r: Result<T, E>) -> T {
