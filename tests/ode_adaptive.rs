@@ -10,7 +10,8 @@ use jeffcott::ode::{
 };
 use nalgebra::SVector;
 
-type V4 = SVector<f64, 4>;
+mod common;
+use common::{slope, Kepler, V4};
 
 /// Restricted three-body problem (Arenstorf orbit), period known to 30
 /// digits: the solution returns to its initial value after one period.
@@ -34,43 +35,6 @@ fn arenstorf_y0() -> V4 {
     V4::new(0.994, 0.0, 0.0, -2.001_585_106_379_082_522_405_378_622_24)
 }
 
-/// Kepler problem with eccentricity e, exact solution by Kepler's equation.
-struct Kepler {
-    e: f64,
-}
-impl OdeSystem<4> for Kepler {
-    fn rhs(&self, _t: f64, y: &V4, dy: &mut V4) {
-        let r2 = y[0] * y[0] + y[1] * y[1];
-        let r3 = r2 * r2.sqrt();
-        dy[0] = y[2];
-        dy[1] = y[3];
-        dy[2] = -y[0] / r3;
-        dy[3] = -y[1] / r3;
-    }
-}
-impl Kepler {
-    fn exact(&self, t: f64) -> V4 {
-        let e = self.e;
-        let m = t.rem_euclid(2.0 * std::f64::consts::PI);
-        let mut ea = m;
-        for _ in 0..60 {
-            let d = (ea - e * ea.sin() - m) / (1.0 - e * ea.cos());
-            ea -= d;
-            if d.abs() < 1e-16 {
-                break;
-            }
-        }
-        let b = (1.0 - e * e).sqrt();
-        let edot = 1.0 / (1.0 - e * ea.cos());
-        V4::new(
-            ea.cos() - e,
-            b * ea.sin(),
-            -ea.sin() * edot,
-            b * ea.cos() * edot,
-        )
-    }
-}
-
 fn run_to<const N: usize, S: OdeSystem<N>>(
     method: Method,
     opts: Options<N>,
@@ -83,18 +47,6 @@ fn run_to<const N: usize, S: OdeSystem<N>>(
     assert_eq!(rep.stopped, Stopped::Reached);
     assert_eq!(rep.t, t_end);
     (rep.y, rep.stats)
-}
-
-/// Least-squares slope of log(y) against log(x).
-fn slope(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len() as f64;
-    let lx: Vec<f64> = x.iter().map(|v| v.ln()).collect();
-    let ly: Vec<f64> = y.iter().map(|v| v.ln()).collect();
-    let mx = lx.iter().sum::<f64>() / n;
-    let my = ly.iter().sum::<f64>() / n;
-    let sxy: f64 = lx.iter().zip(&ly).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = lx.iter().map(|a| (a - mx) * (a - mx)).sum();
-    sxy / sxx
 }
 
 fn sci(v: &[f64]) -> Vec<String> {

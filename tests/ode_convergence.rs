@@ -7,47 +7,8 @@
 use jeffcott::ode::{AnyIntegrator, Integrator, Method, OdeSystem, Options};
 use nalgebra::SVector;
 
-type V4 = SVector<f64, 4>;
-
-/// Kepler two-body problem ($\mu = 1$, semi-major axis 1) started at the
-/// pericentre with eccentricity `E`.
-struct Kepler {
-    e: f64,
-}
-
-impl OdeSystem<4> for Kepler {
-    fn rhs(&self, _t: f64, y: &V4, dy: &mut V4) {
-        let r2 = y[0] * y[0] + y[1] * y[1];
-        let r3 = r2 * r2.sqrt();
-        dy[0] = y[2];
-        dy[1] = y[3];
-        dy[2] = -y[0] / r3;
-        dy[3] = -y[1] / r3;
-    }
-}
-
-impl Kepler {
-    /// Exact state at time t (solves Kepler's equation by Newton).
-    fn exact(&self, t: f64) -> V4 {
-        let e = self.e;
-        let mut ea = t;
-        for _ in 0..50 {
-            let d = (ea - e * ea.sin() - t) / (1.0 - e * ea.cos());
-            ea -= d;
-            if d.abs() < 1e-16 {
-                break;
-            }
-        }
-        let b = (1.0 - e * e).sqrt();
-        let edot = 1.0 / (1.0 - e * ea.cos());
-        V4::new(
-            ea.cos() - e,
-            b * ea.sin(),
-            -ea.sin() * edot,
-            b * ea.cos() * edot,
-        )
-    }
-}
+mod common;
+use common::{slope, Kepler, V4};
 
 /// Forced oscillator $x'' = -x + \cos 2t$ written as a first-order system
 /// (time-dependent right-hand side), $x(0) = 0$, $x'(0) = 1$.
@@ -61,18 +22,6 @@ fn forced_exact(t: f64) -> SVector<f64, 2> {
         t.cos() / 3.0 + t.sin() - (2.0 * t).cos() / 3.0,
         -t.sin() / 3.0 + t.cos() + 2.0 * (2.0 * t).sin() / 3.0,
     )
-}
-
-/// Least-squares slope of log(err) against log(h).
-fn slope(h: &[f64], err: &[f64]) -> f64 {
-    let n = h.len() as f64;
-    let xs: Vec<f64> = h.iter().map(|v| v.ln()).collect();
-    let ys: Vec<f64> = err.iter().map(|v| v.ln()).collect();
-    let mx = xs.iter().sum::<f64>() / n;
-    let my = ys.iter().sum::<f64>() / n;
-    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
-    sxy / sxx
 }
 
 /// End error of a fixed-step run with `n` steps over `[0, t_end]`.
