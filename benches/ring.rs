@@ -29,7 +29,7 @@ fn bench_locate(c: &mut Criterion) {
     let mut group = c.benchmark_group("ring_locate");
     for (regime, r) in cases {
         let contact = ring.locate(&r).unwrap();
-        assert_eq!(contact.regime, regime);
+        assert_eq!(contact.regime(), regime);
         group.bench_function(format!("cold/{regime}"), |b| {
             b.iter(|| ring.locate(black_box(&r)).unwrap())
         });
