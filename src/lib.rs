@@ -79,3 +79,7 @@ pub mod jeffcott;
 pub mod ode;
 pub mod params;
 pub mod ring;
+pub mod rotor;
+
+/// The linear algebra crate of the public API (states are `nalgebra` vectors).
+pub use nalgebra;
