@@ -33,11 +33,6 @@ fn main() {
     let k3 = cli.f64("k3", 0.5, "cubic bearing stiffness k3");
     let transient = cli.usize_in("transient", 300, 0, 1_000_000, "periods discarded");
     let periods = cli.usize_in("periods", 20, 1, 1_000_000, "periods printed");
-    let out = cli.string(
-        "out",
-        "target/figures/custom_rotor",
-        "folder of the orbit plot",
-    );
     let (rtol, atol) = tolerance_flags(&mut cli);
     cli.finish();
 
