@@ -30,7 +30,9 @@ pub trait SmoothRotor<const N: usize> {
     fn rhs(&self, t: f64, y: &SVector<f64, N>, dy: &mut SVector<f64, N>);
 
     /// Displacement and velocity of the rotor at the ring's station, relative to the ring's rest
-    /// centre, in units of the ring's gap.
+    /// centre, in units of the ring's gap. Must be linear in `y` (positions and velocities are
+    /// components or fixed combinations of components): applied to $y^\prime$ it then gives the
+    /// station's velocity and acceleration, which the ring's acceptance test uses.
     fn station(&self, y: &SVector<f64, N>) -> Kinematics;
 
     /// Adds to `dy` the effect of the force `force` acting on the rotor at the station (for a
@@ -205,6 +207,15 @@ impl<R: SmoothRotor<N>, const N: usize> RotorModel<N> for RingedRotor<R> {
         t: f64,
         y: &mut SVector<f64, N>,
     ) -> Result<RingMode, ModelError> {
+        // The station's acceleration under a ring force f, from the rotor's own equations
+        // (the station map is linear, so it maps y' to the station's acceleration).
+        let at = y.clone_owned();
+        let accel = |f: &Vector2<f64>| {
+            let mut dy = at.clone_owned();
+            self.rotor.rhs(t, &at, &mut dy);
+            self.rotor.add_station_force(&at, &-f, &mut dy);
+            self.rotor.station(&dy).v
+        };
         let next = self
             .ring
             .transition(
@@ -212,6 +223,7 @@ impl<R: SmoothRotor<N>, const N: usize> RotorModel<N> for RingedRotor<R> {
                 self.guard_of(&mode, guard),
                 t,
                 &self.rotor.station(y),
+                accel,
             )
             .map_err(|e| ModelError::Transition {
                 t,

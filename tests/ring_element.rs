@@ -80,7 +80,7 @@ fn released_ring_parts_from_the_rotor_in_every_regime() {
             let scale = 2.0 * (v.norm() + ring.relax_velocity(&c.s).norm() + 1.0);
             let k = Kinematics { r, v };
             let next = ring
-                .transition(&RingMode::Contact(c.branches), RingGuard::Loss, 0.0, &k)
+                .transition(&RingMode::Contact(c.branches), RingGuard::Loss, 0.0, &k, |f| -f)
                 .unwrap();
             let RingMode::Free {
                 relax, separating, ..
@@ -131,7 +131,7 @@ fn touch_on_the_circle_starts_contact_when_moving_outward() {
                     r: n,
                     v: n * w + t_dir * 0.7,
                 };
-                let tr = ring.transition(&free, RingGuard::Onset, 3.0, &k).unwrap();
+                let tr = ring.transition(&free, RingGuard::Onset, 3.0, &k, |f| -f).unwrap();
                 assert_eq!(
                     tr.mode.is_contact(),
                     expect,
@@ -159,7 +159,7 @@ fn touch_without_load_places_the_ring_and_parts() {
         let v = Vector2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
         let k = Kinematics { r, v };
         let free = RingMode::free(jeffcott::ring::Relaxation::at_rest(0.0));
-        let tr = ring.transition(&free, RingGuard::Onset, 1.0, &k).unwrap();
+        let tr = ring.transition(&free, RingGuard::Onset, 1.0, &k, |f| -f).unwrap();
         match tr.mode {
             RingMode::Contact(b) => {
                 accepted += 1;
@@ -187,7 +187,7 @@ fn touch_without_load_places_the_ring_and_parts() {
         t0: 0.0,
         s0: Vector2::new(-0.49, -0.09),
     });
-    let tr = ring.transition(&free, RingGuard::Onset, 0.0, &k).unwrap();
+    let tr = ring.transition(&free, RingGuard::Onset, 0.0, &k, |f| -f).unwrap();
     assert_eq!(tr.s, Vector2::zeros());
     assert!(!tr.mode.is_contact());
 }
@@ -222,7 +222,7 @@ fn preload_crossings_flip_branches_and_corners_flip_both() {
     let cache = RingCache::default();
     let gx = ring.guard_value(&mode, guards[2], 0.0, &k, &cache);
     assert!(gx.abs() < 1e-12, "{gx:e}");
-    let tr = ring.transition(&mode, guards[2], 0.0, &k).unwrap();
+    let tr = ring.transition(&mode, guards[2], 0.0, &k, |f| -f).unwrap();
     assert_eq!(tr.mode.regime(), Regime::V, "{:?}", tr.mode);
     // Off the corner only x flips.
     let r = Vector2::new(1.2, 0.05);
@@ -239,6 +239,7 @@ fn preload_crossings_flip_branches_and_corners_flip_both() {
                 r,
                 v: Vector2::new(1.0, 0.0),
             },
+            |f| -f,
         )
         .unwrap();
     let RingMode::Contact(b) = tr.mode else {

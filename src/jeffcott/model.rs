@@ -379,9 +379,22 @@ impl RotorModel<6> for JeffcottModel {
         t: f64,
         y: &mut State,
     ) -> Result<Mode, ModelError> {
+        // The rotor's acceleration without the ring, for the ring's acceptance test.
+        let p = &self.params;
+        let (sn, cs) = (p.phi0 + p.eta * t).sin_cos();
+        let free = Vector2::new(
+            self.amp * cs - 2.0 * p.nu1 * y[2] - (y[0] - p.ex),
+            self.amp * sn - 2.0 * p.nu1 * y[3] - (y[1] - p.ey),
+        );
         let next = self
             .ring
-            .transition(&mode, self.guard_of(&mode, guard), t, &Self::kinematics(y))
+            .transition(
+                &mode,
+                self.guard_of(&mode, guard),
+                t,
+                &Self::kinematics(y),
+                |f| free - f,
+            )
             .map_err(|e| ModelError::Transition {
                 t,
                 reason: e.to_string(),

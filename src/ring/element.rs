@@ -245,21 +245,39 @@ pub struct RingCache {
 }
 
 impl RingContact {
-    /// $\lambda = 2\mu\gamma + n\cdot r^\prime/(n\cdot C^{-1} n)$: the normal force the massless
-    /// ring's own force balance needs to keep contact (module docs). Equals
-    /// [`RingContact::normal_force`] for isotropic damping (regimes II and V, or $\nu_2 = 0$).
+    /// $\lambda = n\cdot C^{-1} f/(n\cdot C^{-1} n) = 2\mu\gamma + n\cdot r^\prime/(n\cdot C^{-1}n)$:
+    /// the normal force the massless ring's own force balance needs to keep contact (module
+    /// docs). Equals [`RingContact::normal_force`] for isotropic damping (regimes II and V, or
+    /// $\nu_2 = 0$), where it returns exactly that.
     pub fn separation_force(&self, r_dot: &Vector2<f64>) -> f64 {
-        let elastic = self.normal.dot(&self.elastic);
-        let (c, n) = (self.damping, self.normal);
-        if c.x == 0.0 || c.y == 0.0 {
-            return elastic;
+        let (cx, cy) = (self.damping.x, self.damping.y);
+        if cx == cy {
+            return self.normal_force(r_dot);
         }
-        elastic + n.dot(r_dot) / (n.x * n.x / c.x + n.y * n.y / c.y)
+        // Multiplied through by c_x c_y: no division by a vanishing damping.
+        let (n, g) = (self.normal, self.elastic);
+        (cx * cy * n.dot(r_dot) + cy * n.x * g.x + cx * n.y * g.y)
+            / (cy * n.x * n.x + cx * n.y * n.y)
     }
 
-    /// The loss force $\max(N, \lambda)$: contact lasts while it is positive (module docs).
+    /// The loss force $L = \max(N, \lambda)$: contact lasts while it is positive (module docs).
+    /// Exactly the paper's $N$ for isotropic damping.
     pub fn loss_force(&self, r_dot: &Vector2<f64>) -> f64 {
-        self.normal_force(r_dot).max(self.separation_force(r_dot))
+        let normal = self.normal_force(r_dot);
+        if self.damping.x == self.damping.y {
+            return normal;
+        }
+        normal.max(self.separation_force(r_dot))
+    }
+
+    /// Rounding level of [`RingContact::loss_force`]: its elastic part $2\mu\gamma$ carries
+    /// the rounding of $\mu$ relative to $K + \mu$, its damping part that of $C J r^\prime$.
+    fn loss_force_rounding(&self, stiffness: f64, gap: f64, r_dot: &Vector2<f64>) -> f64 {
+        let damping = self
+            .damping
+            .component_mul(&self.ring_velocity(r_dot))
+            .norm();
+        16.0 * f64::EPSILON * (2.0 * (self.mu.abs() + stiffness) * gap + damping)
     }
 }
 
@@ -496,21 +514,38 @@ impl SnubberRing {
         if offset > 1e-8 * gap {
             return Err(RingError::RingOffMinimum { offset });
         }
-        if c.loss_force(&k.v) <= 0.0 {
+        // The load on the branches the contact would start on (an axis on its preload takes
+        // the one it moves into, and the damping differs between them).
+        let b = self.branches_at_start(&c, &k.v);
+        let on_b = self.locate_on(&k.r, b, c.mu)?;
+        if on_b.loss_force(&k.v) <= 0.0 {
             return Ok(RingMode::Free {
                 relax: self.released(t, c.s),
                 separating: true,
             });
         }
-        Ok(RingMode::Contact(self.branches_at_start(&c, &k.v)))
+        Ok(RingMode::Contact(b))
     }
 
-    /// The relaxation of a ring released at `s` at time `t` (instant with no ring damping).
+    /// The relaxation of a ring released at `s` at time `t` (instant with no ring damping). An
+    /// axis a hair beyond its preload (within the corner tolerance: rounding of a ring located
+    /// on its preload) is put exactly on it: it relaxes inward with both units acting, and the
+    /// hair would otherwise run the one-unit law, twice as fast, for a few ulps of time and
+    /// touch the rotor again.
     fn released(&self, t: f64, s: Vector2<f64>) -> Relaxation {
-        if self.damping > 0.0 {
-            Relaxation { t0: t, s0: s }
-        } else {
-            Relaxation::at_rest(t)
+        if self.damping == 0.0 {
+            return Relaxation::at_rest(t);
+        }
+        let snap = |s: f64, d: f64| {
+            if d > 0.0 && s.abs() > d && s.abs() - d <= CORNER_TOL * d {
+                d.copysign(s)
+            } else {
+                s
+            }
+        };
+        Relaxation {
+            t0: t,
+            s0: Vector2::new(snap(s.x, self.x.preload), snap(s.y, self.y.preload)),
         }
     }
 
@@ -538,6 +573,11 @@ impl SnubberRing {
     /// The transition after `guard` of `mode` fired at time `t` with the rotor at `k`: the
     /// next mode and the ring's position (module docs for the rules).
     ///
+    /// `accel(f)` is the acceleration $r''$ of the rotor's station when the ring pushes on the
+    /// rotor with the force `f` (entering the rotor's equations as $\ldots + f = $ forcing: for
+    /// a unit-mass station, its acceleration without the ring minus `f`). It is used only when a
+    /// touch leaves the loss force at zero to rounding, to tell whether the force would rise.
+    ///
     /// # Errors
     /// A [`RingError`] when the ring cannot be placed (no solution on the branches, a
     /// non-finite state), or [`RingError::NoPlacement`] for a guard that does not belong to
@@ -548,19 +588,13 @@ impl SnubberRing {
         guard: RingGuard,
         t: f64,
         k: &Kinematics,
+        accel: impl Fn(&Vector2<f64>) -> Vector2<f64>,
     ) -> Result<RingTransition, RingError> {
         match (mode, guard) {
-            (RingMode::Free { .. }, RingGuard::Onset) => self.touch(t, k),
+            (RingMode::Free { .. }, RingGuard::Onset) => self.touch(t, k, accel),
             (RingMode::Contact(b), RingGuard::Loss | RingGuard::Gap) => {
                 let c = self.locate_on(&k.r, *b, f64::NAN)?;
-                let relax = self.released(t, c.s);
-                Ok(RingTransition {
-                    mode: RingMode::Free {
-                        relax,
-                        separating: true,
-                    },
-                    s: relax.s0,
-                })
+                Ok(self.release(t, c.s))
             }
             (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
                 let c = self.locate_on(&k.r, *b, f64::NAN)?;
@@ -569,7 +603,11 @@ impl SnubberRing {
                     Branch::Inner => Branch::Outer(if s >= 0.0 { 1 } else { -1 }),
                     Branch::Outer(_) => Branch::Inner,
                 };
-                set_branch(&mut next, axis, flip(branch_of(b, axis), c.s[axis.index()]));
+                set_branch(
+                    &mut next,
+                    axis,
+                    flip(branch_of(b, axis), c.s[axis.index()]),
+                );
                 // A corner: the other axis crosses its preload at the same instant.
                 let other = axis.other();
                 let d = self.axis(other).preload;
@@ -584,17 +622,43 @@ impl SnubberRing {
                         set_branch(&mut next, other, flip(branch_of(b, other), s));
                     }
                 }
+                // The damping, hence the loss force, jumps at a preload: contact on the new
+                // branches holds only if it still carries load there.
+                let on_next = self.locate_on(&k.r, next, c.mu)?;
+                if on_next.loss_force(&k.v) <= 0.0 {
+                    return Ok(self.release(t, c.s));
+                }
                 Ok(RingTransition {
                     mode: RingMode::Contact(next),
                     s: c.s,
                 })
             }
-            _ => Err(RingError::NoPlacement { x: k.r.x, y: k.r.y }),
+            _ => Err(RingError::NoPlacement {
+                x: k.r.x,
+                y: k.r.y,
+            }),
+        }
+    }
+
+    /// Free flight from a ring released at `s`: the ring and the rotor touch and part.
+    fn release(&self, t: f64, s: Vector2<f64>) -> RingTransition {
+        let relax = self.released(t, s);
+        RingTransition {
+            mode: RingMode::Free {
+                relax,
+                separating: true,
+            },
+            s: relax.s0,
         }
     }
 
     /// The onset guard fired: place the ring and decide whether contact starts.
-    fn touch(&self, t: f64, k: &Kinematics) -> Result<RingTransition, RingError> {
+    fn touch(
+        &self,
+        t: f64,
+        k: &Kinematics,
+        accel: impl Fn(&Vector2<f64>) -> Vector2<f64>,
+    ) -> Result<RingTransition, RingError> {
         let gap = self.gap;
         let rn = k.r.norm();
         // A touch of the gap circle, up to the rounding of the onset time: the rotor moves
@@ -616,26 +680,47 @@ impl SnubberRing {
             Branches::of(self, &Vector2::zeros())
         };
         let c = self.locate_on(&k.r, b, f64::NAN)?;
-        // A relaxed ring touched on the circle has mu = 0 to rounding (and a zero loss force
-        // without ring damping): there the force grows from zero if the rotor moves outward.
-        let mu_touch = 4.0 * self.x.stiffness.max(self.y.stiffness) * touch / gap;
-        let outward = c.normal.dot(&k.v) > 0.0;
-        if c.loss_force(&k.v) > 0.0 || (outward && c.mu <= mu_touch) {
+        let load = c.loss_force(&k.v);
+        let stiffness = self.x.stiffness.max(self.y.stiffness);
+        let rounding = c.loss_force_rounding(stiffness, gap, &k.v);
+        let starts = load > rounding
+            || (load >= -rounding && self.loss_force_rate(&c, k, &accel) > 0.0);
+        if starts {
             return Ok(RingTransition {
                 mode: RingMode::Contact(b),
                 s: c.s,
             });
         }
-        // No load: the ring stays where it was placed and the two part.
-        let s0 = if rn > gap { c.s } else { Vector2::zeros() };
-        let relax = self.released(t, s0);
-        Ok(RingTransition {
-            mode: RingMode::Free {
-                relax,
-                separating: true,
-            },
-            s: relax.s0,
-        })
+        // No load: the ring stays where contact would put it (the minimiser of its energy over
+        // the disk |r - s| <= gap) and the two part, h' = 2 gamma G <= 0.
+        Ok(self.release(t, if rn > gap { c.s } else { Vector2::zeros() }))
+    }
+
+    /// Sign-worthy rate of change of the loss force along the contact flow on `c`'s branches,
+    /// by a central difference over the time in which the station moves $10^{-6}\gamma$ (only
+    /// its sign is used, where the force itself is zero to rounding: a relaxed ring touched on
+    /// the circle without ring damping, or the end of a sequence of touches without load).
+    fn loss_force_rate(
+        &self,
+        c: &RingContact,
+        k: &Kinematics,
+        accel: &impl Fn(&Vector2<f64>) -> Vector2<f64>,
+    ) -> f64 {
+        let a = accel(&c.force(&k.v));
+        let scale = k.v.norm().max((a.norm() * self.gap).sqrt());
+        let dt = if scale > 0.0 {
+            1e-6 * self.gap / scale
+        } else {
+            1e-6
+        };
+        let at = |sign: f64| {
+            let h = sign * dt;
+            let r = k.r + k.v * h + a * (0.5 * h * h);
+            let v = k.v + a * h;
+            self.locate_on(&r, c.branches, c.mu)
+                .map_or(f64::NAN, |c| c.loss_force(&v))
+        };
+        (at(1.0) - at(-1.0)) / (2.0 * dt)
     }
 }
 
