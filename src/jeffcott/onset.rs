@@ -27,7 +27,11 @@
 use nalgebra::Vector2;
 
 use super::free_flight::FreeFlight;
-use crate::ring::SnubberRing;
+use crate::ring::{RingAxis, SnubberRing};
+
+/// The search's stopping tolerance relative to $\gamma^2$: it reports an onset at the first node
+/// where $h \ge -\varepsilon_h$, $\varepsilon_h = 4\varepsilon\gamma^2$.
+pub const H_TOLERANCE: f64 = 4.0 * f64::EPSILON;
 
 /// Result of a search for contact onset.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,7 +67,52 @@ impl RelaxingRing {
         let s = ring.relax(&self.s0, t - self.t0);
         (s, ring.relax_velocity(&s))
     }
+    /// Absolute times $t_0 + t_{1,i}$ at which each axis of the free ring comes back inside its
+    /// preload ([`SnubberRing::time_to_preload`]): there the ring's velocity drops by the factor
+    /// 2 and $h'$ jumps, so the search is cut there. Infinity for an axis that never crosses: at
+    /// rest, inside its preload from the start, without preload, or without ring damping.
+    pub fn preload_crossings(&self, ring: &SnubberRing) -> Vector2<f64> {
+        let t1 = ring.time_to_preload(&self.s0);
+        let crossing = |i: usize, axis: &RingAxis| {
+            if ring.damping > 0.0 && axis.preload > 0.0 && !axis.is_inside(self.s0[i]) {
+                self.t0 + t1[i]
+            } else {
+                f64::INFINITY
+            }
+        };
+        Vector2::new(crossing(0, &ring.x), crossing(1, &ring.y))
+    }
+
+    /// Position and *right* velocity $s'(t^+)$ at `t`, on the smooth piece that starts at or
+    /// contains `t`: an axis is on its inner piece from its crossing time (`crossings`, from
+    /// [`RelaxingRing::preload_crossings`]) on, included, so that a node on a crossing gets the
+    /// derivatives of the piece after it. Without ring damping the ring is at its centre (the
+    /// right limit at $t_0$ of the instantaneous relaxation).
+    fn right_state(
+        &self,
+        ring: &SnubberRing,
+        crossings: &Vector2<f64>,
+        t: f64,
+    ) -> (Vector2<f64>, Vector2<f64>) {
+        if self.s0 == Vector2::zeros() || ring.damping == 0.0 {
+            return (Vector2::zeros(), Vector2::zeros());
+        }
+        let s = ring.relax(&self.s0, t - self.t0);
+        let tc = ring.relaxation_time();
+        let v = |i: usize, axis: &RingAxis| {
+            // Beyond the preload (or without one) only one unit pushes back.
+            let beyond = !axis.is_inside(self.s0[i]) && t < crossings[i];
+            let push = if beyond {
+                s[i] + axis.preload.copysign(self.s0[i])
+            } else {
+                s[i]
+            };
+            -push / tc[i]
+        };
+        (s, Vector2::new(v(0, &ring.x), v(1, &ring.y)))
+    }
 }
+
 
 /// First positive root of $p(u) = c_0 + c_1 u + c_2 u^2 + c_3 u^3$ ($c_3 > 0$, $p(0^+) < 0$);
 /// the result is at most the true root.
@@ -149,16 +198,19 @@ pub fn find_onset(
     stats: &mut OnsetStats,
 ) -> Onset {
     let gap2 = ring.gap * ring.gap;
-    let eps_h = 4.0 * f64::EPSILON * gap2;
+    let eps_h = H_TOLERANCE * gap2;
     let tc = ring.relaxation_time();
     let inv_t = Vector2::new(inv_or_zero(tc.x), inv_or_zero(tc.y));
+    let crossings = ring_state.preload_crossings(ring);
     let rb = rotor.bounds();
     let r_bound = rotor.eccentricity_norm() + rb.position;
     let mut t = t0;
-    let mut first = true;
+    // Only a segment's start can be touching (right after contact loss, or a touch without
+    // load); a later window start is a node like any other.
+    let mut first = t0 == rotor.start();
     loop {
         let (y, acc) = rotor.state_accel(t);
-        let (s, sd) = ring_state.at(ring, t);
+        let (s, sd) = ring_state.right_state(ring, &crossings, t);
         stats.evaluations += 1;
         let sdd = -sd.component_mul(&inv_t);
         let q = Vector2::new(y[0] - s.x, y[1] - s.y);
@@ -167,6 +219,11 @@ pub fn find_onset(
         let mut h = q.norm_squared() - gap2;
         let mut h1 = 2.0 * q.dot(&q1);
         let h2 = 2.0 * q1.norm_squared() + 2.0 * q.dot(&q2);
+        if !(h.is_finite() && h1.is_finite() && h2.is_finite()) {
+            // No bound holds on a closed form that is not finite: stop here rather than
+            // certify anything; the caller meets the non-finite state at t.
+            return Onset::At(t);
+        }
         if first {
             // An onset that holds at the start (right after contact loss) does not fire again
             // unless h is moving into contact.
@@ -196,7 +253,12 @@ pub fn find_onset(
         if t >= t_end {
             return Onset::None;
         }
-        // Bounds on |q|, |q'|, |q''|, |q'''| for all later times.
+        // The closed form is smooth up to the next preload crossing: the Taylor bounds are
+        // applied on [t, piece_end] only, from the derivatives of the piece after t.
+        let piece_end = next_after(&crossings, t).min(t_end);
+        // Bounds on the derivatives of q on [t, piece_end]: the rotor's from the segment start
+        // (valid for all later times), the ring's from t (each coordinate and its velocity
+        // decay monotonically on a piece, with s_i'' = -s_i'/T_i).
         let sd_abs = Vector2::new(sd.x.abs(), sd.y.abs());
         let ring_acc = sd_abs.component_mul(&inv_t).norm();
         let ring_jerk = sd_abs.component_mul(&inv_t).component_mul(&inv_t).norm();
@@ -204,14 +266,14 @@ pub fn find_onset(
         let q1m = rb.velocity + sd.norm();
         let q2m = rb.acceleration + ring_acc;
         let q3m = rb.jerk + ring_jerk;
-        let m2 = 2.0 * q1m * q1m + 2.0 * q0 * q2m;
+        let m2 = (2.0 * q1m * q1m + 2.0 * q0 * q2m) * BOUND_MARGIN;
         let mut du = if h < 0.0 || h1 < 0.0 {
             first_root_quadratic(h, h1, 0.5 * m2)
         } else {
             0.0
         };
-        if du < 1e-3 * (t_end - t).max(1e-300) {
-            let m3 = 6.0 * q1m * q2m + 2.0 * q0 * q3m;
+        if du < 1e-3 * (piece_end - t).max(1e-300) {
+            let m3 = (6.0 * q1m * q2m + 2.0 * q0 * q3m) * BOUND_MARGIN;
             if m3 > 0.0 && (h < 0.0 || h1 < 0.0 || (h1 == 0.0 && h2 < 0.0)) {
                 du = du
                     .max(first_root_cubic(h, h1, 0.5 * h2, m3 / 6.0) * (1.0 - 4.0 * f64::EPSILON));
@@ -228,8 +290,20 @@ pub fn find_onset(
             // onset lies on the contact side), t itself otherwise (a touch).
             return Onset::At(if h1 > 0.0 { t.next_up().min(t_end) } else { t });
         }
-        t = t_next.min(t_end);
+        t = t_next.min(piece_end);
     }
+}
+
+/// Relative inflation of the bounds $M_2$, $M_3$ against their own rounding (sums and
+/// products of a few positive numbers).
+const BOUND_MARGIN: f64 = 1.0 + 16.0 * f64::EPSILON;
+
+/// The first of `times` strictly after `t` (infinity if none).
+fn next_after(times: &Vector2<f64>, t: f64) -> f64 {
+    times
+        .iter()
+        .filter(|&&c| c > t)
+        .fold(f64::INFINITY, |a, &c| a.min(c))
 }
 
 fn inv_or_zero(x: f64) -> f64 {
