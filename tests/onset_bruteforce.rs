@@ -627,6 +627,8 @@ struct Tally {
     max_depth: f64,
     /// First few failures, for the message.
     failures: Vec<String>,
+    /// Search evaluations per ring motion.
+    evals_by_motion: std::collections::BTreeMap<String, u64>,
     /// Failures per ring motion (index in `MOTIONS`, the two crossing entries merged) and side.
     failures_by_class: std::collections::BTreeMap<String, u64>,
 }
@@ -662,6 +664,10 @@ fn run(n: usize, seed: u64) -> Tally {
             &mut stats,
         );
         tally.search_evals += stats.evaluations;
+        *tally
+            .evals_by_motion
+            .entry(format!("{:?}", case.motion))
+            .or_default() += stats.evaluations;
         tally.cases += 1;
         tally.min_depth = tally.min_depth.min(case.depth.abs());
         tally.max_depth = tally.max_depth.max(case.depth.abs());
@@ -769,6 +775,7 @@ fn check(n: usize, seed: u64) {
         t.search_evals,
         t.oracle_evals
     );
+    println!("search evaluations by ring motion: {:?}", t.evals_by_motion);
     println!("failures by ring motion/side: {:?}", t.failures_by_class);
     for f in t.failures.iter().take(12) {
         println!("{f}");

@@ -313,15 +313,29 @@ mod tests {
 
     #[test]
     fn bounds_hold_along_the_trajectory() {
-        let p = Preset::Fig8a.params();
-        let seg = FreeOscillator::new(&p).segment(0.0, &[0.0; 4]);
-        let b = seg.bounds();
-        for k in 0..2000 {
-            let t = k as f64 * 0.01;
-            let (y, a) = seg.state_accel(t);
-            assert!((y[0] - p.ex).hypot(y[1] - p.ey) <= b.position);
-            assert!(y[2].hypot(y[3]) <= b.velocity);
-            assert!(a[0].hypot(a[1]) <= b.acceleration);
+        // Every damping case (the energy argument holds for all nu1 >= 0), from a start far from
+        // the steady orbit, the jerk from the differentiated equation of motion.
+        for nu1 in [0.125, 0.0, 1.0, 2.5] {
+            let p = Params {
+                nu1,
+                ..Preset::Fig8a.params()
+            };
+            let seg = FreeOscillator::new(&p).segment(0.0, &[-0.8, 0.6, 1.5, -2.0]);
+            let b = seg.bounds();
+            let amp = p.forcing_amplitude();
+            for k in 0..2000 {
+                let t = k as f64 * 0.01;
+                let (y, a) = seg.state_accel(t);
+                let th = p.phi0 + p.eta * t;
+                let jerk = [
+                    -amp * p.eta * th.sin() - 2.0 * nu1 * a[0] - y[2],
+                    amp * p.eta * th.cos() - 2.0 * nu1 * a[1] - y[3],
+                ];
+                assert!((y[0] - p.ex).hypot(y[1] - p.ey) <= b.position);
+                assert!(y[2].hypot(y[3]) <= b.velocity);
+                assert!(a[0].hypot(a[1]) <= b.acceleration);
+                assert!(jerk[0].hypot(jerk[1]) <= b.jerk, "nu1 {nu1}, t {t}");
+            }
         }
     }
 }
