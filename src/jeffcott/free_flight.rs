@@ -299,7 +299,12 @@ mod tests {
             if u >= 1000.0 {
                 let z = steady.state(u);
                 for i in 0..4 {
-                    assert!((y[i] - z[i]).abs() < 1e-12, "u = {u}, {i}: {} vs {}", y[i], z[i]);
+                    assert!(
+                        (y[i] - z[i]).abs() < 1e-12,
+                        "u = {u}, {i}: {} vs {}",
+                        y[i],
+                        z[i]
+                    );
                 }
             }
         }
