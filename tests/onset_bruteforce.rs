@@ -681,7 +681,7 @@ struct Tally {
     failures: Vec<String>,
     /// Search evaluations per ring motion.
     evals_by_motion: std::collections::BTreeMap<String, u64>,
-    /// Failures per ring motion (index in `MOTIONS`, the two crossing entries merged) and side.
+    /// Failures per ring motion, side and kind (miss, late, early, false alarm).
     failures_by_class: std::collections::BTreeMap<String, u64>,
 }
 
@@ -807,7 +807,11 @@ fn run(n: usize, seed: u64) -> Tally {
 
 impl Tally {
     fn record(&mut self, class: &str, failure: String) {
-        *self.failures_by_class.entry(class.to_string()).or_default() += 1;
+        let kind = failure.split(' ').next().unwrap_or("");
+        *self
+            .failures_by_class
+            .entry(format!("{class} {kind}"))
+            .or_default() += 1;
         self.failures.push(failure);
     }
 }
