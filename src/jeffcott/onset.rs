@@ -141,9 +141,10 @@ impl RelaxingRing {
         let s = ring.relax(&self.s0, t - self.t0);
         (s, ring.relax_velocity(&s))
     }
+
     /// Absolute times $t_0 + t_{1,i}$ at which each axis of the free ring comes back inside its
     /// preload ([`SnubberRing::time_to_preload`]): there the ring's velocity drops by the factor
-    /// 2 and $h'$ jumps, so the search is cut there. Infinity for an axis that never crosses: at
+    /// 2 and $h^\prime$ jumps, so the search is cut there. Infinity for an axis that never crosses: at
     /// rest, inside its preload from the start, without preload, or without ring damping.
     pub fn preload_crossings(&self, ring: &SnubberRing) -> Vector2<f64> {
         let t1 = ring.time_to_preload(&self.s0);
@@ -157,7 +158,7 @@ impl RelaxingRing {
         Vector2::new(crossing(0, &ring.x), crossing(1, &ring.y))
     }
 
-    /// Position and *right* velocity $s'(t^+)$ at `t`, on the smooth piece that starts at or
+    /// Position and *right* velocity $s^\prime(t^+)$ at `t`, on the smooth piece that starts at or
     /// contains `t`: an axis is on its inner piece from its crossing time (`crossings`, from
     /// [`RelaxingRing::preload_crossings`]) on, included, so that a node on a crossing gets the
     /// derivatives of the piece after it. Without ring damping the ring is at its centre (the
