@@ -817,6 +817,7 @@ impl Tally {
 }
 
 fn check(n: usize, seed: u64) {
+    assert_eq!(EPS_H, jeffcott::jeffcott::onset::H_TOLERANCE);
     let t = run(n, seed);
     println!(
         "cases {} (contacts {}, clear {}, ambiguous {}): misses {} ({} late), false alarms {} ({} \
