@@ -45,6 +45,7 @@
 //! | [`hybrid`] | the [`hybrid::RotorModel`] trait of piecewise-smooth rotor models and the driver through modes and events |
 //! | [`jeffcott`] | the paper's model implementing [`hybrid::RotorModel`] |
 //! | [`analysis`] | period detection, section crossings, deterministic parallel parameter sweeps |
+//! | [`stability`] | linearisation through events: saltation matrices |
 //!
 //! Long-form guides live in the repository's `docs/` folder: `model.md` (the model as
 //! implemented, every erratum of the paper and every choice), `integrators.md`, `ring.md`,
@@ -80,6 +81,7 @@ pub mod ode;
 pub mod params;
 pub mod ring;
 pub mod rotor;
+pub mod stability;
 
 /// The linear algebra crate of the public API (states are `nalgebra` vectors).
 pub use nalgebra;

@@ -767,4 +767,3 @@ fn rk4_and_adaptive_agree_on_contact_scene() {
     let d = strobe_diff(&a, &b);
     assert!(d < 1e-7, "{d:e}");
 }
-

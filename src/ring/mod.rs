@@ -34,6 +34,7 @@ mod element;
 mod locate;
 mod regime;
 mod relax;
+pub mod sensitivity;
 
 pub use branch::{Branch, Branches};
 pub use element::{
@@ -42,6 +43,7 @@ pub use element::{
 pub use locate::{regime_ii_position, regime_v_position, RingContact, MAX_ITERATIONS};
 pub use regime::{boundaries, Regime};
 pub use relax::Relaxation;
+pub use sensitivity::{ContactHessian, ForceJacobian, GuardGradient};
 
 /// Errors of the snubber-ring element: every variant names the offending field and its value.
 #[derive(Debug, Clone, Copy, PartialEq, Error)]

@@ -1,0 +1,16 @@
+//! Stability of non-smooth orbits: linearisation of the hybrid flow through its events.
+//!
+//! Smooth variational equations are wrong across a contact: a perturbation that moves an event
+//! in time picks up the jump of the vector field there. This module collects the pieces that
+//! carry a perturbation through a piecewise-smooth trajectory:
+//!
+//! * [`saltation()`]: the saltation matrix of one event, for any state dimension (fixed or
+//!   dynamic), with a typed grazing flag;
+//! * the model-side derivatives it is built from live with the models: the ring's in
+//!   [`crate::ring`] (`ContactHessian`, `ForceJacobian`, `GuardGradient`, the relaxation's
+//!   sensitivities), the paper's free flight in
+//!   [`crate::jeffcott::free_flight::FreeOscillator::transition_matrix`].
+
+pub mod saltation;
+
+pub use saltation::{saltation, EventLinearization, Saltation, SaltationError, GRAZING_MARGIN};
