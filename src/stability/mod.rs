@@ -14,3 +14,10 @@
 pub mod saltation;
 
 pub use saltation::{saltation, EventLinearization, Saltation, SaltationError, GRAZING_MARGIN};
+pub mod floquet;
+pub mod newton;
+pub mod statistics;
+
+pub use floquet::{multipliers, CrossingKind, FloquetError, Multiplier};
+pub use newton::{newton_fixed_point, FixedPoint, MapValue, NewtonError, NewtonOptions};
+pub use statistics::{qr_step, BatchEstimate, BatchMeans};
