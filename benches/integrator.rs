@@ -9,11 +9,11 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use jeffcott::hybrid::{OutputPlan, SimOptions};
-use jeffcott::jeffcott::{JeffcottModel, State};
 use jeffcott::ode::{
     find_first_event, AnyIntegrator, Direction, EventOptions, EventSet, EventState, Integrator,
     Method, OdeSystem, Options,
 };
+use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::Preset;
 use nalgebra::SVector;
 use std::hint::black_box;
@@ -139,7 +139,7 @@ fn rotor(c: &mut Criterion) {
         let (warm, _) = model
             .stroboscopic(&State::zeros(), 300, 300, &opts)
             .unwrap();
-        let (_, t0, y0, _) = warm.strobe[0];
+        let (t0, y0) = (warm.strobe[0].t, warm.strobe[0].y);
         let plan = OutputPlan {
             t_end: t0 + 10.0 * period,
             strobe: None,

@@ -31,9 +31,9 @@ use std::time::Instant;
 use common::cli::Cli;
 use common::csv::CsvWriter;
 use common::plot::{self, Figure, LegendPosition, Series};
-use jeffcott::hybrid::{EventRecord, OutputPlan, SimOptions, SimStats};
-use jeffcott::jeffcott::{guard, JeffcottModel, State};
+use jeffcott::hybrid::{EventRecord, OutputPlan, SimOptions, SimStats, StrobeRange};
 use jeffcott::ode::Method;
+use jeffcott::paper::{guard, JeffcottModel, State};
 use jeffcott::params::{Params, Preset};
 
 /// A fixed test scene.
@@ -93,7 +93,10 @@ fn run(scene: &Scene, opts: &SimOptions, repeat: usize) -> Result<RunResult, Str
     let t_end = scene.params.forcing_period() * scene.periods as f64;
     let plan = OutputPlan {
         t_end,
-        strobe: Some((scene.periods, scene.periods)),
+        strobe: Some(StrobeRange {
+            first: scene.periods,
+            last: scene.periods,
+        }),
         dense: None,
         events: true,
     };
@@ -108,7 +111,7 @@ fn run(scene: &Scene, opts: &SimOptions, repeat: usize) -> Result<RunResult, Str
             .strobe
             .last()
             .ok_or_else(|| "no stroboscopic output".to_string())?
-            .2;
+            .y;
         out = Some((end, traj.events, stats));
     }
     let (end, events, stats) = out.expect("at least one run");

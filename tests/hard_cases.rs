@@ -10,9 +10,12 @@
 use std::sync::mpsc;
 use std::time::Duration;
 
-use jeffcott::hybrid::{OutputPlan, SimErrorKind, SimOptions, SimStats, Trajectory};
-use jeffcott::jeffcott::{guard, JeffcottModel, RunFailure, State};
+use jeffcott::hybrid::{
+    DenseSampling, OutputPlan, SimErrorKind, SimOptions, SimStats, StrobePoint, StrobeRange,
+    Trajectory,
+};
 use jeffcott::ode::Method;
+use jeffcott::paper::{guard, JeffcottModel, RunFailure, State};
 use jeffcott::params::{Params, Preset};
 use nalgebra::Vector2;
 
@@ -37,7 +40,10 @@ fn run(p: Params, y0: State, periods: u64, opts: SimOptions) -> Outcome {
         let m = JeffcottModel::new(p).expect("valid parameters");
         let plan = OutputPlan {
             t_end: p.forcing_period() * periods as f64,
-            strobe: Some((0, periods)),
+            strobe: Some(StrobeRange {
+                first: 0,
+                last: periods,
+            }),
             dense: None,
             events: true,
         };
@@ -58,7 +64,7 @@ fn tol(rtol: f64, atol: f64) -> SimOptions {
 }
 
 fn last(t: &Trajectory<6>) -> State {
-    t.strobe.last().expect("stroboscopic output").2
+    t.strobe.last().expect("stroboscopic output").y
 }
 
 fn max_diff(a: &State, b: &State) -> f64 {
@@ -71,14 +77,20 @@ fn strobe_diff(a: &Trajectory<6>, b: &Trajectory<6>) -> f64 {
     a.strobe
         .iter()
         .zip(&b.strobe)
-        .map(|(x, y)| max_diff(&x.2, &y.2))
+        .map(|(a, b)| max_diff(&a.y, &b.y))
         .fold(0.0, f64::max)
 }
 
 /// All stroboscopic states finite and the rotor within `r_max` of the centre with speed at most
 /// `v_max`; the ring within the rotor's reach (`|r - s| <= 1 + 1e-7`).
 fn assert_sane(t: &Trajectory<6>, r_max: f64, v_max: f64, what: &str) {
-    for (k, _, y, _) in &t.strobe {
+    for StrobePoint {
+        k,
+        t: _,
+        y,
+        label: _,
+    } in &t.strobe
+    {
         assert!(
             y.iter().all(|v| v.is_finite()),
             "{what}: non-finite at k = {k}: {y:?}"
@@ -190,7 +202,7 @@ fn free_flight_matches_closed_form_computed_here() {
     let y0 = State::from([p.ex, 0.0, 0.0, 0.0, 0.0, 0.0]);
     let (t, _) = ok(run(p, y0, 40, SimOptions::default()), "free");
     assert_eq!(t.events.len(), 0);
-    for (k, tk, y, label) in &t.strobe {
+    for StrobePoint { k, t: tk, y, label } in &t.strobe {
         let e = free_flight(&p, [p.ex, 0.0, 0.0, 0.0], *tk);
         for i in 0..4 {
             assert!(
@@ -213,7 +225,13 @@ fn grazing_orbit_just_inside_never_touches() {
     let (t, _) = ok(run(p, y0, 200, SimOptions::default()), "inside");
     assert_eq!(t.events.len(), 0, "{:?}", t.events.first());
     let z0 = [y0[0], y0[1], y0[2], y0[3]];
-    for (k, tk, y, _) in &t.strobe {
+    for StrobePoint {
+        k,
+        t: tk,
+        y,
+        label: _,
+    } in &t.strobe
+    {
         let e = free_flight(&p, z0, *tk);
         for i in 0..4 {
             assert!((y[i] - e[i]).abs() < 1e-11, "k = {k}, i = {i}");
@@ -239,7 +257,13 @@ fn grazing_orbit_just_outside_touches_every_period() {
     );
     assert_sane(&t, 1.0 + 1e-6, 1.0, "outside");
     let z0 = [y0[0], y0[1], y0[2], y0[3]];
-    for (k, tk, y, _) in &t.strobe {
+    for StrobePoint {
+        k,
+        t: tk,
+        y,
+        label: _,
+    } in &t.strobe
+    {
         let e = free_flight(&p, z0, *tk);
         for i in 0..4 {
             assert!((y[i] - e[i]).abs() < 1e-6, "k = {k}, i = {i}");
@@ -511,7 +535,13 @@ fn small_and_large_eta() {
     let y0 = State::from([p.ex, 0.0, 0.0, 0.0, 0.0, 0.0]);
     let (t, _) = ok(run(p, y0, 5, SimOptions::default()), "eta 0.1");
     assert_eq!(contact_events(&t), 0);
-    for (k, tk, y, _) in &t.strobe {
+    for StrobePoint {
+        k,
+        t: tk,
+        y,
+        label: _,
+    } in &t.strobe
+    {
         let e = free_flight(&p, [p.ex, 0.0, 0.0, 0.0], *tk);
         for i in 0..4 {
             assert!((y[i] - e[i]).abs() < 1e-11, "k = {k}");
@@ -596,7 +626,10 @@ fn no_contact_mode_inside_the_gap_circle() {
         let plan = OutputPlan {
             t_end: 10.0,
             strobe: None,
-            dense: Some((0.0, 0.005)),
+            dense: Some(DenseSampling {
+                t_start: 0.0,
+                dt: 0.005,
+            }),
             events: true,
         };
         m.run(0.0, &State::zeros(), &plan, &SimOptions::default())
@@ -649,7 +682,13 @@ fn long_run(p: Params, y0: State, periods: u64, secs: u64) -> (f64, SimStats) {
             .unwrap_or_else(|f| panic!("{}", f.error));
         assert_eq!(t.strobe.len() as u64, periods + 1);
         let mut e_max = 0.0f64;
-        for (k, _, y, _) in &t.strobe {
+        for StrobePoint {
+            k,
+            t: _,
+            y,
+            label: _,
+        } in &t.strobe
+        {
             assert!(y.iter().all(|v| v.is_finite()), "k = {k}");
             e_max = e_max.max(energy(&p, y));
         }

@@ -4,8 +4,9 @@
 use nalgebra::SVector;
 use thiserror::Error;
 
-use super::record::{EventRecord, HybridObserver, OutputPlan, Sample};
-use super::{ExactSegment, Flow, ModelError, RotorModel};
+use super::record::{EventRecord, HybridObserver, OutputPlan, Sample, StrobePoint};
+use super::{ExactSegment, Flow, GuardCrossing, ModelError, RotorModel};
+use crate::ode::events::MAX_SAMPLES;
 use crate::ode::{
     find_first_event, AnyIntegrator, Direction, EventOptions, EventSet, EventState, Integrator,
     Method, OdeError, OdeSystem, Options, Tolerance,
@@ -24,7 +25,8 @@ pub struct SimOptions {
     pub steps_per_period: u32,
     /// Largest step as a fraction of the forcing period (> 0). Default 0.25.
     pub max_step_fraction: f64,
-    /// Interior samples per step for guard detection on the dense output. Default 4.
+    /// Interior samples per step for guard detection on the dense output, in
+    /// `1..=`[`MAX_SAMPLES`]. Default 4.
     pub event_samples: usize,
     /// Chattering bound: more transitions than this within one forcing period is an error
     /// ([`SimErrorKind::Chattering`]). Default 1000.
@@ -169,8 +171,10 @@ enum Due {
 
 impl Schedule {
     fn new(plan: &OutputPlan, period: f64, t0: f64) -> Self {
-        let (first, last) = plan.strobe.unwrap_or((1, 0));
-        let (d0, dt) = plan.dense.unwrap_or((f64::INFINITY, 1.0));
+        let (first, last) = plan.strobe.map_or((1, 0), |r| (r.first, r.last));
+        let (d0, dt) = plan
+            .dense
+            .map_or((f64::INFINITY, 1.0), |d| (d.t_start, d.dt));
         let mut s = Self {
             period,
             strobe_next: first,
@@ -295,11 +299,34 @@ fn check_options(opts: &SimOptions, plan: &OutputPlan, t0: f64) -> Result<(), Si
             "t_end must be finite and not before the start",
         );
     }
-    if let Some((_, dt)) = plan.dense {
-        if !(dt.is_finite() && dt > 0.0) {
+    if opts.event_samples == 0 || opts.event_samples > MAX_SAMPLES {
+        return bad(
+            "event_samples",
+            opts.event_samples as f64,
+            "use 1..=ode::MAX_SAMPLES (64) interior samples per step, e.g. 4",
+        );
+    }
+    if let Some(r) = plan.strobe {
+        if r.first > r.last {
+            return bad(
+                "strobe.first",
+                r.first as f64,
+                "the stroboscopic range is reversed: first must not exceed last",
+            );
+        }
+    }
+    if let Some(d) = plan.dense {
+        if !d.t_start.is_finite() {
+            return bad(
+                "dense.t_start",
+                d.t_start,
+                "the first dense sample time must be finite",
+            );
+        }
+        if !(d.dt.is_finite() && d.dt > 0.0) {
             return bad(
                 "dense.dt",
-                dt,
+                d.dt,
                 "the dense sampling interval must be finite and > 0",
             );
         }
@@ -373,17 +400,17 @@ where
                 let found = loop {
                     let target = sched.next_time().min(plan.t_end);
                     let hit = seg.next_guard(t, target);
-                    let t_stop = hit.map_or(target, |(_, tg)| tg);
+                    let t_stop = hit.map_or(target, |h| h.t);
                     while let Some((to, due)) = sched.pop_due(t_stop) {
                         seg.eval(to, &mut y, &mut dy);
                         emit(model, mode, obs, due, to, &y, &dy);
                     }
-                    if let Some((g, tg)) = hit {
+                    if let Some(GuardCrossing { guard, t: tg }) = hit {
                         seg.eval(tg, &mut y, &mut dy);
                         if !y.iter().all(|v| v.is_finite()) {
                             return Err(fail(SimErrorKind::NonFinite, t, y, stats));
                         }
-                        break Some((g, tg));
+                        break Some((guard, tg));
                     }
                     t = target;
                     if t >= plan.t_end {
@@ -500,7 +527,7 @@ fn emit<const N: usize, M: RotorModel<N>, O: HybridObserver<N>>(
 ) {
     let label = model.mode_label(mode);
     match due {
-        Due::Strobe(k) => obs.on_strobe(k, t, y, label),
+        Due::Strobe(k) => obs.on_strobe(&StrobePoint { k, t, y: *y, label }),
         Due::Dense => obs.on_sample(&Sample {
             t,
             y: *y,

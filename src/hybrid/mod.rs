@@ -9,7 +9,7 @@
 //! The [`RotorModel`] trait is that interface: a larger rotordynamics code (a 4-DOF rotor, a
 //! reduced finite-element rotor with the same snubber ring element) implements it and reuses
 //! [`simulate`], the event machinery of [`crate::ode`] and the analyses of
-//! [`crate::analysis`]. [`crate::jeffcott::JeffcottModel`] is the paper's model.
+//! [`crate::analysis`]. [`crate::paper::JeffcottModel`] is the paper's model.
 //!
 //! Rules the driver relies on:
 //! * inside a mode the vector field must be smooth (extend each branch's formula beyond its
@@ -23,7 +23,10 @@ mod driver;
 mod record;
 
 pub use driver::{simulate, SimError, SimErrorKind, SimOptions, SimStats};
-pub use record::{EventRecord, HybridObserver, OutputPlan, Sample, Trajectory};
+pub use record::{
+    DenseSampling, EventRecord, HybridObserver, OutputPlan, Sample, StrobePoint, StrobeRange,
+    Trajectory,
+};
 
 use std::fmt::Debug;
 
@@ -33,6 +36,7 @@ use crate::ode::Direction;
 
 /// How a mode is advanced in time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Flow {
     /// Integrated numerically by the driver's [`crate::ode::Integrator`].
     Integrated,
@@ -62,15 +66,24 @@ pub enum ModelError {
     },
 }
 
+/// The first guard crossing an [`ExactSegment`] finds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GuardCrossing {
+    /// Index of the guard that fires.
+    pub guard: usize,
+    /// Time of the crossing.
+    pub t: f64,
+}
+
 /// The closed-form motion of an exact mode, from the state it was started with.
 pub trait ExactSegment<const N: usize> {
     /// State and its time derivative at time `t` (not before the segment's start).
     fn eval(&self, t: f64, y: &mut SVector<f64, N>, dy: &mut SVector<f64, N>);
-    /// Searches $(t_\text{from}, t_\text{to}]$ for the first guard crossing; returns the
-    /// guard's index and time, or `None` if none occurs up to `t_to`. Must not miss a
-    /// crossing (document how) and must not fire a guard that is zero at the segment's start
-    /// unless it is moving into its crossing direction.
-    fn next_guard(&mut self, t_from: f64, t_to: f64) -> Option<(usize, f64)>;
+    /// Searches $(t_\text{from}, t_\text{to}]$ for the first guard crossing; returns it, or
+    /// `None` if none occurs up to `t_to`. Must not miss a crossing (document how) and must
+    /// not fire a guard that is zero at the segment's start unless it is moving into its
+    /// crossing direction.
+    fn next_guard(&mut self, t_from: f64, t_to: f64) -> Option<GuardCrossing>;
     /// Closed-form evaluations made so far (for statistics).
     fn evaluations(&self) -> u64;
 }
@@ -85,7 +98,7 @@ impl<const N: usize> ExactSegment<N> for NoExactModes {
         y.fill(f64::NAN);
         dy.fill(f64::NAN);
     }
-    fn next_guard(&mut self, _t_from: f64, t_to: f64) -> Option<(usize, f64)> {
+    fn next_guard(&mut self, _t_from: f64, t_to: f64) -> Option<GuardCrossing> {
         let _ = t_to;
         None
     }

@@ -2,30 +2,65 @@
 
 use nalgebra::SVector;
 
+/// Stroboscopic outputs at $t_k = k P$ ($P$ the forcing period) for `k` in `first..=last`.
+///
+/// `first > last` is an invalid option of [`super::simulate`] (not an empty output).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct StrobeRange {
+    /// First index `k` (inclusive).
+    pub first: u64,
+    /// Last index `k` (inclusive, at least `first`).
+    pub last: u64,
+}
+
+/// Dense samples at $t_\text{start} + i\thinspace\Delta t$, $i = 0, 1, \dots$, up to the end of
+/// the run (phase portraits).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DenseSampling {
+    /// Time of the first sample (samples before the run's start are skipped).
+    pub t_start: f64,
+    /// Interval $\Delta t$ between samples (finite, > 0).
+    pub dt: f64,
+}
+
 /// Which outputs a run produces (all times absolute).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OutputPlan {
     /// End time of the run.
     pub t_end: f64,
-    /// Stroboscopic outputs at $t_k = k P$ ($P$ the forcing period) for
-    /// `k` in `strobe_first..=strobe_last`; `None` for none.
-    pub strobe: Option<(u64, u64)>,
-    /// Dense samples every `dt` from `t_start` on (phase portraits); `None` for none.
-    pub dense: Option<(f64, f64)>,
+    /// Stroboscopic outputs; `None` for none.
+    pub strobe: Option<StrobeRange>,
+    /// Dense samples; `None` for none.
+    pub dense: Option<DenseSampling>,
     /// Whether events are passed to the observer.
     pub events: bool,
 }
 
 impl OutputPlan {
     /// Stroboscopic outputs `k = first..=last`, nothing else; the run ends at the last.
+    /// (`first > last` is rejected by [`super::simulate`].)
     pub fn strobe(period: f64, first: u64, last: u64) -> Self {
         Self {
             t_end: period * last as f64,
-            strobe: Some((first, last)),
+            strobe: Some(StrobeRange { first, last }),
             dense: None,
             events: false,
         }
     }
+}
+
+/// A stroboscopic output: index `k`, time $t_k = kP$, state, mode label.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StrobePoint<const N: usize> {
+    /// Forcing periods since $t = 0$.
+    pub k: u64,
+    /// Time $t_k = kP$.
+    pub t: f64,
+    /// State at $t_k$ (its left limit if an event falls exactly there).
+    pub y: SVector<f64, N>,
+    /// Mode label at $t_k$ ([`super::RotorModel::mode_label`]; for the paper's model the
+    /// regime, 1..=5 for I..V).
+    pub label: u8,
 }
 
 /// A dense sample: time, state, its derivative and the mode label.
@@ -60,9 +95,9 @@ pub struct EventRecord<const N: usize> {
 
 /// Receives a run's outputs. Every method defaults to doing nothing.
 pub trait HybridObserver<const N: usize> {
-    /// Stroboscopic output `k` at time `t` (the state's left limit if an event is exactly there).
-    fn on_strobe(&mut self, k: u64, t: f64, y: &SVector<f64, N>, label: u8) {
-        let _ = (k, t, y, label);
+    /// A stroboscopic output.
+    fn on_strobe(&mut self, point: &StrobePoint<N>) {
+        let _ = point;
     }
     /// A dense sample.
     fn on_sample(&mut self, sample: &Sample<N>) {
@@ -79,17 +114,17 @@ impl<const N: usize> HybridObserver<N> for () {}
 /// Records everything in memory.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Trajectory<const N: usize> {
-    /// Stroboscopic outputs `(k, t, y, label)`.
-    pub strobe: Vec<(u64, f64, SVector<f64, N>, u8)>,
-    /// Dense samples.
+    /// Stroboscopic outputs, in time order.
+    pub strobe: Vec<StrobePoint<N>>,
+    /// Dense samples, in time order.
     pub samples: Vec<Sample<N>>,
-    /// Event log.
+    /// Event log, in time order.
     pub events: Vec<EventRecord<N>>,
 }
 
 impl<const N: usize> HybridObserver<N> for Trajectory<N> {
-    fn on_strobe(&mut self, k: u64, t: f64, y: &SVector<f64, N>, label: u8) {
-        self.strobe.push((k, t, *y, label));
+    fn on_strobe(&mut self, point: &StrobePoint<N>) {
+        self.strobe.push(*point);
     }
     fn on_sample(&mut self, sample: &Sample<N>) {
         self.samples.push(*sample);

@@ -7,8 +7,8 @@ use nalgebra::{SVector, Vector2};
 use super::free_flight::{FreeFlight, FreeOscillator};
 use super::onset::{find_onset, Onset, OnsetStats, RelaxingRing};
 use crate::hybrid::{
-    simulate, ExactSegment, Flow, ModelError, OutputPlan, RotorModel, SimError, SimOptions,
-    SimStats, Trajectory,
+    simulate, ExactSegment, Flow, GuardCrossing, ModelError, OutputPlan, RotorModel, SimError,
+    SimOptions, SimStats, Trajectory,
 };
 use crate::ode::Direction;
 use crate::params::{ParamError, Params};
@@ -27,6 +27,7 @@ const CORNER_TOL: f64 = 1e-10;
 
 /// A mode of the model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Mode {
     /// Regime I: no contact; rotor and ring move in closed form.
     Free,
@@ -195,7 +196,8 @@ impl JeffcottModel {
     /// Stroboscopic states $y(2\pi k/\eta)$ for `k = first..=last`, from `y0` at time 0.
     ///
     /// # Errors
-    /// [`RunFailure`] carrying the error and the states computed before it.
+    /// [`RunFailure`] carrying the error and the states computed before it; a reversed range
+    /// (`first > last`) is [`crate::hybrid::SimErrorKind::InvalidOption`].
     pub fn stroboscopic(
         &self,
         y0: &State,
@@ -317,11 +319,11 @@ impl ExactSegment<6> for FreeSegment {
         *dy = State::from([r[2], r[3], acc[0], acc[1], sd.x, sd.y]);
     }
 
-    fn next_guard(&mut self, t_from: f64, t_to: f64) -> Option<(usize, f64)> {
+    fn next_guard(&mut self, t_from: f64, t_to: f64) -> Option<GuardCrossing> {
         self.searched_to = self.searched_to.max(t_from);
         loop {
             if let Some(t) = self.found {
-                return (t <= t_to).then_some((0, t));
+                return (t <= t_to).then_some(GuardCrossing { guard: 0, t });
             }
             if self.searched_to >= t_to {
                 return None;
