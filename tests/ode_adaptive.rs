@@ -8,7 +8,7 @@ use jeffcott::ode::{
     solve, AnyIntegrator, Dop853, Dopri5, Integrator, Method, NoEvents, OdeError, OdeSystem,
     Options, Recorder, Rk4, Stopped, Tolerance,
 };
-use nalgebra::SVector;
+use nalgebra::{Const, SVector, U4};
 
 mod common;
 use common::{slope, Kepler, V4};
@@ -19,7 +19,7 @@ struct Arenstorf;
 const MU: f64 = 0.012277471;
 const T_ARENSTORF: f64 = 17.065_216_560_157_962_558_891_720_624_9;
 
-impl OdeSystem<4> for Arenstorf {
+impl OdeSystem<U4> for Arenstorf {
     fn rhs(&self, _t: f64, y: &V4, dy: &mut V4) {
         let mu1 = 1.0 - MU;
         let d1 = ((y[0] + MU).powi(2) + y[1] * y[1]).powf(1.5);
@@ -35,9 +35,9 @@ fn arenstorf_y0() -> V4 {
     V4::new(0.994, 0.0, 0.0, -2.001_585_106_379_082_522_405_378_622_24)
 }
 
-fn run_to<const N: usize, S: OdeSystem<N>>(
+fn run_to<const N: usize, S: OdeSystem<Const<N>>>(
     method: Method,
-    opts: Options<N>,
+    opts: Options<Const<N>>,
     sys: &S,
     y0: SVector<f64, N>,
     t_end: f64,

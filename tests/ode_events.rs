@@ -4,7 +4,7 @@ use jeffcott::ode::{
     find_first_event, solve, solve_with, AnyIntegrator, Direction, Dop853, EventOptions, EventSet,
     EventState, Integrator, Method, OdeSystem, Options, Recorder, Stopped,
 };
-use nalgebra::SVector;
+use nalgebra::{Const, SVector, U1, U2};
 use std::f64::consts::PI;
 
 type V1 = SVector<f64, 1>;
@@ -28,7 +28,7 @@ struct Events<F> {
     fs: Vec<(F, Direction, bool)>,
 }
 
-impl<const N: usize, F: Fn(f64, &SVector<f64, N>) -> f64> EventSet<N> for Events<F> {
+impl<const N: usize, F: Fn(f64, &SVector<f64, N>) -> f64> EventSet<Const<N>> for Events<F> {
     fn len(&self) -> usize {
         self.fs.len()
     }
@@ -50,7 +50,7 @@ struct Comp0 {
     with_derivative: bool,
 }
 
-impl<const N: usize> EventSet<N> for Comp0 {
+impl<const N: usize> EventSet<Const<N>> for Comp0 {
     fn len(&self) -> usize {
         1
     }
@@ -171,7 +171,7 @@ fn direction_filtering() {
 }
 
 /// One big fixed step [0, 2] of $y' = 1$ (so $y = t$), events inside it.
-fn one_big_step() -> Dop853<1> {
+fn one_big_step() -> Dop853<U1> {
     let sys = |_t: f64, _y: &V1, dy: &mut V1| dy[0] = 1.0;
     let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
     integ.reset(&sys, 0.0, &V1::zeros(), false).unwrap();
@@ -204,14 +204,23 @@ fn two_events_in_one_step_earliest_wins_and_ties_go_to_lower_index() {
             ],
         };
         let mut st = EventState::new();
-        let hit = find_first_event(&mut integ, &unit, &ev, &opts, &mut st).unwrap();
+        let hit = find_first_event(&mut integ, &unit, &ev, &opts, &mut st)
+            .unwrap()
+            .copied()
+            .unwrap();
         let (want_idx, want_t) = if a < b { (0, a) } else { (1, b) };
         assert_eq!(hit.index, want_idx);
         assert!((hit.t - want_t).abs() < 2e-15, "{} vs {want_t}", hit.t);
         // The next call on the same step resumes after the first hit.
-        let hit2 = find_first_event(&mut integ, &unit, &ev, &opts, &mut st).unwrap();
+        let hit2 = find_first_event(&mut integ, &unit, &ev, &opts, &mut st)
+            .unwrap()
+            .copied()
+            .unwrap();
         assert_eq!(hit2.index, 1 - want_idx);
-        assert!(find_first_event(&mut integ, &unit, &ev, &opts, &mut st).is_none());
+        assert!(find_first_event(&mut integ, &unit, &ev, &opts, &mut st)
+            .unwrap()
+            .copied()
+            .is_none());
     }
     // Tie: identical functions -> index 0, deterministically.
     let g: F = |_t, y| y[0] - 1.3;
@@ -224,7 +233,10 @@ fn two_events_in_one_step_earliest_wins_and_ties_go_to_lower_index() {
     };
     for _ in 0..3 {
         let mut integ = one_big_step();
-        let hit = find_first_event(&mut integ, &unit, &ev, &opts, &mut EventState::new()).unwrap();
+        let hit = find_first_event(&mut integ, &unit, &ev, &opts, &mut EventState::new())
+            .unwrap()
+            .copied()
+            .unwrap();
         assert_eq!(hit.index, 0);
     }
 }
@@ -276,7 +288,10 @@ fn event_at_start_time_does_not_refire() {
     let mut hits = vec![];
     while integ.t() < 10.0 && hits.len() < 3 {
         integ.step(&quad_sin, 10.0).unwrap();
-        if let Some(h) = find_first_event(&mut integ, &quad_sin, &ev, &opts, &mut st) {
+        if let Some(h) = find_first_event(&mut integ, &quad_sin, &ev, &opts, &mut st)
+            .unwrap()
+            .copied()
+        {
             integ.truncate(&quad_sin, h.t).unwrap();
             let (t, y) = (integ.t(), *integ.y());
             integ.reset(&quad_sin, t, &y, true).unwrap();
@@ -296,7 +311,10 @@ fn event_at_start_time_does_not_refire() {
     let mut hits = vec![];
     while integ.t() < 10.0 {
         integ.step(&quad_sin, 10.0).unwrap();
-        if let Some(h) = find_first_event(&mut integ, &quad_sin, &ev, &opts, &mut st) {
+        if let Some(h) = find_first_event(&mut integ, &quad_sin, &ev, &opts, &mut st)
+            .unwrap()
+            .copied()
+        {
             integ.truncate(&quad_sin, h.t).unwrap();
             hits.push(h.t);
         }
@@ -338,7 +356,12 @@ fn grazing_dip_found_with_derivative_missed_without() {
         terminal: true,
         with_derivative: false,
     };
-    assert!(find_first_event(&mut integ, &dip, &without, &opts, &mut EventState::new()).is_none());
+    assert!(
+        find_first_event(&mut integ, &dip, &without, &opts, &mut EventState::new())
+            .unwrap()
+            .copied()
+            .is_none()
+    );
 
     // With the derivative: found, both roots, to machine precision.
     let mut integ = make();
@@ -348,7 +371,10 @@ fn grazing_dip_found_with_derivative_missed_without() {
         with_derivative: true,
     };
     let mut st = EventState::new();
-    let h1 = find_first_event(&mut integ, &dip, &with, &opts, &mut st).expect("dip must be found");
+    let h1 = find_first_event(&mut integ, &dip, &with, &opts, &mut st)
+        .unwrap()
+        .copied()
+        .expect("dip must be found");
     let r1 = 1.0 - depth.sqrt();
     println!(
         "grazing: first root {} (exact {r1}), error {:.2e}",
@@ -360,7 +386,10 @@ fn grazing_dip_found_with_derivative_missed_without() {
     // the time is accurate to about 1e-16 / 2e-3 * 10.
     assert_eq!(h1.direction, Direction::Falling);
     assert!((h1.t - r1).abs() < 2e-12);
-    let h2 = find_first_event(&mut integ, &dip, &with, &opts, &mut st).expect("second root");
+    let h2 = find_first_event(&mut integ, &dip, &with, &opts, &mut st)
+        .unwrap()
+        .copied()
+        .expect("second root");
     let r2 = 1.0 + depth.sqrt();
     assert_eq!(h2.direction, Direction::Rising);
     assert!((h2.t - r2).abs() < 2e-12, "{} vs {r2}", h2.t);
@@ -372,7 +401,10 @@ fn grazing_dip_found_with_derivative_missed_without() {
         terminal: true,
         with_derivative: true,
     };
-    let h = find_first_event(&mut integ, &dip, &rising, &opts, &mut EventState::new()).unwrap();
+    let h = find_first_event(&mut integ, &dip, &rising, &opts, &mut EventState::new())
+        .unwrap()
+        .copied()
+        .unwrap();
     assert!((h.t - r2).abs() < 2e-12);
 
     // A dip that stays above zero is not an event.
@@ -381,7 +413,12 @@ fn grazing_dip_found_with_derivative_missed_without() {
         .reset(&dip, 0.0, &V1::new(1.0 + depth), false)
         .unwrap();
     integ.step(&dip, 2.0).unwrap();
-    assert!(find_first_event(&mut integ, &dip, &with, &opts, &mut EventState::new()).is_none());
+    assert!(
+        find_first_event(&mut integ, &dip, &with, &opts, &mut EventState::new())
+            .unwrap()
+            .copied()
+            .is_none()
+    );
 }
 
 #[test]
@@ -445,7 +482,7 @@ fn terminal_versus_non_terminal() {
 #[test]
 fn inactive_events_are_ignored() {
     struct Switchable(bool);
-    impl EventSet<1> for Switchable {
+    impl EventSet<U1> for Switchable {
         fn len(&self) -> usize {
             1
         }
@@ -517,7 +554,7 @@ fn event_options_samples_and_tolerance() {
 
 /// Use from a generic function of the trait: the system is a struct.
 struct Pendulum;
-impl OdeSystem<2> for Pendulum {
+impl OdeSystem<U2> for Pendulum {
     fn rhs(&self, _t: f64, y: &V2, dy: &mut V2) {
         dy[0] = y[1];
         dy[1] = -y[0].sin();
@@ -591,7 +628,10 @@ fn bouncing_ball_with_reset_map_never_refires() {
         let mut impacts = vec![];
         while integ.t() < 5.0 {
             integ.step(&ball, 5.0).unwrap();
-            if let Some(h) = find_first_event(&mut integ, &ball, &ev, &opts, &mut st) {
+            if let Some(h) = find_first_event(&mut integ, &ball, &ev, &opts, &mut st)
+                .unwrap()
+                .copied()
+            {
                 assert_eq!(h.direction, Direction::Falling, "re-fired at {}", h.t);
                 integ.truncate(&ball, h.t).unwrap();
                 let y = V2::new(h.y[0], -e * h.y[1]);
@@ -620,7 +660,7 @@ fn bouncing_ball_with_reset_map_never_refires() {
 /// ($\dot g = 2(t - 1)$), so the detector need not evaluate the right-hand side.
 struct DipFromState;
 
-impl EventSet<1> for DipFromState {
+impl EventSet<U1> for DipFromState {
     fn len(&self) -> usize {
         1
     }
@@ -656,6 +696,8 @@ fn derivatives_from_the_state_alone_save_right_hand_sides() {
                 with_derivative: true,
             };
             find_first_event(&mut integ, &dip, &ev, &opts, &mut EventState::new())
+                .unwrap()
+                .copied()
         } else {
             find_first_event(
                 &mut integ,
@@ -664,6 +706,8 @@ fn derivatives_from_the_state_alone_save_right_hand_sides() {
                 &opts,
                 &mut EventState::new(),
             )
+            .unwrap()
+            .copied()
         };
         (hit.expect("dip found").t, integ.stats().rhs_evals - before)
     };
@@ -681,7 +725,7 @@ struct CountingLevel {
     calls: std::cell::Cell<u32>,
 }
 
-impl EventSet<1> for CountingLevel {
+impl EventSet<U1> for CountingLevel {
     fn len(&self) -> usize {
         1
     }
@@ -719,7 +763,9 @@ fn extrema_far_from_zero_are_not_searched_near_ones_are() {
             &ev,
             &EventOptions::default(),
             &mut EventState::new(),
-        );
+        )
+        .unwrap()
+        .copied();
         (hit.is_some(), ev.calls.get())
     };
     let samples = EventOptions::default().samples_per_step as u32 + 2;
