@@ -1,6 +1,6 @@
 //! The detector: [`find_first_event`].
 
-use super::state::{Scratch, Slot};
+use super::state::{Leave, Scratch, Slot};
 use super::{Direction, EventHit, EventOptions, EventSet, EventState};
 use crate::ode::roots::illinois;
 use crate::ode::{Integrator, OdeError, OdeSystem};
@@ -105,10 +105,10 @@ where
 /// start-of-segment and re-arming rules.
 ///
 /// The hit is held by `state` (a reference is returned, nothing is
-/// allocated); clone it to keep it past the next call. Every event of the
-/// set is considered, however many. Counts the hit in
-/// `integ.stats().events` and the rhs evaluations made for event derivatives
-/// in `rhs_evals`.
+/// allocated); clone it to keep it past the next call (`.copied()` on the
+/// result for fixed dimensions). Every event of the set is considered,
+/// however many. Counts the hit in `integ.stats().events` and the rhs
+/// evaluations made for event derivatives in `rhs_evals`.
 ///
 /// # Errors
 /// [`OdeError::InvalidOption`] if `opts` is invalid
@@ -158,6 +158,7 @@ where
         f_a,
         y_b,
         f_b,
+        y_p,
         tmp,
         f_c,
         zero,
@@ -175,9 +176,20 @@ where
 
     let m = opts.samples_per_step;
     let max_iter = opts.max_iter;
+    let vtol = opts.value_tol;
     let tol_at = |t: f64| opts.root_tol.max(4.0 * f64::EPSILON * t.abs());
-    let window = opts.rearm_time.max(2.0 * tol_at(start));
+    // Twice the root tolerance of any interval of this step (the zero left by
+    // a hit located on an earlier, similar step is within it).
+    let window = opts
+        .rearm_time
+        .max(2.0 * tol_at(start.abs().max(t_end.abs())));
     let span = t_end - start;
+    // Probe point of guards that may have left zero at the origin.
+    let t_probe = start
+        + (4.0 * window)
+            .max(span * 2f64.powi(-20))
+            .min(span / (2 * (m + 1)) as f64);
+    let mut probed = false;
 
     y_at(integ, sys, start, y_a);
 
@@ -198,59 +210,48 @@ where
         integ.stats_mut().rhs_evals += 1;
     }
     let dy_a: &OVector<f64, D> = if need_rhs { f_a } else { zero };
-    // Probe point for guards on zero at the origin (evaluated at most once).
-    let t_probe = start
-        + (4.0 * window)
-            .max(span * 2f64.powi(-20))
-            .min(span / (2 * (m + 1)) as f64);
-    let mut probed = false;
     for (i, s) in slots.iter_mut().enumerate() {
         if !s.active {
             continue;
         }
         let g = events.value(i, start, y_a);
         s.g_ref = g;
-        if s.has_der {
-            s.d_ref = events.derivative(i, start, y_a, dy_a).unwrap_or(0.0);
-        }
+        s.g_origin = g;
         s.armed = if at_origin {
-            g.abs() > opts.value_tol
+            g.abs() > vtol
         } else {
             g != 0.0 && !g.is_nan()
         };
-        if !at_origin || s.armed {
-            continue;
+        if at_origin && !s.armed {
+            if let Some((j, d)) = *last_hit {
+                if j == i {
+                    // The event that just fired keeps its post-crossing sign.
+                    s.armed = true;
+                    s.g_ref = if d == Direction::Falling {
+                        -f64::MIN_POSITIVE
+                    } else {
+                        f64::MIN_POSITIVE
+                    };
+                }
+            }
         }
-        if let Some((j, d)) = *last_hit {
-            if j == i {
-                // The event that just fired keeps its post-crossing sign.
-                s.armed = true;
-                s.g_ref = if d == Direction::Falling {
-                    -f64::MIN_POSITIVE
+        if s.has_der {
+            s.d_ref = events.derivative(i, start, y_a, dy_a).unwrap_or(0.0);
+        }
+        let just_fired = matches!(*last_hit, Some((j, _)) if j == i);
+        if at_origin && !just_fired && !g.is_nan() {
+            // How this guard may leave zero (start-of-segment rule).
+            s.leave = if s.d_ref != 0.0 && !s.d_ref.is_nan() {
+                let on_zero =
+                    g.abs() <= vtol || (g * s.d_ref < 0.0 && g.abs() <= s.d_ref.abs() * window);
+                if on_zero {
+                    Leave::Towards(s.d_ref.signum())
                 } else {
-                    f64::MIN_POSITIVE
-                };
-                continue;
-            }
-        }
-        if g.is_nan() {
-            continue;
-        }
-        // On zero at the origin: take the sign of the motion.
-        if s.d_ref != 0.0 && !s.d_ref.is_nan() {
-            s.armed = true;
-            s.g_ref = f64::MIN_POSITIVE.copysign(s.d_ref);
-        } else {
-            if !probed {
-                y_at(integ, sys, t_probe, y_b);
-                probed = true;
-            }
-            let g_p = events.value(i, t_probe, y_b);
-            if g_p.abs() > opts.value_tol && g_p != 0.0 {
-                s.armed = true;
-                s.g_ref = g_p;
-                s.t_pin = t_probe;
-            }
+                    Leave::No
+                }
+            } else {
+                Leave::Probe
+            };
         }
     }
 
@@ -283,80 +284,39 @@ where
                 // No information at this sample: keep the previous reference.
                 continue;
             }
-            if !s.armed {
-                if g_b.abs() > opts.value_tol && g_b != 0.0 {
-                    s.armed = true;
-                    s.g_ref = g_b;
-                }
-                s.d_ref = d_b;
-                continue;
-            }
-            let g_a = s.g_ref;
-            let t_lo = if s.t_pin.is_nan() { t_a } else { s.t_pin };
-            let dir_first = if g_a < 0.0 {
-                Direction::Rising
-            } else {
-                Direction::Falling
-            };
             let allowed = events.direction(i);
             let tol = tol_at(t_a.abs().max(t_b.abs()));
-            let mut candidate: Option<(f64, Direction)> = None;
             let ignorable = |r: f64| at_origin && r - start <= window;
-            if g_b == 0.0 || (g_b > 0.0) != (g_a > 0.0) {
-                if allowed.allows(dir_first) {
-                    let r = locate(
-                        integ,
-                        sys,
-                        events,
-                        i,
-                        (t_lo, g_a),
-                        (t_b, g_b),
-                        tol,
-                        max_iter,
-                        tmp,
-                    );
-                    if !ignorable(r) {
-                        candidate = Some((r, dir_first));
-                    }
+            let mut candidate: Option<(f64, Direction)> = None;
+            // A guard on zero at the origin that left it on the other side of
+            // g_b and came back is only visible at the probe point.
+            let mut check_return = false;
+            if !s.armed {
+                if g_b.abs() > vtol && g_b != 0.0 {
+                    s.armed = true;
+                    s.g_ref = g_b;
+                    check_return = s.leave != Leave::No;
                 }
-            } else if s.has_der
-                && s.d_ref != 0.0
-                && d_b != 0.0
-                && (s.d_ref > 0.0) != (d_b > 0.0)
-                && hermite_extremum_near_zero((t_lo, g_a, s.d_ref), (t_b, g_b, d_b))
-            {
-                // Possible grazing pair: search the extremum of g, stop as
-                // soon as g changes sign.
-                let mut crossed: Option<(f64, f64)> = None;
-                let pos_g = g_a > 0.0;
-                let mut evals = 0u64;
-                illinois(t_lo, s.d_ref, t_b, d_b, tol, max_iter, |t| {
-                    if crossed.is_some() {
-                        return 0.0; // terminate: bracket found
-                    }
-                    y_at(integ, sys, t, tmp);
-                    let g = events.value(i, t, tmp);
-                    if g == 0.0 || (g > 0.0) != pos_g {
-                        crossed = Some((t, g));
-                        return 0.0;
-                    }
-                    if need_rhs {
-                        sys.rhs(t, tmp, f_c);
-                        evals += 1;
-                    }
-                    let dy: &OVector<f64, D> = if need_rhs { f_c } else { zero };
-                    events.derivative(i, t, tmp, dy).unwrap_or(0.0)
-                });
-                integ.stats_mut().rhs_evals += evals;
-                if let Some((c, g_c)) = crossed {
+                s.d_ref = d_b;
+                if !check_return {
+                    continue;
+                }
+            } else {
+                let g_a = s.g_ref;
+                let dir_first = if g_a < 0.0 {
+                    Direction::Rising
+                } else {
+                    Direction::Falling
+                };
+                if g_b == 0.0 || (g_b > 0.0) != (g_a > 0.0) {
                     if allowed.allows(dir_first) {
                         let r = locate(
                             integ,
                             sys,
                             events,
                             i,
-                            (t_lo, g_a),
-                            (c, g_c),
+                            (t_a, g_a),
+                            (t_b, g_b),
                             tol,
                             max_iter,
                             tmp,
@@ -365,20 +325,81 @@ where
                             candidate = Some((r, dir_first));
                         }
                     }
-                    if candidate.is_none() && allowed.allows(dir_first.opposite()) && g_c != 0.0 {
+                } else {
+                    if s.has_der
+                        && s.d_ref != 0.0
+                        && d_b != 0.0
+                        && (s.d_ref > 0.0) != (d_b > 0.0)
+                        && hermite_extremum_near_zero((t_a, g_a, s.d_ref), (t_b, g_b, d_b))
+                    {
+                        candidate = grazing_pair(
+                            integ,
+                            sys,
+                            events,
+                            i,
+                            (t_a, g_a, s.d_ref),
+                            (t_b, g_b, d_b),
+                            (tol, max_iter, need_rhs),
+                            (tmp, f_c, zero),
+                            ignorable,
+                        );
+                    }
+                    // No sign change over the first interval: it may hide a
+                    // departure from zero and the crossing back.
+                    check_return = k == 1
+                        && candidate.is_none()
+                        && match s.leave {
+                            Leave::No => false,
+                            Leave::Towards(_) => true,
+                            Leave::Probe => s.g_origin.abs() <= g_b.abs(),
+                        };
+                }
+                if g_b == 0.0 {
+                    s.armed = false;
+                }
+                s.g_ref = g_b;
+                s.d_ref = d_b;
+            }
+            if check_return && g_b != 0.0 {
+                // The crossing back ends on the side of g_b.
+                let dir_back = if g_b > 0.0 {
+                    Direction::Rising
+                } else {
+                    Direction::Falling
+                };
+                let left_to_other_side = match s.leave {
+                    Leave::Towards(sign) => (sign > 0.0) != (g_b > 0.0),
+                    _ => true,
+                };
+                if allowed.allows(dir_back) && left_to_other_side {
+                    if !probed {
+                        y_at(integ, sys, t_probe, y_p);
+                        probed = true;
+                    }
+                    let g_p = events.value(i, t_probe, y_p);
+                    let g_o = s.g_origin;
+                    // The probe must be beyond value_tol on the other side,
+                    // and, without a derivative, the guard must have reached
+                    // zero within the window (secant from the origin).
+                    let left = g_p.abs() > vtol
+                        && (g_p > 0.0) != (g_b > 0.0)
+                        && (s.leave != Leave::Probe
+                            || g_o.abs() <= vtol
+                            || g_o.abs() * (t_probe - start) <= (g_p - g_o).abs() * window);
+                    if left {
                         let r = locate(
                             integ,
                             sys,
                             events,
                             i,
-                            (c, g_c),
+                            (t_probe, g_p),
                             (t_b, g_b),
                             tol,
                             max_iter,
                             tmp,
                         );
                         if !ignorable(r) {
-                            candidate = Some((r, dir_first.opposite()));
+                            candidate = Some((r, dir_back));
                         }
                     }
                 }
@@ -388,12 +409,6 @@ where
                     best = Some((r, i, d));
                 }
             }
-            if g_b == 0.0 {
-                s.armed = false;
-            }
-            s.g_ref = g_b;
-            s.d_ref = d_b;
-            s.t_pin = f64::NAN;
         }
         if let Some((r, i, d)) = best {
             y_at(integ, sys, r, &mut hit.y);
@@ -409,4 +424,92 @@ where
         t_a = t_b;
     }
     Ok(None)
+}
+
+/// Searches a possible grazing pair of event `i` in the sample interval
+/// `a`..`b` (values of the same sign, derivatives of opposite signs): moves
+/// towards the extremum by the Illinois method on $\dot g$ and stops as soon
+/// as $g$ changes sign; then locates the first root in an allowed direction.
+#[allow(clippy::too_many_arguments)]
+fn grazing_pair<D, S, I, E>(
+    integ: &mut I,
+    sys: &S,
+    events: &E,
+    i: usize,
+    a: (f64, f64, f64),
+    b: (f64, f64, f64),
+    (tol, max_iter, need_rhs): (f64, usize, bool),
+    (tmp, f_c, zero): (&mut OVector<f64, D>, &mut OVector<f64, D>, &OVector<f64, D>),
+    ignorable: impl Fn(f64) -> bool,
+) -> Option<(f64, Direction)>
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    let (t_a, g_a, d_a) = a;
+    let (t_b, g_b, d_b) = b;
+    let dir_first = if g_a < 0.0 {
+        Direction::Rising
+    } else {
+        Direction::Falling
+    };
+    let allowed = events.direction(i);
+    let mut crossed: Option<(f64, f64)> = None;
+    let pos_g = g_a > 0.0;
+    let mut evals = 0u64;
+    illinois(t_a, d_a, t_b, d_b, tol, max_iter, |t| {
+        if crossed.is_some() {
+            return 0.0; // terminate: bracket found
+        }
+        y_at(integ, sys, t, tmp);
+        let g = events.value(i, t, tmp);
+        if g == 0.0 || (g > 0.0) != pos_g {
+            crossed = Some((t, g));
+            return 0.0;
+        }
+        if need_rhs {
+            sys.rhs(t, tmp, f_c);
+            evals += 1;
+        }
+        let dy: &OVector<f64, D> = if need_rhs { f_c } else { zero };
+        events.derivative(i, t, tmp, dy).unwrap_or(0.0)
+    });
+    integ.stats_mut().rhs_evals += evals;
+    let (c, g_c) = crossed?;
+    if allowed.allows(dir_first) {
+        let r = locate(
+            integ,
+            sys,
+            events,
+            i,
+            (t_a, g_a),
+            (c, g_c),
+            tol,
+            max_iter,
+            tmp,
+        );
+        if !ignorable(r) {
+            return Some((r, dir_first));
+        }
+    }
+    if allowed.allows(dir_first.opposite()) && g_c != 0.0 {
+        let r = locate(
+            integ,
+            sys,
+            events,
+            i,
+            (c, g_c),
+            (t_b, g_b),
+            tol,
+            max_iter,
+            tmp,
+        );
+        if !ignorable(r) {
+            return Some((r, dir_first.opposite()));
+        }
+    }
+    None
 }

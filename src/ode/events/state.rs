@@ -16,9 +16,21 @@ pub(super) struct Slot {
     pub g_ref: f64,
     /// $\dot g$ at the same point (0 if unknown).
     pub d_ref: f64,
-    /// Time of `g_ref` when it is not the left end of the interval (the
-    /// probe point of a guard that started on zero); NaN otherwise.
-    pub t_pin: f64,
+    /// $g$ at the segment origin.
+    pub g_origin: f64,
+    /// How the guard may leave zero at the origin (start-of-segment rule).
+    pub leave: Leave,
+}
+
+/// Whether a guard may have left zero at the segment origin.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Leave {
+    /// Not on zero (or not at the origin, or the event that just fired).
+    No,
+    /// On zero and moving towards this sign (from the derivative).
+    Towards(f64),
+    /// Unknown without a derivative: the probe decides when it matters.
+    Probe,
 }
 
 impl Default for Slot {
@@ -29,7 +41,8 @@ impl Default for Slot {
             armed: false,
             g_ref: 0.0,
             d_ref: 0.0,
-            t_pin: f64::NAN,
+            g_origin: f64::NAN,
+            leave: Leave::No,
         }
     }
 }
@@ -73,6 +86,8 @@ where
     pub f_a: OVector<f64, D>,
     pub y_b: OVector<f64, D>,
     pub f_b: OVector<f64, D>,
+    /// The dense output at the probe point.
+    pub y_p: OVector<f64, D>,
     pub tmp: OVector<f64, D>,
     pub f_c: OVector<f64, D>,
     /// Always zero: the `dy` passed to derivatives that do not need it.
@@ -90,6 +105,7 @@ where
             f_a: z.clone(),
             y_b: z.clone(),
             f_b: z.clone(),
+            y_p: z.clone(),
             tmp: z.clone(),
             f_c: z.clone(),
             zero: z,
