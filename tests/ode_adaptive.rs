@@ -290,3 +290,131 @@ fn fixed_step_mode_of_adaptive_methods_takes_exact_steps() {
         assert_eq!(integ.stats().rejected, 0);
     }
 }
+
+/// `atol = +inf` excludes a component from error control: a fast
+/// exponential component ($y_2' = 40 y_2$, growing to $e^{40}$) that would
+/// force small steps does not shrink them, and the oscillator components keep
+/// their accuracy — in fact they get exactly the steps, and the bits, of the
+/// oscillator integrated alone.
+#[test]
+fn infinite_atol_excludes_a_component_from_error_control() {
+    type V3 = SVector<f64, 3>;
+    let with_exp = |_t: f64, y: &V3, dy: &mut V3| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+        dy[2] = 40.0 * y[2];
+    };
+    let alone = |_t: f64, y: &SVector<f64, 2>, dy: &mut SVector<f64, 2>| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    };
+    let t_end = 1.0;
+    let y0 = V3::new(1.0, 0.0, 1.0);
+    for method in [Method::Dop853, Method::Dopri5] {
+        let run3 = |atol2: f64| {
+            let opts = Options {
+                rtol: Tolerance::Scalar(1e-10),
+                atol: Tolerance::PerComponent(V3::new(1e-12, 1e-12, atol2)),
+                ..Options::default()
+            };
+            let mut rec = Recorder::default();
+            rec.record_steps = true;
+            let rep = solve(
+                &mut AnyIntegrator::new(method, opts).unwrap(),
+                &with_exp,
+                0.0,
+                &y0,
+                t_end,
+                &NoEvents,
+                &mut rec,
+            )
+            .unwrap();
+            (rep, rec.steps)
+        };
+        let (free, free_steps) = run3(f64::INFINITY);
+        let (controlled, _) = run3(1e-12);
+        let mut rec2 = Recorder::default();
+        rec2.record_steps = true;
+        let opts2 = Options::with_tol(1e-10, 1e-12);
+        let rep2 = solve(
+            &mut AnyIntegrator::new(method, opts2).unwrap(),
+            &alone,
+            0.0,
+            &SVector::<f64, 2>::new(1.0, 0.0),
+            t_end,
+            &NoEvents,
+            &mut rec2,
+        )
+        .unwrap();
+        println!(
+            "{}: steps with y2 free {}, controlled {}, oscillator alone {}",
+            method.name(),
+            free.stats.steps,
+            controlled.stats.steps,
+            rep2.stats.steps
+        );
+        // The excluded component does not shrink the steps ...
+        assert_eq!(free.stats.steps, rep2.stats.steps, "{}", method.name());
+        assert!(
+            controlled.stats.steps >= 3 * free.stats.steps,
+            "{}: {} vs {}",
+            method.name(),
+            controlled.stats.steps,
+            free.stats.steps
+        );
+        // ... the others are integrated exactly as without it (same bits) ...
+        assert_eq!(free_steps.len(), rec2.steps.len());
+        for ((t3, y3), (t2, y2)) in free_steps.iter().zip(&rec2.steps) {
+            assert_eq!(t3.to_bits(), t2.to_bits());
+            assert_eq!(y3[0].to_bits(), y2[0].to_bits());
+            assert_eq!(y3[1].to_bits(), y2[1].to_bits());
+        }
+        // ... and keep their accuracy.
+        assert!((free.y[0] - t_end.cos()).abs() < 1e-9, "{}", free.y[0]);
+        assert!((free.y[1] + t_end.sin()).abs() < 1e-9, "{}", free.y[1]);
+        // The excluded component is still computed, with the accuracy of the
+        // steps chosen for the others (here 40 h is about 7: a factor 3 low).
+        let exact = (40.0 * t_end).exp();
+        println!(
+            "  y2 free {:e}, controlled {:e}, exact {exact:e}",
+            free.y[2], controlled.y[2]
+        );
+        assert!(free.y[2].is_finite() && free.y[2] > exact / 10.0 && free.y[2] < exact * 10.0);
+        assert!((controlled.y[2] / exact - 1.0).abs() < 1e-8);
+    }
+}
+
+#[test]
+fn atol_validation_allows_plus_infinity_only() {
+    type V3 = SVector<f64, 3>;
+    let per = |v: f64| Tolerance::PerComponent(V3::new(1e-12, v, 1e-12));
+    for (atol, ok) in [
+        (per(f64::INFINITY), true),
+        (Tolerance::Scalar(f64::INFINITY), true),
+        (per(f64::NEG_INFINITY), false),
+        (per(f64::NAN), false),
+        (per(-1e-12), false),
+    ] {
+        let opts = Options {
+            atol,
+            ..Options::default()
+        };
+        match Dop853::new(opts) {
+            Ok(_) => assert!(ok, "{atol:?} accepted"),
+            Err(e) => {
+                assert!(!ok, "{atol:?} rejected: {e}");
+                assert!(matches!(e, OdeError::InvalidOption { field: "atol", .. }));
+                assert!(e.to_string().contains("INFINITY"), "{e}");
+            }
+        }
+    }
+    // rtol stays finite.
+    let opts = Options::<nalgebra::U3> {
+        rtol: Tolerance::Scalar(f64::INFINITY),
+        ..Options::default()
+    };
+    assert!(matches!(
+        Dop853::new(opts),
+        Err(OdeError::InvalidOption { field: "rtol", .. })
+    ));
+}

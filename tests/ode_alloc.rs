@@ -86,7 +86,7 @@ fn thousand_steps_with_events_of_a_dyn_system_allocate_nothing() {
                     let t_hit = hit.t;
                     y.copy_from(&hit.y);
                     integ.truncate(&chain, t_hit).unwrap();
-                    y[m] = -0.8 * y[m];
+                    y[m] *= -0.8;
                     integ.reset(&chain, t_hit, &y, true).unwrap();
                     state.reset();
                     break;

@@ -177,7 +177,7 @@ where
             let t_hit = hit.t;
             y.copy_from(&hit.y);
             integ.truncate(&Chain, t_hit).unwrap();
-            y[m] = -0.9 * y[m];
+            y[m] *= -0.9;
             integ.reset(&Chain, t_hit, &y, true).unwrap();
             state.reset();
         }

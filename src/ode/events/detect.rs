@@ -340,7 +340,9 @@ where
                             (t_a, g_a, s.d_ref),
                             (t_b, g_b, d_b),
                             (tol, max_iter, need_rhs),
-                            (tmp, f_c, zero),
+                            tmp,
+                            f_c,
+                            zero,
                             ignorable,
                         );
                     }
@@ -439,7 +441,9 @@ fn grazing_pair<D, S, I, E>(
     a: (f64, f64, f64),
     b: (f64, f64, f64),
     (tol, max_iter, need_rhs): (f64, usize, bool),
-    (tmp, f_c, zero): (&mut OVector<f64, D>, &mut OVector<f64, D>, &OVector<f64, D>),
+    tmp: &mut OVector<f64, D>,
+    f_c: &mut OVector<f64, D>,
+    zero: &OVector<f64, D>,
     ignorable: impl Fn(f64) -> bool,
 ) -> Option<(f64, Direction)>
 where

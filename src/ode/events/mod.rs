@@ -57,46 +57,54 @@
 //!
 //! The *segment origin* $t_o$ is the left end of the first step scanned after
 //! [`EventState::new`]/[`EventState::reset`], or the time of the last hit
-//! returned. Let $w = \max(\text{rearm\_time}, 2\cdot\text{tol})$ be the
-//! re-arm window (tol the time tolerance at $t_o$). At the origin:
+//! returned. Let $s$ be the length of the scanned step, $m$ =
+//! `samples_per_step`, $t_1$ the first interior sample, and
+//! $w = \max(\text{rearm\_time}, 2\thinspace\text{tol})$ the *re-arm window*,
+//! with tol the time tolerance at the end of the step (twice the bracket
+//! width allowed to the root that defined the origin). At the origin:
 //!
-//! 1. an event with $|g_i(t_o)| >$ `value_tol` is armed with its sign;
+//! 1. an event with $|g_i(t_o)| >$ `value_tol` is armed with its sign; one
+//!    with $|g_i(t_o)| \le$ `value_tol` (default: exactly 0) is disarmed until
+//!    the first sample with $|g_i| >$ `value_tol`, which becomes its
+//!    reference;
 //! 2. the event of the hit that defined the origin (if the state was not
 //!    reset since) stays armed with its post-crossing sign, so that a
 //!    crossing back inside the same sample interval (the second root of a
 //!    grazing pair) is still found;
-//! 3. any other event with $|g_i(t_o)| \le$ `value_tol` (the default is
-//!    exactly 0: a reset map put the state on the guard, or the segment
-//!    starts on it) takes its reference sign from **the direction it is
-//!    moving**:
-//!    * if the set supplies [`EventSet::derivative`] and
-//!      $\dot g_i(t_o) \ne 0$: the sign of $\dot g_i(t_o)$; the guard counts
-//!      as lying just on that side of zero at $t_o$ (reference value
-//!      $\pm$`f64::MIN_POSITIVE` there);
-//!    * otherwise the sign of $g_i$ at the probe time $t_p = t_o + \delta$ on
-//!      the dense output, if $|g_i(t_p)| >$ `value_tol`; the reference point
-//!      is $(t_p, g_i(t_p))$. The probe distance is
-//!      $$\delta = \min\big(\max(4w,\ 2^{-20} s),\ s / (2(m+1))\big),$$
-//!      with $s$ the length of the scanned step and $m$ = `samples_per_step`:
-//!      beyond the re-arm window, about a millionth of the step, and always
-//!      inside the first half of the first sample interval;
-//!    * if neither gives a sign ($\dot g_i(t_o) = 0$ or no derivative, and
-//!      $|g_i(t_p)| \le$ `value_tol`), the event is disarmed until the first
-//!      sample with $|g_i| >$ `value_tol`, which becomes its reference.
-//!
-//!    So a guard leaving zero *away* from its allowed crossing direction (a
-//!    `Falling` floor guard of a ball bouncing up) is armed with that sign,
-//!    and its next crossing in its direction is found even inside the same
-//!    step and the same sample interval (steps that span whole flights); a
-//!    guard leaving zero *in* its crossing direction has that departure
-//!    counted as the zero at the start time, not as an event.
-//!    **Conditions:** the sign is right when the guard moves off zero faster
-//!    than its round-off, i.e. $|\dot g_i|\thinspace\delta$ exceeds the error
-//!    of $g_i(t_o)$ (with `value_tol` = 0 and roots located to a few ulp this
-//!    holds unless the guard is tangent to zero at $t_o$); a guard that comes
-//!    back to zero within $\delta$ of the origin is taken as part of the
-//!    start. With `value_tol` > 0 a guard starting within `value_tol` of zero
-//!    counts as starting on it;
+//! 3. **a guard on zero leaves it in the direction it is moving.** Any other
+//!    event is *on zero* at $t_o$ if $|g_i(t_o)| \le$ `value_tol`, or if it
+//!    reaches zero within the window: $g_i \dot g_i < 0$ and
+//!    $|g_i(t_o)| \le |\dot g_i|\thinspace w$ (the round-off left by a located
+//!    root or a reset map). Its direction of motion is the sign of
+//!    $\dot g_i(t_o)$ if the set supplies [`EventSet::derivative`] (and it is
+//!    non-zero); otherwise the sign of $g_i$ at the *probe time*
+//!    $t_p = t_o + \delta$ on the dense output, with
+//!    $$\delta = \min\big(\max(4w,\ 2^{-20} s),\ s/(2(m+1))\big)$$
+//!    (beyond the window, about a millionth of the step, inside the first
+//!    half of the first sample interval), the slope of the test above then
+//!    being the secant $(g_i(t_p) - g_i(t_o))/\delta$. Leaving zero is the
+//!    zero at the start time, never an event. A guard that leaves zero
+//!    *away* from its allowed crossing direction (the `Falling` floor guard
+//!    of a ball bouncing up) and crosses back is an event, found even when
+//!    both crossings fall inside the first sample interval (steps spanning
+//!    whole flights), where the samples at its ends have the same sign: when
+//!    the first sample $t_k$ with $|g_i| >$ `value_tol` (for a guard armed at
+//!    the origin: $t_1$, with no sign change and no grazing pair found)
+//!    shows the guard on the side it must cross back into, in an allowed
+//!    direction, and its motion at $t_o$ pointed the other way, the detector
+//!    evaluates $g_i(t_p)$; if it is beyond `value_tol` on the other side,
+//!    the crossing back is located in $[t_p, t_k]$.
+//!    **Conditions.** The probe is made only when it can change the result
+//!    (a set whose guards never sit on zero sees exactly the evaluations of
+//!    the plain rules). A guard that returns to zero within $\delta$ of the
+//!    origin is taken as part of the start. Without a derivative, the probe
+//!    is made for a guard armed at the origin only if $|g_i(t_1)| \ge
+//!    |g_i(t_o)|$; a departure and return that leave the first sample closer
+//!    to zero than the origin is a pair of roots inside one sample interval,
+//!    which needs the derivative (see the guarantee above). The motion is
+//!    read correctly when the guard moves off zero faster than its round-off:
+//!    with `value_tol` = 0 and roots located to a few ulp this holds unless it
+//!    is tangent to zero at $t_o$;
 //! 4. a root located within the re-arm window $w$ after $t_o$ is treated as
 //!    the zero at the start time (round-off of the event that just fired or of
 //!    a reset map) and is ignored; scanning continues after it.
