@@ -1,7 +1,7 @@
 //! The hybrid driver: advances a [`RotorModel`] through its modes, locating guards and
 //! applying transitions, and reports outputs to an observer.
 
-use nalgebra::SVector;
+use nalgebra::{Const, SVector};
 use thiserror::Error;
 
 use super::record::{EventRecord, HybridObserver, OutputPlan, Sample, StrobePoint};
@@ -120,13 +120,13 @@ struct ModeSystem<'a, M: RotorModel<N>, const N: usize> {
     cache: &'a M::Cache,
 }
 
-impl<M: RotorModel<N>, const N: usize> OdeSystem<N> for ModeSystem<'_, M, N> {
+impl<M: RotorModel<N>, const N: usize> OdeSystem<Const<N>> for ModeSystem<'_, M, N> {
     fn rhs(&self, t: f64, y: &SVector<f64, N>, dy: &mut SVector<f64, N>) {
         self.model.rhs(self.mode, t, y, dy, self.cache);
     }
 }
 
-impl<M: RotorModel<N>, const N: usize> EventSet<N> for ModeSystem<'_, M, N> {
+impl<M: RotorModel<N>, const N: usize> EventSet<Const<N>> for ModeSystem<'_, M, N> {
     fn len(&self) -> usize {
         self.model.guard_count(self.mode)
     }
@@ -455,7 +455,14 @@ where
                             stats,
                         ));
                     }
-                    let hit = find_first_event(&mut integ, &sys, &sys, &ev_opts, &mut ev_state);
+                    let hit =
+                        match find_first_event(&mut integ, &sys, &sys, &ev_opts, &mut ev_state) {
+                            Ok(hit) => hit,
+                            Err(e) => {
+                                collect(&mut stats, &integ);
+                                return Err(fail(e.into(), integ.t(), *integ.y(), stats));
+                            }
+                        };
                     let t_stop = hit.as_ref().map_or(integ.t(), |h| h.t);
                     while let Some((to, due)) = sched.pop_due(t_stop) {
                         let mut yo = if to == integ.t() {
@@ -537,7 +544,7 @@ fn emit<const N: usize, M: RotorModel<N>, O: HybridObserver<N>>(
     }
 }
 
-fn collect<const N: usize>(stats: &mut SimStats, integ: &AnyIntegrator<N>) {
+fn collect<const N: usize>(stats: &mut SimStats, integ: &AnyIntegrator<Const<N>>) {
     let s = integ.stats();
     stats.steps = s.steps;
     stats.rejected = s.rejected;
@@ -547,8 +554,8 @@ fn collect<const N: usize>(stats: &mut SimStats, integ: &AnyIntegrator<N>) {
 fn build_integrator<const N: usize>(
     opts: &SimOptions,
     period: f64,
-) -> Result<AnyIntegrator<N>, SimErrorKind> {
-    let mut o = Options::<N> {
+) -> Result<AnyIntegrator<Const<N>>, SimErrorKind> {
+    let mut o = Options::<Const<N>> {
         rtol: Tolerance::Scalar(opts.rtol),
         atol: Tolerance::Scalar(opts.atol),
         h_max: opts.max_step_fraction * period,

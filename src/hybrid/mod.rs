@@ -139,7 +139,7 @@ pub trait RotorModel<const N: usize> {
         cache: &Self::Cache,
     );
 
-    /// Number of guards of an integrated mode (at most [`crate::ode::MAX_EVENTS`]).
+    /// Number of guards of an integrated mode.
     fn guard_count(&self, mode: Self::Mode) -> usize;
 
     /// Crossing direction of guard `i` that ends `mode`.
