@@ -33,11 +33,12 @@ use std::io::{self, BufWriter, Write};
 use common::cli::{fail, Cli};
 use common::csv::fmt_f64;
 use jeffcott::hybrid::{SimOptions, StrobePoint};
+use jeffcott::nalgebra::U6;
 use jeffcott::ode::Method;
 use jeffcott::params::{Params, Preset};
 use jeffcott::JeffcottModel;
 
-fn write_rows(out: &mut impl Write, strobe: &[StrobePoint<6>], transient: u64) -> io::Result<()> {
+fn write_rows(out: &mut impl Write, strobe: &[StrobePoint<U6>], transient: u64) -> io::Result<()> {
     for p in strobe {
         write!(out, "{},{}", p.k - transient, fmt_f64(p.t))?;
         for v in p.y.iter() {

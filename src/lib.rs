@@ -42,7 +42,7 @@
 //! | [`params`] | non-dimensional and SI parameters, validation, the paper's presets |
 //! | [`ring`] | the snubber ring as a reusable contact element: force, energy, minimum-energy location and its Jacobian, regimes, relaxation |
 //! | [`ode`] | generic explicit Runge–Kutta integrators (DOP853, DOPRI5, RK4) with dense output and event location |
-//! | [`hybrid`] | the [`hybrid::RotorModel`] trait of piecewise-smooth rotor models and the driver through modes and events |
+//! | [`hybrid`] | the [`hybrid::RotorModel`] trait of piecewise-smooth rotor models (state size fixed, e.g. `U6`, or known at run time, `Dyn`) and the driver through modes and events |
 //! | [`paper`] | the paper's model implementing [`hybrid::RotorModel`], and sweeps over its parameters |
 //! | [`analysis`] | for any [`hybrid::RotorModel`]: period detection, stroboscopic orbits, phase portraits and Poincaré sections, deterministic parallel sweeps, bifurcation diagrams and a bifurcation locator |
 //!
@@ -51,7 +51,9 @@
 //!
 //! Long-form guides live in the repository's `docs/` folder: `model.md` (the model as
 //! implemented, every erratum of the paper and every choice), `integrators.md`, `ring.md`,
-//! `reproduction.md`, `accuracy.md`, `performance.md`.
+//! `reproduction.md`, `accuracy.md`, `performance.md`, and `hybrid.md` (your own rotor model:
+//! the contract of [`hybrid::RotorModel`], run-time sizes, algebraic components, the
+//! analyses).
 //!
 //! ## Example
 //!

@@ -9,7 +9,7 @@ use jeffcott::analysis::{
     LocatorConfig, OrbitError, PeriodTest, Periodicity, SweepConfig,
 };
 use jeffcott::hybrid::{Flow, ModelError, NoExactModes, RotorModel, SimErrorKind, SimOptions};
-use jeffcott::nalgebra::SVector;
+use jeffcott::nalgebra::{SVector, U2};
 use jeffcott::ode::Direction;
 
 type S = SVector<f64, 2>;
@@ -51,10 +51,16 @@ enum Mode {
     Stop,
 }
 
-impl RotorModel<2> for ForcedStop {
+impl RotorModel for ForcedStop {
+    type Dim = U2;
     type Mode = Mode;
     type Segment = NoExactModes;
     type Cache = ();
+
+    fn dim(&self) -> U2 {
+        U2
+    }
+    fn new_cache(&self) {}
 
     fn initial_mode(&self, _t: f64, y: &S) -> Result<Mode, ModelError> {
         Ok(if y[0] < 1.0 { Mode::Free } else { Mode::Stop })
@@ -115,10 +121,16 @@ struct Rotation {
     period: f64,
 }
 
-impl RotorModel<2> for Rotation {
+impl RotorModel for Rotation {
+    type Dim = U2;
     type Mode = ();
     type Segment = NoExactModes;
     type Cache = ();
+
+    fn dim(&self) -> U2 {
+        U2
+    }
+    fn new_cache(&self) {}
 
     fn initial_mode(&self, _t: f64, _y: &S) -> Result<(), ModelError> {
         Ok(())
@@ -218,7 +230,7 @@ fn a_user_model_sweep_carries_state_fails_per_value_and_is_thread_independent() 
         )
         .unwrap()
     };
-    let bits = |b: &jeffcott::analysis::Bifurcation<2, String>| -> Vec<Vec<u64>> {
+    let bits = |b: &jeffcott::analysis::Bifurcation<U2, String>| -> Vec<Vec<u64>> {
         b.columns
             .iter()
             .map(|c| match c {
@@ -304,14 +316,14 @@ fn locator_finds_a_rational_rotation_of_a_user_model() {
     };
     let build = |period: f64| -> Result<Rotation, String> { Ok(Rotation { period }) };
     let start = start_from(S::new(1.0, 0.0));
-    let c = locate_period_change(PI, 2.5, build, start, &config).unwrap();
+    let c = locate_period_change(PI, 2.5, build, start.clone(), &config).unwrap();
     assert_eq!(c.bracket.at_from, Periodicity::Period(2));
     assert_eq!(c.bracket.at_to, Periodicity::NotPeriodic { up_to: 16 });
     assert_eq!(c.bracket.from, PI);
     assert!((c.bracket.from - c.bracket.to).abs() <= 1e-4);
     assert!((c.value() - PI).abs() <= 1e-4, "{c:?}");
     // Same periodicity at both ends (both irrational rotations): nothing to locate.
-    let e = locate_period_change(2.5, 2.6, build, start, &config).unwrap_err();
+    let e = locate_period_change(2.5, 2.6, build, start.clone(), &config).unwrap_err();
     assert!(matches!(e, OrbitError::NoChange { .. }), "{e}");
     // A builder error is reported as such.
     let failing = |_: f64| -> Result<Rotation, String> { Err("no model".into()) };

@@ -6,11 +6,12 @@ use jeffcott::analysis::{
     OrbitError, PeriodTest, Periodicity, SweepConfig,
 };
 use jeffcott::hybrid::SimOptions;
+use jeffcott::nalgebra::U6;
 use jeffcott::paper::{poincare_map, ParamSweep, RotorStart, SweepParameter};
 use jeffcott::params::{ParamError, Params, Preset};
 use jeffcott::JeffcottModel;
 
-fn bits(b: &Bifurcation<6, ParamError>) -> Vec<Vec<u64>> {
+fn bits(b: &Bifurcation<U6, ParamError>) -> Vec<Vec<u64>> {
     b.columns
         .iter()
         .map(|c| match c {

@@ -14,6 +14,7 @@ use jeffcott::hybrid::{
     DenseSampling, OutputPlan, SimErrorKind, SimOptions, SimStats, StrobePoint, StrobeRange,
     Trajectory,
 };
+use jeffcott::nalgebra::U6;
 use jeffcott::ode::Method;
 use jeffcott::paper::{guard, JeffcottModel, RunFailure, State};
 use jeffcott::params::{Params, Preset};
@@ -32,7 +33,7 @@ fn within<T: Send + 'static>(secs: u64, f: impl FnOnce() -> T + Send + 'static) 
     }
 }
 
-type Outcome = Result<(Trajectory<6>, SimStats), Box<RunFailure>>;
+type Outcome = Result<(Trajectory<U6>, SimStats), Box<RunFailure>>;
 
 /// Runs `periods` forcing periods from `(0, y0)` with events, strobing every period.
 fn run(p: Params, y0: State, periods: u64, opts: SimOptions) -> Outcome {
@@ -51,7 +52,7 @@ fn run(p: Params, y0: State, periods: u64, opts: SimOptions) -> Outcome {
     })
 }
 
-fn ok(o: Outcome, what: &str) -> (Trajectory<6>, SimStats) {
+fn ok(o: Outcome, what: &str) -> (Trajectory<U6>, SimStats) {
     o.unwrap_or_else(|f| panic!("{what}: {}", f.error))
 }
 
@@ -63,7 +64,7 @@ fn tol(rtol: f64, atol: f64) -> SimOptions {
     }
 }
 
-fn last(t: &Trajectory<6>) -> State {
+fn last(t: &Trajectory<U6>) -> State {
     t.strobe.last().expect("stroboscopic output").y
 }
 
@@ -72,7 +73,7 @@ fn max_diff(a: &State, b: &State) -> f64 {
 }
 
 /// Largest deviation over all common stroboscopic points.
-fn strobe_diff(a: &Trajectory<6>, b: &Trajectory<6>) -> f64 {
+fn strobe_diff(a: &Trajectory<U6>, b: &Trajectory<U6>) -> f64 {
     assert_eq!(a.strobe.len(), b.strobe.len());
     a.strobe
         .iter()
@@ -83,7 +84,7 @@ fn strobe_diff(a: &Trajectory<6>, b: &Trajectory<6>) -> f64 {
 
 /// All stroboscopic states finite and the rotor within `r_max` of the centre with speed at most
 /// `v_max`; the ring within the rotor's reach (`|r - s| <= 1 + 1e-7`).
-fn assert_sane(t: &Trajectory<6>, r_max: f64, v_max: f64, what: &str) {
+fn assert_sane(t: &Trajectory<U6>, r_max: f64, v_max: f64, what: &str) {
     for StrobePoint {
         k,
         t: _,
@@ -184,7 +185,7 @@ fn quiet_params() -> Params {
     }
 }
 
-fn contact_events(t: &Trajectory<6>) -> usize {
+fn contact_events(t: &Trajectory<U6>) -> usize {
     t.events
         .iter()
         .filter(|e| e.kind == guard::ONSET || e.kind == guard::LOSS)
@@ -426,7 +427,7 @@ fn corner_outward_is_continuous_in_the_start() {
 /// A start in contact with x_s exactly at its preload and an inward velocity `scale` times the
 /// one that makes the normal contact force exactly zero (ring damping raised to nu2 = 0.5 so that
 /// this speed is moderate): contact loss and the regime boundary coincide at t = 0.
-fn loss_at_boundary_runs(scales: &[f64]) -> Vec<Trajectory<6>> {
+fn loss_at_boundary_runs(scales: &[f64]) -> Vec<Trajectory<U6>> {
     let d = 0.1;
     let p = Params {
         nu2: 0.5,

@@ -4,7 +4,8 @@
 //!
 //! * `build: Fn(f64) -> Result<M, E>` makes the model at a parameter value (`E` is the
 //!   builder's own error, e.g. invalid parameters);
-//! * `start: Fn(&M, Option<&SVector<f64, N>>) -> Result<SVector<f64, N>, ModelError>` gives
+//! * `start: Fn(&M, Option<&OVector<f64, M::Dim>>) -> Result<OVector<f64, M::Dim>, ModelError>`
+//!   gives
 //!   the initial state of the run at that value. It receives `None` for a run from the reset
 //!   state (every value in [`SweepMode::Reset`](super::SweepMode::Reset), each chunk start and
 //!   the value after a failure in carry-over mode, every evaluation of the locator) and
@@ -20,11 +21,12 @@
 
 use std::ops::Range;
 
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
 
 use super::{
     strobe_orbit, sweep, AnalysisError, OrbitError, PeriodChange, PeriodTest, Periodicity,
-    Progress, StrobeOrbit, SweepConfig,
+    PoincareMap, Progress, StrobeOrbit, SweepConfig,
 };
 use crate::hybrid::{ModelError, RotorModel, SimOptions};
 
@@ -57,25 +59,31 @@ impl Default for BifurcationConfig {
 
 /// One column of a bifurcation diagram: the orbit recorded at one parameter value.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Column<const N: usize> {
+pub struct Column<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// The parameter value.
     pub value: f64,
     /// Whether this value started from the reset state (chunk start, reset mode, or after a
     /// failure) rather than from the previous value's final state.
     pub from_reset: bool,
     /// The recorded stroboscopic orbit.
-    pub orbit: StrobeOrbit<N>,
+    pub orbit: StrobeOrbit<D>,
     /// Its detected period.
     pub periodicity: Periodicity,
 }
 
 /// A bifurcation diagram: one column (or the error that prevented it) per parameter value.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Bifurcation<const N: usize, E> {
+pub struct Bifurcation<D: Dim, E>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// The parameter values, in order.
     pub values: Vec<f64>,
     /// One entry per value: the column, or why it failed.
-    pub columns: Vec<Result<Column<N>, OrbitError<N, E>>>,
+    pub columns: Vec<Result<Column<D>, OrbitError<D, E>>>,
     /// The chains of carried state (one per value in reset mode).
     pub chains: Vec<Range<usize>>,
     /// Worker threads used (does not affect the results).
@@ -84,14 +92,20 @@ pub struct Bifurcation<const N: usize, E> {
 
 /// A failed value of a [`Bifurcation`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Failure<'a, const N: usize, E> {
+pub struct Failure<'a, D: Dim, E>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// The parameter value.
     pub value: f64,
     /// Why it failed.
-    pub error: &'a OrbitError<N, E>,
+    pub error: &'a OrbitError<D, E>,
 }
 
-impl<const N: usize, E> Bifurcation<N, E> {
+impl<D: Dim, E> Bifurcation<D, E>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// `(value, component c)` for every recorded point of every successful column (e.g.
     /// `c = 0` for the paper's $x_r$): the points of the diagram.
     pub fn points(&self, c: usize) -> Vec<(f64, f64)> {
@@ -108,7 +122,7 @@ impl<const N: usize, E> Bifurcation<N, E> {
     }
 
     /// The failed values, in order.
-    pub fn failures(&self) -> Vec<Failure<'_, N, E>> {
+    pub fn failures(&self) -> Vec<Failure<'_, D, E>> {
         self.values
             .iter()
             .zip(&self.columns)
@@ -141,34 +155,39 @@ impl<const N: usize, E> Bifurcation<N, E> {
 
 /// The start rule "reset runs start from `y0`, carried states are used as they are" (see the
 /// [module docs](self)).
-pub fn start_from<const N: usize, M>(
-    y0: SVector<f64, N>,
-) -> impl Fn(&M, Option<&SVector<f64, N>>) -> Result<SVector<f64, N>, ModelError> + Sync + Copy {
-    move |_: &M, carried: Option<&SVector<f64, N>>| Ok(carried.copied().unwrap_or(y0))
+#[allow(clippy::type_complexity)] // the closure's signature, spelled out for the reader
+pub fn start_from<D: Dim, M>(
+    y0: OVector<f64, D>,
+) -> impl Fn(&M, Option<&OVector<f64, D>>) -> Result<OVector<f64, D>, ModelError> + Sync + Clone
+where
+    DefaultAllocator: Allocator<D>,
+    OVector<f64, D>: Sync,
+{
+    move |_: &M, carried: Option<&OVector<f64, D>>| Ok(carried.unwrap_or(&y0).clone())
 }
 
 /// Builds the model at `value`, picks its start state, records and classifies the orbit.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn orbit_at<const N: usize, M, E, B, S>(
+pub(super) fn orbit_at<M, E, B, S>(
     build: &B,
     start: &S,
     value: f64,
-    carried: Option<&SVector<f64, N>>,
+    carried: Option<&OVector<f64, M::Dim>>,
     transient: u64,
     record: u64,
     opts: &SimOptions,
     test: &PeriodTest,
-) -> Result<(StrobeOrbit<N>, Periodicity), OrbitError<N, E>>
+) -> Result<PoincareMap<M::Dim>, OrbitError<M::Dim, E>>
 where
-    M: RotorModel<N>,
+    M: RotorModel,
     B: Fn(f64) -> Result<M, E>,
-    S: Fn(&M, Option<&SVector<f64, N>>) -> Result<SVector<f64, N>, ModelError>,
+    S: Fn(&M, Option<&OVector<f64, M::Dim>>) -> Result<OVector<f64, M::Dim>, ModelError>,
+    DefaultAllocator: Allocator<M::Dim>,
 {
     let model = build(value).map_err(OrbitError::Build)?;
     let y0 = start(&model, carried)?;
     let orbit = strobe_orbit(&model, &y0, transient, record, opts)?;
-    let periodicity = orbit.period(test)?;
-    Ok((orbit, periodicity))
+    Ok(orbit.classify(test)?)
 }
 
 /// A bifurcation diagram: for each of `values`, build the model (`build`), start it (`start`,
@@ -204,23 +223,26 @@ where
 /// assert_eq!(diagram.points(0).len(), 16);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn bifurcation<const N: usize, M, E, B, S>(
+pub fn bifurcation<M, E, B, S>(
     values: &[f64],
     build: B,
     start: S,
     config: &BifurcationConfig,
     progress: Option<&dyn Progress>,
-) -> Result<Bifurcation<N, E>, AnalysisError>
+) -> Result<Bifurcation<M::Dim, E>, AnalysisError>
 where
-    M: RotorModel<N>,
+    M: RotorModel,
     E: Send,
     B: Fn(f64) -> Result<M, E> + Sync,
-    S: Fn(&M, Option<&SVector<f64, N>>) -> Result<SVector<f64, N>, ModelError> + Sync,
+    S: Fn(&M, Option<&OVector<f64, M::Dim>>) -> Result<OVector<f64, M::Dim>, ModelError> + Sync,
+    DefaultAllocator: Allocator<M::Dim>,
+    OVector<f64, M::Dim>: Send,
 {
-    let runner = |v: &f64,
-                  carried: Option<SVector<f64, N>>|
-     -> Result<(Column<N>, SVector<f64, N>), OrbitError<N, E>> {
-        let (orbit, periodicity) = orbit_at(
+    type Carried<M> = OVector<f64, <M as RotorModel>::Dim>;
+    type Outcome<M, E> =
+        Result<(Column<<M as RotorModel>::Dim>, Carried<M>), OrbitError<<M as RotorModel>::Dim, E>>;
+    let runner = |v: &f64, carried: Option<Carried<M>>| -> Outcome<M, E> {
+        let PoincareMap { orbit, periodicity } = orbit_at(
             &build,
             &start,
             *v,
@@ -230,7 +252,7 @@ where
             &config.opts,
             &config.period_test,
         )?;
-        let last = orbit.last;
+        let last = orbit.last.clone();
         let column = Column {
             value: *v,
             from_reset: carried.is_none(),

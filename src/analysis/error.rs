@@ -3,6 +3,9 @@
 
 use thiserror::Error;
 
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim};
+
 use super::Periodicity;
 use crate::hybrid::{ModelError, SimError};
 
@@ -102,7 +105,10 @@ pub enum AnalysisError {
 /// [`ParamError`](crate::params::ParamError)).
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
-pub enum OrbitError<const N: usize, E> {
+pub enum OrbitError<D: Dim, E>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// The model could not be built at this value (e.g. invalid parameters).
     #[error("could not build the model: {0}")]
     Build(E),
@@ -111,7 +117,7 @@ pub enum OrbitError<const N: usize, E> {
     State(ModelError),
     /// The simulation failed.
     #[error("{0}")]
-    Simulation(Box<SimError<N>>),
+    Simulation(Box<SimError<D>>),
     /// The analysis of the orbit failed (e.g. non-finite points, bad locator settings).
     #[error(transparent)]
     Analysis(AnalysisError),
@@ -129,19 +135,28 @@ pub enum OrbitError<const N: usize, E> {
     },
 }
 
-impl<const N: usize, E> From<SimError<N>> for OrbitError<N, E> {
-    fn from(e: SimError<N>) -> Self {
+impl<D: Dim, E> From<SimError<D>> for OrbitError<D, E>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn from(e: SimError<D>) -> Self {
         OrbitError::Simulation(Box::new(e))
     }
 }
 
-impl<const N: usize, E> From<AnalysisError> for OrbitError<N, E> {
+impl<D: Dim, E> From<AnalysisError> for OrbitError<D, E>
+where
+    DefaultAllocator: Allocator<D>,
+{
     fn from(e: AnalysisError) -> Self {
         OrbitError::Analysis(e)
     }
 }
 
-impl<const N: usize, E> From<ModelError> for OrbitError<N, E> {
+impl<D: Dim, E> From<ModelError> for OrbitError<D, E>
+where
+    DefaultAllocator: Allocator<D>,
+{
     fn from(e: ModelError) -> Self {
         OrbitError::State(e)
     }

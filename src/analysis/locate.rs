@@ -4,7 +4,8 @@
 //! "not periodic" after a short transient: the locator therefore takes its own, longer
 //! transient ([`LocatorConfig::transient`]).
 
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, OVector};
 
 use super::bifurcation::orbit_at;
 use super::{AnalysisError, OrbitError, PeriodTest, Periodicity};
@@ -91,17 +92,18 @@ impl LocatedChange {
 /// [`OrbitError::NoChange`] if `from` and `to` have the same periodicity; the builder's,
 /// the start rule's, the driver's or the period test's error at any evaluation;
 /// [`OrbitError::Analysis`] for equal or non-finite ends or a bad resolution.
-pub fn locate_period_change<const N: usize, M, E, B, S>(
+pub fn locate_period_change<M, E, B, S>(
     from: f64,
     to: f64,
     build: B,
     start: S,
     config: &LocatorConfig,
-) -> Result<LocatedChange, OrbitError<N, E>>
+) -> Result<LocatedChange, OrbitError<M::Dim, E>>
 where
-    M: RotorModel<N>,
+    M: RotorModel,
     B: Fn(f64) -> Result<M, E>,
-    S: Fn(&M, Option<&SVector<f64, N>>) -> Result<SVector<f64, N>, ModelError>,
+    S: Fn(&M, Option<&OVector<f64, M::Dim>>) -> Result<OVector<f64, M::Dim>, ModelError>,
+    DefaultAllocator: Allocator<M::Dim>,
 {
     if !(from.is_finite() && to.is_finite() && from != to) {
         return Err(AnalysisError::InvalidValue {
@@ -120,7 +122,7 @@ where
         .into());
     }
     let mut evaluations = 0;
-    let mut classify = |v: f64| -> Result<Periodicity, OrbitError<N, E>> {
+    let mut classify = |v: f64| -> Result<Periodicity, OrbitError<M::Dim, E>> {
         evaluations += 1;
         orbit_at(
             &build,
@@ -132,7 +134,7 @@ where
             &config.opts,
             &config.period_test,
         )
-        .map(|(_, p)| p)
+        .map(|m| m.periodicity)
     };
     let at_from = classify(from)?;
     let mut at_to = classify(to)?;

@@ -13,7 +13,8 @@
 //!   is taken at the same forcing phase, as in a physical run-up where the speed is changed
 //!   slowly.
 
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
 
 use super::{AnalysisError, PeriodTest, Periodicity};
 use crate::hybrid::{
@@ -23,25 +24,31 @@ use crate::hybrid::{
 
 /// A stroboscopic orbit after a transient.
 #[derive(Debug, Clone, PartialEq)]
-pub struct StrobeOrbit<const N: usize> {
+pub struct StrobeOrbit<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// The recorded points, `k = transient + 1 ..= transient + record`.
-    pub points: Vec<StrobePoint<N>>,
+    pub points: Vec<StrobePoint<D>>,
     /// The state at the end of the run (`k = transient + record`), to continue from.
-    pub last: SVector<f64, N>,
+    pub last: OVector<f64, D>,
     /// Work done by the run.
     pub stats: SimStats,
 }
 
-impl<const N: usize> StrobeOrbit<N> {
+impl<D: Dim> StrobeOrbit<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// The recorded states.
-    pub fn states(&self) -> Vec<SVector<f64, N>> {
-        self.points.iter().map(|p| p.y).collect()
+    pub fn states(&self) -> Vec<OVector<f64, D>> {
+        self.points.iter().map(|p| p.y.clone()).collect()
     }
 
     /// The points as `(component i, component j)` pairs, e.g. `(0, 2)` for the paper's
     /// $(x, x^\prime)$. Components out of range give NaN.
     pub fn pairs(&self, i: usize, j: usize) -> Vec<(f64, f64)> {
-        let get = |y: &SVector<f64, N>, c: usize| y.get(c).copied().unwrap_or(f64::NAN);
+        let get = |y: &OVector<f64, D>, c: usize| y.get(c).copied().unwrap_or(f64::NAN);
         self.points
             .iter()
             .map(|p| (get(&p.y, i), get(&p.y, j)))
@@ -53,14 +60,15 @@ impl<const N: usize> StrobeOrbit<N> {
     /// # Errors
     /// As [`PeriodTest::detect`].
     pub fn period(&self, test: &PeriodTest) -> Result<Periodicity, AnalysisError> {
-        test.detect(&self.states())
+        let slices: Vec<&[f64]> = self.points.iter().map(|p| p.y.as_slice()).collect();
+        test.detect_slices(&slices)
     }
 
     /// The orbit with its period under `test`.
     ///
     /// # Errors
     /// As [`PeriodTest::detect`].
-    pub fn classify(self, test: &PeriodTest) -> Result<PoincareMap<N>, AnalysisError> {
+    pub fn classify(self, test: &PeriodTest) -> Result<PoincareMap<D>, AnalysisError> {
         let periodicity = self.period(test)?;
         Ok(PoincareMap {
             orbit: self,
@@ -71,9 +79,12 @@ impl<const N: usize> StrobeOrbit<N> {
 
 /// A stroboscopic orbit and its detected period.
 #[derive(Debug, Clone, PartialEq)]
-pub struct PoincareMap<const N: usize> {
+pub struct PoincareMap<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// The recorded orbit.
-    pub orbit: StrobeOrbit<N>,
+    pub orbit: StrobeOrbit<D>,
     /// Its detected period.
     pub periodicity: Periodicity,
 }
@@ -84,17 +95,20 @@ pub struct PoincareMap<const N: usize> {
 /// # Errors
 /// The driver's [`SimError`]; `record = 0` and a `transient + record` that overflows `u64`
 /// are invalid options ([`SimErrorKind::InvalidOption`]), not an empty orbit.
-pub fn strobe_orbit<const N: usize, M: RotorModel<N>>(
+pub fn strobe_orbit<M: RotorModel>(
     model: &M,
-    y0: &SVector<f64, N>,
+    y0: &OVector<f64, M::Dim>,
     transient: u64,
     record: u64,
     opts: &SimOptions,
-) -> Result<StrobeOrbit<N>, SimError<N>> {
+) -> Result<StrobeOrbit<M::Dim>, SimError<M::Dim>>
+where
+    DefaultAllocator: Allocator<M::Dim>,
+{
     let invalid = |field, value, hint| SimError {
         kind: SimErrorKind::InvalidOption { field, value, hint },
         t: 0.0,
-        y: *y0,
+        y: y0.clone(),
         stats: SimStats::default(),
     };
     if record == 0 {
@@ -110,7 +124,10 @@ pub fn strobe_orbit<const N: usize, M: RotorModel<N>>(
     let plan = OutputPlan::strobe(model.forcing_period(), transient + 1, last_k);
     let mut traj = Trajectory::default();
     let stats = simulate(model, 0.0, y0, &plan, opts, &mut traj)?;
-    let last = traj.strobe.last().map_or(*y0, |s| s.y);
+    let last = traj
+        .strobe
+        .last()
+        .map_or_else(|| y0.clone(), |s| s.y.clone());
     Ok(StrobeOrbit {
         points: traj.strobe,
         last,

@@ -27,7 +27,8 @@
 
 use std::fmt;
 
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
 
 use super::AnalysisError;
 
@@ -90,13 +91,17 @@ impl PeriodTest {
     /// # Errors
     /// [`AnalysisError`] from [`detect_period`] (invalid tolerance, fewer than 2 points,
     /// non-finite points).
-    pub fn detect<const N: usize>(
-        &self,
-        points: &[SVector<f64, N>],
-    ) -> Result<Periodicity, AnalysisError> {
+    pub fn detect<D: Dim>(&self, points: &[OVector<f64, D>]) -> Result<Periodicity, AnalysisError>
+    where
+        DefaultAllocator: Allocator<D>,
+    {
         let slices: Vec<&[f64]> = points.iter().map(|y| y.as_slice()).collect();
+        self.detect_slices(&slices)
+    }
+
+    pub(super) fn detect_slices(&self, points: &[&[f64]]) -> Result<Periodicity, AnalysisError> {
         let max_period = self.max_period.min(points.len() / 2).max(1);
-        detect_period(&slices, max_period, self.tol)
+        detect_period(points, max_period, self.tol)
     }
 }
 

@@ -1,7 +1,8 @@
 //! Phase portraits of any [`RotorModel`]: dense samples that know where the state's
 //! derivative jumps, and Poincaré sections through them.
 
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
 
 use super::{section_crossings_hermite, AnalysisError, Crossing};
 use crate::hybrid::{
@@ -12,21 +13,27 @@ use crate::ode::Direction;
 
 /// Dense samples of a run and its event log: a phase portrait that knows where it jumps.
 #[derive(Debug, Clone, PartialEq)]
-pub struct PhasePortrait<const N: usize> {
+pub struct PhasePortrait<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// Samples every `dt` in `[t_start, t_end]`, with the state's derivative (for the paper's
     /// model `dy[4]`, `dy[5]` are the ring's velocity).
-    pub samples: Vec<Sample<N>>,
+    pub samples: Vec<Sample<D>>,
     /// Every transition in `[0, t_end]` (mode changes; derivatives may jump there).
-    pub events: Vec<EventRecord<N>>,
+    pub events: Vec<EventRecord<D>>,
     /// Work done by the run.
     pub stats: SimStats,
 }
 
-impl<const N: usize> PhasePortrait<N> {
+impl<D: Dim> PhasePortrait<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// The samples split into smooth pieces at the event times: no piece contains an event
     /// strictly between two of its samples, so a curve drawn through a piece never bridges a
     /// velocity jump. Empty pieces are dropped.
-    pub fn pieces(&self) -> Vec<&[Sample<N>]> {
+    pub fn pieces(&self) -> Vec<&[Sample<D>]> {
         let mut out = Vec::new();
         let mut start = 0;
         let mut ev = self.events.iter().map(|e| e.t).peekable();
@@ -56,7 +63,7 @@ impl<const N: usize> PhasePortrait<N> {
 
     /// A curve per smooth piece, mapping each sample with `f` (e.g. `|s| (s.y[4], s.dy[4])`
     /// for the ring's $(x_s, x_s^\prime)$ in the paper's model).
-    pub fn curves<F: Fn(&Sample<N>) -> (f64, f64)>(&self, f: F) -> Vec<Vec<(f64, f64)>> {
+    pub fn curves<F: Fn(&Sample<D>) -> (f64, f64)>(&self, f: F) -> Vec<Vec<(f64, f64)>> {
         self.pieces()
             .into_iter()
             .map(|p| p.iter().map(&f).collect())
@@ -65,7 +72,7 @@ impl<const N: usize> PhasePortrait<N> {
 
     /// All samples as one curve with a `(NaN, NaN)` point between smooth pieces (what line
     /// plotters that break at NaN expect).
-    pub fn broken_curve<F: Fn(&Sample<N>) -> (f64, f64)>(&self, f: F) -> Vec<(f64, f64)> {
+    pub fn broken_curve<F: Fn(&Sample<D>) -> (f64, f64)>(&self, f: F) -> Vec<(f64, f64)> {
         let mut out = Vec::with_capacity(self.samples.len() + self.events.len());
         for (i, piece) in self.curves(f).into_iter().enumerate() {
             if i > 0 {
@@ -115,18 +122,21 @@ impl<const N: usize> PhasePortrait<N> {
 /// # Errors
 /// The driver's [`SimError`], also for an invalid `dt`, `t_start` or `t_end`
 /// ([`SimErrorKind::InvalidOption`]; `t_end < t_start` is one).
-pub fn phase_portrait<const N: usize, M: RotorModel<N>>(
+pub fn phase_portrait<M: RotorModel>(
     model: &M,
-    y0: &SVector<f64, N>,
+    y0: &OVector<f64, M::Dim>,
     t_start: f64,
     t_end: f64,
     dt: f64,
     opts: &SimOptions,
-) -> Result<PhasePortrait<N>, SimError<N>> {
+) -> Result<PhasePortrait<M::Dim>, SimError<M::Dim>>
+where
+    DefaultAllocator: Allocator<M::Dim>,
+{
     let bad = |field: &'static str, value: f64, hint: &'static str| SimError {
         kind: SimErrorKind::InvalidOption { field, value, hint },
         t: 0.0,
-        y: *y0,
+        y: y0.clone(),
         stats: SimStats::default(),
     };
     if !(dt.is_finite() && dt > 0.0) {

@@ -2,7 +2,7 @@
 
 use std::cell::Cell;
 
-use nalgebra::{SVector, Vector2};
+use nalgebra::{SVector, Vector2, U6};
 
 use super::free_flight::{FreeFlight, FreeOscillator};
 use super::onset::{find_onset, Onset, OnsetStats, RelaxingRing};
@@ -71,9 +71,9 @@ pub struct JeffcottModel {
 #[error("{error}")]
 pub struct RunFailure {
     /// The error, with the last good time and state.
-    pub error: SimError<6>,
+    pub error: SimError<U6>,
     /// Everything recorded up to the failure.
-    pub partial: Trajectory<6>,
+    pub partial: Trajectory<U6>,
 }
 
 /// Per-run scratch: the last ring location (guards evaluate it at the same point several
@@ -182,7 +182,7 @@ impl JeffcottModel {
         y0: &State,
         plan: &OutputPlan,
         opts: &SimOptions,
-    ) -> Result<(Trajectory<6>, SimStats), Box<RunFailure>> {
+    ) -> Result<(Trajectory<U6>, SimStats), Box<RunFailure>> {
         let mut traj = Trajectory::default();
         match simulate(self, t0, y0, plan, opts, &mut traj) {
             Ok(stats) => Ok((traj, stats)),
@@ -204,7 +204,7 @@ impl JeffcottModel {
         first: u64,
         last: u64,
         opts: &SimOptions,
-    ) -> Result<(Trajectory<6>, SimStats), Box<RunFailure>> {
+    ) -> Result<(Trajectory<U6>, SimStats), Box<RunFailure>> {
         let plan = OutputPlan::strobe(self.params.forcing_period(), first, last);
         self.run(0.0, y0, &plan, opts)
     }
@@ -306,7 +306,7 @@ pub struct FreeSegment {
     separating: bool,
 }
 
-impl ExactSegment<6> for FreeSegment {
+impl ExactSegment<U6> for FreeSegment {
     fn eval(&self, t: f64, y: &mut State, dy: &mut State) {
         let (mut r, acc) = self.rotor.state_accel(t);
         if t == self.rotor.start() {
@@ -351,10 +351,19 @@ impl ExactSegment<6> for FreeSegment {
     }
 }
 
-impl RotorModel<6> for JeffcottModel {
+impl RotorModel for JeffcottModel {
+    type Dim = U6;
     type Mode = Mode;
     type Segment = FreeSegment;
     type Cache = Cache;
+
+    fn dim(&self) -> U6 {
+        U6
+    }
+
+    fn new_cache(&self) -> Cache {
+        Cache::default()
+    }
 
     fn initial_mode(&self, t: f64, y: &State) -> Result<Mode, ModelError> {
         let r = Vector2::new(y[0], y[1]);

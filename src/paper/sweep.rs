@@ -5,6 +5,8 @@ use crate::analysis::{
     self, AnalysisError, Bifurcation, BifurcationConfig, LocatedChange, LocatorConfig, OrbitError,
     PeriodTest, PoincareMap, Progress,
 };
+use nalgebra::U6;
+
 use crate::hybrid::{ModelError, SimOptions};
 use crate::params::{ParamError, Params};
 
@@ -195,7 +197,7 @@ impl ParamSweep {
         values: &[f64],
         config: &BifurcationConfig,
         progress: Option<&dyn Progress>,
-    ) -> Result<Bifurcation<6, ParamError>, AnalysisError> {
+    ) -> Result<Bifurcation<U6, ParamError>, AnalysisError> {
         analysis::bifurcation(
             values,
             |v| self.model(v),
@@ -215,7 +217,7 @@ impl ParamSweep {
         from: f64,
         to: f64,
         config: &LocatorConfig,
-    ) -> Result<LocatedChange, OrbitError<6, ParamError>> {
+    ) -> Result<LocatedChange, OrbitError<U6, ParamError>> {
         analysis::locate_period_change(
             from,
             to,
@@ -238,7 +240,7 @@ pub fn poincare_map(
     record: u64,
     opts: &SimOptions,
     test: &PeriodTest,
-) -> Result<PoincareMap<6>, OrbitError<6, ParamError>> {
+) -> Result<PoincareMap<U6>, OrbitError<U6, ParamError>> {
     let model = JeffcottModel::new(*params).map_err(OrbitError::Build)?;
     let y0 = start.state(&model)?;
     let orbit = analysis::strobe_orbit(&model, &y0, transient, record, opts)?;
