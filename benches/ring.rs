@@ -29,7 +29,7 @@ fn bench_locate(c: &mut Criterion) {
     let mut group = c.benchmark_group("ring_locate");
     for (regime, r) in cases {
         let contact = ring.locate(&r).unwrap();
-        assert_eq!(contact.regime, regime);
+        assert_eq!(contact.regime(), regime);
         group.bench_function(format!("cold/{regime}"), |b| {
             b.iter(|| ring.locate(black_box(&r)).unwrap())
         });
@@ -47,7 +47,7 @@ fn bench_locate(c: &mut Criterion) {
     )
     .unwrap();
     for r in [Vector2::new(1.1, 0.4), Vector2::new(2.0, 1.5)] {
-        let regime = aniso.locate(&r).unwrap().regime;
+        let regime = aniso.locate(&r).unwrap().regime();
         group.bench_function(format!("anisotropic/{regime}"), |b| {
             b.iter(|| aniso.locate(black_box(&r)).unwrap())
         });
@@ -83,12 +83,12 @@ fn bench_force(c: &mut Criterion) {
         b.iter(|| ring.force(black_box(&contact.s), black_box(&rd)))
     });
     group.bench_function("contact.force(J r')", |b| {
-        b.iter(|| black_box(&contact).force(&ring, black_box(&rd)))
+        b.iter(|| black_box(&contact).force(black_box(&rd)))
     });
     group.bench_function("locate+normal_force", |b| {
         b.iter(|| {
             let c = ring.locate(black_box(&r)).unwrap();
-            c.normal_force(&ring, black_box(&rd))
+            c.normal_force(black_box(&rd))
         })
     });
     let s0 = Vector2::new(2.0, -0.5);

@@ -40,7 +40,7 @@ fn restoring(
         Regime::I => (*r, Regime::I),
         _ => {
             let c = ring.locate(r)?;
-            (r + ring.elastic_force(&c.s), c.regime)
+            (r + ring.elastic_force(&c.s), c.regime())
         }
     })
 }

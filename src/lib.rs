@@ -84,6 +84,8 @@ pub mod ode;
 pub mod paper;
 pub mod params;
 pub mod ring;
+pub mod rotor;
 
+/// The linear algebra crate of the public API (states are `nalgebra` vectors).
 pub use nalgebra;
 pub use paper::{JeffcottModel, State};

@@ -5,6 +5,9 @@
 #[path = "../examples/common/cli.rs"]
 mod cli;
 
+#[path = "support/examples.rs"]
+mod examples;
+
 use cli::{Cli, Finish};
 
 fn cli(args: &[&str]) -> Cli {
@@ -116,19 +119,11 @@ fn help_lists_every_flag_and_skips_validation() {
     assert!(matches!(cli(&["-h"]).try_finish(), Ok(Finish::Help(_))));
 }
 
-/// Runs the built `common_demo` example, if `cargo test` built it (it does unless a test
-/// filter such as `--test` excludes examples).
+/// Runs the built `common_demo` example (built by the test if needed; a build failure fails
+/// the test).
 #[test]
 fn example_exits_with_status_2_on_bad_input() {
-    let exe = std::env::current_exe().unwrap();
-    let dir = exe.parent().and_then(|d| d.parent()).unwrap();
-    let demo = dir
-        .join("examples")
-        .join(format!("common_demo{}", std::env::consts::EXE_SUFFIX));
-    if !demo.exists() {
-        eprintln!("skipped: {} not built", demo.display());
-        return;
-    }
+    let demo = examples::example_exe("common_demo");
     for args in [
         vec!["--r-min", "abc"],
         vec!["--r-min", "NaN"],

@@ -1,11 +1,12 @@
 //! The command-line contract of `examples/simulate.rs`, tested on the built example.
 //!
-//! The example binary is built by `cargo build --profile test --example simulate` from this
-//! test (a no-op when `cargo test` has already built it, which it does for a plain
-//! `cargo test`), so the test also runs under `cargo test --test figures_simulate` and never
-//! uses a stale binary. If cargo is
-//! not available the test falls back to a binary next to the test's own, and is skipped with a
-//! message if there is none.
+//! The example binary is built by `cargo build --example simulate` from this test (a no-op
+//! when `cargo test` has already built it), so the test also runs under
+//! `cargo test --test figures_simulate` and never uses a stale binary. If the example does not
+//! build, every test here fails.
+
+#[path = "support/examples.rs"]
+mod examples;
 
 use std::f64::consts::TAU;
 use std::path::PathBuf;
@@ -13,39 +14,17 @@ use std::process::{Command, Output};
 use std::sync::OnceLock;
 
 /// Path of the `simulate` example, built once per test run.
-fn simulate_exe() -> Option<PathBuf> {
-    static EXE: OnceLock<Option<PathBuf>> = OnceLock::new();
-    EXE.get_or_init(|| {
-        let exe = std::env::current_exe().ok()?;
-        // target/<profile>/deps/<test> -> target/<profile>
-        let profile_dir = exe.parent()?.parent()?.to_path_buf();
-        let bin = profile_dir
-            .join("examples")
-            .join(format!("simulate{}", std::env::consts::EXE_SUFFIX));
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let mut cmd = Command::new(cargo);
-        cmd.args(["build", "--quiet", "--example", "simulate"])
-            .arg("--manifest-path")
-            .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml"));
-        // Build with the profile `cargo test` itself builds examples with, so that the build is
-        // a no-op after a plain `cargo test` (release for `cargo test --release`).
-        if profile_dir.file_name().is_some_and(|n| n == "release") {
-            cmd.arg("--release");
-        } else {
-            cmd.args(["--profile", "test"]);
-        }
-        match cmd.status() {
-            Ok(s) if s.success() => {}
-            other => eprintln!("note: building the simulate example failed ({other:?})"),
-        }
-        bin.exists().then_some(bin)
-    })
-    .clone()
+fn simulate_exe() -> PathBuf {
+    static EXE: OnceLock<PathBuf> = OnceLock::new();
+    EXE.get_or_init(|| examples::example_exe("simulate"))
+        .clone()
 }
 
-fn run(args: &[&str]) -> Option<Output> {
-    let exe = simulate_exe()?;
-    Some(Command::new(exe).args(args).output().expect("run simulate"))
+fn run(args: &[&str]) -> Output {
+    Command::new(simulate_exe())
+        .args(args)
+        .output()
+        .expect("run simulate")
 }
 
 fn rows(out: &Output) -> Vec<Vec<String>> {
@@ -58,10 +37,7 @@ fn rows(out: &Output) -> Vec<Vec<String>> {
 
 #[test]
 fn header_rows_and_tau() {
-    let Some(out) = run(&["--periods", "5"]) else {
-        eprintln!("skipped: simulate example not available");
-        return;
-    };
+    let out = run(&["--periods", "5"]);
     assert_eq!(out.status.code(), Some(0), "{out:?}");
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(text.lines().next(), Some("k,tau,x,y,vx,vy,xs,ys,regime"));
@@ -101,10 +77,7 @@ fn transient_shifts_tau_not_k_and_flags_override_the_preset() {
         "--periods",
         "3",
     ];
-    let Some(out) = run(&args) else {
-        eprintln!("skipped: simulate example not available");
-        return;
-    };
+    let out = run(&args);
     assert_eq!(out.status.code(), Some(0), "{out:?}");
     let shifted = rows(&out);
     assert_eq!(shifted.len(), 4);
@@ -118,7 +91,7 @@ fn transient_shifts_tau_not_k_and_flags_override_the_preset() {
         );
     }
     // The row k = 0 after 7 periods is the row k = 7 of a run without transient: same bits.
-    let full = run(&["--preset", "fig8b", "--eta", "3", "--periods", "10"]).unwrap();
+    let full = run(&["--preset", "fig8b", "--eta", "3", "--periods", "10"]);
     let full = rows(&full);
     assert_eq!(full[7][1..], shifted[0][1..]);
     // Full-precision output: every number reads back and prints the same.
@@ -145,10 +118,7 @@ fn bad_input_exits_2_with_one_line() {
         &["stray"],
     ];
     for args in cases {
-        let Some(out) = run(args) else {
-            eprintln!("skipped: simulate example not available");
-            return;
-        };
+        let out = run(args);
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
         assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
@@ -161,10 +131,7 @@ fn bad_input_exits_2_with_one_line() {
 #[test]
 fn simulation_failure_exits_1_with_one_line() {
     // An absurd tolerance: the step size underflows in the first contact phase.
-    let Some(out) = run(&["--rtol", "0", "--atol", "1e-300", "--periods", "2"]) else {
-        eprintln!("skipped: simulate example not available");
-        return;
-    };
+    let out = run(&["--rtol", "0", "--atol", "1e-300", "--periods", "2"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
@@ -176,10 +143,7 @@ fn simulation_failure_exits_1_with_one_line() {
 
 #[test]
 fn help_exits_0() {
-    let Some(out) = run(&["--help"]) else {
-        eprintln!("skipped: simulate example not available");
-        return;
-    };
+    let out = run(&["--help"]);
     assert_eq!(out.status.code(), Some(0));
     let text = String::from_utf8_lossy(&out.stdout);
     for flag in [

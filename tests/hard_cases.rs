@@ -441,8 +441,8 @@ fn loss_at_boundary_runs(scales: &[f64]) -> Vec<Trajectory<U6>> {
     let c = ring.locate(&r).unwrap();
     assert!((c.s - s).norm() < 1e-12, "{:?}", c.s);
     let n = c.normal;
-    let f0 = c.normal_force(&ring, &Vector2::zeros());
-    let f1 = c.normal_force(&ring, &(-n));
+    let f0 = c.normal_force(&Vector2::zeros());
+    let f1 = c.normal_force(&(-n));
     let speed = f0 / (f0 - f1);
     assert!(speed > 0.0 && speed.is_finite(), "{speed}");
     scales

@@ -1,6 +1,6 @@
 //! The crate against stroboscopic trajectories of an independent implementation
 //! (SciPy DOP853 at rtol 1e-13 with terminal events and exact ring relaxation;
-//! files in tests/data, copied from shared/reference).
+//! files in tests/data, see tests/data/README.md for where each comes from).
 
 use jeffcott::hybrid::{SimOptions, StrobePoint};
 use jeffcott::paper::{JeffcottModel, State};
@@ -71,6 +71,12 @@ fn compare(name: &str, opts: &SimOptions) -> (f64, usize) {
     (worst, flags)
 }
 
+/// Largest deviation allowed from a reference file: the measured deviations are 5.3e-13,
+/// 8.7e-13 and 1.4e-12 (rtol 1e-12, atol 1e-14; the references themselves are computed at
+/// rtol 1e-13), so 5e-12 leaves a margin of 3.5x on the worst file while a regression of the
+/// accuracy by 10x fails.
+const ALLOWED: f64 = 5e-12;
+
 #[test]
 fn matches_independent_reference_trajectories() {
     let opts = SimOptions {
@@ -81,7 +87,7 @@ fn matches_independent_reference_trajectories() {
     for name in ["fig8a_eta2.0.csv", "fig8b_eta2.0.csv", "fig8b_eta3.0.csv"] {
         let (worst, flags) = compare(name, &opts);
         println!("{name}: max |deviation| = {worst:.3e}, contact-flag mismatches = {flags}");
-        assert!(worst < 1e-8, "{name}: {worst:e}");
+        assert!(worst <= ALLOWED, "{name}: {worst:e} > {ALLOWED:e}");
         assert_eq!(flags, 0, "{name}");
     }
 }

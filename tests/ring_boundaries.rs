@@ -22,7 +22,7 @@ fn rings() -> Vec<(&'static str, SnubberRing)> {
 /// Ring state as seen from the rotor at `r`: contact position, or the rest position 0.
 fn state(ring: &SnubberRing, r: &Vector2<f64>) -> (Regime, Vector2<f64>) {
     match ring.locate(r) {
-        Ok(c) => (c.regime, c.s),
+        Ok(c) => (c.regime(), c.s),
         Err(_) => (Regime::I, Vector2::zeros()),
     }
 }
@@ -120,7 +120,7 @@ fn jacobian_and_damping_force_jump_across_preload_boundaries() {
             let rin = dir * (rad - 1e-9);
             let rout = dir * (rad + 1e-9);
             let (ci, co) = (ring.locate(&rin).unwrap(), ring.locate(&rout).unwrap());
-            assert_eq!((ci.regime, co.regime), (from, to));
+            assert_eq!((ci.regime(), co.regime()), (from, to));
             let rel = (co.jacobian - ci.jacobian).norm() / ci.jacobian.norm();
             let fi = damping_force(&ring, &ci.s, &ci.jacobian, &ci.normal);
             let fo = damping_force(&ring, &co.s, &co.jacobian, &co.normal);

@@ -29,7 +29,8 @@ pub struct SimOptions {
     /// `1..=`[`MAX_SAMPLES`]. Default 4.
     pub event_samples: usize,
     /// Chattering bound: more transitions than this within one forcing period is an error
-    /// ([`SimErrorKind::Chattering`]). Default 1000.
+    /// ([`SimErrorKind::Chattering`]). Default 1000. Transitions that do not advance time are
+    /// [`SimErrorKind::Stalled`] after 64 in a row (or this bound, if lower).
     pub max_events_per_period: u32,
     /// Step attempts allowed per integrated phase. Default 1e7.
     pub max_steps: u64,
@@ -75,13 +76,26 @@ pub enum SimErrorKind {
     /// The integrator failed (step-size underflow, non-finite values, too many steps).
     #[error(transparent)]
     Integrator(#[from] OdeError),
-    /// Transitions accumulate: chattering or Zeno behaviour.
+    /// Transitions accumulate: chattering or Zeno behaviour. Time still advances between
+    /// them (a run that cannot advance at all is [`SimErrorKind::Stalled`]).
     #[error("chattering: {count} transitions within one forcing period (bound {bound}); raise SimOptions::max_events_per_period if this is expected")]
     Chattering {
         /// Transitions counted in the window.
         count: u32,
         /// The bound.
         bound: u32,
+    },
+    /// Transitions follow each other without time advancing beyond a few ulps: the model's
+    /// transition map cycles at one instant (e.g. a contact that can neither persist nor
+    /// separate), so no bound on the number of transitions would let the run go on.
+    #[error("stalled at t = {t}: {transitions} transitions without time advancing (last guard `{last_guard}`); the model has no consistent continuation from this state, so raising max_events_per_period will not help: inspect the state (SimError::y) and the event log, or perturb the state or the parameters")]
+    Stalled {
+        /// Time at which the run stalled.
+        t: f64,
+        /// Consecutive transitions that did not advance time.
+        transitions: u32,
+        /// Label of the last guard that fired ([`RotorModel::guard_label`]).
+        last_guard: &'static str,
     },
     /// The state became NaN or infinite.
     #[error("non-finite state")]
@@ -281,6 +295,43 @@ impl ChatterGuard {
             return Err(SimErrorKind::Chattering {
                 count: self.count,
                 bound: self.bound,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Consecutive transitions without time advancing after which a run is
+/// [`SimErrorKind::Stalled`] (or the chattering bound, if lower).
+const STALL_TRANSITIONS: u32 = 64;
+
+/// A transition advances time if it is more than this many units of roundoff of the time
+/// scale after the previous one.
+const STALL_ULPS: f64 = 8.0;
+
+/// Counts consecutive transitions that do not advance time (beyond [`STALL_ULPS`] since the
+/// previous transition, or the start).
+struct StallGuard {
+    last_t: f64,
+    count: u32,
+    bound: u32,
+    period: f64,
+}
+
+impl StallGuard {
+    fn record(&mut self, t: f64, guard: &'static str) -> Result<(), SimErrorKind> {
+        let tol = STALL_ULPS * f64::EPSILON * t.abs().max(self.last_t.abs()).max(self.period);
+        if t - self.last_t <= tol {
+            self.count += 1;
+        } else {
+            self.count = 0;
+        }
+        self.last_t = t;
+        if self.count >= self.bound {
+            return Err(SimErrorKind::Stalled {
+                t,
+                transitions: self.count,
+                last_guard: guard,
             });
         }
         Ok(())
@@ -517,6 +568,12 @@ where
         bound: opts.max_events_per_period,
         period,
     };
+    let mut stall = StallGuard {
+        last_t: t0,
+        count: 0,
+        bound: STALL_TRANSITIONS.min(opts.max_events_per_period.max(1)),
+        period,
+    };
     let mut t = t0;
     let mut y = y0.clone();
     model.project(mode, t, &mut y, &cache);
@@ -631,6 +688,10 @@ where
             Err(e) => return Err(fail(e.into(), t, &w.event.before, stats)),
         };
         stats.transitions += 1;
+        // Stalling first: the chattering error's advice holds only when time advances.
+        if let Err(k) = stall.record(t, kind) {
+            return Err(fail(k, t, &y, stats));
+        }
         if let Err(k) = chatter.record(t) {
             return Err(fail(k, t, &y, stats));
         }

@@ -1,4 +1,6 @@
-//! The paper's model as a [`RotorModel`]: modes, vector fields, guards, transitions.
+//! The paper's model as a [`RotorModel`]: the rotor's closed-form free flight composed with the
+//! ring's contact element ([`crate::ring`]), whose modes, guards and transitions it uses as they
+//! are.
 
 use std::cell::Cell;
 
@@ -12,49 +14,48 @@ use crate::hybrid::{
 };
 use crate::ode::Direction;
 use crate::params::{ParamError, Params};
-use crate::ring::{Branch, BranchContact, Branches, RingAxis, RingContact, SnubberRing};
+use crate::ring::{Kinematics, RingAxis, RingCache, RingError, RingGuard, RingMode, SnubberRing};
 
 /// State `[x, y, x', y', x_s, y_s]`: rotor position and velocity, ring position.
 pub type State = SVector<f64, 6>;
 
-/// Relative distance inside the gap circle within which an onset counts as a touch of the
-/// rotor's surface (the onset time is located to rounding).
-const ONSET_TOUCH: f64 = 1e-12;
+/// A mode of the model: the ring's mode (free flight relaxing from where it was left, or
+/// contact on given force-law branches).
+pub type Mode = RingMode;
 
-/// Relative distance to its preload within which the other axis counts as crossing at the
-/// same time as the axis whose guard fired (a corner of the regime map).
-const CORNER_TOL: f64 = 1e-10;
-
-/// A mode of the model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[non_exhaustive]
-pub enum Mode {
-    /// Regime I: no contact; rotor and ring move in closed form.
-    Free,
-    /// Regime I right after contact loss (or a touch without load): as [`Mode::Free`], but
-    /// the contact onset search starts by separating, since the ring and rotor are touching
-    /// and, by the loss condition, parting (to rounding).
-    Separating,
-    /// Contact on the given force-law branches (regimes II..V).
-    Contact(Branches),
-}
-
-/// Guard names, for event logs.
+/// Guard names, for event logs (the ring's [`RingGuard::label`]s).
 pub mod guard {
+    use crate::ring::{Axis, RingGuard};
     /// Contact begins (free flight).
-    pub const ONSET: &str = "contact onset";
-    /// Normal contact force reaches zero.
-    pub const LOSS: &str = "contact loss";
+    pub const ONSET: &str = RingGuard::Onset.label();
+    /// The loss force reaches zero.
+    pub const LOSS: &str = RingGuard::Loss.label();
     /// Rotor back at the gap circle.
-    pub const GAP: &str = "rotor at gap";
+    pub const GAP: &str = RingGuard::Gap.label();
     /// x crosses its preload outward.
-    pub const X_OUT: &str = "x_s beyond preload";
+    pub const X_OUT: &str = RingGuard::Preload {
+        axis: Axis::X,
+        outward: true,
+    }
+    .label();
     /// x crosses its preload inward.
-    pub const X_IN: &str = "x_s within preload";
+    pub const X_IN: &str = RingGuard::Preload {
+        axis: Axis::X,
+        outward: false,
+    }
+    .label();
     /// y crosses its preload outward.
-    pub const Y_OUT: &str = "y_s beyond preload";
+    pub const Y_OUT: &str = RingGuard::Preload {
+        axis: Axis::Y,
+        outward: true,
+    }
+    .label();
     /// y crosses its preload inward.
-    pub const Y_IN: &str = "y_s within preload";
+    pub const Y_IN: &str = RingGuard::Preload {
+        axis: Axis::Y,
+        outward: false,
+    }
+    .label();
 }
 
 /// The Jeffcott rotor with a preloaded snubber ring (non-dimensional, gap 1).
@@ -76,14 +77,11 @@ pub struct RunFailure {
     pub partial: Trajectory<U6>,
 }
 
-/// Per-run scratch: the last ring location (guards evaluate it at the same point several
-/// times) and the warm start of its solver.
+/// Per-run scratch: the ring's cache (guards and the vector field evaluate the ring at the
+/// same point several times) and the forcing phase at a recent time.
 #[derive(Debug, Default)]
 pub struct Cache {
-    /// `(x, y, branches, mu)` of the last ring location.
-    key: Cell<Option<(f64, f64, Branches, f64)>>,
-    /// The last ring location.
-    contact: Cell<Option<BranchContact>>,
+    ring: RingCache,
     /// `(t, cos, sin)` of the forcing phase at a recent time.
     phase: Cell<Option<(f64, f64, f64)>>,
 }
@@ -146,29 +144,26 @@ impl JeffcottModel {
     }
 
     /// A consistent state for a rotor at `r` with velocity `v`: the ring at rest at its centre
-    /// out of contact ($|r| \le 1$), at its minimum-energy location in contact.
+    /// out of contact ($|r| \le 1$), at its minimum-energy location in contact
+    /// ([`SnubberRing::consistent_position`]).
     ///
     /// # Errors
     /// [`ModelError::InvalidState`] for non-finite input.
     pub fn state_at(&self, r: [f64; 2], v: [f64; 2]) -> Result<State, ModelError> {
-        let rv = Vector2::new(r[0], r[1]);
-        if !(rv.iter().chain(v.iter()).all(|x| x.is_finite())) {
+        let invalid = |e: RingError| ModelError::InvalidState {
+            t: 0.0,
+            reason: e.to_string(),
+        };
+        if !v.iter().all(|x| x.is_finite()) {
             return Err(ModelError::InvalidState {
                 t: 0.0,
-                reason: "non-finite rotor position or velocity".into(),
+                reason: "non-finite rotor velocity".into(),
             });
         }
-        let s = if rv.norm() > self.ring.gap {
-            self.ring
-                .locate(&rv)
-                .map_err(|e| ModelError::InvalidState {
-                    t: 0.0,
-                    reason: e.to_string(),
-                })?
-                .s
-        } else {
-            Vector2::zeros()
-        };
+        let s = self
+            .ring
+            .consistent_position(&Vector2::new(r[0], r[1]))
+            .map_err(invalid)?;
         Ok(State::from([r[0], r[1], v[0], v[1], s.x, s.y]))
     }
 
@@ -226,64 +221,14 @@ impl JeffcottModel {
         (c, s)
     }
 
-    /// Ring location on the mode's branches, reusing the last one at the same point.
-    fn contact(&self, b: Branches, y: &State, cache: &Cache) -> Option<BranchContact> {
-        let (x, yy) = (y[0], y[1]);
-        // The key is small to compare; the contact is copied out only on a hit.
-        let hint = match cache.key.get() {
-            Some((lx, ly, lb, mu)) if lb == b => {
-                if lx == x && ly == yy {
-                    return cache.contact.get();
-                }
-                mu
-            }
-            _ => f64::NAN,
-        };
-        let c = self.ring.locate_on(&Vector2::new(x, yy), b, hint)?;
-        cache.key.set(Some((x, yy, b, c.mu)));
-        cache.contact.set(Some(c));
-        Some(c)
+    /// The rotor's kinematics at the ring.
+    fn kinematics(y: &State) -> Kinematics {
+        Kinematics::new([y[0], y[1]], [y[2], y[3]])
     }
 
-    /// Branches of a contact that starts here: an axis exactly on its preload (within
-    /// [`CORNER_TOL`]) takes the branch it is moving into, since its guard, zero at the start,
-    /// would not fire.
-    fn branches_at_start(&self, c: &RingContact, r_dot: &Vector2<f64>) -> Branches {
-        let mut b = Branches::of(&self.ring, &c.s);
-        let v = c.ring_velocity(r_dot);
-        for (i, axis) in [self.ring.x, self.ring.y].iter().enumerate() {
-            let (s, d) = (c.s[i], axis.preload);
-            if d > 0.0 && (s.abs() - d).abs() <= CORNER_TOL * d {
-                let br = if s * v[i] > 0.0 {
-                    Branch::Outer(if s >= 0.0 { 1 } else { -1 })
-                } else {
-                    Branch::Inner
-                };
-                if i == 0 {
-                    b.x = br;
-                } else {
-                    b.y = br;
-                }
-            }
-        }
-        b
-    }
-
-    /// Guards of a contact mode: loss, gap, then one per preloaded axis.
-    fn axis_guard(&self, b: Branches, i: usize) -> Option<(usize, Branch)> {
-        let mut k = 2;
-        for (axis, (ra, br)) in [(&self.ring.x, b.x), (&self.ring.y, b.y)]
-            .into_iter()
-            .enumerate()
-        {
-            if ra.preload > 0.0 {
-                if k == i {
-                    return Some((axis, br));
-                }
-                k += 1;
-            }
-        }
-        None
+    fn guard_of(&self, mode: &Mode, i: usize) -> RingGuard {
+        // The driver asks only for guards below `guard_count`.
+        self.ring.guard(mode, i).unwrap_or(RingGuard::Onset)
     }
 }
 
@@ -366,47 +311,18 @@ impl RotorModel for JeffcottModel {
     }
 
     fn initial_mode(&self, t: f64, y: &State) -> Result<Mode, ModelError> {
-        let r = Vector2::new(y[0], y[1]);
-        let s = Vector2::new(y[4], y[5]);
-        let gap = self.ring.gap;
-        let dist = (r - s).norm();
-        let tol = 1e-9 * gap;
-        if dist < gap - tol || (dist <= gap + tol && r.norm() <= gap) {
-            return Ok(Mode::Free);
-        }
-        if dist > gap + tol {
-            return Err(ModelError::InvalidState {
+        self.ring
+            .initial_mode(t, &Self::kinematics(y), &Vector2::new(y[4], y[5]))
+            .map_err(|e| ModelError::InvalidState {
                 t,
-                reason: format!(
-                    "rotor beyond the ring: |r - s| = {dist} > gap {gap}; place the ring with JeffcottModel::state_at"
-                ),
-            });
-        }
-        let c = self.ring.locate(&r).map_err(|e| ModelError::InvalidState {
-            t,
-            reason: e.to_string(),
-        })?;
-        if (c.s - s).norm() > 1e-8 * gap {
-            return Err(ModelError::InvalidState {
-                t,
-                reason: format!(
-                    "rotor in contact but the ring is at {s:?}, not at its minimum-energy location {:?}; use JeffcottModel::state_at",
-                    c.s
-                ),
-            });
-        }
-        // A start whose contact force would pull (or vanish) is a start at contact loss.
-        let v = Vector2::new(y[2], y[3]);
-        if c.normal_force(&self.ring, &v) <= 0.0 {
-            return Ok(Mode::Separating);
-        }
-        Ok(Mode::Contact(self.branches_at_start(&c, &v)))
+                reason: e.to_string(),
+            })
     }
 
     fn flow(&self, mode: Mode) -> Flow {
         match mode {
-            Mode::Free | Mode::Separating => Flow::Exact,
-            Mode::Contact(_) => Flow::Integrated,
+            RingMode::Contact(_) => Flow::Integrated,
+            _ => Flow::Exact,
         }
     }
 
@@ -415,121 +331,55 @@ impl RotorModel for JeffcottModel {
         let p = &self.params;
         let mut fx = self.amp * cs - 2.0 * p.nu1 * y[2] - (y[0] - p.ex);
         let mut fy = self.amp * sn - 2.0 * p.nu1 * y[3] - (y[1] - p.ey);
-        let (mut sdx, mut sdy) = (0.0, 0.0);
-        if let Mode::Contact(b) = mode {
-            let rd = Vector2::new(y[2], y[3]);
-            match self.contact(b, y, cache) {
-                Some(c) => {
-                    let sd = c.ring_velocity(&rd);
-                    let f = c.elastic + c.damping.component_mul(&sd);
-                    fx -= f.x;
-                    fy -= f.y;
-                    sdx = sd.x;
-                    sdy = sd.y;
-                }
-                None => {
-                    fx = f64::NAN;
-                    fy = f64::NAN;
-                }
+        let (sdx, sdy) = match self
+            .ring
+            .ring_state(&mode, t, &Self::kinematics(y), &cache.ring)
+        {
+            Ok(ring) => {
+                fx -= ring.force.x;
+                fy -= ring.force.y;
+                (ring.s_dot.x, ring.s_dot.y)
             }
-        }
+            Err(_) => (f64::NAN, f64::NAN),
+        };
         *dy = State::from([y[2], y[3], fx, fy, sdx, sdy]);
     }
 
     fn guard_count(&self, mode: Mode) -> usize {
-        match mode {
-            Mode::Free | Mode::Separating => 1,
-            Mode::Contact(_) => {
-                2 + usize::from(self.ring.x.preload > 0.0) + usize::from(self.ring.y.preload > 0.0)
-            }
-        }
+        self.ring.guard_count(&mode)
     }
 
     fn guard_direction(&self, mode: Mode, i: usize) -> Direction {
-        match mode {
-            Mode::Free | Mode::Separating => Direction::Rising,
-            Mode::Contact(b) => match self.axis_guard(b, i) {
-                None => Direction::Falling,
-                Some((_, Branch::Inner)) => Direction::Rising,
-                Some((_, Branch::Outer(_))) => Direction::Falling,
-            },
-        }
+        self.guard_of(&mode, i).direction()
     }
 
-    fn guard_value(&self, mode: Mode, i: usize, _t: f64, y: &State, cache: &Cache) -> f64 {
-        let Mode::Contact(b) = mode else {
-            // Free flight guards are located by the exact segment.
-            return -1.0;
-        };
-        let r = Vector2::new(y[0], y[1]);
-        if i == 1 {
-            return r.norm_squared() - self.ring.gap * self.ring.gap;
-        }
-        let Some(c) = self.contact(b, y, cache) else {
-            return f64::NAN;
-        };
-        match self.axis_guard(b, i) {
-            None => c.normal.dot(&c.force(&Vector2::new(y[2], y[3]))),
-            Some((axis, br)) => {
-                let (s, d) = if axis == 0 {
-                    (c.s.x, self.ring.x.preload)
-                } else {
-                    (c.s.y, self.ring.y.preload)
-                };
-                match br {
-                    Branch::Inner => s.abs() - d,
-                    Branch::Outer(sg) => f64::from(sg) * s - d,
-                }
-            }
-        }
+    fn guard_value(&self, mode: Mode, i: usize, t: f64, y: &State, cache: &Cache) -> f64 {
+        let guard = self.guard_of(&mode, i);
+        self.ring
+            .guard_value(&mode, guard, t, &Self::kinematics(y), &cache.ring)
     }
 
     fn guard_derivative(
         &self,
         mode: Mode,
         i: usize,
-        _t: f64,
+        t: f64,
         y: &State,
-        dy: &State,
+        _dy: &State,
         cache: &Cache,
     ) -> Option<f64> {
-        let Mode::Contact(b) = mode else {
-            return None;
-        };
-        let _ = dy; // velocities are part of the state
-        if i == 1 {
-            return Some(2.0 * (y[0] * y[2] + y[1] * y[3]));
-        }
-        let (axis, br) = self.axis_guard(b, i)?;
-        let c = self.contact(b, y, cache)?;
-        let sd = c.ring_velocity(&Vector2::new(y[2], y[3]));
-        let (s, v) = if axis == 0 {
-            (c.s.x, sd.x)
-        } else {
-            (c.s.y, sd.y)
-        };
-        Some(match br {
-            Branch::Inner => s.signum() * v,
-            Branch::Outer(sg) => f64::from(sg) * v,
-        })
+        let guard = self.guard_of(&mode, i);
+        self.ring
+            .guard_rate(&mode, guard, t, &Self::kinematics(y), &cache.ring)
     }
 
     fn guard_derivative_needs_rhs(&self) -> bool {
+        // The guard rates need only the rotor's position and velocity, which are in the state.
         false
     }
 
     fn guard_label(&self, mode: Mode, i: usize) -> &'static str {
-        match mode {
-            Mode::Free | Mode::Separating => guard::ONSET,
-            Mode::Contact(b) => match (i, self.axis_guard(b, i)) {
-                (0, _) => guard::LOSS,
-                (1, _) => guard::GAP,
-                (_, Some((0, Branch::Inner))) => guard::X_OUT,
-                (_, Some((0, _))) => guard::X_IN,
-                (_, Some((_, Branch::Inner))) => guard::Y_OUT,
-                _ => guard::Y_IN,
-            },
-        }
+        self.guard_of(&mode, i).label()
     }
 
     fn transition(
@@ -539,148 +389,68 @@ impl RotorModel for JeffcottModel {
         t: f64,
         y: &mut State,
     ) -> Result<Mode, ModelError> {
-        let r = Vector2::new(y[0], y[1]);
-        match mode {
-            Mode::Free | Mode::Separating => {
-                let gap = self.ring.gap;
-                // A touch of the gap circle, up to the rounding of the onset time: the rotor
-                // moves |r'| ulp(t) per representable time step.
-                let speed = y[2].hypot(y[3]);
-                let touch = (ONSET_TOUCH * gap).max(4.0 * f64::EPSILON * t.abs() * speed);
-                if r.norm() < gap - touch {
-                    // The relaxing ring touched a rotor that is inside the gap circle: its
-                    // minimum-energy location (the centre) is within reach, so the touch ends
-                    // the relaxation and free flight goes on (docs/model.md).
-                    y[4] = 0.0;
-                    y[5] = 0.0;
-                    return Ok(Mode::Free);
-                }
-                // Onset is located to rounding, possibly a hair inside |r| = gap: start from
-                // the relaxed ring's branches, whose smooth extension covers that hair.
-                let b = if r.norm() > gap {
-                    let c = self.ring.locate(&r).map_err(|e| ModelError::Transition {
-                        t,
-                        reason: e.to_string(),
-                    })?;
-                    self.branches_at_start(&c, &Vector2::new(y[2], y[3]))
-                } else {
-                    Branches::of(&self.ring, &Vector2::zeros())
-                };
-                let c =
-                    self.ring
-                        .locate_on(&r, b, f64::NAN)
-                        .ok_or_else(|| ModelError::Transition {
-                            t,
-                            reason: format!("no ring location at r = {r:?}"),
-                        })?;
-                let v = Vector2::new(y[2], y[3]);
-                if c.normal.dot(&v) < 0.0 && c.normal.dot(&c.force(&v)) < 0.0 {
-                    // The contact would pull: an unrelaxed ring retreating as fast as an
-                    // inward-moving rotor touches it without load (right after contact loss,
-                    // to rounding). Free flight goes on; inside the gap circle the touch also
-                    // ends the relaxation (docs/model.md).
-                    if r.norm() <= gap {
-                        y[4] = 0.0;
-                        y[5] = 0.0;
-                    }
-                    return Ok(Mode::Separating);
-                }
-                y[4] = c.s.x;
-                y[5] = c.s.y;
-                Ok(Mode::Contact(b))
-            }
-            Mode::Contact(b) => match self.axis_guard(b, guard) {
-                None => Ok(Mode::Separating),
-                Some((axis, br)) => {
-                    let s = if axis == 0 { y[4] } else { y[5] };
-                    let nb = match br {
-                        Branch::Inner => Branch::Outer(if s >= 0.0 { 1 } else { -1 }),
-                        Branch::Outer(_) => Branch::Inner,
-                    };
-                    let mut next = b;
-                    if axis == 0 {
-                        next.x = nb;
-                    } else {
-                        next.y = nb;
-                    }
-                    // At a corner both preloads are crossed at once; the other axis' guard
-                    // sits at zero at the new mode's start, where the event layer does not
-                    // fire it again, so it is switched here if it is on its boundary and
-                    // moving across it.
-                    let other = 1 - axis;
-                    let other_axis = if other == 0 {
-                        &self.ring.x
-                    } else {
-                        &self.ring.y
-                    };
-                    let other_branch = if other == 0 { b.x } else { b.y };
-                    if other_axis.preload > 0.0 {
-                        let r = Vector2::new(y[0], y[1]);
-                        if let Some(c) = self.ring.locate_on(&r, b, f64::NAN) {
-                            let v = c.ring_velocity(&Vector2::new(y[2], y[3]))[other];
-                            let sv = c.s[other];
-                            let d = other_axis.preload;
-                            let near = (sv.abs() - d).abs() <= CORNER_TOL * d;
-                            let flipped = match other_branch {
-                                Branch::Inner if near && sv * v > 0.0 => {
-                                    Some(Branch::Outer(if sv >= 0.0 { 1 } else { -1 }))
-                                }
-                                Branch::Outer(sg) if near && f64::from(sg) * v < 0.0 => {
-                                    Some(Branch::Inner)
-                                }
-                                _ => None,
-                            };
-                            if let Some(f) = flipped {
-                                if other == 0 {
-                                    next.x = f;
-                                } else {
-                                    next.y = f;
-                                }
-                            }
-                        }
-                    }
-                    Ok(Mode::Contact(next))
-                }
-            },
-        }
+        // The rotor's acceleration without the ring, for the ring's acceptance test.
+        let p = &self.params;
+        let (sn, cs) = (p.phi0 + p.eta * t).sin_cos();
+        let free = Vector2::new(
+            self.amp * cs - 2.0 * p.nu1 * y[2] - (y[0] - p.ex),
+            self.amp * sn - 2.0 * p.nu1 * y[3] - (y[1] - p.ey),
+        );
+        let next = self
+            .ring
+            .transition(
+                &mode,
+                self.guard_of(&mode, guard),
+                t,
+                &Self::kinematics(y),
+                |f| free - f,
+            )
+            .map_err(|e| ModelError::Transition {
+                t,
+                reason: e.to_string(),
+            })?;
+        y[4] = next.s.x;
+        y[5] = next.s.y;
+        Ok(next.mode)
     }
 
     fn start_segment(&self, mode: Mode, t: f64, y: &State) -> FreeSegment {
-        // Without ring damping the relaxation is instantaneous: the ring is at its centre as
-        // soon as free flight starts.
-        let s0 = if self.ring.damping > 0.0 {
-            Vector2::new(y[4], y[5])
-        } else {
-            Vector2::zeros()
+        let (relax, separating) = match mode {
+            RingMode::Free { relax, separating } => (relax, separating),
+            // Never started for a contact mode (it is integrated); a ring at rest is harmless.
+            _ => (crate::ring::Relaxation::at_rest(t), false),
         };
         let start = [y[0], y[1], y[2], y[3]];
         FreeSegment {
             rotor: self.osc.segment(t, &start),
             start,
-            relax: RelaxingRing { t0: t, s0 },
+            relax: RelaxingRing {
+                t0: relax.t0,
+                s0: relax.s0,
+            },
             ring: self.ring,
             stats: OnsetStats::default(),
             chunk: self.params.forcing_period(),
             searched_to: t,
             found: None,
-            separating: mode == Mode::Separating,
+            separating,
         }
     }
 
-    fn project(&self, mode: Mode, _t: f64, y: &mut State, cache: &Cache) {
-        if let Mode::Contact(b) = mode {
-            if let Some(c) = self.contact(b, y, cache) {
-                y[4] = c.s.x;
-                y[5] = c.s.y;
+    fn project(&self, mode: Mode, t: f64, y: &mut State, cache: &Cache) {
+        if mode.is_contact() {
+            if let Ok(ring) = self
+                .ring
+                .ring_state(&mode, t, &Self::kinematics(y), &cache.ring)
+            {
+                y[4] = ring.s.x;
+                y[5] = ring.s.y;
             }
         }
     }
 
     fn mode_label(&self, mode: Mode) -> u8 {
-        match mode {
-            Mode::Free | Mode::Separating => 1,
-            Mode::Contact(b) => b.regime().number(),
-        }
+        mode.regime().number()
     }
 
     fn forcing_period(&self) -> f64 {

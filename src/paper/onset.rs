@@ -4,30 +4,108 @@
 //! form. Contact starts where $h(\tau) = |r - s|^2 - \gamma^2$ reaches zero from below. With
 //! $q = r - s$,
 //!
-//! $$h' = 2\,q\cdot q',\qquad h'' = 2|q'|^2 + 2\,q\cdot q'',\qquad
-//! h''' = 6\,q'\cdot q'' + 2\,q\cdot q'''.$$
+//! $$h^\prime = 2\thinspace q\cdot q^\prime,\qquad
+//! h^{\prime\prime} = 2|q^\prime|^2 + 2\thinspace q\cdot q^{\prime\prime},\qquad
+//! h^{\prime\prime\prime} = 6\thinspace q^\prime\cdot q^{\prime\prime}
+//! + 2\thinspace q\cdot q^{\prime\prime\prime}.$$
 //!
-//! From any time $\tau_0$ on, $|q|, |q'|, |q''|, |q'''|$ have rigorous bounds
-//! ([`FreeFlight::bounds`](super::free_flight::FreeFlight::bounds) for the rotor; each ring
-//! coordinate relaxes monotonically, so $|s_i|$ and $|s_i'|$ never grow and
-//! $|s_i''| = |s_i'|/T_i$, $|s_i'''| = |s_i'|/T_i^2$), hence bounds $M_2 \ge |h''|$ and
-//! $M_3 \ge |h'''|$. Taylor's theorem then gives two upper bounds for $u \ge 0$,
+//! # Smooth pieces
 //!
-//! $$h(\tau_0 + u) \le h_0 + h_0' u + \tfrac12 M_2 u^2,\qquad
-//! h(\tau_0 + u) \le h_0 + h_0' u + \tfrac12 h_0'' u^2 + \tfrac16 M_3 u^3,$$
+//! The rotor's closed form is analytic in $\tau$. The ring's is piecewise: an axis that starts
+//! beyond its preload relaxes on one exponential until it is back at $|s_i| = D_i$, at
+//! $t_0 + t_{1,i}$ ([`RelaxingRing::preload_crossings`]), then on another. There $s_i^\prime$
+//! drops by the factor 2, so $h^\prime$ jumps by $-2 q_i \operatorname{sign}(s_i) D_i/T_i$:
+//! upwards when the rotor is on the far side of the ring's centre ($q_i s_i < 0$), where a
+//! Taylor bound built before the crossing and used after it underestimates $h$. The search is
+//! therefore **cut at every crossing**: each bound is applied on one smooth piece only, from the
+//! derivatives of the piece after the node (right derivatives on a crossing). Without ring
+//! damping ($\nu_2 = 0$) the relaxation is instantaneous and the ring is at its centre on the
+//! whole window (the right limit at $t_0$).
 //!
-//! and the search advances by the largest $u$ for which either bound is still negative. No
-//! root of $h$ can lie in the interval skipped: **no contact is missed**, however shallow or
-//! brief (a grazing touch only slows the advance, it cannot be stepped over). Near a
-//! transversal crossing the advance converges to the root from below like Newton's method
-//! (the step error is $O(h_0^2)$); the search stops when $h \ge -\epsilon_h$ with
-//! $\epsilon_h = 4\times10^{-16}\gamma^2$, i.e. the contact time is located to about
-//! $\epsilon_h / h'$.
+//! # Bounds and steps
+//!
+//! From a node $t_k$ to the end of its piece, $|q|, |q^\prime|, |q^{\prime\prime}|,
+//! |q^{\prime\prime\prime}|$ have rigorous bounds: the rotor's from
+//! [`FreeFlight::bounds`](super::free_flight::FreeFlight::bounds) (the homogeneous energy never
+//! grows, for every $\nu_1 \ge 0$: under-, critically and over-damped), the ring's because on a
+//! piece each $|s_i|$ and $|s_i^\prime|$ decrease, with $|s_i^{\prime\prime}| =
+//! |s_i^\prime|/T_i$ and $|s_i^{\prime\prime\prime}| = |s_i^\prime|/T_i^2$. They give
+//! $M_2 \ge |h^{\prime\prime}|$ and $M_3 \ge |h^{\prime\prime\prime}|$ (inflated by $16\varepsilon$
+//! against their own rounding), and Taylor's theorem two upper bounds for $u \ge 0$ up to the
+//! piece's end,
+//!
+//! $$h(t_k + u) \le h_k + h_k^\prime u + \tfrac12 M_2 u^2,\qquad
+//! h(t_k + u) \le h_k + h_k^\prime u + \tfrac12 h_k^{\prime\prime} u^2 + \tfrac16 M_3 u^3.$$
+//!
+//! The search advances to a point a little short of the first root of either bound (the
+//! quadratic's root times $1 - 4\varepsilon$; the cubic's bracketed between its extrema and
+//! bisected to within 1/4096 below), but never past the piece's end or the window's. Near a
+//! transversal crossing it converges to the root from below like Newton's method; a grazing
+//! touch only slows it.
+//!
+//! # The guarantee
+//!
+//! Let $\tilde h_k, \tilde h_k^\prime, \tilde h_k^{\prime\prime}$ be the closed form evaluated in
+//! floating point at the nodes (the values the simulation itself uses) and
+//! $\varepsilon_h = $ [`H_TOLERANCE`]$\thinspace\gamma^2 = 4\varepsilon\gamma^2$.
+//!
+//! * **No root is missed.** Every interval skipped lies in one smooth piece, and there the
+//!   Taylor bound built on the node values is negative. Hence, were the node values exact,
+//!   $h < 0$ on every skipped interval: $h$ has no root in $(t_0, t_s)$, or in
+//!   $(t_0, t_\text{end}]$ when the result is [`Onset::None`], however shallow or brief the
+//!   contact. With rounding, what is certified on the interval skipped from $t_k$ is
+//!   $h(t_k + u) < \delta_k + \delta_k^\prime u + \tfrac12\delta_k^{\prime\prime} u^2$, where
+//!   the $\delta$ are the rounding errors of $\tilde h_k, \tilde h_k^\prime,
+//!   \tilde h_k^{\prime\prime}$ (the $u^2$ term only for the cubic bound): only a contact whose
+//!   depth is at the rounding level of the closed form can be missed. That level is a few
+//!   $\varepsilon\gamma(\gamma + R)$, with $R$ the size of the terms of $r$ and $s$, which
+//!   includes $|Z|\thinspace|\varphi_0 + \eta\tau|$ since the forcing phase is rounded
+//!   relative to its size (with the paper's parameters about $10^{-14}\gamma^2$ at
+//!   $\tau = 100$, $10^{-11}\gamma^2$ at $\tau = 10^5$). The crossing times are rounded
+//!   too: the closed form switches pieces within an ulp of the cut, where it is continuous.
+//! * **What a reported onset means.** The result is the first node $t_s$ with
+//!   $\tilde h(t_s) \ge -\varepsilon_h$: every earlier node had $\tilde h < -\varepsilon_h$,
+//!   so $t_s$ is at or before the first root $\tau^*$ (up to the rounding above), and a near
+//!   miss whose maximum is within $\varepsilon_h$ (plus rounding) of zero is reported as a
+//!   touch. Where $h$ rises through zero with slope $g = h^\prime(\tau^*)$,
+//!   $\tau^* - (\varepsilon_h + \delta)/g \lesssim t_s \le \tau^* + \delta/g$; at a grazing
+//!   contact of depth $d$ ($g \approx \sqrt{2|h^{\prime\prime}|d}$) this is
+//!   $(\varepsilon_h + \delta)/\sqrt{2|h^{\prime\prime}| d}$, about $10^{-9}$ for
+//!   $d = 10^{-12}\gamma^2$.
+//! * **Below one ulp of time.** If the certified step from a node falls below $\mathrm{ulp}(t)$
+//!   ($\tilde h$ is then within about $|h^\prime|\thinspace\mathrm{ulp}(t) + M_2
+//!   \mathrm{ulp}(t)^2$ of zero, so a near miss deeper than that never gets there), the search
+//!   stops: the onset is within the time resolution. It reports `t.next_up()` when
+//!   $\tilde h^\prime > 0$ (the first representable time on the contact side) and $t$ otherwise
+//!   (a touch). Such an onset may have $\tilde h < -\varepsilon_h$, by at most about
+//!   $|h^\prime|\thinspace\mathrm{ulp}(t)$ (late in long runs one ulp of time moves the
+//!   rotor by more than $10^{-12}$).
+//! * **A segment's start is not certified.** At $t_0 =$ `rotor.start()` with $|\tilde h| \le
+//!   \varepsilon_\text{start} = \max(\varepsilon_h, 16\varepsilon\gamma(|r| + |s|))$ the start
+//!   is touching (right after contact loss, or a touch without load): it fires only if
+//!   $\tilde h^\prime$ exceeds $10^{-9}$ of its scale $2|q|(|r^\prime| + |s^\prime|)$, or is 0
+//!   with $\tilde h^{\prime\prime} > 0$, and never with `separating`. Otherwise the first
+//!   bound is built on $\min(\tilde h, 0)$ and, when $|\tilde h^\prime|$ is within that
+//!   $10^{-9}$ (always with `separating`), on $\min(\tilde h^\prime, 0)$: a contact that would
+//!   start within this rounding of the start state is deemed not to be a new one. With
+//!   `separating` a step of one ulp may also be taken where no bound certifies any. A later
+//!   window start (the search's chunks) is a node like any other.
+//! * **Assumed.** $t_0 \ge$ `rotor.start()` (the rotor bounds hold after the segment's start)
+//!   and $t_0 \ge$ `ring_state.t0`. A closed form that is not finite stops the search with
+//!   [`Onset::At`] at that node: nothing is certified past it, and the caller meets the
+//!   non-finite state there.
+//!
+//! `tests/onset_bruteforce.rs` checks this against dense sampling of the closed form on $10^4$
+//! (and, ignored by default, $10^5$) constructed near-grazing cases.
 
 use nalgebra::Vector2;
 
 use super::free_flight::FreeFlight;
-use crate::ring::SnubberRing;
+use crate::ring::{RingAxis, SnubberRing};
+
+/// The search's stopping tolerance relative to $\gamma^2$: it reports an onset at the first node
+/// where $h \ge -\varepsilon_h$, $\varepsilon_h = 4\varepsilon\gamma^2$.
+pub const H_TOLERANCE: f64 = 4.0 * f64::EPSILON;
 
 /// Result of a search for contact onset.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,6 +140,51 @@ impl RelaxingRing {
         }
         let s = ring.relax(&self.s0, t - self.t0);
         (s, ring.relax_velocity(&s))
+    }
+
+    /// Absolute times $t_0 + t_{1,i}$ at which each axis of the free ring comes back inside its
+    /// preload ([`SnubberRing::time_to_preload`]): there the ring's velocity drops by the factor
+    /// 2 and $h^\prime$ jumps, so the search is cut there. Infinity for an axis that never crosses: at
+    /// rest, inside its preload from the start, without preload, or without ring damping.
+    pub fn preload_crossings(&self, ring: &SnubberRing) -> Vector2<f64> {
+        let t1 = ring.time_to_preload(&self.s0);
+        let crossing = |i: usize, axis: &RingAxis| {
+            if ring.damping > 0.0 && axis.preload > 0.0 && !axis.is_inside(self.s0[i]) {
+                self.t0 + t1[i]
+            } else {
+                f64::INFINITY
+            }
+        };
+        Vector2::new(crossing(0, &ring.x), crossing(1, &ring.y))
+    }
+
+    /// Position and *right* velocity $s^\prime(t^+)$ at `t`, on the smooth piece that starts at or
+    /// contains `t`: an axis is on its inner piece from its crossing time (`crossings`, from
+    /// [`RelaxingRing::preload_crossings`]) on, included, so that a node on a crossing gets the
+    /// derivatives of the piece after it. Without ring damping the ring is at its centre (the
+    /// right limit at $t_0$ of the instantaneous relaxation).
+    fn right_state(
+        &self,
+        ring: &SnubberRing,
+        crossings: &Vector2<f64>,
+        t: f64,
+    ) -> (Vector2<f64>, Vector2<f64>) {
+        if self.s0 == Vector2::zeros() || ring.damping == 0.0 {
+            return (Vector2::zeros(), Vector2::zeros());
+        }
+        let s = ring.relax(&self.s0, t - self.t0);
+        let tc = ring.relaxation_time();
+        let v = |i: usize, axis: &RingAxis| {
+            // Beyond the preload (or without one) only one unit pushes back.
+            let beyond = !axis.is_inside(self.s0[i]) && t < crossings[i];
+            let push = if beyond {
+                s[i] + axis.preload.copysign(self.s0[i])
+            } else {
+                s[i]
+            };
+            -push / tc[i]
+        };
+        (s, Vector2::new(v(0, &ring.x), v(1, &ring.y)))
     }
 }
 
@@ -136,10 +259,14 @@ fn first_root_quadratic(c0: f64, c1: f64, c2: f64) -> f64 {
     u * (1.0 - 4.0 * f64::EPSILON)
 }
 
-/// Searches $(t_0, t_\text{end}]$ for contact onset. `rotor` and `ring_state` describe the
-/// exact motion from their start times (at most `t0`). With `separating`, the rotor and ring
-/// are known to be parting at `t0` (right after contact loss: $h' = 2\gamma N/c \le 0$ and
-/// $h'' < 0$ there), so a touching start never fires, whatever the rounding of $h'$.
+/// Searches $(t_0, t_\text{end}]$ for contact onset, with the guarantee stated in the
+/// [module docs](self): no root of $h$ skipped (to the rounding of the closed form), the onset
+/// reported at the first node where $h \ge -\varepsilon_h$ (or within one ulp of time).
+/// `rotor` and `ring_state` describe the exact motion from their start times (at most `t0`).
+/// With `separating`, the rotor and ring are known to be parting at `t0` (right after contact
+/// loss: $h^\prime = 2\gamma N/c \le 0$ and $h^{\prime\prime} < 0$ there), so a touching
+/// start never fires, whatever the rounding of $h^\prime$. `stats` counts the closed-form
+/// evaluations (one per node; a preload crossing inside the window adds at most one node).
 pub fn find_onset(
     rotor: &FreeFlight,
     ring_state: &RelaxingRing,
@@ -149,16 +276,19 @@ pub fn find_onset(
     stats: &mut OnsetStats,
 ) -> Onset {
     let gap2 = ring.gap * ring.gap;
-    let eps_h = 4.0 * f64::EPSILON * gap2;
+    let eps_h = H_TOLERANCE * gap2;
     let tc = ring.relaxation_time();
     let inv_t = Vector2::new(inv_or_zero(tc.x), inv_or_zero(tc.y));
+    let crossings = ring_state.preload_crossings(ring);
     let rb = rotor.bounds();
     let r_bound = rotor.eccentricity_norm() + rb.position;
     let mut t = t0;
-    let mut first = true;
+    // Only a segment's start can be touching (right after contact loss, or a touch without
+    // load); a later window start is a node like any other.
+    let mut first = t0 == rotor.start();
     loop {
         let (y, acc) = rotor.state_accel(t);
-        let (s, sd) = ring_state.at(ring, t);
+        let (s, sd) = ring_state.right_state(ring, &crossings, t);
         stats.evaluations += 1;
         let sdd = -sd.component_mul(&inv_t);
         let q = Vector2::new(y[0] - s.x, y[1] - s.y);
@@ -167,6 +297,11 @@ pub fn find_onset(
         let mut h = q.norm_squared() - gap2;
         let mut h1 = 2.0 * q.dot(&q1);
         let h2 = 2.0 * q1.norm_squared() + 2.0 * q.dot(&q2);
+        if !(h.is_finite() && h1.is_finite() && h2.is_finite()) {
+            // No bound holds on a closed form that is not finite: stop here rather than
+            // certify anything; the caller meets the non-finite state at t.
+            return Onset::At(t);
+        }
         if first {
             // An onset that holds at the start (right after contact loss) does not fire again
             // unless h is moving into contact.
@@ -196,7 +331,12 @@ pub fn find_onset(
         if t >= t_end {
             return Onset::None;
         }
-        // Bounds on |q|, |q'|, |q''|, |q'''| for all later times.
+        // The closed form is smooth up to the next preload crossing: the Taylor bounds are
+        // applied on [t, piece_end] only, from the derivatives of the piece after t.
+        let piece_end = next_after(&crossings, t).min(t_end);
+        // Bounds on the derivatives of q on [t, piece_end]: the rotor's from the segment start
+        // (valid for all later times), the ring's from t (each coordinate and its velocity
+        // decay monotonically on a piece, with s_i'' = -s_i'/T_i).
         let sd_abs = Vector2::new(sd.x.abs(), sd.y.abs());
         let ring_acc = sd_abs.component_mul(&inv_t).norm();
         let ring_jerk = sd_abs.component_mul(&inv_t).component_mul(&inv_t).norm();
@@ -204,14 +344,14 @@ pub fn find_onset(
         let q1m = rb.velocity + sd.norm();
         let q2m = rb.acceleration + ring_acc;
         let q3m = rb.jerk + ring_jerk;
-        let m2 = 2.0 * q1m * q1m + 2.0 * q0 * q2m;
+        let m2 = (2.0 * q1m * q1m + 2.0 * q0 * q2m) * BOUND_MARGIN;
         let mut du = if h < 0.0 || h1 < 0.0 {
             first_root_quadratic(h, h1, 0.5 * m2)
         } else {
             0.0
         };
-        if du < 1e-3 * (t_end - t).max(1e-300) {
-            let m3 = 6.0 * q1m * q2m + 2.0 * q0 * q3m;
+        if du < 1e-3 * (piece_end - t).max(1e-300) {
+            let m3 = (6.0 * q1m * q2m + 2.0 * q0 * q3m) * BOUND_MARGIN;
             if m3 > 0.0 && (h < 0.0 || h1 < 0.0 || (h1 == 0.0 && h2 < 0.0)) {
                 du = du
                     .max(first_root_cubic(h, h1, 0.5 * h2, m3 / 6.0) * (1.0 - 4.0 * f64::EPSILON));
@@ -228,8 +368,20 @@ pub fn find_onset(
             // onset lies on the contact side), t itself otherwise (a touch).
             return Onset::At(if h1 > 0.0 { t.next_up().min(t_end) } else { t });
         }
-        t = t_next.min(t_end);
+        t = t_next.min(piece_end);
     }
+}
+
+/// Relative inflation of the bounds $M_2$, $M_3$ against their own rounding (sums and
+/// products of a few positive numbers).
+const BOUND_MARGIN: f64 = 1.0 + 16.0 * f64::EPSILON;
+
+/// The first of `times` strictly after `t` (infinity if none).
+fn next_after(times: &Vector2<f64>, t: f64) -> f64 {
+    times
+        .iter()
+        .filter(|&&c| c > t)
+        .fold(f64::INFINITY, |a, &c| a.min(c))
 }
 
 fn inv_or_zero(x: f64) -> f64 {

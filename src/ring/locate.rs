@@ -1,99 +1,115 @@
-//! Location of the ring in contact: `s*(r) = argmin E(s)` subject to `|r - s| = gap`.
+//! Where the ring sits in contact: $s^*(r) = \arg\min E(s)$ subject to $|r - s| = \gamma$.
 //!
-//! # Lagrange conditions
-//! With `d = r - s`, a minimiser satisfies `g(s) = 2 mu d`, `mu > 0`, `|d| = gap`. For a fixed
-//! multiplier `mu` each axis solves the monotone piecewise-linear equation
-//! `g_i(s_i) + 2 mu s_i = 2 mu r_i` in closed form; with `a = |r_i|`, written on `a` and signed
-//! with `r_i` afterwards:
+//! # One solver for every regime
+//! With $d = r - s$, a minimiser satisfies the Lagrange conditions $g(s) = 2\mu d$, $\mu > 0$,
+//! $|d| = \gamma$. On fixed branches of the two axes' force laws ([`Branches`]) each axis is
+//! linear in $s_i$, so
 //!
-//! * inside the preload (valid while `mu a <= (K + mu) D`): `s_i = mu a/(K + mu)`,
-//!   `d_i = K a/(K + mu)`;
-//! * beyond it: `s_i = (2 mu a - K D)/(K + 2 mu)`, `d_i = K (a + D)/(K + 2 mu)`.
+//! $$d_i(\mu) = \frac{\alpha_i}{\beta_i + \mu},\qquad (\alpha_i, \beta_i) = \begin{cases}
+//! (K_i r_i,\ K_i) & \text{inner: } g_i = 2K_i s_i\\\\
+//! (\tfrac12 K_i (r_i + \sigma_i D_i),\ \tfrac12 K_i) & \text{outer: } g_i = K_i (s_i + \sigma_i D_i)
+//! \end{cases}$$
 //!
-//! Both are of the form `d_i = alpha_i/(beta_i + mu)` with `(alpha, beta) = (K a, K)` inside and
-//! `(K (a + D)/2, K/2)` beyond. The axis switches from inside to beyond at the breakpoint
-//! `mu_i* = K D/(a - D)` (only if `a > D`; `mu_i* = 0` when `D = 0`); `d_i(mu)` is continuous
-//! there. `|d(mu)|` falls strictly from `|r|` at `mu = 0` to 0 as `mu -> infinity`, so
-//! `|d(mu)| = gap` has exactly one root when `|r| > gap`.
+//! and $\mu$ solves $|d(\mu)| = \gamma$ on $\mu > -\beta_{\min}$ (negative $\mu$ is the smooth
+//! extension of a contact regime slightly inside $|r| = \gamma$, which event location needs).
+//! The function $\varphi(\mu) = |d(\mu)|^{-1} - 1/\gamma$ is a weighted power mean of exponent
+//! $-2$ of the affine functions $\beta_i + \mu$ minus a constant, hence **increasing and
+//! concave**, and the root lies in
+//! $[\,|\alpha|/\gamma - \beta_{\max},\ |\alpha|/\gamma - \beta_{\min}\,]$. When both
+//! $\beta_i$ are equal (regimes II and V of an isotropic ring) or one $\alpha_i$ vanishes the
+//! root is closed form, $\mu = |\alpha|/\gamma - \beta$ (paper eq. 22 and Table 3); otherwise a
+//! safeguarded Newton iteration on $\varphi$ converges monotonically from the left (a step that
+//! leaves the bracket is replaced by bisection).
 //!
-//! # Solver
-//! 1. Evaluate `f(mu) = |d(mu)|^2` at the (at most two) finite breakpoints, in increasing order,
-//!    to find the piece `[lo, hi]` holding the root (no square roots needed).
-//! 2. On that piece `f = alpha_x^2/(beta_x + mu)^2 + alpha_y^2/(beta_y + mu)^2` with fixed
-//!    coefficients. If `beta_x = beta_y` (isotropic II or V, and some anisotropic pieces) or one
-//!    `alpha` vanishes, the root is closed-form: `mu = |alpha|/gap - beta`.
-//! 3. Otherwise (III, IV, anisotropic) run Newton on `phi(mu) = f^{-1/2} - 1/gap`, which on a
-//!    piece is a power mean of exponent -2 of the affine functions `beta_i + mu`, hence
-//!    increasing and concave: from a point left of the root Newton converges monotonically, and
-//!    a step from the right of the root lands left of it. The bracket
-//!    `[max(lo, |alpha|/gap - beta_max), min(hi, |alpha|/gap - beta_min)]` (from
-//!    `|alpha|^2/(beta_max + mu)^2 <= f <= |alpha|^2/(beta_min + mu)^2`) is kept, steps leaving it
-//!    are replaced by bisection, and a warm start `mu_hint` inside it is used as the first iterate
-//!    (else the first-order guess `|alpha|/gap - beta_bar`, `beta_bar` the `alpha^2`-weighted mean
-//!    of the betas, exact for `mu >> beta`). It stops after a Newton step
-//!    `|delta| <= 1e-10 (beta_max + mu)` (the error left is `<~ delta^2/(beta + mu)`).
+//! **Stopping rule and tolerance.** The iteration stops after a Newton step
+//! $|\delta| \le 10^{-10}(\beta_{\max} + \mu)$ (on a fixed branch the error left after such a step
+//! is $\lesssim \delta^2/(\beta_{\min} + \mu)$, below rounding), or when the bracket is narrower
+//! than $16\varepsilon(\beta_{\max} + \mu)$: $\mu$ is resolved to rounding relative to
+//! $\beta + \mu$. It never returns an unconverged iterate: after [`MAX_ITERATIONS`] steps it
+//! returns [`RingError::NotConverged`] (bisection halves the bracket, so this cannot happen for
+//! finite input; the error keeps the promise checkable).
 //!
-//! The Newton step is `delta = f (sqrt(f)/gap - 1) / sum_i alpha_i^2/(beta_i + mu)^3`, one square
-//! root per iteration. See `docs/ring.md` for the global bound `mu <= K_max (R~/gap - 1)`.
+//! # Choosing the branches
+//! [`SnubberRing::locate`] also finds the branches the minimiser lies on. For a given $\mu$
+//! each axis solves the monotone piecewise-linear equation $g_i(s_i) + 2\mu s_i = 2\mu r_i$; the
+//! axis passes its preload at the breakpoint $\mu_i^* = K_i D_i/(|r_i| - D_i)$ (if
+//! $|r_i| > D_i > 0$; $0$ if $D_i = 0$). $|d(\mu)|$ falls strictly from $|r|$ at $\mu = 0$, so
+//! comparing $|d|^2$ with $\gamma^2$ at the (at most two) breakpoints finds the piece, hence the
+//! branches, that hold the root; the branch solver then runs inside that piece.
+//!
+//! The Jacobian $J = \partial s^*/\partial r$ follows from implicit differentiation: with
+//! $A = \operatorname{diag}(g_i^\prime + 2\mu)$ and $w = A^{-1}d$,
+//! $J = 2\mu A^{-1} + w\,(d - 2\mu w)^{\mathsf T}/(d\cdot w)$ (see `docs/ring.md`).
 
 use nalgebra::{Matrix2, Vector2};
 
+use super::branch::{Branch, Branches};
 use super::SnubberRing;
 use super::{check_finite, check_non_negative, check_positive, Regime, RingAxis, RingError};
 
-/// Maximum number of safeguarded Newton iterations (never reached in tests: 1..4 are typical).
-const MAX_ITERATIONS: u32 = 100;
+/// Largest number of safeguarded Newton/bisection steps of the multiplier solver (1 to 4 are
+/// typical, 7 the most seen in the tests).
+pub const MAX_ITERATIONS: u32 = 100;
 
-/// The ring in contact with the rotor at `r`: position, multiplier, regime, Jacobian, normal.
+/// The ring located in contact with the rotor at `r`, on given force-law branches.
+///
+/// Built by [`SnubberRing::locate`] (the true minimiser, branches chosen) or
+/// [`SnubberRing::locate_on`] (the smooth extension of given branches).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RingContact {
-    /// Ring centre `s*(r)`, with `|r - s| = gap`.
+    /// Ring centre $s$, with $|r - s| = \gamma$ to rounding.
     pub s: Vector2<f64>,
-    /// Lagrange multiplier `mu > 0` of `g(s) = 2 mu (r - s)`; the normal elastic force is
-    /// `2 mu gap`. Pass it to [`SnubberRing::locate_from`] as a warm start.
+    /// Lagrange multiplier $\mu$ of $g(s) = 2\mu(r - s)$; the elastic normal force is
+    /// $2\mu\gamma$. Negative only on the extension of a regime inside $|r| = \gamma$.
     pub mu: f64,
-    /// Contact regime (II..V) of the ring position.
-    pub regime: Regime,
-    /// Jacobian `J = ds*/dr = 2 mu A^-1 + w (d - 2 mu w)^T/(d . w)` with `d = r - s`,
-    /// `A = diag(g_x'(s_x) + 2 mu, g_y'(s_y) + 2 mu)`, `w = A^-1 d`.
-    pub jacobian: Matrix2<f64>,
-    /// Unit contact normal `n = (r - s)/|r - s|`, pointing from the ring centre to the rotor.
+    /// Unit contact normal $n = (r - s)/\gamma$, from the ring centre towards the rotor.
     pub normal: Vector2<f64>,
-    /// Newton iterations used (0 on closed-form pieces).
+    /// $J = \partial s/\partial r$ on these branches.
+    pub jacobian: Matrix2<f64>,
+    /// The force-law branch of each axis.
+    pub branches: Branches,
+    /// Diagonal of the damping matrix $C$ on these branches ($4\nu_2$ inner, $2\nu_2$ outer).
+    pub damping: Vector2<f64>,
+    /// Elastic force $g(s) = 2\mu(r - s)$.
+    pub elastic: Vector2<f64>,
+    /// Newton iterations used (0 for the closed forms).
     pub iterations: u32,
 }
 
 impl RingContact {
-    /// Ring velocity in contact, `s' = J r'`.
+    /// The contact regime (II..V) of the branches.
+    pub fn regime(&self) -> Regime {
+        self.branches.regime()
+    }
+
+    /// Ring velocity in contact, $s^\prime = J r^\prime$.
     pub fn ring_velocity(&self, r_dot: &Vector2<f64>) -> Vector2<f64> {
         self.jacobian * r_dot
     }
 
-    /// Total ring force on the rotor `f = g(s) + C(s) J r'`.
-    pub fn force(&self, ring: &SnubberRing, r_dot: &Vector2<f64>) -> Vector2<f64> {
-        ring.force(&self.s, &self.ring_velocity(r_dot))
+    /// Total force of the ring on the rotor, $f = g(s) + C J r^\prime$.
+    pub fn force(&self, r_dot: &Vector2<f64>) -> Vector2<f64> {
+        self.elastic + self.damping.component_mul(&self.ring_velocity(r_dot))
     }
 
-    /// Normal component `N = n . f` of the ring force: `2 mu gap + n . C J r'` (the elastic part
-    /// is `n . g(s) = 2 mu |d| = 2 mu gap > 0`). Contact is lost when `N < 0`.
-    pub fn normal_force(&self, ring: &SnubberRing, r_dot: &Vector2<f64>) -> f64 {
-        self.normal.dot(&self.force(ring, r_dot))
+    /// The paper's normal contact force $N = n\cdot f = 2\mu\gamma + n\cdot C J r^\prime$.
+    pub fn normal_force(&self, r_dot: &Vector2<f64>) -> f64 {
+        self.normal.dot(&self.force(r_dot))
     }
 }
 
-/// Coefficients `(alpha, beta)` of `d_i = alpha/(beta + mu)` on the branch `beyond`, for `a = |r_i|`.
+/// `(alpha, beta)` of `d = alpha/(beta + mu)` for one axis on `branch`, at rotor coordinate `r`.
 #[inline(always)]
-fn coefficients(axis: &RingAxis, a: f64, beyond: bool) -> (f64, f64) {
+fn coefficients(axis: &RingAxis, branch: Branch, r: f64) -> (f64, f64) {
     let k = axis.stiffness;
-    if beyond {
-        (0.5 * k * (a + axis.preload), 0.5 * k)
-    } else {
-        (k * a, k)
+    match branch {
+        Branch::Inner => (k * r, k),
+        Branch::Outer(sigma) => (0.5 * k * (r + f64::from(sigma) * axis.preload), 0.5 * k),
     }
 }
 
-/// Multiplier at which the axis switches from inside to beyond the preload, for `a = |r_i|`:
-/// `K D/(a - D)` if `a > D > 0`, 0 if `D = 0`, infinity if `a <= D`.
+/// Multiplier at which an axis passes its preload, for `a = |r_i|`: `K D/(a - D)` if
+/// `a > D > 0`, 0 if `D = 0`, infinity if `a <= D`.
 #[inline(always)]
 fn breakpoint(axis: &RingAxis, a: f64) -> f64 {
     let d = axis.preload;
@@ -106,38 +122,129 @@ fn breakpoint(axis: &RingAxis, a: f64) -> f64 {
     }
 }
 
-/// `f(mu) = |d(mu)|^2` with the branches valid at `mu` (breakpoints `bx`, `by`).
+/// The branch of an axis at multiplier `mu`, for rotor coordinate `r` (breakpoint `bp`).
 #[inline(always)]
-fn dist2_at(ring: &SnubberRing, ax: f64, ay: f64, bx: f64, by: f64, mu: f64) -> f64 {
-    let (alx, bex) = coefficients(&ring.x, ax, bx <= mu);
-    let (aly, bey) = coefficients(&ring.y, ay, by <= mu);
-    let dx = alx / (bex + mu);
-    let dy = aly / (bey + mu);
+fn branch_at(axis: &RingAxis, r: f64, bp: f64, mu: f64) -> Branch {
+    if axis.preload == 0.0 {
+        Branch::Outer(0)
+    } else if bp <= mu {
+        Branch::Outer(if r >= 0.0 { 1 } else { -1 })
+    } else {
+        Branch::Inner
+    }
+}
+
+/// $|d(\mu)|^2$ with the branches valid at `mu`.
+#[inline(always)]
+fn dist2_at(ring: &SnubberRing, r: &Vector2<f64>, bx: f64, by: f64, mu: f64) -> f64 {
+    let (ax, bex) = coefficients(&ring.x, branch_at(&ring.x, r.x, bx, mu), r.x);
+    let (ay, bey) = coefficients(&ring.y, branch_at(&ring.y, r.y, by, mu), r.y);
+    let dx = ax / (bex + mu);
+    let dy = ay / (bey + mu);
     dx * dx + dy * dy
 }
 
+/// Solves $|d(\mu)| = \gamma$ for fixed coefficients inside `[lo, hi]` (a piece of the branch
+/// map; `lo` may be the pole $-\beta_{\min}$, which is never evaluated). Returns `(mu, iterations)`.
+fn solve_mu(
+    (ax, bx): (f64, f64),
+    (ay, by): (f64, f64),
+    gap: f64,
+    (lo, hi): (f64, f64),
+    hint: f64,
+) -> Result<(f64, u32), RingError> {
+    // Callers check that |alpha| is positive and finite.
+    let norm = (ax * ax + ay * ay).sqrt();
+    // Closed forms: a single active axis, or equal betas.
+    if ax == 0.0 {
+        return Ok(((ay.abs() / gap - by).max(lo).min(hi), 0));
+    }
+    if ay == 0.0 {
+        return Ok(((ax.abs() / gap - bx).max(lo).min(hi), 0));
+    }
+    if bx == by {
+        return Ok(((norm / gap - bx).max(lo).min(hi), 0));
+    }
+    let (bmin, bmax) = if bx < by { (bx, by) } else { (by, bx) };
+    let mut left = lo.max(norm / gap - bmax).max(-bmin);
+    let mut right = hi.min(norm / gap - bmin);
+    if left > right {
+        // The piece and the bracket touch only through rounding: the root is at their meeting.
+        let m = 0.5 * (left + right);
+        return Ok((m, 0));
+    }
+    let (a2x, a2y) = (ax * ax, ay * ay);
+    // Inside the bracket and off the pole at -beta_min.
+    let valid = |m: f64, left: f64, right: f64| m >= left && m <= right && m > -bmin;
+    let mut mu = if valid(hint, left, right) {
+        hint
+    } else {
+        // First-order guess: for mu >> beta, |d|^2 ~ |alpha|^2/(mu + beta_bar)^2 with the
+        // alpha^2-weighted mean beta_bar.
+        let beta_bar = (a2x * bx + a2y * by) / (a2x + a2y);
+        let guess = (norm / gap - beta_bar).max(left).min(right);
+        if valid(guess, left, right) {
+            guess
+        } else {
+            right
+        }
+    };
+    let inv_gap = 1.0 / gap;
+    let mut iterations = 0;
+    while iterations < MAX_ITERATIONS {
+        iterations += 1;
+        let ix = 1.0 / (bx + mu);
+        let iy = 1.0 / (by + mu);
+        let tx = a2x * ix * ix;
+        let ty = a2y * iy * iy;
+        let f = tx + ty;
+        let s3 = tx * ix + ty * iy;
+        let residual = f.sqrt() * inv_gap - 1.0; // > 0 left of the root
+        if residual > 0.0 {
+            left = mu;
+        } else if residual < 0.0 {
+            right = mu;
+        } else {
+            return Ok((mu, iterations));
+        }
+        let step = f * residual / s3;
+        let mut next = mu + step;
+        let newton = valid(next, left, right);
+        if !newton {
+            next = 0.5 * (left + right);
+        }
+        let scale = bmax + mu;
+        let done = (newton && step.abs() <= 1e-10 * scale)
+            || right - left <= 16.0 * f64::EPSILON * scale.abs();
+        mu = next;
+        if done {
+            return Ok((mu, iterations));
+        }
+    }
+    Err(RingError::NotConverged {
+        iterations,
+        bracket: right - left,
+    })
+}
+
 impl SnubberRing {
-    /// Ring position in contact with the rotor at `r` (`|r| > gap`): see the module docs.
+    /// The ring in contact with the rotor at `r` (`|r| > gap`): the energy minimiser on the
+    /// circle $|r - s| = \gamma$, with the branches it lies on (see the module docs).
     ///
     /// # Errors
     /// [`RingError::NonFinite`] (`"r.x"`, `"r.y"`) for a non-finite `r`,
     /// [`RingError::InsideGap`] when `|r| <= gap`, or a parameter error if the ring is invalid.
     pub fn locate(&self, r: &Vector2<f64>) -> Result<RingContact, RingError> {
-        self.locate_impl(r, f64::NAN)
+        self.locate_from(r, f64::NAN)
     }
 
     /// As [`SnubberRing::locate`], warm-started from a previous multiplier `mu_hint` (e.g. the
-    /// [`RingContact::mu`] of the previous step). A hint that is NaN, infinite, negative or
-    /// outside the root's bracket is ignored; the result does not depend on the hint beyond
-    /// rounding.
+    /// [`RingContact::mu`] of the previous step). A hint that is NaN, infinite or outside the
+    /// root's bracket is ignored; the result does not depend on the hint beyond rounding.
     ///
     /// # Errors
     /// As [`SnubberRing::locate`].
     pub fn locate_from(&self, r: &Vector2<f64>, mu_hint: f64) -> Result<RingContact, RingError> {
-        self.locate_impl(r, mu_hint)
-    }
-
-    fn locate_impl(&self, r: &Vector2<f64>, hint: f64) -> Result<RingContact, RingError> {
         self.validate()?;
         check_finite("r.x", r.x)?;
         check_finite("r.y", r.y)?;
@@ -149,27 +256,17 @@ impl SnubberRing {
                 gap,
             });
         }
-        let (mu, iterations, cx, cy) = self.solve_mu(r.x.abs(), r.y.abs(), hint);
-        Ok(self.contact_from_mu(r, mu, iterations, cx, cy))
-    }
-
-    /// Solves `|d(mu)| = gap` for `a = (|r_x|, |r_y|)` with `|a| > gap`; returns
-    /// `(mu, iterations, (alpha_x, beta_x), (alpha_y, beta_y))` of the root's piece.
-    #[inline]
-    fn solve_mu(&self, ax: f64, ay: f64, hint: f64) -> (f64, u32, (f64, f64), (f64, f64)) {
-        let gap = self.gap;
-        let g2 = gap * gap;
-        let bx = breakpoint(&self.x, ax);
-        let by = breakpoint(&self.y, ay);
+        // The piece [lo, hi] of mu holding the root, from the breakpoints.
+        let bx = breakpoint(&self.x, r.x.abs());
+        let by = breakpoint(&self.y, r.y.abs());
         let (b1, b2) = if bx <= by { (bx, by) } else { (by, bx) };
-        // Piece [lo, hi] of mu holding the root.
-        let mut lo = 0.0;
-        let mut hi = f64::INFINITY;
+        let g2 = gap * gap;
+        let (mut lo, mut hi) = (0.0, f64::INFINITY);
         if b1.is_finite() {
-            if dist2_at(self, ax, ay, bx, by, b1) > g2 {
+            if dist2_at(self, r, bx, by, b1) > g2 {
                 lo = b1;
                 if b2.is_finite() {
-                    if dist2_at(self, ax, ay, bx, by, b2) > g2 {
+                    if dist2_at(self, r, bx, by, b2) > g2 {
                         lo = b2;
                     } else {
                         hi = b2;
@@ -179,113 +276,134 @@ impl SnubberRing {
                 hi = b1;
             }
         }
-        let (alx, bex) = coefficients(&self.x, ax, bx <= lo);
-        let (aly, bey) = coefficients(&self.y, ay, by <= lo);
-        // Closed forms: a single active axis, or equal betas.
-        let (cx, cy) = ((alx, bex), (aly, bey));
-        if alx == 0.0 {
-            return ((aly / gap - bey).max(lo).min(hi), 0, cx, cy);
-        }
-        if aly == 0.0 {
-            return ((alx / gap - bex).max(lo).min(hi), 0, cx, cy);
-        }
-        let norm = (alx * alx + aly * aly).sqrt();
-        if bex == bey {
-            return ((norm / gap - bex).max(lo).min(hi), 0, cx, cy);
-        }
-        let (bmin, bmax) = if bex < bey { (bex, bey) } else { (bey, bex) };
-        let mut left = lo.max(norm / gap - bmax);
-        let mut right = hi.min(norm / gap - bmin);
-        if left > right {
-            let m = 0.5 * (left + right);
-            left = m;
-            right = m;
-        }
-        let (a2x, a2y) = (alx * alx, aly * aly);
-        let mut mu = if hint >= left && hint <= right {
-            hint
-        } else {
-            // First-order guess: for mu >> beta, f ~ |alpha|^2/(mu + beta_bar)^2 with the
-            // alpha^2-weighted mean beta_bar.
-            let beta_bar = (a2x * bex + a2y * bey) / (a2x + a2y);
-            (norm / gap - beta_bar).max(left).min(right)
+        let branches = Branches {
+            x: branch_at(&self.x, r.x, bx, lo),
+            y: branch_at(&self.y, r.y, by, lo),
         };
-        let inv_gap = 1.0 / gap;
-        let mut iterations = 0;
-        while iterations < MAX_ITERATIONS {
-            iterations += 1;
-            let ix = 1.0 / (bex + mu);
-            let iy = 1.0 / (bey + mu);
-            let tx = a2x * ix * ix;
-            let ty = a2y * iy * iy;
-            let f = tx + ty;
-            let s3 = tx * ix + ty * iy;
-            let residual = f.sqrt() * inv_gap - 1.0; // > 0 left of the root
-            if residual > 0.0 {
-                left = mu;
-            } else if residual < 0.0 {
-                right = mu;
-            } else {
-                break;
-            }
-            let step = f * residual / s3;
-            let mut next = mu + step;
-            let newton = next >= left && next <= right;
-            if !newton {
-                next = 0.5 * (left + right);
-            }
-            // On a piece the Newton error after a step delta is <= delta^2/(beta + mu), so a
-            // step below 1e-10 (beta_max + mu) leaves an error far below rounding.
-            let scale = bmax + mu;
-            let done = (newton && step.abs() <= 1e-10 * scale)
-                || right - left <= 16.0 * f64::EPSILON * scale;
-            mu = next;
-            if done {
-                break;
-            }
-        }
-        (mu, iterations, cx, cy)
+        self.place(r, branches, (lo, hi), mu_hint)
     }
 
-    /// Builds the contact record from the multiplier: position, normal, regime, Jacobian.
-    #[inline]
-    fn contact_from_mu(
+    /// The ring on the given branches: the smooth extension of that contact regime (valid also a
+    /// little inside $|r| = \gamma$ and beyond the regime's boundaries), warm-started from
+    /// `mu_hint` (`f64::NAN` for none). This is what an integrator uses inside one contact mode,
+    /// so that no step straddles the kink of a regime boundary.
+    ///
+    /// # Errors
+    /// [`RingError::NoPlacement`] when the branch formulas have no solution at `r` (both axes
+    /// at the branch's centre $r_i = -\sigma_i D_i$, or non-finite `r`),
+    /// [`RingError::NotConverged`] if the solver failed to converge.
+    pub fn locate_on(
         &self,
         r: &Vector2<f64>,
-        mu: f64,
-        iterations: u32,
-        (alx, bex): (f64, f64),
-        (aly, bey): (f64, f64),
-    ) -> RingContact {
-        let dx = (alx / (bex + mu)).copysign(r.x);
-        let dy = (aly / (bey + mu)).copysign(r.y);
-        let inv = 1.0 / (dx * dx + dy * dy).sqrt();
-        let normal = Vector2::new(dx * inv, dy * inv);
-        let gap = self.gap;
-        let d = normal * gap;
-        let s = r - d;
-        let regime = self.regime_of_ring(&s);
-        let slopes = self.elastic_slopes(&s);
+        branches: Branches,
+        mu_hint: f64,
+    ) -> Result<RingContact, RingError> {
+        if self.x.stiffness == self.y.stiffness && branches.x.is_outer() == branches.y.is_outer() {
+            return self.locate_uniform(r, branches);
+        }
+        self.place(r, branches, (f64::NEG_INFINITY, f64::INFINITY), mu_hint)
+    }
+
+    /// Solves on fixed branches inside `[lo, hi]` and builds the contact record.
+    fn place(
+        &self,
+        r: &Vector2<f64>,
+        branches: Branches,
+        bounds: (f64, f64),
+        mu_hint: f64,
+    ) -> Result<RingContact, RingError> {
+        let cx = coefficients(&self.x, branches.x, r.x);
+        let cy = coefficients(&self.y, branches.y, r.y);
+        let no_placement = RingError::NoPlacement { x: r.x, y: r.y };
+        if !((cx.0 * cx.0 + cy.0 * cy.0).sqrt() > 0.0 && (cx.0 + cy.0).is_finite()) {
+            return Err(no_placement);
+        }
+        let (mu, iterations) = solve_mu(cx, cy, self.gap, bounds, mu_hint)?;
+        let dx = cx.0 / (cx.1 + mu);
+        let dy = cy.0 / (cy.1 + mu);
+        let dn = (dx * dx + dy * dy).sqrt();
+        if !(dn > 0.0 && dn.is_finite()) {
+            return Err(no_placement);
+        }
+        let normal = Vector2::new(dx / dn, dy / dn);
+        let d = normal * self.gap;
+        // A = diag(g' + 2 mu): inner 2K + 2mu, outer K + 2mu.
+        let slope = |b: Branch, k: f64| if b.is_outer() { k } else { 2.0 * k };
         let two_mu = 2.0 * mu;
-        let (ax_, ay_) = (slopes.x + two_mu, slopes.y + two_mu);
-        let (ix, iy) = (1.0 / ax_, 1.0 / ay_);
+        let ix = 1.0 / (slope(branches.x, self.x.stiffness) + two_mu);
+        let iy = 1.0 / (slope(branches.y, self.y.stiffness) + two_mu);
         let w = Vector2::new(d.x * ix, d.y * iy);
-        let dw = d.dot(&w);
-        let v = (d - w * two_mu) * (1.0 / dw);
+        let v = (d - w * two_mu) * (1.0 / d.dot(&w));
         let jacobian = Matrix2::new(
             two_mu * ix + w.x * v.x,
             w.x * v.y,
             w.y * v.x,
             two_mu * iy + w.y * v.y,
         );
-        RingContact {
-            s,
+        Ok(RingContact {
+            s: r - d,
             mu,
-            regime,
-            jacobian,
             normal,
+            jacobian,
+            branches,
+            damping: self.branch_damping(branches),
+            elastic: d * two_mu,
             iterations,
+        })
+    }
+
+    /// Damping coefficients of the branches: $4\nu_2$ inner, $2\nu_2$ outer.
+    fn branch_damping(&self, b: Branches) -> Vector2<f64> {
+        let unit = |b: Branch| if b.is_outer() { 2.0 } else { 4.0 } * self.damping;
+        Vector2::new(unit(b.x), unit(b.y))
+    }
+
+    /// Closed form when both axes share $K$ and the branch kind (regimes II and V of an
+    /// isotropic ring): $|d| = K|a|/(K + c\mu) = \gamma$ with $a = r + \sigma D$, so
+    /// $\mu = K(|a|/\gamma - 1)/c$, $d = \gamma a/|a|$, and with $\alpha = g^\prime + 2\mu$ the
+    /// same on both axes, $J = (2\mu/\alpha) I + (1 - 2\mu/\alpha)\, n n^{\mathsf T}$.
+    fn locate_uniform(
+        &self,
+        r: &Vector2<f64>,
+        branches: Branches,
+    ) -> Result<RingContact, RingError> {
+        let k = self.x.stiffness;
+        let sigma = |b: Branch| match b {
+            Branch::Inner => 0.0,
+            Branch::Outer(s) => f64::from(s),
+        };
+        let ax = k * (r.x + sigma(branches.x) * self.x.preload);
+        let ay = k * (r.y + sigma(branches.y) * self.y.preload);
+        // Plain sqrt, not hypot: the arguments are O(K), far from overflow, and hypot is slow.
+        let a_norm = (ax * ax + ay * ay).sqrt();
+        if !(a_norm > 0.0 && a_norm.is_finite()) {
+            return Err(RingError::NoPlacement { x: r.x, y: r.y });
         }
+        let outer = branches.x.is_outer();
+        let c = if outer { 2.0 } else { 1.0 };
+        let mu = (a_norm / self.gap - k) / c;
+        let normal = Vector2::new(ax, ay) * a_norm.recip();
+        let dvec = normal * self.gap;
+        let alpha = if outer { k } else { 2.0 * k } + 2.0 * mu;
+        let ratio = 2.0 * mu / alpha;
+        let q = 1.0 - ratio;
+        let nxy = q * normal.x * normal.y;
+        let jacobian = Matrix2::new(
+            ratio + q * normal.x * normal.x,
+            nxy,
+            nxy,
+            ratio + q * normal.y * normal.y,
+        );
+        Ok(RingContact {
+            s: r - dvec,
+            mu,
+            normal,
+            jacobian,
+            branches,
+            damping: self.branch_damping(branches),
+            elastic: dvec * (2.0 * mu),
+            iterations: 0,
+        })
     }
 }
 

@@ -30,13 +30,18 @@ use nalgebra::Vector2;
 use thiserror::Error;
 
 pub mod branch;
+mod element;
 mod locate;
 mod regime;
 mod relax;
 
-pub use branch::{Branch, BranchContact, Branches};
-pub use locate::{regime_ii_position, regime_v_position, RingContact};
+pub use branch::{Branch, Branches};
+pub use element::{
+    Axis, Kinematics, RingCache, RingGuard, RingMode, RingState, RingTransition, ONSET_TOUCH,
+};
+pub use locate::{regime_ii_position, regime_v_position, RingContact, MAX_ITERATIONS};
 pub use regime::{boundaries, Regime};
+pub use relax::Relaxation;
 
 /// Errors of the snubber-ring element: every variant names the offending field and its value.
 #[derive(Debug, Clone, Copy, PartialEq, Error)]
@@ -81,6 +86,40 @@ pub enum RingError {
         distance: f64,
         /// The gap (constraint radius).
         gap: f64,
+    },
+    /// The branch formulas of a contact mode have no solution at the rotor position
+    /// `(x, y)` (both axes exactly at their branch centre $r_i = -\sigma_i D_i$, or a
+    /// non-finite position): the contact mode cannot continue there.
+    #[error("no ring placement on the contact branches at r = ({x}, {y})")]
+    NoPlacement {
+        /// `r.x`.
+        x: f64,
+        /// `r.y`.
+        y: f64,
+    },
+    /// The multiplier solver did not converge (not expected for finite input: bisection halves
+    /// the bracket every step).
+    #[error("ring location did not converge in {iterations} iterations (bracket width {bracket})")]
+    NotConverged {
+        /// Iterations made.
+        iterations: u32,
+        /// Width of the remaining bracket of the multiplier.
+        bracket: f64,
+    },
+    /// The rotor is beyond the ring: `|r - s| > gap` (more than the tolerance), an impossible
+    /// state.
+    #[error("rotor beyond the ring: |r - s| = {distance} > gap {gap}; place the ring with SnubberRing::consistent_position")]
+    BeyondRing {
+        /// `|r - s|`.
+        distance: f64,
+        /// The gap.
+        gap: f64,
+    },
+    /// In contact, the ring is not at its minimum-energy position $s^*(r)$.
+    #[error("rotor in contact but the ring is {offset} away from its minimum-energy position; place it with SnubberRing::consistent_position")]
+    RingOffMinimum {
+        /// `|s - s*(r)|`.
+        offset: f64,
     },
 }
 

@@ -82,7 +82,7 @@ impl SnubberRing {
         if r.x * r.x + r.y * r.y <= self.gap * self.gap {
             return Ok(Regime::I);
         }
-        Ok(self.locate(r)?.regime)
+        Ok(self.locate(r)?.regime())
     }
 }
 

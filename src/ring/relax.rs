@@ -120,3 +120,39 @@ impl SnubberRing {
         )
     }
 }
+
+/// The free ring relaxing from `s0` since time `t0`: the ring's state out of contact.
+///
+/// Out of contact the massless ring's motion does not depend on the rotor, so these two numbers
+/// describe it completely: $s(t) = $ [`SnubberRing::relax`]$(s_0, t - t_0)$.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Relaxation {
+    /// Start time of the relaxation (the last contact loss or placement).
+    pub t0: f64,
+    /// Ring position at `t0`.
+    pub s0: Vector2<f64>,
+}
+
+impl Relaxation {
+    /// A ring at rest at its centre (fully relaxed) from time `t0` on.
+    pub fn at_rest(t0: f64) -> Self {
+        Self {
+            t0,
+            s0: Vector2::zeros(),
+        }
+    }
+
+    /// Whether the ring is at its centre, where it stays.
+    pub fn is_at_rest(&self) -> bool {
+        self.s0 == Vector2::zeros()
+    }
+
+    /// Ring position and velocity at time `t >= t0`.
+    pub fn at(&self, ring: &SnubberRing, t: f64) -> (Vector2<f64>, Vector2<f64>) {
+        if self.is_at_rest() {
+            return (self.s0, self.s0);
+        }
+        let s = ring.relax(&self.s0, t - self.t0);
+        (s, ring.relax_velocity(&s))
+    }
+}

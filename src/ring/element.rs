@@ -1,0 +1,732 @@
+//! The ring as a contact element: its modes, guards and transitions.
+//!
+//! A rotor model composes the ring with the displacement $r$ and velocity $r^\prime$ of the rotor
+//! at the ring's station ([`Kinematics`], relative to the ring's rest centre) and gets from here
+//! every rule that makes the ring a contact element, so that no model re-derives them:
+//!
+//! * **modes** ([`RingMode`]): free flight, where the massless ring relaxes in closed form from
+//!   the state it was left in ([`Relaxation`]), or contact on given force-law branches
+//!   ([`Branches`]: the regimes II..V, each continued smoothly past its boundaries);
+//! * **guards** ([`RingGuard`], [`SnubberRing::guard`], [`SnubberRing::guard_value`],
+//!   [`SnubberRing::guard_rate`]): contact onset $h = |r - s(t)|^2 - \gamma^2$ rising through 0
+//!   in free flight; in contact, loss (the loss force, below, falling through 0), the rotor back
+//!   at the gap circle ($|r|^2 - \gamma^2$ falling through 0) and one preload crossing per
+//!   preloaded axis ($|s_i| - D_i$ through 0), which switches that axis' branch;
+//! * **the ring's position, velocity and force** in each mode ([`SnubberRing::ring_state`]);
+//! * **transitions** ([`SnubberRing::transition`]): the next mode and where the ring is placed,
+//!   with the acceptance rule of a touch, the no-pull test and the corner rule built in;
+//! * **consistent initial states** ([`SnubberRing::consistent_position`],
+//!   [`SnubberRing::initial_mode`]).
+//!
+//! # The rules
+//!
+//! **Loss force.** In contact the paper's normal force is $N = n\cdot f$ with
+//! $f = g(s) + C J r^\prime$. After a loss the free ring relaxes, $C s^\prime = -g(s)$, and the
+//! contact distance starts to change at the rate $h^\prime = 2\gamma\,G$ with
+//! $G = n\cdot r^\prime + n\cdot C^{-1} g(s)$. Write
+//! $\lambda = G/(n\cdot C^{-1} n) = 2\mu\gamma + n\cdot r^\prime/(n\cdot C^{-1}n)$: the normal
+//! force that the massless ring's own balance $C s^\prime = \lambda n - g$ needs to keep
+//! $n\cdot(r^\prime - s^\prime) = 0$. For an isotropic damping ($C = cI$: regimes II and V, and
+//! $\nu_2 = 0$) $\lambda = N$. In regimes III and IV, $C = \operatorname{diag}(c_x, c_y)$ with
+//! $c_x \ne c_y$ and $\lambda \ne N$: at $N = 0$,
+//! $h^\prime = 2\gamma\, n_x f_x (1/c_x - 1/c_y)$, which can be positive, i.e. the freed ring
+//! would move straight back into the rotor. Contact therefore ends when **both** forces have
+//! fallen to zero: the loss guard is $\max(N, \lambda)$ falling through 0
+//! ([`RingContact::loss_force`]). After a loss $\lambda \le 0$, so $h^\prime \le 0$ in every
+//! regime: the rotor and the ring part. Where the two agree (II, V) this is the paper's
+//! criterion unchanged.
+//!
+//! **A touch** (the onset guard fires at $(t, r, r^\prime)$). The ring is placed at the minimiser
+//! of its energy over the disk $|r - s| \le \gamma$: its centre if $|r| < \gamma$ (beyond the
+//! touch tolerance, [`ONSET_TOUCH`]), else $s^*(r)$ on the branches it lies on (an axis within
+//! $10^{-10} D_i$ of its preload takes the branch its ring velocity moves into). Contact starts
+//! if the loss force there is positive, or if it vanishes because the ring is relaxed and the
+//! rotor on the circle ($\mu$ zero to the rounding of the touch) while the rotor moves outward
+//! ($n\cdot r^\prime > 0$: then $\mu$, hence the force, grows from zero). Otherwise free flight goes on from the placed ring,
+//! *separating*: $h = 0$ and $h^\prime = 2\gamma G \le 0$ there, so the touch cannot fire again
+//! at once and time advances. A rotor inside the gap circle leaves the ring at its centre (the
+//! minimum is within reach: no force can arise).
+//!
+//! **Preload crossings.** The crossing axis switches branch (inner to outer on the side of
+//! $s_i$, outer to inner). At a corner of the regime map both preloads are crossed at once: the
+//! other axis is switched too if it is within $10^{-10} D_i$ of its preload and its ring
+//! velocity moves across it (its guard sits at zero at the new mode's start).
+//!
+//! **No ring damping** ($\nu_2 = 0$): the ring relaxes instantly, so every free flight starts
+//! with the ring at its centre.
+
+use std::cell::Cell;
+
+use nalgebra::Vector2;
+
+use super::{Branch, Branches, Regime, Relaxation, RingContact, RingError, SnubberRing};
+use crate::ode::Direction;
+
+/// Relative distance inside the gap circle within which a touch still counts as a touch of the
+/// circle itself (the onset time is located to rounding): the contact branches' smooth
+/// extension covers that hair. Farther inside, a touch by a relaxing ring leaves the ring at its
+/// centre. The tolerance also grows with the rounding of time: $4\varepsilon|t|\,|r^\prime|$.
+pub const ONSET_TOUCH: f64 = 1e-12;
+
+/// Relative distance to its preload within which the other axis counts as crossing at the same
+/// time as the axis whose guard fired (a corner of the regime map), or a starting contact takes
+/// the branch it moves into.
+const CORNER_TOL: f64 = 1e-10;
+
+/// The rotor's displacement and velocity at the ring's station, relative to the ring's rest
+/// centre (in the ring's non-dimensional units: lengths over the gap of the paper's scaling, or
+/// whatever unit [`SnubberRing::gap`] is given in).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Kinematics {
+    /// Displacement $r$.
+    pub r: Vector2<f64>,
+    /// Velocity $r^\prime$.
+    pub v: Vector2<f64>,
+}
+
+impl Kinematics {
+    /// From displacement `(x, y)` and velocity `(vx, vy)`.
+    pub fn new(r: [f64; 2], v: [f64; 2]) -> Self {
+        Self {
+            r: Vector2::new(r[0], r[1]),
+            v: Vector2::new(v[0], v[1]),
+        }
+    }
+}
+
+/// The ring's mode between two events.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum RingMode {
+    /// Regime I: no contact; the ring relaxes from `relax`.
+    Free {
+        /// Where the relaxation started.
+        relax: Relaxation,
+        /// The ring and the rotor touch at the start and part (right after a loss or a touch
+        /// that did not start contact): the onset guard must not fire at the start.
+        separating: bool,
+    },
+    /// Contact on these branches (regimes II..V).
+    Contact(Branches),
+}
+
+impl RingMode {
+    /// Free flight with the ring relaxing from `relax`, not separating.
+    pub fn free(relax: Relaxation) -> Self {
+        RingMode::Free {
+            relax,
+            separating: false,
+        }
+    }
+
+    /// Whether the mode is a contact mode.
+    pub fn is_contact(&self) -> bool {
+        matches!(self, RingMode::Contact(_))
+    }
+
+    /// The paper's regime: I in free flight, II..V in contact.
+    pub fn regime(&self) -> Regime {
+        match self {
+            RingMode::Free { .. } => Regime::I,
+            RingMode::Contact(b) => b.regime(),
+        }
+    }
+}
+
+/// An axis of the ring.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Axis {
+    /// The horizontal axis.
+    X,
+    /// The vertical axis.
+    Y,
+}
+
+impl Axis {
+    /// 0 for x, 1 for y.
+    pub fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+        }
+    }
+
+    fn other(self) -> Axis {
+        match self {
+            Axis::X => Axis::Y,
+            Axis::Y => Axis::X,
+        }
+    }
+}
+
+/// A guard of the ring: a function of time and the rotor's kinematics whose zero crossing in
+/// its [`direction`](RingGuard::direction) ends the current mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum RingGuard {
+    /// Free flight: $h = |r - s(t)|^2 - \gamma^2$ rises through 0.
+    Onset,
+    /// Contact: the loss force $\max(N, \lambda)$ falls through 0.
+    Loss,
+    /// Contact: $|r|^2 - \gamma^2$ falls through 0 (the rotor back at the gap circle).
+    Gap,
+    /// Contact: the ring reaches the preload of `axis`, going beyond it (`outward`, from the
+    /// inner branch: $|s_i| - D_i$ rises through 0) or coming back inside (from the outer
+    /// branch on side $\sigma$: $\sigma s_i - D_i$ falls through 0).
+    Preload {
+        /// The crossing axis.
+        axis: Axis,
+        /// Going beyond the preload.
+        outward: bool,
+    },
+}
+
+impl RingGuard {
+    /// The crossing direction that fires the guard.
+    pub const fn direction(self) -> Direction {
+        match self {
+            RingGuard::Onset => Direction::Rising,
+            RingGuard::Loss | RingGuard::Gap => Direction::Falling,
+            RingGuard::Preload { outward, .. } => {
+                if outward {
+                    Direction::Rising
+                } else {
+                    Direction::Falling
+                }
+            }
+        }
+    }
+
+    /// Short name, for event logs.
+    pub const fn label(self) -> &'static str {
+        match self {
+            RingGuard::Onset => "contact onset",
+            RingGuard::Loss => "contact loss",
+            RingGuard::Gap => "rotor at gap",
+            RingGuard::Preload { axis, outward } => match (axis, outward) {
+                (Axis::X, true) => "x_s beyond preload",
+                (Axis::X, false) => "x_s within preload",
+                (Axis::Y, true) => "y_s beyond preload",
+                (Axis::Y, false) => "y_s within preload",
+            },
+        }
+    }
+}
+
+/// The ring in a mode at one instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RingState {
+    /// Ring centre $s$.
+    pub s: Vector2<f64>,
+    /// Ring velocity $s^\prime$.
+    pub s_dot: Vector2<f64>,
+    /// Force of the ring on the rotor, $f = g(s) + C s^\prime$ in contact, 0 in free flight: it
+    /// enters the rotor's equation as $\ldots + f = $ forcing.
+    pub force: Vector2<f64>,
+}
+
+/// The outcome of a guard crossing: the next mode and where the ring is now.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RingTransition {
+    /// The next mode.
+    pub mode: RingMode,
+    /// The ring's position after the transition (write it into the state's ring components).
+    pub s: Vector2<f64>,
+}
+
+/// Per-run scratch of the ring: the last contact location, reused when guards and the vector
+/// field ask for the same point, and the warm start of the next. Not shared between threads.
+#[derive(Debug, Default)]
+pub struct RingCache {
+    /// `(x, y, branches)` of the last location.
+    key: Cell<Option<(f64, f64, Branches)>>,
+    /// The last location.
+    contact: Cell<Option<RingContact>>,
+}
+
+impl RingContact {
+    /// $\lambda = n\cdot C^{-1} f/(n\cdot C^{-1} n) = 2\mu\gamma + n\cdot r^\prime/(n\cdot C^{-1}n)$:
+    /// the normal force the massless ring's own force balance needs to keep contact (module
+    /// docs). Equals [`RingContact::normal_force`] for isotropic damping (regimes II and V, or
+    /// $\nu_2 = 0$), where it returns exactly that.
+    pub fn separation_force(&self, r_dot: &Vector2<f64>) -> f64 {
+        let (cx, cy) = (self.damping.x, self.damping.y);
+        if cx == cy {
+            return self.normal_force(r_dot);
+        }
+        // Multiplied through by c_x c_y: no division by a vanishing damping.
+        let (n, g) = (self.normal, self.elastic);
+        (cx * cy * n.dot(r_dot) + cy * n.x * g.x + cx * n.y * g.y)
+            / (cy * n.x * n.x + cx * n.y * n.y)
+    }
+
+    /// The loss force $L = \max(N, \lambda)$: contact lasts while it is positive (module docs).
+    /// Exactly the paper's $N$ for isotropic damping.
+    pub fn loss_force(&self, r_dot: &Vector2<f64>) -> f64 {
+        let normal = self.normal_force(r_dot);
+        if self.damping.x == self.damping.y {
+            return normal;
+        }
+        normal.max(self.separation_force(r_dot))
+    }
+
+    /// Rounding level of [`RingContact::loss_force`]: its elastic part $2\mu\gamma$ carries
+    /// the rounding of $\mu$ relative to $K + \mu$, its damping part that of $C J r^\prime$.
+    fn loss_force_rounding(&self, stiffness: f64, gap: f64, r_dot: &Vector2<f64>) -> f64 {
+        let damping = self
+            .damping
+            .component_mul(&self.ring_velocity(r_dot))
+            .norm();
+        16.0 * f64::EPSILON * (2.0 * (self.mu.abs() + stiffness) * gap + damping)
+    }
+}
+
+impl SnubberRing {
+    /// The ring located on `branches` at `r`, reusing the cached location at the same point
+    /// and warm-starting from the last one on the same branches.
+    ///
+    /// # Errors
+    /// As [`SnubberRing::locate_on`].
+    pub fn contact_on(
+        &self,
+        branches: Branches,
+        r: &Vector2<f64>,
+        cache: &RingCache,
+    ) -> Result<RingContact, RingError> {
+        let hint = match cache.key.get() {
+            Some((x, y, b)) if b == branches => {
+                if x == r.x && y == r.y {
+                    if let Some(c) = cache.contact.get() {
+                        return Ok(c);
+                    }
+                }
+                cache.contact.get().map_or(f64::NAN, |c| c.mu)
+            }
+            _ => f64::NAN,
+        };
+        let c = self.locate_on(r, branches, hint)?;
+        cache.key.set(Some((r.x, r.y, branches)));
+        cache.contact.set(Some(c));
+        Ok(c)
+    }
+
+    /// Number of guards of `mode`: 1 in free flight; in contact loss, gap, and one per
+    /// preloaded axis.
+    pub fn guard_count(&self, mode: &RingMode) -> usize {
+        match mode {
+            RingMode::Free { .. } => 1,
+            RingMode::Contact(_) => {
+                2 + usize::from(self.x.preload > 0.0) + usize::from(self.y.preload > 0.0)
+            }
+        }
+    }
+
+    /// Guard `i` of `mode` (`None` for `i >= guard_count(mode)`), in the order onset (free);
+    /// loss, gap, x preload, y preload (contact, preload guards only for preloaded axes).
+    pub fn guard(&self, mode: &RingMode, i: usize) -> Option<RingGuard> {
+        match mode {
+            RingMode::Free { .. } => (i == 0).then_some(RingGuard::Onset),
+            RingMode::Contact(b) => match i {
+                0 => Some(RingGuard::Loss),
+                1 => Some(RingGuard::Gap),
+                _ => {
+                    let mut k = 2;
+                    for (axis, branch, preload) in [
+                        (Axis::X, b.x, self.x.preload),
+                        (Axis::Y, b.y, self.y.preload),
+                    ] {
+                        if preload > 0.0 {
+                            if k == i {
+                                return Some(RingGuard::Preload {
+                                    axis,
+                                    outward: branch == Branch::Inner,
+                                });
+                            }
+                            k += 1;
+                        }
+                    }
+                    None
+                }
+            },
+        }
+    }
+
+    /// Value of `guard` in `mode` at time `t` (NaN when it cannot be evaluated there, e.g. a
+    /// contact guard in free flight or a contact mode with no ring placement).
+    pub fn guard_value(
+        &self,
+        mode: &RingMode,
+        guard: RingGuard,
+        t: f64,
+        k: &Kinematics,
+        cache: &RingCache,
+    ) -> f64 {
+        match (mode, guard) {
+            (RingMode::Free { relax, .. }, RingGuard::Onset) => {
+                let (s, _) = relax.at(self, t);
+                (k.r - s).norm_squared() - self.gap * self.gap
+            }
+            (RingMode::Contact(_), RingGuard::Gap) => k.r.norm_squared() - self.gap * self.gap,
+            (RingMode::Contact(b), RingGuard::Loss) => self
+                .contact_on(*b, &k.r, cache)
+                .map_or(f64::NAN, |c| c.loss_force(&k.v)),
+            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
+                match self.contact_on(*b, &k.r, cache) {
+                    Ok(c) => self.preload_distance(b, axis, c.s[axis.index()]),
+                    Err(_) => f64::NAN,
+                }
+            }
+            _ => f64::NAN,
+        }
+    }
+
+    /// Time derivative of `guard` along the motion, where it needs only $r$ and $r^\prime$
+    /// (onset, gap, preload crossings); `None` for the loss guard (it would need $r''$) and for
+    /// guards that do not belong to `mode`.
+    pub fn guard_rate(
+        &self,
+        mode: &RingMode,
+        guard: RingGuard,
+        t: f64,
+        k: &Kinematics,
+        cache: &RingCache,
+    ) -> Option<f64> {
+        match (mode, guard) {
+            (RingMode::Free { relax, .. }, RingGuard::Onset) => {
+                let (s, s_dot) = relax.at(self, t);
+                Some(2.0 * (k.r - s).dot(&(k.v - s_dot)))
+            }
+            (RingMode::Contact(_), RingGuard::Gap) => Some(2.0 * k.r.dot(&k.v)),
+            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
+                let c = self.contact_on(*b, &k.r, cache).ok()?;
+                let i = axis.index();
+                let rate = c.ring_velocity(&k.v)[i];
+                Some(match branch_of(b, axis) {
+                    Branch::Inner => c.s[i].signum() * rate,
+                    Branch::Outer(sigma) => f64::from(sigma) * rate,
+                })
+            }
+            _ => None,
+        }
+    }
+
+    /// Signed distance of an axis to its preload on the mode's branch: $|s_i| - D_i$ on the inner
+    /// branch (negative inside), $\sigma s_i - D_i$ on the outer branch (positive beyond).
+    fn preload_distance(&self, b: &Branches, axis: Axis, s: f64) -> f64 {
+        let d = self.axis(axis).preload;
+        match branch_of(b, axis) {
+            Branch::Inner => s.abs() - d,
+            Branch::Outer(sigma) => f64::from(sigma) * s - d,
+        }
+    }
+
+    fn axis(&self, axis: Axis) -> &super::RingAxis {
+        match axis {
+            Axis::X => &self.x,
+            Axis::Y => &self.y,
+        }
+    }
+
+    /// The ring's position, velocity and force on the rotor in `mode` at time `t`.
+    ///
+    /// # Errors
+    /// In contact, as [`SnubberRing::locate_on`] (no placement on the mode's branches).
+    pub fn ring_state(
+        &self,
+        mode: &RingMode,
+        t: f64,
+        k: &Kinematics,
+        cache: &RingCache,
+    ) -> Result<RingState, RingError> {
+        match mode {
+            RingMode::Free { relax, .. } => {
+                let (s, s_dot) = relax.at(self, t);
+                Ok(RingState {
+                    s,
+                    s_dot,
+                    force: Vector2::zeros(),
+                })
+            }
+            RingMode::Contact(b) => {
+                let c = self.contact_on(*b, &k.r, cache)?;
+                let s_dot = c.ring_velocity(&k.v);
+                Ok(RingState {
+                    s: c.s,
+                    s_dot,
+                    force: c.elastic + c.damping.component_mul(&s_dot),
+                })
+            }
+        }
+    }
+
+    /// Where the ring is when nothing moves it: the minimiser of its energy over the disk
+    /// $|r - s| \le \gamma$, i.e. its centre for $|r| \le \gamma$ and $s^*(r)$ beyond. Use it
+    /// to build a consistent initial state.
+    ///
+    /// # Errors
+    /// As [`SnubberRing::locate`] for `|r| > gap` (non-finite `r`, invalid ring).
+    pub fn consistent_position(&self, r: &Vector2<f64>) -> Result<Vector2<f64>, RingError> {
+        self.validate()?;
+        super::check_finite("r.x", r.x)?;
+        super::check_finite("r.y", r.y)?;
+        if r.norm_squared() <= self.gap * self.gap {
+            Ok(Vector2::zeros())
+        } else {
+            Ok(self.locate(r)?.s)
+        }
+    }
+
+    /// The mode of a state at time `t` with the ring at `s`: free if the rotor is inside the
+    /// ring, contact if it touches it with the ring at its minimum-energy position and a
+    /// positive loss force (separating free flight if that force is not positive).
+    ///
+    /// # Errors
+    /// [`RingError::BeyondRing`] if $|r - s| > \gamma$ (by more than $10^{-9}\gamma$),
+    /// [`RingError::RingOffMinimum`] if in contact the ring is more than $10^{-8}\gamma$ from
+    /// $s^*(r)$, or an error of [`SnubberRing::locate`].
+    pub fn initial_mode(
+        &self,
+        t: f64,
+        k: &Kinematics,
+        s: &Vector2<f64>,
+    ) -> Result<RingMode, RingError> {
+        self.validate()?;
+        let gap = self.gap;
+        let dist = (k.r - s).norm();
+        let tol = 1e-9 * gap;
+        if !dist.is_finite() {
+            super::check_finite("r.x", k.r.x)?;
+            super::check_finite("r.y", k.r.y)?;
+            super::check_finite("s.x", s.x)?;
+            super::check_finite("s.y", s.y)?;
+        }
+        if dist < gap - tol || (dist <= gap + tol && k.r.norm() <= gap) {
+            return Ok(RingMode::free(self.released(t, *s)));
+        }
+        if dist > gap + tol {
+            return Err(RingError::BeyondRing {
+                distance: dist,
+                gap,
+            });
+        }
+        let c = self.locate(&k.r)?;
+        let offset = (c.s - s).norm();
+        if offset > 1e-8 * gap {
+            return Err(RingError::RingOffMinimum { offset });
+        }
+        // The load on the branches the contact would start on (an axis on its preload takes
+        // the one it moves into, and the damping differs between them).
+        let b = self.branches_at_start(&c, &k.v);
+        let on_b = self.locate_on(&k.r, b, c.mu)?;
+        if on_b.loss_force(&k.v) <= 0.0 {
+            return Ok(RingMode::Free {
+                relax: self.released(t, c.s),
+                separating: true,
+            });
+        }
+        Ok(RingMode::Contact(b))
+    }
+
+    /// The relaxation of a ring released at `s` at time `t` (instant with no ring damping). An
+    /// axis a hair beyond its preload (within the corner tolerance: rounding of a ring located
+    /// on its preload) is put exactly on it: it relaxes inward with both units acting, and the
+    /// hair would otherwise run the one-unit law, twice as fast, for a few ulps of time and
+    /// touch the rotor again.
+    fn released(&self, t: f64, s: Vector2<f64>) -> Relaxation {
+        if self.damping == 0.0 {
+            return Relaxation::at_rest(t);
+        }
+        let snap = |s: f64, d: f64| {
+            if d > 0.0 && s.abs() > d && s.abs() - d <= CORNER_TOL * d {
+                d.copysign(s)
+            } else {
+                s
+            }
+        };
+        Relaxation {
+            t0: t,
+            s0: Vector2::new(snap(s.x, self.x.preload), snap(s.y, self.y.preload)),
+        }
+    }
+
+    /// Branches of a contact that starts at the located ring `c`: an axis on its preload
+    /// (within the corner tolerance) takes the branch its ring velocity moves into, since its
+    /// guard, zero at the start, would not fire.
+    fn branches_at_start(&self, c: &RingContact, v: &Vector2<f64>) -> Branches {
+        let mut b = c.branches;
+        let sd = c.ring_velocity(v);
+        for axis in [Axis::X, Axis::Y] {
+            let (i, d) = (axis.index(), self.axis(axis).preload);
+            let s = c.s[i];
+            if d > 0.0 && (s.abs() - d).abs() <= CORNER_TOL * d {
+                let branch = if s * sd[i] > 0.0 {
+                    Branch::Outer(if s >= 0.0 { 1 } else { -1 })
+                } else {
+                    Branch::Inner
+                };
+                set_branch(&mut b, axis, branch);
+            }
+        }
+        b
+    }
+
+    /// The transition after `guard` of `mode` fired at time `t` with the rotor at `k`: the
+    /// next mode and the ring's position (module docs for the rules).
+    ///
+    /// `accel(f)` is the acceleration $r''$ of the rotor's station when the ring pushes on the
+    /// rotor with the force `f` (entering the rotor's equations as $\ldots + f = $ forcing: for
+    /// a unit-mass station, its acceleration without the ring minus `f`). It is used only when a
+    /// touch leaves the loss force at zero to rounding, to tell whether the force would rise.
+    ///
+    /// # Errors
+    /// A [`RingError`] when the ring cannot be placed (no solution on the branches, a
+    /// non-finite state), or [`RingError::NoPlacement`] for a guard that does not belong to
+    /// `mode`.
+    pub fn transition(
+        &self,
+        mode: &RingMode,
+        guard: RingGuard,
+        t: f64,
+        k: &Kinematics,
+        accel: impl Fn(&Vector2<f64>) -> Vector2<f64>,
+    ) -> Result<RingTransition, RingError> {
+        match (mode, guard) {
+            (RingMode::Free { .. }, RingGuard::Onset) => self.touch(t, k, accel),
+            (RingMode::Contact(b), RingGuard::Loss | RingGuard::Gap) => {
+                let c = self.locate_on(&k.r, *b, f64::NAN)?;
+                Ok(self.release(t, c.s))
+            }
+            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
+                let c = self.locate_on(&k.r, *b, f64::NAN)?;
+                let mut next = *b;
+                let flip = |branch: Branch, s: f64| match branch {
+                    Branch::Inner => Branch::Outer(if s >= 0.0 { 1 } else { -1 }),
+                    Branch::Outer(_) => Branch::Inner,
+                };
+                set_branch(&mut next, axis, flip(branch_of(b, axis), c.s[axis.index()]));
+                // A corner: the other axis crosses its preload at the same instant.
+                let other = axis.other();
+                let d = self.axis(other).preload;
+                let (i, s) = (other.index(), c.s[other.index()]);
+                if d > 0.0 && (s.abs() - d).abs() <= CORNER_TOL * d {
+                    let rate = c.ring_velocity(&k.v)[i];
+                    let crossing = match branch_of(b, other) {
+                        Branch::Inner => s * rate > 0.0,
+                        Branch::Outer(sigma) => f64::from(sigma) * rate < 0.0,
+                    };
+                    if crossing {
+                        set_branch(&mut next, other, flip(branch_of(b, other), s));
+                    }
+                }
+                // The damping, hence the loss force, jumps at a preload: contact on the new
+                // branches holds only if it still carries load there.
+                let on_next = self.locate_on(&k.r, next, c.mu)?;
+                if on_next.loss_force(&k.v) <= 0.0 {
+                    return Ok(self.release(t, c.s));
+                }
+                Ok(RingTransition {
+                    mode: RingMode::Contact(next),
+                    s: c.s,
+                })
+            }
+            _ => Err(RingError::NoPlacement { x: k.r.x, y: k.r.y }),
+        }
+    }
+
+    /// Free flight from a ring released at `s`: the ring and the rotor touch and part.
+    fn release(&self, t: f64, s: Vector2<f64>) -> RingTransition {
+        let relax = self.released(t, s);
+        RingTransition {
+            mode: RingMode::Free {
+                relax,
+                separating: true,
+            },
+            s: relax.s0,
+        }
+    }
+
+    /// The onset guard fired: place the ring and decide whether contact starts.
+    fn touch(
+        &self,
+        t: f64,
+        k: &Kinematics,
+        accel: impl Fn(&Vector2<f64>) -> Vector2<f64>,
+    ) -> Result<RingTransition, RingError> {
+        let gap = self.gap;
+        let rn = k.r.norm();
+        // A touch of the gap circle, up to the rounding of the onset time: the rotor moves
+        // |r'| ulp(t) per representable time step.
+        let touch = (ONSET_TOUCH * gap).max(4.0 * f64::EPSILON * t.abs() * k.v.norm());
+        if rn < gap - touch {
+            // The relaxing ring met a rotor inside the gap circle: the ring's minimum-energy
+            // position, its centre, is within reach.
+            return Ok(RingTransition {
+                mode: RingMode::free(Relaxation::at_rest(t)),
+                s: Vector2::zeros(),
+            });
+        }
+        // Within the touch tolerance of the circle the contact starts from the relaxed ring's
+        // branches, whose smooth extension covers the hair inside |r| = gap.
+        let b = if rn > gap {
+            self.branches_at_start(&self.locate(&k.r)?, &k.v)
+        } else {
+            Branches::of(self, &Vector2::zeros())
+        };
+        let c = self.locate_on(&k.r, b, f64::NAN)?;
+        let load = c.loss_force(&k.v);
+        let stiffness = self.x.stiffness.max(self.y.stiffness);
+        let rounding = c.loss_force_rounding(stiffness, gap, &k.v);
+        let starts =
+            load > rounding || (load >= -rounding && self.loss_force_rate(&c, k, &accel) > 0.0);
+        if starts {
+            return Ok(RingTransition {
+                mode: RingMode::Contact(b),
+                s: c.s,
+            });
+        }
+        // No load: the ring stays where contact would put it (the minimiser of its energy over
+        // the disk |r - s| <= gap) and the two part, h' = 2 gamma G <= 0.
+        Ok(self.release(t, if rn > gap { c.s } else { Vector2::zeros() }))
+    }
+
+    /// Sign-worthy rate of change of the loss force along the contact flow on `c`'s branches,
+    /// by a central difference over the time in which the station moves $10^{-6}\gamma$ (only
+    /// its sign is used, where the force itself is zero to rounding: a relaxed ring touched on
+    /// the circle without ring damping, or the end of a sequence of touches without load).
+    fn loss_force_rate(
+        &self,
+        c: &RingContact,
+        k: &Kinematics,
+        accel: &impl Fn(&Vector2<f64>) -> Vector2<f64>,
+    ) -> f64 {
+        let a = accel(&c.force(&k.v));
+        let scale = k.v.norm().max((a.norm() * self.gap).sqrt());
+        let dt = if scale > 0.0 {
+            1e-6 * self.gap / scale
+        } else {
+            1e-6
+        };
+        let at = |sign: f64| {
+            let h = sign * dt;
+            let r = k.r + k.v * h + a * (0.5 * h * h);
+            let v = k.v + a * h;
+            self.locate_on(&r, c.branches, c.mu)
+                .map_or(f64::NAN, |c| c.loss_force(&v))
+        };
+        (at(1.0) - at(-1.0)) / (2.0 * dt)
+    }
+}
+
+fn branch_of(b: &Branches, axis: Axis) -> Branch {
+    match axis {
+        Axis::X => b.x,
+        Axis::Y => b.y,
+    }
+}
+
+fn set_branch(b: &mut Branches, axis: Axis, branch: Branch) {
+    match axis {
+        Axis::X => b.x = branch,
+        Axis::Y => b.y = branch,
+    }
+}

@@ -1,0 +1,290 @@
+//! Your rotor on the snubber ring: a smooth rotor model of any size, composed with the ring's
+//! contact element ([`crate::ring`]) into a piecewise-smooth [`RotorModel`] that the driver
+//! ([`crate::hybrid::simulate`]) and every analysis ([`crate::analysis`]) run.
+//!
+//! A rotordynamics code describes its rotor without contact, [`SmoothRotor`]: its vector field,
+//! the displacement and velocity of the station where the ring sits, how a force at that
+//! station enters the equations, and two slots of the state for the ring's position.
+//! [`RingedRotor`] adds the ring: its modes, guards, transitions and force, with the contact
+//! rules of [`crate::ring`] (acceptance of a touch, the loss force, preload crossings, the
+//! corner, the relaxation after loss). The model author cannot get those rules wrong because
+//! they do not write them.
+//!
+//! Free flight is integrated (the rotor's own vector field may be non-linear); the ring's
+//! relaxation after a loss is known in closed form and enters only the onset guard. The ring's
+//! two state components are *algebraic*: the composition sets them (relaxing ring in free
+//! flight, $s^*(r)$ in contact) and excludes them from error control.
+
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector, Vector2};
+
+use crate::hybrid::{Flow, ModelError, NoExactModes, RotorModel};
+use crate::ode::Direction;
+use crate::ring::{Kinematics, RingCache, RingError, RingGuard, RingMode, SnubberRing};
+
+/// A rotor without the ring: smooth, of state dimension [`SmoothRotor::Dim`] (fixed, e.g.
+/// `U6`, or `Dyn` for a size known at run time), with one station where the ring acts. The
+/// state holds the rotor's coordinates and velocities in any order the model likes, plus two
+/// components reserved for the ring's position ([`SmoothRotor::ring_slots`]).
+pub trait SmoothRotor
+where
+    DefaultAllocator: Allocator<Self::Dim>,
+{
+    /// The state's dimension type.
+    type Dim: Dim;
+
+    /// The state's dimension (the ring's two slots included).
+    fn dim(&self) -> Self::Dim;
+
+    /// The rotor's vector field without contact, $y^\prime = f(t, y)$. Write every component
+    /// except the two ring slots (the composition writes those).
+    fn rhs(&self, t: f64, y: &OVector<f64, Self::Dim>, dy: &mut OVector<f64, Self::Dim>);
+
+    /// Displacement and velocity of the rotor at the ring's station, relative to the ring's rest
+    /// centre, in units of the ring's gap. Must be linear in `y` (positions and velocities are
+    /// components or fixed combinations of components): applied to $y^\prime$ it then gives the
+    /// station's velocity and acceleration, which the ring's acceptance test uses.
+    fn station(&self, y: &OVector<f64, Self::Dim>) -> Kinematics;
+
+    /// Adds to `dy` the effect of the force `force` acting on the rotor at the station (for a
+    /// lumped station of mass $m$ whose velocities are `y[i]`, `y[j]`: `dy[i] += force.x / m`,
+    /// `dy[j] += force.y / m`; for a modal model, the modal forces $\Phi_s^{\mathsf T}$ `force`
+    /// divided by the modal masses).
+    fn add_station_force(
+        &self,
+        y: &OVector<f64, Self::Dim>,
+        force: &Vector2<f64>,
+        dy: &mut OVector<f64, Self::Dim>,
+    );
+
+    /// Indices of the ring's position $(x_s, y_s)$ in the state.
+    fn ring_slots(&self) -> [usize; 2];
+
+    /// The forcing period (stroboscopic sampling and the chattering window use it; an unforced
+    /// rotor gives a characteristic period, e.g. that of its first mode).
+    fn forcing_period(&self) -> f64;
+}
+
+/// A [`SmoothRotor`] with the snubber ring at its station: a [`RotorModel`] whose modes are the
+/// ring's ([`RingMode`]) and whose guards and transitions are the ring's contact rules.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RingedRotor<R> {
+    rotor: R,
+    ring: SnubberRing,
+}
+
+impl<R> RingedRotor<R> {
+    /// Composes `rotor` with `ring`.
+    ///
+    /// # Errors
+    /// The ring's [`RingError`] if its parameters are invalid.
+    pub fn new(rotor: R, ring: SnubberRing) -> Result<Self, RingError> {
+        ring.validate()?;
+        Ok(Self { rotor, ring })
+    }
+
+    /// The rotor.
+    pub fn rotor(&self) -> &R {
+        &self.rotor
+    }
+
+    /// The ring.
+    pub fn ring(&self) -> &SnubberRing {
+        &self.ring
+    }
+}
+
+impl<R> RingedRotor<R> {
+    /// Makes a state consistent: writes the ring's position for the rotor's station into the
+    /// ring slots (its centre out of contact, $s^*(r)$ in contact:
+    /// [`SnubberRing::consistent_position`]).
+    ///
+    /// # Errors
+    /// [`ModelError::InvalidState`] for a non-finite station position.
+    pub fn make_consistent(&self, y: &mut OVector<f64, R::Dim>) -> Result<(), ModelError>
+    where
+        R: SmoothRotor,
+        DefaultAllocator: Allocator<R::Dim>,
+    {
+        let k = self.rotor.station(y);
+        let s = self
+            .ring
+            .consistent_position(&k.r)
+            .map_err(|e| ModelError::InvalidState {
+                t: 0.0,
+                reason: e.to_string(),
+            })?;
+        let [i, j] = self.rotor.ring_slots();
+        y[i] = s.x;
+        y[j] = s.y;
+        Ok(())
+    }
+
+    fn guard_of(&self, mode: &RingMode, i: usize) -> RingGuard {
+        // The driver asks only for guards below `guard_count`.
+        self.ring.guard(mode, i).unwrap_or(RingGuard::Onset)
+    }
+}
+
+impl<R: SmoothRotor> RotorModel for RingedRotor<R>
+where
+    DefaultAllocator: Allocator<R::Dim>,
+{
+    type Dim = R::Dim;
+    type Mode = RingMode;
+    type Segment = NoExactModes;
+    type Cache = RingCache;
+
+    fn dim(&self) -> R::Dim {
+        self.rotor.dim()
+    }
+
+    fn new_cache(&self) -> RingCache {
+        RingCache::default()
+    }
+
+    /// The ring's two slots: set by the composition, never limiting the step.
+    fn is_algebraic(&self, i: usize) -> bool {
+        self.rotor.ring_slots().contains(&i)
+    }
+
+    fn initial_mode(&self, t: f64, y: &OVector<f64, R::Dim>) -> Result<RingMode, ModelError> {
+        let [i, j] = self.rotor.ring_slots();
+        self.ring
+            .initial_mode(t, &self.rotor.station(y), &Vector2::new(y[i], y[j]))
+            .map_err(|e| ModelError::InvalidState {
+                t,
+                reason: e.to_string(),
+            })
+    }
+
+    fn flow(&self, _mode: RingMode) -> Flow {
+        Flow::Integrated
+    }
+
+    fn rhs(
+        &self,
+        mode: RingMode,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        dy: &mut OVector<f64, R::Dim>,
+        cache: &RingCache,
+    ) {
+        self.rotor.rhs(t, y, dy);
+        let [i, j] = self.rotor.ring_slots();
+        match self
+            .ring
+            .ring_state(&mode, t, &self.rotor.station(y), cache)
+        {
+            Ok(ring) => {
+                self.rotor.add_station_force(y, &-ring.force, dy);
+                dy[i] = ring.s_dot.x;
+                dy[j] = ring.s_dot.y;
+            }
+            Err(_) => dy.fill(f64::NAN),
+        }
+    }
+
+    fn guard_count(&self, mode: RingMode) -> usize {
+        self.ring.guard_count(&mode)
+    }
+
+    fn guard_direction(&self, mode: RingMode, i: usize) -> Direction {
+        self.guard_of(&mode, i).direction()
+    }
+
+    fn guard_value(
+        &self,
+        mode: RingMode,
+        i: usize,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        cache: &RingCache,
+    ) -> f64 {
+        let guard = self.guard_of(&mode, i);
+        self.ring
+            .guard_value(&mode, guard, t, &self.rotor.station(y), cache)
+    }
+
+    fn guard_derivative(
+        &self,
+        mode: RingMode,
+        i: usize,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        _dy: &OVector<f64, R::Dim>,
+        cache: &RingCache,
+    ) -> Option<f64> {
+        let guard = self.guard_of(&mode, i);
+        self.ring
+            .guard_rate(&mode, guard, t, &self.rotor.station(y), cache)
+    }
+
+    fn guard_derivative_needs_rhs(&self) -> bool {
+        // The ring's guard rates need only the station's position and velocity.
+        false
+    }
+
+    fn guard_label(&self, mode: RingMode, i: usize) -> &'static str {
+        self.guard_of(&mode, i).label()
+    }
+
+    fn transition(
+        &self,
+        mode: RingMode,
+        guard: usize,
+        t: f64,
+        y: &mut OVector<f64, R::Dim>,
+    ) -> Result<RingMode, ModelError> {
+        // The station's acceleration under a ring force f, from the rotor's own equations
+        // (the station map is linear, so it maps y' to the station's acceleration). Asked for
+        // only at a touch whose load is zero to rounding: the allocation is rare.
+        let at: &OVector<f64, R::Dim> = y;
+        let accel = |f: &Vector2<f64>| {
+            let mut dy = at.clone_owned();
+            self.rotor.rhs(t, at, &mut dy);
+            self.rotor.add_station_force(at, &-f, &mut dy);
+            self.rotor.station(&dy).v
+        };
+        let next = self
+            .ring
+            .transition(
+                &mode,
+                self.guard_of(&mode, guard),
+                t,
+                &self.rotor.station(y),
+                accel,
+            )
+            .map_err(|e| ModelError::Transition {
+                t,
+                reason: e.to_string(),
+            })?;
+        let [i, j] = self.rotor.ring_slots();
+        y[i] = next.s.x;
+        y[j] = next.s.y;
+        Ok(next.mode)
+    }
+
+    fn start_segment(&self, _mode: RingMode, _t: f64, _y: &OVector<f64, R::Dim>) -> NoExactModes {
+        NoExactModes
+    }
+
+    fn project(&self, mode: RingMode, t: f64, y: &mut OVector<f64, R::Dim>, cache: &RingCache) {
+        if let Ok(ring) = self
+            .ring
+            .ring_state(&mode, t, &self.rotor.station(y), cache)
+        {
+            let [i, j] = self.rotor.ring_slots();
+            y[i] = ring.s.x;
+            y[j] = ring.s.y;
+        }
+    }
+
+    fn mode_label(&self, mode: RingMode) -> u8 {
+        mode.regime().number()
+    }
+
+    fn forcing_period(&self) -> f64 {
+        self.rotor.forcing_period()
+    }
+}

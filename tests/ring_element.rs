@@ -1,0 +1,371 @@
+//! The ring as a contact element: the loss rule keeps the parting consistent in every regime,
+//! a touch places the ring and starts contact only under load, transitions flip the right
+//! branches, and the branch solver either converges to its stated tolerance or says why not.
+
+use jeffcott::ring::{
+    Axis, Branch, Branches, Kinematics, Regime, RingAxis, RingCache, RingError, RingGuard,
+    RingMode, SnubberRing,
+};
+use nalgebra::Vector2;
+use proptest::prelude::*;
+
+fn ring(kx: f64, dx: f64, ky: f64, dy: f64, nu2: f64) -> SnubberRing {
+    SnubberRing::new(RingAxis::new(kx, dx), RingAxis::new(ky, dy), nu2, 1.0).unwrap()
+}
+
+/// Deterministic pseudo-random numbers in [0, 1) (SplitMix64).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        (z ^ (z >> 31)) as f64 / 2f64.powi(64)
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+}
+
+/// The rate at which the freed ring and the rotor part right after the ring is released at
+/// `s` with the rotor moving at `v`: $h^\prime = 2 (r - s)\cdot(r^\prime - s^\prime_{free})$.
+fn parting_rate(ring: &SnubberRing, r: Vector2<f64>, v: Vector2<f64>, s: Vector2<f64>) -> f64 {
+    let s_dot = ring.relax_velocity(&s);
+    2.0 * (r - s).dot(&(v - s_dot))
+}
+
+/// Finds the normal velocity `w` at which `force(v_t + w n)` crosses zero (falling with `w`
+/// decreasing): the loss manifold through a given tangential velocity.
+fn on_loss_manifold(f: impl Fn(f64) -> f64) -> f64 {
+    let (mut lo, mut hi) = (-1e9, 1e9);
+    assert!(f(lo) < 0.0 && f(hi) > 0.0);
+    for _ in 0..200 {
+        let m = 0.5 * (lo + hi);
+        if f(m) > 0.0 {
+            hi = m;
+        } else {
+            lo = m;
+        }
+    }
+    hi
+}
+
+/// At contact loss the freed ring never moves into the rotor: after a loss by the crate's rule
+/// `h' <= 0` (to rounding) in every regime, while the paper's criterion `N = 0` alone gives
+/// `h' > 0` in regimes III and IV for some states (so it could not be the rule).
+#[test]
+fn released_ring_parts_from_the_rotor_in_every_regime() {
+    let rings = [
+        ring(30.0, 0.1, 30.0, 0.1, 0.002),
+        ring(30.0, 0.05, 30.0, 0.05, 20.0),
+        ring(30.0, 0.3, 12.0, 0.05, 3.0),
+        ring(5.0, 0.0, 40.0, 0.2, 0.5),
+    ];
+    let mut rng = Rng(7);
+    let (mut seen, mut worst_rule, mut worst_n) = ([0usize; 6], f64::NEG_INFINITY, 0.0f64);
+    for ring in rings {
+        for _ in 0..4000 {
+            let rad = rng.range(1.0005, 1.6);
+            let ang = rng.range(0.0, std::f64::consts::TAU);
+            let r = Vector2::new(rad * ang.cos(), rad * ang.sin());
+            let c = ring.locate(&r).unwrap();
+            let n = c.normal;
+            let tangent = Vector2::new(-n.y, n.x) * rng.range(-3.0, 3.0);
+            let vel = |w: f64| tangent + n * w;
+            // The crate's rule: max(N, lambda) falls through zero.
+            let w = on_loss_manifold(|w| c.loss_force(&vel(w)));
+            let v = vel(w);
+            // h' is rounded relative to |r - s| (|r'| + |s'|).
+            let scale = 2.0 * (v.norm() + ring.relax_velocity(&c.s).norm() + 1.0);
+            let k = Kinematics { r, v };
+            let next = ring
+                .transition(
+                    &RingMode::Contact(c.branches),
+                    RingGuard::Loss,
+                    0.0,
+                    &k,
+                    |f| -f,
+                )
+                .unwrap();
+            let RingMode::Free {
+                relax, separating, ..
+            } = next.mode
+            else {
+                panic!("a loss must free the ring");
+            };
+            assert!(separating);
+            let rate = parting_rate(&ring, r, v, relax.s0) / scale;
+            // The onset guard's own rate agrees.
+            let g = ring
+                .guard_rate(&next.mode, RingGuard::Onset, 0.0, &k, &RingCache::default())
+                .unwrap();
+            assert!((g / scale - rate).abs() <= 1e-12);
+            worst_rule = worst_rule.max(rate);
+            seen[c.regime().number() as usize] += 1;
+            // The paper's N alone.
+            let w_n = on_loss_manifold(|w| c.normal_force(&vel(w)));
+            let v_n = vel(w_n);
+            let scale_n = 2.0 * (v_n.norm() + ring.relax_velocity(&c.s).norm() + 1.0);
+            worst_n = worst_n.max(parting_rate(&ring, r, v_n, c.s) / scale_n);
+        }
+    }
+    println!(
+        "regimes II..V seen {:?}; worst relative parting rate after loss: rule {worst_rule:.2e}, N alone {worst_n:.2e}",
+        &seen[2..]
+    );
+    assert!(seen[3] > 100 && seen[4] > 100, "III and IV sampled");
+    assert!(
+        worst_rule <= 1e-12,
+        "freed ring moves into the rotor: {worst_rule:e}"
+    );
+    assert!(worst_n > 1e-3, "N alone should be inconsistent in III/IV");
+}
+
+/// A relaxed ring touched on the circle by a rotor moving outward starts contact, with and
+/// without ring damping; moving inward (a touch without load) it does not.
+#[test]
+fn touch_on_the_circle_starts_contact_when_moving_outward() {
+    for nu2 in [0.002, 0.0, 5.0] {
+        let ring = ring(30.0, 0.1, 30.0, 0.1, nu2);
+        for ang in [0.0, 0.3, 1.2, 2.5] {
+            let n = Vector2::new(f64::cos(ang), f64::sin(ang));
+            let t_dir = Vector2::new(-n.y, n.x);
+            let free = RingMode::free(jeffcott::ring::Relaxation::at_rest(0.0));
+            for (w, expect) in [(0.3, true), (1e-9, true), (-0.3, false)] {
+                let k = Kinematics {
+                    r: n,
+                    v: n * w + t_dir * 0.7,
+                };
+                let tr = ring
+                    .transition(&free, RingGuard::Onset, 3.0, &k, |f| -f)
+                    .unwrap();
+                assert_eq!(
+                    tr.mode.is_contact(),
+                    expect,
+                    "nu2 {nu2}, angle {ang}, normal speed {w}: {:?}",
+                    tr.mode
+                );
+                assert!(tr.s.norm() <= 1e-12);
+            }
+        }
+    }
+}
+
+/// An unrelaxed ring that meets the rotor without load is placed at its minimum and the two
+/// part at once (h' < 0), so time advances; inside the gap circle the ring goes to its centre.
+#[test]
+fn touch_without_load_places_the_ring_and_parts() {
+    let ring = ring(30.0, 0.05, 30.0, 0.05, 20.0);
+    let cache = RingCache::default();
+    let mut rng = Rng(11);
+    let (mut rejected, mut accepted) = (0, 0);
+    for _ in 0..5000 {
+        let rad = rng.range(1.0, 1.3);
+        let ang = rng.range(0.0, std::f64::consts::TAU);
+        let r = Vector2::new(rad * ang.cos(), rad * ang.sin());
+        let v = Vector2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
+        let k = Kinematics { r, v };
+        let free = RingMode::free(jeffcott::ring::Relaxation::at_rest(0.0));
+        let tr = ring
+            .transition(&free, RingGuard::Onset, 1.0, &k, |f| -f)
+            .unwrap();
+        match tr.mode {
+            RingMode::Contact(b) => {
+                accepted += 1;
+                let c = ring.locate_on(&r, b, f64::NAN).unwrap();
+                assert!((c.s - tr.s).norm() == 0.0);
+            }
+            RingMode::Free { relax, separating } => {
+                rejected += 1;
+                assert!(separating);
+                assert_eq!(relax.s0, tr.s);
+                let h = (r - tr.s).norm_squared() - 1.0;
+                assert!(h.abs() <= 1e-14, "placed ring touches: h = {h:e}");
+                let rate = ring
+                    .guard_rate(&tr.mode, RingGuard::Onset, 1.0, &k, &cache)
+                    .unwrap();
+                assert!(rate <= 0.0, "a rejected touch must part: h' = {rate:e}");
+            }
+            _ => unreachable!(),
+        }
+    }
+    assert!(rejected > 100 && accepted > 100, "{rejected} / {accepted}");
+    // Inside the gap circle the ring goes to its centre.
+    let k = Kinematics::new([0.5, 0.1], [0.1, 0.0]);
+    let free = RingMode::free(jeffcott::ring::Relaxation {
+        t0: 0.0,
+        s0: Vector2::new(-0.49, -0.09),
+    });
+    let tr = ring
+        .transition(&free, RingGuard::Onset, 0.0, &k, |f| -f)
+        .unwrap();
+    assert_eq!(tr.s, Vector2::zeros());
+    assert!(!tr.mode.is_contact());
+}
+
+/// Guards: order, directions, labels; preload crossings flip the right axis, and a corner
+/// flips both.
+#[test]
+fn preload_crossings_flip_branches_and_corners_flip_both() {
+    let ring = ring(30.0, 0.1, 30.0, 0.1, 0.002);
+    let inner = Branches {
+        x: Branch::Inner,
+        y: Branch::Inner,
+    };
+    let mode = RingMode::Contact(inner);
+    assert_eq!(ring.guard_count(&mode), 4);
+    let guards: Vec<_> = (0..4).map(|i| ring.guard(&mode, i).unwrap()).collect();
+    assert_eq!(guards[0], RingGuard::Loss);
+    assert_eq!(guards[1], RingGuard::Gap);
+    assert_eq!(
+        guards[2],
+        RingGuard::Preload {
+            axis: Axis::X,
+            outward: true
+        }
+    );
+    assert_eq!(guards[3].label(), "y_s beyond preload");
+    assert!(ring.guard(&mode, 4).is_none());
+    // The corner r_c = D + D/|D| (s* = (D_x, D_y)), moving outward along the diagonal.
+    let d = 0.1f64;
+    let q = 1.0 + 1.0 / (d * 2f64.sqrt());
+    let k = Kinematics::new([d * q, d * q], [0.5, 0.5]);
+    let cache = RingCache::default();
+    let gx = ring.guard_value(&mode, guards[2], 0.0, &k, &cache);
+    assert!(gx.abs() < 1e-12, "{gx:e}");
+    let tr = ring.transition(&mode, guards[2], 0.0, &k, |f| -f).unwrap();
+    assert_eq!(tr.mode.regime(), Regime::V, "{:?}", tr.mode);
+    // Off the corner only x flips.
+    let r = Vector2::new(1.2, 0.05);
+    let c = ring.locate(&r).unwrap();
+    let tr = ring
+        .transition(
+            &RingMode::Contact(c.branches),
+            RingGuard::Preload {
+                axis: Axis::X,
+                outward: c.branches.x == Branch::Inner,
+            },
+            0.0,
+            &Kinematics {
+                r,
+                v: Vector2::new(1.0, 0.0),
+            },
+            |f| -f,
+        )
+        .unwrap();
+    let RingMode::Contact(b) = tr.mode else {
+        panic!()
+    };
+    assert_ne!(b.x, c.branches.x);
+    assert_eq!(b.y, c.branches.y);
+}
+
+/// Starting states: free, contact, tensile contact (separating), and typed errors for a
+/// rotor beyond the ring or a ring away from its minimum.
+#[test]
+fn initial_modes_and_their_errors() {
+    let ring = ring(30.0, 0.1, 30.0, 0.1, 0.002);
+    let k = Kinematics::new([0.3, 0.2], [1.0, 0.0]);
+    assert!(!ring
+        .initial_mode(0.0, &k, &Vector2::zeros())
+        .unwrap()
+        .is_contact());
+    let r = Vector2::new(1.1, 0.2);
+    let s = ring.consistent_position(&r).unwrap();
+    let out = Kinematics {
+        r,
+        v: r.normalize(),
+    };
+    assert!(ring.initial_mode(0.0, &out, &s).unwrap().is_contact());
+    // A heavily damped ring pushed inward fast: the contact would pull.
+    let damped = SnubberRing {
+        damping: 5.0,
+        ..ring
+    };
+    let inward = Kinematics { r, v: -r * 10.0 };
+    match damped.initial_mode(0.0, &inward, &s).unwrap() {
+        RingMode::Free { separating, .. } => assert!(separating),
+        m => panic!("{m:?}"),
+    }
+    assert!(matches!(
+        ring.initial_mode(0.0, &out, &Vector2::zeros()),
+        Err(RingError::BeyondRing { .. })
+    ));
+    let off = s + Vector2::new(1e-3, 0.0);
+    let shifted = Kinematics {
+        r: r + Vector2::new(1e-3, 0.0),
+        v: out.v,
+    };
+    assert!(matches!(
+        ring.initial_mode(0.0, &shifted, &off),
+        Err(RingError::RingOffMinimum { .. })
+    ));
+}
+
+fn arb_branch(preload: f64) -> impl Strategy<Value = Branch> {
+    prop_oneof![
+        Just(Branch::Inner),
+        Just(Branch::Outer(1)),
+        Just(Branch::Outer(-1))
+    ]
+    .prop_map(move |b| if preload == 0.0 { Branch::Outer(0) } else { b })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    /// The branch solver, over extreme anisotropy and the smooth extension of every branch
+    /// (rotor inside or outside the circle): either a typed error, or a placement that meets
+    /// the constraint and the Lagrange conditions to rounding.
+    #[test]
+    fn branch_solver_converges_or_says_why(
+        kx in 1e-3f64..1e4, ky in 1e-3f64..1e4,
+        dx in prop_oneof![Just(0.0), 1e-4f64..2.0], dy in prop_oneof![Just(0.0), 1e-4f64..2.0],
+        rad in 0.9f64..6.0, ang in 0.0f64..std::f64::consts::TAU,
+        bx_seed in 0usize..3, by_seed in 0usize..3,
+    ) {
+        let ring = ring(kx, dx, ky, dy, 0.01);
+        let pick = |d: f64, seed: usize| if d == 0.0 { Branch::Outer(0) } else {
+            [Branch::Inner, Branch::Outer(1), Branch::Outer(-1)][seed]
+        };
+        let b = Branches { x: pick(dx, bx_seed), y: pick(dy, by_seed) };
+        let r = Vector2::new(rad * ang.cos(), rad * ang.sin());
+        match ring.locate_on(&r, b, f64::NAN) {
+            Ok(c) => {
+                let d = r - c.s;
+                prop_assert!((d.norm() - 1.0).abs() <= 1e-13, "constraint {}", d.norm() - 1.0);
+                // g_i(s) = 2 mu d_i on the branch formulas.
+                let g = |axis: &RingAxis, branch: Branch, s: f64| match branch {
+                    Branch::Inner => 2.0 * axis.stiffness * s,
+                    Branch::Outer(sg) => axis.stiffness * (s + f64::from(sg) * axis.preload),
+                };
+                let scale = (kx.max(ky)) * (rad + dx.max(dy) + 1.0);
+                let ex = (g(&ring.x, b.x, c.s.x) - 2.0 * c.mu * d.x).abs();
+                let ey = (g(&ring.y, b.y, c.s.y) - 2.0 * c.mu * d.y).abs();
+                prop_assert!(ex.max(ey) <= 1e-11 * scale, "Lagrange residual {ex:e} {ey:e}");
+                prop_assert!(c.jacobian.iter().all(|v| v.is_finite()));
+                prop_assert!(c.iterations < jeffcott::ring::MAX_ITERATIONS);
+            }
+            Err(RingError::NoPlacement { .. }) => {}
+            Err(e) => prop_assert!(false, "unexpected error {e}"),
+        }
+    }
+
+    /// The chosen branches of the true minimiser are consistent with where the ring is.
+    #[test]
+    fn located_branches_match_the_ring_position(
+        dx in 1e-3f64..1.0, dy in 1e-3f64..1.0,
+        rad in 1.0001f64..4.0, ang in 0.0f64..std::f64::consts::TAU,
+        b in arb_branch(1.0),
+    ) {
+        let _ = b;
+        let ring = ring(30.0, dx, 7.0, dy, 0.01);
+        let r = Vector2::new(rad * ang.cos(), rad * ang.sin());
+        let c = ring.locate(&r).unwrap();
+        let by_position = Branches::of(&ring, &c.s);
+        let near = |s: f64, d: f64| (s.abs() - d).abs() <= 1e-9 * d;
+        prop_assert!(c.branches.x == by_position.x || near(c.s.x, dx));
+        prop_assert!(c.branches.y == by_position.y || near(c.s.y, dy));
+    }
+}
