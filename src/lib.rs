@@ -32,7 +32,7 @@
 //! linear oscillator and the ring relaxes exponentially with time constant $2\nu_2/K$: both
 //! are solved **in closed form** ([`paper::free_flight`]), and contact onset is found on the
 //! closed form by a **certified** search that cannot step over a contact
-//! ([`paper::onset`]). Contact phases are integrated (DOP853 by default, [`ode`]); regime
+//! ([`ring::onset`]). Contact phases are integrated (DOP853 by default, [`ode`]); regime
 //! boundaries inside contact are events, so no step straddles a kink.
 //!
 //! ## Layers

@@ -3,7 +3,6 @@
 //! parameters ([`ParamSweep`]).
 pub mod free_flight;
 mod model;
-pub mod onset;
 mod sweep;
 
 pub use model::{guard, Cache, FreeSegment, JeffcottModel, Mode, RunFailure, State};

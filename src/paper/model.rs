@@ -7,14 +7,16 @@ use std::cell::Cell;
 use nalgebra::{SVector, Vector2, U6};
 
 use super::free_flight::{FreeFlight, FreeOscillator};
-use super::onset::{find_onset, Onset, OnsetStats, RelaxingRing};
 use crate::hybrid::{
     simulate, ExactSegment, Flow, GuardCrossing, ModelError, OutputPlan, RotorModel, SimError,
     SimOptions, SimStats, Trajectory,
 };
 use crate::ode::Direction;
 use crate::params::{ParamError, Params};
-use crate::ring::{Kinematics, RingAxis, RingCache, RingError, RingGuard, RingMode, SnubberRing};
+use crate::ring::onset::{find_onset, Onset, OnsetStats};
+use crate::ring::{
+    Kinematics, Relaxation, RingAxis, RingCache, RingError, RingGuard, RingMode, SnubberRing,
+};
 
 /// State `[x, y, x', y', x_s, y_s]`: rotor position and velocity, ring position.
 pub type State = SVector<f64, 6>;
@@ -237,7 +239,7 @@ impl JeffcottModel {
 pub struct FreeSegment {
     rotor: FreeFlight,
     start: [f64; 4],
-    relax: RelaxingRing,
+    relax: Relaxation,
     ring: SnubberRing,
     stats: OnsetStats,
     /// The search is run in chunks ending on multiples of this (the forcing period), never at
@@ -418,16 +420,13 @@ impl RotorModel for JeffcottModel {
         let (relax, separating) = match mode {
             RingMode::Free { relax, separating } => (relax, separating),
             // Never started for a contact mode (it is integrated); a ring at rest is harmless.
-            _ => (crate::ring::Relaxation::at_rest(t), false),
+            _ => (Relaxation::at_rest(t), false),
         };
         let start = [y[0], y[1], y[2], y[3]];
         FreeSegment {
             rotor: self.osc.segment(t, &start),
             start,
-            relax: RelaxingRing {
-                t0: relax.t0,
-                s0: relax.s0,
-            },
+            relax,
             ring: self.ring,
             stats: OnsetStats::default(),
             chunk: self.params.forcing_period(),
