@@ -40,117 +40,13 @@
 //!   contact law) are placed by [`RotorModel::project`] and left out of the step-size control
 //!   ([`RotorModel::is_algebraic`]).
 //!
-//! # Example: a model of your own, sized at run time
+//! # Your rotor with the snubber ring
 //!
-//! A chain of `m` unit masses joined by unit springs between fixed walls, damped, the first
-//! mass forced by $A\cos(t/2)$ and meeting a stop of stiffness 20 at $x_1 = 1$; the state
-//! $(x_1, \dots, x_m, v_1, \dots, v_m)$ has $2m$ components, known at run time. Every analysis
-//! of [`crate::analysis`] runs on it; here a bifurcation diagram over $A$:
-//!
-//! ```
-//! use jeffcott::analysis::{bifurcation, start_from, BifurcationConfig};
-//! use jeffcott::hybrid::{Flow, ModelError, NoExactModes, RotorModel};
-//! use jeffcott::nalgebra::{DVector, Dyn};
-//! use jeffcott::ode::Direction;
-//!
-//! struct Chain {
-//!     m: usize,
-//!     amp: f64,
-//! }
-//!
-//! #[derive(Debug, Clone, Copy, PartialEq)]
-//! enum Contact {
-//!     Free,
-//!     Stop,
-//! }
-//!
-//! impl RotorModel for Chain {
-//!     type Dim = Dyn;
-//!     type Mode = Contact;
-//!     type Segment = NoExactModes;
-//!     type Cache = ();
-//!
-//!     fn dim(&self) -> Dyn {
-//!         Dyn(2 * self.m)
-//!     }
-//!     fn new_cache(&self) {}
-//!     fn initial_mode(&self, _t: f64, y: &DVector<f64>) -> Result<Contact, ModelError> {
-//!         Ok(if y[0] < 1.0 { Contact::Free } else { Contact::Stop })
-//!     }
-//!     fn flow(&self, _mode: Contact) -> Flow {
-//!         Flow::Integrated
-//!     }
-//!     fn rhs(&self, mode: Contact, t: f64, y: &DVector<f64>, dy: &mut DVector<f64>, _: &()) {
-//!         let m = self.m;
-//!         for i in 0..m {
-//!             let left = if i > 0 { y[i - 1] } else { 0.0 };
-//!             let right = if i + 1 < m { y[i + 1] } else { 0.0 };
-//!             dy[i] = y[m + i];
-//!             dy[m + i] = left + right - 2.0 * y[i] - 0.1 * y[m + i];
-//!         }
-//!         dy[m] += self.amp * (0.5 * t).cos();
-//!         if mode == Contact::Stop {
-//!             dy[m] -= 20.0 * (y[0] - 1.0); // the stop's formula, extended smoothly in its mode
-//!         }
-//!     }
-//!     fn guard_count(&self, _mode: Contact) -> usize {
-//!         1
-//!     }
-//!     fn guard_direction(&self, mode: Contact, _i: usize) -> Direction {
-//!         match mode {
-//!             Contact::Free => Direction::Rising,
-//!             Contact::Stop => Direction::Falling,
-//!         }
-//!     }
-//!     fn guard_value(&self, _: Contact, _i: usize, _t: f64, y: &DVector<f64>, _: &()) -> f64 {
-//!         y[0] - 1.0
-//!     }
-//!     fn guard_label(&self, mode: Contact, _i: usize) -> &'static str {
-//!         match mode {
-//!             Contact::Free => "hit",
-//!             Contact::Stop => "leave",
-//!         }
-//!     }
-//!     fn transition(
-//!         &self,
-//!         mode: Contact,
-//!         _guard: usize,
-//!         _t: f64,
-//!         _y: &mut DVector<f64>,
-//!     ) -> Result<Contact, ModelError> {
-//!         Ok(match mode {
-//!             Contact::Free => Contact::Stop,
-//!             Contact::Stop => Contact::Free,
-//!         })
-//!     }
-//!     fn start_segment(&self, _: Contact, _t: f64, _y: &DVector<f64>) -> NoExactModes {
-//!         NoExactModes
-//!     }
-//!     fn mode_label(&self, mode: Contact) -> u8 {
-//!         match mode {
-//!             Contact::Free => 1,
-//!             Contact::Stop => 2,
-//!         }
-//!     }
-//!     fn forcing_period(&self) -> f64 {
-//!         4.0 * std::f64::consts::PI
-//!     }
-//! }
-//!
-//! // Three masses, two amplitudes, every value from rest (the closures build the model and
-//! // give each run's initial state).
-//! let build = |amp: f64| -> Result<Chain, String> { Ok(Chain { m: 3, amp }) };
-//! let config = BifurcationConfig { transient: 100, record: 8, ..Default::default() };
-//! let diagram = bifurcation(&[0.2, 1.5], build, start_from(DVector::zeros(6)), &config, None)?;
-//! // A = 0.2 stays clear of the stop (steady amplitude 0.22): linear, period 1.
-//! let low = diagram.columns[0].as_ref().unwrap();
-//! assert_eq!(low.periodicity.period(), Some(1));
-//! assert_eq!(low.orbit.stats.transitions, 0);
-//! // A = 1.5 would reach 1.65: it hits the stop.
-//! let high = diagram.columns[1].as_ref().unwrap();
-//! assert!(high.orbit.stats.transitions > 0);
-//! # Ok::<(), Box<dyn std::error::Error>>(())
-//! ```
+//! A rotor that meets the crate's snubber ring need not implement [`RotorModel`] by hand:
+//! write its smooth equations as a [`crate::rotor::SmoothRotor`] and
+//! [`crate::rotor::RingedRotor`] adds the ring's modes, guards and transitions (see
+//! `examples/custom_rotor/`). Implement [`RotorModel`] directly for other contact laws; its
+//! documentation carries a worked example of a model sized at run time.
 
 mod driver;
 mod record;
@@ -279,6 +175,118 @@ where
 ///    `transition` must leave it consistent for the new mode;
 /// 4. stops at the plan's end time (the final state projected), or with a [`SimError`]
 ///    holding the last good state.
+///
+/// # Example: a model of your own, sized at run time
+///
+/// A chain of `m` unit masses joined by unit springs between fixed walls, damped, the first
+/// mass forced by $A\cos(t/2)$ and meeting a stop of stiffness 20 at $x_1 = 1$; the state
+/// $(x_1, \dots, x_m, v_1, \dots, v_m)$ has $2m$ components, known at run time. Every analysis
+/// of [`crate::analysis`] runs on it; here a bifurcation diagram over $A$:
+///
+/// ```
+/// use jeffcott::analysis::{bifurcation, start_from, BifurcationConfig};
+/// use jeffcott::hybrid::{Flow, ModelError, NoExactModes, RotorModel};
+/// use jeffcott::nalgebra::{DVector, Dyn};
+/// use jeffcott::ode::Direction;
+///
+/// struct Chain {
+///     m: usize,
+///     amp: f64,
+/// }
+///
+/// #[derive(Debug, Clone, Copy, PartialEq)]
+/// enum Contact {
+///     Free,
+///     Stop,
+/// }
+///
+/// impl RotorModel for Chain {
+///     type Dim = Dyn;
+///     type Mode = Contact;
+///     type Segment = NoExactModes;
+///     type Cache = ();
+///
+///     fn dim(&self) -> Dyn {
+///         Dyn(2 * self.m)
+///     }
+///     fn new_cache(&self) {}
+///     fn initial_mode(&self, _t: f64, y: &DVector<f64>) -> Result<Contact, ModelError> {
+///         Ok(if y[0] < 1.0 { Contact::Free } else { Contact::Stop })
+///     }
+///     fn flow(&self, _mode: Contact) -> Flow {
+///         Flow::Integrated
+///     }
+///     fn rhs(&self, mode: Contact, t: f64, y: &DVector<f64>, dy: &mut DVector<f64>, _: &()) {
+///         let m = self.m;
+///         for i in 0..m {
+///             let left = if i > 0 { y[i - 1] } else { 0.0 };
+///             let right = if i + 1 < m { y[i + 1] } else { 0.0 };
+///             dy[i] = y[m + i];
+///             dy[m + i] = left + right - 2.0 * y[i] - 0.1 * y[m + i];
+///         }
+///         dy[m] += self.amp * (0.5 * t).cos();
+///         if mode == Contact::Stop {
+///             dy[m] -= 20.0 * (y[0] - 1.0); // the stop's formula, extended smoothly in its mode
+///         }
+///     }
+///     fn guard_count(&self, _mode: Contact) -> usize {
+///         1
+///     }
+///     fn guard_direction(&self, mode: Contact, _i: usize) -> Direction {
+///         match mode {
+///             Contact::Free => Direction::Rising,
+///             Contact::Stop => Direction::Falling,
+///         }
+///     }
+///     fn guard_value(&self, _: Contact, _i: usize, _t: f64, y: &DVector<f64>, _: &()) -> f64 {
+///         y[0] - 1.0
+///     }
+///     fn guard_label(&self, mode: Contact, _i: usize) -> &'static str {
+///         match mode {
+///             Contact::Free => "hit",
+///             Contact::Stop => "leave",
+///         }
+///     }
+///     fn transition(
+///         &self,
+///         mode: Contact,
+///         _guard: usize,
+///         _t: f64,
+///         _y: &mut DVector<f64>,
+///     ) -> Result<Contact, ModelError> {
+///         Ok(match mode {
+///             Contact::Free => Contact::Stop,
+///             Contact::Stop => Contact::Free,
+///         })
+///     }
+///     fn start_segment(&self, _: Contact, _t: f64, _y: &DVector<f64>) -> NoExactModes {
+///         NoExactModes
+///     }
+///     fn mode_label(&self, mode: Contact) -> u8 {
+///         match mode {
+///             Contact::Free => 1,
+///             Contact::Stop => 2,
+///         }
+///     }
+///     fn forcing_period(&self) -> f64 {
+///         4.0 * std::f64::consts::PI
+///     }
+/// }
+///
+/// // Three masses, two amplitudes, every value from rest (the closures build the model and
+/// // give each run's initial state).
+/// let build = |amp: f64| -> Result<Chain, String> { Ok(Chain { m: 3, amp }) };
+/// let config = BifurcationConfig { transient: 100, record: 8, ..Default::default() };
+/// let diagram = bifurcation(&[0.2, 1.5], build, start_from(DVector::zeros(6)), &config, None)?;
+/// // A = 0.2 stays clear of the stop (steady amplitude 0.22): linear, period 1.
+/// let low = diagram.columns[0].as_ref().unwrap();
+/// assert_eq!(low.periodicity.period(), Some(1));
+/// assert_eq!(low.orbit.stats.transitions, 0);
+/// // A = 1.5 would reach 1.65: it hits the stop.
+/// let high = diagram.columns[1].as_ref().unwrap();
+/// assert!(high.orbit.stats.transitions > 0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub trait RotorModel
 where
     DefaultAllocator: Allocator<Self::Dim>,
