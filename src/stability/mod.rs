@@ -9,7 +9,7 @@
 //! * the model-side derivatives it is built from live with the models: the ring's in
 //!   [`crate::ring`] (`ContactHessian`, `ForceJacobian`, `GuardGradient`, the relaxation's
 //!   sensitivities), the paper's free flight in
-//!   [`crate::jeffcott::free_flight::FreeOscillator::transition_matrix`].
+//!   [`crate::paper::free_flight::FreeOscillator::transition_matrix`].
 
 pub mod saltation;
 
