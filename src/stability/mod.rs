@@ -21,3 +21,14 @@ pub mod statistics;
 pub use floquet::{multipliers, CrossingKind, FloquetError, Multiplier};
 pub use newton::{newton_fixed_point, FixedPoint, MapValue, NewtonError, NewtonOptions};
 pub use statistics::{qr_step, BatchEstimate, BatchMeans};
+mod augmented;
+mod error;
+pub mod variational;
+
+pub use augmented::LinearEvent;
+pub use error::StabilityError;
+pub use variational::{Variational, VariationalAlloc, Workspace};
+pub mod map;
+mod ring_models;
+
+pub use map::{Advanced, Linearization, StroboscopicMap};
