@@ -32,3 +32,14 @@ pub mod map;
 mod ring_models;
 
 pub use map::{Advanced, Linearization, StroboscopicMap};
+pub mod orbit;
+
+pub use orbit::{periodic_orbit, OrbitMargins, OrbitOptions, PeriodicOrbit};
+pub mod lyapunov;
+
+pub use lyapunov::{lyapunov_exponents, LyapunovOptions, LyapunovSpectrum, TwoTrajectory};
+pub mod continuation;
+
+pub use continuation::{
+    locate_loss, Continuation, ContinuationOptions, ContinuationPoint, LossKind, StabilityLoss,
+};
