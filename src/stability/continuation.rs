@@ -22,6 +22,7 @@ use nalgebra::{DVector, DefaultAllocator, OVector};
 
 use super::error::StabilityError;
 use super::floquet::{CrossingKind, Multiplier};
+use super::newton::NewtonOptions;
 use super::orbit::{periodic_orbit, OrbitOptions, PeriodicOrbit};
 use super::variational::{Variational, VariationalAlloc};
 
@@ -35,7 +36,13 @@ pub struct ContinuationOptions {
     pub tolerance: f64,
     /// Largest number of continuation steps. Default 10 000.
     pub max_steps: usize,
-    /// Options of each periodic-orbit solve.
+    /// Largest Newton correction $\lVert z^* - z_{\rm predicted}\rVert_\infty$ accepted in a
+    /// step (a larger one halves the step: Newton may have jumped to another orbit). Default
+    /// 0.05.
+    pub max_correction: f64,
+    /// Options of each periodic-orbit solve. Default: [`OrbitOptions::default`] with at most
+    /// 10 Newton iterations and 6 step halvings (from a predicted point Newton converges in
+    /// a few; beyond a fold it cannot, and failing fast keeps the bisection cheap).
     pub orbit: OrbitOptions,
 }
 
@@ -45,7 +52,15 @@ impl Default for ContinuationOptions {
             step: 0.005,
             tolerance: 1e-8,
             max_steps: 10_000,
-            orbit: OrbitOptions::default(),
+            max_correction: 0.05,
+            orbit: OrbitOptions {
+                newton: NewtonOptions {
+                    max_iterations: 10,
+                    max_halvings: 6,
+                    ..NewtonOptions::default()
+                },
+                ..OrbitOptions::default()
+            },
         }
     }
 }
@@ -210,6 +225,7 @@ where
         });
     }
     let structure = canonical(&first.margins.structure);
+    let minimal = first.minimal_period;
     let dir = (to - from).signum();
     let mut step = opts.step.abs() * dir;
     let mut path = vec![point(from, &first)];
@@ -217,6 +233,21 @@ where
     let mut before: Option<(f64, DVector<f64>)> = None;
     let lost = |o: &PeriodicOrbit<M::Dim>| {
         o.spectral_radius() >= 1.0 || canonical(&o.margins.structure) != structure
+    };
+    // In the bisection: an orbit of another minimal period, or far from the stable end, is
+    // not this branch.
+    let solve_on_branch = |p: f64, template: &OVector<f64, M::Dim>, z: &DVector<f64>| {
+        solve(p, template, z).and_then(|o| {
+            if o.minimal_period != minimal || (&o.point - z).amax() > opts.max_correction {
+                Err(StabilityError::InvalidOption {
+                    field: "max_correction",
+                    value: (&o.point - z).amax(),
+                    hint: "Newton left the branch",
+                })
+            } else {
+                Ok(o)
+            }
+        })
     };
     // Secant prediction of the point at p from the last two.
     let predict =
@@ -239,7 +270,19 @@ where
             last.0 + step
         };
         let z = predict(&last, &before, p);
-        match solve(p, &last.1.state, &z) {
+        // Another orbit (a jump, or one of a shorter period) is a failed step.
+        let solved = solve(p, &last.1.state, &z).and_then(|o| {
+            if o.minimal_period != minimal || (&o.point - &z).amax() > opts.max_correction {
+                Err(StabilityError::InvalidOption {
+                    field: "max_correction",
+                    value: (&o.point - &z).amax(),
+                    hint: "Newton left the branch",
+                })
+            } else {
+                Ok(o)
+            }
+        });
+        match solved {
             Ok(o) if !lost(&o) => {
                 path.push(point(p, &o));
                 before = Some((last.0, last.1.point.clone()));
@@ -262,7 +305,14 @@ where
             }
             Err(_) if step.abs() > opts.tolerance => step *= 0.5,
             Err(_) => {
-                let loss = bisect(&solve, &lost, last, (p, None), &structure, opts.tolerance);
+                let loss = bisect(
+                    &solve_on_branch,
+                    &lost,
+                    last,
+                    (p, None),
+                    &structure,
+                    opts.tolerance,
+                );
                 return Ok(Continuation {
                     loss: Some(loss),
                     path,

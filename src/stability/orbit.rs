@@ -77,6 +77,10 @@ where
     /// How far the section is from closing the map on $z$ (0 for a closed map:
     /// [`Linearization::openness`]).
     pub openness: f64,
+    /// The smallest $m$ dividing the period with $\lVert P^m(z^*) - z^*\rVert_\infty \le
+    /// 10^{-8}(1 + \lVert z^*\rVert_\infty)$: less than the period when Newton found an orbit
+    /// of a shorter period (a fixed point of $P$ is one of $P^n$ too).
+    pub minimal_period: u64,
 }
 
 impl<D: nalgebra::Dim> PeriodicOrbit<D>
@@ -122,6 +126,7 @@ where
     let multipliers = multipliers(&fp.map.jacobian)?;
     let lin = fp.map.extra;
     let margins = orbit_margins(model, &state, period, &lin.events, &opts.sim)?;
+    let minimal_period = minimal_period(model, &state, &fp.point, period, &opts.sim)?;
     Ok(PeriodicOrbit {
         period,
         state,
@@ -133,7 +138,31 @@ where
         events: lin.events,
         margins,
         openness: lin.openness[0].max(lin.openness[1]),
+        minimal_period,
     })
+}
+
+/// The smallest divisor $m$ of `period` with $P^m(z) = z$ to $10^{-8}(1 + |z|)$.
+fn minimal_period<M>(
+    model: &M,
+    state: &OVector<f64, M::Dim>,
+    point: &DVector<f64>,
+    period: u64,
+    sim: &SimOptions,
+) -> Result<u64, StabilityError>
+where
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    let scale = 1e-8 * (1.0 + point.amax());
+    for m in (1..period).filter(|m| period % m == 0) {
+        let map = StroboscopicMap::new(model, m, *sim)?;
+        let end = map.reduce(&map.advance(state)?.y);
+        if (end - point).amax() <= scale {
+            return Ok(m);
+        }
+    }
+    Ok(period)
 }
 
 fn newton_error(e: NewtonError<StabilityError>) -> StabilityError {
