@@ -181,10 +181,13 @@ where
     ) -> Result<(), ModelError> {
         let h = self.difference_step();
         let nominal = after;
+        // The same outcome: the same mode label (a mode may carry continuous data, e.g. where
+        // a ring was released, that moves with the state).
+        let label = self.mode_label(next);
         let apply = |t: f64, y: &OVector<f64, Self::Dim>| {
             let mut out = y.clone_owned();
             match self.transition(mode, guard, t, &mut out) {
-                Ok(m) if m == next => Some(out),
+                Ok(m) if self.mode_label(m) == label => Some(out),
                 _ => None,
             }
         };
