@@ -46,6 +46,12 @@ pub struct LyapunovOptions {
     /// Initial separation of the two-trajectory method; `None` skips it. Default
     /// `Some(1e-8)`.
     pub separation: Option<f64>,
+    /// How many exponents, the largest first: `None` (default) for all (then the sum rule is
+    /// checked); fewer carry fewer directions (one: a Jacobian-vector product per period).
+    pub exponents: Option<usize>,
+    /// The last this many recorded sections' states (the non-algebraic components) are kept in
+    /// [`LyapunovSpectrum::sections`], e.g. for a bifurcation diagram. Default 0.
+    pub keep: usize,
     /// Simulation options of every run.
     pub sim: SimOptions,
 }
@@ -58,6 +64,8 @@ impl Default for LyapunovOptions {
             periods: 2000,
             batch: 100,
             separation: Some(1e-8),
+            exponents: None,
+            keep: 0,
             sim: SimOptions::default(),
         }
     }
@@ -89,7 +97,7 @@ pub struct LyapunovSpectrum {
     /// The largest exponent by the two-trajectory method, if asked for.
     pub two_trajectory: Option<TwoTrajectory>,
     /// Mean and batch-means error of $\ln|\det DP|$ per period (the sum rule:
-    /// $\sum_i\lambda_i$ must equal the mean).
+    /// $\sum_i\lambda_i$ must equal the mean); NaN unless the whole spectrum was asked for.
     pub log_det: (f64, f64),
     /// Events crossed at a margin below [`GRAZING_MARGIN`] (recorded periods).
     pub grazing_events: usize,
@@ -99,6 +107,9 @@ pub struct LyapunovSpectrum {
     pub open_sections: usize,
     /// The state at the end.
     pub end: Vec<f64>,
+    /// The last [`LyapunovOptions::keep`] recorded sections (non-algebraic components), in
+    /// order.
+    pub sections: Vec<Vec<f64>>,
 }
 
 impl LyapunovSpectrum {
@@ -147,8 +158,10 @@ where
     }
     let map = StroboscopicMap::new(model, 1, opts.sim)?;
     let d = map.components().len();
-    let mut q = DMatrix::identity(d, d);
-    let mut qr_stats = BatchMeans::new(d, opts.batch as usize);
+    let p = opts.exponents.unwrap_or(d).clamp(1, d);
+    let mut q = DMatrix::identity(d, p);
+    let mut qr_stats = BatchMeans::new(p, opts.batch as usize);
+    let mut sections = std::collections::VecDeque::with_capacity(opts.keep);
     let mut det_stats = BatchMeans::new(1, opts.batch as usize);
     let mut two_stats = BatchMeans::new(1, opts.batch as usize);
     let mut u = unit(d);
@@ -171,7 +184,11 @@ where
                 u = diff / dist;
             }
         }
-        let log_det = log_abs_det(&lin.jacobian);
+        let log_det = if p == d {
+            log_abs_det(&lin.jacobian)
+        } else {
+            f64::NAN
+        };
         let (qn, logs) = qr_step(lin.jacobian);
         if record {
             qr_stats.push(logs.as_slice());
@@ -184,6 +201,12 @@ where
             }
             if lin.openness[0] > 0.0 {
                 open_sections += 1;
+            }
+            if opts.keep > 0 {
+                if sections.len() == opts.keep {
+                    sections.pop_front();
+                }
+                sections.push_back(lin.value.iter().copied().collect::<Vec<f64>>());
             }
         }
         q = qn;
@@ -211,6 +234,7 @@ where
         min_margin,
         open_sections,
         end: y.iter().copied().collect(),
+        sections: sections.into(),
     })
 }
 
