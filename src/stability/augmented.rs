@@ -40,6 +40,18 @@ pub struct LinearEvent {
     pub rate: f64,
 }
 
+/// A state and a variation.
+pub(crate) type Unpacked<D> = (OVector<f64, D>, OMatrix<f64, D, Dyn>);
+
+/// A segment's buffers for the model's state and its derivative.
+pub(crate) struct Buffers<D: Dim>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    y: OVector<f64, D>,
+    dy: OVector<f64, D>,
+}
+
 /// The model with its variational equations (module docs).
 pub(crate) struct Augmented<'a, M> {
     model: &'a M,
@@ -104,10 +116,7 @@ where
     }
 
     /// `y` and `M` of an augmented state.
-    pub(crate) fn unpack(
-        &self,
-        aug: &DVector<f64>,
-    ) -> (OVector<f64, M::Dim>, OMatrix<f64, M::Dim, Dyn>) {
+    pub(crate) fn unpack(&self, aug: &DVector<f64>) -> Unpacked<M::Dim> {
         let d = self.model.dim();
         let mut y = OVector::zeros_generic(d, U1);
         let mut m = OMatrix::zeros_generic(d, Dyn(self.k));
@@ -338,7 +347,10 @@ where
             y0,
             m0,
             b0,
-            y: RefCell::new((OVector::zeros_generic(d, U1), OVector::zeros_generic(d, U1))),
+            buffers: RefCell::new(Buffers {
+                y: OVector::zeros_generic(d, U1),
+                dy: OVector::zeros_generic(d, U1),
+            }),
         }
     }
 
@@ -378,7 +390,7 @@ where
     y0: OVector<f64, M::Dim>,
     m0: OMatrix<f64, M::Dim, Dyn>,
     b0: OMatrix<f64, M::Dim, Dyn>,
-    y: RefCell<(OVector<f64, M::Dim>, OVector<f64, M::Dim>)>,
+    buffers: RefCell<Buffers<M::Dim>>,
 }
 
 impl<M> ExactSegment<Dyn> for AugmentedSegment<'_, M>
@@ -388,8 +400,8 @@ where
 {
     fn eval(&self, t: f64, y: &mut DVector<f64>, dy: &mut DVector<f64>) {
         let n = self.n;
-        let mut buf = self.y.borrow_mut();
-        let (yi, dyi) = &mut *buf;
+        let mut buf = self.buffers.borrow_mut();
+        let Buffers { y: yi, dy: dyi } = &mut *buf;
         self.inner.eval(t, yi, dyi);
         let d = self.model.dim();
         let mut jac = OMatrix::zeros_generic(d, d);

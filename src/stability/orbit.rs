@@ -155,7 +155,7 @@ where
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
     let scale = 1e-8 * (1.0 + point.amax());
-    for m in (1..period).filter(|m| period % m == 0) {
+    for m in (1..period).filter(|&m| period.is_multiple_of(m)) {
         let map = StroboscopicMap::new(model, m, *sim)?;
         let end = map.reduce(&map.advance(state)?.y);
         if (end - point).amax() <= scale {

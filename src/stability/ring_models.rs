@@ -152,6 +152,7 @@ impl<'a> Station<'a> {
         }
     }
 
+    #[allow(clippy::too_many_arguments)]
     /// The reset's Jacobian: identity on the rotor; the ring's slots differentiate where the
     /// transition placed the ring (`s_plus`), found among the branches it can have used.
     fn transition_jacobian<D: Dim>(
