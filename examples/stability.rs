@@ -333,7 +333,7 @@ fn pictures(
             .collect();
         if let Some(loss) = &c.loss {
             points.push((loss.parameter, 1.0));
-            fig = fig.with_mark(loss.parameter, &format!("{label}: {:.6}", loss.parameter));
+            fig = fig.with_mark(loss.parameter, &format!("{:.6}", loss.parameter));
             eprintln!(
                 "{label}: period 1 loses stability at eta = {:.9} ({})",
                 loss.parameter,

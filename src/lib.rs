@@ -54,7 +54,7 @@
 //! implemented, every erratum of the paper and every choice), `integrators.md`, `ring.md`,
 //! `reproduction.md`, `accuracy.md`, `performance.md`, and `hybrid.md` (your own rotor model:
 //! the contract of [`hybrid::RotorModel`], run-time sizes, algebraic components, the
-//! analyses).
+//! analyses), `stability.md` (saltation matrices, multipliers, Lyapunov exponents).
 //!
 //! ## Example
 //!

@@ -10,8 +10,10 @@
 //! * the orbit's **event structure** changes (a contact appears or disappears: a grazing
 //!   bifurcation, which the multipliers do not announce; compared up to a rotation, so that
 //!   an event moving across the section does not count);
-//! * Newton fails and keeps failing as the step is halved down to the tolerance: the orbit
-//!   ends, a fold (its multiplier then approaches $+1$).
+//! * Newton fails and keeps failing as the step is halved down to the tolerance: the branch
+//!   ends, a fold if a real multiplier approaches $+1$ there (above 0.95 at the last orbit),
+//!   otherwise a non-smooth end (reported as grazing: a contact or a regime boundary met
+//!   tangentially, where the map is not differentiable).
 //!
 //! The bracket is then bisected (Newton at each midpoint, warm-started from the stable end)
 //! until it is narrower than [`ContinuationOptions::tolerance`]; for a multiplier crossing the
@@ -40,6 +42,12 @@ pub struct ContinuationOptions {
     /// step (a larger one halves the step: Newton may have jumped to another orbit). Default
     /// 0.05.
     pub max_correction: f64,
+    /// Go on through grazing bifurcations after which the orbit is still stable (a contact or a
+    /// regime boundary appears or disappears, the multipliers stay inside the unit circle),
+    /// recording them in [`Continuation::grazings`], and stop at the first loss by a
+    /// multiplier or at the end of the branch. Default `false`: stop at the first change of
+    /// any kind.
+    pub through_grazing: bool,
     /// Options of each periodic-orbit solve. Default: [`OrbitOptions::default`] with at most
     /// 10 Newton iterations and 6 step halvings (from a predicted point Newton converges in
     /// a few; beyond a fold it cannot, and failing fast keeps the bisection cheap).
@@ -53,6 +61,7 @@ impl Default for ContinuationOptions {
             tolerance: 1e-8,
             max_steps: 10_000,
             max_correction: 0.05,
+            through_grazing: false,
             orbit: OrbitOptions {
                 newton: NewtonOptions {
                     max_iterations: 10,
@@ -117,6 +126,9 @@ where
     pub orbit: PeriodicOrbit<D>,
     /// The multipliers at the other end of the bracket (`None` if no orbit was found there).
     pub beyond: Option<Vec<Multiplier>>,
+    /// The event structure at the other end of the bracket (what a grazing changed), `None`
+    /// if no orbit was found there.
+    pub beyond_structure: Option<Vec<&'static str>>,
 }
 
 /// The continuation's outcome.
@@ -129,6 +141,8 @@ where
     pub loss: Option<StabilityLoss<D>>,
     /// The converged points of the continuation, in order (bisection points excluded).
     pub path: Vec<ContinuationPoint>,
+    /// The grazing bifurcations passed with [`ContinuationOptions::through_grazing`], in order.
+    pub grazings: Vec<StabilityLoss<D>>,
 }
 
 /// The event structure up to a rotation: the rotation that is least in lexical order.
@@ -224,16 +238,14 @@ where
             spectral_radius: first.spectral_radius(),
         });
     }
-    let structure = canonical(&first.margins.structure);
+    let mut structure = canonical(&first.margins.structure);
+    let mut grazings = Vec::new();
     let minimal = first.minimal_period;
     let dir = (to - from).signum();
     let mut step = opts.step.abs() * dir;
     let mut path = vec![point(from, &first)];
     let mut last: (f64, PeriodicOrbit<M::Dim>) = (from, first);
     let mut before: Option<(f64, DVector<f64>)> = None;
-    let lost = |o: &PeriodicOrbit<M::Dim>| {
-        o.spectral_radius() >= 1.0 || canonical(&o.margins.structure) != structure
-    };
     // In the bisection: an orbit of another minimal period, or far from the stable end, is
     // not this branch.
     let solve_on_branch = |p: f64, template: &OVector<f64, M::Dim>, z: &DVector<f64>| {
@@ -262,7 +274,11 @@ where
         };
     for _ in 0..opts.max_steps {
         if (last.0 - to) * dir >= 0.0 {
-            return Ok(Continuation { loss: None, path });
+            return Ok(Continuation {
+                loss: None,
+                path,
+                grazings,
+            });
         }
         let p = if (last.0 + step - to) * dir > 0.0 {
             to
@@ -283,31 +299,46 @@ where
             }
         });
         match solved {
-            Ok(o) if !lost(&o) => {
+            Ok(o) if !is_lost(&o, &structure) => {
                 path.push(point(p, &o));
                 before = Some((last.0, last.1.point.clone()));
                 last = (p, o);
                 step = opts.step.abs() * dir;
             }
             Ok(o) => {
-                let loss = bisect(
-                    &solve,
-                    &lost,
+                let (loss, beyond) = bisect(
+                    &solve_on_branch,
                     last,
                     (p, Some(o)),
                     &structure,
                     opts.tolerance,
                 );
-                return Ok(Continuation {
-                    loss: Some(loss),
-                    path,
-                });
+                match beyond {
+                    Some(next)
+                        if opts.through_grazing
+                            && loss.kind == LossKind::Grazing
+                            && next.1.spectral_radius() < 1.0 =>
+                    {
+                        structure = canonical(&next.1.margins.structure);
+                        path.push(point(next.0, &next.1));
+                        grazings.push(loss);
+                        before = None;
+                        last = next;
+                        step = opts.step.abs() * dir;
+                    }
+                    _ => {
+                        return Ok(Continuation {
+                            loss: Some(loss),
+                            path,
+                            grazings,
+                        })
+                    }
+                }
             }
             Err(_) if step.abs() > opts.tolerance => step *= 0.5,
             Err(_) => {
-                let loss = bisect(
+                let (loss, _) = bisect(
                     &solve_on_branch,
-                    &lost,
                     last,
                     (p, None),
                     &structure,
@@ -316,6 +347,7 @@ where
                 return Ok(Continuation {
                     loss: Some(loss),
                     path,
+                    grazings,
                 });
             }
         }
@@ -327,21 +359,26 @@ where
     })
 }
 
+/// A branch that ends with a real multiplier above this is a fold (its multiplier reaches +1
+/// at the end; within the bracket of `1e-8` it is above 0.99 for a square-root fold whose
+/// multiplier moves like $1 - c\sqrt{\eta^* - \eta}$ with $c$ up to $10^2$).
+const FOLD_MULTIPLIER: f64 = 0.95;
+
 /// Bisects `[a, b]` (stable with the reference structure at `a`, not at `b`) to `tol`.
-fn bisect<D, S, L>(
+#[allow(clippy::type_complexity)]
+fn bisect<D, S>(
     solve: &S,
-    lost: &L,
     mut a: (f64, PeriodicOrbit<D>),
     mut b: (f64, Option<PeriodicOrbit<D>>),
     structure: &[&'static str],
     tol: f64,
-) -> StabilityLoss<D>
+) -> (StabilityLoss<D>, Option<(f64, PeriodicOrbit<D>)>)
 where
     D: nalgebra::Dim,
     DefaultAllocator: VariationalAlloc<D>,
     S: Fn(f64, &OVector<f64, D>, &DVector<f64>) -> Result<PeriodicOrbit<D>, StabilityError>,
-    L: Fn(&PeriodicOrbit<D>) -> bool,
 {
+    let lost = |o: &PeriodicOrbit<D>| is_lost(o, structure);
     while (b.0 - a.0).abs() > tol {
         let mid = 0.5 * (a.0 + b.0);
         if mid == a.0 || mid == b.0 {
@@ -372,14 +409,38 @@ where
             };
             (LossKind::Multiplier(CrossingKind::of(&critical, 1e-6)), p)
         }
-        // The orbit ends: a fold.
-        None => (LossKind::Multiplier(CrossingKind::Fold), 0.5 * (a.0 + b.0)),
+        // The branch ends. With a real multiplier near +1 it is a fold; otherwise it ends at a
+        // non-smooth point (a grazing or a regime boundary met tangentially) where the map is
+        // not differentiable and Newton cannot follow it.
+        None => {
+            let near_one = a
+                .1
+                .multipliers
+                .iter()
+                .any(|m| m.is_real(1e-6) && m.re > FOLD_MULTIPLIER);
+            let kind = if near_one {
+                LossKind::Multiplier(CrossingKind::Fold)
+            } else {
+                LossKind::Grazing
+            };
+            (kind, 0.5 * (a.0 + b.0))
+        }
     };
-    StabilityLoss {
+    let loss = StabilityLoss {
         parameter,
         bracket: (a.0, b.0),
         kind,
-        beyond: b.1.map(|o| o.multipliers),
+        beyond_structure: b.1.as_ref().map(|o| o.margins.structure.clone()),
+        beyond: b.1.as_ref().map(|o| o.multipliers.clone()),
         orbit: a.1,
-    }
+    };
+    (loss, b.1.map(|o| (b.0, o)))
+}
+
+/// Whether an orbit is unstable or has another event structure than `structure`.
+fn is_lost<D: nalgebra::Dim>(o: &PeriodicOrbit<D>, structure: &[&'static str]) -> bool
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    o.spectral_radius() >= 1.0 || canonical(&o.margins.structure) != structure
 }

@@ -255,7 +255,7 @@ where
     for e in &rec.events {
         starts.push((e.t, e.after.clone()));
     }
-    let mut pieces = Vec::with_capacity(starts.len());
+    let mut samples: Vec<Vec<f64>> = Vec::with_capacity(starts.len());
     let has_depth = model
         .initial_mode(0.0, state)
         .ok()
@@ -303,8 +303,19 @@ where
         if depth.len() < 3 {
             continue;
         }
-        pieces.push(piece_depth(&depth));
+        samples.push(depth);
     }
+    // The section cuts one piece in two (the first and the last, when they are of the same
+    // kind): join them, so that an extremum at the section is interior.
+    if samples.len() > 1 {
+        let (first, last) = (&samples[0], &samples[samples.len() - 1]);
+        if (first[first.len() / 2] > 0.0) == (last[last.len() / 2] > 0.0) {
+            let mut joined = samples.pop().unwrap_or_default();
+            joined.extend_from_slice(&samples[0]);
+            samples[0] = joined;
+        }
+    }
+    let pieces = samples.iter().map(|d| piece_depth(d)).collect();
     Ok(summarise(pieces, min_event_margin, structure))
 }
 
@@ -345,8 +356,7 @@ fn parabola_peak(a: f64, b: f64, c: f64) -> f64 {
     }
 }
 
-/// Merges consecutive pieces of the same kind into phases (cyclically over the orbit) and
-/// takes the margins.
+/// Merges consecutive pieces of the same kind into phases and takes the margins.
 fn summarise(
     pieces: Vec<PieceDepth>,
     min_event_margin: f64,
@@ -363,18 +373,6 @@ fn summarise(
                 };
             }
             _ => phases.push(p),
-        }
-    }
-    if phases.len() > 1 {
-        let (first, last) = (phases[0], phases[phases.len() - 1]);
-        if first.contact == last.contact {
-            // The section cuts one phase in two.
-            phases[0].max = first.max.max(last.max);
-            phases[0].interior_max = match (first.interior_max, last.interior_max) {
-                (Some(a), Some(b)) => Some(a.max(b)),
-                (a, b) => a.or(b),
-            };
-            phases.pop();
         }
     }
     let contacts: Vec<&PieceDepth> = phases.iter().filter(|p| p.contact).collect();
