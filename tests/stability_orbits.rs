@@ -257,3 +257,43 @@ fn newton_failure_returns_the_last_iterate_and_its_residual() {
         other => panic!("expected NotConverged, got {other:?}"),
     }
 }
+
+#[test]
+fn the_period_two_orbit_grazes_the_preload_near_the_papers_3_107() {
+    // D = 0.1: the paper's "period 2 -> quasi-periodic near 3.107" is a grazing of the
+    // preload boundary: the ring starts crossing |x_s| = D inside the contact (regime III
+    // appears) and the orbit stays stable; followed through it, the orbit flips at 4.11.
+    let p = Preset::Fig8b.params();
+    let model = JeffcottModel::new(p.with_eta(3.0)).unwrap();
+    let start = StroboscopicMap::new(&model, 300, SimOptions::default())
+        .unwrap()
+        .advance(&jeffcott::paper::State::zeros())
+        .unwrap()
+        .y;
+    let build = |eta: f64| JeffcottModel::new(p.with_eta(eta));
+    let c = locate_loss(build, 3.0, 3.2, &start, 2, &ContinuationOptions::default()).unwrap();
+    let loss = c.loss.expect("the grazing");
+    eprintln!(
+        "{:.9} {:?} {:?}",
+        loss.parameter, loss.bracket, loss.beyond_structure
+    );
+    assert_eq!(loss.kind, LossKind::Grazing);
+    // Measured 3.1028052 (bracket 1e-8); the event structure gains the preload crossings.
+    assert!((loss.parameter - 3.1028052).abs() < 1e-7);
+    let beyond = loss.beyond_structure.unwrap();
+    assert!(beyond.contains(&"x_s beyond preload") && beyond.contains(&"x_s within preload"));
+    assert!(loss.orbit.spectral_radius() < 0.61);
+    assert!(
+        loss.beyond.unwrap()[0].modulus() < 0.61,
+        "still stable beyond"
+    );
+    // The same continuation through the grazing goes on to 3.2 without a loss.
+    let opts = ContinuationOptions {
+        through_grazing: true,
+        ..ContinuationOptions::default()
+    };
+    let c = locate_loss(build, 3.0, 3.2, &start, 2, &opts).unwrap();
+    assert!(c.loss.is_none());
+    assert_eq!(c.grazings.len(), 1);
+    assert!((c.grazings[0].parameter - 3.1028052).abs() < 1e-7);
+}

@@ -413,11 +413,10 @@ where
         // non-smooth point (a grazing or a regime boundary met tangentially) where the map is
         // not differentiable and Newton cannot follow it.
         None => {
-            let near_one = a
-                .1
-                .multipliers
-                .iter()
-                .any(|m| m.is_real(1e-6) && m.re > FOLD_MULTIPLIER);
+            let near_one =
+                a.1.multipliers
+                    .iter()
+                    .any(|m| m.is_real(1e-6) && m.re > FOLD_MULTIPLIER);
             let kind = if near_one {
                 LossKind::Multiplier(CrossingKind::Fold)
             } else {
