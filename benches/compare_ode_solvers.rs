@@ -23,7 +23,7 @@ use std::time::{Duration, Instant};
 
 use criterion::Criterion;
 use jeffcott::hybrid::SimOptions;
-use jeffcott::jeffcott::{JeffcottModel, State};
+use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::{Params, Preset};
 use ode_solvers::{Dop853, Dopri5, OutputType, SVector, System, Vector2 as V2};
 
@@ -389,7 +389,7 @@ fn crate_run(m: &JeffcottModel, periods: u64, rtol: f64, atol: f64) -> (State, u
     let (t, s) = m
         .stroboscopic(&State::zeros(), periods, periods, &opts)
         .expect("crate run");
-    (t.strobe[0].2, s.rhs_evals)
+    (t.strobe[0].y, s.rhs_evals)
 }
 
 fn min_time<T>(reps: usize, mut f: impl FnMut() -> T) -> (f64, T) {

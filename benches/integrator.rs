@@ -9,13 +9,13 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use jeffcott::hybrid::{OutputPlan, SimOptions};
-use jeffcott::jeffcott::{JeffcottModel, State};
 use jeffcott::ode::{
     find_first_event, AnyIntegrator, Direction, EventOptions, EventSet, EventState, Integrator,
     Method, OdeSystem, Options,
 };
+use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::Preset;
-use nalgebra::SVector;
+use nalgebra::{Const, SVector, U2, U4};
 use std::hint::black_box;
 
 type V2 = SVector<f64, 2>;
@@ -30,7 +30,7 @@ struct Arenstorf;
 const MU: f64 = 0.012277471;
 const T_ARENSTORF: f64 = 17.065_216_560_157_96;
 
-impl OdeSystem<4> for Arenstorf {
+impl OdeSystem<U4> for Arenstorf {
     fn rhs(&self, _t: f64, y: &V4, dy: &mut V4) {
         let mu1 = 1.0 - MU;
         let d1 = ((y[0] + MU).powi(2) + y[1] * y[1]).powf(1.5);
@@ -43,7 +43,7 @@ impl OdeSystem<4> for Arenstorf {
 }
 
 struct X0;
-impl EventSet<2> for X0 {
+impl EventSet<U2> for X0 {
     fn len(&self) -> usize {
         1
     }
@@ -59,8 +59,8 @@ impl EventSet<2> for X0 {
 }
 
 /// Integrates to `t_end`, returning the number of accepted steps.
-fn run<const N: usize, S: OdeSystem<N>>(
-    integ: &mut AnyIntegrator<N>,
+fn run<const N: usize, S: OdeSystem<Const<N>>>(
+    integ: &mut AnyIntegrator<Const<N>>,
     sys: &S,
     y0: &SVector<f64, N>,
     t_end: f64,
@@ -109,7 +109,10 @@ fn bench(c: &mut Criterion) {
             let mut hits = 0u32;
             while integ.t() < 100.0 {
                 integ.step(&oscillator, 100.0).unwrap();
-                while find_first_event(&mut integ, &oscillator, &X0, &opts, &mut st).is_some() {
+                while find_first_event(&mut integ, &oscillator, &X0, &opts, &mut st)
+                    .unwrap()
+                    .is_some()
+                {
                     hits += 1;
                 }
             }
@@ -139,7 +142,7 @@ fn rotor(c: &mut Criterion) {
         let (warm, _) = model
             .stroboscopic(&State::zeros(), 300, 300, &opts)
             .unwrap();
-        let (_, t0, y0, _) = warm.strobe[0];
+        let (t0, y0) = (warm.strobe[0].t, warm.strobe[0].y);
         let plan = OutputPlan {
             t_end: t0 + 10.0 * period,
             strobe: None,

@@ -17,7 +17,7 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use jeffcott::analysis::{sweep, SweepConfig};
 use jeffcott::hybrid::SimOptions;
-use jeffcott::jeffcott::{JeffcottModel, State};
+use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::{Params, Preset};
 
 /// The model and a state on its attractor at a stroboscopic time (phase 0).
@@ -26,7 +26,7 @@ fn on_attractor(p: Params) -> (JeffcottModel, State) {
     let (t, _) = m
         .stroboscopic(&State::zeros(), 300, 300, &SimOptions::default())
         .expect("transient");
-    let y = t.strobe[0].2;
+    let y = t.strobe[0].y;
     (m, y)
 }
 
@@ -82,7 +82,7 @@ fn run_sweep(values: usize, periods: u64, threads: usize) -> usize {
         let (t, _) = m
             .stroboscopic(&State::zeros(), periods, periods, &opts)
             .map_err(|f| f.error.to_string())?;
-        Ok((t.strobe[0].2[0], ()))
+        Ok((t.strobe[0].y[0], ()))
     };
     let r = sweep(
         &etas,

@@ -18,11 +18,9 @@ use std::time::Instant;
 use common::cli::{fail, Cli};
 use common::csv::{fmt_f64, CsvWriter};
 use common::plot::{self, Figure};
-use jeffcott::analysis::{
-    bifurcation, linspace, locate_period_change, BifurcationConfig, LocatorConfig, Periodicity,
-    StderrProgress, SweepConfig,
-};
+use jeffcott::analysis::{linspace, BifurcationConfig, LocatorConfig, StderrProgress, SweepConfig};
 use jeffcott::hybrid::SimOptions;
+use jeffcott::paper::{ParamSweep, SweepParameter};
 use jeffcott::params::Preset;
 
 /// The paper's reported points: (diagram, eta, label).
@@ -37,13 +35,6 @@ const PAPER_MARKS: [(&str, f64, &str); 9] = [
     ("b", 4.211, "4.211"),
     ("b", 4.484, "4.484"),
 ];
-
-fn describe(p: Periodicity) -> String {
-    match p {
-        Periodicity::Period(n) => format!("period {n}"),
-        Periodicity::NotPeriodic { up_to } => format!("not periodic up to {up_to}"),
-    }
-}
 
 fn main() {
     let mut cli = Cli::new(
@@ -157,14 +148,15 @@ fn main() {
         };
         lc.period_test.tol = tol;
         let t0 = Instant::now();
-        let c = common::or_exit(locate_period_change(&base, locate_lo, locate_hi, &lc));
+        let family = ParamSweep::new(base, SweepParameter::Eta);
+        let c = common::or_exit(family.locate_period_change(locate_lo, locate_hi, &lc));
         println!(
             "fig8{diagram} (D = {}): {} (at {:.5}) -> {} (at {:.5}): eta = {:.3} ({} runs of {}+{} periods from rest, {:.1} s)",
             base.dx,
-            describe(c.at_from),
-            c.from,
-            describe(c.at_to),
-            c.to,
+            c.bracket.at_from,
+            c.bracket.from,
+            c.bracket.at_to,
+            c.bracket.to,
             c.value(),
             c.evaluations,
             locate_transient,
@@ -219,7 +211,8 @@ fn main() {
         let label = format!("fig8{d}");
         let progress = StderrProgress::new(format!("{label} (D = {})", base.dx));
         let t0 = Instant::now();
-        let result = common::or_exit(bifurcation(&base, &etas, &config, Some(&progress)));
+        let family = ParamSweep::new(base, SweepParameter::Eta);
+        let result = common::or_exit(family.bifurcation(&etas, &config, Some(&progress)));
         let secs = t0.elapsed().as_secs_f64();
         let periods = (steps * (transient + record)) as f64;
         total_periods += periods;
@@ -231,8 +224,8 @@ fn main() {
         );
 
         // Failures and periods.
-        for (v, e) in result.failures() {
-            eprintln!("warning: {label}: eta = {v} failed: {e}");
+        for f in result.failures() {
+            eprintln!("warning: {label}: eta = {} failed: {}", f.value, f.error);
         }
         let path = out.join(format!("{label}_periods.csv"));
         let mut w = common::or_exit(CsvWriter::create(
@@ -259,11 +252,10 @@ fn main() {
             "{label} (D = {}): changes of the detected period (tol {tol}):",
             base.dx
         );
-        for (a, b, pa, pb) in result.period_changes() {
+        for c in result.period_changes() {
             println!(
-                "  between eta = {a:.4} and {b:.4}: {} -> {}",
-                describe(pa),
-                describe(pb)
+                "  between eta = {:.4} and {:.4}: {} -> {}",
+                c.from, c.to, c.at_from, c.at_to
             );
         }
 

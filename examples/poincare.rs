@@ -14,8 +14,9 @@ use std::path::PathBuf;
 
 use common::cli::Cli;
 use common::plot::{self, Figure, Series};
-use jeffcott::analysis::{poincare_map, PeriodTest, Periodicity};
+use jeffcott::analysis::PeriodTest;
 use jeffcott::hybrid::SimOptions;
+use jeffcott::paper::{poincare_map, RotorStart};
 use jeffcott::params::Preset;
 
 /// The range of the values padded by 5 %, and at least `MIN_SPAN` wide: a periodic orbit's
@@ -85,18 +86,15 @@ fn main() {
         if !eta.is_nan() {
             params.eta = eta;
         }
-        let (orbit, per) = common::or_exit(poincare_map(
+        let map = common::or_exit(poincare_map(
             &params,
-            ([0.0; 2], [0.0; 2]),
+            RotorStart::at_rest(),
             transient as u64,
             record as u64,
             &opts,
             &test,
         ));
-        let per_text = match per {
-            Periodicity::Period(p) => format!("period {p}"),
-            Periodicity::NotPeriodic { up_to } => format!("not periodic up to {up_to}"),
-        };
+        let (orbit, per_text) = (map.orbit, map.periodicity.to_string());
         let pts = orbit.pairs(0, 2);
         let (xr, vr) = (
             padded_range(pts.iter().map(|p| p.0)),

@@ -22,7 +22,7 @@ use common::csv::{fmt_f64, CsvWriter};
 use common::plot::{self, Figure, Series};
 use jeffcott::analysis::phase_portrait;
 use jeffcott::hybrid::SimOptions;
-use jeffcott::jeffcott::JeffcottModel;
+use jeffcott::paper::JeffcottModel;
 use jeffcott::params::Preset;
 
 fn main() {

@@ -32,22 +32,19 @@ use std::io::{self, BufWriter, Write};
 
 use common::cli::{fail, Cli};
 use common::csv::fmt_f64;
-use jeffcott::hybrid::SimOptions;
-use jeffcott::jeffcott::{JeffcottModel, State};
+use jeffcott::hybrid::{SimOptions, StrobePoint};
+use jeffcott::nalgebra::U6;
 use jeffcott::ode::Method;
 use jeffcott::params::{Params, Preset};
+use jeffcott::JeffcottModel;
 
-fn write_rows(
-    out: &mut impl Write,
-    strobe: &[(u64, f64, State, u8)],
-    transient: u64,
-) -> io::Result<()> {
-    for (j, t, y, label) in strobe {
-        write!(out, "{},{}", j - transient, fmt_f64(*t))?;
-        for v in y.iter() {
+fn write_rows(out: &mut impl Write, strobe: &[StrobePoint<U6>], transient: u64) -> io::Result<()> {
+    for p in strobe {
+        write!(out, "{},{}", p.k - transient, fmt_f64(p.t))?;
+        for v in p.y.iter() {
             write!(out, ",{}", fmt_f64(*v))?;
         }
-        writeln!(out, ",{label}")?;
+        writeln!(out, ",{}", p.label)?;
     }
     Ok(())
 }

@@ -31,9 +31,10 @@ use std::time::Instant;
 use common::cli::Cli;
 use common::csv::CsvWriter;
 use common::plot::{self, Figure, LegendPosition, Series};
-use jeffcott::hybrid::{EventRecord, OutputPlan, SimOptions, SimStats};
-use jeffcott::jeffcott::{guard, JeffcottModel, State};
+use jeffcott::hybrid::{EventRecord, OutputPlan, SimOptions, SimStats, StrobeRange};
+use jeffcott::nalgebra::U6;
 use jeffcott::ode::Method;
+use jeffcott::paper::{guard, JeffcottModel, State};
 use jeffcott::params::{Params, Preset};
 
 /// A fixed test scene.
@@ -83,7 +84,7 @@ fn scenes() -> Vec<Scene> {
 /// One run's outcome.
 struct RunResult {
     end: State,
-    events: Vec<EventRecord<6>>,
+    events: Vec<EventRecord<U6>>,
     stats: SimStats,
     seconds: f64,
 }
@@ -93,7 +94,10 @@ fn run(scene: &Scene, opts: &SimOptions, repeat: usize) -> Result<RunResult, Str
     let t_end = scene.params.forcing_period() * scene.periods as f64;
     let plan = OutputPlan {
         t_end,
-        strobe: Some((scene.periods, scene.periods)),
+        strobe: Some(StrobeRange {
+            first: scene.periods,
+            last: scene.periods,
+        }),
         dense: None,
         events: true,
     };
@@ -108,7 +112,7 @@ fn run(scene: &Scene, opts: &SimOptions, repeat: usize) -> Result<RunResult, Str
             .strobe
             .last()
             .ok_or_else(|| "no stroboscopic output".to_string())?
-            .2;
+            .y;
         out = Some((end, traj.events, stats));
     }
     let (end, events, stats) = out.expect("at least one run");
@@ -127,10 +131,10 @@ fn max_abs_diff(a: &State, b: &State) -> f64 {
 /// Largest error of the onset / loss times: each reference event is matched to the nearest
 /// event of the same kind. Returns `(max error, number of onset/loss events in the run minus
 /// in the reference)`.
-fn event_time_error(run: &[EventRecord<6>], reference: &[EventRecord<6>]) -> (f64, i64) {
-    let is_contact = |e: &&EventRecord<6>| e.kind == guard::ONSET || e.kind == guard::LOSS;
-    let mine: Vec<&EventRecord<6>> = run.iter().filter(is_contact).collect();
-    let refs: Vec<&EventRecord<6>> = reference.iter().filter(is_contact).collect();
+fn event_time_error(run: &[EventRecord<U6>], reference: &[EventRecord<U6>]) -> (f64, i64) {
+    let is_contact = |e: &&EventRecord<U6>| e.kind == guard::ONSET || e.kind == guard::LOSS;
+    let mine: Vec<&EventRecord<U6>> = run.iter().filter(is_contact).collect();
+    let refs: Vec<&EventRecord<U6>> = reference.iter().filter(is_contact).collect();
     let mut worst = 0.0f64;
     for r in &refs {
         let d = mine

@@ -30,9 +30,9 @@
 //! **Switching.** Contact starts when $|r - s|$ reaches 1; it ends when the normal contact
 //! force $n\cdot f$ turns negative (or $|r|$ falls to 1). Out of contact the rotor is a damped
 //! linear oscillator and the ring relaxes exponentially with time constant $2\nu_2/K$: both
-//! are solved **in closed form** ([`jeffcott::free_flight`]), and contact onset is found on the
+//! are solved **in closed form** ([`paper::free_flight`]), and contact onset is found on the
 //! closed form by a **certified** search that cannot step over a contact
-//! ([`jeffcott::onset`]). Contact phases are integrated (DOP853 by default, [`ode`]); regime
+//! ([`ring::onset`]). Contact phases are integrated (DOP853 by default, [`ode`]); regime
 //! boundaries inside contact are events, so no step straddles a kink.
 //!
 //! ## Layers
@@ -42,13 +42,18 @@
 //! | [`params`] | non-dimensional and SI parameters, validation, the paper's presets |
 //! | [`ring`] | the snubber ring as a reusable contact element: force, energy, minimum-energy location and its Jacobian, regimes, relaxation |
 //! | [`ode`] | generic explicit Runge–Kutta integrators (DOP853, DOPRI5, RK4) with dense output and event location |
-//! | [`hybrid`] | the [`hybrid::RotorModel`] trait of piecewise-smooth rotor models and the driver through modes and events |
-//! | [`jeffcott`] | the paper's model implementing [`hybrid::RotorModel`] |
-//! | [`analysis`] | period detection, section crossings, deterministic parallel parameter sweeps |
+//! | [`hybrid`] | the [`hybrid::RotorModel`] trait of piecewise-smooth rotor models (state size fixed, e.g. `U6`, or known at run time, `Dyn`) and the driver through modes and events |
+//! | [`paper`] | the paper's model implementing [`hybrid::RotorModel`], and sweeps over its parameters |
+//! | [`analysis`] | for any [`hybrid::RotorModel`]: period detection, stroboscopic orbits, phase portraits and Poincaré sections, deterministic parallel sweeps, bifurcation diagrams and a bifurcation locator |
+//!
+//! The most used items are re-exported here: [`JeffcottModel`], [`State`], and [`nalgebra`]
+//! itself (the version this crate is built with, so that a user need not match it).
 //!
 //! Long-form guides live in the repository's `docs/` folder: `model.md` (the model as
 //! implemented, every erratum of the paper and every choice), `integrators.md`, `ring.md`,
-//! `reproduction.md`, `accuracy.md`, `performance.md`.
+//! `reproduction.md`, `accuracy.md`, `performance.md`, and `hybrid.md` (your own rotor model:
+//! the contract of [`hybrid::RotorModel`], run-time sizes, algebraic components, the
+//! analyses).
 //!
 //! ## Example
 //!
@@ -56,16 +61,16 @@
 //!
 //! ```
 //! use jeffcott::hybrid::SimOptions;
-//! use jeffcott::jeffcott::{JeffcottModel, State};
 //! use jeffcott::params::Preset;
+//! use jeffcott::{JeffcottModel, State};
 //!
 //! let model = JeffcottModel::new(Preset::Fig8b.params().with_eta(2.0))?;
 //! let (orbit, stats) = model.stroboscopic(&State::zeros(), 300, 305, &SimOptions::default())?;
-//! for (k, tau, y, regime) in &orbit.strobe {
-//!     println!("k = {k}, tau = {tau:.4}: x = {:.6}, regime {regime}", y[0]);
+//! for p in &orbit.strobe {
+//!     println!("k = {}, tau = {:.4}: x = {:.6}, regime {}", p.k, p.t, p.y[0], p.label);
 //! }
 //! // Period 1 at eta = 2: consecutive stroboscopic points coincide.
-//! let (a, b) = (orbit.strobe[0].2, orbit.strobe[5].2);
+//! let (a, b) = (orbit.strobe[0].y, orbit.strobe[5].y);
 //! assert!((a - b).norm() < 1e-8);
 //! assert!(stats.transitions > 0); // the rotor hits the ring
 //! # Ok::<(), Box<dyn std::error::Error>>(())
@@ -75,11 +80,12 @@
 
 pub mod analysis;
 pub mod hybrid;
-pub mod jeffcott;
 pub mod ode;
+pub mod paper;
 pub mod params;
 pub mod ring;
 pub mod rotor;
 
 /// The linear algebra crate of the public API (states are `nalgebra` vectors).
 pub use nalgebra;
+pub use paper::{JeffcottModel, State};

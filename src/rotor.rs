@@ -15,25 +15,36 @@
 //! two state components are *algebraic*: the composition sets them (relaxing ring in free
 //! flight, $s^*(r)$ in contact) and excludes them from error control.
 
-use nalgebra::{SVector, Vector2};
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector, Vector2};
 
 use crate::hybrid::{Flow, ModelError, NoExactModes, RotorModel};
 use crate::ode::Direction;
 use crate::ring::{Kinematics, RingCache, RingError, RingGuard, RingMode, SnubberRing};
 
-/// A rotor without the ring: smooth, of state dimension `N`, with one station where the ring
-/// acts. The state holds the rotor's coordinates and velocities in any order the model likes,
-/// plus two components reserved for the ring's position ([`SmoothRotor::ring_slots`]).
-pub trait SmoothRotor<const N: usize> {
+/// A rotor without the ring: smooth, of state dimension [`SmoothRotor::Dim`] (fixed, e.g.
+/// `U6`, or `Dyn` for a size known at run time), with one station where the ring acts. The
+/// state holds the rotor's coordinates and velocities in any order the model likes, plus two
+/// components reserved for the ring's position ([`SmoothRotor::ring_slots`]).
+pub trait SmoothRotor
+where
+    DefaultAllocator: Allocator<Self::Dim>,
+{
+    /// The state's dimension type.
+    type Dim: Dim;
+
+    /// The state's dimension (the ring's two slots included).
+    fn dim(&self) -> Self::Dim;
+
     /// The rotor's vector field without contact, $y^\prime = f(t, y)$. Write every component
     /// except the two ring slots (the composition writes those).
-    fn rhs(&self, t: f64, y: &SVector<f64, N>, dy: &mut SVector<f64, N>);
+    fn rhs(&self, t: f64, y: &OVector<f64, Self::Dim>, dy: &mut OVector<f64, Self::Dim>);
 
     /// Displacement and velocity of the rotor at the ring's station, relative to the ring's rest
     /// centre, in units of the ring's gap. Must be linear in `y` (positions and velocities are
     /// components or fixed combinations of components): applied to $y^\prime$ it then gives the
     /// station's velocity and acceleration, which the ring's acceptance test uses.
-    fn station(&self, y: &SVector<f64, N>) -> Kinematics;
+    fn station(&self, y: &OVector<f64, Self::Dim>) -> Kinematics;
 
     /// Adds to `dy` the effect of the force `force` acting on the rotor at the station (for a
     /// lumped station of mass $m$ whose velocities are `y[i]`, `y[j]`: `dy[i] += force.x / m`,
@@ -41,9 +52,9 @@ pub trait SmoothRotor<const N: usize> {
     /// divided by the modal masses).
     fn add_station_force(
         &self,
-        y: &SVector<f64, N>,
+        y: &OVector<f64, Self::Dim>,
         force: &Vector2<f64>,
-        dy: &mut SVector<f64, N>,
+        dy: &mut OVector<f64, Self::Dim>,
     );
 
     /// Indices of the ring's position $(x_s, y_s)$ in the state.
@@ -90,9 +101,10 @@ impl<R> RingedRotor<R> {
     ///
     /// # Errors
     /// [`ModelError::InvalidState`] for a non-finite station position.
-    pub fn make_consistent<const N: usize>(&self, y: &mut SVector<f64, N>) -> Result<(), ModelError>
+    pub fn make_consistent(&self, y: &mut OVector<f64, R::Dim>) -> Result<(), ModelError>
     where
-        R: SmoothRotor<N>,
+        R: SmoothRotor,
+        DefaultAllocator: Allocator<R::Dim>,
     {
         let k = self.rotor.station(y);
         let s = self
@@ -114,12 +126,29 @@ impl<R> RingedRotor<R> {
     }
 }
 
-impl<R: SmoothRotor<N>, const N: usize> RotorModel<N> for RingedRotor<R> {
+impl<R: SmoothRotor> RotorModel for RingedRotor<R>
+where
+    DefaultAllocator: Allocator<R::Dim>,
+{
+    type Dim = R::Dim;
     type Mode = RingMode;
     type Segment = NoExactModes;
     type Cache = RingCache;
 
-    fn initial_mode(&self, t: f64, y: &SVector<f64, N>) -> Result<RingMode, ModelError> {
+    fn dim(&self) -> R::Dim {
+        self.rotor.dim()
+    }
+
+    fn new_cache(&self) -> RingCache {
+        RingCache::default()
+    }
+
+    /// The ring's two slots: set by the composition, never limiting the step.
+    fn is_algebraic(&self, i: usize) -> bool {
+        self.rotor.ring_slots().contains(&i)
+    }
+
+    fn initial_mode(&self, t: f64, y: &OVector<f64, R::Dim>) -> Result<RingMode, ModelError> {
         let [i, j] = self.rotor.ring_slots();
         self.ring
             .initial_mode(t, &self.rotor.station(y), &Vector2::new(y[i], y[j]))
@@ -137,8 +166,8 @@ impl<R: SmoothRotor<N>, const N: usize> RotorModel<N> for RingedRotor<R> {
         &self,
         mode: RingMode,
         t: f64,
-        y: &SVector<f64, N>,
-        dy: &mut SVector<f64, N>,
+        y: &OVector<f64, R::Dim>,
+        dy: &mut OVector<f64, R::Dim>,
         cache: &RingCache,
     ) {
         self.rotor.rhs(t, y, dy);
@@ -169,7 +198,7 @@ impl<R: SmoothRotor<N>, const N: usize> RotorModel<N> for RingedRotor<R> {
         mode: RingMode,
         i: usize,
         t: f64,
-        y: &SVector<f64, N>,
+        y: &OVector<f64, R::Dim>,
         cache: &RingCache,
     ) -> f64 {
         let guard = self.guard_of(&mode, i);
@@ -182,8 +211,8 @@ impl<R: SmoothRotor<N>, const N: usize> RotorModel<N> for RingedRotor<R> {
         mode: RingMode,
         i: usize,
         t: f64,
-        y: &SVector<f64, N>,
-        _dy: &SVector<f64, N>,
+        y: &OVector<f64, R::Dim>,
+        _dy: &OVector<f64, R::Dim>,
         cache: &RingCache,
     ) -> Option<f64> {
         let guard = self.guard_of(&mode, i);
@@ -205,15 +234,16 @@ impl<R: SmoothRotor<N>, const N: usize> RotorModel<N> for RingedRotor<R> {
         mode: RingMode,
         guard: usize,
         t: f64,
-        y: &mut SVector<f64, N>,
+        y: &mut OVector<f64, R::Dim>,
     ) -> Result<RingMode, ModelError> {
         // The station's acceleration under a ring force f, from the rotor's own equations
-        // (the station map is linear, so it maps y' to the station's acceleration).
-        let at = y.clone_owned();
+        // (the station map is linear, so it maps y' to the station's acceleration). Asked for
+        // only at a touch whose load is zero to rounding: the allocation is rare.
+        let at: &OVector<f64, R::Dim> = y;
         let accel = |f: &Vector2<f64>| {
             let mut dy = at.clone_owned();
-            self.rotor.rhs(t, &at, &mut dy);
-            self.rotor.add_station_force(&at, &-f, &mut dy);
+            self.rotor.rhs(t, at, &mut dy);
+            self.rotor.add_station_force(at, &-f, &mut dy);
             self.rotor.station(&dy).v
         };
         let next = self
@@ -235,11 +265,11 @@ impl<R: SmoothRotor<N>, const N: usize> RotorModel<N> for RingedRotor<R> {
         Ok(next.mode)
     }
 
-    fn start_segment(&self, _mode: RingMode, _t: f64, _y: &SVector<f64, N>) -> NoExactModes {
+    fn start_segment(&self, _mode: RingMode, _t: f64, _y: &OVector<f64, R::Dim>) -> NoExactModes {
         NoExactModes
     }
 
-    fn project(&self, mode: RingMode, t: f64, y: &mut SVector<f64, N>, cache: &RingCache) {
+    fn project(&self, mode: RingMode, t: f64, y: &mut OVector<f64, R::Dim>, cache: &RingCache) {
         if let Ok(ring) = self
             .ring
             .ring_state(&mode, t, &self.rotor.station(y), cache)

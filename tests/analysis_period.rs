@@ -223,3 +223,12 @@ proptest! {
         prop_assert!(a <= v.len());
     }
 }
+
+#[test]
+fn periodicity_displays_in_words() {
+    assert_eq!(Periodicity::Period(3).to_string(), "period 3");
+    assert_eq!(
+        Periodicity::NotPeriodic { up_to: 16 }.to_string(),
+        "not periodic up to 16"
+    );
+}

@@ -10,14 +10,14 @@
 use std::collections::BTreeMap;
 
 use jeffcott::hybrid::{
-    simulate, EventRecord, ExactSegment, Flow, ModelError, OutputPlan, RotorModel, SimErrorKind,
-    SimOptions, Trajectory,
+    simulate, DenseSampling, EventRecord, ExactSegment, Flow, GuardCrossing, ModelError,
+    OutputPlan, RotorModel, SimErrorKind, SimOptions, Trajectory,
 };
-use jeffcott::jeffcott::{guard, JeffcottModel, State};
 use jeffcott::ode::Direction;
+use jeffcott::paper::{guard, JeffcottModel, State};
 use jeffcott::params::{Params, Preset};
 use jeffcott::ring::{Branches, SnubberRing};
-use nalgebra::{SVector, Vector2};
+use nalgebra::{SVector, Vector2, U1, U6};
 
 /// What the contact model and the free ring say at a state with the rotor touching the ring,
 /// computed here from the ring element's public pieces (not the model's guard code).
@@ -162,7 +162,7 @@ fn starts(per_isotropic: usize, per_anisotropic: usize, seed: u64) -> Vec<(Strin
 /// A run's outcome: the error (if any, with its time), events and dense samples.
 struct Outcome {
     error: Option<(SimErrorKind, f64)>,
-    traj: Trajectory<6>,
+    traj: Trajectory<U6>,
 }
 
 fn run(st: &Start, t0: f64, y0: &State, periods: f64, bound: u32, dense: bool) -> Outcome {
@@ -171,7 +171,10 @@ fn run(st: &Start, t0: f64, y0: &State, periods: f64, bound: u32, dense: bool) -
     let plan = OutputPlan {
         t_end: t0 + periods * period,
         strobe: None,
-        dense: dense.then_some((t0, period / 200.0)),
+        dense: dense.then_some(DenseSampling {
+            t_start: t0,
+            dt: period / 200.0,
+        }),
         events: true,
     };
     let opts = SimOptions {
@@ -195,7 +198,7 @@ fn run_start(st: &Start, periods: f64, bound: u32, dense: bool) -> Outcome {
 
 /// A transition into free flight from contact: a loss, the rotor back at the gap circle, or a
 /// loss at a preload crossing.
-fn leaves_contact(e: &EventRecord<6>) -> bool {
+fn leaves_contact(e: &EventRecord<U6>) -> bool {
     e.from > 1 && e.to == 1
 }
 
@@ -484,23 +487,29 @@ struct BlinkSegment {
     dt: Option<f64>,
 }
 
-impl ExactSegment<1> for BlinkSegment {
+impl ExactSegment<U1> for BlinkSegment {
     fn eval(&self, _t: f64, _y: &mut SVector<f64, 1>, dy: &mut SVector<f64, 1>) {
         dy.fill(0.0);
     }
-    fn next_guard(&mut self, _t_from: f64, t_to: f64) -> Option<(usize, f64)> {
+    fn next_guard(&mut self, _t_from: f64, t_to: f64) -> Option<GuardCrossing> {
         let t = self.dt.map_or(self.start.next_up(), |dt| self.start + dt);
-        (t <= t_to).then_some((0, t))
+        (t <= t_to).then_some(GuardCrossing { guard: 0, t })
     }
     fn evaluations(&self) -> u64 {
         0
     }
 }
 
-impl RotorModel<1> for Blinker {
+impl RotorModel for Blinker {
+    type Dim = U1;
     type Mode = bool;
     type Segment = BlinkSegment;
     type Cache = ();
+
+    fn dim(&self) -> U1 {
+        U1
+    }
+    fn new_cache(&self) {}
 
     fn initial_mode(&self, _t: f64, _y: &SVector<f64, 1>) -> Result<bool, ModelError> {
         Ok(false)

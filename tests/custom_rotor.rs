@@ -6,13 +6,13 @@
 #[path = "../examples/custom_rotor/rotor.rs"]
 mod rotor;
 
-use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, Trajectory};
-use jeffcott::jeffcott::JeffcottModel;
-use jeffcott::nalgebra::SVector;
+use jeffcott::hybrid::{simulate, OutputPlan, RotorModel, SimOptions, Trajectory};
+use jeffcott::nalgebra::{SVector, U6};
 use jeffcott::params::Preset;
+use jeffcott::JeffcottModel;
 
 /// Strobes k = 0..=300 and the event log of a run from rest.
-fn run<M: jeffcott::hybrid::RotorModel<6>>(model: &M, period: f64) -> Trajectory<6> {
+fn run<M: RotorModel<Dim = U6>>(model: &M, period: f64) -> Trajectory<U6> {
     let opts = SimOptions {
         rtol: 1e-12,
         atol: 1e-14,
@@ -43,9 +43,9 @@ fn without_cross_coupling_and_cubic_term_it_is_the_paper_model() {
             .strobe
             .iter()
             .zip(&custom.strobe)
-            .map(|(a, b)| (a.2 - b.2).amax())
+            .map(|(a, b)| (a.y - b.y).amax())
             .fold(0.0f64, f64::max);
-        let contacts = |t: &Trajectory<6>| {
+        let contacts = |t: &Trajectory<U6>| {
             t.events
                 .iter()
                 .filter(|e| e.kind == "contact onset")
@@ -79,7 +79,7 @@ fn cross_coupled_steady_orbit_matches_the_harmonic_solution() {
     assert!(p.ex + z.0.hypot(z.1) < 0.9, "must stay out of contact");
     let traj = run(&rotor::on_ring(p, q, 0.0).unwrap(), p.forcing_period());
     // The transient decays like exp(-nu1 tau): after 300 periods it is below rounding.
-    let y = traj.strobe[300].2;
+    let y = traj.strobe[300].y;
     let (c, s) = (p.phi0.cos(), p.phi0.sin());
     let expect = [
         p.ex + z.0 * c - z.1 * s,
@@ -98,10 +98,10 @@ fn cross_coupling_and_cubic_bearing_change_the_orbit() {
     let p = Preset::Fig8a.params().with_eta(2.0);
     let plain = run(&rotor::on_ring(p, 0.0, 0.0).unwrap(), p.forcing_period());
     let coupled = run(&rotor::on_ring(p, 0.05, 0.5).unwrap(), p.forcing_period());
-    let d = (plain.strobe[300].2 - coupled.strobe[300].2).amax();
+    let d = (plain.strobe[300].y - coupled.strobe[300].y).amax();
     assert!(d > 1e-3, "{d:e}");
     assert!(coupled
         .strobe
         .iter()
-        .all(|s| s.2.iter().all(|v| v.is_finite())));
+        .all(|s| s.y.iter().all(|v| v.is_finite())));
 }

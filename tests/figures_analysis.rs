@@ -2,15 +2,16 @@
 //! over), period detection on known cases, the bifurcation locator, phase portraits.
 
 use jeffcott::analysis::{
-    bifurcation, linspace, locate_period_change, phase_portrait, poincare_map, strobe_orbit,
-    Bifurcation, BifurcationConfig, LocatorConfig, OrbitError, PeriodTest, Periodicity,
-    SweepConfig, SweepParameter,
+    linspace, phase_portrait, strobe_orbit, Bifurcation, BifurcationConfig, LocatorConfig,
+    OrbitError, PeriodTest, Periodicity, SweepConfig,
 };
 use jeffcott::hybrid::SimOptions;
-use jeffcott::jeffcott::JeffcottModel;
-use jeffcott::params::{ParamError, Preset};
+use jeffcott::nalgebra::U6;
+use jeffcott::paper::{poincare_map, ParamSweep, RotorStart, SweepParameter};
+use jeffcott::params::{ParamError, Params, Preset};
+use jeffcott::JeffcottModel;
 
-fn bits(b: &Bifurcation) -> Vec<Vec<u64>> {
+fn bits(b: &Bifurcation<U6, ParamError>) -> Vec<Vec<u64>> {
     b.columns
         .iter()
         .map(|c| match c {
@@ -23,6 +24,10 @@ fn bits(b: &Bifurcation) -> Vec<Vec<u64>> {
             Err(_) => vec![u64::MAX],
         })
         .collect()
+}
+
+fn eta_sweep(base: Params) -> ParamSweep {
+    ParamSweep::new(base, SweepParameter::Eta)
 }
 
 fn small_config(sweep: SweepConfig) -> BifurcationConfig {
@@ -39,8 +44,12 @@ fn sweep_is_bitwise_identical_for_1_and_2_threads() {
     let base = Preset::Fig8b.params();
     let etas = linspace(2.0, 4.5, 6).unwrap();
     for mode in [SweepConfig::reset(), SweepConfig::carry_over(2)] {
-        let one = bifurcation(&base, &etas, &small_config(mode.with_threads(1)), None).unwrap();
-        let two = bifurcation(&base, &etas, &small_config(mode.with_threads(2)), None).unwrap();
+        let one = eta_sweep(base)
+            .bifurcation(&etas, &small_config(mode.with_threads(1)), None)
+            .unwrap();
+        let two = eta_sweep(base)
+            .bifurcation(&etas, &small_config(mode.with_threads(2)), None)
+            .unwrap();
         assert_eq!(one.threads, 1);
         assert_eq!(two.threads, 2);
         assert_eq!(one.failures().len(), 0);
@@ -54,7 +63,7 @@ fn carry_over_hands_the_state_on_within_a_chunk() {
     let base = Preset::Fig8a.params();
     let etas = [2.0, 2.01, 2.02, 2.03];
     let config = small_config(SweepConfig::carry_over(2).with_threads(2));
-    let b = bifurcation(&base, &etas, &config, None).unwrap();
+    let b = eta_sweep(base).bifurcation(&etas, &config, None).unwrap();
     let cols: Vec<_> = b.columns.iter().map(|c| c.as_ref().unwrap()).collect();
     assert_eq!(
         cols.iter().map(|c| c.from_reset).collect::<Vec<_>>(),
@@ -65,7 +74,9 @@ fn carry_over_hands_the_state_on_within_a_chunk() {
     let direct = strobe_orbit(&model, &cols[0].orbit.last, 40, 12, &config.opts).unwrap();
     assert_eq!(direct.points, cols[1].orbit.points);
     // In reset mode value 1 starts from rest instead, and differs.
-    let r = bifurcation(&base, &etas, &small_config(SweepConfig::reset()), None).unwrap();
+    let r = eta_sweep(base)
+        .bifurcation(&etas, &small_config(SweepConfig::reset()), None)
+        .unwrap();
     let r1 = r.columns[1].as_ref().unwrap();
     assert!(r1.from_reset);
     assert_ne!(r1.orbit.points, cols[1].orbit.points);
@@ -77,14 +88,16 @@ fn a_failure_is_recorded_and_the_sweep_completes() {
     // eta = -1 is an invalid parameter; the others are fine.
     let etas = [2.0, -1.0, 2.5, 3.0];
     for mode in [SweepConfig::reset(), SweepConfig::carry_over(1)] {
-        let b = bifurcation(&base, &etas, &small_config(mode.with_threads(2)), None).unwrap();
+        let b = eta_sweep(base)
+            .bifurcation(&etas, &small_config(mode.with_threads(2)), None)
+            .unwrap();
         assert_eq!(b.columns.len(), 4);
         let failures = b.failures();
         assert_eq!(failures.len(), 1, "{mode:?}");
-        assert_eq!(failures[0].0, -1.0);
+        assert_eq!(failures[0].value, -1.0);
         assert!(matches!(
-            failures[0].1,
-            OrbitError::Params(ParamError::NotPositive { field: "eta", .. })
+            failures[0].error,
+            OrbitError::Build(ParamError::NotPositive { field: "eta", .. })
         ));
         for i in [0, 2, 3] {
             let col = b.columns[i].as_ref().unwrap();
@@ -105,25 +118,27 @@ fn progress_is_reported_once_per_value() {
     };
     let etas = [2.0, 2.5, 3.0];
     let config = small_config(SweepConfig::reset());
-    bifurcation(&Preset::Fig8a.params(), &etas, &config, Some(&progress)).unwrap();
+    eta_sweep(Preset::Fig8a.params())
+        .bifurcation(&etas, &config, Some(&progress))
+        .unwrap();
     assert_eq!(calls.load(Ordering::Relaxed), 3);
 }
 
 fn period_of(preset: Preset, eta: f64) -> Periodicity {
     let params = preset.params().with_eta(eta);
-    let (orbit, p) = poincare_map(
+    let map = poincare_map(
         &params,
-        ([0.0; 2], [0.0; 2]),
+        RotorStart::at_rest(),
         300,
         150,
         &SimOptions::default(),
         &PeriodTest::default(),
     )
     .unwrap();
-    assert_eq!(orbit.points.len(), 150);
-    assert_eq!(orbit.points[0].k, 301);
-    assert_eq!(orbit.points[149].k, 450);
-    p
+    assert_eq!(map.orbit.points.len(), 150);
+    assert_eq!(map.orbit.points[0].k, 301);
+    assert_eq!(map.orbit.points[149].k, 450);
+    map.periodicity
 }
 
 #[test]
@@ -149,20 +164,21 @@ fn locator_finds_the_first_bifurcation_of_fig8a() {
         resolution: 2e-3,
         ..LocatorConfig::default()
     };
-    let c = locate_period_change(&Preset::Fig8a.params(), 2.1, 2.2, &config).unwrap();
-    assert_eq!(c.at_from, Periodicity::Period(1));
-    assert_eq!(c.at_to, Periodicity::Period(3));
-    assert!(c.to > c.from && c.to - c.from <= 2e-3);
+    let family = eta_sweep(Preset::Fig8a.params());
+    let c = family.locate_period_change(2.1, 2.2, &config).unwrap();
+    assert_eq!(c.bracket.at_from, Periodicity::Period(1));
+    assert_eq!(c.bracket.at_to, Periodicity::Period(3));
+    assert!(c.bracket.to > c.bracket.from && c.bracket.to - c.bracket.from <= 2e-3);
     // The paper reports 2.165; the model gives 2.164 (docs/reproduction.md).
     assert!((c.value() - 2.164).abs() < 3e-3, "{c:?}");
     // Same period at both ends: an error, not a guess.
-    let e = locate_period_change(&Preset::Fig8a.params(), 2.0, 2.05, &config).unwrap_err();
+    let e = family.locate_period_change(2.0, 2.05, &config).unwrap_err();
     assert!(matches!(e, OrbitError::NoChange { .. }), "{e}");
     // From above: where period 3 ends going down is the same point.
-    let d = locate_period_change(&Preset::Fig8a.params(), 2.18, 2.1, &config).unwrap();
-    assert_eq!(d.at_from, Periodicity::Period(3));
+    let d = family.locate_period_change(2.18, 2.1, &config).unwrap();
+    assert_eq!(d.bracket.at_from, Periodicity::Period(3));
     assert!(
-        d.to < d.from && (d.value() - c.value()).abs() < 3e-3,
+        d.bracket.to < d.bracket.from && (d.value() - c.value()).abs() < 3e-3,
         "{d:?}"
     );
 }
@@ -217,11 +233,10 @@ fn grids_and_parameters() {
     assert_eq!(SweepParameter::default(), SweepParameter::Eta);
     assert_eq!(SweepParameter::Eta.apply(&base, 3.0).eta, 3.0);
     // A sweep over the preload, carrying the state (the ring is re-placed at each value).
-    let config = BifurcationConfig {
-        parameter: SweepParameter::Preload,
-        ..small_config(SweepConfig::carry_over(1))
-    };
-    let b = bifurcation(&base.with_eta(3.0), &[0.0, 0.05, 0.1], &config, None).unwrap();
+    let config = small_config(SweepConfig::carry_over(1));
+    let b = ParamSweep::new(base.with_eta(3.0), SweepParameter::Preload)
+        .bifurcation(&[0.0, 0.05, 0.1], &config, None)
+        .unwrap();
     assert_eq!(b.failures().len(), 0);
     assert_eq!(b.points(0).len(), 36);
 }

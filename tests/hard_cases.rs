@@ -10,9 +10,13 @@
 use std::sync::mpsc;
 use std::time::Duration;
 
-use jeffcott::hybrid::{OutputPlan, SimErrorKind, SimOptions, SimStats, Trajectory};
-use jeffcott::jeffcott::{guard, JeffcottModel, RunFailure, State};
+use jeffcott::hybrid::{
+    DenseSampling, OutputPlan, SimErrorKind, SimOptions, SimStats, StrobePoint, StrobeRange,
+    Trajectory,
+};
+use jeffcott::nalgebra::U6;
 use jeffcott::ode::Method;
+use jeffcott::paper::{guard, JeffcottModel, RunFailure, State};
 use jeffcott::params::{Params, Preset};
 use nalgebra::Vector2;
 
@@ -29,7 +33,7 @@ fn within<T: Send + 'static>(secs: u64, f: impl FnOnce() -> T + Send + 'static) 
     }
 }
 
-type Outcome = Result<(Trajectory<6>, SimStats), Box<RunFailure>>;
+type Outcome = Result<(Trajectory<U6>, SimStats), Box<RunFailure>>;
 
 /// Runs `periods` forcing periods from `(0, y0)` with events, strobing every period.
 fn run(p: Params, y0: State, periods: u64, opts: SimOptions) -> Outcome {
@@ -37,7 +41,10 @@ fn run(p: Params, y0: State, periods: u64, opts: SimOptions) -> Outcome {
         let m = JeffcottModel::new(p).expect("valid parameters");
         let plan = OutputPlan {
             t_end: p.forcing_period() * periods as f64,
-            strobe: Some((0, periods)),
+            strobe: Some(StrobeRange {
+                first: 0,
+                last: periods,
+            }),
             dense: None,
             events: true,
         };
@@ -45,7 +52,7 @@ fn run(p: Params, y0: State, periods: u64, opts: SimOptions) -> Outcome {
     })
 }
 
-fn ok(o: Outcome, what: &str) -> (Trajectory<6>, SimStats) {
+fn ok(o: Outcome, what: &str) -> (Trajectory<U6>, SimStats) {
     o.unwrap_or_else(|f| panic!("{what}: {}", f.error))
 }
 
@@ -57,8 +64,8 @@ fn tol(rtol: f64, atol: f64) -> SimOptions {
     }
 }
 
-fn last(t: &Trajectory<6>) -> State {
-    t.strobe.last().expect("stroboscopic output").2
+fn last(t: &Trajectory<U6>) -> State {
+    t.strobe.last().expect("stroboscopic output").y
 }
 
 fn max_diff(a: &State, b: &State) -> f64 {
@@ -66,19 +73,25 @@ fn max_diff(a: &State, b: &State) -> f64 {
 }
 
 /// Largest deviation over all common stroboscopic points.
-fn strobe_diff(a: &Trajectory<6>, b: &Trajectory<6>) -> f64 {
+fn strobe_diff(a: &Trajectory<U6>, b: &Trajectory<U6>) -> f64 {
     assert_eq!(a.strobe.len(), b.strobe.len());
     a.strobe
         .iter()
         .zip(&b.strobe)
-        .map(|(x, y)| max_diff(&x.2, &y.2))
+        .map(|(a, b)| max_diff(&a.y, &b.y))
         .fold(0.0, f64::max)
 }
 
 /// All stroboscopic states finite and the rotor within `r_max` of the centre with speed at most
 /// `v_max`; the ring within the rotor's reach (`|r - s| <= 1 + 1e-7`).
-fn assert_sane(t: &Trajectory<6>, r_max: f64, v_max: f64, what: &str) {
-    for (k, _, y, _) in &t.strobe {
+fn assert_sane(t: &Trajectory<U6>, r_max: f64, v_max: f64, what: &str) {
+    for StrobePoint {
+        k,
+        t: _,
+        y,
+        label: _,
+    } in &t.strobe
+    {
         assert!(
             y.iter().all(|v| v.is_finite()),
             "{what}: non-finite at k = {k}: {y:?}"
@@ -172,7 +185,7 @@ fn quiet_params() -> Params {
     }
 }
 
-fn contact_events(t: &Trajectory<6>) -> usize {
+fn contact_events(t: &Trajectory<U6>) -> usize {
     t.events
         .iter()
         .filter(|e| e.kind == guard::ONSET || e.kind == guard::LOSS)
@@ -190,7 +203,7 @@ fn free_flight_matches_closed_form_computed_here() {
     let y0 = State::from([p.ex, 0.0, 0.0, 0.0, 0.0, 0.0]);
     let (t, _) = ok(run(p, y0, 40, SimOptions::default()), "free");
     assert_eq!(t.events.len(), 0);
-    for (k, tk, y, label) in &t.strobe {
+    for StrobePoint { k, t: tk, y, label } in &t.strobe {
         let e = free_flight(&p, [p.ex, 0.0, 0.0, 0.0], *tk);
         for i in 0..4 {
             assert!(
@@ -213,7 +226,13 @@ fn grazing_orbit_just_inside_never_touches() {
     let (t, _) = ok(run(p, y0, 200, SimOptions::default()), "inside");
     assert_eq!(t.events.len(), 0, "{:?}", t.events.first());
     let z0 = [y0[0], y0[1], y0[2], y0[3]];
-    for (k, tk, y, _) in &t.strobe {
+    for StrobePoint {
+        k,
+        t: tk,
+        y,
+        label: _,
+    } in &t.strobe
+    {
         let e = free_flight(&p, z0, *tk);
         for i in 0..4 {
             assert!((y[i] - e[i]).abs() < 1e-11, "k = {k}, i = {i}");
@@ -239,7 +258,13 @@ fn grazing_orbit_just_outside_touches_every_period() {
     );
     assert_sane(&t, 1.0 + 1e-6, 1.0, "outside");
     let z0 = [y0[0], y0[1], y0[2], y0[3]];
-    for (k, tk, y, _) in &t.strobe {
+    for StrobePoint {
+        k,
+        t: tk,
+        y,
+        label: _,
+    } in &t.strobe
+    {
         let e = free_flight(&p, z0, *tk);
         for i in 0..4 {
             assert!((y[i] - e[i]).abs() < 1e-6, "k = {k}, i = {i}");
@@ -402,7 +427,7 @@ fn corner_outward_is_continuous_in_the_start() {
 /// A start in contact with x_s exactly at its preload and an inward velocity `scale` times the
 /// one that makes the normal contact force exactly zero (ring damping raised to nu2 = 0.5 so that
 /// this speed is moderate): contact loss and the regime boundary coincide at t = 0.
-fn loss_at_boundary_runs(scales: &[f64]) -> Vec<Trajectory<6>> {
+fn loss_at_boundary_runs(scales: &[f64]) -> Vec<Trajectory<U6>> {
     let d = 0.1;
     let p = Params {
         nu2: 0.5,
@@ -511,7 +536,13 @@ fn small_and_large_eta() {
     let y0 = State::from([p.ex, 0.0, 0.0, 0.0, 0.0, 0.0]);
     let (t, _) = ok(run(p, y0, 5, SimOptions::default()), "eta 0.1");
     assert_eq!(contact_events(&t), 0);
-    for (k, tk, y, _) in &t.strobe {
+    for StrobePoint {
+        k,
+        t: tk,
+        y,
+        label: _,
+    } in &t.strobe
+    {
         let e = free_flight(&p, [p.ex, 0.0, 0.0, 0.0], *tk);
         for i in 0..4 {
             assert!((y[i] - e[i]).abs() < 1e-11, "k = {k}");
@@ -596,7 +627,10 @@ fn no_contact_mode_inside_the_gap_circle() {
         let plan = OutputPlan {
             t_end: 10.0,
             strobe: None,
-            dense: Some((0.0, 0.005)),
+            dense: Some(DenseSampling {
+                t_start: 0.0,
+                dt: 0.005,
+            }),
             events: true,
         };
         m.run(0.0, &State::zeros(), &plan, &SimOptions::default())
@@ -649,7 +683,13 @@ fn long_run(p: Params, y0: State, periods: u64, secs: u64) -> (f64, SimStats) {
             .unwrap_or_else(|f| panic!("{}", f.error));
         assert_eq!(t.strobe.len() as u64, periods + 1);
         let mut e_max = 0.0f64;
-        for (k, _, y, _) in &t.strobe {
+        for StrobePoint {
+            k,
+            t: _,
+            y,
+            label: _,
+        } in &t.strobe
+        {
             assert!(y.iter().all(|v| v.is_finite()), "k = {k}");
             e_max = e_max.max(energy(&p, y));
         }
@@ -767,4 +807,3 @@ fn rk4_and_adaptive_agree_on_contact_scene() {
     let d = strobe_diff(&a, &b);
     assert!(d < 1e-7, "{d:e}");
 }
-

@@ -8,7 +8,7 @@ use jeffcott::ode::{
     solve, AnyIntegrator, Dop853, Dopri5, Integrator, Method, NoEvents, OdeError, OdeSystem,
     Options, Recorder, Rk4, Stopped, Tolerance,
 };
-use nalgebra::SVector;
+use nalgebra::{Const, SVector, U4};
 
 mod common;
 use common::{slope, Kepler, V4};
@@ -19,7 +19,7 @@ struct Arenstorf;
 const MU: f64 = 0.012277471;
 const T_ARENSTORF: f64 = 17.065_216_560_157_962_558_891_720_624_9;
 
-impl OdeSystem<4> for Arenstorf {
+impl OdeSystem<U4> for Arenstorf {
     fn rhs(&self, _t: f64, y: &V4, dy: &mut V4) {
         let mu1 = 1.0 - MU;
         let d1 = ((y[0] + MU).powi(2) + y[1] * y[1]).powf(1.5);
@@ -35,9 +35,9 @@ fn arenstorf_y0() -> V4 {
     V4::new(0.994, 0.0, 0.0, -2.001_585_106_379_082_522_405_378_622_24)
 }
 
-fn run_to<const N: usize, S: OdeSystem<N>>(
+fn run_to<const N: usize, S: OdeSystem<Const<N>>>(
     method: Method,
-    opts: Options<N>,
+    opts: Options<Const<N>>,
     sys: &S,
     y0: SVector<f64, N>,
     t_end: f64,
@@ -289,4 +289,132 @@ fn fixed_step_mode_of_adaptive_methods_takes_exact_steps() {
         assert_eq!(integ.t(), 0.1, "{}", integ.name());
         assert_eq!(integ.stats().rejected, 0);
     }
+}
+
+/// `atol = +inf` excludes a component from error control: a fast
+/// exponential component ($y_2' = 40 y_2$, growing to $e^{40}$) that would
+/// force small steps does not shrink them, and the oscillator components keep
+/// their accuracy — in fact they get exactly the steps, and the bits, of the
+/// oscillator integrated alone.
+#[test]
+fn infinite_atol_excludes_a_component_from_error_control() {
+    type V3 = SVector<f64, 3>;
+    let with_exp = |_t: f64, y: &V3, dy: &mut V3| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+        dy[2] = 40.0 * y[2];
+    };
+    let alone = |_t: f64, y: &SVector<f64, 2>, dy: &mut SVector<f64, 2>| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    };
+    let t_end = 1.0;
+    let y0 = V3::new(1.0, 0.0, 1.0);
+    for method in [Method::Dop853, Method::Dopri5] {
+        let run3 = |atol2: f64| {
+            let opts = Options {
+                rtol: Tolerance::Scalar(1e-10),
+                atol: Tolerance::PerComponent(V3::new(1e-12, 1e-12, atol2)),
+                ..Options::default()
+            };
+            let mut rec = Recorder::default();
+            rec.record_steps = true;
+            let rep = solve(
+                &mut AnyIntegrator::new(method, opts).unwrap(),
+                &with_exp,
+                0.0,
+                &y0,
+                t_end,
+                &NoEvents,
+                &mut rec,
+            )
+            .unwrap();
+            (rep, rec.steps)
+        };
+        let (free, free_steps) = run3(f64::INFINITY);
+        let (controlled, _) = run3(1e-12);
+        let mut rec2 = Recorder::default();
+        rec2.record_steps = true;
+        let opts2 = Options::with_tol(1e-10, 1e-12);
+        let rep2 = solve(
+            &mut AnyIntegrator::new(method, opts2).unwrap(),
+            &alone,
+            0.0,
+            &SVector::<f64, 2>::new(1.0, 0.0),
+            t_end,
+            &NoEvents,
+            &mut rec2,
+        )
+        .unwrap();
+        println!(
+            "{}: steps with y2 free {}, controlled {}, oscillator alone {}",
+            method.name(),
+            free.stats.steps,
+            controlled.stats.steps,
+            rep2.stats.steps
+        );
+        // The excluded component does not shrink the steps ...
+        assert_eq!(free.stats.steps, rep2.stats.steps, "{}", method.name());
+        assert!(
+            controlled.stats.steps >= 3 * free.stats.steps,
+            "{}: {} vs {}",
+            method.name(),
+            controlled.stats.steps,
+            free.stats.steps
+        );
+        // ... the others are integrated exactly as without it (same bits) ...
+        assert_eq!(free_steps.len(), rec2.steps.len());
+        for ((t3, y3), (t2, y2)) in free_steps.iter().zip(&rec2.steps) {
+            assert_eq!(t3.to_bits(), t2.to_bits());
+            assert_eq!(y3[0].to_bits(), y2[0].to_bits());
+            assert_eq!(y3[1].to_bits(), y2[1].to_bits());
+        }
+        // ... and keep their accuracy.
+        assert!((free.y[0] - t_end.cos()).abs() < 1e-9, "{}", free.y[0]);
+        assert!((free.y[1] + t_end.sin()).abs() < 1e-9, "{}", free.y[1]);
+        // The excluded component is still computed, with the accuracy of the
+        // steps chosen for the others (here 40 h is about 7: a factor 3 low).
+        let exact = (40.0 * t_end).exp();
+        println!(
+            "  y2 free {:e}, controlled {:e}, exact {exact:e}",
+            free.y[2], controlled.y[2]
+        );
+        assert!(free.y[2].is_finite() && free.y[2] > exact / 10.0 && free.y[2] < exact * 10.0);
+        assert!((controlled.y[2] / exact - 1.0).abs() < 1e-8);
+    }
+}
+
+#[test]
+fn atol_validation_allows_plus_infinity_only() {
+    type V3 = SVector<f64, 3>;
+    let per = |v: f64| Tolerance::PerComponent(V3::new(1e-12, v, 1e-12));
+    for (atol, ok) in [
+        (per(f64::INFINITY), true),
+        (Tolerance::Scalar(f64::INFINITY), true),
+        (per(f64::NEG_INFINITY), false),
+        (per(f64::NAN), false),
+        (per(-1e-12), false),
+    ] {
+        let opts = Options {
+            atol,
+            ..Options::default()
+        };
+        match Dop853::new(opts) {
+            Ok(_) => assert!(ok, "{atol:?} accepted"),
+            Err(e) => {
+                assert!(!ok, "{atol:?} rejected: {e}");
+                assert!(matches!(e, OdeError::InvalidOption { field: "atol", .. }));
+                assert!(e.to_string().contains("INFINITY"), "{e}");
+            }
+        }
+    }
+    // rtol stays finite.
+    let opts = Options::<nalgebra::U3> {
+        rtol: Tolerance::Scalar(f64::INFINITY),
+        ..Options::default()
+    };
+    assert!(matches!(
+        Dop853::new(opts),
+        Err(OdeError::InvalidOption { field: "rtol", .. })
+    ));
 }

@@ -5,7 +5,7 @@
 #![allow(clippy::excessive_precision)]
 
 use jeffcott::ode::{AnyIntegrator, Integrator, Method, OdeSystem, Options};
-use nalgebra::SVector;
+use nalgebra::{Const, SVector};
 
 mod common;
 use common::{slope, Kepler, V4};
@@ -25,7 +25,7 @@ fn forced_exact(t: f64) -> SVector<f64, 2> {
 }
 
 /// End error of a fixed-step run with `n` steps over `[0, t_end]`.
-fn end_error<const N: usize, S: OdeSystem<N>>(
+fn end_error<const N: usize, S: OdeSystem<Const<N>>>(
     method: Method,
     sys: &S,
     y0: SVector<f64, N>,

@@ -4,7 +4,7 @@ use jeffcott::ode::{
     solve, AnyIntegrator, Direction, EventSet, Integrator, Method, OdeSystem, Options, Recorder,
     Stats,
 };
-use nalgebra::SVector;
+use nalgebra::{SVector, U2};
 use proptest::prelude::*;
 
 type V2 = SVector<f64, 2>;
@@ -12,7 +12,7 @@ type V2 = SVector<f64, 2>;
 /// Duffing oscillator $x'' + 0.1 x' + x + x^3 = 0.5\cos(1.2 t)$ (chaotic-ish,
 /// so that any non-determinism would be amplified).
 struct Duffing;
-impl OdeSystem<2> for Duffing {
+impl OdeSystem<U2> for Duffing {
     fn rhs(&self, t: f64, y: &V2, dy: &mut V2) {
         dy[0] = y[1];
         dy[1] = -0.1 * y[1] - y[0] - y[0].powi(3) + 0.5 * (1.2 * t).cos();
@@ -22,7 +22,7 @@ impl OdeSystem<2> for Duffing {
 /// Zero crossings of x (non-terminal) and of the velocity (non-terminal,
 /// with derivative for grazing detection).
 struct Crossings;
-impl EventSet<2> for Crossings {
+impl EventSet<U2> for Crossings {
     fn len(&self) -> usize {
         2
     }
@@ -130,7 +130,7 @@ fn osc(_t: f64, y: &V2, dy: &mut V2) {
 }
 
 struct X0;
-impl EventSet<2> for X0 {
+impl EventSet<U2> for X0 {
     fn len(&self) -> usize {
         1
     }
@@ -172,7 +172,7 @@ proptest! {
         fac_max in prop::num::f64::ANY, bound in prop::num::f64::ANY,
         fixed in prop::option::of(prop::num::f64::ANY),
     ) {
-        let opts = Options::<2> {
+        let opts = Options::<U2> {
             rtol: rtol.into(), atol: atol.into(), h_max, h_min, safety, fac_min, fac_max,
             fixed_step: fixed, max_steps: 1000, ..Options::default()
         };

@@ -2,10 +2,11 @@
 //! options, misuse of the stepping API.
 
 use jeffcott::ode::{
-    solve, solve_with, AnyIntegrator, Direction, Dop853, Dopri5, EventOptions, EventSet,
-    Integrator, Method, NoEvents, OdeError, Options, Rk4, Tolerance,
+    find_first_event, solve, solve_with, AnyIntegrator, Direction, Dop853, Dopri5, EventOptions,
+    EventSet, EventState, Integrator, Method, NoEvents, OdeError, Options, Rk4, Tolerance,
+    MAX_SAMPLES,
 };
-use nalgebra::SVector;
+use nalgebra::{SVector, U2};
 
 type V1 = SVector<f64, 1>;
 type V2 = SVector<f64, 2>;
@@ -134,8 +135,8 @@ fn field_of(e: OdeError) -> &'static str {
 
 #[test]
 fn invalid_options_name_the_field() {
-    let d = Options::<2>::default();
-    let cases: Vec<(Options<2>, &str)> = vec![
+    let d = Options::<U2>::default();
+    let cases: Vec<(Options<U2>, &str)> = vec![
         (
             Options {
                 rtol: Tolerance::Scalar(-1.0),
@@ -248,12 +249,12 @@ fn invalid_options_name_the_field() {
         assert_eq!(field_of(opts.validate().unwrap_err()), field);
     }
     // RK4 needs a fixed step.
-    let e = Rk4::<2>::new(Options::default()).unwrap_err();
+    let e = Rk4::<U2>::new(Options::default()).unwrap_err();
     assert_eq!(field_of(e), "fixed_step");
     assert!(e.to_string().contains("fixed_step"));
     // Valid defaults.
-    assert!(Dop853::<2>::new(Options::default()).is_ok());
-    assert!(Dopri5::<2>::new(Options::default()).is_ok());
+    assert!(Dop853::<U2>::new(Options::default()).is_ok());
+    assert!(Dopri5::<U2>::new(Options::default()).is_ok());
 }
 
 #[test]
@@ -296,29 +297,99 @@ fn invalid_event_options_and_too_many_events() {
     .unwrap_err();
     assert_eq!(field_of(e.error), "root_tol");
 
-    struct Many;
-    impl EventSet<2> for Many {
-        fn len(&self) -> usize {
-            40
-        }
-        fn direction(&self, _i: usize) -> Direction {
-            Direction::Either
-        }
-        fn value(&self, _i: usize, _t: f64, y: &V2) -> f64 {
-            y[0]
+    // samples_per_step above MAX_SAMPLES and max_iter = 0 are errors too
+    // (they used to be clamped silently).
+    for (bad, field) in [
+        (
+            EventOptions {
+                samples_per_step: MAX_SAMPLES + 1,
+                ..EventOptions::default()
+            },
+            "samples_per_step",
+        ),
+        (
+            EventOptions {
+                max_iter: 0,
+                ..EventOptions::default()
+            },
+            "max_iter",
+        ),
+    ] {
+        let e = solve_with(
+            &mut integ,
+            &osc,
+            0.0,
+            &V2::new(1.0, 0.0),
+            1.0,
+            &X0,
+            &bad,
+            &mut (),
+        )
+        .unwrap_err();
+        assert_eq!(field_of(e.error), field);
+    }
+}
+
+/// $g = x$, crossing both ways.
+struct X0;
+impl EventSet<U2> for X0 {
+    fn len(&self) -> usize {
+        1
+    }
+    fn direction(&self, _i: usize) -> Direction {
+        Direction::Either
+    }
+    fn value(&self, _i: usize, _t: f64, y: &V2) -> f64 {
+        y[0]
+    }
+}
+
+/// Every entry point that takes `EventOptions` validates them: the detector
+/// returns a typed error (naming the field) instead of clamping, and
+/// evaluates nothing.
+#[test]
+fn find_first_event_validates_its_options() {
+    let osc = |_t: f64, y: &V2, dy: &mut V2| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    };
+    let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
+    integ.reset(&osc, 0.0, &V2::new(1.0, 0.0), false).unwrap();
+    integ.step(&osc, 10.0).unwrap(); // x = cos t crosses 0 at pi/2 in [0, 2]
+    let mut st = EventState::new();
+    for (samples, ok) in [
+        (0, false),
+        (1, true),
+        (MAX_SAMPLES, true),
+        (MAX_SAMPLES + 1, false),
+    ] {
+        let opts = EventOptions {
+            samples_per_step: samples,
+            ..EventOptions::default()
+        };
+        let before = *integ.stats();
+        st.reset();
+        let r = find_first_event(&mut integ, &osc, &X0, &opts, &mut st);
+        if ok {
+            let hit = r.unwrap().expect("crossing at pi/2");
+            // One step of length 2: the root of the dense output, off by the
+            // integration error (3e-4 here).
+            let err = (hit.t - std::f64::consts::FRAC_PI_2).abs();
+            assert!(err < 1e-3, "{}", hit.t);
+        } else {
+            match r {
+                Err(e) => assert_eq!(field_of(e), "samples_per_step"),
+                Ok(h) => panic!("samples_per_step = {samples} accepted: {h:?}"),
+            }
+            assert_eq!(*integ.stats(), before, "nothing evaluated");
         }
     }
-    let e = solve(
-        &mut integ,
-        &osc,
-        0.0,
-        &V2::new(1.0, 0.0),
-        1.0,
-        &Many,
-        &mut (),
-    )
-    .unwrap_err();
-    assert!(matches!(e.error, OdeError::TooManyEvents { len: 40, .. }));
+    let bad = EventOptions {
+        root_tol: f64::NAN,
+        ..EventOptions::default()
+    };
+    let e = find_first_event(&mut integ, &osc, &X0, &bad, &mut st).unwrap_err();
+    assert_eq!(field_of(e), "root_tol");
 }
 
 #[test]

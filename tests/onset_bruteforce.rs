@@ -1,4 +1,4 @@
-//! The certified contact-onset search (`jeffcott::onset::find_onset`) against a brute-force
+//! The certified contact-onset search (`jeffcott::ring::onset::find_onset`) against a brute-force
 //! oracle on constructed near-grazing configurations.
 //!
 //! **Cases.** A rotor free flight and a relaxing ring are built so that
@@ -45,9 +45,10 @@
 //! form, so $|t_s - t_o| \le (\varepsilon_h + 2\delta_h)/h'(t_o) + 2\thinspace\mathrm{ulp}(t_o) +
 //! \mathrm{RES}$.
 
-use jeffcott::jeffcott::free_flight::{FreeFlight, FreeOscillator};
-use jeffcott::jeffcott::onset::{find_onset, Onset, OnsetStats, RelaxingRing};
+use jeffcott::paper::free_flight::{FreeFlight, FreeOscillator};
 use jeffcott::params::{Params, Preset};
+use jeffcott::ring::onset::{find_onset, Onset, OnsetStats};
+use jeffcott::ring::Relaxation;
 use jeffcott::ring::{RingAxis, SnubberRing};
 use nalgebra::Vector2;
 
@@ -703,7 +704,7 @@ fn run(n: usize, seed: u64) -> Tally {
         let (verdict, oe) = oracle(&case, tau_h);
         tally.oracle_evals += oe;
         let mut stats = OnsetStats::default();
-        let relax = RelaxingRing {
+        let relax = Relaxation {
             t0: case.ring.t0,
             s0: case.ring.s0,
         };
@@ -817,7 +818,7 @@ impl Tally {
 }
 
 fn check(n: usize, seed: u64) {
-    assert_eq!(EPS_H, jeffcott::jeffcott::onset::H_TOLERANCE);
+    assert_eq!(EPS_H, jeffcott::ring::onset::H_TOLERANCE);
     let t = run(n, seed);
     println!(
         "cases {} (contacts {}, clear {}, ambiguous {}): misses {} ({} late), false alarms {} ({} \

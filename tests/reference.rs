@@ -2,8 +2,8 @@
 //! (SciPy DOP853 at rtol 1e-13 with terminal events and exact ring relaxation;
 //! files in tests/data, see tests/data/README.md for where each comes from).
 
-use jeffcott::hybrid::SimOptions;
-use jeffcott::jeffcott::{JeffcottModel, State};
+use jeffcott::hybrid::{SimOptions, StrobePoint};
+use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::Params;
 
 struct Reference {
@@ -59,7 +59,7 @@ fn compare(name: &str, opts: &SimOptions) -> (f64, usize) {
     assert_eq!(traj.strobe.len(), r.rows.len());
     let mut worst = 0.0f64;
     let mut flags = 0;
-    for ((k, _, y, label), (rk, ry, rc)) in traj.strobe.iter().zip(&r.rows) {
+    for (StrobePoint { k, y, label, .. }, (rk, ry, rc)) in traj.strobe.iter().zip(&r.rows) {
         assert_eq!(k, rk);
         for i in 0..6 {
             worst = worst.max((y[i] - ry[i]).abs());

@@ -80,7 +80,13 @@ fn released_ring_parts_from_the_rotor_in_every_regime() {
             let scale = 2.0 * (v.norm() + ring.relax_velocity(&c.s).norm() + 1.0);
             let k = Kinematics { r, v };
             let next = ring
-                .transition(&RingMode::Contact(c.branches), RingGuard::Loss, 0.0, &k, |f| -f)
+                .transition(
+                    &RingMode::Contact(c.branches),
+                    RingGuard::Loss,
+                    0.0,
+                    &k,
+                    |f| -f,
+                )
                 .unwrap();
             let RingMode::Free {
                 relax, separating, ..
@@ -131,7 +137,9 @@ fn touch_on_the_circle_starts_contact_when_moving_outward() {
                     r: n,
                     v: n * w + t_dir * 0.7,
                 };
-                let tr = ring.transition(&free, RingGuard::Onset, 3.0, &k, |f| -f).unwrap();
+                let tr = ring
+                    .transition(&free, RingGuard::Onset, 3.0, &k, |f| -f)
+                    .unwrap();
                 assert_eq!(
                     tr.mode.is_contact(),
                     expect,
@@ -159,7 +167,9 @@ fn touch_without_load_places_the_ring_and_parts() {
         let v = Vector2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
         let k = Kinematics { r, v };
         let free = RingMode::free(jeffcott::ring::Relaxation::at_rest(0.0));
-        let tr = ring.transition(&free, RingGuard::Onset, 1.0, &k, |f| -f).unwrap();
+        let tr = ring
+            .transition(&free, RingGuard::Onset, 1.0, &k, |f| -f)
+            .unwrap();
         match tr.mode {
             RingMode::Contact(b) => {
                 accepted += 1;
@@ -187,7 +197,9 @@ fn touch_without_load_places_the_ring_and_parts() {
         t0: 0.0,
         s0: Vector2::new(-0.49, -0.09),
     });
-    let tr = ring.transition(&free, RingGuard::Onset, 0.0, &k, |f| -f).unwrap();
+    let tr = ring
+        .transition(&free, RingGuard::Onset, 0.0, &k, |f| -f)
+        .unwrap();
     assert_eq!(tr.s, Vector2::zeros());
     assert!(!tr.mode.is_contact());
 }

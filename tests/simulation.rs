@@ -1,9 +1,11 @@
 //! The hybrid simulation of the paper's model: convergence, determinism, events, grazing,
 //! starts in contact, and failures that keep what was computed.
 
-use jeffcott::hybrid::{OutputPlan, SimErrorKind, SimOptions};
-use jeffcott::jeffcott::{guard, JeffcottModel, State};
+use jeffcott::hybrid::{
+    DenseSampling, OutputPlan, SimErrorKind, SimOptions, StrobePoint, StrobeRange,
+};
 use jeffcott::ode::{Dop853, Integrator, Options};
+use jeffcott::paper::{guard, JeffcottModel, State};
 use jeffcott::params::{Params, Preset};
 use nalgebra::{SVector, Vector2};
 
@@ -19,7 +21,7 @@ fn end_state(model: &JeffcottModel, periods: u64, o: &SimOptions) -> State {
     let (traj, _) = model
         .stroboscopic(&State::zeros(), periods, periods, o)
         .unwrap();
-    traj.strobe[0].2
+    traj.strobe[0].y
 }
 
 #[test]
@@ -43,8 +45,11 @@ fn reruns_are_bitwise_identical() {
     let model = JeffcottModel::new(Preset::Fig9d.params()).unwrap();
     let plan = OutputPlan {
         t_end: 40.0 * model.params().forcing_period(),
-        strobe: Some((0, 40)),
-        dense: Some((0.0, 0.05)),
+        strobe: Some(StrobeRange { first: 0, last: 40 }),
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: 0.05,
+        }),
         events: true,
     };
     let a = model.run(0.0, &State::zeros(), &plan, &opts(1e-9)).unwrap();
@@ -76,7 +81,10 @@ fn exact_free_flight_agrees_with_dop853() {
     let mut integ = Dop853::new(Options::with_tol(1e-13, 1e-15)).unwrap();
     let mut y = SVector::<f64, 4>::new(0.2, -0.1, 0.3, 0.1);
     integ.reset(&sys, 0.0, &y, false).unwrap();
-    for (_, t, ye, label) in &traj.strobe[1..] {
+    for StrobePoint {
+        t, y: ye, label, ..
+    } in &traj.strobe[1..]
+    {
         while integ.t() < *t {
             integ.step(&sys, *t).unwrap();
         }
@@ -190,7 +198,10 @@ fn zero_preload_has_only_regimes_one_and_five() {
     let plan = OutputPlan {
         t_end: 20.0 * model.params().forcing_period(),
         strobe: None,
-        dense: Some((0.0, 0.01)),
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: 0.01,
+        }),
         events: true,
     };
     let (traj, _) = model.run(0.0, &State::zeros(), &plan, &opts(1e-9)).unwrap();
@@ -277,6 +288,73 @@ fn invalid_options_are_typed_errors() {
 }
 
 #[test]
+fn event_samples_out_of_range_is_a_typed_error_not_a_clamp() {
+    let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
+    for n in [0, jeffcott::ode::events::MAX_SAMPLES + 1] {
+        let o = SimOptions {
+            event_samples: n,
+            ..SimOptions::default()
+        };
+        let err = model.stroboscopic(&State::zeros(), 0, 3, &o).unwrap_err();
+        assert!(
+            matches!(
+                err.error.kind,
+                SimErrorKind::InvalidOption { field: "event_samples", value, .. } if value == n as f64
+            ),
+            "{err}"
+        );
+        assert!(err.partial.strobe.is_empty());
+    }
+    // The ends of the range run.
+    for n in [1, jeffcott::ode::events::MAX_SAMPLES] {
+        let o = SimOptions {
+            event_samples: n,
+            ..SimOptions::default()
+        };
+        assert!(model.stroboscopic(&State::zeros(), 0, 3, &o).is_ok(), "{n}");
+    }
+}
+
+#[test]
+fn reversed_output_ranges_are_typed_errors() {
+    let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
+    let err = model
+        .stroboscopic(&State::zeros(), 5, 4, &SimOptions::default())
+        .unwrap_err();
+    assert!(
+        matches!(
+            err.error.kind,
+            SimErrorKind::InvalidOption { field: "strobe.first", value, .. } if value == 5.0
+        ),
+        "{err}"
+    );
+    // A single point (first == last) is fine.
+    let (t, _) = model
+        .stroboscopic(&State::zeros(), 4, 4, &SimOptions::default())
+        .unwrap();
+    assert_eq!(t.strobe.len(), 1);
+    let bad_dense = OutputPlan {
+        t_end: 1.0,
+        strobe: None,
+        dense: Some(DenseSampling {
+            t_start: f64::NAN,
+            dt: 0.1,
+        }),
+        events: false,
+    };
+    let err = model
+        .run(0.0, &State::zeros(), &bad_dense, &SimOptions::default())
+        .unwrap_err();
+    assert!(matches!(
+        err.error.kind,
+        SimErrorKind::InvalidOption {
+            field: "dense.t_start",
+            ..
+        }
+    ));
+}
+
+#[test]
 fn both_preloads_crossed_at_once_at_the_corner() {
     // No forcing, rest position on the diagonal: a rotor launched along the diagonal stays on
     // it bit for bit, so it crosses both preloads at the same instant, out and back.
@@ -292,7 +370,10 @@ fn both_preloads_crossed_at_once_at_the_corner() {
     let plan = OutputPlan {
         t_end: 2.0,
         strobe: None,
-        dense: Some((0.0, 1e-3)),
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: 1e-3,
+        }),
         events: true,
     };
     let (traj, _) = model.run(0.0, &y0, &plan, &opts(1e-10)).unwrap();
@@ -333,8 +414,8 @@ fn zero_ring_damping_runs_and_stays_close_to_tiny_damping() {
         assert!(traj
             .strobe
             .iter()
-            .all(|s| s.2.iter().all(|v| v.is_finite())));
-        traj.strobe.last().unwrap().2
+            .all(|s| s.y.iter().all(|v| v.is_finite())));
+        traj.strobe.last().unwrap().y
     };
     let zero = end(0.0);
     let tiny = end(1e-9);
@@ -382,9 +463,9 @@ fn the_first_output_is_the_initial_state_exactly() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
     let y0 = model.state_at([0.1, -0.2], [0.3, 0.05]).unwrap();
     let (traj, _) = model.stroboscopic(&y0, 0, 2, &opts(1e-9)).unwrap();
-    assert_eq!(traj.strobe[0].2, y0);
+    assert_eq!(traj.strobe[0].y, y0);
     let (traj, _) = model
         .stroboscopic(&State::zeros(), 0, 0, &opts(1e-9))
         .unwrap();
-    assert_eq!(traj.strobe[0].2, State::zeros());
+    assert_eq!(traj.strobe[0].y, State::zeros());
 }

@@ -16,7 +16,8 @@ use common::cli::Cli;
 use common::csv::fmt_f64;
 use common::plot::{self, Figure, Series};
 use common::{or_exit, tolerance_flags};
-use jeffcott::analysis::{phase_portrait, strobe_orbit};
+use jeffcott::analysis::orbit::strobe_orbit;
+use jeffcott::analysis::portrait::phase_portrait;
 use jeffcott::hybrid::SimOptions;
 use jeffcott::params::Preset;
 
@@ -43,7 +44,7 @@ fn main() {
     }
     .params();
     let model = or_exit(rotor::on_ring(params.with_eta(eta), q, k3));
-    let y0 = jeffcott::nalgebra::SVector::<f64, 6>::zeros();
+    let y0 = jeffcott::State::zeros();
     let opts = SimOptions {
         rtol,
         atol,

@@ -5,7 +5,7 @@
 //! $$u'' + 2\nu_1 u' + u + q\,(u_y, -u_x) + k_3 |u|^2 u + f_{ring} = \beta\eta^2
 //!   (\cos, \sin)(\varphi_0 + \eta\tau).$$
 
-use jeffcott::nalgebra::{SVector, Vector2};
+use jeffcott::nalgebra::{SVector, Vector2, U6};
 use jeffcott::params::Params;
 use jeffcott::ring::{Kinematics, RingAxis, RingError, SnubberRing};
 use jeffcott::rotor::{RingedRotor, SmoothRotor};
@@ -21,7 +21,11 @@ pub struct CrossCoupledRotor {
     pub k3: f64,
 }
 
-impl SmoothRotor<6> for CrossCoupledRotor {
+impl SmoothRotor for CrossCoupledRotor {
+    type Dim = U6;
+    fn dim(&self) -> U6 {
+        U6
+    }
     fn rhs(&self, t: f64, y: &SVector<f64, 6>, dy: &mut SVector<f64, 6>) {
         let p = &self.params;
         let (ux, uy) = (y[0] - p.ex, y[1] - p.ey);

@@ -1,6 +1,13 @@
-//! The error type shared by the analysis layer.
+//! The error types of the analysis layer: [`AnalysisError`] for bad input to an analysis,
+//! [`OrbitError`] for an analysis of a model family that failed at one parameter value.
 
 use thiserror::Error;
+
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim};
+
+use super::Periodicity;
+use crate::hybrid::{ModelError, SimError};
 
 /// What went wrong in an analysis routine.
 ///
@@ -89,4 +96,68 @@ pub enum AnalysisError {
         /// The message of the underlying error.
         message: String,
     },
+}
+
+/// Why an analysis of a model family ([`bifurcation`](super::bifurcation()),
+/// [`locate_period_change`](super::locate_period_change)) failed at one parameter value.
+///
+/// `E` is the error of the user's model builder (for the paper's model
+/// [`ParamError`](crate::params::ParamError)).
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum OrbitError<D: Dim, E>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// The model could not be built at this value (e.g. invalid parameters).
+    #[error("could not build the model: {0}")]
+    Build(E),
+    /// The start rule rejected the initial state.
+    #[error("invalid initial state: {0}")]
+    State(ModelError),
+    /// The simulation failed.
+    #[error("{0}")]
+    Simulation(Box<SimError<D>>),
+    /// The analysis of the orbit failed (e.g. non-finite points, bad locator settings).
+    #[error(transparent)]
+    Analysis(AnalysisError),
+    /// The locator's two ends have the same detected period: nothing to locate.
+    #[error("no change of period between {from} ({at_from}) and {to} ({at_to})")]
+    NoChange {
+        /// Reference end.
+        from: f64,
+        /// Other end.
+        to: f64,
+        /// Periodicity at `from`.
+        at_from: Periodicity,
+        /// Periodicity at `to`.
+        at_to: Periodicity,
+    },
+}
+
+impl<D: Dim, E> From<SimError<D>> for OrbitError<D, E>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn from(e: SimError<D>) -> Self {
+        OrbitError::Simulation(Box::new(e))
+    }
+}
+
+impl<D: Dim, E> From<AnalysisError> for OrbitError<D, E>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn from(e: AnalysisError) -> Self {
+        OrbitError::Analysis(e)
+    }
+}
+
+impl<D: Dim, E> From<ModelError> for OrbitError<D, E>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn from(e: ModelError) -> Self {
+        OrbitError::State(e)
+    }
 }

@@ -25,10 +25,16 @@
 //! Quasi-periodic and chaotic orbits pass for no `p` (up to the tolerance: a quasi-periodic
 //! orbit whose rotation number is close to `q/p` may pass for `p` if `tol` is loose).
 
+use std::fmt;
+
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
+
 use super::AnalysisError;
 
-/// The outcome of [`detect_period`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The outcome of [`detect_period`]. Displays as `period 3` or `not periodic up to 16`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Periodicity {
     /// The orbit repeats after this many samples (the smallest such number; at least 1).
     Period(usize),
@@ -47,6 +53,55 @@ impl Periodicity {
             Periodicity::Period(p) => Some(p),
             Periodicity::NotPeriodic { .. } => None,
         }
+    }
+}
+
+impl fmt::Display for Periodicity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Periodicity::Period(p) => write!(f, "period {p}"),
+            Periodicity::NotPeriodic { up_to } => write!(f, "not periodic up to {up_to}"),
+        }
+    }
+}
+
+/// How a stroboscopic orbit of state vectors is tested for periodicity: [`detect_period`]
+/// with a period bound that adapts to the number of points.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PeriodTest {
+    /// Largest period tested (at least 1; the orbit needs `2 · max_period` points). Default 16.
+    pub max_period: usize,
+    /// Relative tolerance (see the [module docs](self)). Default `1e-6`.
+    pub tol: f64,
+}
+
+impl Default for PeriodTest {
+    fn default() -> Self {
+        PeriodTest {
+            max_period: 16,
+            tol: 1e-6,
+        }
+    }
+}
+
+impl PeriodTest {
+    /// Tests `points` (whole state vectors), lowering `max_period` to `points.len() / 2` if
+    /// there are too few points for it (but at least 1).
+    ///
+    /// # Errors
+    /// [`AnalysisError`] from [`detect_period`] (invalid tolerance, fewer than 2 points,
+    /// non-finite points).
+    pub fn detect<D: Dim>(&self, points: &[OVector<f64, D>]) -> Result<Periodicity, AnalysisError>
+    where
+        DefaultAllocator: Allocator<D>,
+    {
+        let slices: Vec<&[f64]> = points.iter().map(|y| y.as_slice()).collect();
+        self.detect_slices(&slices)
+    }
+
+    pub(super) fn detect_slices(&self, points: &[&[f64]]) -> Result<Periodicity, AnalysisError> {
+        let max_period = self.max_period.min(points.len() / 2).max(1);
+        detect_period(points, max_period, self.tol)
     }
 }
 

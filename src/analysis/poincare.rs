@@ -20,20 +20,16 @@
 //!   deterministic.
 //!
 //! The stroboscopic map of a periodically forced system (`t = t_0 + 2πk/η`) needs no search; it
-//! comes from the simulation directly.
+//! comes from the simulation directly ([`strobe_orbit`](super::strobe_orbit)); for a
+//! simulated run, [`PhasePortrait::crossings`](super::PhasePortrait::crossings) applies the
+//! Hermite search to the dense samples of each smooth piece.
+//!
+//! Which crossings count is an [`ode::Direction`](Direction), the type guards use:
+//! `Rising` (`h` goes from negative to non-negative), `Falling` (from positive to
+//! non-positive) or `Either`.
 
 use super::AnalysisError;
-
-/// Which sign changes of the section function count.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Direction {
-    /// `h` goes from negative to non-negative.
-    Rising,
-    /// `h` goes from positive to non-positive.
-    Falling,
-    /// Either.
-    Both,
-}
+use crate::ode::Direction;
 
 /// One crossing of the section.
 #[derive(Debug, Clone, PartialEq)]
@@ -118,7 +114,7 @@ where
         let wanted = match direction {
             Direction::Rising => rising,
             Direction::Falling => falling,
-            Direction::Both => rising || falling,
+            Direction::Either => rising || falling,
         };
         if wanted {
             out.push((k, a, b, rising));
@@ -140,7 +136,8 @@ where
 /// (`index` is the sample).
 ///
 /// ```
-/// use jeffcott::analysis::{section_crossings, Direction};
+/// use jeffcott::analysis::section_crossings;
+/// use jeffcott::ode::Direction;
 /// let times: Vec<f64> = (0..=100).map(|k| k as f64 * 0.1).collect();
 /// let states: Vec<[f64; 1]> = times.iter().map(|t| [t.sin()]).collect();
 /// let c = section_crossings(&times, &states, |_, x| x[0], Direction::Falling).unwrap();

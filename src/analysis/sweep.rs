@@ -396,3 +396,53 @@ where
         threads,
     })
 }
+
+/// `n` evenly spaced values from `lo` to `hi` inclusive, a parameter list for [`sweep`]: value
+/// `i` is `lo + (hi − lo) · i / (n − 1)` (exactly `lo` and `hi` at the ends; `[lo]` if
+/// `n = 1`).
+///
+/// # Errors
+/// [`AnalysisError::InvalidValue`] for non-finite ends or a reversed range (`hi < lo`);
+/// [`AnalysisError::InvalidCount`] for `n = 0`.
+///
+/// ```
+/// use jeffcott::analysis::linspace;
+/// assert_eq!(linspace(2.0, 3.0, 3).unwrap(), vec![2.0, 2.5, 3.0]);
+/// assert!(linspace(3.0, 2.0, 3).is_err());
+/// ```
+pub fn linspace(lo: f64, hi: f64, n: usize) -> Result<Vec<f64>, AnalysisError> {
+    if !lo.is_finite() {
+        return Err(AnalysisError::InvalidValue {
+            name: "lo",
+            value: lo,
+            expected: "a finite number",
+        });
+    }
+    if !(hi.is_finite() && hi >= lo) {
+        return Err(AnalysisError::InvalidValue {
+            name: "hi",
+            value: hi,
+            expected: "a finite number >= lo",
+        });
+    }
+    if n == 0 {
+        return Err(AnalysisError::InvalidCount {
+            name: "n",
+            value: 0,
+            expected: "at least 1",
+        });
+    }
+    if n == 1 {
+        return Ok(vec![lo]);
+    }
+    let last = (n - 1) as f64;
+    Ok((0..n)
+        .map(|i| {
+            if i == n - 1 {
+                hi
+            } else {
+                lo + (hi - lo) * (i as f64 / last)
+            }
+        })
+        .collect())
+}

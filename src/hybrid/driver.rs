@@ -1,14 +1,15 @@
 //! The hybrid driver: advances a [`RotorModel`] through its modes, locating guards and
 //! applying transitions, and reports outputs to an observer.
 
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector, U1};
 use thiserror::Error;
 
-use super::record::{EventRecord, HybridObserver, OutputPlan, Sample};
-use super::{ExactSegment, Flow, ModelError, RotorModel};
+use super::record::{EventRecord, HybridObserver, OutputPlan, Sample, StrobePoint};
+use super::{ExactSegment, Flow, GuardCrossing, ModelError, RotorModel};
 use crate::ode::{
     find_first_event, AnyIntegrator, Direction, EventOptions, EventSet, EventState, Integrator,
-    Method, OdeError, OdeSystem, Options, Tolerance,
+    Method, OdeError, OdeSystem, Options, Tolerance, MAX_SAMPLES,
 };
 
 /// Options of a hybrid run. A plain struct with `Default`.
@@ -24,7 +25,8 @@ pub struct SimOptions {
     pub steps_per_period: u32,
     /// Largest step as a fraction of the forcing period (> 0). Default 0.25.
     pub max_step_fraction: f64,
-    /// Interior samples per step for guard detection on the dense output. Default 4.
+    /// Interior samples per step for guard detection on the dense output, in
+    /// `1..=`[`MAX_SAMPLES`]. Default 4.
     pub event_samples: usize,
     /// Chattering bound: more transitions than this within one forcing period is an error
     /// ([`SimErrorKind::Chattering`]). Default 1000. Transitions that do not advance time are
@@ -114,46 +116,59 @@ pub enum SimErrorKind {
 /// recorded up to that point stays in the observer.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[error("simulation failed at t = {t}: {kind}")]
-pub struct SimError<const N: usize> {
+pub struct SimError<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// What went wrong.
     pub kind: SimErrorKind,
     /// Last good time.
     pub t: f64,
     /// Last good state.
-    pub y: SVector<f64, N>,
+    pub y: OVector<f64, D>,
     /// Work done until then.
     pub stats: SimStats,
 }
 
 /// The model in one mode, as an [`OdeSystem`].
-struct ModeSystem<'a, M: RotorModel<N>, const N: usize> {
+struct ModeSystem<'a, M: RotorModel>
+where
+    DefaultAllocator: Allocator<M::Dim>,
+{
     model: &'a M,
     mode: M::Mode,
     cache: &'a M::Cache,
 }
 
-impl<M: RotorModel<N>, const N: usize> OdeSystem<N> for ModeSystem<'_, M, N> {
-    fn rhs(&self, t: f64, y: &SVector<f64, N>, dy: &mut SVector<f64, N>) {
+impl<M: RotorModel> OdeSystem<M::Dim> for ModeSystem<'_, M>
+where
+    DefaultAllocator: Allocator<M::Dim>,
+{
+    #[inline]
+    fn rhs(&self, t: f64, y: &OVector<f64, M::Dim>, dy: &mut OVector<f64, M::Dim>) {
         self.model.rhs(self.mode, t, y, dy, self.cache);
     }
 }
 
-impl<M: RotorModel<N>, const N: usize> EventSet<N> for ModeSystem<'_, M, N> {
+impl<M: RotorModel> EventSet<M::Dim> for ModeSystem<'_, M>
+where
+    DefaultAllocator: Allocator<M::Dim>,
+{
     fn len(&self) -> usize {
         self.model.guard_count(self.mode)
     }
     fn direction(&self, i: usize) -> Direction {
         self.model.guard_direction(self.mode, i)
     }
-    fn value(&self, i: usize, t: f64, y: &SVector<f64, N>) -> f64 {
+    fn value(&self, i: usize, t: f64, y: &OVector<f64, M::Dim>) -> f64 {
         self.model.guard_value(self.mode, i, t, y, self.cache)
     }
     fn derivative(
         &self,
         i: usize,
         t: f64,
-        y: &SVector<f64, N>,
-        dy: &SVector<f64, N>,
+        y: &OVector<f64, M::Dim>,
+        dy: &OVector<f64, M::Dim>,
     ) -> Option<f64> {
         self.model
             .guard_derivative(self.mode, i, t, y, dy, self.cache)
@@ -183,8 +198,10 @@ enum Due {
 
 impl Schedule {
     fn new(plan: &OutputPlan, period: f64, t0: f64) -> Self {
-        let (first, last) = plan.strobe.unwrap_or((1, 0));
-        let (d0, dt) = plan.dense.unwrap_or((f64::INFINITY, 1.0));
+        let (first, last) = plan.strobe.map_or((1, 0), |r| (r.first, r.last));
+        let (d0, dt) = plan
+            .dense
+            .map_or((f64::INFINITY, 1.0), |d| (d.t_start, d.dt));
         let mut s = Self {
             period,
             strobe_next: first,
@@ -321,8 +338,20 @@ impl StallGuard {
     }
 }
 
-fn check_options(opts: &SimOptions, plan: &OutputPlan, t0: f64) -> Result<(), SimErrorKind> {
+fn check_options(
+    opts: &SimOptions,
+    plan: &OutputPlan,
+    t0: f64,
+    period: f64,
+) -> Result<(), SimErrorKind> {
     let bad = |field, value, hint| Err(SimErrorKind::InvalidOption { field, value, hint });
+    if !(period.is_finite() && period > 0.0) {
+        return bad(
+            "RotorModel::forcing_period",
+            period,
+            "the model's forcing (or characteristic) period must be finite and > 0",
+        );
+    }
     if !(opts.rtol.is_finite() && opts.rtol >= 0.0) {
         return bad("rtol", opts.rtol, "use a finite rtol >= 0, e.g. 1e-10");
     }
@@ -346,11 +375,34 @@ fn check_options(opts: &SimOptions, plan: &OutputPlan, t0: f64) -> Result<(), Si
             "t_end must be finite and not before the start",
         );
     }
-    if let Some((_, dt)) = plan.dense {
-        if !(dt.is_finite() && dt > 0.0) {
+    if opts.event_samples == 0 || opts.event_samples > MAX_SAMPLES {
+        return bad(
+            "event_samples",
+            opts.event_samples as f64,
+            "use 1..=ode::MAX_SAMPLES (64) interior samples per step, e.g. 4",
+        );
+    }
+    if let Some(r) = plan.strobe {
+        if r.first > r.last {
+            return bad(
+                "strobe.first",
+                r.first as f64,
+                "the stroboscopic range is reversed: first must not exceed last",
+            );
+        }
+    }
+    if let Some(d) = plan.dense {
+        if !d.t_start.is_finite() {
+            return bad(
+                "dense.t_start",
+                d.t_start,
+                "the first dense sample time must be finite",
+            );
+        }
+        if !(d.dt.is_finite() && d.dt > 0.0) {
             return bad(
                 "dense.dt",
-                dt,
+                d.dt,
                 "the dense sampling interval must be finite and > 0",
             );
         }
@@ -358,48 +410,152 @@ fn check_options(opts: &SimOptions, plan: &OutputPlan, t0: f64) -> Result<(), Si
     Ok(())
 }
 
+/// Work vectors of a run, allocated once when it starts.
+struct Scratch<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Derivative of the current state (exact modes) or of an output.
+    dy: OVector<f64, D>,
+    /// An output state (projected copy).
+    yo: OVector<f64, D>,
+    out: Outputs<D>,
+    event: EventRecord<D>,
+}
+
+/// The records handed to the observer, reused.
+struct Outputs<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    strobe: StrobePoint<D>,
+    sample: Sample<D>,
+}
+
+impl<D: Dim> Scratch<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn new(dim: D) -> Self {
+        let z = || OVector::zeros_generic(dim, U1);
+        Self {
+            dy: z(),
+            yo: z(),
+            out: Outputs {
+                strobe: StrobePoint {
+                    k: 0,
+                    t: 0.0,
+                    y: z(),
+                    label: 0,
+                },
+                sample: Sample {
+                    t: 0.0,
+                    y: z(),
+                    dy: z(),
+                    label: 0,
+                },
+            },
+            event: EventRecord {
+                t: 0.0,
+                kind: "",
+                before: z(),
+                after: z(),
+                from: 0,
+                to: 0,
+            },
+        }
+    }
+}
+
+impl<D: Dim> Outputs<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Passes the output `due` at `(t, y, dy)` to the observer.
+    fn emit<O: HybridObserver<D>>(
+        &mut self,
+        obs: &mut O,
+        due: Due,
+        t: f64,
+        y: &OVector<f64, D>,
+        dy: &OVector<f64, D>,
+        label: u8,
+    ) {
+        match due {
+            Due::Strobe(k) => {
+                let p = &mut self.strobe;
+                (p.k, p.t, p.label) = (k, t, label);
+                p.y.copy_from(y);
+                obs.on_strobe(p);
+            }
+            Due::Dense => {
+                let s = &mut self.sample;
+                (s.t, s.label) = (t, label);
+                s.y.copy_from(y);
+                s.dy.copy_from(dy);
+                obs.on_sample(s);
+            }
+        }
+    }
+}
+
 /// Runs `model` from `(t0, y0)` to `plan.t_end`, reporting outputs to `obs`.
 ///
-/// Stroboscopic outputs in integrated modes come from the dense output of the last step
-/// (DOP853: 7th order) or, for DOPRI5 and RK4, from steps that land exactly on them; in
-/// exact modes they are the closed form.
+/// See [`RotorModel`] for what the driver does with the model (initial projection,
+/// transitions, outputs). Stroboscopic outputs in integrated modes come from the dense output
+/// of the last step (DOP853: 7th order) or, for DOPRI5 and RK4, from steps that land exactly
+/// on them; in exact modes they are the closed form. All work vectors are allocated when the
+/// run starts: stepping allocates nothing, whatever the dimension.
 ///
 /// # Errors
-/// [`SimError`] with the last good `(t, y)`; the observer keeps what was recorded.
-pub fn simulate<const N: usize, M, O>(
+/// [`SimError`] with the last good `(t, y)`; the observer keeps what was recorded. A `y0` of
+/// the wrong length (for `Dyn`) is [`SimErrorKind::InvalidOption`].
+pub fn simulate<M, O>(
     model: &M,
     t0: f64,
-    y0: &SVector<f64, N>,
+    y0: &OVector<f64, M::Dim>,
     plan: &OutputPlan,
     opts: &SimOptions,
     obs: &mut O,
-) -> Result<SimStats, SimError<N>>
+) -> Result<SimStats, SimError<M::Dim>>
 where
-    M: RotorModel<N>,
-    O: HybridObserver<N>,
+    M: RotorModel,
+    O: HybridObserver<M::Dim>,
+    DefaultAllocator: Allocator<M::Dim>,
 {
     let mut stats = SimStats::default();
-    let fail = |kind: SimErrorKind, t: f64, y: SVector<f64, N>, stats: SimStats| SimError {
+    let fail = |kind: SimErrorKind, t: f64, y: &OVector<f64, M::Dim>, stats: SimStats| SimError {
         kind,
         t,
-        y,
+        y: y.clone(),
         stats,
     };
-    if let Err(k) = check_options(opts, plan, t0) {
-        return Err(fail(k, t0, *y0, stats));
+    let period = model.forcing_period();
+    if let Err(k) = check_options(opts, plan, t0, period) {
+        return Err(fail(k, t0, y0, stats));
+    }
+    let dim = model.dim();
+    if y0.len() != dim.value() {
+        let kind = SimErrorKind::InvalidOption {
+            field: "y0",
+            value: y0.len() as f64,
+            hint: "the initial state must have the model's dimension (RotorModel::dim)",
+        };
+        return Err(fail(kind, t0, y0, stats));
     }
     if !(t0.is_finite() && y0.iter().all(|v| v.is_finite())) {
-        return Err(fail(SimErrorKind::NonFinite, t0, *y0, stats));
+        return Err(fail(SimErrorKind::NonFinite, t0, y0, stats));
     }
-    let period = model.forcing_period();
-    let cache = M::Cache::default();
+    let cache = model.new_cache();
     // Outputs use their own scratch so that asking for them never changes the trajectory
     // (warm starts and the like would otherwise differ at the rounding level).
-    let out_cache = M::Cache::default();
+    let out_cache = model.new_cache();
     let mut mode = model
         .initial_mode(t0, y0)
-        .map_err(|e| fail(e.into(), t0, *y0, stats))?;
-    let mut integ = build_integrator::<N>(opts, period).map_err(|e| fail(e, t0, *y0, stats))?;
+        .map_err(|e| fail(e.into(), t0, y0, stats))?;
+    let mut integ = build_integrator(model, opts, period).map_err(|e| fail(e, t0, y0, stats))?;
+    let mut ev_state = EventState::with_dim(dim);
+    let mut w = Scratch::new(dim);
     let land_on_strobe = opts.method != Method::Dop853;
     let ev_opts = EventOptions {
         samples_per_step: opts.event_samples,
@@ -418,29 +574,30 @@ where
         bound: STALL_TRANSITIONS.min(opts.max_events_per_period.max(1)),
         period,
     };
-    let (mut t, mut y) = (t0, *y0);
+    let mut t = t0;
+    let mut y = y0.clone();
+    model.project(mode, t, &mut y, &cache);
     let mut keep_step = false;
-    let mut dy = SVector::<f64, N>::zeros();
 
     'modes: loop {
-        // Outputs due exactly at the current time (start, or an event time).
         let (guard, t_event) = match model.flow(mode) {
             Flow::Exact => {
                 let mut seg = model.start_segment(mode, t, &y);
+                let label = model.mode_label(mode);
                 let found = loop {
                     let target = sched.next_time().min(plan.t_end);
                     let hit = seg.next_guard(t, target);
-                    let t_stop = hit.map_or(target, |(_, tg)| tg);
+                    let t_stop = hit.map_or(target, |h| h.t);
                     while let Some((to, due)) = sched.pop_due(t_stop) {
-                        seg.eval(to, &mut y, &mut dy);
-                        emit(model, mode, obs, due, to, &y, &dy);
+                        seg.eval(to, &mut y, &mut w.dy);
+                        w.out.emit(obs, due, to, &y, &w.dy, label);
                     }
-                    if let Some((g, tg)) = hit {
-                        seg.eval(tg, &mut y, &mut dy);
+                    if let Some(GuardCrossing { guard, t: tg }) = hit {
+                        seg.eval(tg, &mut y, &mut w.dy);
                         if !y.iter().all(|v| v.is_finite()) {
-                            return Err(fail(SimErrorKind::NonFinite, t, y, stats));
+                            return Err(fail(SimErrorKind::NonFinite, t, &y, stats));
                         }
-                        break Some((g, tg));
+                        break Some((guard, tg));
                     }
                     t = target;
                     if t >= plan.t_end {
@@ -451,7 +608,7 @@ where
                 match found {
                     Some((g, tg)) => (g, tg),
                     None => {
-                        seg.eval(t, &mut y, &mut dy);
+                        seg.eval(t, &mut y, &mut w.dy);
                         break 'modes;
                     }
                 }
@@ -464,8 +621,9 @@ where
                 };
                 integ
                     .reset(&sys, t, &y, keep_step)
-                    .map_err(|e| fail(e.into(), t, y, stats))?;
-                let mut ev_state = EventState::new();
+                    .map_err(|e| fail(e.into(), t, &y, stats))?;
+                ev_state.reset();
+                let label = model.mode_label(mode);
                 loop {
                     let bound = if land_on_strobe {
                         sched.next_strobe().min(plan.t_end)
@@ -474,38 +632,43 @@ where
                     };
                     if let Err(e) = integ.step(&sys, bound) {
                         collect(&mut stats, &integ);
-                        return Err(fail(e.into(), integ.t(), *integ.y(), stats));
+                        return Err(fail(e.into(), integ.t(), integ.y(), stats));
                     }
                     if !integ.y().iter().all(|v| v.is_finite()) {
                         collect(&mut stats, &integ);
                         return Err(fail(
                             SimErrorKind::NonFinite,
                             integ.t_prev(),
-                            *integ.y_prev(),
+                            integ.y_prev(),
                             stats,
                         ));
                     }
-                    let hit = find_first_event(&mut integ, &sys, &sys, &ev_opts, &mut ev_state);
-                    let t_stop = hit.as_ref().map_or(integ.t(), |h| h.t);
-                    while let Some((to, due)) = sched.pop_due(t_stop) {
-                        let mut yo = if to == integ.t() {
-                            *integ.y()
-                        } else {
-                            let mut out = SVector::zeros();
-                            integ.dense(&sys, to, &mut out);
-                            out
+                    let hit =
+                        match find_first_event(&mut integ, &sys, &sys, &ev_opts, &mut ev_state) {
+                            Ok(hit) => hit.map(|h| (h.index, h.t)),
+                            Err(e) => {
+                                collect(&mut stats, &integ);
+                                return Err(fail(e.into(), integ.t(), integ.y(), stats));
+                            }
                         };
-                        model.project(mode, to, &mut yo, &out_cache);
-                        model.rhs(mode, to, &yo, &mut dy, &out_cache);
-                        emit(model, mode, obs, due, to, &yo, &dy);
+                    let t_stop = hit.map_or(integ.t(), |h| h.1);
+                    while let Some((to, due)) = sched.pop_due(t_stop) {
+                        if to == integ.t() {
+                            w.yo.copy_from(integ.y());
+                        } else {
+                            integ.dense(&sys, to, &mut w.yo);
+                        }
+                        model.project(mode, to, &mut w.yo, &out_cache);
+                        model.rhs(mode, to, &w.yo, &mut w.dy, &out_cache);
+                        w.out.emit(obs, due, to, &w.yo, &w.dy, label);
                     }
                     if let Some(h) = hit {
-                        y = h.y;
+                        y.copy_from(&ev_state.hit().y);
                         collect(&mut stats, &integ);
-                        break (h.index, h.t);
+                        break h;
                     }
                     t = integ.t();
-                    y = *integ.y();
+                    y.copy_from(integ.y());
                     if t >= plan.t_end {
                         collect(&mut stats, &integ);
                         model.project(mode, t, &mut y, &cache);
@@ -517,29 +680,26 @@ where
         // Transition.
         t = t_event;
         model.project(mode, t, &mut y, &cache);
-        let before = y;
+        w.event.before.copy_from(&y);
         let from = model.mode_label(mode);
         let kind = model.guard_label(mode, guard);
-        let next = model
-            .transition(mode, guard, t, &mut y)
-            .map_err(|e| fail(e.into(), t, before, stats))?;
+        let next = match model.transition(mode, guard, t, &mut y) {
+            Ok(next) => next,
+            Err(e) => return Err(fail(e.into(), t, &w.event.before, stats)),
+        };
         stats.transitions += 1;
         // Stalling first: the chattering error's advice holds only when time advances.
         if let Err(k) = stall.record(t, kind) {
-            return Err(fail(k, t, y, stats));
+            return Err(fail(k, t, &y, stats));
         }
         if let Err(k) = chatter.record(t) {
-            return Err(fail(k, t, y, stats));
+            return Err(fail(k, t, &y, stats));
         }
         if plan.events {
-            obs.on_event(&EventRecord {
-                t,
-                kind,
-                before,
-                after: y,
-                from,
-                to: model.mode_label(next),
-            });
+            let e = &mut w.event;
+            (e.t, e.kind, e.from, e.to) = (t, kind, from, model.mode_label(next));
+            e.after.copy_from(&y);
+            obs.on_event(e);
         }
         keep_step = true;
         mode = next;
@@ -550,41 +710,43 @@ where
     Ok(stats)
 }
 
-fn emit<const N: usize, M: RotorModel<N>, O: HybridObserver<N>>(
-    model: &M,
-    mode: M::Mode,
-    obs: &mut O,
-    due: Due,
-    t: f64,
-    y: &SVector<f64, N>,
-    dy: &SVector<f64, N>,
-) {
-    let label = model.mode_label(mode);
-    match due {
-        Due::Strobe(k) => obs.on_strobe(k, t, y, label),
-        Due::Dense => obs.on_sample(&Sample {
-            t,
-            y: *y,
-            dy: *dy,
-            label,
-        }),
-    }
-}
-
-fn collect<const N: usize>(stats: &mut SimStats, integ: &AnyIntegrator<N>) {
+fn collect<D: Dim>(stats: &mut SimStats, integ: &AnyIntegrator<D>)
+where
+    DefaultAllocator: Allocator<D>,
+{
     let s = integ.stats();
     stats.steps = s.steps;
     stats.rejected = s.rejected;
     stats.rhs_evals = s.rhs_evals;
 }
 
-fn build_integrator<const N: usize>(
+/// The integrator of a run: the model's dimension, its algebraic components out of the error
+/// control (`atol = inf`).
+fn build_integrator<M: RotorModel>(
+    model: &M,
     opts: &SimOptions,
     period: f64,
-) -> Result<AnyIntegrator<N>, SimErrorKind> {
-    let mut o = Options::<N> {
+) -> Result<AnyIntegrator<M::Dim>, SimErrorKind>
+where
+    DefaultAllocator: Allocator<M::Dim>,
+{
+    let dim = model.dim();
+    let any_algebraic = (0..dim.value()).any(|i| model.is_algebraic(i));
+    // A scalar tolerance when nothing is algebraic keeps the arithmetic of a plain run.
+    let atol = if any_algebraic {
+        Tolerance::PerComponent(OVector::from_fn_generic(dim, U1, |i, _| {
+            if model.is_algebraic(i) {
+                f64::INFINITY
+            } else {
+                opts.atol
+            }
+        }))
+    } else {
+        Tolerance::Scalar(opts.atol)
+    };
+    let mut o = Options::<M::Dim> {
         rtol: Tolerance::Scalar(opts.rtol),
-        atol: Tolerance::Scalar(opts.atol),
+        atol,
         h_max: opts.max_step_fraction * period,
         max_steps: opts.max_steps,
         ..Options::default()
@@ -592,5 +754,5 @@ fn build_integrator<const N: usize>(
     if opts.method == Method::Rk4 {
         o.fixed_step = Some(period / f64::from(opts.steps_per_period));
     }
-    Ok(AnyIntegrator::new(opts.method, o)?)
+    Ok(AnyIntegrator::with_dim(opts.method, dim, o)?)
 }

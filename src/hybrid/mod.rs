@@ -9,30 +9,168 @@
 //! The [`RotorModel`] trait is that interface: a larger rotordynamics code (a 4-DOF rotor, a
 //! reduced finite-element rotor with the same snubber ring element) implements it and reuses
 //! [`simulate`], the event machinery of [`crate::ode`] and the analyses of
-//! [`crate::analysis`]. [`crate::jeffcott::JeffcottModel`] is the paper's model.
+//! [`crate::analysis`]. [`crate::paper::JeffcottModel`] is the paper's model.
 //!
-//! Rules the driver relies on:
+//! # Dimensions
+//!
+//! A model chooses its state dimension as a nalgebra [`Dim`]: a size fixed at compile time
+//! (`U6`, i.e. `Const<6>`: stack storage, `SVector<f64, 6>` is `OVector<f64, U6>`) or
+//! [`Dyn`](nalgebra::Dyn), a size known at run time (a reduced finite-element shaft whose
+//! number of modes is read from a file). Everything downstream (the driver, the records, every
+//! analysis) is generic over it. The arithmetic does not depend on the storage: a model run
+//! with `Dyn(n)` gives bitwise the same results as the same model with `Const<n>`. The driver
+//! allocates its scratch when a run starts; stepping, event location, projections and
+//! transitions then allocate nothing, for `Dyn` too (outputs allocate only if the observer
+//! stores them).
+//!
+//! # The rules of a model
+//!
+//! Everything a model must respect, with what the driver does, is stated on [`RotorModel`]
+//! (one method each); in short:
+//!
 //! * inside a mode the vector field must be smooth (extend each branch's formula beyond its
 //!   boundary rather than switching formulas inside a mode), so no step straddles a kink;
 //! * guards of integrated modes are located on the dense output (with grazing detection when
 //!   [`RotorModel::guard_derivative`] is given); exact modes find their own guards
 //!   ([`ExactSegment::next_guard`]), as only the model knows the bounds that make that safe;
-//! * a guard that is zero at the start of a mode does not fire again at once.
+//! * a guard that is zero at the start of a mode fires only on a later crossing: it takes the
+//!   sign of its motion and a departure in its crossing direction is not an event (see
+//!   [`RotorModel::guard_direction`]);
+//! * algebraic components (set by the model, e.g. the position of a massless ring held by its
+//!   contact law) are placed by [`RotorModel::project`] and left out of the step-size control
+//!   ([`RotorModel::is_algebraic`]).
+//!
+//! # Example: a model of your own, sized at run time
+//!
+//! A chain of `m` unit masses joined by unit springs between fixed walls, damped, the first
+//! mass forced by $A\cos(t/2)$ and meeting a stop of stiffness 20 at $x_1 = 1$; the state
+//! $(x_1, \dots, x_m, v_1, \dots, v_m)$ has $2m$ components, known at run time. Every analysis
+//! of [`crate::analysis`] runs on it; here a bifurcation diagram over $A$:
+//!
+//! ```
+//! use jeffcott::analysis::{bifurcation, start_from, BifurcationConfig};
+//! use jeffcott::hybrid::{Flow, ModelError, NoExactModes, RotorModel};
+//! use jeffcott::nalgebra::{DVector, Dyn};
+//! use jeffcott::ode::Direction;
+//!
+//! struct Chain {
+//!     m: usize,
+//!     amp: f64,
+//! }
+//!
+//! #[derive(Debug, Clone, Copy, PartialEq)]
+//! enum Contact {
+//!     Free,
+//!     Stop,
+//! }
+//!
+//! impl RotorModel for Chain {
+//!     type Dim = Dyn;
+//!     type Mode = Contact;
+//!     type Segment = NoExactModes;
+//!     type Cache = ();
+//!
+//!     fn dim(&self) -> Dyn {
+//!         Dyn(2 * self.m)
+//!     }
+//!     fn new_cache(&self) {}
+//!     fn initial_mode(&self, _t: f64, y: &DVector<f64>) -> Result<Contact, ModelError> {
+//!         Ok(if y[0] < 1.0 { Contact::Free } else { Contact::Stop })
+//!     }
+//!     fn flow(&self, _mode: Contact) -> Flow {
+//!         Flow::Integrated
+//!     }
+//!     fn rhs(&self, mode: Contact, t: f64, y: &DVector<f64>, dy: &mut DVector<f64>, _: &()) {
+//!         let m = self.m;
+//!         for i in 0..m {
+//!             let left = if i > 0 { y[i - 1] } else { 0.0 };
+//!             let right = if i + 1 < m { y[i + 1] } else { 0.0 };
+//!             dy[i] = y[m + i];
+//!             dy[m + i] = left + right - 2.0 * y[i] - 0.1 * y[m + i];
+//!         }
+//!         dy[m] += self.amp * (0.5 * t).cos();
+//!         if mode == Contact::Stop {
+//!             dy[m] -= 20.0 * (y[0] - 1.0); // the stop's formula, extended smoothly in its mode
+//!         }
+//!     }
+//!     fn guard_count(&self, _mode: Contact) -> usize {
+//!         1
+//!     }
+//!     fn guard_direction(&self, mode: Contact, _i: usize) -> Direction {
+//!         match mode {
+//!             Contact::Free => Direction::Rising,
+//!             Contact::Stop => Direction::Falling,
+//!         }
+//!     }
+//!     fn guard_value(&self, _: Contact, _i: usize, _t: f64, y: &DVector<f64>, _: &()) -> f64 {
+//!         y[0] - 1.0
+//!     }
+//!     fn guard_label(&self, mode: Contact, _i: usize) -> &'static str {
+//!         match mode {
+//!             Contact::Free => "hit",
+//!             Contact::Stop => "leave",
+//!         }
+//!     }
+//!     fn transition(
+//!         &self,
+//!         mode: Contact,
+//!         _guard: usize,
+//!         _t: f64,
+//!         _y: &mut DVector<f64>,
+//!     ) -> Result<Contact, ModelError> {
+//!         Ok(match mode {
+//!             Contact::Free => Contact::Stop,
+//!             Contact::Stop => Contact::Free,
+//!         })
+//!     }
+//!     fn start_segment(&self, _: Contact, _t: f64, _y: &DVector<f64>) -> NoExactModes {
+//!         NoExactModes
+//!     }
+//!     fn mode_label(&self, mode: Contact) -> u8 {
+//!         match mode {
+//!             Contact::Free => 1,
+//!             Contact::Stop => 2,
+//!         }
+//!     }
+//!     fn forcing_period(&self) -> f64 {
+//!         4.0 * std::f64::consts::PI
+//!     }
+//! }
+//!
+//! // Three masses, two amplitudes, every value from rest (the closures build the model and
+//! // give each run's initial state).
+//! let build = |amp: f64| -> Result<Chain, String> { Ok(Chain { m: 3, amp }) };
+//! let config = BifurcationConfig { transient: 100, record: 8, ..Default::default() };
+//! let diagram = bifurcation(&[0.2, 1.5], build, start_from(DVector::zeros(6)), &config, None)?;
+//! // A = 0.2 stays clear of the stop (steady amplitude 0.22): linear, period 1.
+//! let low = diagram.columns[0].as_ref().unwrap();
+//! assert_eq!(low.periodicity.period(), Some(1));
+//! assert_eq!(low.orbit.stats.transitions, 0);
+//! // A = 1.5 would reach 1.65: it hits the stop.
+//! let high = diagram.columns[1].as_ref().unwrap();
+//! assert!(high.orbit.stats.transitions > 0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 mod driver;
 mod record;
 
 pub use driver::{simulate, SimError, SimErrorKind, SimOptions, SimStats};
-pub use record::{EventRecord, HybridObserver, OutputPlan, Sample, Trajectory};
+pub use record::{
+    DenseSampling, EventRecord, HybridObserver, OutputPlan, Sample, StrobePoint, StrobeRange,
+    Trajectory,
+};
 
 use std::fmt::Debug;
 
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
 
 use crate::ode::Direction;
 
 /// How a mode is advanced in time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Flow {
     /// Integrated numerically by the driver's [`crate::ode::Integrator`].
     Integrated,
@@ -62,15 +200,31 @@ pub enum ModelError {
     },
 }
 
-/// The closed-form motion of an exact mode, from the state it was started with.
-pub trait ExactSegment<const N: usize> {
-    /// State and its time derivative at time `t` (not before the segment's start).
-    fn eval(&self, t: f64, y: &mut SVector<f64, N>, dy: &mut SVector<f64, N>);
-    /// Searches $(t_\text{from}, t_\text{to}]$ for the first guard crossing; returns the
-    /// guard's index and time, or `None` if none occurs up to `t_to`. Must not miss a
-    /// crossing (document how) and must not fire a guard that is zero at the segment's start
-    /// unless it is moving into its crossing direction.
-    fn next_guard(&mut self, t_from: f64, t_to: f64) -> Option<(usize, f64)>;
+/// The first guard crossing an [`ExactSegment`] finds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GuardCrossing {
+    /// Index of the guard that fires.
+    pub guard: usize,
+    /// Time of the crossing.
+    pub t: f64,
+}
+
+/// The closed-form motion of an exact mode, from the state it was started with
+/// ([`RotorModel::start_segment`]).
+pub trait ExactSegment<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Writes the state and its time derivative at time `t` (not before the segment's start)
+    /// into `y` and `dy` (both of the model's dimension; every component must be written).
+    fn eval(&self, t: f64, y: &mut OVector<f64, D>, dy: &mut OVector<f64, D>);
+    /// Searches $(t_\text{from}, t_\text{to}]$ for the first guard crossing; returns it, or
+    /// `None` if none occurs up to `t_to`. The driver calls it with consecutive windows
+    /// (`t_from` is the previous `t_to`), ending at output times and at the end of the run:
+    /// the answer must not depend on how the search is split (search on a grid of your own).
+    /// Must not miss a crossing (document how) and must apply the rule of
+    /// [`RotorModel::guard_direction`] to a guard that is zero at the segment's start.
+    fn next_guard(&mut self, t_from: f64, t_to: f64) -> Option<GuardCrossing>;
     /// Closed-form evaluations made so far (for statistics).
     fn evaluations(&self) -> u64;
 }
@@ -80,13 +234,15 @@ pub trait ExactSegment<const N: usize> {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct NoExactModes;
 
-impl<const N: usize> ExactSegment<N> for NoExactModes {
-    fn eval(&self, _t: f64, y: &mut SVector<f64, N>, dy: &mut SVector<f64, N>) {
+impl<D: Dim> ExactSegment<D> for NoExactModes
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn eval(&self, _t: f64, y: &mut OVector<f64, D>, dy: &mut OVector<f64, D>) {
         y.fill(f64::NAN);
         dy.fill(f64::NAN);
     }
-    fn next_guard(&mut self, _t_from: f64, t_to: f64) -> Option<(usize, f64)> {
-        let _ = t_to;
+    fn next_guard(&mut self, _t_from: f64, _t_to: f64) -> Option<GuardCrossing> {
         None
     }
     fn evaluations(&self) -> u64 {
@@ -94,62 +250,137 @@ impl<const N: usize> ExactSegment<N> for NoExactModes {
     }
 }
 
-/// A piecewise-smooth rotor model with state dimension `N`.
+/// A piecewise-smooth rotor model: modes, their vector fields, guards and transitions, on a
+/// state of dimension [`RotorModel::Dim`].
 ///
-/// See the [module docs](self) for the contract. Methods take `&self`: a model is immutable
-/// and can be shared across threads; per-run scratch (warm starts of inner solvers) lives in
-/// [`RotorModel::Cache`], created by the driver for each run.
-pub trait RotorModel<const N: usize> {
+/// Methods take `&self`: a model is immutable and can be shared across threads; per-run
+/// scratch (warm starts of inner solvers, run-time-sized work vectors) lives in
+/// [`RotorModel::Cache`], made by [`RotorModel::new_cache`] when a run starts.
+///
+/// # What the driver does with a model
+///
+/// [`simulate`] from $(t_0, y_0)$:
+///
+/// 1. checks the options, then asks [`initial_mode`](RotorModel::initial_mode) (which may
+///    reject the state) and makes the state consistent with
+///    [`project`](RotorModel::project) in that mode: **an initial state's algebraic components
+///    are placed by the model**, whatever they were (a model may instead reject a state that
+///    is far from consistent in `initial_mode`, as the paper's model does). The first output
+///    is this projected state;
+/// 2. advances the mode: an [`Exact`](Flow::Exact) mode by its closed form
+///    ([`start_segment`](RotorModel::start_segment), [`ExactSegment`]), an
+///    [`Integrated`](Flow::Integrated) one by the integrator on [`rhs`](RotorModel::rhs),
+///    locating the guards on each step's dense output. Outputs in between are projected
+///    copies (a separate cache, so that asking for outputs never changes the trajectory);
+/// 3. at the first guard crossing $(t_e, y_e)$: projects $y_e$ in the old mode, records it as
+///    the event's `before`, calls [`transition`](RotorModel::transition), which returns the
+///    new mode and may change the state (the event's `after`), and goes on from there with
+///    the integrator's step size kept. The state after a transition is not projected again:
+///    `transition` must leave it consistent for the new mode;
+/// 4. stops at the plan's end time (the final state projected), or with a [`SimError`]
+///    holding the last good state.
+pub trait RotorModel
+where
+    DefaultAllocator: Allocator<Self::Dim>,
+{
+    /// The state dimension: `U6` (`Const<6>`) for a size fixed at compile time,
+    /// [`Dyn`](nalgebra::Dyn) for a size known at run time.
+    type Dim: Dim;
     /// The model's modes.
     type Mode: Copy + PartialEq + Debug;
-    /// Closed-form motion of exact modes.
-    type Segment: ExactSegment<N>;
-    /// Per-run scratch, e.g. `Cell`s holding warm starts.
-    type Cache: Default;
+    /// Closed-form motion of exact modes ([`NoExactModes`] if there are none).
+    type Segment: ExactSegment<Self::Dim>;
+    /// Per-run scratch, e.g. `Cell`s holding warm starts, or work vectors sized at run time.
+    /// The driver makes two per run ([`RotorModel::new_cache`]): one for the trajectory, one
+    /// for outputs.
+    type Cache;
+
+    /// The state dimension (for `Dyn` the run-time size, e.g. `Dyn(n)`; for `Const<N>` the
+    /// constant). Every state the driver passes has this dimension.
+    fn dim(&self) -> Self::Dim;
+
+    /// A fresh per-run scratch. Called when a run starts (never while stepping), so it may
+    /// allocate.
+    fn new_cache(&self) -> Self::Cache;
 
     /// The mode of an initial state.
     ///
     /// # Errors
     /// [`ModelError::InvalidState`] when the state is not allowed.
-    fn initial_mode(&self, t: f64, y: &SVector<f64, N>) -> Result<Self::Mode, ModelError>;
+    fn initial_mode(&self, t: f64, y: &OVector<f64, Self::Dim>) -> Result<Self::Mode, ModelError>;
 
     /// How `mode` is advanced.
     fn flow(&self, mode: Self::Mode) -> Flow;
 
-    /// Vector field of an integrated mode (smooth within the mode).
+    /// Vector field of an integrated mode, smooth within the mode: writes $f(t, y)$ into `dy`
+    /// (every component).
+    ///
+    /// For an **algebraic** component ([`RotorModel::is_algebraic`]) `dy[i]` is what the
+    /// integrator advances that component with between projections: give its time derivative
+    /// along the flow if it is known (it is then exact to the integrator's order, its dense
+    /// output is meaningful, and it is the derivative reported in dense samples, e.g. a
+    /// massless ring's velocity with its jumps), or 0 (the component then holds its last
+    /// projected value between projections). It never limits the step size either way.
     fn rhs(
         &self,
         mode: Self::Mode,
         t: f64,
-        y: &SVector<f64, N>,
-        dy: &mut SVector<f64, N>,
+        y: &OVector<f64, Self::Dim>,
+        dy: &mut OVector<f64, Self::Dim>,
         cache: &Self::Cache,
     );
 
-    /// Number of guards of an integrated mode (at most [`crate::ode::MAX_EVENTS`]).
+    /// Whether component `i` is **algebraic**: set by the model in [`RotorModel::project`]
+    /// rather than determined by integrating [`RotorModel::rhs`] (e.g. the position of a
+    /// massless ring, which sits where its contact law puts it). The driver gives such
+    /// components `atol = f64::INFINITY` in the integrator's error control, so that they never
+    /// limit the step ([`crate::ode::Options::atol`]); the other components use
+    /// [`SimOptions::atol`]. Asked once per run for `i in 0..dim`. Default: `false` for every
+    /// component (everything error-controlled).
+    fn is_algebraic(&self, i: usize) -> bool {
+        let _ = i;
+        false
+    }
+
+    /// Number of guards of an integrated mode (any number).
     fn guard_count(&self, mode: Self::Mode) -> usize;
 
-    /// Crossing direction of guard `i` that ends `mode`.
+    /// Crossing direction of guard `i` that ends `mode`: the guard fires when
+    /// $g_i$ goes from negative to non-negative ([`Direction::Rising`]), from positive to
+    /// non-positive ([`Direction::Falling`]), or either.
+    ///
+    /// **A guard that is zero at the start of a mode** (a transition left the state on it, or
+    /// two guards crossed at the same time) takes the sign of its motion there: the sign of
+    /// [`RotorModel::guard_derivative`] if given and non-zero, else the sign of the guard a
+    /// little way along the step (see [`crate::ode::events`]). If it leaves zero in its
+    /// crossing direction, that departure is the zero at the start time, not an event (the
+    /// transition must have dealt with it, e.g. by choosing the mode beyond that boundary); if
+    /// it leaves zero the other way, its next crossing fires as usual, even within the first
+    /// step. Exact modes apply the same rule in [`ExactSegment::next_guard`].
     fn guard_direction(&self, mode: Self::Mode, i: usize) -> Direction;
 
-    /// Value of guard `i` of an integrated mode.
+    /// Value $g_i(t, y)$ of guard `i` of an integrated mode (smooth along the mode's flow).
     fn guard_value(
         &self,
         mode: Self::Mode,
         i: usize,
         t: f64,
-        y: &SVector<f64, N>,
+        y: &OVector<f64, Self::Dim>,
         cache: &Self::Cache,
     ) -> f64;
 
-    /// Time derivative of guard `i` along the flow (enables grazing detection).
+    /// Time derivative of guard `i` along the flow, $\dot g_i = \partial_t g_i + \nabla_y g_i
+    /// \cdot f$, given `y` and `dy` $= f(t, y)$ (or zeros, see
+    /// [`RotorModel::guard_derivative_needs_rhs`]): enables grazing detection (two crossings
+    /// between two samples) and gives the direction of a guard that is zero at a mode's start.
+    /// Default: `None` (not available; must then be `None` for every argument).
     fn guard_derivative(
         &self,
         mode: Self::Mode,
         i: usize,
         t: f64,
-        y: &SVector<f64, N>,
-        dy: &SVector<f64, N>,
+        y: &OVector<f64, Self::Dim>,
+        dy: &OVector<f64, Self::Dim>,
         cache: &Self::Cache,
     ) -> Option<f64> {
         let _ = (mode, i, t, y, dy, cache);
@@ -157,8 +388,8 @@ pub trait RotorModel<const N: usize> {
     }
 
     /// Whether [`RotorModel::guard_derivative`] reads its `dy` argument; `false` saves a
-    /// right-hand side evaluation per event sample (see
-    /// [`crate::ode::EventSet::derivative_needs_rhs`]).
+    /// right-hand side evaluation per event sample (`dy` is then zeros; see
+    /// [`crate::ode::EventSet::derivative_needs_rhs`]). Default: `true`.
     fn guard_derivative_needs_rhs(&self) -> bool {
         true
     }
@@ -166,8 +397,14 @@ pub trait RotorModel<const N: usize> {
     /// Short name of guard `i` of `mode`, for event logs.
     fn guard_label(&self, mode: Self::Mode, i: usize) -> &'static str;
 
-    /// Transition map: the mode after guard `guard` of `mode` fired at `(t, y)`; may reset
-    /// `y` (e.g. place an algebraic component).
+    /// Transition map: the mode after guard `guard` of `mode` fired.
+    ///
+    /// Receives the event time `t` and the state there, located on the dense output (or the
+    /// closed form) and already projected in the old mode ([`RotorModel::project`]); may change
+    /// `y` (a reset map, e.g. place the algebraic components for the new mode, or an impact
+    /// law). The driver does not project the result: it must be consistent for the returned
+    /// mode. A guard of the new mode that is zero at `t` follows the rule of
+    /// [`RotorModel::guard_direction`].
     ///
     /// # Errors
     /// [`ModelError`] when no successor mode exists.
@@ -176,21 +413,38 @@ pub trait RotorModel<const N: usize> {
         mode: Self::Mode,
         guard: usize,
         t: f64,
-        y: &mut SVector<f64, N>,
+        y: &mut OVector<f64, Self::Dim>,
     ) -> Result<Self::Mode, ModelError>;
 
-    /// Starts the closed-form motion of an exact mode at `(t, y)`.
-    fn start_segment(&self, mode: Self::Mode, t: f64, y: &SVector<f64, N>) -> Self::Segment;
+    /// Starts the closed-form motion of an exact mode at `(t, y)`. Called once per exact
+    /// mode entered (not per step).
+    fn start_segment(&self, mode: Self::Mode, t: f64, y: &OVector<f64, Self::Dim>)
+        -> Self::Segment;
 
-    /// Makes algebraic components consistent (called at outputs and before transitions).
-    fn project(&self, mode: Self::Mode, t: f64, y: &mut SVector<f64, N>, cache: &Self::Cache) {
+    /// Makes the algebraic components of `y` consistent with the others in `mode` and must
+    /// change nothing else. Called on the initial state, on every output of an integrated mode
+    /// (a copy, with the output cache), before every transition, and on the final state.
+    /// Default: changes nothing (a model without algebraic components).
+    fn project(
+        &self,
+        mode: Self::Mode,
+        t: f64,
+        y: &mut OVector<f64, Self::Dim>,
+        cache: &Self::Cache,
+    ) {
         let _ = (mode, t, y, cache);
     }
 
-    /// A small number labelling the mode in outputs (the paper's regime number for the
-    /// Jeffcott model).
+    /// A small number labelling the mode in outputs (the paper's regime number for its
+    /// model).
     fn mode_label(&self, mode: Self::Mode) -> u8;
 
-    /// Period of the excitation (stroboscopic sampling and the chattering bound use it).
+    /// The period $P$ of the excitation: stroboscopic outputs are at $t_k = kP$
+    /// ([`StrobeRange`]) and the chattering bound counts transitions per window of length
+    /// $P$ ([`SimOptions::max_events_per_period`]), as does the maximum step
+    /// ([`SimOptions::max_step_fraction`]) and the fixed step of RK4
+    /// ([`SimOptions::steps_per_period`]). An **unforced** model returns a characteristic
+    /// period of its motion instead (e.g. $2\pi/\omega_n$ of its lowest mode, or the sampling
+    /// interval wanted for its stroboscopic outputs): finite and > 0.
     fn forcing_period(&self) -> f64;
 }

@@ -1,57 +1,102 @@
 //! What a run records: stroboscopic states, dense samples, the event log.
 
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
+
+/// Stroboscopic outputs at $t_k = k P$ ($P$ the forcing period) for `k` in `first..=last`.
+///
+/// `first > last` is an invalid option of [`super::simulate`] (not an empty output).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct StrobeRange {
+    /// First index `k` (inclusive).
+    pub first: u64,
+    /// Last index `k` (inclusive, at least `first`).
+    pub last: u64,
+}
+
+/// Dense samples at $t_\text{start} + i\thinspace\Delta t$, $i = 0, 1, \dots$, up to the end of
+/// the run (phase portraits).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DenseSampling {
+    /// Time of the first sample (samples before the run's start are skipped).
+    pub t_start: f64,
+    /// Interval $\Delta t$ between samples (finite, > 0).
+    pub dt: f64,
+}
 
 /// Which outputs a run produces (all times absolute).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OutputPlan {
     /// End time of the run.
     pub t_end: f64,
-    /// Stroboscopic outputs at $t_k = k P$ ($P$ the forcing period) for
-    /// `k` in `strobe_first..=strobe_last`; `None` for none.
-    pub strobe: Option<(u64, u64)>,
-    /// Dense samples every `dt` from `t_start` on (phase portraits); `None` for none.
-    pub dense: Option<(f64, f64)>,
+    /// Stroboscopic outputs; `None` for none.
+    pub strobe: Option<StrobeRange>,
+    /// Dense samples; `None` for none.
+    pub dense: Option<DenseSampling>,
     /// Whether events are passed to the observer.
     pub events: bool,
 }
 
 impl OutputPlan {
     /// Stroboscopic outputs `k = first..=last`, nothing else; the run ends at the last.
+    /// (`first > last` is rejected by [`super::simulate`].)
     pub fn strobe(period: f64, first: u64, last: u64) -> Self {
         Self {
             t_end: period * last as f64,
-            strobe: Some((first, last)),
+            strobe: Some(StrobeRange { first, last }),
             dense: None,
             events: false,
         }
     }
 }
 
+/// A stroboscopic output: index `k`, time $t_k = kP$, state, mode label.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StrobePoint<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Forcing periods since $t = 0$.
+    pub k: u64,
+    /// Time $t_k = kP$.
+    pub t: f64,
+    /// State at $t_k$ (its left limit if an event falls exactly there).
+    pub y: OVector<f64, D>,
+    /// Mode label at $t_k$ ([`super::RotorModel::mode_label`]; for the paper's model the
+    /// regime, 1..=5 for I..V).
+    pub label: u8,
+}
+
 /// A dense sample: time, state, its derivative and the mode label.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sample<const N: usize> {
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sample<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// Time.
     pub t: f64,
     /// State.
-    pub y: SVector<f64, N>,
+    pub y: OVector<f64, D>,
     /// Time derivative of the state (for the ring: its velocity, with its jumps).
-    pub dy: SVector<f64, N>,
+    pub dy: OVector<f64, D>,
     /// Mode label ([`super::RotorModel::mode_label`]).
     pub label: u8,
 }
 
 /// One entry of the event log.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EventRecord<const N: usize> {
+#[derive(Debug, Clone, PartialEq)]
+pub struct EventRecord<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// Time of the event.
     pub t: f64,
     /// Guard name ([`super::RotorModel::guard_label`]).
     pub kind: &'static str,
     /// State just before the transition.
-    pub before: SVector<f64, N>,
+    pub before: OVector<f64, D>,
     /// State just after the transition (equal unless the transition resets it).
-    pub after: SVector<f64, N>,
+    pub after: OVector<f64, D>,
     /// Mode label before.
     pub from: u8,
     /// Mode label after.
@@ -59,42 +104,88 @@ pub struct EventRecord<const N: usize> {
 }
 
 /// Receives a run's outputs. Every method defaults to doing nothing.
-pub trait HybridObserver<const N: usize> {
-    /// Stroboscopic output `k` at time `t` (the state's left limit if an event is exactly there).
-    fn on_strobe(&mut self, k: u64, t: f64, y: &SVector<f64, N>, label: u8) {
-        let _ = (k, t, y, label);
+///
+/// The driver reuses the values it passes (no allocation per output): clone what you keep.
+pub trait HybridObserver<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// A stroboscopic output.
+    fn on_strobe(&mut self, point: &StrobePoint<D>) {
+        let _ = point;
     }
     /// A dense sample.
-    fn on_sample(&mut self, sample: &Sample<N>) {
+    fn on_sample(&mut self, sample: &Sample<D>) {
         let _ = sample;
     }
     /// An event.
-    fn on_event(&mut self, event: &EventRecord<N>) {
+    fn on_event(&mut self, event: &EventRecord<D>) {
         let _ = event;
     }
 }
 
-impl<const N: usize> HybridObserver<N> for () {}
+impl<D: Dim> HybridObserver<D> for () where DefaultAllocator: Allocator<D> {}
 
 /// Records everything in memory.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Trajectory<const N: usize> {
-    /// Stroboscopic outputs `(k, t, y, label)`.
-    pub strobe: Vec<(u64, f64, SVector<f64, N>, u8)>,
-    /// Dense samples.
-    pub samples: Vec<Sample<N>>,
-    /// Event log.
-    pub events: Vec<EventRecord<N>>,
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trajectory<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Stroboscopic outputs, in time order.
+    pub strobe: Vec<StrobePoint<D>>,
+    /// Dense samples, in time order.
+    pub samples: Vec<Sample<D>>,
+    /// Event log, in time order.
+    pub events: Vec<EventRecord<D>>,
 }
 
-impl<const N: usize> HybridObserver<N> for Trajectory<N> {
-    fn on_strobe(&mut self, k: u64, t: f64, y: &SVector<f64, N>, label: u8) {
-        self.strobe.push((k, t, *y, label));
+impl<D: Dim> Default for Trajectory<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn default() -> Self {
+        Self {
+            strobe: Vec::new(),
+            samples: Vec::new(),
+            events: Vec::new(),
+        }
     }
-    fn on_sample(&mut self, sample: &Sample<N>) {
-        self.samples.push(*sample);
+}
+
+impl<D: Dim> HybridObserver<D> for Trajectory<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn on_strobe(&mut self, point: &StrobePoint<D>) {
+        self.strobe.push(point.clone());
     }
-    fn on_event(&mut self, event: &EventRecord<N>) {
-        self.events.push(*event);
+    fn on_sample(&mut self, sample: &Sample<D>) {
+        self.samples.push(sample.clone());
     }
+    fn on_event(&mut self, event: &EventRecord<D>) {
+        self.events.push(event.clone());
+    }
+}
+
+// Fixed sizes keep `Copy`.
+impl<D: Dim> Copy for StrobePoint<D>
+where
+    DefaultAllocator: Allocator<D>,
+    OVector<f64, D>: Copy,
+{
+}
+
+impl<D: Dim> Copy for Sample<D>
+where
+    DefaultAllocator: Allocator<D>,
+    OVector<f64, D>: Copy,
+{
+}
+
+impl<D: Dim> Copy for EventRecord<D>
+where
+    DefaultAllocator: Allocator<D>,
+    OVector<f64, D>: Copy,
+{
 }

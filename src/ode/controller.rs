@@ -2,17 +2,18 @@
 //! formulation) and Hairer's automatic initial step.
 
 use super::{OdeSystem, Options, Stats};
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
 
-/// Error scale $s_i = \mathrm{atol}_i + \mathrm{rtol}_i \max(|y_{0,i}|, |y_{1,i}|)$.
-#[inline]
-pub(crate) fn scale<const N: usize>(
-    opts: &Options<N>,
-    i: usize,
-    y0: &SVector<f64, N>,
-    y1: &SVector<f64, N>,
-) -> f64 {
-    opts.atol.get(i) + opts.rtol.get(i) * y0[i].abs().max(y1[i].abs())
+/// Error scale $s_i = \mathrm{atol}_i + \mathrm{rtol}_i \max(|y_{0,i}|, |y_{1,i}|)$
+/// of component `i` with values `y0i`, `y1i` (infinite for a component
+/// excluded from error control).
+#[inline(always)]
+pub(crate) fn scale<D: Dim>(opts: &Options<D>, i: usize, y0i: f64, y1i: f64) -> f64
+where
+    DefaultAllocator: Allocator<D>,
+{
+    opts.atol.get(i) + opts.rtol.get(i) * y0i.abs().max(y1i.abs())
 }
 
 /// PI step-size controller.
@@ -46,7 +47,10 @@ impl PiController {
 
     /// Step ratio after an accepted step with error `err <= 1` (updates the
     /// memory).
-    pub(crate) fn accept<const N: usize>(&mut self, err: f64, opts: &Options<N>) -> f64 {
+    pub(crate) fn accept<D: Dim>(&mut self, err: f64, opts: &Options<D>) -> f64
+    where
+        DefaultAllocator: Allocator<D>,
+    {
         let alpha = self.inv_q - self.coupling * self.beta;
         let ratio = opts.safety * err.powf(-alpha) * self.err_old.powf(self.beta);
         self.err_old = err.max(1e-4);
@@ -57,34 +61,47 @@ impl PiController {
     }
 
     /// Step ratio after a rejected step (`err > 1`).
-    pub(crate) fn reject<const N: usize>(&self, err: f64, opts: &Options<N>) -> f64 {
+    pub(crate) fn reject<D: Dim>(&self, err: f64, opts: &Options<D>) -> f64
+    where
+        DefaultAllocator: Allocator<D>,
+    {
         let alpha = self.inv_q - self.coupling * self.beta;
         (opts.safety * err.powf(-alpha)).clamp(opts.fac_min, 1.0)
     }
 }
 
 /// Hairer's initial step selection (`HINIT` of DOPRI5/DOP853), with RMS
-/// norms: $d_0 = \|y_0\|$, $d_1 = \|f_0\|$, $h_0 = 0.01\, d_0/d_1$ (or
-/// $10^{-6}$ if either is tiny), one explicit Euler step to estimate
+/// norms over the $n_c$ error-controlled components: $d_0 = \|y_0\|$,
+/// $d_1 = \|f_0\|$, $h_0 = 0.01\thinspace d_0/d_1$ (or $10^{-6}$ if either is
+/// tiny), one explicit Euler step to estimate
 /// $d_2 = \|f(t+h_0, y_0+h_0f_0) - f_0\|/h_0$, and
 /// $h = \min\big(100 h_0,\ (0.01/\max(d_1,d_2))^{1/p},\ h_{\max}\big)$,
-/// raised to at least $\max(h_{\min}, 100\,\varepsilon\,|t|)$.
-pub(crate) fn initial_step<const N: usize, S: OdeSystem<N>>(
+/// raised to at least $\max(h_{\min}, 100\thinspace\varepsilon\thinspace|t|)$.
+/// `y1` and `f1` are scratch vectors.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn initial_step<D: Dim, S: OdeSystem<D>>(
     sys: &S,
     t: f64,
-    y: &SVector<f64, N>,
-    f: &SVector<f64, N>,
+    y: &OVector<f64, D>,
+    f: &OVector<f64, D>,
     order: f64,
-    opts: &Options<N>,
+    opts: &Options<D>,
+    n_ctrl: f64,
+    y1: &mut OVector<f64, D>,
+    f1: &mut OVector<f64, D>,
     stats: &mut Stats,
-) -> f64 {
-    let n = N.max(1) as f64;
+) -> f64
+where
+    DefaultAllocator: Allocator<D>,
+{
+    let n = n_ctrl;
+    let (ys, fs) = (y.as_slice(), f.as_slice());
     let mut dnf = 0.0;
     let mut dny = 0.0;
-    for i in 0..N {
-        let sk = scale(opts, i, y, y);
-        dnf += (f[i] / sk).powi(2);
-        dny += (y[i] / sk).powi(2);
+    for i in 0..ys.len() {
+        let sk = scale(opts, i, ys[i], ys[i]);
+        dnf += (fs[i] / sk).powi(2);
+        dny += (ys[i] / sk).powi(2);
     }
     dnf /= n;
     dny /= n;
@@ -94,14 +111,14 @@ pub(crate) fn initial_step<const N: usize, S: OdeSystem<N>>(
         (dny / dnf).sqrt() * 0.01
     };
     h = h.min(opts.h_max);
-    let y1 = y + f * h;
-    let mut f1 = SVector::<f64, N>::zeros();
-    sys.rhs(t + h, &y1, &mut f1);
+    super::kernels::axpy(y1.as_mut_slice(), ys, fs, h);
+    sys.rhs(t + h, y1, f1);
     stats.rhs_evals += 1;
     let mut der2 = 0.0;
-    for i in 0..N {
-        let sk = scale(opts, i, y, y);
-        der2 += ((f1[i] - f[i]) / sk).powi(2);
+    let f1s = f1.as_slice();
+    for i in 0..ys.len() {
+        let sk = scale(opts, i, ys[i], ys[i]);
+        der2 += ((f1s[i] - fs[i]) / sk).powi(2);
     }
     let der2 = (der2 / n).sqrt() / h;
     let der12 = der2.max(dnf.sqrt());

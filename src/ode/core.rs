@@ -1,8 +1,10 @@
 //! State and stepping logic shared by the Runge–Kutta integrators.
 
 use super::controller::{initial_step, PiController};
+use super::kernels::all_finite;
 use super::{OdeError, OdeSystem, Options, Stats};
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector, U1};
 
 /// Result of one trial step computed by a method.
 pub(crate) struct Trial {
@@ -13,17 +15,49 @@ pub(crate) struct Trial {
     pub f_new_done: bool,
 }
 
-/// Common integrator state.
+/// What a method's trial step gets: the current point and the scratch to
+/// write the new point into.
+pub(crate) struct TrialIo<'a, D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    pub opts: &'a Options<D>,
+    /// Number of error-controlled components (>= 1), the $N$ of the RMS norm.
+    pub n_ctrl: f64,
+    pub t: f64,
+    pub y: &'a OVector<f64, D>,
+    pub f: &'a OVector<f64, D>,
+    pub h: f64,
+    pub y_new: &'a mut OVector<f64, D>,
+    pub f_new: &'a mut OVector<f64, D>,
+    pub stats: &'a mut Stats,
+}
+
+/// A zero vector of dimension `dim`.
+pub(crate) fn zeros<D: Dim>(dim: D) -> OVector<f64, D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    OVector::zeros_generic(dim, U1)
+}
+
+/// Common integrator state. Every vector is allocated by [`Core::new`].
 #[derive(Debug, Clone)]
-pub(crate) struct Core<const N: usize> {
-    pub opts: Options<N>,
+pub(crate) struct Core<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    pub dim: D,
+    pub opts: Options<D>,
+    /// Number of error-controlled components (`atol` finite), at least 1.
+    pub n_ctrl: f64,
     pub stats: Stats,
     pub t: f64,
-    pub y: SVector<f64, N>,
-    pub f: SVector<f64, N>,
+    pub y: OVector<f64, D>,
+    pub f: OVector<f64, D>,
     pub t_prev: f64,
-    pub y_prev: SVector<f64, N>,
-    pub f_prev: SVector<f64, N>,
+    pub y_prev: OVector<f64, D>,
+    pub f_prev: OVector<f64, D>,
     /// Step-size suggestion for the next step (0 = none yet).
     pub h: f64,
     pub init: bool,
@@ -32,9 +66,13 @@ pub(crate) struct Core<const N: usize> {
     /// Length of the last accepted step (before any truncation).
     pub h_dense: f64,
     /// State at the right end of the last full step (before truncation).
-    pub y_end: SVector<f64, N>,
+    pub y_end: OVector<f64, D>,
     /// $f$ at the right end of the last full step (before truncation).
-    pub f_end: SVector<f64, N>,
+    pub f_end: OVector<f64, D>,
+    /// Scratch: the trial point, the truncation point.
+    pub y_new: OVector<f64, D>,
+    /// Scratch: $f$ at the trial point.
+    pub f_new: OVector<f64, D>,
     /// Attempts since the last reset.
     pub attempts: u64,
     pub pi: PiController,
@@ -42,48 +80,61 @@ pub(crate) struct Core<const N: usize> {
     pub order: f64,
 }
 
-fn finite<const N: usize>(v: &SVector<f64, N>) -> bool {
-    v.iter().all(|x| x.is_finite())
-}
-
-impl<const N: usize> Core<N> {
+impl<D: Dim> Core<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
     pub(crate) fn new(
-        opts: Options<N>,
+        dim: D,
+        opts: Options<D>,
         q: f64,
         coupling: f64,
         order: f64,
     ) -> Result<Self, OdeError> {
         opts.validate()?;
+        opts.check_dim(dim.value())?;
         let beta = opts.beta.unwrap_or(0.04);
-        let z = SVector::<f64, N>::zeros();
+        let n_ctrl = opts.controlled_components(dim.value()).max(1) as f64;
+        let z = zeros(dim);
         Ok(Core {
+            dim,
             opts,
+            n_ctrl,
             stats: Stats::default(),
             t: 0.0,
-            y: z,
-            f: z,
+            y: z.clone(),
+            f: z.clone(),
             t_prev: 0.0,
-            y_prev: z,
-            f_prev: z,
+            y_prev: z.clone(),
+            f_prev: z.clone(),
             h: 0.0,
             init: false,
             has_step: false,
             h_dense: 0.0,
-            y_end: z,
-            f_end: z,
+            y_end: z.clone(),
+            f_end: z.clone(),
+            y_new: z.clone(),
+            f_new: z,
             attempts: 0,
             pi: PiController::new(q, coupling, beta),
             order,
         })
     }
 
-    pub(crate) fn reset<S: OdeSystem<N>>(
+    pub(crate) fn reset<S: OdeSystem<D>>(
         &mut self,
         sys: &S,
         t: f64,
-        y: &SVector<f64, N>,
+        y: &OVector<f64, D>,
         keep_step: bool,
     ) -> Result<(), OdeError> {
+        if y.len() != self.dim.value() {
+            return Err(OdeError::DimensionMismatch {
+                field: "y0",
+                expected: self.dim.value(),
+                found: y.len(),
+            });
+        }
         if !t.is_finite() {
             return Err(OdeError::NonFiniteInitial {
                 t,
@@ -98,20 +149,19 @@ impl<const N: usize> Core<N> {
                 value: y[i],
             });
         }
-        let mut f = SVector::<f64, N>::zeros();
-        sys.rhs(t, y, &mut f);
+        sys.rhs(t, y, &mut self.f_new);
         self.stats.rhs_evals += 1;
-        if !finite(&f) {
+        if !all_finite(self.f_new.as_slice()) {
             return Err(OdeError::NonFiniteRhs { t, h: 0.0 });
         }
         self.t = t;
-        self.y = *y;
-        self.f = f;
+        self.y.copy_from(y);
+        self.f.copy_from(&self.f_new);
         self.t_prev = t;
-        self.y_prev = *y;
-        self.f_prev = f;
-        self.y_end = *y;
-        self.f_end = f;
+        self.y_prev.copy_from(y);
+        self.f_prev.copy_from(&self.f_new);
+        self.y_end.copy_from(y);
+        self.f_end.copy_from(&self.f_new);
         self.has_step = false;
         self.h_dense = 0.0;
         self.attempts = 0;
@@ -121,10 +171,18 @@ impl<const N: usize> Core<N> {
             self.h = match (self.opts.fixed_step, self.opts.h_init) {
                 (Some(h), _) => h,
                 (None, Some(h)) => h.min(self.opts.h_max),
-                (None, None) => {
-                    let opts = self.opts;
-                    initial_step(sys, t, y, &f, self.order, &opts, &mut self.stats)
-                }
+                (None, None) => initial_step(
+                    sys,
+                    t,
+                    &self.y,
+                    &self.f,
+                    self.order,
+                    &self.opts,
+                    self.n_ctrl,
+                    &mut self.y_new,
+                    &mut self.f_new,
+                    &mut self.stats,
+                ),
             };
         }
         Ok(())
@@ -141,7 +199,8 @@ impl<const N: usize> Core<N> {
         Ok(t_bound == self.t)
     }
 
-    /// One accepted step using `attempt(sys, opts, t, y, f, h, y_new, f_new, stats)`.
+    /// One accepted step; `attempt` computes a trial step into
+    /// `io.y_new` (and `io.f_new` if it reports `f_new_done`).
     pub(crate) fn step<S, A>(
         &mut self,
         sys: &S,
@@ -149,86 +208,98 @@ impl<const N: usize> Core<N> {
         mut attempt: A,
     ) -> Result<(), OdeError>
     where
-        S: OdeSystem<N>,
-        A: FnMut(
-            &S,
-            &Options<N>,
-            f64,
-            &SVector<f64, N>,
-            &SVector<f64, N>,
-            f64,
-            &mut SVector<f64, N>,
-            &mut SVector<f64, N>,
-            &mut Stats,
-        ) -> Trial,
+        S: OdeSystem<D>,
+        A: FnMut(&S, TrialIo<'_, D>) -> Trial,
     {
         if self.check_bound(t_bound)? {
             return Ok(());
         }
-        let opts = self.opts;
+        let Core {
+            opts,
+            n_ctrl,
+            stats,
+            t: t_cur,
+            y,
+            f,
+            t_prev,
+            y_prev,
+            f_prev,
+            h: h_sugg,
+            has_step,
+            h_dense,
+            y_end,
+            f_end,
+            y_new,
+            f_new,
+            attempts,
+            pi,
+            ..
+        } = self;
         let fixed = opts.fixed_step;
         let mut h = match fixed {
             Some(hf) => hf,
-            None => self.h.min(opts.h_max),
+            None => h_sugg.min(opts.h_max),
         };
         let mut rejected_before = false;
         let mut nonfinite = false;
-        let mut y_new = SVector::<f64, N>::zeros();
-        let mut f_new = SVector::<f64, N>::zeros();
         loop {
-            if self.attempts >= opts.max_steps {
+            if *attempts >= opts.max_steps {
                 return Err(OdeError::TooManySteps {
-                    t: self.t,
+                    t: *t_cur,
                     h,
                     max_steps: opts.max_steps,
                 });
             }
-            let h_floor = opts.h_min.max(10.0 * f64::EPSILON * self.t.abs());
+            let h_floor = opts.h_min.max(10.0 * f64::EPSILON * t_cur.abs());
             if fixed.is_none() && (h < h_floor || h.is_nan()) {
                 return Err(if nonfinite {
-                    OdeError::NonFiniteRhs { t: self.t, h }
+                    OdeError::NonFiniteRhs { t: *t_cur, h }
                 } else {
                     OdeError::StepSizeUnderflow {
-                        t: self.t,
+                        t: *t_cur,
                         h,
                         h_min: h_floor,
                     }
                 });
             }
             // Land exactly on the bound when it is within 1% beyond one step.
-            let (h_try, t_new, clipped) = if self.t + 1.01 * h >= t_bound {
-                (t_bound - self.t, t_bound, true)
+            let (h_try, t_new, clipped) = if *t_cur + 1.01 * h >= t_bound {
+                (t_bound - *t_cur, t_bound, true)
             } else {
-                (h, self.t + h, false)
+                (h, *t_cur + h, false)
             };
-            self.attempts += 1;
+            *attempts += 1;
             let trial = attempt(
                 sys,
-                &opts,
-                self.t,
-                &self.y,
-                &self.f,
-                h_try,
-                &mut y_new,
-                &mut f_new,
-                &mut self.stats,
+                TrialIo {
+                    opts,
+                    n_ctrl: *n_ctrl,
+                    t: *t_cur,
+                    y,
+                    f,
+                    h: h_try,
+                    y_new,
+                    f_new,
+                    stats,
+                },
             );
-            let mut ok_values = finite(&y_new) && (fixed.is_some() || trial.err.is_finite());
+            let mut ok_values =
+                all_finite(y_new.as_slice()) && (fixed.is_some() || trial.err.is_finite());
             if ok_values && (fixed.is_some() || trial.err <= 1.0) && !trial.f_new_done {
-                sys.rhs(t_new, &y_new, &mut f_new);
-                self.stats.rhs_evals += 1;
+                sys.rhs(t_new, y_new, f_new);
+                stats.rhs_evals += 1;
             }
             if ok_values {
-                ok_values = finite(&f_new) || !(fixed.is_some() || trial.err <= 1.0);
+                ok_values = all_finite(f_new.as_slice()) || !(fixed.is_some() || trial.err <= 1.0);
             }
             if !ok_values {
                 if fixed.is_some() {
                     return Err(OdeError::NonFiniteRhs {
-                        t: self.t,
+                        t: *t_cur,
                         h: h_try,
                     });
                 }
-                self.stats.rejected += 1;
+                stats.rejected += 1;
                 rejected_before = true;
                 nonfinite = true;
                 h = h_try * opts.fac_min;
@@ -239,7 +310,7 @@ impl<const N: usize> Core<N> {
                 let mut h_next = match fixed {
                     Some(hf) => hf,
                     None => {
-                        let mut ratio = self.pi.accept(trial.err, &opts);
+                        let mut ratio = pi.accept(trial.err, opts);
                         if rejected_before {
                             ratio = ratio.min(1.0);
                         }
@@ -252,23 +323,23 @@ impl<const N: usize> Core<N> {
                     }
                 };
                 h_next = h_next.min(opts.h_max);
-                self.t_prev = self.t;
-                self.y_prev = self.y;
-                self.f_prev = self.f;
-                self.t = t_new;
-                self.y = y_new;
-                self.f = f_new;
-                self.h_dense = h_try;
-                self.y_end = y_new;
-                self.f_end = f_new;
-                self.has_step = true;
-                self.h = h_next;
-                self.stats.steps += 1;
+                *t_prev = *t_cur;
+                y_prev.copy_from(y);
+                f_prev.copy_from(f);
+                *t_cur = t_new;
+                y.copy_from(y_new);
+                f.copy_from(f_new);
+                *h_dense = h_try;
+                y_end.copy_from(y_new);
+                f_end.copy_from(f_new);
+                *has_step = true;
+                *h_sugg = h_next;
+                stats.steps += 1;
                 return Ok(());
             }
-            self.stats.rejected += 1;
+            stats.rejected += 1;
             rejected_before = true;
-            h = h_try * self.pi.reject(trial.err, &opts);
+            h = h_try * pi.reject(trial.err, opts);
         }
     }
 
@@ -287,46 +358,66 @@ impl<const N: usize> Core<N> {
         Ok(())
     }
 
-    /// Moves the current point to `(t_new, y_new)` and re-evaluates `f`.
-    pub(crate) fn apply_truncate<S: OdeSystem<N>>(
+    /// Moves the current point to `(t_new, y_new)` (the dense output at
+    /// `t_new`, left in the scratch `self.y_new` by the caller) and
+    /// re-evaluates `f` there.
+    pub(crate) fn apply_truncate<S: OdeSystem<D>>(
         &mut self,
         sys: &S,
         t_new: f64,
-        y_new: &SVector<f64, N>,
     ) -> Result<(), OdeError> {
         if t_new == self.t {
             return Ok(());
         }
-        let mut f = SVector::<f64, N>::zeros();
-        sys.rhs(t_new, y_new, &mut f);
+        sys.rhs(t_new, &self.y_new, &mut self.f_new);
         self.stats.rhs_evals += 1;
-        if !finite(&f) {
+        if !all_finite(self.f_new.as_slice()) {
             return Err(OdeError::NonFiniteRhs {
                 t: t_new,
                 h: t_new - self.t_prev,
             });
         }
         self.t = t_new;
-        self.y = *y_new;
-        self.f = f;
+        self.y.copy_from(&self.y_new);
+        self.f.copy_from(&self.f_new);
         Ok(())
+    }
+
+    /// Copies the state into `out`, reallocating `out` only if its length
+    /// differs (possible for `Dyn` only).
+    #[inline]
+    pub(crate) fn copy_state(&self, out: &mut OVector<f64, D>) {
+        fit(out, self.dim);
+        out.copy_from(&self.y);
+    }
+}
+
+/// Makes `out` a vector of dimension `dim`, reallocating only if its length
+/// differs (never for fixed dimensions).
+#[inline]
+pub(crate) fn fit<D: Dim>(out: &mut OVector<f64, D>, dim: D)
+where
+    DefaultAllocator: Allocator<D>,
+{
+    if out.len() != dim.value() {
+        *out = zeros(dim);
     }
 }
 
 /// Implements the state accessors of [`Integrator`](super::Integrator) for a
-/// type with a `core: Core<N>` field.
+/// type with a `core: Core<D>` field.
 macro_rules! core_accessors {
     () => {
         fn t(&self) -> f64 {
             self.core.t
         }
-        fn y(&self) -> &SVector<f64, N> {
+        fn y(&self) -> &OVector<f64, D> {
             &self.core.y
         }
         fn t_prev(&self) -> f64 {
             self.core.t_prev
         }
-        fn y_prev(&self) -> &SVector<f64, N> {
+        fn y_prev(&self) -> &OVector<f64, D> {
             &self.core.y_prev
         }
         fn stats(&self) -> &Stats {
@@ -335,11 +426,14 @@ macro_rules! core_accessors {
         fn stats_mut(&mut self) -> &mut Stats {
             &mut self.core.stats
         }
-        fn options(&self) -> &Options<N> {
+        fn options(&self) -> &Options<D> {
             &self.core.opts
         }
         fn h_next(&self) -> f64 {
             self.core.h
+        }
+        fn dim(&self) -> D {
+            self.core.dim
         }
     };
 }

@@ -14,9 +14,11 @@
 // they can be checked against the source; Rust rounds them correctly.
 #![allow(clippy::excessive_precision)]
 
-use super::core::{core_accessors, Core, Trial};
+use super::core::{core_accessors, fit, zeros, Core, Trial, TrialIo};
+use super::kernels::{axpy, combo};
 use super::{controller::scale, Integrator, OdeError, OdeSystem, Options, Stats};
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, DimName, OVector};
 
 // Nodes.
 const C2: f64 = 0.526001519587677318785587544488e-01;
@@ -200,236 +202,279 @@ const D_STAGES: [usize; 12] = [0, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
 ///
 /// Dense output on $[t_{\text{prev}}, t_{\text{prev}} + h]$ with
 /// $\theta = (t - t_{\text{prev}})/h$, $\bar\theta = 1 - \theta$:
-/// $$u(\theta) = r_1 + \theta\big(r_2 + \bar\theta\big(r_3 + \theta\big(r_4 + \bar\theta\,(r_5 + \theta(r_6 + \bar\theta(r_7 + \theta r_8)))\big)\big)\big)$$
+/// $$u(\theta) = r_1 + \theta\big(r_2 + \bar\theta\big(r_3 + \theta\big(r_4 + \bar\theta\thinspace(r_5 + \theta(r_6 + \bar\theta(r_7 + \theta r_8)))\big)\big)\big)$$
 /// with $r_1 = y_0$, $r_2 = y_1 - y_0$, $r_3 = h k_1 - r_2$,
 /// $r_4 = r_2 - h k_{13} - r_3$ and $r_{5..8} = h\sum_j d_{r,j} k_j$ over
 /// stages $1, 6, \dots, 16$.
+///
+/// Every stage, dense-output coefficient and scratch vector is allocated by
+/// the constructor: stepping, dense output and truncation never allocate,
+/// also for [`Dyn`](nalgebra::Dyn).
 #[derive(Debug, Clone)]
-pub struct Dop853<const N: usize> {
-    core: Core<N>,
+pub struct Dop853<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    core: Core<D>,
     /// Stages k1..k16 of the last step (k13 = f(t, y), k14..k16 lazily).
-    k: [SVector<f64, N>; 16],
-    cont: [SVector<f64, N>; 8],
+    k: [OVector<f64, D>; 16],
+    cont: [OVector<f64, D>; 8],
+    /// Scratch: the argument of the stages.
+    yt: OVector<f64, D>,
     dense_ready: bool,
 }
 
-impl<const N: usize> Dop853<N> {
-    /// Creates the integrator, validating `options` (typed error naming the
-    /// offending field). Call [`Integrator::reset`] before stepping.
-    pub fn new(options: Options<N>) -> Result<Self, OdeError> {
-        let z = SVector::<f64, N>::zeros();
+impl<D: DimName> Dop853<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Creates the integrator for a fixed dimension (`U6`, `Const<6>`),
+    /// validating `options` (typed error naming the offending field). Call
+    /// [`Integrator::reset`] before stepping.
+    pub fn new(options: Options<D>) -> Result<Self, OdeError> {
+        Self::with_dim(D::name(), options)
+    }
+}
+
+impl<D: Dim> Dop853<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Creates the integrator for dimension `dim` (e.g. `Dyn(n)` for a size
+    /// known at run time), validating `options` (per-component tolerances
+    /// must have `dim` components). Allocates every vector it will use.
+    pub fn with_dim(dim: D, options: Options<D>) -> Result<Self, OdeError> {
+        let z = zeros(dim);
         Ok(Dop853 {
-            core: Core::new(options, 8.0, 0.2, 8.0)?,
-            k: [z; 16],
-            cont: [z; 8],
+            core: Core::new(dim, options, 8.0, 0.2, 8.0)?,
+            k: std::array::from_fn(|_| z.clone()),
+            cont: std::array::from_fn(|_| z.clone()),
+            yt: z,
             dense_ready: false,
         })
     }
 
     /// Computes the three extra stages and the dense-output coefficients of
     /// the last step (once per step).
-    fn prepare_dense<S: OdeSystem<N>>(&mut self, sys: &S) {
+    fn prepare_dense<S: OdeSystem<D>>(&mut self, sys: &S) {
         if self.dense_ready {
             return;
         }
-        let c = &mut self.core;
-        let k = &mut self.k;
+        let Dop853 {
+            core: c,
+            k,
+            cont,
+            yt,
+            ..
+        } = self;
         let h = c.h_dense;
         let t = c.t_prev;
-        let y = c.y_prev;
-        k[12] = c.f_end;
-        let yt = y
-            + (k[0] * A141
-                + k[6] * A147
-                + k[7] * A148
-                + k[8] * A149
-                + k[9] * A1410
-                + k[10] * A1411
-                + k[11] * A1412
-                + k[12] * A1413)
-                * h;
-        sys.rhs(t + C14 * h, &yt, &mut k[13]);
-        let yt = y
-            + (k[0] * A151
-                + k[5] * A156
-                + k[6] * A157
-                + k[7] * A158
-                + k[10] * A1511
-                + k[11] * A1512
-                + k[12] * A1513
-                + k[13] * A1514)
-                * h;
-        sys.rhs(t + C15 * h, &yt, &mut k[14]);
-        let yt = y
-            + (k[0] * A161
-                + k[5] * A166
-                + k[6] * A167
-                + k[7] * A168
-                + k[8] * A169
-                + k[12] * A1613
-                + k[13] * A1614
-                + k[14] * A1615)
-                * h;
-        sys.rhs(t + C16 * h, &yt, &mut k[15]);
+        let y = &c.y_prev;
+        k[12].copy_from(&c.f_end);
+        combo!(yt, y, h, [
+            k[0] => A141, k[6] => A147, k[7] => A148, k[8] => A149,
+            k[9] => A1410, k[10] => A1411, k[11] => A1412, k[12] => A1413,
+        ]);
+        sys.rhs(t + C14 * h, yt, &mut k[13]);
+        combo!(yt, y, h, [
+            k[0] => A151, k[5] => A156, k[6] => A157, k[7] => A158,
+            k[10] => A1511, k[11] => A1512, k[12] => A1513, k[13] => A1514,
+        ]);
+        sys.rhs(t + C15 * h, yt, &mut k[14]);
+        combo!(yt, y, h, [
+            k[0] => A161, k[5] => A166, k[6] => A167, k[7] => A168,
+            k[8] => A169, k[12] => A1613, k[13] => A1614, k[14] => A1615,
+        ]);
+        sys.rhs(t + C16 * h, yt, &mut k[15]);
         c.stats.rhs_evals += 3;
 
-        let y1 = c.y_end;
-        let ydiff = y1 - y;
-        let bspl = k[0] * h - ydiff;
-        self.cont[0] = y;
-        self.cont[1] = ydiff;
-        self.cont[2] = bspl;
-        self.cont[3] = ydiff - k[12] * h - bspl;
-        for (row, d) in [D4, D5, D6, D7].iter().enumerate() {
-            let mut acc = SVector::<f64, N>::zeros();
-            for (j, &s) in D_STAGES.iter().enumerate() {
-                acc += k[s] * d[j];
+        let n = y.len();
+        let (y0, y1) = (&y.as_slice()[..n], &c.y_end.as_slice()[..n]);
+        let (k1, k13) = (&k[0].as_slice()[..n], &k[12].as_slice()[..n]);
+        let [r1, r2, r3, r4, r5, r6, r7, r8] = cont;
+        let (r1, r2) = (&mut r1.as_mut_slice()[..n], &mut r2.as_mut_slice()[..n]);
+        let (r3, r4) = (&mut r3.as_mut_slice()[..n], &mut r4.as_mut_slice()[..n]);
+        for i in 0..n {
+            let ydiff = y1[i] - y0[i];
+            let bspl = k1[i] * h - ydiff;
+            r1[i] = y0[i];
+            r2[i] = ydiff;
+            r3[i] = bspl;
+            r4[i] = ydiff - k13[i] * h - bspl;
+        }
+        for (r, d) in [r5, r6, r7, r8].into_iter().zip([D4, D5, D6, D7].iter()) {
+            let r = r.as_mut_slice();
+            for i in 0..n {
+                // Summed from 0 in stage order, as the vector sum it replaces.
+                let mut acc = 0.0;
+                for (j, &s) in D_STAGES.iter().enumerate() {
+                    acc += k[s][i] * d[j];
+                }
+                r[i] = acc * h;
             }
-            self.cont[4 + row] = acc * h;
         }
         self.dense_ready = true;
     }
+
+    /// Evaluates the prepared dense output at `t` into `out`.
+    fn eval_dense(cont: &[OVector<f64, D>; 8], t_prev: f64, h: f64, t: f64, out: &mut [f64]) {
+        let s = (t - t_prev) / h;
+        let s1 = 1.0 - s;
+        let n = out.len();
+        let c: [&[f64]; 8] = std::array::from_fn(|r| &cont[r].as_slice()[..n]);
+        for i in 0..n {
+            let conpar = c[4][i] + (c[5][i] + (c[6][i] + c[7][i] * s) * s1) * s;
+            out[i] = c[0][i] + (c[1][i] + (c[2][i] + (c[3][i] + conpar * s1) * s) * s1) * s;
+        }
+    }
 }
 
-impl<const N: usize> Integrator<N> for Dop853<N> {
-    fn reset<S: OdeSystem<N>>(
+impl<D: Dim> Integrator<D> for Dop853<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn reset<S: OdeSystem<D>>(
         &mut self,
         sys: &S,
         t: f64,
-        y: &SVector<f64, N>,
+        y: &OVector<f64, D>,
         keep_step: bool,
     ) -> Result<(), OdeError> {
         self.dense_ready = false;
         self.core.reset(sys, t, y, keep_step)
     }
 
-    fn step<S: OdeSystem<N>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError> {
+    fn step<S: OdeSystem<D>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError> {
         let Dop853 {
             core,
             k,
+            yt,
             dense_ready,
             ..
         } = self;
         let before = core.stats.steps;
-        let r = core.step(
-            sys,
-            t_bound,
-            |sys, opts, t, y, f, h, y_new, _f_new, stats| {
-                k[0] = *f;
-                let mut yt = y + k[0] * (h * A21);
-                sys.rhs(t + C2 * h, &yt, &mut k[1]);
-                yt = y + (k[0] * A31 + k[1] * A32) * h;
-                sys.rhs(t + C3 * h, &yt, &mut k[2]);
-                yt = y + (k[0] * A41 + k[2] * A43) * h;
-                sys.rhs(t + C4 * h, &yt, &mut k[3]);
-                yt = y + (k[0] * A51 + k[2] * A53 + k[3] * A54) * h;
-                sys.rhs(t + C5 * h, &yt, &mut k[4]);
-                yt = y + (k[0] * A61 + k[3] * A64 + k[4] * A65) * h;
-                sys.rhs(t + C6 * h, &yt, &mut k[5]);
-                yt = y + (k[0] * A71 + k[3] * A74 + k[4] * A75 + k[5] * A76) * h;
-                sys.rhs(t + C7 * h, &yt, &mut k[6]);
-                yt = y + (k[0] * A81 + k[3] * A84 + k[4] * A85 + k[5] * A86 + k[6] * A87) * h;
-                sys.rhs(t + C8 * h, &yt, &mut k[7]);
-                yt = y
-                    + (k[0] * A91 + k[3] * A94 + k[4] * A95 + k[5] * A96 + k[6] * A97 + k[7] * A98)
-                        * h;
-                sys.rhs(t + C9 * h, &yt, &mut k[8]);
-                yt = y
-                    + (k[0] * A101
-                        + k[3] * A104
-                        + k[4] * A105
-                        + k[5] * A106
-                        + k[6] * A107
-                        + k[7] * A108
-                        + k[8] * A109)
-                        * h;
-                sys.rhs(t + C10 * h, &yt, &mut k[9]);
-                yt = y
-                    + (k[0] * A111
-                        + k[3] * A114
-                        + k[4] * A115
-                        + k[5] * A116
-                        + k[6] * A117
-                        + k[7] * A118
-                        + k[8] * A119
-                        + k[9] * A1110)
-                        * h;
-                sys.rhs(t + C11 * h, &yt, &mut k[10]);
-                yt = y
-                    + (k[0] * A121
-                        + k[3] * A124
-                        + k[4] * A125
-                        + k[5] * A126
-                        + k[6] * A127
-                        + k[7] * A128
-                        + k[8] * A129
-                        + k[9] * A1210
-                        + k[10] * A1211)
-                        * h;
-                sys.rhs(t + h, &yt, &mut k[11]);
-                stats.rhs_evals += 11;
-                let incr = k[0] * B1
-                    + k[5] * B6
-                    + k[6] * B7
-                    + k[7] * B8
-                    + k[8] * B9
-                    + k[9] * B10
-                    + k[10] * B11
-                    + k[11] * B12;
-                *y_new = y + incr * h;
-                let mut err5 = 0.0;
-                let mut err3 = 0.0;
-                for i in 0..N {
-                    let sk = scale(opts, i, y, y_new);
-                    let e3 = incr[i] - BHH1 * k[0][i] - BHH2 * k[8][i] - BHH3 * k[11][i];
-                    err3 += (e3 / sk) * (e3 / sk);
-                    let e5 = ER1 * k[0][i]
-                        + ER6 * k[5][i]
-                        + ER7 * k[6][i]
-                        + ER8 * k[7][i]
-                        + ER9 * k[8][i]
-                        + ER10 * k[9][i]
-                        + ER11 * k[10][i]
-                        + ER12 * k[11][i];
-                    err5 += (e5 / sk) * (e5 / sk);
-                }
-                let mut deno = err5 + 0.01 * err3;
-                if deno <= 0.0 {
-                    deno = 1.0;
-                }
-                Trial {
-                    err: h.abs() * err5 * (1.0 / (N.max(1) as f64 * deno)).sqrt(),
-                    f_new_done: false,
-                }
-            },
-        );
+        let r = core.step(sys, t_bound, |sys, io| {
+            let TrialIo {
+                opts,
+                n_ctrl,
+                t,
+                y,
+                f,
+                h,
+                y_new,
+                stats,
+                ..
+            } = io;
+            k[0].copy_from(f);
+            axpy(yt.as_mut_slice(), y.as_slice(), k[0].as_slice(), h * A21);
+            sys.rhs(t + C2 * h, yt, &mut k[1]);
+            combo!(yt, y, h, [k[0] => A31, k[1] => A32]);
+            sys.rhs(t + C3 * h, yt, &mut k[2]);
+            combo!(yt, y, h, [k[0] => A41, k[2] => A43]);
+            sys.rhs(t + C4 * h, yt, &mut k[3]);
+            combo!(yt, y, h, [k[0] => A51, k[2] => A53, k[3] => A54]);
+            sys.rhs(t + C5 * h, yt, &mut k[4]);
+            combo!(yt, y, h, [k[0] => A61, k[3] => A64, k[4] => A65]);
+            sys.rhs(t + C6 * h, yt, &mut k[5]);
+            combo!(yt, y, h, [k[0] => A71, k[3] => A74, k[4] => A75, k[5] => A76]);
+            sys.rhs(t + C7 * h, yt, &mut k[6]);
+            combo!(yt, y, h, [
+                k[0] => A81, k[3] => A84, k[4] => A85, k[5] => A86, k[6] => A87,
+            ]);
+            sys.rhs(t + C8 * h, yt, &mut k[7]);
+            combo!(yt, y, h, [
+                k[0] => A91, k[3] => A94, k[4] => A95, k[5] => A96, k[6] => A97, k[7] => A98,
+            ]);
+            sys.rhs(t + C9 * h, yt, &mut k[8]);
+            combo!(yt, y, h, [
+                k[0] => A101, k[3] => A104, k[4] => A105, k[5] => A106, k[6] => A107,
+                k[7] => A108, k[8] => A109,
+            ]);
+            sys.rhs(t + C10 * h, yt, &mut k[9]);
+            combo!(yt, y, h, [
+                k[0] => A111, k[3] => A114, k[4] => A115, k[5] => A116, k[6] => A117,
+                k[7] => A118, k[8] => A119, k[9] => A1110,
+            ]);
+            sys.rhs(t + C11 * h, yt, &mut k[10]);
+            combo!(yt, y, h, [
+                k[0] => A121, k[3] => A124, k[4] => A125, k[5] => A126, k[6] => A127,
+                k[7] => A128, k[8] => A129, k[9] => A1210, k[10] => A1211,
+            ]);
+            sys.rhs(t + h, yt, &mut k[11]);
+            stats.rhs_evals += 11;
+            // The new point and both error estimates in one pass.
+            let n = y.len();
+            let ys = &y.as_slice()[..n];
+            let yn = &mut y_new.as_mut_slice()[..n];
+            let ks: [&[f64]; 12] = std::array::from_fn(|j| &k[j].as_slice()[..n]);
+            let mut err5 = 0.0;
+            let mut err3 = 0.0;
+            for i in 0..n {
+                let incr = ks[0][i] * B1
+                    + ks[5][i] * B6
+                    + ks[6][i] * B7
+                    + ks[7][i] * B8
+                    + ks[8][i] * B9
+                    + ks[9][i] * B10
+                    + ks[10][i] * B11
+                    + ks[11][i] * B12;
+                yn[i] = ys[i] + incr * h;
+                let sk = scale(opts, i, ys[i], yn[i]);
+                let e3 = incr - BHH1 * ks[0][i] - BHH2 * ks[8][i] - BHH3 * ks[11][i];
+                err3 += (e3 / sk) * (e3 / sk);
+                let e5 = ER1 * ks[0][i]
+                    + ER6 * ks[5][i]
+                    + ER7 * ks[6][i]
+                    + ER8 * ks[7][i]
+                    + ER9 * ks[8][i]
+                    + ER10 * ks[9][i]
+                    + ER11 * ks[10][i]
+                    + ER12 * ks[11][i];
+                err5 += (e5 / sk) * (e5 / sk);
+            }
+            let mut deno = err5 + 0.01 * err3;
+            if deno <= 0.0 {
+                deno = 1.0;
+            }
+            Trial {
+                err: h.abs() * err5 * (1.0 / (n_ctrl * deno)).sqrt(),
+                f_new_done: false,
+            }
+        });
         if core.stats.steps != before {
             *dense_ready = false;
         }
         r
     }
 
-    fn dense<S: OdeSystem<N>>(&mut self, sys: &S, t: f64, out: &mut SVector<f64, N>) {
+    fn dense<S: OdeSystem<D>>(&mut self, sys: &S, t: f64, out: &mut OVector<f64, D>) {
         if !self.core.has_step {
-            *out = self.core.y;
+            self.core.copy_state(out);
             return;
         }
+        fit(out, self.core.dim);
         self.prepare_dense(sys);
-        let s = (t - self.core.t_prev) / self.core.h_dense;
-        let s1 = 1.0 - s;
-        let c = &self.cont;
-        let conpar = c[4] + (c[5] + (c[6] + c[7] * s) * s1) * s;
-        *out = c[0] + (c[1] + (c[2] + (c[3] + conpar * s1) * s) * s1) * s;
+        let c = &self.core;
+        Self::eval_dense(&self.cont, c.t_prev, c.h_dense, t, out.as_mut_slice());
     }
 
-    fn truncate<S: OdeSystem<N>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError> {
+    fn truncate<S: OdeSystem<D>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError> {
         self.core.check_truncate(t_new)?;
-        let mut y = SVector::<f64, N>::zeros();
-        self.dense(sys, t_new, &mut y);
+        // Prepared even when t_new is the step end (then nothing moves), so
+        // that the counted work does not depend on where the event fell.
+        self.prepare_dense(sys);
         if t_new == self.core.t {
-            y = self.core.y;
+            return Ok(());
         }
-        self.core.apply_truncate(sys, t_new, &y)
+        let c = &mut self.core;
+        Self::eval_dense(
+            &self.cont,
+            c.t_prev,
+            c.h_dense,
+            t_new,
+            c.y_new.as_mut_slice(),
+        );
+        c.apply_truncate(sys, t_new)
     }
 
     core_accessors!();

@@ -5,9 +5,11 @@
 //! of $f$. The local error estimate is the difference between the 5th-order
 //! propagating solution and the embedded 4th-order one.
 
-use super::core::{core_accessors, Core, Trial};
+use super::core::{core_accessors, fit, zeros, Core, Trial, TrialIo};
+use super::kernels::{axpy, combo};
 use super::{controller::scale, Integrator, OdeError, OdeSystem, Options, Stats};
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, DimName, OVector};
 
 const C2: f64 = 1.0 / 5.0;
 const C3: f64 = 3.0 / 10.0;
@@ -55,26 +57,50 @@ const D7: f64 = 69997945.0 / 29380423.0;
 ///
 /// Dense output on $[t_{\text{prev}}, t_{\text{prev}} + h]$ with
 /// $\theta = (t - t_{\text{prev}})/h$:
-/// $$u(\theta) = r_1 + \theta\big(r_2 + (1-\theta)\big(r_3 + \theta\,(r_4 + (1-\theta) r_5)\big)\big)$$
+/// $$u(\theta) = r_1 + \theta\big(r_2 + (1-\theta)\big(r_3 + \theta\thinspace(r_4 + (1-\theta) r_5)\big)\big)$$
 /// with $r_1 = y_0$, $r_2 = y_1 - y_0$, $r_3 = h k_1 - r_2$,
 /// $r_4 = r_2 - h k_7 - r_3$, $r_5 = h \sum_j d_j k_j$.
+///
+/// All vectors are allocated by the constructor; stepping, dense output and
+/// truncation never allocate.
 #[derive(Debug, Clone)]
-pub struct Dopri5<const N: usize> {
-    core: Core<N>,
-    k: [SVector<f64, N>; 7],
-    cont: [SVector<f64, N>; 5],
+pub struct Dopri5<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    core: Core<D>,
+    k: [OVector<f64, D>; 7],
+    cont: [OVector<f64, D>; 5],
+    /// Scratch: the argument of the stages.
+    yt: OVector<f64, D>,
     dense_ready: bool,
 }
 
-impl<const N: usize> Dopri5<N> {
-    /// Creates the integrator, validating `options` (typed error naming the
-    /// offending field). Call [`Integrator::reset`] before stepping.
-    pub fn new(options: Options<N>) -> Result<Self, OdeError> {
-        let z = SVector::<f64, N>::zeros();
+impl<D: DimName> Dopri5<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Creates the integrator for a fixed dimension, validating `options`
+    /// (typed error naming the offending field). Call [`Integrator::reset`]
+    /// before stepping.
+    pub fn new(options: Options<D>) -> Result<Self, OdeError> {
+        Self::with_dim(D::name(), options)
+    }
+}
+
+impl<D: Dim> Dopri5<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Creates the integrator for dimension `dim` (e.g. `Dyn(n)`),
+    /// validating `options`. Allocates every vector it will use.
+    pub fn with_dim(dim: D, options: Options<D>) -> Result<Self, OdeError> {
+        let z = zeros(dim);
         Ok(Dopri5 {
-            core: Core::new(options, 5.0, 0.75, 5.0)?,
-            k: [z; 7],
-            cont: [z; 5],
+            core: Core::new(dim, options, 5.0, 0.75, 5.0)?,
+            k: std::array::from_fn(|_| z.clone()),
+            cont: std::array::from_fn(|_| z.clone()),
+            yt: z,
             dense_ready: false,
         })
     }
@@ -85,101 +111,150 @@ impl<const N: usize> Dopri5<N> {
         }
         let c = &self.core;
         let h = c.h_dense;
-        let k = &self.k;
-        let ydiff = c.y_end - c.y_prev;
-        let bspl = k[0] * h - ydiff;
-        self.cont[0] = c.y_prev;
-        self.cont[1] = ydiff;
-        self.cont[2] = bspl;
-        self.cont[3] = ydiff - k[6] * h - bspl;
-        self.cont[4] = (k[0] * D1 + k[2] * D3 + k[3] * D4 + k[4] * D5 + k[5] * D6 + k[6] * D7) * h;
+        let n = c.y.len();
+        let (y0, y1) = (&c.y_prev.as_slice()[..n], &c.y_end.as_slice()[..n]);
+        let ks: [&[f64]; 7] = std::array::from_fn(|j| &self.k[j].as_slice()[..n]);
+        let [r1, r2, r3, r4, r5] = &mut self.cont;
+        let (r1, r2) = (&mut r1.as_mut_slice()[..n], &mut r2.as_mut_slice()[..n]);
+        let (r3, r4) = (&mut r3.as_mut_slice()[..n], &mut r4.as_mut_slice()[..n]);
+        let r5 = &mut r5.as_mut_slice()[..n];
+        for i in 0..n {
+            let ydiff = y1[i] - y0[i];
+            let bspl = ks[0][i] * h - ydiff;
+            r1[i] = y0[i];
+            r2[i] = ydiff;
+            r3[i] = bspl;
+            r4[i] = ydiff - ks[6][i] * h - bspl;
+            r5[i] = (ks[0][i] * D1
+                + ks[2][i] * D3
+                + ks[3][i] * D4
+                + ks[4][i] * D5
+                + ks[5][i] * D6
+                + ks[6][i] * D7)
+                * h;
+        }
         self.dense_ready = true;
+    }
+
+    /// Evaluates the prepared dense output at `t` into `out`.
+    fn eval_dense(cont: &[OVector<f64, D>; 5], t_prev: f64, h: f64, t: f64, out: &mut [f64]) {
+        let s = (t - t_prev) / h;
+        let s1 = 1.0 - s;
+        let n = out.len();
+        let c: [&[f64]; 5] = std::array::from_fn(|r| &cont[r].as_slice()[..n]);
+        for i in 0..n {
+            out[i] = c[0][i] + (c[1][i] + (c[2][i] + (c[3][i] + c[4][i] * s1) * s) * s1) * s;
+        }
     }
 }
 
-impl<const N: usize> Integrator<N> for Dopri5<N> {
-    fn reset<S: OdeSystem<N>>(
+impl<D: Dim> Integrator<D> for Dopri5<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn reset<S: OdeSystem<D>>(
         &mut self,
         sys: &S,
         t: f64,
-        y: &SVector<f64, N>,
+        y: &OVector<f64, D>,
         keep_step: bool,
     ) -> Result<(), OdeError> {
         self.dense_ready = false;
         self.core.reset(sys, t, y, keep_step)
     }
 
-    fn step<S: OdeSystem<N>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError> {
+    fn step<S: OdeSystem<D>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError> {
         let Dopri5 {
             core,
             k,
+            yt,
             dense_ready,
             ..
         } = self;
         let before = core.stats.steps;
-        let r = core.step(
-            sys,
-            t_bound,
-            |sys, opts, t, y, f, h, y_new, f_new, stats| {
-                k[0] = *f;
-                let mut yt = y + k[0] * (h * A21);
-                sys.rhs(t + C2 * h, &yt, &mut k[1]);
-                yt = y + (k[0] * A31 + k[1] * A32) * h;
-                sys.rhs(t + C3 * h, &yt, &mut k[2]);
-                yt = y + (k[0] * A41 + k[1] * A42 + k[2] * A43) * h;
-                sys.rhs(t + C4 * h, &yt, &mut k[3]);
-                yt = y + (k[0] * A51 + k[1] * A52 + k[2] * A53 + k[3] * A54) * h;
-                sys.rhs(t + C5 * h, &yt, &mut k[4]);
-                yt = y + (k[0] * A61 + k[1] * A62 + k[2] * A63 + k[3] * A64 + k[4] * A65) * h;
-                sys.rhs(t + h, &yt, &mut k[5]);
-                *y_new = y + (k[0] * A71 + k[2] * A73 + k[3] * A74 + k[4] * A75 + k[5] * A76) * h;
-                sys.rhs(t + h, y_new, &mut k[6]);
-                *f_new = k[6];
-                stats.rhs_evals += 6;
-                let mut sum = 0.0;
-                for i in 0..N {
-                    let e = h
-                        * (E1 * k[0][i]
-                            + E3 * k[2][i]
-                            + E4 * k[3][i]
-                            + E5 * k[4][i]
-                            + E6 * k[5][i]
-                            + E7 * k[6][i]);
-                    let sk = scale(opts, i, y, y_new);
-                    sum += (e / sk) * (e / sk);
-                }
-                Trial {
-                    err: (sum / N.max(1) as f64).sqrt(),
-                    f_new_done: true,
-                }
-            },
-        );
+        let r = core.step(sys, t_bound, |sys, io| {
+            let TrialIo {
+                opts,
+                n_ctrl,
+                t,
+                y,
+                f,
+                h,
+                y_new,
+                f_new,
+                stats,
+            } = io;
+            k[0].copy_from(f);
+            axpy(yt.as_mut_slice(), y.as_slice(), k[0].as_slice(), h * A21);
+            sys.rhs(t + C2 * h, yt, &mut k[1]);
+            combo!(yt, y, h, [k[0] => A31, k[1] => A32]);
+            sys.rhs(t + C3 * h, yt, &mut k[2]);
+            combo!(yt, y, h, [k[0] => A41, k[1] => A42, k[2] => A43]);
+            sys.rhs(t + C4 * h, yt, &mut k[3]);
+            combo!(yt, y, h, [k[0] => A51, k[1] => A52, k[2] => A53, k[3] => A54]);
+            sys.rhs(t + C5 * h, yt, &mut k[4]);
+            combo!(yt, y, h, [
+                k[0] => A61, k[1] => A62, k[2] => A63, k[3] => A64, k[4] => A65,
+            ]);
+            sys.rhs(t + h, yt, &mut k[5]);
+            combo!(y_new, y, h, [
+                k[0] => A71, k[2] => A73, k[3] => A74, k[4] => A75, k[5] => A76,
+            ]);
+            sys.rhs(t + h, y_new, &mut k[6]);
+            f_new.copy_from(&k[6]);
+            stats.rhs_evals += 6;
+            let n = y.len();
+            let (ys, yn) = (&y.as_slice()[..n], &y_new.as_slice()[..n]);
+            let ks: [&[f64]; 7] = std::array::from_fn(|j| &k[j].as_slice()[..n]);
+            let mut sum = 0.0;
+            for i in 0..n {
+                let e = h
+                    * (E1 * ks[0][i]
+                        + E3 * ks[2][i]
+                        + E4 * ks[3][i]
+                        + E5 * ks[4][i]
+                        + E6 * ks[5][i]
+                        + E7 * ks[6][i]);
+                let sk = scale(opts, i, ys[i], yn[i]);
+                sum += (e / sk) * (e / sk);
+            }
+            Trial {
+                err: (sum / n_ctrl).sqrt(),
+                f_new_done: true,
+            }
+        });
         if core.stats.steps != before {
             *dense_ready = false;
         }
         r
     }
 
-    fn dense<S: OdeSystem<N>>(&mut self, _sys: &S, t: f64, out: &mut SVector<f64, N>) {
+    fn dense<S: OdeSystem<D>>(&mut self, _sys: &S, t: f64, out: &mut OVector<f64, D>) {
         if !self.core.has_step {
-            *out = self.core.y;
+            self.core.copy_state(out);
             return;
         }
+        fit(out, self.core.dim);
         self.prepare_dense();
-        let s = (t - self.core.t_prev) / self.core.h_dense;
-        let s1 = 1.0 - s;
-        let c = &self.cont;
-        *out = c[0] + (c[1] + (c[2] + (c[3] + c[4] * s1) * s) * s1) * s;
+        let c = &self.core;
+        Self::eval_dense(&self.cont, c.t_prev, c.h_dense, t, out.as_mut_slice());
     }
 
-    fn truncate<S: OdeSystem<N>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError> {
+    fn truncate<S: OdeSystem<D>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError> {
         self.core.check_truncate(t_new)?;
-        let mut y = SVector::<f64, N>::zeros();
-        self.dense(sys, t_new, &mut y);
         if t_new == self.core.t {
-            y = self.core.y;
+            return Ok(());
         }
-        self.core.apply_truncate(sys, t_new, &y)
+        self.prepare_dense();
+        let c = &mut self.core;
+        Self::eval_dense(
+            &self.cont,
+            c.t_prev,
+            c.h_dense,
+            t_new,
+            c.y_new.as_mut_slice(),
+        );
+        c.apply_truncate(sys, t_new)
     }
 
     core_accessors!();

@@ -9,12 +9,30 @@
 //!   dense output,
 //! * [`AnyIntegrator`] — enum dispatch over the three, selected at run time by
 //!   [`Method`],
-//! * [`events`] — event functions $g_i(t, y)$, detection on the dense output
-//!   (including grazing pairs of roots) and an Illinois root finder,
+//! * [`events`] — event functions $g_i(t, y)$ (as a trait, or from closures
+//!   with [`EventFns`]) and their detection on the dense output, including
+//!   grazing pairs of roots,
+//! * [`roots`] — the crate's bracketing root finder (Illinois),
 //! * [`solve`](solve::solve) — a convenience driver with outputs and events.
 //!
-//! All state lives in fixed-size [`SVector<f64, N>`] values; the stepping loop
-//! never allocates. Integration runs forward in time only
+//! # Dimensions: fixed or known at run time
+//!
+//! Everything is generic over a nalgebra dimension `D` and works on
+//! [`OVector<f64, D>`](nalgebra::OVector):
+//!
+//! * a fixed size (`U6`, `Const<6>`; [`SVector<f64, 6>`](nalgebra::SVector) is
+//!   the same type as `OVector<f64, Const<6>>`): stack storage, loops unrolled
+//!   by the compiler, built with `Dop853::new(options)`;
+//! * [`Dyn`](nalgebra::Dyn) (a size known at run time, e.g. a finite-element
+//!   shaft): heap storage, built with `Dop853::with_dim(Dyn(n), options)`.
+//!
+//! The arithmetic does not depend on the storage: the same problem run with
+//! `Dyn(n)` and with `Const<n>` gives bitwise identical trajectories, events
+//! and counters (tested). Every vector an integrator or an [`EventState`]
+//! needs is allocated when it is built (or, for an [`EventState`], on first
+//! use); after that, `step`, `dense`, `truncate`, `reset` and
+//! [`find_first_event`] never allocate, for `Dyn` too (tested with a counting
+//! allocator). Integration runs forward in time only
 //! ($t_{\text{bound}} \ge t$).
 //!
 //! # Examples
@@ -38,20 +56,42 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
+//! The same with a dimension known at run time:
+//!
+//! ```
+//! use jeffcott::ode::{solve, Dop853, NoEvents, Options, Recorder};
+//! use nalgebra::{DVector, Dyn};
+//!
+//! let n = 2;
+//! let osc = |_t: f64, y: &DVector<f64>, dy: &mut DVector<f64>| {
+//!     dy[0] = y[1];
+//!     dy[1] = -y[0];
+//! };
+//! let mut integ = Dop853::with_dim(Dyn(n), Options::with_tol(1e-10, 1e-12))?;
+//! let mut rec = Recorder::with_grid(vec![1.0]);
+//! let y0 = DVector::from_vec(vec![1.0, 0.0]);
+//! solve(&mut integ, &osc, 0.0, &y0, 1.0, &NoEvents, &mut rec)?;
+//! assert!((rec.outputs[0].1[0] - 1f64.cos()).abs() < 1e-8);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! A hybrid loop (as a piecewise-smooth driver would write it): step, look
 //! for an event on the step, truncate there, apply a reset map, restart.
+//! The bouncing ball below keeps its step size across impacts, so steps soon
+//! span whole flights; the start-of-segment rule of [`events`] still finds
+//! every impact.
 //!
 //! ```
 //! use jeffcott::ode::{
 //!     find_first_event, Direction, Dop853, EventOptions, EventSet, EventState, Integrator,
 //!     Options,
 //! };
-//! use nalgebra::SVector;
+//! use nalgebra::{SVector, U2};
 //! type V2 = SVector<f64, 2>;
 //!
 //! /// Impact when the height x[0] falls through 0.
 //! struct Floor;
-//! impl EventSet<2> for Floor {
+//! impl EventSet<U2> for Floor {
 //!     fn len(&self) -> usize { 1 }
 //!     fn direction(&self, _i: usize) -> Direction { Direction::Falling }
 //!     fn value(&self, _i: usize, _t: f64, y: &V2) -> f64 { y[0] }
@@ -65,287 +105,90 @@
 //! let mut state = EventState::new();
 //! let opts = EventOptions::default();
 //! let mut impacts = Vec::new();
-//! while integ.t() < 3.0 {
-//!     integ.step(&ball, 3.0)?;
-//!     if let Some(hit) = find_first_event(&mut integ, &ball, &Floor, &opts, &mut state) {
-//!         integ.truncate(&ball, hit.t)?;
-//!         let y_new = V2::new(hit.y[0], -0.8 * hit.y[1]); // reset map
-//!         integ.reset(&ball, hit.t, &y_new, true)?; // keep the step size
+//! while impacts.len() < 10 {
+//!     integ.step(&ball, 20.0)?;
+//!     if let Some(hit) = find_first_event(&mut integ, &ball, &Floor, &opts, &mut state)? {
+//!         let (t_hit, y_hit) = (hit.t, hit.y);
+//!         integ.truncate(&ball, t_hit)?;
+//!         let y_new = V2::new(y_hit[0], -0.8 * y_hit[1]); // reset map
+//!         integ.reset(&ball, t_hit, &y_new, true)?; // keep the step size
 //!         state.reset();
-//!         impacts.push(hit.t);
+//!         impacts.push(t_hit);
 //!     }
+//!     assert!(integ.y()[0] > -1e-9, "fell through the floor at t = {}", integ.t());
 //! }
-//! assert!((impacts[0] - 1.0).abs() < 1e-12 && (impacts[1] - 2.6).abs() < 1e-12);
+//! // Dropped from 0.5 under unit gravity: t_1 = 1, then flights of 2 * 0.8^k.
+//! let t10 = 1.0 + (1..10).map(|k| 2.0 * 0.8f64.powi(k)).sum::<f64>();
+//! assert!((impacts[0] - 1.0).abs() < 1e-12 && (impacts[9] - t10).abs() < 1e-10);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! # Step-size control
 //!
 //! For a trial step $y_0 \to y_1$ with local error estimate $e$ the scaled
-//! error is the RMS norm
-//! $$\mathrm{err} = \sqrt{\tfrac1N \sum_i \big(e_i / s_i\big)^2},\qquad
+//! error is the RMS norm over the $n_c$ error-controlled components
+//! $$\mathrm{err} = \sqrt{\tfrac{1}{n_c} \sum_i \big(e_i / s_i\big)^2},\qquad
 //! s_i = \mathrm{atol}_i + \mathrm{rtol}_i \max(|y_{0,i}|, |y_{1,i}|),$$
-//! (DOP853 uses Hairer's combination of its 5th- and 3rd-order estimates). The
-//! step is accepted when $\mathrm{err} \le 1$ and the next step is
-//! $h_{\text{new}} = h \cdot \mathrm{clamp}\big(\mathrm{safety}\,
-//! \mathrm{err}^{-\alpha}\,\mathrm{err}_{\text{old}}^{\beta},\ \mathrm{fac\_min},
+//! (DOP853 uses Hairer's combination of its 5th- and 3rd-order estimates).
+//! A component with $\mathrm{atol}_i = +\infty$ has $s_i = \infty$: it adds
+//! nothing to the sum and is not counted in $n_c$ (see [`Options::atol`]);
+//! otherwise $n_c = N$. The step is accepted when $\mathrm{err} \le 1$ and the
+//! next step is $h_{\text{new}} = h \cdot \mathrm{clamp}\big(\mathrm{safety}\thinspace
+//! \mathrm{err}^{-\alpha}\thinspace\mathrm{err}_{\text{old}}^{\beta},\ \mathrm{fac\_min},
 //! \ \mathrm{fac\_max}\big)$ (Gustafsson's PI controller as in Hairer's codes;
 //! see `docs/integrators.md`).
 
-use nalgebra::SVector;
-use thiserror::Error;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
 
+mod any;
 mod controller;
 mod core;
 pub mod dop853;
 pub mod dopri5;
+mod error;
 pub mod events;
+pub(crate) mod kernels;
+mod options;
 pub mod rk4;
+pub mod roots;
 pub mod solve;
 
+pub use any::{AnyIntegrator, Method};
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;
+pub use error::OdeError;
 pub use events::{
-    find_first_event, Direction, EventHit, EventOptions, EventSet, EventState, NoEvents, MAX_EVENTS,
+    find_first_event, Direction, EventDerivative, EventFns, EventHit, EventOptions, EventSet,
+    EventState, NoDerivative, NoEvents, MAX_SAMPLES,
 };
+pub use options::{Options, Tolerance};
 pub use rk4::Rk4;
 pub use solve::{solve, solve_with, Observer, Recorder, SolveError, SolveReport, Stopped};
 
-/// A first-order ODE system $\dot y = f(t, y)$ with $y \in \mathbb{R}^N$.
+/// A first-order ODE system $\dot y = f(t, y)$ with $y \in \mathbb{R}^N$, $N$
+/// the size of the dimension `D`.
 ///
-/// Closures `Fn(f64, &SVector<f64, N>, &mut SVector<f64, N>)` implement this
-/// trait, so `|t, y, dy| { dy[0] = y[1]; dy[1] = -y[0]; }` is a system.
-pub trait OdeSystem<const N: usize> {
-    /// Writes $f(t, y)$ into `dy` (every component must be written).
-    fn rhs(&self, t: f64, y: &SVector<f64, N>, dy: &mut SVector<f64, N>);
+/// Closures `Fn(f64, &OVector<f64, D>, &mut OVector<f64, D>)` implement this
+/// trait, so `|t, y: &SVector<f64, 2>, dy: &mut SVector<f64, 2>| { ... }` and
+/// `|t, y: &DVector<f64>, dy: &mut DVector<f64>| { ... }` are systems.
+pub trait OdeSystem<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Writes $f(t, y)$ into `dy` (every component must be written; `dy` has
+    /// the length of `y`).
+    fn rhs(&self, t: f64, y: &OVector<f64, D>, dy: &mut OVector<f64, D>);
 }
 
-impl<const N: usize, F> OdeSystem<N> for F
+impl<D: Dim, F> OdeSystem<D> for F
 where
-    F: Fn(f64, &SVector<f64, N>, &mut SVector<f64, N>),
+    DefaultAllocator: Allocator<D>,
+    F: Fn(f64, &OVector<f64, D>, &mut OVector<f64, D>),
 {
     #[inline]
-    fn rhs(&self, t: f64, y: &SVector<f64, N>, dy: &mut SVector<f64, N>) {
+    fn rhs(&self, t: f64, y: &OVector<f64, D>, dy: &mut OVector<f64, D>) {
         self(t, y, dy)
-    }
-}
-
-/// A tolerance, either the same for every component or one value per
-/// component (dimensionless for `rtol`, units of $y_i$ for `atol`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Tolerance<const N: usize> {
-    /// The same value for every component.
-    Scalar(f64),
-    /// One value per component.
-    PerComponent(SVector<f64, N>),
-}
-
-impl<const N: usize> Tolerance<N> {
-    /// The tolerance of component `i` (`i < N`; out-of-range indices return
-    /// the largest component value for `PerComponent`, never panic).
-    #[inline]
-    pub fn get(&self, i: usize) -> f64 {
-        match self {
-            Tolerance::Scalar(v) => *v,
-            Tolerance::PerComponent(v) => {
-                if i < N {
-                    v[i]
-                } else {
-                    v.max()
-                }
-            }
-        }
-    }
-
-    /// The tolerance as a vector.
-    pub fn to_vector(&self) -> SVector<f64, N> {
-        match self {
-            Tolerance::Scalar(v) => SVector::from_element(*v),
-            Tolerance::PerComponent(v) => *v,
-        }
-    }
-
-    /// Checks that every value is finite and non-negative; the error names
-    /// `field`.
-    pub fn validate(&self, field: &'static str) -> Result<(), OdeError> {
-        for i in 0..N {
-            let v = self.get(i);
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(OdeError::InvalidOption {
-                    field,
-                    value: v,
-                    hint: "tolerances must be finite and >= 0 (typical: rtol 1e-9, atol 1e-12)",
-                });
-            }
-        }
-        Ok(())
-    }
-}
-
-impl<const N: usize> From<f64> for Tolerance<N> {
-    fn from(v: f64) -> Self {
-        Tolerance::Scalar(v)
-    }
-}
-
-/// Integrator options. A plain struct: build it with struct-update syntax,
-/// e.g. `Options { rtol: 1e-10.into(), ..Options::default() }`.
-///
-/// Times and step sizes are in the time unit of the system.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Options<const N: usize> {
-    /// Relative tolerance (dimensionless). Default `1e-9`.
-    pub rtol: Tolerance<N>,
-    /// Absolute tolerance (units of $y_i$). Default `1e-12`.
-    /// For every component `rtol + atol > 0` is required.
-    pub atol: Tolerance<N>,
-    /// Initial step size (> 0). `None` (default) = Hairer's automatic
-    /// initial step selection.
-    pub h_init: Option<f64>,
-    /// Largest step size (> 0). Default `+inf`.
-    pub h_max: f64,
-    /// Step-size underflow threshold (>= 0): when the controller wants a
-    /// step smaller than `h_min` (or smaller than $10\,\varepsilon\,|t|$) the
-    /// integrator returns [`OdeError::StepSizeUnderflow`]. Default `0`.
-    pub h_min: f64,
-    /// Maximum number of step attempts (accepted + rejected) between two
-    /// calls of [`Integrator::reset`] (so per call of [`solve()`]).
-    /// Default `1_000_000`.
-    pub max_steps: u64,
-    /// Safety factor of the step-size controller, in (0, 1]. Default `0.9`.
-    pub safety: f64,
-    /// Smallest step-size ratio $h_{\text{new}}/h$, in (0, 1]. Default `0.2`.
-    pub fac_min: f64,
-    /// Largest step-size ratio $h_{\text{new}}/h$, >= 1. Default `10`.
-    pub fac_max: f64,
-    /// PI-controller exponent $\beta$ on the previous error, in [0, 0.2].
-    /// `None` (default) = the method's default: `0.04` (DOPRI5 and DOP853;
-    /// Hairer's `dop853.f` uses 0 — set `Some(0.0)` to reproduce it).
-    pub beta: Option<f64>,
-    /// Fixed step size (> 0). Required by [`Rk4`]. For [`Dopri5`] and
-    /// [`Dop853`] `Some(h)` switches error control off and takes steps of
-    /// exactly `h` (the last one before a bound is shortened to land on it);
-    /// this is meant for convergence studies and reproducing fixed grids.
-    /// In fixed-step mode `h_init`, `h_min`, `h_max` and the controller
-    /// fields are not used. Default `None`.
-    pub fixed_step: Option<f64>,
-}
-
-impl<const N: usize> Default for Options<N> {
-    fn default() -> Self {
-        Options {
-            rtol: Tolerance::Scalar(1e-9),
-            atol: Tolerance::Scalar(1e-12),
-            h_init: None,
-            h_max: f64::INFINITY,
-            h_min: 0.0,
-            max_steps: 1_000_000,
-            safety: 0.9,
-            fac_min: 0.2,
-            fac_max: 10.0,
-            beta: None,
-            fixed_step: None,
-        }
-    }
-}
-
-impl<const N: usize> Options<N> {
-    /// Options with the given scalar tolerances and defaults otherwise.
-    pub fn with_tol(rtol: f64, atol: f64) -> Self {
-        Options {
-            rtol: Tolerance::Scalar(rtol),
-            atol: Tolerance::Scalar(atol),
-            ..Options::default()
-        }
-    }
-
-    /// Options for fixed steps of size `h` (see [`Options::fixed_step`]).
-    pub fn fixed(h: f64) -> Self {
-        Options {
-            fixed_step: Some(h),
-            ..Options::default()
-        }
-    }
-
-    /// Checks every field; the error names the first offending field.
-    pub fn validate(&self) -> Result<(), OdeError> {
-        self.rtol.validate("rtol")?;
-        self.atol.validate("atol")?;
-        for i in 0..N {
-            if self.rtol.get(i) + self.atol.get(i) <= 0.0 {
-                return Err(OdeError::InvalidOption {
-                    field: "atol",
-                    value: self.atol.get(i),
-                    hint: "rtol and atol are both zero for a component; make atol > 0",
-                });
-            }
-        }
-        fn bad(field: &'static str, value: f64, hint: &'static str) -> Result<(), OdeError> {
-            Err(OdeError::InvalidOption { field, value, hint })
-        }
-        if let Some(h) = self.h_init {
-            if !(h.is_finite() && h > 0.0) {
-                return bad(
-                    "h_init",
-                    h,
-                    "use a finite h_init > 0, or None for automatic",
-                );
-            }
-        }
-        if self.h_max.is_nan() || self.h_max <= 0.0 {
-            return bad(
-                "h_max",
-                self.h_max,
-                "h_max must be > 0 (f64::INFINITY = no limit)",
-            );
-        }
-        if !(self.h_min.is_finite() && self.h_min >= 0.0 && self.h_min <= self.h_max) {
-            return bad(
-                "h_min",
-                self.h_min,
-                "h_min must be finite, >= 0 and <= h_max",
-            );
-        }
-        if let Some(h) = self.h_init {
-            if h < self.h_min {
-                return bad("h_init", h, "h_init must be >= h_min");
-            }
-        }
-        if self.max_steps == 0 {
-            return bad("max_steps", 0.0, "max_steps must be >= 1");
-        }
-        if !(self.safety > 0.0 && self.safety <= 1.0) {
-            return bad(
-                "safety",
-                self.safety,
-                "safety must be in (0, 1]; typical 0.9",
-            );
-        }
-        if !(self.fac_min > 0.0 && self.fac_min <= 1.0) {
-            return bad(
-                "fac_min",
-                self.fac_min,
-                "fac_min must be in (0, 1]; typical 0.2",
-            );
-        }
-        if !(self.fac_max >= 1.0 && self.fac_max.is_finite()) {
-            return bad(
-                "fac_max",
-                self.fac_max,
-                "fac_max must be finite and >= 1; typical 10",
-            );
-        }
-        if let Some(b) = self.beta {
-            if !(0.0..=0.2).contains(&b) {
-                return bad("beta", b, "beta must be in [0, 0.2]; typical 0.04");
-            }
-        }
-        if let Some(h) = self.fixed_step {
-            if !(h.is_finite() && h > 0.0) {
-                return bad("fixed_step", h, "fixed_step must be finite and > 0");
-            }
-        }
-        Ok(())
     }
 }
 
@@ -363,270 +206,68 @@ pub struct Stats {
     pub events: u64,
 }
 
-/// Errors of the ODE layer. Every variant says where it happened and what to
-/// try.
-#[derive(Debug, Clone, Copy, PartialEq, Error)]
-#[non_exhaustive]
-pub enum OdeError {
-    /// An option is invalid.
-    #[error("invalid option `{field}` = {value}: {hint}")]
-    InvalidOption {
-        /// Name of the field of [`Options`] (or [`EventOptions`]).
-        field: &'static str,
-        /// The offending value (`NaN` when the value is missing).
-        value: f64,
-        /// What to do instead.
-        hint: &'static str,
-    },
-    /// The initial time or state given to [`Integrator::reset`] is not finite.
-    #[error("non-finite initial value at t = {t}: component {component} = {value}; pass a finite time and state")]
-    NonFiniteInitial {
-        /// Initial time.
-        t: f64,
-        /// Offending component (`usize::MAX` for the time itself).
-        component: usize,
-        /// Offending value.
-        value: f64,
-    },
-    /// The right-hand side produced non-finite values and reducing the step
-    /// size did not help (or they occurred at an accepted point).
-    #[error("right-hand side returned NaN/inf at t = {t} (step size h = {h}); check the model's domain, or stop before it with an event")]
-    NonFiniteRhs {
-        /// Last accepted time.
-        t: f64,
-        /// Step size of the failing attempt.
-        h: f64,
-    },
-    /// The controller wants a step smaller than `h_min` or than the
-    /// resolution of `t` (stiffness, a singularity or a discontinuity).
-    #[error("step size underflow at t = {t}: h = {h} < h_min = {h_min}; the solution may blow up or be non-smooth here (locate the discontinuity with an event) or the tolerances are too tight")]
-    StepSizeUnderflow {
-        /// Last accepted time.
-        t: f64,
-        /// The rejected step size.
-        h: f64,
-        /// Effective minimum step (max of `h_min` and $10\varepsilon|t|$).
-        h_min: f64,
-    },
-    /// More than `max_steps` attempts since the last reset.
-    #[error("too many steps: {max_steps} attempts since the last reset, reached t = {t} with h = {h}; raise Options::max_steps or loosen the tolerances")]
-    TooManySteps {
-        /// Last accepted time.
-        t: f64,
-        /// Current step size.
-        h: f64,
-        /// The limit.
-        max_steps: u64,
-    },
-    /// `step` or `truncate` was called before `reset`.
-    #[error("integrator not initialised: call Integrator::reset(sys, t0, y0, false) first")]
-    NotInitialized,
-    /// The bound passed to `step` is not finite or lies behind the current
-    /// time (integration is forward only).
-    #[error("invalid bound t_bound = {t_bound} at t = {t}: the bound must be finite and >= t (forward integration only)")]
-    InvalidBound {
-        /// Current time.
-        t: f64,
-        /// The bound.
-        t_bound: f64,
-    },
-    /// `truncate` was given a time outside `(t_prev, t]`.
-    #[error("truncate at t_new = {t_new} outside the last step ({t_prev}, {t}]; truncate only inside the last accepted step")]
-    TruncateOutOfRange {
-        /// Requested time.
-        t_new: f64,
-        /// Left end of the last step.
-        t_prev: f64,
-        /// Right end of the last step.
-        t: f64,
-    },
-    /// An event set has more events than [`MAX_EVENTS`].
-    #[error("event set has {len} events, more than MAX_EVENTS = {max}; split the set or switch events off")]
-    TooManyEvents {
-        /// Number of events of the set.
-        len: usize,
-        /// The limit.
-        max: usize,
-    },
-}
-
 /// An explicit one-step integrator with dense output.
 ///
 /// Typical use: `reset` once, then `step` repeatedly towards a bound; after
 /// each step, `dense` interpolates on $[t_{\text{prev}}, t]$ and
 /// [`find_first_event`] looks for events; `truncate` moves the current point
-/// back to an event inside the step.
-pub trait Integrator<const N: usize> {
+/// back to an event inside the step. None of these allocates.
+pub trait Integrator<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// Start (or restart after a discontinuity/reset) at `(t, y)`: evaluates
     /// $f(t, y)$, clears the last step (dense output becomes the constant
     /// `y`) and the per-reset attempt counter. Keeps the last step-size
     /// suggestion if `keep_step` is true and one exists (useful after
     /// events), otherwise selects an initial step (`h_init` or Hairer's
-    /// automatic choice).
-    fn reset<S: OdeSystem<N>>(
+    /// automatic choice). A `y` of another length than the integrator's
+    /// dimension is [`OdeError::DimensionMismatch`].
+    fn reset<S: OdeSystem<D>>(
         &mut self,
         sys: &S,
         t: f64,
-        y: &SVector<f64, N>,
+        y: &OVector<f64, D>,
         keep_step: bool,
     ) -> Result<(), OdeError>;
     /// Take one accepted step (internally retrying rejected ones), never
     /// beyond `t_bound`; the step lands exactly on `t_bound` if it reaches
     /// it (a step that would end within 1% of a step beyond the bound is
     /// stretched to it). `t_bound == t()` is a no-op.
-    fn step<S: OdeSystem<N>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError>;
+    fn step<S: OdeSystem<D>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError>;
     /// Current time (right end of the last step).
     fn t(&self) -> f64;
     /// Current state.
-    fn y(&self) -> &SVector<f64, N>;
+    fn y(&self) -> &OVector<f64, D>;
     /// Left end of the last accepted step (equals `t()` right after reset).
     fn t_prev(&self) -> f64;
     /// State at `t_prev()`.
-    fn y_prev(&self) -> &SVector<f64, N>;
+    fn y_prev(&self) -> &OVector<f64, D>;
     /// Dense output on the last accepted step $[t_{\text{prev}}, t]$ at full
     /// order (DOP853: 7th order, 3 extra rhs evaluations computed lazily once
     /// per step; DOPRI5: 4th order; RK4: cubic Hermite). Times outside the
     /// step extrapolate the same polynomial (no panic). Before the first
-    /// step, returns `y()`.
-    fn dense<S: OdeSystem<N>>(&mut self, sys: &S, t: f64, out: &mut SVector<f64, N>);
+    /// step, returns `y()`. An `out` of the wrong length (possible for `Dyn`
+    /// only) is replaced by a vector of the right one.
+    fn dense<S: OdeSystem<D>>(&mut self, sys: &S, t: f64, out: &mut OVector<f64, D>);
     /// Truncate the last step at `t_new` in $(t_{\text{prev}}, t]$: the
     /// current point becomes `(t_new, dense(t_new))` and $f$ is re-evaluated
     /// there; the step-size suggestion is kept, and `dense` stays valid on
     /// $[t_{\text{prev}}, t_{\text{new}}]$.
-    fn truncate<S: OdeSystem<N>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError>;
+    fn truncate<S: OdeSystem<D>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError>;
     /// Work counters.
     fn stats(&self) -> &Stats;
     /// Mutable work counters, for drivers and event code that evaluate the
     /// system themselves.
     fn stats_mut(&mut self) -> &mut Stats;
     /// The options.
-    fn options(&self) -> &Options<N>;
+    fn options(&self) -> &Options<D>;
     /// The current step-size suggestion for the next step (0 before reset).
     fn h_next(&self) -> f64;
     /// Name for reports: `"DOP853"`, `"DOPRI5"`, `"RK4"`.
     fn name(&self) -> &'static str;
-}
-
-/// Run-time choice of integration method.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Method {
-    /// [`Dop853`].
-    Dop853,
-    /// [`Dopri5`].
-    Dopri5,
-    /// [`Rk4`] (needs [`Options::fixed_step`]).
-    Rk4,
-}
-
-impl Method {
-    /// All methods.
-    pub const ALL: [Method; 3] = [Method::Dop853, Method::Dopri5, Method::Rk4];
-
-    /// Name for reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Dop853 => "DOP853",
-            Method::Dopri5 => "DOPRI5",
-            Method::Rk4 => "RK4",
-        }
-    }
-
-    /// Classical order of the propagating formula (8, 5, 4).
-    pub fn order(self) -> u32 {
-        match self {
-            Method::Dop853 => 8,
-            Method::Dopri5 => 5,
-            Method::Rk4 => 4,
-        }
-    }
-}
-
-/// Enum dispatch over the integrators, so the method can be chosen at run
-/// time without trait objects (the trait has generic methods).
-#[derive(Debug, Clone)]
-pub enum AnyIntegrator<const N: usize> {
-    /// DOP853.
-    Dop853(Dop853<N>),
-    /// DOPRI5.
-    Dopri5(Dopri5<N>),
-    /// RK4.
-    Rk4(Rk4<N>),
-}
-
-impl<const N: usize> AnyIntegrator<N> {
-    /// Builds the integrator of `method`, validating `options`.
-    pub fn new(method: Method, options: Options<N>) -> Result<Self, OdeError> {
-        Ok(match method {
-            Method::Dop853 => AnyIntegrator::Dop853(Dop853::new(options)?),
-            Method::Dopri5 => AnyIntegrator::Dopri5(Dopri5::new(options)?),
-            Method::Rk4 => AnyIntegrator::Rk4(Rk4::new(options)?),
-        })
-    }
-
-    /// The method of this integrator.
-    pub fn method(&self) -> Method {
-        match self {
-            AnyIntegrator::Dop853(_) => Method::Dop853,
-            AnyIntegrator::Dopri5(_) => Method::Dopri5,
-            AnyIntegrator::Rk4(_) => Method::Rk4,
-        }
-    }
-}
-
-macro_rules! dispatch {
-    ($self:expr, $i:ident => $e:expr) => {
-        match $self {
-            AnyIntegrator::Dop853($i) => $e,
-            AnyIntegrator::Dopri5($i) => $e,
-            AnyIntegrator::Rk4($i) => $e,
-        }
-    };
-}
-
-impl<const N: usize> Integrator<N> for AnyIntegrator<N> {
-    fn reset<S: OdeSystem<N>>(
-        &mut self,
-        sys: &S,
-        t: f64,
-        y: &SVector<f64, N>,
-        keep_step: bool,
-    ) -> Result<(), OdeError> {
-        dispatch!(self, i => i.reset(sys, t, y, keep_step))
-    }
-    fn step<S: OdeSystem<N>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError> {
-        dispatch!(self, i => i.step(sys, t_bound))
-    }
-    fn t(&self) -> f64 {
-        dispatch!(self, i => i.t())
-    }
-    fn y(&self) -> &SVector<f64, N> {
-        dispatch!(self, i => i.y())
-    }
-    fn t_prev(&self) -> f64 {
-        dispatch!(self, i => i.t_prev())
-    }
-    fn y_prev(&self) -> &SVector<f64, N> {
-        dispatch!(self, i => i.y_prev())
-    }
-    fn dense<S: OdeSystem<N>>(&mut self, sys: &S, t: f64, out: &mut SVector<f64, N>) {
-        dispatch!(self, i => i.dense(sys, t, out))
-    }
-    fn truncate<S: OdeSystem<N>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError> {
-        dispatch!(self, i => i.truncate(sys, t_new))
-    }
-    fn stats(&self) -> &Stats {
-        dispatch!(self, i => i.stats())
-    }
-    fn stats_mut(&mut self) -> &mut Stats {
-        dispatch!(self, i => i.stats_mut())
-    }
-    fn options(&self) -> &Options<N> {
-        dispatch!(self, i => i.options())
-    }
-    fn h_next(&self) -> f64 {
-        dispatch!(self, i => i.h_next())
-    }
-    fn name(&self) -> &'static str {
-        dispatch!(self, i => i.name())
+    /// The dimension of the state.
+    fn dim(&self) -> D {
+        self.y().shape_generic().0
     }
 }

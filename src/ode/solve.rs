@@ -1,25 +1,28 @@
 //! A convenience driver: integrate from `t0` to `t_end` with outputs at
 //! requested times (from the dense output) and events.
 
-use super::events::{
-    check_event_set, find_first_event, EventHit, EventOptions, EventSet, EventState,
-};
+use super::core::zeros;
+use super::events::{find_first_event, EventHit, EventOptions, EventSet, EventState};
 use super::{Integrator, OdeError, OdeSystem, Stats};
-use nalgebra::SVector;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
 use thiserror::Error;
 
 /// Receives the results of [`solve`]. Every method has a no-op default.
 ///
 /// Order of calls inside one step: outputs with times up to an event, the
 /// event, further outputs/events, then `on_step` with the step's end point.
-pub trait Observer<const N: usize> {
+pub trait Observer<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// Called with the initial point and after every accepted step (for a
     /// terminal event: with the truncated end point).
-    fn on_step(&mut self, t: f64, y: &SVector<f64, N>) {
+    fn on_step(&mut self, t: f64, y: &OVector<f64, D>) {
         let _ = (t, y);
     }
     /// Called for every event hit (terminal or not).
-    fn on_event(&mut self, hit: &EventHit<N>) {
+    fn on_event(&mut self, hit: &EventHit<D>) {
         let _ = hit;
     }
     /// The next requested output time. Called once at the start and after
@@ -31,32 +34,54 @@ pub trait Observer<const N: usize> {
     }
     /// The state at a requested output time (dense output; the exact state
     /// at a step end).
-    fn on_output(&mut self, t: f64, y: &SVector<f64, N>) {
+    fn on_output(&mut self, t: f64, y: &OVector<f64, D>) {
         let _ = (t, y);
     }
 }
 
 /// An observer that ignores everything.
-impl<const N: usize> Observer<N> for () {}
+impl<D: Dim> Observer<D> for () where DefaultAllocator: Allocator<D> {}
 
 /// An observer that records outputs on a given time grid, the accepted
 /// steps (optional) and the events. Allocates only when it records.
-#[derive(Debug, Clone, Default)]
-pub struct Recorder<const N: usize> {
+#[derive(Debug, Clone)]
+pub struct Recorder<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// Requested output times (non-decreasing).
     pub grid: Vec<f64>,
     /// Whether to record every accepted step in `steps`.
     pub record_steps: bool,
     /// Recorded outputs `(t, y)`.
-    pub outputs: Vec<(f64, SVector<f64, N>)>,
+    pub outputs: Vec<(f64, OVector<f64, D>)>,
     /// Recorded steps `(t, y)` (if `record_steps`).
-    pub steps: Vec<(f64, SVector<f64, N>)>,
+    pub steps: Vec<(f64, OVector<f64, D>)>,
     /// Recorded events.
-    pub events: Vec<EventHit<N>>,
+    pub events: Vec<EventHit<D>>,
     next: usize,
 }
 
-impl<const N: usize> Recorder<N> {
+impl<D: Dim> Default for Recorder<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn default() -> Self {
+        Recorder {
+            grid: Vec::new(),
+            record_steps: false,
+            outputs: Vec::new(),
+            steps: Vec::new(),
+            events: Vec::new(),
+            next: 0,
+        }
+    }
+}
+
+impl<D: Dim> Recorder<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// A recorder with output times `grid` that does not record steps.
     pub fn with_grid(grid: Vec<f64>) -> Self {
         Recorder {
@@ -66,22 +91,25 @@ impl<const N: usize> Recorder<N> {
     }
 }
 
-impl<const N: usize> Observer<N> for Recorder<N> {
-    fn on_step(&mut self, t: f64, y: &SVector<f64, N>) {
+impl<D: Dim> Observer<D> for Recorder<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn on_step(&mut self, t: f64, y: &OVector<f64, D>) {
         if self.record_steps {
-            self.steps.push((t, *y));
+            self.steps.push((t, y.clone()));
         }
     }
-    fn on_event(&mut self, hit: &EventHit<N>) {
-        self.events.push(*hit);
+    fn on_event(&mut self, hit: &EventHit<D>) {
+        self.events.push(hit.clone());
     }
     fn next_output(&mut self) -> Option<f64> {
         let t = self.grid.get(self.next).copied();
         self.next += 1;
         t
     }
-    fn on_output(&mut self, t: f64, y: &SVector<f64, N>) {
-        self.outputs.push((t, *y));
+    fn on_output(&mut self, t: f64, y: &OVector<f64, D>) {
+        self.outputs.push((t, y.clone()));
     }
 }
 
@@ -95,53 +123,75 @@ pub enum Stopped {
 }
 
 /// Result of a successful [`solve`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SolveReport<const N: usize> {
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolveReport<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// Why the integration stopped.
     pub stopped: Stopped,
     /// Final time.
     pub t: f64,
     /// Final state.
-    pub y: SVector<f64, N>,
+    pub y: OVector<f64, D>,
     /// Work counters of the integrator (cumulative over its lifetime).
     pub stats: Stats,
 }
 
+impl<D: Dim> Copy for SolveReport<D>
+where
+    DefaultAllocator: Allocator<D>,
+    OVector<f64, D>: Copy,
+{
+}
+
 /// A failure part-way through [`solve`]: the error, the last good point and
 /// the work counters.
-#[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[derive(Debug, Clone, PartialEq, Error)]
 #[error("integration failed at t = {t}: {error}")]
-pub struct SolveError<const N: usize> {
+pub struct SolveError<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
     /// The underlying error.
     #[source]
     pub error: OdeError,
     /// Last good (accepted) time.
     pub t: f64,
     /// Last good state.
-    pub y: SVector<f64, N>,
+    pub y: OVector<f64, D>,
     /// Work counters at the failure.
     pub stats: Stats,
 }
 
+impl<D: Dim> Copy for SolveError<D>
+where
+    DefaultAllocator: Allocator<D>,
+    OVector<f64, D>: Copy,
+{
+}
+
 /// Reports every pending output time `<= upto` on the last step.
-fn emit_outputs<const N: usize, S, I, O>(
+fn emit_outputs<D, S, I, O>(
     integ: &mut I,
     sys: &S,
     upto: f64,
     pending: &mut Option<f64>,
     out: &mut O,
-    y_out: &mut SVector<f64, N>,
+    y_out: &mut OVector<f64, D>,
 ) where
-    S: OdeSystem<N>,
-    I: Integrator<N>,
-    O: Observer<N> + ?Sized,
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    O: Observer<D> + ?Sized,
 {
     while let Some(to) = *pending {
         if to > upto {
             break;
         }
         if to == integ.t() {
-            *y_out = *integ.y();
+            y_out.copy_from(integ.y());
         } else {
             integ.dense(sys, to, y_out);
         }
@@ -151,19 +201,21 @@ fn emit_outputs<const N: usize, S, I, O>(
 }
 
 /// [`solve_with`] with default [`EventOptions`].
-pub fn solve<const N: usize, S, I, E>(
+pub fn solve<D, S, I, E>(
     integ: &mut I,
     sys: &S,
     t0: f64,
-    y0: &SVector<f64, N>,
+    y0: &OVector<f64, D>,
     t_end: f64,
     events: &E,
-    out: &mut impl Observer<N>,
-) -> Result<SolveReport<N>, SolveError<N>>
+    out: &mut impl Observer<D>,
+) -> Result<SolveReport<D>, SolveError<D>>
 where
-    S: OdeSystem<N>,
-    I: Integrator<N>,
-    E: EventSet<N> + ?Sized,
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
 {
     solve_with(
         integ,
@@ -187,35 +239,36 @@ where
 ///
 /// Errors carry the last good `(t, y)` and the stats.
 #[allow(clippy::too_many_arguments)]
-pub fn solve_with<const N: usize, S, I, E>(
+pub fn solve_with<D, S, I, E>(
     integ: &mut I,
     sys: &S,
     t0: f64,
-    y0: &SVector<f64, N>,
+    y0: &OVector<f64, D>,
     t_end: f64,
     events: &E,
     event_opts: &EventOptions,
-    out: &mut impl Observer<N>,
-) -> Result<SolveReport<N>, SolveError<N>>
+    out: &mut impl Observer<D>,
+) -> Result<SolveReport<D>, SolveError<D>>
 where
-    S: OdeSystem<N>,
-    I: Integrator<N>,
-    E: EventSet<N> + ?Sized,
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
 {
     let fail = |integ: &I, error: OdeError| SolveError {
         error,
         t: integ.t(),
-        y: *integ.y(),
+        y: integ.y().clone(),
         stats: *integ.stats(),
     };
     let stats0 = *integ.stats();
     let fail0 = |error: OdeError| SolveError {
         error,
         t: t0,
-        y: *y0,
+        y: y0.clone(),
         stats: stats0,
     };
-    check_event_set(events).map_err(fail0)?;
     event_opts.validate().map_err(fail0)?;
     if !(t_end.is_finite() && t0.is_finite() && t_end >= t0) {
         return Err(fail0(OdeError::InvalidBound {
@@ -224,7 +277,7 @@ where
         }));
     }
     integ.reset(sys, t0, y0, false).map_err(fail0)?;
-    let mut state = EventState::<N>::new();
+    let mut state = EventState::with_dim(integ.dim());
 
     let mut pending = out.next_output();
     while let Some(to) = pending {
@@ -244,19 +297,25 @@ where
     }
     out.on_step(t0, y0);
 
-    let mut y_out = SVector::<f64, N>::zeros();
+    let mut y_out = zeros(integ.dim());
     while integ.t() < t_end {
         integ.step(sys, t_end).map_err(|e| fail(integ, e))?;
-        while let Some(hit) = find_first_event(integ, sys, events, event_opts, &mut state) {
+        loop {
+            let hit = match find_first_event(integ, sys, events, event_opts, &mut state) {
+                Ok(Some(hit)) => hit,
+                Ok(None) => break,
+                Err(e) => return Err(fail(integ, e)),
+            };
             emit_outputs(integ, sys, hit.t, &mut pending, out, &mut y_out);
-            out.on_event(&hit);
+            out.on_event(hit);
             if events.terminal(hit.index) {
-                integ.truncate(sys, hit.t).map_err(|e| fail(integ, e))?;
+                let (index, t_hit) = (hit.index, hit.t);
+                integ.truncate(sys, t_hit).map_err(|e| fail(integ, e))?;
                 out.on_step(integ.t(), integ.y());
                 return Ok(SolveReport {
-                    stopped: Stopped::Event(hit.index, hit.t),
+                    stopped: Stopped::Event(index, t_hit),
                     t: integ.t(),
-                    y: *integ.y(),
+                    y: integ.y().clone(),
                     stats: *integ.stats(),
                 });
             }
@@ -268,7 +327,7 @@ where
     Ok(SolveReport {
         stopped: Stopped::Reached,
         t: integ.t(),
-        y: *integ.y(),
+        y: integ.y().clone(),
         stats: *integ.stats(),
     })
 }

@@ -603,11 +603,7 @@ impl SnubberRing {
                     Branch::Inner => Branch::Outer(if s >= 0.0 { 1 } else { -1 }),
                     Branch::Outer(_) => Branch::Inner,
                 };
-                set_branch(
-                    &mut next,
-                    axis,
-                    flip(branch_of(b, axis), c.s[axis.index()]),
-                );
+                set_branch(&mut next, axis, flip(branch_of(b, axis), c.s[axis.index()]));
                 // A corner: the other axis crosses its preload at the same instant.
                 let other = axis.other();
                 let d = self.axis(other).preload;
@@ -633,10 +629,7 @@ impl SnubberRing {
                     s: c.s,
                 })
             }
-            _ => Err(RingError::NoPlacement {
-                x: k.r.x,
-                y: k.r.y,
-            }),
+            _ => Err(RingError::NoPlacement { x: k.r.x, y: k.r.y }),
         }
     }
 
@@ -683,8 +676,8 @@ impl SnubberRing {
         let load = c.loss_force(&k.v);
         let stiffness = self.x.stiffness.max(self.y.stiffness);
         let rounding = c.loss_force_rounding(stiffness, gap, &k.v);
-        let starts = load > rounding
-            || (load >= -rounding && self.loss_force_rate(&c, k, &accel) > 0.0);
+        let starts =
+            load > rounding || (load >= -rounding && self.loss_force_rate(&c, k, &accel) > 0.0);
         if starts {
             return Ok(RingTransition {
                 mode: RingMode::Contact(b),

@@ -32,6 +32,7 @@ use thiserror::Error;
 pub mod branch;
 mod element;
 mod locate;
+pub mod onset;
 mod regime;
 mod relax;
 

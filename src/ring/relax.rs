@@ -155,4 +155,49 @@ impl Relaxation {
         let s = ring.relax(&self.s0, t - self.t0);
         (s, ring.relax_velocity(&s))
     }
+
+    /// Absolute times $t_0 + t_{1,i}$ at which each axis of the free ring comes back inside its
+    /// preload ([`SnubberRing::time_to_preload`]): there the ring's velocity drops by the factor
+    /// 2 and $h^\prime$ jumps, so the search is cut there. Infinity for an axis that never crosses: at
+    /// rest, inside its preload from the start, without preload, or without ring damping.
+    pub fn preload_crossings(&self, ring: &SnubberRing) -> Vector2<f64> {
+        let t1 = ring.time_to_preload(&self.s0);
+        let crossing = |i: usize, axis: &RingAxis| {
+            if ring.damping > 0.0 && axis.preload > 0.0 && !axis.is_inside(self.s0[i]) {
+                self.t0 + t1[i]
+            } else {
+                f64::INFINITY
+            }
+        };
+        Vector2::new(crossing(0, &ring.x), crossing(1, &ring.y))
+    }
+
+    /// Position and *right* velocity $s^\prime(t^+)$ at `t`, on the smooth piece that starts at or
+    /// contains `t`: an axis is on its inner piece from its crossing time (`crossings`, from
+    /// [`Relaxation::preload_crossings`]) on, included, so that a node on a crossing gets the
+    /// derivatives of the piece after it. Without ring damping the ring is at its centre (the
+    /// right limit at $t_0$ of the instantaneous relaxation).
+    pub(crate) fn right_state(
+        &self,
+        ring: &SnubberRing,
+        crossings: &Vector2<f64>,
+        t: f64,
+    ) -> (Vector2<f64>, Vector2<f64>) {
+        if self.s0 == Vector2::zeros() || ring.damping == 0.0 {
+            return (Vector2::zeros(), Vector2::zeros());
+        }
+        let s = ring.relax(&self.s0, t - self.t0);
+        let tc = ring.relaxation_time();
+        let v = |i: usize, axis: &RingAxis| {
+            // Beyond the preload (or without one) only one unit pushes back.
+            let beyond = !axis.is_inside(self.s0[i]) && t < crossings[i];
+            let push = if beyond {
+                s[i] + axis.preload.copysign(self.s0[i])
+            } else {
+                s[i]
+            };
+            -push / tc[i]
+        };
+        (s, Vector2::new(v(0, &ring.x), v(1, &ring.y)))
+    }
 }

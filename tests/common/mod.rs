@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use jeffcott::ode::OdeSystem;
-use nalgebra::SVector;
+use nalgebra::{SVector, U4};
 
 /// State of the planar two-body problem.
 pub type V4 = SVector<f64, 4>;
@@ -14,7 +14,7 @@ pub struct Kepler {
     pub e: f64,
 }
 
-impl OdeSystem<4> for Kepler {
+impl OdeSystem<U4> for Kepler {
     fn rhs(&self, _t: f64, y: &V4, dy: &mut V4) {
         let r2 = y[0] * y[0] + y[1] * y[1];
         let r3 = r2 * r2.sqrt();

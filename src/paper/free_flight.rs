@@ -18,7 +18,10 @@
 //! ($\tfrac{d}{d\tau}(|w|^2+|w'|^2) = -4\nu_1|w'|^2$), which gives the bounds that the contact
 //! search needs (see [`FreeFlight::bounds`]).
 
+use nalgebra::Vector2;
+
 use crate::params::Params;
+use crate::ring::onset::{MotionBounds, RotorMotion};
 
 /// Complex number as `(re, im)`: only the few operations the closed form needs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -148,19 +151,6 @@ pub struct FreeFlight {
     energy_sqrt: f64,
 }
 
-/// Bounds on the rotor's motion valid for every time after a segment's start.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MotionBounds {
-    /// Bound on $|r - e|$.
-    pub position: f64,
-    /// Bound on $|r'|$.
-    pub velocity: f64,
-    /// Bound on $|r''|$.
-    pub acceleration: f64,
-    /// Bound on $|r'''|$.
-    pub jerk: f64,
-}
-
 impl FreeFlight {
     /// Start time of the segment.
     pub fn start(&self) -> f64 {
@@ -201,9 +191,10 @@ impl FreeFlight {
         ([z.0, z.1, v.0, v.1], [acc.0, acc.1])
     }
 
-    /// Bounds on $|r-e|$, $|r'|$, $|r''|$, $|r'''|$ valid for all $t \ge t_0$: the particular
-    /// orbit is a circle of radius $|Z|$ run at speed $\eta$, and the homogeneous part's
-    /// energy $E_w = |w|^2 + |w'|^2$ is non-increasing, so $|w|, |w'| \le \sqrt{E_w}$,
+    /// Bounds on $|r|$, $|r'|$, $|r''|$, $|r'''|$ valid for all $t \ge t_0$: the particular
+    /// orbit is a circle of radius $|Z|$ about $e$ run at speed $\eta$, and the homogeneous
+    /// part's energy $E_w = |w|^2 + |w'|^2$ is non-increasing, so $|w|, |w'| \le \sqrt{E_w}$,
+    /// $|r| \le |e| + |Z| + \sqrt{E_w}$,
     /// $|w''| = |2\nu_1 w' + w| \le (1 + 2\nu_1)\sqrt{E_w}$ and
     /// $|w'''| = |2\nu_1 w'' + w'| \le (1 + 2\nu_1(1 + 2\nu_1))\sqrt{E_w}$.
     pub fn bounds(&self) -> MotionBounds {
@@ -212,7 +203,7 @@ impl FreeFlight {
         let e = self.energy_sqrt;
         let n2 = 2.0 * o.nu1;
         MotionBounds {
-            position: a + e,
+            position: self.eccentricity_norm() + (a + e),
             velocity: a * o.eta + e,
             acceleration: a * o.eta * o.eta + (1.0 + n2) * e,
             jerk: a * o.eta.powi(3) + (1.0 + n2 * (1.0 + n2)) * e,
@@ -223,6 +214,25 @@ impl FreeFlight {
     /// energy at `t` is computed from the state there).
     pub fn bounds_from(&self, t: f64, y: &RotorState) -> MotionBounds {
         self.osc.segment(t, y).bounds()
+    }
+}
+
+impl RotorMotion for FreeFlight {
+    fn start(&self) -> f64 {
+        self.t0
+    }
+
+    fn kinematics(&self, t: f64) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>) {
+        let (y, a) = self.state_accel(t);
+        (
+            Vector2::new(y[0], y[1]),
+            Vector2::new(y[2], y[3]),
+            Vector2::new(a[0], a[1]),
+        )
+    }
+
+    fn bounds(&self) -> MotionBounds {
+        FreeFlight::bounds(self)
     }
 }
 
@@ -336,7 +346,7 @@ mod tests {
                     -amp * p.eta * th.sin() - 2.0 * nu1 * a[0] - y[2],
                     amp * p.eta * th.cos() - 2.0 * nu1 * a[1] - y[3],
                 ];
-                assert!((y[0] - p.ex).hypot(y[1] - p.ey) <= b.position);
+                assert!(y[0].hypot(y[1]) <= b.position);
                 assert!(y[2].hypot(y[3]) <= b.velocity);
                 assert!(a[0].hypot(a[1]) <= b.acceleration);
                 assert!(jerk[0].hypot(jerk[1]) <= b.jerk, "nu1 {nu1}, t {t}");

@@ -13,7 +13,7 @@
 //!
 //! The rotor's closed form is analytic in $\tau$. The ring's is piecewise: an axis that starts
 //! beyond its preload relaxes on one exponential until it is back at $|s_i| = D_i$, at
-//! $t_0 + t_{1,i}$ ([`RelaxingRing::preload_crossings`]), then on another. There $s_i^\prime$
+//! $t_0 + t_{1,i}$ ([`Relaxation::preload_crossings`]), then on another. There $s_i^\prime$
 //! drops by the factor 2, so $h^\prime$ jumps by $-2 q_i \operatorname{sign}(s_i) D_i/T_i$:
 //! upwards when the rotor is on the far side of the ring's centre ($q_i s_i < 0$), where a
 //! Taylor bound built before the crossing and used after it underestimates $h$. The search is
@@ -26,7 +26,7 @@
 //!
 //! From a node $t_k$ to the end of its piece, $|q|, |q^\prime|, |q^{\prime\prime}|,
 //! |q^{\prime\prime\prime}|$ have rigorous bounds: the rotor's from
-//! [`FreeFlight::bounds`](super::free_flight::FreeFlight::bounds) (the homogeneous energy never
+//! [`RotorMotion::bounds`] (for the paper's model [`FreeFlight::bounds`](crate::paper::free_flight::FreeFlight::bounds)) (the homogeneous energy never
 //! grows, for every $\nu_1 \ge 0$: under-, critically and over-damped), the ring's because on a
 //! piece each $|s_i|$ and $|s_i^\prime|$ decrease, with $|s_i^{\prime\prime}| =
 //! |s_i^\prime|/T_i$ and $|s_i^{\prime\prime\prime}| = |s_i^\prime|/T_i^2$. They give
@@ -100,8 +100,7 @@
 
 use nalgebra::Vector2;
 
-use super::free_flight::FreeFlight;
-use crate::ring::{RingAxis, SnubberRing};
+use super::{Relaxation, SnubberRing};
 
 /// The search's stopping tolerance relative to $\gamma^2$: it reports an onset at the first node
 /// where $h \ge -\varepsilon_h$, $\varepsilon_h = 4\varepsilon\gamma^2$.
@@ -123,69 +122,31 @@ pub struct OnsetStats {
     pub evaluations: u64,
 }
 
-/// The relaxing ring from a segment start: `s(t) = relax(s0, t - t0)`.
+/// Bounds on the rotor's motion at the ring's station valid for every time after a free
+/// flight's start.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RelaxingRing {
-    /// Start time.
-    pub t0: f64,
-    /// Ring position at `t0`.
-    pub s0: Vector2<f64>,
+pub struct MotionBounds {
+    /// Bound on $|r|$ (distance from the ring's rest centre).
+    pub position: f64,
+    /// Bound on $|r^\prime|$.
+    pub velocity: f64,
+    /// Bound on $|r^{\prime\prime}|$.
+    pub acceleration: f64,
+    /// Bound on $|r^{\prime\prime\prime}|$.
+    pub jerk: f64,
 }
 
-impl RelaxingRing {
-    /// Position and velocity at `t`.
-    pub fn at(&self, ring: &SnubberRing, t: f64) -> (Vector2<f64>, Vector2<f64>) {
-        if self.s0 == Vector2::zeros() {
-            return (self.s0, self.s0);
-        }
-        let s = ring.relax(&self.s0, t - self.t0);
-        (s, ring.relax_velocity(&s))
-    }
-
-    /// Absolute times $t_0 + t_{1,i}$ at which each axis of the free ring comes back inside its
-    /// preload ([`SnubberRing::time_to_preload`]): there the ring's velocity drops by the factor
-    /// 2 and $h^\prime$ jumps, so the search is cut there. Infinity for an axis that never crosses: at
-    /// rest, inside its preload from the start, without preload, or without ring damping.
-    pub fn preload_crossings(&self, ring: &SnubberRing) -> Vector2<f64> {
-        let t1 = ring.time_to_preload(&self.s0);
-        let crossing = |i: usize, axis: &RingAxis| {
-            if ring.damping > 0.0 && axis.preload > 0.0 && !axis.is_inside(self.s0[i]) {
-                self.t0 + t1[i]
-            } else {
-                f64::INFINITY
-            }
-        };
-        Vector2::new(crossing(0, &ring.x), crossing(1, &ring.y))
-    }
-
-    /// Position and *right* velocity $s^\prime(t^+)$ at `t`, on the smooth piece that starts at or
-    /// contains `t`: an axis is on its inner piece from its crossing time (`crossings`, from
-    /// [`RelaxingRing::preload_crossings`]) on, included, so that a node on a crossing gets the
-    /// derivatives of the piece after it. Without ring damping the ring is at its centre (the
-    /// right limit at $t_0$ of the instantaneous relaxation).
-    fn right_state(
-        &self,
-        ring: &SnubberRing,
-        crossings: &Vector2<f64>,
-        t: f64,
-    ) -> (Vector2<f64>, Vector2<f64>) {
-        if self.s0 == Vector2::zeros() || ring.damping == 0.0 {
-            return (Vector2::zeros(), Vector2::zeros());
-        }
-        let s = ring.relax(&self.s0, t - self.t0);
-        let tc = ring.relaxation_time();
-        let v = |i: usize, axis: &RingAxis| {
-            // Beyond the preload (or without one) only one unit pushes back.
-            let beyond = !axis.is_inside(self.s0[i]) && t < crossings[i];
-            let push = if beyond {
-                s[i] + axis.preload.copysign(self.s0[i])
-            } else {
-                s[i]
-            };
-            -push / tc[i]
-        };
-        (s, Vector2::new(v(0, &ring.x), v(1, &ring.y)))
-    }
+/// The rotor's free motion at the ring's station, known in closed form from a start time on,
+/// with rigorous bounds: what the certified onset search needs from a rotor model that solves
+/// its free flight exactly (the paper's model: [`crate::paper::free_flight::FreeFlight`]).
+pub trait RotorMotion {
+    /// Start time of the closed form.
+    fn start(&self) -> f64;
+    /// Position, velocity and acceleration at the station at time `t >= start()`.
+    fn kinematics(&self, t: f64) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>);
+    /// Bounds on $|r|$, $|r^\prime|$, $|r^{\prime\prime}|$, $|r^{\prime\prime\prime}|$ valid
+    /// for every $t \ge$ `start()` (the search's certificate rests on them).
+    fn bounds(&self) -> MotionBounds;
 }
 
 /// First positive root of $p(u) = c_0 + c_1 u + c_2 u^2 + c_3 u^3$ ($c_3 > 0$, $p(0^+) < 0$);
@@ -268,8 +229,8 @@ fn first_root_quadratic(c0: f64, c1: f64, c2: f64) -> f64 {
 /// start never fires, whatever the rounding of $h^\prime$. `stats` counts the closed-form
 /// evaluations (one per node; a preload crossing inside the window adds at most one node).
 pub fn find_onset(
-    rotor: &FreeFlight,
-    ring_state: &RelaxingRing,
+    rotor: &impl RotorMotion,
+    ring_state: &Relaxation,
     ring: &SnubberRing,
     (t0, t_end): (f64, f64),
     separating: bool,
@@ -281,19 +242,19 @@ pub fn find_onset(
     let inv_t = Vector2::new(inv_or_zero(tc.x), inv_or_zero(tc.y));
     let crossings = ring_state.preload_crossings(ring);
     let rb = rotor.bounds();
-    let r_bound = rotor.eccentricity_norm() + rb.position;
+    let r_bound = rb.position;
     let mut t = t0;
     // Only a segment's start can be touching (right after contact loss, or a touch without
     // load); a later window start is a node like any other.
     let mut first = t0 == rotor.start();
     loop {
-        let (y, acc) = rotor.state_accel(t);
+        let (r, v, acc) = rotor.kinematics(t);
         let (s, sd) = ring_state.right_state(ring, &crossings, t);
         stats.evaluations += 1;
         let sdd = -sd.component_mul(&inv_t);
-        let q = Vector2::new(y[0] - s.x, y[1] - s.y);
-        let q1 = Vector2::new(y[2] - sd.x, y[3] - sd.y);
-        let q2 = Vector2::new(acc[0] - sdd.x, acc[1] - sdd.y);
+        let q = Vector2::new(r.x - s.x, r.y - s.y);
+        let q1 = Vector2::new(v.x - sd.x, v.y - sd.y);
+        let q2 = Vector2::new(acc.x - sdd.x, acc.y - sdd.y);
         let mut h = q.norm_squared() - gap2;
         let mut h1 = 2.0 * q.dot(&q1);
         let h2 = 2.0 * q1.norm_squared() + 2.0 * q.dot(&q2);
@@ -307,14 +268,13 @@ pub fn find_onset(
             // unless h is moving into contact.
             first = false;
             // |r - s|^2 is rounded relative to the size of r and s.
-            let eps_start =
-                eps_h.max(16.0 * f64::EPSILON * ring.gap * (y[0].hypot(y[1]) + s.norm()));
+            let eps_start = eps_h.max(16.0 * f64::EPSILON * ring.gap * (r.x.hypot(r.y) + s.norm()));
             if h.abs() <= eps_start {
                 // Touching at the start: right after contact loss (where h' = 2 gamma N / c
                 // is zero up to the rounding of the loss time) or a start on the ring. Only a
                 // clear move into contact fires: h' above its rounding level (relative 1e-9
                 // of its scale), or h' at that level with h'' > 0.
-                let scale = 2.0 * q.norm() * (y[2].hypot(y[3]) + sd.norm() + 1e-300);
+                let scale = 2.0 * q.norm() * (v.x.hypot(v.y) + sd.norm() + 1e-300);
                 if h1.abs() <= 1e-9 * scale || separating {
                     h1 = h1.min(0.0);
                 }

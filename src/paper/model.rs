@@ -4,17 +4,19 @@
 
 use std::cell::Cell;
 
-use nalgebra::{SVector, Vector2};
+use nalgebra::{SVector, Vector2, U6};
 
 use super::free_flight::{FreeFlight, FreeOscillator};
-use super::onset::{find_onset, Onset, OnsetStats, RelaxingRing};
 use crate::hybrid::{
-    simulate, ExactSegment, Flow, ModelError, OutputPlan, RotorModel, SimError, SimOptions,
-    SimStats, Trajectory,
+    simulate, ExactSegment, Flow, GuardCrossing, ModelError, OutputPlan, RotorModel, SimError,
+    SimOptions, SimStats, Trajectory,
 };
 use crate::ode::Direction;
 use crate::params::{ParamError, Params};
-use crate::ring::{Kinematics, RingAxis, RingCache, RingError, RingGuard, RingMode, SnubberRing};
+use crate::ring::onset::{find_onset, Onset, OnsetStats};
+use crate::ring::{
+    Kinematics, Relaxation, RingAxis, RingCache, RingError, RingGuard, RingMode, SnubberRing,
+};
 
 /// State `[x, y, x', y', x_s, y_s]`: rotor position and velocity, ring position.
 pub type State = SVector<f64, 6>;
@@ -72,9 +74,9 @@ pub struct JeffcottModel {
 #[error("{error}")]
 pub struct RunFailure {
     /// The error, with the last good time and state.
-    pub error: SimError<6>,
+    pub error: SimError<U6>,
     /// Everything recorded up to the failure.
-    pub partial: Trajectory<6>,
+    pub partial: Trajectory<U6>,
 }
 
 /// Per-run scratch: the ring's cache (guards and the vector field evaluate the ring at the
@@ -177,7 +179,7 @@ impl JeffcottModel {
         y0: &State,
         plan: &OutputPlan,
         opts: &SimOptions,
-    ) -> Result<(Trajectory<6>, SimStats), Box<RunFailure>> {
+    ) -> Result<(Trajectory<U6>, SimStats), Box<RunFailure>> {
         let mut traj = Trajectory::default();
         match simulate(self, t0, y0, plan, opts, &mut traj) {
             Ok(stats) => Ok((traj, stats)),
@@ -191,14 +193,15 @@ impl JeffcottModel {
     /// Stroboscopic states $y(2\pi k/\eta)$ for `k = first..=last`, from `y0` at time 0.
     ///
     /// # Errors
-    /// [`RunFailure`] carrying the error and the states computed before it.
+    /// [`RunFailure`] carrying the error and the states computed before it; a reversed range
+    /// (`first > last`) is [`crate::hybrid::SimErrorKind::InvalidOption`].
     pub fn stroboscopic(
         &self,
         y0: &State,
         first: u64,
         last: u64,
         opts: &SimOptions,
-    ) -> Result<(Trajectory<6>, SimStats), Box<RunFailure>> {
+    ) -> Result<(Trajectory<U6>, SimStats), Box<RunFailure>> {
         let plan = OutputPlan::strobe(self.params.forcing_period(), first, last);
         self.run(0.0, y0, &plan, opts)
     }
@@ -236,7 +239,7 @@ impl JeffcottModel {
 pub struct FreeSegment {
     rotor: FreeFlight,
     start: [f64; 4],
-    relax: RelaxingRing,
+    relax: Relaxation,
     ring: SnubberRing,
     stats: OnsetStats,
     /// The search is run in chunks ending on multiples of this (the forcing period), never at
@@ -250,7 +253,7 @@ pub struct FreeSegment {
     separating: bool,
 }
 
-impl ExactSegment<6> for FreeSegment {
+impl ExactSegment<U6> for FreeSegment {
     fn eval(&self, t: f64, y: &mut State, dy: &mut State) {
         let (mut r, acc) = self.rotor.state_accel(t);
         if t == self.rotor.start() {
@@ -263,11 +266,11 @@ impl ExactSegment<6> for FreeSegment {
         *dy = State::from([r[2], r[3], acc[0], acc[1], sd.x, sd.y]);
     }
 
-    fn next_guard(&mut self, t_from: f64, t_to: f64) -> Option<(usize, f64)> {
+    fn next_guard(&mut self, t_from: f64, t_to: f64) -> Option<GuardCrossing> {
         self.searched_to = self.searched_to.max(t_from);
         loop {
             if let Some(t) = self.found {
-                return (t <= t_to).then_some((0, t));
+                return (t <= t_to).then_some(GuardCrossing { guard: 0, t });
             }
             if self.searched_to >= t_to {
                 return None;
@@ -295,10 +298,19 @@ impl ExactSegment<6> for FreeSegment {
     }
 }
 
-impl RotorModel<6> for JeffcottModel {
+impl RotorModel for JeffcottModel {
+    type Dim = U6;
     type Mode = Mode;
     type Segment = FreeSegment;
     type Cache = Cache;
+
+    fn dim(&self) -> U6 {
+        U6
+    }
+
+    fn new_cache(&self) -> Cache {
+        Cache::default()
+    }
 
     fn initial_mode(&self, t: f64, y: &State) -> Result<Mode, ModelError> {
         self.ring
@@ -408,16 +420,13 @@ impl RotorModel<6> for JeffcottModel {
         let (relax, separating) = match mode {
             RingMode::Free { relax, separating } => (relax, separating),
             // Never started for a contact mode (it is integrated); a ring at rest is harmless.
-            _ => (crate::ring::Relaxation::at_rest(t), false),
+            _ => (Relaxation::at_rest(t), false),
         };
         let start = [y[0], y[1], y[2], y[3]];
         FreeSegment {
             rotor: self.osc.segment(t, &start),
             start,
-            relax: RelaxingRing {
-                t0: relax.t0,
-                s0: relax.s0,
-            },
+            relax,
             ring: self.ring,
             stats: OnsetStats::default(),
             chunk: self.params.forcing_period(),

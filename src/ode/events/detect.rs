@@ -1,0 +1,519 @@
+//! The detector: [`find_first_event`].
+
+use super::state::{Leave, Scratch, Slot};
+use super::{Direction, EventHit, EventOptions, EventSet, EventState};
+use crate::ode::roots::illinois;
+use crate::ode::{Integrator, OdeError, OdeSystem};
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
+
+/// Evaluates the dense output, exactly at the step ends.
+fn y_at<D, S, I>(integ: &mut I, sys: &S, t: f64, out: &mut OVector<f64, D>)
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+{
+    if t == integ.t() {
+        out.copy_from(integ.y());
+    } else if t == integ.t_prev() {
+        out.copy_from(integ.y_prev());
+    } else {
+        integ.dense(sys, t, out);
+    }
+}
+
+/// Whether the cubic Hermite interpolant through `(t, g, g')` at both ends of
+/// a sample interval (derivatives of opposite signs: one interior extremum)
+/// reaches zero, or at least half of the way from the nearer end value to
+/// zero, at its interior extremum.
+fn hermite_extremum_near_zero(a: (f64, f64, f64), b: (f64, f64, f64)) -> bool {
+    let (ta, ga, da) = a;
+    let (tb, gb, db) = b;
+    let h = tb - ta;
+    // p(s) = c0 + c1 s + c2 s^2 + c3 s^3 on s in [0, 1].
+    let (c0, c1) = (ga, h * da);
+    let c2 = 3.0 * (gb - ga) - h * (2.0 * da + db);
+    let c3 = 2.0 * (ga - gb) + h * (da + db);
+    let p = |s: f64| c0 + s * (c1 + s * (c2 + s * c3));
+    // p'(s) = c1 + 2 c2 s + 3 c3 s^2.
+    let (qa, qb, qc) = (3.0 * c3, 2.0 * c2, c1);
+    let mut roots = [f64::NAN; 2];
+    if qa.abs() <= 1e-14 * (qb.abs() + qc.abs()) {
+        if qb != 0.0 {
+            roots[0] = -qc / qb;
+        }
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc >= 0.0 {
+            let q = -0.5 * (qb + qb.signum() * disc.sqrt());
+            roots[0] = q / qa;
+            if q != 0.0 {
+                roots[1] = qc / q;
+            }
+        }
+    }
+    let nearer = ga.abs().min(gb.abs());
+    let mut any = false;
+    for s in roots {
+        if s > 0.0 && s < 1.0 {
+            any = true;
+            let v = p(s);
+            if v == 0.0 || (v > 0.0) != (ga > 0.0) || v.abs() <= 0.5 * nearer {
+                return true;
+            }
+        }
+    }
+    // No interior extremum of the interpolant despite the derivative signs:
+    // be safe and search.
+    !any
+}
+
+/// Locates the root of event `i` in the bracket `lo`..`hi` (values of
+/// opposite sign, or zero at `hi`); returns the post-crossing end.
+#[allow(clippy::too_many_arguments)]
+fn locate<D, S, I, E>(
+    integ: &mut I,
+    sys: &S,
+    events: &E,
+    i: usize,
+    lo: (f64, f64),
+    hi: (f64, f64),
+    tol: f64,
+    max_iter: usize,
+    tmp: &mut OVector<f64, D>,
+) -> f64
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    illinois(lo.0, lo.1, hi.0, hi.1, tol, max_iter, |t| {
+        y_at(integ, sys, t, tmp);
+        events.value(i, t, tmp)
+    })
+    .hi
+}
+
+/// Look for the earliest event on the last step of `integ` using its dense
+/// output; returns the earliest hit with the root located to near machine
+/// precision by the Illinois method (ties: smallest index). See the [module
+/// docs](super) for the detection algorithm, its guarantee and the
+/// start-of-segment and re-arming rules.
+///
+/// The hit is held by `state` (a reference is returned, nothing is
+/// allocated); clone it to keep it past the next call (`.copied()` on the
+/// result for fixed dimensions). Every event of the set is considered,
+/// however many. Counts the hit in `integ.stats().events` and the rhs
+/// evaluations made for event derivatives in `rhs_evals`.
+///
+/// # Errors
+/// [`OdeError::InvalidOption`] if `opts` is invalid
+/// ([`EventOptions::validate`]); nothing is evaluated then.
+pub fn find_first_event<'s, D, S, I, E>(
+    integ: &mut I,
+    sys: &S,
+    events: &E,
+    opts: &EventOptions,
+    state: &'s mut EventState<D>,
+) -> Result<Option<&'s EventHit<D>>, OdeError>
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    opts.validate()?;
+    let t_prev = integ.t_prev();
+    let t_end = integ.t();
+    let ne = events.len();
+    if ne == 0 || t_end.partial_cmp(&t_prev) != Some(std::cmp::Ordering::Greater) {
+        return Ok(None);
+    }
+    // Where to start: after the last hit on this same step, else t_prev.
+    let mut start = t_prev;
+    if let Some((tp, th)) = state.resume {
+        if tp == t_prev && th > t_prev {
+            if th >= t_end {
+                return Ok(None);
+            }
+            start = th;
+        }
+    }
+    state.prepare(integ.dim(), ne);
+    let EventState {
+        origin: st_origin,
+        resume,
+        last_hit,
+        slots,
+        scratch,
+        hit,
+    } = state;
+    let Scratch {
+        y_a,
+        f_a,
+        y_b,
+        f_b,
+        y_p,
+        tmp,
+        f_c,
+        zero,
+    } = scratch;
+    let slots = &mut slots[..ne];
+
+    let origin = match *st_origin {
+        None => {
+            *st_origin = Some(start);
+            start
+        }
+        Some(o) => o,
+    };
+    let at_origin = origin == start;
+
+    let m = opts.samples_per_step;
+    let max_iter = opts.max_iter;
+    let vtol = opts.value_tol;
+    let tol_at = |t: f64| opts.root_tol.max(4.0 * f64::EPSILON * t.abs());
+    // Twice the root tolerance of any interval of this step (the zero left by
+    // a hit located on an earlier, similar step is within it).
+    let window = opts
+        .rearm_time
+        .max(2.0 * tol_at(start.abs().max(t_end.abs())));
+    let span = t_end - start;
+    // Probe point of guards that may have left zero at the origin.
+    let t_probe = start
+        + (4.0 * window)
+            .max(span * 2f64.powi(-20))
+            .min(span / (2 * (m + 1)) as f64);
+    let mut probed = false;
+
+    y_at(integ, sys, start, y_a);
+
+    let mut any_der = false;
+    for (i, s) in slots.iter_mut().enumerate() {
+        *s = Slot {
+            active: events.active(i),
+            ..Slot::default()
+        };
+        if s.active {
+            s.has_der = events.derivative(i, start, y_a, zero).is_some();
+            any_der |= s.has_der;
+        }
+    }
+    let need_rhs = any_der && events.derivative_needs_rhs();
+    if need_rhs {
+        sys.rhs(start, y_a, f_a);
+        integ.stats_mut().rhs_evals += 1;
+    }
+    let dy_a: &OVector<f64, D> = if need_rhs { f_a } else { zero };
+    for (i, s) in slots.iter_mut().enumerate() {
+        if !s.active {
+            continue;
+        }
+        let g = events.value(i, start, y_a);
+        s.g_ref = g;
+        s.g_origin = g;
+        s.armed = if at_origin {
+            g.abs() > vtol
+        } else {
+            g != 0.0 && !g.is_nan()
+        };
+        if at_origin && !s.armed {
+            if let Some((j, d)) = *last_hit {
+                if j == i {
+                    // The event that just fired keeps its post-crossing sign.
+                    s.armed = true;
+                    s.g_ref = if d == Direction::Falling {
+                        -f64::MIN_POSITIVE
+                    } else {
+                        f64::MIN_POSITIVE
+                    };
+                }
+            }
+        }
+        if s.has_der {
+            s.d_ref = events.derivative(i, start, y_a, dy_a).unwrap_or(0.0);
+        }
+        let just_fired = matches!(*last_hit, Some((j, _)) if j == i);
+        if at_origin && !just_fired && !g.is_nan() {
+            // How this guard may leave zero (start-of-segment rule).
+            s.leave = if s.d_ref != 0.0 && !s.d_ref.is_nan() {
+                let on_zero =
+                    g.abs() <= vtol || (g * s.d_ref < 0.0 && g.abs() <= s.d_ref.abs() * window);
+                if on_zero {
+                    Leave::Towards(s.d_ref.signum())
+                } else {
+                    Leave::No
+                }
+            } else {
+                Leave::Probe
+            };
+        }
+    }
+
+    let mut t_a = start;
+    for k in 1..=m + 1 {
+        let t_b = if k == m + 1 {
+            t_end
+        } else {
+            start + span * (k as f64 / (m + 1) as f64)
+        };
+        y_at(integ, sys, t_b, y_b);
+        if need_rhs {
+            sys.rhs(t_b, y_b, f_b);
+            integ.stats_mut().rhs_evals += 1;
+        }
+        let dy_b: &OVector<f64, D> = if need_rhs { f_b } else { zero };
+        // Best candidate of this interval: (t, index, direction).
+        let mut best: Option<(f64, usize, Direction)> = None;
+        for (i, s) in slots.iter_mut().enumerate() {
+            if !s.active {
+                continue;
+            }
+            let g_b = events.value(i, t_b, y_b);
+            let d_b = if s.has_der {
+                events.derivative(i, t_b, y_b, dy_b).unwrap_or(0.0)
+            } else {
+                0.0
+            };
+            if g_b.is_nan() {
+                // No information at this sample: keep the previous reference.
+                continue;
+            }
+            let allowed = events.direction(i);
+            let tol = tol_at(t_a.abs().max(t_b.abs()));
+            let ignorable = |r: f64| at_origin && r - start <= window;
+            let mut candidate: Option<(f64, Direction)> = None;
+            // A guard on zero at the origin that left it on the other side of
+            // g_b and came back is only visible at the probe point.
+            let mut check_return = false;
+            if !s.armed {
+                if g_b.abs() > vtol && g_b != 0.0 {
+                    s.armed = true;
+                    s.g_ref = g_b;
+                    check_return = s.leave != Leave::No;
+                }
+                s.d_ref = d_b;
+                if !check_return {
+                    continue;
+                }
+            } else {
+                let g_a = s.g_ref;
+                let dir_first = if g_a < 0.0 {
+                    Direction::Rising
+                } else {
+                    Direction::Falling
+                };
+                if g_b == 0.0 || (g_b > 0.0) != (g_a > 0.0) {
+                    if allowed.allows(dir_first) {
+                        let r = locate(
+                            integ,
+                            sys,
+                            events,
+                            i,
+                            (t_a, g_a),
+                            (t_b, g_b),
+                            tol,
+                            max_iter,
+                            tmp,
+                        );
+                        if !ignorable(r) {
+                            candidate = Some((r, dir_first));
+                        }
+                    }
+                } else {
+                    if s.has_der
+                        && s.d_ref != 0.0
+                        && d_b != 0.0
+                        && (s.d_ref > 0.0) != (d_b > 0.0)
+                        && hermite_extremum_near_zero((t_a, g_a, s.d_ref), (t_b, g_b, d_b))
+                    {
+                        candidate = grazing_pair(
+                            integ,
+                            sys,
+                            events,
+                            i,
+                            (t_a, g_a, s.d_ref),
+                            (t_b, g_b, d_b),
+                            (tol, max_iter, need_rhs),
+                            tmp,
+                            f_c,
+                            zero,
+                            ignorable,
+                        );
+                    }
+                    // No sign change over the first interval: it may hide a
+                    // departure from zero and the crossing back.
+                    check_return = k == 1
+                        && candidate.is_none()
+                        && match s.leave {
+                            Leave::No => false,
+                            Leave::Towards(_) => true,
+                            Leave::Probe => s.g_origin.abs() <= g_b.abs(),
+                        };
+                }
+                if g_b == 0.0 {
+                    s.armed = false;
+                }
+                s.g_ref = g_b;
+                s.d_ref = d_b;
+            }
+            if check_return && g_b != 0.0 {
+                // The crossing back ends on the side of g_b.
+                let dir_back = if g_b > 0.0 {
+                    Direction::Rising
+                } else {
+                    Direction::Falling
+                };
+                let left_to_other_side = match s.leave {
+                    Leave::Towards(sign) => (sign > 0.0) != (g_b > 0.0),
+                    _ => true,
+                };
+                if allowed.allows(dir_back) && left_to_other_side {
+                    if !probed {
+                        y_at(integ, sys, t_probe, y_p);
+                        probed = true;
+                    }
+                    let g_p = events.value(i, t_probe, y_p);
+                    let g_o = s.g_origin;
+                    // The probe must be beyond value_tol on the other side,
+                    // and, without a derivative, the guard must have reached
+                    // zero within the window (secant from the origin).
+                    let left = g_p.abs() > vtol
+                        && (g_p > 0.0) != (g_b > 0.0)
+                        && (s.leave != Leave::Probe
+                            || g_o.abs() <= vtol
+                            || g_o.abs() * (t_probe - start) <= (g_p - g_o).abs() * window);
+                    if left {
+                        let r = locate(
+                            integ,
+                            sys,
+                            events,
+                            i,
+                            (t_probe, g_p),
+                            (t_b, g_b),
+                            tol,
+                            max_iter,
+                            tmp,
+                        );
+                        if !ignorable(r) {
+                            candidate = Some((r, dir_back));
+                        }
+                    }
+                }
+            }
+            if let Some((r, d)) = candidate {
+                if best.is_none_or(|(tb, _, _)| r < tb) {
+                    best = Some((r, i, d));
+                }
+            }
+        }
+        if let Some((r, i, d)) = best {
+            y_at(integ, sys, r, &mut hit.y);
+            hit.index = i;
+            hit.t = r;
+            hit.direction = d;
+            *st_origin = Some(r);
+            *resume = Some((t_prev, r));
+            *last_hit = Some((i, d));
+            integ.stats_mut().events += 1;
+            return Ok(Some(hit));
+        }
+        t_a = t_b;
+    }
+    Ok(None)
+}
+
+/// Searches a possible grazing pair of event `i` in the sample interval
+/// `a`..`b` (values of the same sign, derivatives of opposite signs): moves
+/// towards the extremum by the Illinois method on $\dot g$ and stops as soon
+/// as $g$ changes sign; then locates the first root in an allowed direction.
+#[allow(clippy::too_many_arguments)]
+fn grazing_pair<D, S, I, E>(
+    integ: &mut I,
+    sys: &S,
+    events: &E,
+    i: usize,
+    a: (f64, f64, f64),
+    b: (f64, f64, f64),
+    (tol, max_iter, need_rhs): (f64, usize, bool),
+    tmp: &mut OVector<f64, D>,
+    f_c: &mut OVector<f64, D>,
+    zero: &OVector<f64, D>,
+    ignorable: impl Fn(f64) -> bool,
+) -> Option<(f64, Direction)>
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    let (t_a, g_a, d_a) = a;
+    let (t_b, g_b, d_b) = b;
+    let dir_first = if g_a < 0.0 {
+        Direction::Rising
+    } else {
+        Direction::Falling
+    };
+    let allowed = events.direction(i);
+    let mut crossed: Option<(f64, f64)> = None;
+    let pos_g = g_a > 0.0;
+    let mut evals = 0u64;
+    illinois(t_a, d_a, t_b, d_b, tol, max_iter, |t| {
+        if crossed.is_some() {
+            return 0.0; // terminate: bracket found
+        }
+        y_at(integ, sys, t, tmp);
+        let g = events.value(i, t, tmp);
+        if g == 0.0 || (g > 0.0) != pos_g {
+            crossed = Some((t, g));
+            return 0.0;
+        }
+        if need_rhs {
+            sys.rhs(t, tmp, f_c);
+            evals += 1;
+        }
+        let dy: &OVector<f64, D> = if need_rhs { f_c } else { zero };
+        events.derivative(i, t, tmp, dy).unwrap_or(0.0)
+    });
+    integ.stats_mut().rhs_evals += evals;
+    let (c, g_c) = crossed?;
+    if allowed.allows(dir_first) {
+        let r = locate(
+            integ,
+            sys,
+            events,
+            i,
+            (t_a, g_a),
+            (c, g_c),
+            tol,
+            max_iter,
+            tmp,
+        );
+        if !ignorable(r) {
+            return Some((r, dir_first));
+        }
+    }
+    if allowed.allows(dir_first.opposite()) && g_c != 0.0 {
+        let r = locate(
+            integ,
+            sys,
+            events,
+            i,
+            (c, g_c),
+            (t_b, g_b),
+            tol,
+            max_iter,
+            tmp,
+        );
+        if !ignorable(r) {
+            return Some((r, dir_first.opposite()));
+        }
+    }
+    None
+}

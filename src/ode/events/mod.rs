@@ -1,0 +1,327 @@
+//! Event functions, their detection on the dense output of the last step, and
+//! root location by the Illinois method ([`roots::illinois`](super::roots::illinois)).
+//!
+//! An event set is either a type implementing [`EventSet`] or a list of
+//! closures wrapped in [`EventFns`]. [`find_first_event`] looks for the
+//! earliest crossing on the last step of an [`Integrator`](super::Integrator);
+//! [`EventState`] carries what it needs between calls (the segment origin,
+//! per-event bookkeeping sized from the set, and scratch vectors), so that
+//! detection never allocates once warm, whatever the dimension and however
+//! many events the set has.
+//!
+//! # Detection
+//!
+//! For the last accepted step $[t_{\text{prev}}, t]$ (or its part after the
+//! last reported hit, see [`EventState`]) the detector evaluates every active
+//! event $g_i$ at `samples_per_step` equally spaced interior dense-output
+//! points plus both ends. Scanning the sample intervals in time order:
+//!
+//! * **sign change** — $g_i(a) \ne 0$ and ($g_i(b) = 0$ or
+//!   $\operatorname{sign} g_i(b) \ne \operatorname{sign} g_i(a)$): a crossing
+//!   bracketed in $[a, b]$; rising if $g_i(a) < 0$, falling otherwise. If the
+//!   direction is allowed, the root is located by the Illinois method.
+//! * **grazing pair** — no sign change, but the event supplies
+//!   [`EventSet::derivative`] and $\dot g_i$ changes sign between $a$ and $b$
+//!   (the derivative is evaluated with $\dot y = f(t, y_{\text{dense}}(t))$):
+//!   the extremum is bracketed; the Illinois method on $\dot g_i$ moves
+//!   towards it, and as soon as a probe $c$ has $g_i(c)$ of the opposite sign
+//!   (or zero) the two roots are bracketed by $[a, c]$ and $[c, b]$. The
+//!   first one in an allowed direction is located.
+//!
+//! The first interval that yields a located root ends the scan; among the
+//! roots found in that interval the earliest wins, ties going to the lowest
+//! event index. The reported time is the end of the final bracket on the
+//! *post-crossing* side (so $g_i$ there already has its new sign, or is 0),
+//! and the bracket is narrower than the time tolerance
+//! $\max(\text{root\_tol}, 4\varepsilon|t|)$.
+//!
+//!   The extremum is searched only when the cubic Hermite interpolant of
+//!   $g_i$ through the two samples (values and derivatives) gets at least
+//!   halfway from the nearer end value towards zero, or across it: an
+//!   extremum far from zero (the usual case, e.g. a ring coordinate turning
+//!   back well inside its preload) costs nothing.
+//!
+//! **Guarantee.** Relative to the dense-output interpolant $u(t)$, every
+//! crossing of an allowed direction is found, provided that between two
+//! consecutive samples $g_i(t, u(t))$ has at most one root, or has two roots
+//! and at most one extremum, the event supplies its derivative, and the
+//! cubic Hermite interpolant of the samples places that extremum at least
+//! halfway to zero (true whenever the Hermite interpolant's error is below
+//! half the end values: a dip missed by it is unresolved by the sampling).
+//! Pairs of roots inside one sample interval are invisible without the
+//! derivative (see the tests: a $10^{-6}$-deep dip inside one large step is
+//! found with the derivative and missed by the plain sign check). At the
+//! start of a segment the rule below adds its own condition.
+//!
+//! # Start of a segment and re-arming (no immediate re-firing)
+//!
+//! The *segment origin* $t_o$ is the left end of the first step scanned after
+//! [`EventState::new`]/[`EventState::reset`], or the time of the last hit
+//! returned. Let $s$ be the length of the scanned step, $m$ =
+//! `samples_per_step`, $t_1$ the first interior sample, and
+//! $w = \max(\text{rearm\_time}, 2\thinspace\text{tol})$ the *re-arm window*,
+//! with tol the time tolerance at the end of the step (twice the bracket
+//! width allowed to the root that defined the origin). At the origin:
+//!
+//! 1. an event with $|g_i(t_o)| >$ `value_tol` is armed with its sign; one
+//!    with $|g_i(t_o)| \le$ `value_tol` (default: exactly 0) is disarmed until
+//!    the first sample with $|g_i| >$ `value_tol`, which becomes its
+//!    reference;
+//! 2. the event of the hit that defined the origin (if the state was not
+//!    reset since) stays armed with its post-crossing sign, so that a
+//!    crossing back inside the same sample interval (the second root of a
+//!    grazing pair) is still found;
+//! 3. **a guard on zero leaves it in the direction it is moving.** Any other
+//!    event is *on zero* at $t_o$ if $|g_i(t_o)| \le$ `value_tol`, or if it
+//!    reaches zero within the window: $g_i \dot g_i < 0$ and
+//!    $|g_i(t_o)| \le |\dot g_i|\thinspace w$ (the round-off left by a located
+//!    root or a reset map). Its direction of motion is the sign of
+//!    $\dot g_i(t_o)$ if the set supplies [`EventSet::derivative`] (and it is
+//!    non-zero); otherwise the sign of $g_i$ at the *probe time*
+//!    $t_p = t_o + \delta$ on the dense output, with
+//!    $$\delta = \min\big(\max(4w,\ 2^{-20} s),\ s/(2(m+1))\big)$$
+//!    (beyond the window, about a millionth of the step, inside the first
+//!    half of the first sample interval), the slope of the test above then
+//!    being the secant $(g_i(t_p) - g_i(t_o))/\delta$. Leaving zero is the
+//!    zero at the start time, never an event. A guard that leaves zero
+//!    *away* from its allowed crossing direction (the `Falling` floor guard
+//!    of a ball bouncing up) and crosses back is an event, found even when
+//!    both crossings fall inside the first sample interval (steps spanning
+//!    whole flights), where the samples at its ends have the same sign: when
+//!    the first sample $t_k$ with $|g_i| >$ `value_tol` (for a guard armed at
+//!    the origin: $t_1$, with no sign change and no grazing pair found)
+//!    shows the guard on the side it must cross back into, in an allowed
+//!    direction, and its motion at $t_o$ pointed the other way, the detector
+//!    evaluates $g_i(t_p)$; if it is beyond `value_tol` on the other side,
+//!    the crossing back is located in $[t_p, t_k]$.
+//!    **Conditions.** The probe is made only when it can change the result
+//!    (a set whose guards never sit on zero sees exactly the evaluations of
+//!    the plain rules). A guard that returns to zero within $\delta$ of the
+//!    origin is taken as part of the start. Without a derivative, the probe
+//!    is made for a guard armed at the origin only if $|g_i(t_1)| \ge
+//!    |g_i(t_o)|$; a departure and return that leave the first sample closer
+//!    to zero than the origin is a pair of roots inside one sample interval,
+//!    which needs the derivative (see the guarantee above). The motion is
+//!    read correctly when the guard moves off zero faster than its round-off:
+//!    with `value_tol` = 0 and roots located to a few ulp this holds unless it
+//!    is tangent to zero at $t_o$;
+//! 4. a root located within the re-arm window $w$ after $t_o$ is treated as
+//!    the zero at the start time (round-off of the event that just fired or of
+//!    a reset map) and is ignored; scanning continues after it.
+//!
+//! Away from the origin, a sample with $g_i = 0$ exactly is the right end of
+//! a reported crossing (if its direction was allowed) and the event stays
+//! disarmed until $g_i \ne 0$ again, so a root is never reported twice.
+//! Samples where $g_i$ is NaN are skipped (the previous reference is kept).
+
+mod closures;
+mod detect;
+mod state;
+
+pub use closures::{EventDerivative, EventFns, NoDerivative};
+pub use detect::find_first_event;
+pub use state::EventState;
+
+use super::OdeError;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, OVector};
+
+/// Maximum number of interior samples per step
+/// ([`EventOptions::samples_per_step`]).
+pub const MAX_SAMPLES: usize = 64;
+
+/// Allowed crossing direction of an event (the crate's one direction type).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Direction {
+    /// $g$ goes from negative to non-negative.
+    Rising,
+    /// $g$ goes from positive to non-positive.
+    Falling,
+    /// Both.
+    Either,
+}
+
+impl Direction {
+    /// Whether a crossing in direction `d` (Rising or Falling) is allowed.
+    pub fn allows(self, d: Direction) -> bool {
+        matches!(self, Direction::Either) || self == d
+    }
+
+    /// The opposite direction (`Either` stays `Either`).
+    pub fn opposite(self) -> Direction {
+        match self {
+            Direction::Rising => Direction::Falling,
+            Direction::Falling => Direction::Rising,
+            Direction::Either => Direction::Either,
+        }
+    }
+}
+
+/// A set of event functions $g_i(t, y)$, $i <$ `len()` (any number: the
+/// detector's bookkeeping grows with the largest set it has seen).
+pub trait EventSet<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Number of events.
+    fn len(&self) -> usize;
+    /// Whether the set is empty.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Allowed crossing direction of event `i`.
+    fn direction(&self, i: usize) -> Direction;
+    /// Whether event `i` stops the integration ([`solve`](super::solve())).
+    fn terminal(&self, i: usize) -> bool {
+        let _ = i;
+        true
+    }
+    /// Value $g_i(t, y)$.
+    fn value(&self, i: usize, t: f64, y: &OVector<f64, D>) -> f64;
+    /// Optional time derivative of event `i` along the flow,
+    /// $\dot g_i = \partial_t g_i + \nabla_y g_i \cdot \dot y$, given `y` and
+    /// `dy` $= f(t, y)$; enables detection of grazing (two roots inside one
+    /// sample interval without a sign change) and gives the direction of a
+    /// guard that is zero at the start of a segment. Must return `None` for
+    /// every argument when not available (the detector probes it once per
+    /// call).
+    fn derivative(
+        &self,
+        i: usize,
+        t: f64,
+        y: &OVector<f64, D>,
+        dy: &OVector<f64, D>,
+    ) -> Option<f64> {
+        let _ = (i, t, y, dy);
+        None
+    }
+    /// Whether [`EventSet::derivative`] reads its `dy` argument. When `false`
+    /// the detector does not evaluate $f$ at the samples (saving one
+    /// right-hand side per sample) and passes zeros as `dy`: return `false`
+    /// when the derivatives are computed from `y` alone (e.g. a mechanical
+    /// system whose velocities are part of the state).
+    fn derivative_needs_rhs(&self) -> bool {
+        true
+    }
+    /// Whether event `i` is currently active (lets a model switch events off
+    /// without reallocating).
+    fn active(&self, i: usize) -> bool {
+        let _ = i;
+        true
+    }
+}
+
+/// The empty event set.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoEvents;
+
+impl<D: Dim> EventSet<D> for NoEvents
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn len(&self) -> usize {
+        0
+    }
+    fn direction(&self, _i: usize) -> Direction {
+        Direction::Either
+    }
+    fn value(&self, _i: usize, _t: f64, _y: &OVector<f64, D>) -> f64 {
+        1.0
+    }
+}
+
+/// A located event. [`find_first_event`] returns a reference to the hit held
+/// by the [`EventState`] (no allocation); clone it to keep it (`Copy` for
+/// fixed dimensions).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EventHit<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Index of the event in its set.
+    pub index: usize,
+    /// Event time (post-crossing end of the final bracket).
+    pub t: f64,
+    /// Dense-output state at `t`.
+    pub y: OVector<f64, D>,
+    /// Direction of the crossing: `Rising` or `Falling`.
+    pub direction: Direction,
+}
+
+impl<D: Dim> Copy for EventHit<D>
+where
+    DefaultAllocator: Allocator<D>,
+    OVector<f64, D>: Copy,
+{
+}
+
+/// Options of the event detector. Every entry point that takes them
+/// ([`find_first_event`], [`solve_with`](super::solve_with)) validates them
+/// first ([`EventOptions::validate`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EventOptions {
+    /// Interior dense-output samples per step, in `1..=`[`MAX_SAMPLES`]
+    /// (others are an [`OdeError::InvalidOption`]). Default `4`.
+    pub samples_per_step: usize,
+    /// Time tolerance of the root finder (units of $t$); the effective
+    /// tolerance is $\max(\text{root\_tol}, 4\varepsilon|t|)$, i.e. about 4
+    /// ulp for the default `0`.
+    pub root_tol: f64,
+    /// Values with $|g| \le$ `value_tol` at the segment origin count as zero
+    /// (the event takes the sign of its motion, see the module docs).
+    /// Default `0`.
+    pub value_tol: f64,
+    /// Re-arm window after the segment origin (units of $t$), see the module
+    /// docs; the effective window is $\max(\text{rearm\_time}, 2\thinspace\text{tol})$.
+    /// Default `0`.
+    pub rearm_time: f64,
+    /// Maximum iterations of each root/extremum search (>= 1). Default `200`.
+    pub max_iter: usize,
+}
+
+impl Default for EventOptions {
+    fn default() -> Self {
+        EventOptions {
+            samples_per_step: 4,
+            root_tol: 0.0,
+            value_tol: 0.0,
+            rearm_time: 0.0,
+            max_iter: 200,
+        }
+    }
+}
+
+impl EventOptions {
+    /// Checks the fields; the error names the offending field.
+    pub fn validate(&self) -> Result<(), OdeError> {
+        let check = |field: &'static str, v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(OdeError::InvalidOption {
+                    field,
+                    value: v,
+                    hint: "event tolerances must be finite and >= 0 (0 = automatic)",
+                })
+            }
+        };
+        check("root_tol", self.root_tol)?;
+        check("value_tol", self.value_tol)?;
+        check("rearm_time", self.rearm_time)?;
+        if self.samples_per_step == 0 || self.samples_per_step > MAX_SAMPLES {
+            return Err(OdeError::InvalidOption {
+                field: "samples_per_step",
+                value: self.samples_per_step as f64,
+                hint: "samples_per_step must be in 1..=MAX_SAMPLES (64); typical 4",
+            });
+        }
+        if self.max_iter == 0 {
+            return Err(OdeError::InvalidOption {
+                field: "max_iter",
+                value: 0.0,
+                hint: "max_iter must be >= 1; typical 200",
+            });
+        }
+        Ok(())
+    }
+}

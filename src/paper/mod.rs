@@ -1,0 +1,9 @@
+//! The paper's model: the Jeffcott rotor with a preloaded snubber ring, as a
+//! [`RotorModel`](crate::hybrid::RotorModel), and the analyses of [`crate::analysis`] over its
+//! parameters ([`ParamSweep`]).
+pub mod free_flight;
+mod model;
+mod sweep;
+
+pub use model::{guard, Cache, FreeSegment, JeffcottModel, Mode, RunFailure, State};
+pub use sweep::{poincare_map, ParamSweep, RotorStart, SweepParameter};

@@ -1,0 +1,145 @@
+//! No heap allocation in the hot loop, for a dimension known at run time:
+//! `step`, `dense`, `find_first_event`, `truncate` and `reset` of a `Dyn`
+//! system allocate nothing once the integrator and the event state exist.
+//! Counted by the `allocation-counter` global allocator (this test binary
+//! only; it counts the allocations of the current thread).
+
+use jeffcott::ode::{
+    find_first_event, AnyIntegrator, Direction, EventFns, EventOptions, EventState, Integrator,
+    Method, Options, Tolerance,
+};
+use nalgebra::{DVector, Dyn};
+
+/// A chain of `m` masses with cubic springs and fixed ends, forced at the
+/// first one: $y = (x, v)$, $n = 2m$.
+fn chain(t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
+    let m = y.len() / 2;
+    for i in 0..m {
+        let left = if i > 0 { y[i - 1] } else { 0.0 };
+        let right = if i + 1 < m { y[i + 1] } else { 0.0 };
+        let stretch = 2.0 * y[i] - left - right;
+        dy[i] = y[m + i];
+        dy[m + i] = -stretch - 0.5 * stretch.powi(3) - 0.05 * y[m + i];
+    }
+    dy[m] += 0.3 * (1.3 * t).cos();
+}
+
+#[test]
+fn thousand_steps_with_events_of_a_dyn_system_allocate_nothing() {
+    let m = 6;
+    let n = 2 * m;
+    for method in Method::ALL {
+        let opts = match method {
+            Method::Rk4 => Options::fixed(0.02),
+            _ => Options {
+                rtol: Tolerance::Scalar(1e-9),
+                atol: Tolerance::PerComponent(DVector::from_element(n, 1e-11)),
+                ..Options::default()
+            },
+        };
+        let mut integ = AnyIntegrator::with_dim(method, Dyn(n), opts).unwrap();
+        // A wall at x_0 = 0.1 (impact: the velocity is reversed), with the
+        // derivative (grazing detection, one rhs per sample), and a
+        // non-terminal level of the last mass.
+        let events = EventFns::new(
+            [Direction::Rising, Direction::Either],
+            move |i, _t, y: &DVector<f64>| {
+                if i == 0 {
+                    y[0] - 0.1
+                } else {
+                    y[m - 1] - 0.01
+                }
+            },
+        )
+        .with_derivative(
+            move |i, _t, _y: &DVector<f64>, dy: &DVector<f64>| {
+                if i == 0 {
+                    dy[0]
+                } else {
+                    dy[m - 1]
+                }
+            },
+        )
+        .terminal([true, false]);
+        let mut state = EventState::with_dim(Dyn(n));
+        let ev_opts = EventOptions::default();
+        let y0 = DVector::from_fn(n, |i, _| 0.05 * (i as f64 + 1.0).sin());
+        let mut y = y0.clone();
+        let mut mid = y0.clone();
+        integ.reset(&chain, 0.0, &y0, false).unwrap();
+
+        let (mut steps, mut impacts, mut levels) = (0, 0, 0);
+        let info = allocation_counter::measure(|| {
+            while steps < 1000 {
+                integ.step(&chain, 1e6).unwrap();
+                steps += 1;
+                let tm = 0.5 * (integ.t_prev() + integ.t());
+                integ.dense(&chain, tm, &mut mid);
+                while let Some(hit) =
+                    find_first_event(&mut integ, &chain, &events, &ev_opts, &mut state).unwrap()
+                {
+                    if hit.index == 1 {
+                        levels += 1;
+                        continue;
+                    }
+                    impacts += 1;
+                    let t_hit = hit.t;
+                    y.copy_from(&hit.y);
+                    integ.truncate(&chain, t_hit).unwrap();
+                    y[m] *= -0.8;
+                    integ.reset(&chain, t_hit, &y, true).unwrap();
+                    state.reset();
+                    break;
+                }
+            }
+        });
+        println!(
+            "{}: {steps} steps to t = {:.1}, {impacts} impacts, {levels} level crossings, {:?}",
+            method.name(),
+            integ.t(),
+            info
+        );
+        assert!(impacts >= 5 && levels >= 5, "{impacts} {levels}");
+        assert_eq!(
+            info.count_total,
+            0,
+            "{}: {} allocations ({} bytes) in 1000 steps",
+            method.name(),
+            info.count_total,
+            info.bytes_total
+        );
+    }
+}
+
+#[test]
+fn event_bookkeeping_grows_once_for_a_larger_set() {
+    let osc = |_t: f64, y: &DVector<f64>, dy: &mut DVector<f64>| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    };
+    let mut integ = AnyIntegrator::with_dim(Method::Dop853, Dyn(2), Options::fixed(0.5)).unwrap();
+    integ
+        .reset(&osc, 0.0, &DVector::from_vec(vec![1.0, 0.0]), false)
+        .unwrap();
+    integ.step(&osc, 10.0).unwrap();
+    // 40 levels of x: more than the state has room for at first.
+    let many = EventFns::new(vec![Direction::Either; 40], |i, _t, y: &DVector<f64>| {
+        y[0] - 1.0 + 0.001 * i as f64
+    });
+    let mut state = EventState::with_dim(Dyn(2));
+    let opts = EventOptions::default();
+    let first = allocation_counter::measure(|| {
+        find_first_event(&mut integ, &osc, &many, &opts, &mut state).unwrap();
+    });
+    // Exactly one: the per-event bookkeeping grows from its initial room
+    // (this also shows that the counter counts).
+    assert_eq!(first.count_total, 1, "{first:?}");
+    for _ in 0..3 {
+        integ.step(&osc, 10.0).unwrap();
+        let again = allocation_counter::measure(|| {
+            state.reset();
+            find_first_event(&mut integ, &osc, &many, &opts, &mut state).unwrap();
+        });
+        assert_eq!(again.count_total, 0, "{again:?}");
+    }
+}
