@@ -36,10 +36,15 @@
 //! $f$ the ring's force on the shaft at the ring station, whose position relative to the
 //! ring's centre is $r = e + \sum_j \phi_j(\xi_r) q_j$.
 //!
-//! Not modelled: shear deformation and rotary inertia (Timoshenko corrections of relative size
-//! $(j r_g/L)^2$, negligible for a slender shaft), gyroscopic moments (none for a shaft without
-//! discs), gravity, and the modes above $n$ (a point force has modal content in every mode;
-//! the truncation error in the station displacements falls like $n^{-3}$).
+//! Why this model: the modes and frequencies of the uniform pinned-pinned beam are exact and in
+//! closed form, so no eigen-solver runs and the modes kept carry no discretisation error; the
+//! first mode fixes the time scale exactly (so $\eta$ keeps the paper's meaning for it); and
+//! the reduction to the paper's rotor is exact, not approximate. Not modelled: shear
+//! deformation, rotary inertia and the gyroscopic moments of the spinning cross-sections
+//! (Timoshenko/Rayleigh corrections of relative size $(j\pi r_g/L)^2$, $r_g$ the section's
+//! radius of gyration: negligible for a slender shaft; there are no discs), gravity, and the
+//! modes above $n$ (a point force has modal content in every mode; the static truncation
+//! error at a station is below $\sum_{j>n} j^{-4} < 1/(3n^3)$ of $f/k_1$).
 //!
 //! # State
 //!
@@ -49,7 +54,7 @@
 
 use std::f64::consts::PI;
 
-use jeffcott::nalgebra::{SVector, Vector2};
+use jeffcott::nalgebra::{DVector, Dyn, Vector2};
 use jeffcott::params::{ParamError, Params};
 use jeffcott::ring::{Kinematics, RingAxis, RingError, SnubberRing};
 use jeffcott::rotor::{RingedRotor, SmoothRotor};
@@ -83,16 +88,6 @@ pub enum ShaftError {
         mode: usize,
         /// The frequency ratio.
         eta: f64,
-    },
-    /// The state size asked for does not fit the number of modes.
-    #[error("a state of dimension {found} does not fit {modes} modes (4 modes + 2 = {expected})")]
-    Dimension {
-        /// Modes of the shaft.
-        modes: usize,
-        /// `4 modes + 2`.
-        expected: usize,
-        /// The dimension asked for.
-        found: usize,
     },
     /// Invalid forcing, damping or ring parameters.
     #[error("invalid parameters: {0}")]
@@ -204,18 +199,8 @@ impl FlexibleShaft {
         (PI * (j * station) as f64 / (stations + 1) as f64).sin()
     }
 
-    /// The parameters.
-    pub fn params(&self) -> &Params {
-        &self.params
-    }
-
-    /// The layout.
-    pub fn layout(&self) -> Layout {
-        self.layout
-    }
-
     /// State dimension, `4 modes + 2`.
-    pub fn dim(&self) -> usize {
+    pub fn state_len(&self) -> usize {
         4 * self.layout.modes + 2
     }
 
@@ -252,6 +237,23 @@ impl FlexibleShaft {
                 0.5 * (m[2] * m[2] + m[3] * m[3] + w * w * (m[0] * m[0] + m[1] * m[1]))
             })
             .sum()
+    }
+
+    /// Radius of the steady whirl of station `i` (1-based) without the ring: the forced
+    /// circular orbit $|\sum_j \phi_j(\xi_i)\phi_j(\xi_u)\beta\eta^2/(j^4 - \eta^2 +
+    /// 2i\zeta j^2\eta)|$ around the station's rest point.
+    pub fn free_whirl_radius(&self, station: usize) -> f64 {
+        let p = &self.params;
+        let (eta, b) = (p.eta, p.forcing_amplitude());
+        let (mut re, mut im) = (0.0, 0.0);
+        for (j, (&w, &phi_u)) in self.omega.iter().zip(&self.at_unbalance).enumerate() {
+            let gain = b * phi_u * Self::shape_at(j + 1, station, self.layout.stations);
+            let (a, c) = (w * w - eta * eta, 2.0 * p.nu1 * w * eta);
+            let d = a * a + c * c;
+            re += gain * a / d;
+            im -= gain * c / d;
+        }
+        re.hypot(im)
     }
 
     /// The unbalance force $\beta\eta^2(\cos, \sin)(\varphi_0 + \eta\tau)$ at time `t`.
@@ -302,21 +304,26 @@ impl FlexibleShaft {
         }
     }
 
-    /// Indices of the ring's position in the state.
+    /// Indices of the ring's position in the state, `4 modes` and `4 modes + 1`.
     pub fn ring_slots_of(&self) -> [usize; 2] {
         let n = 4 * self.layout.modes;
         [n, n + 1]
     }
 }
 
-impl<const N: usize> SmoothRotor<N> for FlexibleShaft {
-    fn rhs(&self, t: f64, y: &SVector<f64, N>, dy: &mut SVector<f64, N>) {
+impl SmoothRotor for FlexibleShaft {
+    /// The number of modes is chosen at run time.
+    type Dim = Dyn;
+    fn dim(&self) -> Dyn {
+        Dyn(self.state_len())
+    }
+    fn rhs(&self, t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
         self.rhs_slice(t, y.as_slice(), dy.as_mut_slice());
     }
-    fn station(&self, y: &SVector<f64, N>) -> Kinematics {
+    fn station(&self, y: &DVector<f64>) -> Kinematics {
         self.ring_kinematics(y.as_slice())
     }
-    fn add_station_force(&self, _y: &SVector<f64, N>, f: &Vector2<f64>, dy: &mut SVector<f64, N>) {
+    fn add_station_force(&self, _y: &DVector<f64>, f: &Vector2<f64>, dy: &mut DVector<f64>) {
         self.add_ring_force(f, dy.as_mut_slice());
     }
     fn ring_slots(&self) -> [usize; 2] {
@@ -337,21 +344,11 @@ pub fn ring_of(params: &Params) -> Result<SnubberRing, RingError> {
     )
 }
 
-/// The shaft of `layout` on the ring of `params`, with state dimension `N = 4 modes + 2`.
+/// The shaft of `layout` on the ring of `params`.
 ///
 /// # Errors
-/// [`ShaftError`] from [`FlexibleShaft::new`], the ring's, or a wrong `N`.
-pub fn on_ring<const N: usize>(
-    params: Params,
-    layout: Layout,
-) -> Result<RingedRotor<FlexibleShaft>, ShaftError> {
+/// [`ShaftError`] from [`FlexibleShaft::new`] or the ring's.
+pub fn on_ring(params: Params, layout: Layout) -> Result<RingedRotor<FlexibleShaft>, ShaftError> {
     let shaft = FlexibleShaft::new(params, layout)?;
-    if shaft.dim() != N {
-        return Err(ShaftError::Dimension {
-            modes: layout.modes,
-            expected: shaft.dim(),
-            found: N,
-        });
-    }
     Ok(RingedRotor::new(shaft, ring_of(&params)?)?)
 }
