@@ -427,7 +427,7 @@ async function main() {
           fs.writeFileSync(out, Buffer.from(shot.data, 'base64'));
           console.log(`screenshot ${out} (${height} px high)`);
           // The same page in parts of the text column, readable at a viewer's size.
-          for (let y = 0, k = 1; y < height && k <= 4; y += 800, k++) {
+          for (let y = 0, k = 1; y < height && k <= 8; y += 800, k++) {
             const part = await tab.send('Page.captureScreenshot', {
               format: 'png', captureBeyondViewport: true,
               clip: { x: 220, y, width: 1020, height: Math.min(800, height - y), scale: 1 },
