@@ -160,11 +160,10 @@ function lintSource(tex) {
       issues.push('`\\\\` before a space or line end: Markdown makes it `\\` (a control space), the row break is lost (write `\\\\\\\\`)');
     }
     if (!c) break;
-    re.lastIndex = m.index + m[0].length - (c === '\\' ? 1 : 0);
   }
   const starts = /\n[ \t]*([-+*>#]|\d+[.)])(?=[ \t])/.exec(tex);
   if (starts) issues.push(`a line of the formula starts with \`${starts[1]}\`: Markdown reads a list item, quote or heading there and splits the formula (move it to the line before)`);
-    if (/'/.test(tex)) issues.push("`'`: smart punctuation makes it a curly quote (write `^\\prime`, `^{\\prime\\prime}`)");
+  if (/'/.test(tex)) issues.push("`'`: smart punctuation makes it a curly quote (write `^\\prime`, `^{\\prime\\prime}`)");
   if (/"/.test(tex)) issues.push('`"`: smart punctuation makes it a curly quote');
   if (/\.\.\./.test(tex)) issues.push('`...`: smart punctuation makes it `\u2026` (write `\\ldots` or `\\dots`)');
   if (/--/.test(tex)) issues.push('`--`: smart punctuation makes it a dash');
