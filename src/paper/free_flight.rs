@@ -3,19 +3,19 @@
 //! Out of contact each axis is a damped linear oscillator under the rotating out-of-balance.
 //! In complex notation $z = x + iy$:
 //!
-//! $$z'' + 2\nu_1 z' + z = e + B e^{i\theta(\tau)},\qquad \theta = \varphi_0 + \eta\tau,\quad
+//! $$z^{\prime\prime} + 2\nu_1 z^\prime + z = e + B e^{i\theta(\tau)},\qquad \theta = \varphi_0 + \eta\tau,\quad
 //! B = \beta\eta^2.$$
 //!
 //! The particular solution is the circular orbit $z_p = e + Z e^{i\theta}$ with
 //! $Z = B/(1 - \eta^2 + 2i\nu_1\eta)$; the rest $w = z - z_p$ solves the homogeneous equation,
 //!
-//! $$w(\tau_0 + u) = e^{-\nu_1 u}\big(w_0\,c(u) + (w_0' + \nu_1 w_0)\,S(u)\big),$$
+//! $$w(\tau_0 + u) = e^{-\nu_1 u}\big(w_0\thinspace c(u) + (w_0^\prime + \nu_1 w_0)\thinspace S(u)\big),$$
 //!
 //! with $c = \cos\omega_d u$, $S = \sin(\omega_d u)/\omega_d$, $\omega_d^2 = 1 - \nu_1^2$
 //! ($\cosh$/$\sinh$ when over-damped, $c = 1$, $S = u$ when critical).
 //!
-//! The energy $|w|^2 + |w'|^2$ of the homogeneous part never grows
-//! ($\tfrac{d}{d\tau}(|w|^2+|w'|^2) = -4\nu_1|w'|^2$), which gives the bounds that the contact
+//! The energy $|w|^2 + |w^\prime|^2$ of the homogeneous part never grows
+//! ($\tfrac{d}{d\tau}(|w|^2+|w^\prime|^2) = -4\nu_1|w^\prime|^2$), which gives the bounds that the contact
 //! search needs (see [`FreeFlight::bounds`]).
 
 use nalgebra::{Matrix4, Vector2};
@@ -169,7 +169,7 @@ pub struct FreeFlight {
     osc: FreeOscillator,
     t0: f64,
     w0: C,
-    /// $w_0' + \nu_1 w_0$.
+    /// $w_0^\prime + \nu_1 w_0$.
     b: C,
     energy_sqrt: f64,
 }
@@ -220,12 +220,12 @@ impl FreeFlight {
         self.osc.transition_matrix(t - self.t0)
     }
 
-    /// Bounds on $|r|$, $|r'|$, $|r''|$, $|r'''|$ valid for all $t \ge t_0$: the particular
+    /// Bounds on $|r|$, $|r^\prime|$, $|r^{\prime\prime}|$, $|r^{\prime\prime\prime}|$ valid for all $t \ge t_0$: the particular
     /// orbit is a circle of radius $|Z|$ about $e$ run at speed $\eta$, and the homogeneous
-    /// part's energy $E_w = |w|^2 + |w'|^2$ is non-increasing, so $|w|, |w'| \le \sqrt{E_w}$,
+    /// part's energy $E_w = |w|^2 + |w^\prime|^2$ is non-increasing, so $|w|, |w^\prime| \le \sqrt{E_w}$,
     /// $|r| \le |e| + |Z| + \sqrt{E_w}$,
-    /// $|w''| = |2\nu_1 w' + w| \le (1 + 2\nu_1)\sqrt{E_w}$ and
-    /// $|w'''| = |2\nu_1 w'' + w'| \le (1 + 2\nu_1(1 + 2\nu_1))\sqrt{E_w}$.
+    /// $|w^{\prime\prime}| = |2\nu_1 w^\prime + w| \le (1 + 2\nu_1)\sqrt{E_w}$ and
+    /// $|w^{\prime\prime\prime}| = |2\nu_1 w^{\prime\prime} + w^\prime| \le (1 + 2\nu_1(1 + 2\nu_1))\sqrt{E_w}$.
     pub fn bounds(&self) -> MotionBounds {
         let o = &self.osc;
         let a = o.steady_radius();

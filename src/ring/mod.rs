@@ -30,11 +30,11 @@ use nalgebra::Vector2;
 use thiserror::Error;
 
 pub mod branch;
-mod element;
-mod locate;
+pub mod element;
+pub mod locate;
 pub mod onset;
-mod regime;
-mod relax;
+pub mod regime;
+pub mod relax;
 pub mod sensitivity;
 
 pub use branch::{Branch, Branches};

@@ -1,0 +1,317 @@
+//! A flexible shaft on the snubber ring: a pinned-pinned Euler-Bernoulli shaft in its first
+//! `--modes` bending modes (the state size is read at run time: `4 modes + 2`, a `Dyn`
+//! state), the out-of-balance at station `--unbalance` and the ring at station `--ring` of
+//! `--stations` evenly spaced stations (model and scaling: `shaft.rs`). The paper's ring,
+//! damping and forcing values (`--preset`); `eta` is the forcing over the first natural
+//! frequency, so that with one mode at midspan this is the paper's rotor.
+//!
+//! Writes to `--out` (default `target/figures/flexible_shaft`):
+//! * `orbit.png`: the orbits of the ring's and the out-of-balance's stations over `--periods`
+//!   forcing periods after `--transient`, as deflections from the shaft's rest line, with the
+//!   ring's gap circle (centred at $-e$, the ring's centre seen from the rest line);
+//! * `bifurcation.png`: $x$ of the ring's station (relative to the ring's centre, as the
+//!   paper's $x_r$) at the stroboscopic points against `eta`, every value from rest, from the
+//!   crate's generic bifurcation sweep;
+//!
+//! each with the CSV behind it, and prints a summary.
+//!
+//! ```text
+//! cargo run --release --example flexible_shaft -- --modes 6 --ring 4 --eta 3.5
+//! ```
+
+#[path = "../common/mod.rs"]
+mod common;
+// `Layout::jeffcott` and `FlexibleShaft::energy` serve the tests (tests/flexible_shaft.rs).
+#[allow(dead_code)]
+mod shaft;
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use common::cli::{fail, Cli};
+use common::plot::{self, Figure, Series};
+use common::{or_exit, tolerance_flags};
+use jeffcott::analysis::{
+    bifurcation, linspace, phase_portrait, start_from, strobe_orbit, BifurcationConfig, PeriodTest,
+    Periodicity, SweepConfig,
+};
+use jeffcott::hybrid::SimOptions;
+use jeffcott::nalgebra::DVector;
+use jeffcott::params::Preset;
+use shaft::Layout;
+
+fn main() {
+    let mut cli = Cli::new(
+        "A pinned-pinned flexible shaft in its first bending modes on the snubber ring: orbit and bifurcation diagram.",
+    );
+    let out = PathBuf::from(cli.string("out", "target/figures/flexible_shaft", "output folder"));
+    let modes = cli.usize_in(
+        "modes",
+        4,
+        1,
+        64,
+        "bending modes kept (state size 4 modes + 2)",
+    );
+    let stations = cli.opt_usize_in(
+        "stations",
+        1,
+        64,
+        "evenly spaced stations (default: as many as modes)",
+    );
+    let unbalance = cli.usize_in("unbalance", 2, 1, 64, "station of the out-of-balance");
+    let ring = cli.usize_in("ring", 3, 1, 64, "station of the snubber ring");
+    let preset = cli.choice(
+        "preset",
+        "fig8a",
+        &["fig8a", "fig8b"],
+        "ring, damping and forcing values of the paper's Fig. 8a (D = 0) or 8b (D = 0.1)",
+    );
+    let eta = cli.f64_in(
+        "eta",
+        3.0,
+        1e-3,
+        100.0,
+        "eta = forcing frequency / first natural frequency",
+    );
+    let zeta = cli.f64_in(
+        "zeta",
+        f64::NAN,
+        0.0,
+        10.0,
+        "modal damping ratio of every mode (default: the preset's nu1)",
+    );
+    let transient = cli.usize_in(
+        "transient",
+        300,
+        0,
+        1_000_000,
+        "orbit: forcing periods discarded",
+    );
+    let periods = cli.usize_in("periods", 20, 1, 100_000, "orbit: forcing periods drawn");
+    let eta_min = cli.f64_in("eta-min", 2.0, 1e-3, 100.0, "bifurcation: lowest eta");
+    let eta_max = cli.f64_in("eta-max", 5.0, 1e-3, 100.0, "bifurcation: highest eta");
+    let steps = cli.usize_in("steps", 121, 1, 100_000, "bifurcation: eta values");
+    let bif_transient = cli.usize_in(
+        "bif-transient",
+        200,
+        0,
+        1_000_000,
+        "bifurcation: forcing periods discarded",
+    );
+    let record = cli.usize_in(
+        "record",
+        40,
+        2,
+        100_000,
+        "bifurcation: forcing periods recorded",
+    );
+    let (rtol, atol) = tolerance_flags(&mut cli);
+    cli.finish();
+    if eta_max < eta_min {
+        fail(format!("--eta-max {eta_max} is below --eta-min {eta_min}"));
+    }
+
+    let mut params = if preset == "fig8a" {
+        Preset::Fig8a
+    } else {
+        Preset::Fig8b
+    }
+    .params()
+    .with_eta(eta);
+    if zeta.is_finite() {
+        params.nu1 = zeta;
+    }
+    let layout = Layout {
+        modes,
+        stations: stations.unwrap_or(modes),
+        unbalance,
+        ring,
+    };
+    let opts = SimOptions {
+        rtol,
+        atol,
+        ..SimOptions::default()
+    };
+    let model = or_exit(shaft::on_ring(params, layout));
+    let s = model.rotor();
+    // From rest on the shaft's line (the ring placed if the rest point is beyond the gap).
+    let mut y0 = DVector::zeros(s.state_len());
+    or_exit(model.make_consistent(&mut y0));
+
+    let xi = |i: usize| s.station_position(i);
+    let list = |v: Vec<f64>| {
+        v.iter()
+            .map(|x| format!("{x:.3}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    println!(
+        "flexible shaft: {modes} modes (state size {}), {} stations at xi = {}",
+        s.state_len(),
+        layout.stations,
+        list((1..=layout.stations).map(xi).collect())
+    );
+    println!(
+        "  out-of-balance at station {unbalance} (xi = {:.3}), ring at station {ring} (xi = {:.3}), modal damping {}",
+        xi(unbalance),
+        xi(ring),
+        params.nu1
+    );
+    println!(
+        "  omega_j / omega_1 = {}; mode shapes at the ring {}",
+        list((1..=modes).map(shaft::natural_frequency).collect()),
+        list(
+            (1..=modes)
+                .map(|j| shaft::mode_shape(j, xi(ring)))
+                .collect()
+        )
+    );
+    let clearance = 1.0 - params.ex.hypot(params.ey);
+    let whirl = s.free_whirl_radius(ring);
+    println!(
+        "eta = {eta}: without the ring the ring's station would whirl with radius {whirl:.3} (clearance {clearance:.3}: {})",
+        if whirl > clearance { "contact" } else { "no contact" }
+    );
+
+    // The orbit after the transient.
+    let clock = Instant::now();
+    let period = params.forcing_period();
+    let t0 = period * transient as f64;
+    let orbit = or_exit(strobe_orbit(
+        &model,
+        &y0,
+        transient as u64,
+        periods as u64,
+        &opts,
+    ));
+    let portrait = or_exit(phase_portrait(
+        &model,
+        &y0,
+        t0,
+        t0 + period * periods as f64,
+        period / 400.0,
+        &opts,
+    ));
+    let contacts = portrait
+        .events
+        .iter()
+        .filter(|e| e.t >= t0 && e.kind == "contact onset")
+        .count();
+    let reach = portrait
+        .samples
+        .iter()
+        .map(|x| s.ring_kinematics(x.y.as_slice()).r.norm())
+        .fold(0.0, f64::max);
+    let periodicity = or_exit(orbit.period(&PeriodTest::default()));
+    println!(
+        "orbit: {}, {contacts} contact onsets in {periods} periods, largest |r| at the ring {reach:.4}, {} steps, {:.2} s",
+        describe(&periodicity),
+        orbit.stats.steps + portrait.stats.steps,
+        clock.elapsed().as_secs_f64()
+    );
+
+    let deflection = |station: usize| {
+        portrait.broken_curve(|x| {
+            let (w, _) = s.station_motion(station, x.y.as_slice());
+            (w[0], w[1])
+        })
+    };
+    let circle: Vec<(f64, f64)> = (0..=360)
+        .map(|i| (i as f64).to_radians())
+        .map(|a| (a.cos() - params.ex, a.sin() - params.ey))
+        .collect();
+    let series = [
+        Series::new(&format!("ring station {ring}"), deflection(ring)),
+        Series::new(
+            &format!("out-of-balance station {unbalance}"),
+            deflection(unbalance),
+        ),
+        Series::new("ring's gap", circle),
+    ];
+    let (lo, hi) = square_range(&series);
+    let fig = Figure::new(
+        &format!("flexible shaft, {modes} modes, eta = {eta}: deflection from the rest line"),
+        "w_x / gap",
+        "w_y / gap",
+    )
+    .with_x_range(lo.0, hi.0)
+    .with_y_range(lo.1, hi.1)
+    .with_size(800, 800);
+    let path = out.join("orbit.png");
+    or_exit(plot::lines(&path, &fig, &series));
+    println!("wrote {}", path.display());
+
+    // The bifurcation diagram from the crate's generic sweep: the closure builds the model.
+    let clock = Instant::now();
+    let etas = or_exit(linspace(eta_min, eta_max, steps));
+    let config = BifurcationConfig {
+        transient: bif_transient as u64,
+        record: record as u64,
+        sweep: SweepConfig::reset(),
+        opts,
+        ..BifurcationConfig::default()
+    };
+    let build = |eta: f64| shaft::on_ring(params.with_eta(eta), layout);
+    let diagram = or_exit(bifurcation(
+        &etas,
+        build,
+        start_from(y0.clone()),
+        &config,
+        None,
+    ));
+    let mut points = Vec::new();
+    let mut census: BTreeMap<String, usize> = BTreeMap::new();
+    for col in diagram.columns.iter().flatten() {
+        points.extend(
+            col.orbit
+                .points
+                .iter()
+                .map(|p| (col.value, s.ring_kinematics(p.y.as_slice()).r.x)),
+        );
+        *census.entry(describe(&col.periodicity)).or_default() += 1;
+    }
+    for f in diagram.failures() {
+        eprintln!("eta = {}: {}", f.value, f.error);
+    }
+    let census: Vec<String> = census.iter().map(|(k, n)| format!("{n} {k}")).collect();
+    println!(
+        "bifurcation: {} values of eta in [{eta_min}, {eta_max}] ({}), {} failed, {:.2} s on {} threads",
+        etas.len(),
+        census.join(", "),
+        diagram.failures().len(),
+        clock.elapsed().as_secs_f64(),
+        diagram.threads
+    );
+    let fig = Figure::new(
+        &format!("flexible shaft, {modes} modes: x at the ring's station {ring}"),
+        "eta",
+        "x_r / gap",
+    )
+    .with_columns("eta", "x_r");
+    let path = out.join("bifurcation.png");
+    or_exit(plot::bifurcation(&path, &fig, &points));
+    println!("wrote {}", path.display());
+}
+
+fn describe(p: &Periodicity) -> String {
+    match p.period() {
+        Some(n) => format!("period {n}"),
+        None => "not periodic".to_string(),
+    }
+}
+
+/// A square window holding every finite point, with a margin.
+fn square_range(series: &[Series]) -> ((f64, f64), (f64, f64)) {
+    let pts = series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|p| p.0.is_finite() && p.1.is_finite());
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in pts {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    let half = 0.55 * (x1 - x0).max(y1 - y0);
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    ((cx - half, cy - half), (cx + half, cy + half))
+}
