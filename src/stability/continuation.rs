@@ -38,7 +38,7 @@ pub struct ContinuationOptions {
     pub tolerance: f64,
     /// Largest number of continuation steps. Default 10 000.
     pub max_steps: usize,
-    /// Largest Newton correction $\lVert z^* - z_{\rm predicted}\rVert_\infty$ accepted in a
+    /// Largest Newton correction $\lVert z^{\ast} - z_{\rm predicted}\rVert_\infty$ accepted in a
     /// step (a larger one halves the step: Newton may have jumped to another orbit). Default
     /// 0.05.
     pub max_correction: f64,
@@ -361,7 +361,7 @@ where
 
 /// A branch that ends with a real multiplier above this is a fold (its multiplier reaches +1
 /// at the end; within the bracket of `1e-8` it is above 0.99 for a square-root fold whose
-/// multiplier moves like $1 - c\sqrt{\eta^* - \eta}$ with $c$ up to $10^2$).
+/// multiplier moves like $1 - c\sqrt{\eta^{\ast} - \eta}$ with $c$ up to $10^2$).
 const FOLD_MULTIPLIER: f64 = 0.95;
 
 /// Bisects `[a, b]` (stable with the reference structure at `a`, not at `b`) to `tol`.

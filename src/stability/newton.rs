@@ -48,11 +48,11 @@ pub struct MapValue<X> {
 /// A converged fixed point.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FixedPoint<X> {
-    /// The point $z^*$.
+    /// The point $z^{\ast}$.
     pub point: DVector<f64>,
     /// The map there, with its Jacobian (the monodromy matrix).
     pub map: MapValue<X>,
-    /// $\lVert P(z^*) - z^*\rVert_\infty$.
+    /// $\lVert P(z^{\ast}) - z^{\ast}\rVert_\infty$.
     pub residual: f64,
     /// Newton iterations made (Jacobians evaluated, the last one included).
     pub iterations: u32,

@@ -60,13 +60,13 @@ where
     pub period: u64,
     /// The full state at the periodic point (at $\tau = 0$).
     pub state: OVector<f64, D>,
-    /// The periodic point $z^*$ (the non-algebraic components).
+    /// The periodic point $z^{\ast}$ (the non-algebraic components).
     pub point: DVector<f64>,
-    /// $\lVert P^n(z^*) - z^*\rVert_\infty$.
+    /// $\lVert P^n(z^{\ast}) - z^{\ast}\rVert_\infty$.
     pub residual: f64,
     /// Newton iterations.
     pub iterations: u32,
-    /// The monodromy matrix $DP^n(z^*)$.
+    /// The monodromy matrix $DP^n(z^{\ast})$.
     pub monodromy: DMatrix<f64>,
     /// Its eigenvalues, the Floquet multipliers, largest modulus first.
     pub multipliers: Vec<Multiplier>,
@@ -77,8 +77,8 @@ where
     /// How far the section is from closing the map on $z$ (0 for a closed map:
     /// [`Linearization::openness`]).
     pub openness: f64,
-    /// The smallest $m$ dividing the period with $\lVert P^m(z^*) - z^*\rVert_\infty \le
-    /// 10^{-8}(1 + \lVert z^*\rVert_\infty)$: less than the period when Newton found an orbit
+    /// The smallest $m$ dividing the period with $\lVert P^m(z^{\ast}) - z^{\ast}\rVert_\infty \le
+    /// 10^{-8}(1 + \lVert z^{\ast}\rVert_\infty)$: less than the period when Newton found an orbit
     /// of a shorter period (a fixed point of $P$ is one of $P^n$ too).
     pub minimal_period: u64,
 }

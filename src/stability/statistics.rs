@@ -17,7 +17,7 @@
 //!
 //! # QR re-orthonormalisation
 //!
-//! With $Q_k$ orthonormal ($d\times p$) and $Y = DP(z_k)\,Q_k = Q_{k+1}R_k$ (thin QR, $R_k$
+//! With $Q_k$ orthonormal ($d\times p$) and $Y = DP(z_k)\thinspace Q_k = Q_{k+1}R_k$ (thin QR, $R_k$
 //! upper triangular with a positive diagonal), the $i$-th Lyapunov exponent per iteration of
 //! the map is the time average of $\ln R_{k,ii}$ ([`qr_step`]). Summed over $i = 1..d$ the
 //! samples are $\ln|\det DP(z_k)|$ exactly: the sum rule.
