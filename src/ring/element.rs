@@ -55,7 +55,7 @@
 //! **No ring damping** ($\nu_2 = 0$): the ring relaxes instantly, so every free flight starts
 //! with the ring at its centre.
 
-use std::cell::Cell;
+use std::cell::RefCell;
 
 use nalgebra::Vector2;
 
@@ -238,10 +238,17 @@ pub struct RingTransition {
 /// field ask for the same point, and the warm start of the next. Not shared between threads.
 #[derive(Debug, Default)]
 pub struct RingCache {
-    /// `(x, y, branches)` of the last location.
-    key: Cell<Option<(f64, f64, Branches)>>,
-    /// The last location.
-    contact: Cell<Option<RingContact>>,
+    /// The last location and the rotor position `(x, y)` it was made for (its branches are
+    /// the contact's). Read in place: a location is large, and copying it on every hit cost as
+    /// much as the closed-form location itself.
+    last: RefCell<Option<CachedContact>>,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct CachedContact {
+    x: f64,
+    y: f64,
+    contact: RingContact,
 }
 
 impl RingContact {
@@ -293,21 +300,35 @@ impl SnubberRing {
         r: &Vector2<f64>,
         cache: &RingCache,
     ) -> Result<RingContact, RingError> {
-        let hint = match cache.key.get() {
-            Some((x, y, b)) if b == branches => {
-                if x == r.x && y == r.y {
-                    if let Some(c) = cache.contact.get() {
-                        return Ok(c);
-                    }
+        self.with_contact(branches, r, cache, |c| *c)
+    }
+
+    /// Applies `f` to the ring located on `branches` at `r` (as [`SnubberRing::contact_on`],
+    /// reading the cached location in place).
+    pub(crate) fn with_contact<T>(
+        &self,
+        branches: Branches,
+        r: &Vector2<f64>,
+        cache: &RingCache,
+        f: impl FnOnce(&RingContact) -> T,
+    ) -> Result<T, RingError> {
+        let mut last = cache.last.borrow_mut();
+        let hint = match &*last {
+            Some(c) if c.contact.branches == branches => {
+                if c.x == r.x && c.y == r.y {
+                    return Ok(f(&c.contact));
                 }
-                cache.contact.get().map_or(f64::NAN, |c| c.mu)
+                c.contact.mu
             }
             _ => f64::NAN,
         };
-        let c = self.locate_on(r, branches, hint)?;
-        cache.key.set(Some((r.x, r.y, branches)));
-        cache.contact.set(Some(c));
-        Ok(c)
+        let contact = self.locate_on(r, branches, hint)?;
+        let c = last.insert(CachedContact {
+            x: r.x,
+            y: r.y,
+            contact,
+        });
+        Ok(f(&c.contact))
     }
 
     /// Number of guards of `mode`: 1 in free flight; in contact loss, gap, and one per
@@ -368,14 +389,13 @@ impl SnubberRing {
             }
             (RingMode::Contact(_), RingGuard::Gap) => k.r.norm_squared() - self.gap * self.gap,
             (RingMode::Contact(b), RingGuard::Loss) => self
-                .contact_on(*b, &k.r, cache)
-                .map_or(f64::NAN, |c| c.loss_force(&k.v)),
-            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
-                match self.contact_on(*b, &k.r, cache) {
-                    Ok(c) => self.preload_distance(b, axis, c.s[axis.index()]),
-                    Err(_) => f64::NAN,
-                }
-            }
+                .with_contact(*b, &k.r, cache, |c| c.loss_force(&k.v))
+                .unwrap_or(f64::NAN),
+            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => self
+                .with_contact(*b, &k.r, cache, |c| {
+                    self.preload_distance(b, axis, c.s[axis.index()])
+                })
+                .unwrap_or(f64::NAN),
             _ => f64::NAN,
         }
     }
@@ -397,15 +417,16 @@ impl SnubberRing {
                 Some(2.0 * (k.r - s).dot(&(k.v - s_dot)))
             }
             (RingMode::Contact(_), RingGuard::Gap) => Some(2.0 * k.r.dot(&k.v)),
-            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
-                let c = self.contact_on(*b, &k.r, cache).ok()?;
-                let i = axis.index();
-                let rate = c.ring_velocity(&k.v)[i];
-                Some(match branch_of(b, axis) {
-                    Branch::Inner => c.s[i].signum() * rate,
-                    Branch::Outer(sigma) => f64::from(sigma) * rate,
+            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => self
+                .with_contact(*b, &k.r, cache, |c| {
+                    let i = axis.index();
+                    let rate = c.ring_velocity(&k.v)[i];
+                    match branch_of(b, axis) {
+                        Branch::Inner => c.s[i].signum() * rate,
+                        Branch::Outer(sigma) => f64::from(sigma) * rate,
+                    }
                 })
-            }
+                .ok(),
             _ => None,
         }
     }
@@ -447,15 +468,14 @@ impl SnubberRing {
                     force: Vector2::zeros(),
                 })
             }
-            RingMode::Contact(b) => {
-                let c = self.contact_on(*b, &k.r, cache)?;
+            RingMode::Contact(b) => self.with_contact(*b, &k.r, cache, |c| {
                 let s_dot = c.ring_velocity(&k.v);
-                Ok(RingState {
+                RingState {
                     s: c.s,
                     s_dot,
                     force: c.elastic + c.damping.component_mul(&s_dot),
-                })
-            }
+                }
+            }),
         }
     }
 
