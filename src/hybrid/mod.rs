@@ -394,6 +394,14 @@ where
         true
     }
 
+    /// Whether the derivative of guard `i` of `mode` reads its `dy` argument (default:
+    /// [`RotorModel::guard_derivative_needs_rhs`]). A model whose guards differ saves the
+    /// right-hand side at the samples of steps where only the others are sampled.
+    fn guard_derivative_needs_rhs_of(&self, mode: Self::Mode, i: usize) -> bool {
+        let _ = (mode, i);
+        self.guard_derivative_needs_rhs()
+    }
+
     /// Short name of guard `i` of `mode`, for event logs.
     fn guard_label(&self, mode: Self::Mode, i: usize) -> &'static str;
 

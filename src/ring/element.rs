@@ -431,6 +431,87 @@ impl SnubberRing {
         }
     }
 
+    /// As [`SnubberRing::guard_rate`], and for the loss guard too, given the acceleration
+    /// $r^{\prime\prime}$ of the rotor's station ([`SnubberRing::loss_force_derivative`]).
+    pub fn guard_rate_with_accel(
+        &self,
+        mode: &RingMode,
+        guard: RingGuard,
+        t: f64,
+        k: &Kinematics,
+        accel: &Vector2<f64>,
+        cache: &RingCache,
+    ) -> Option<f64> {
+        match (mode, guard) {
+            (RingMode::Contact(b), RingGuard::Loss) => self
+                .with_contact(*b, &k.r, cache, |c| {
+                    self.loss_force_derivative(c, &k.v, accel)
+                })
+                .ok(),
+            _ => self.guard_rate(mode, guard, t, k, cache),
+        }
+    }
+
+    /// Time derivative $\dot L$ of the loss force $L = \max(N, \lambda)$ along the contact
+    /// flow on the branches of `c`, for the station's velocity $r^\prime$ (`r_dot`) and
+    /// acceleration $r^{\prime\prime}$ (`r_ddot`).
+    ///
+    /// On fixed branches each axis' elastic force is affine, $g_i(s) = a_i s_i + b_i$
+    /// ($a_i = 2K_i$ inner, $K_i$ outer). With $d = r - s$, $A = \operatorname{diag}(a_i + 2\mu)$
+    /// and $w = A^{-1}d$, differentiating the Lagrange system $g(s) = 2\mu d$, $|d| = \gamma$
+    /// twice gives
+    /// $$\dot\mu = \frac{(d - 2\mu w)\cdot r^\prime}{2\thinspace d\cdot w},\qquad
+    /// \ddot\mu = \frac{(d - 2\mu w)\cdot r^{\prime\prime} - 4\dot\mu\thinspace w\cdot\dot d
+    /// + |\dot d|^2}{2\thinspace d\cdot w},$$
+    /// $$\ddot s = A^{-1}(2\mu r^{\prime\prime} + 4\dot\mu\dot d) + 2\ddot\mu\thinspace w,$$
+    /// with $\dot s = J r^\prime$ and $\dot d = r^\prime - \dot s$. The force
+    /// $f = 2\mu d + C\dot s$ then has $\dot f = 2\dot\mu d + 2\mu\dot d + C\ddot s$,
+    /// $\dot N = (\dot d\cdot f + d\cdot\dot f)/\gamma$, and for an anisotropic damping
+    /// $\lambda = 2\mu\gamma + c_x c_y P/Q$ with $P = n\cdot r^\prime$,
+    /// $Q = c_y n_x^2 + c_x n_y^2$ gives
+    /// $\dot\lambda = 2\gamma\dot\mu + c_x c_y(\dot P Q - P\dot Q)/Q^2$. The derivative of the
+    /// larger of $N$ and $\lambda$ is returned.
+    pub fn loss_force_derivative(
+        &self,
+        c: &RingContact,
+        r_dot: &Vector2<f64>,
+        r_ddot: &Vector2<f64>,
+    ) -> f64 {
+        let gap = self.gap;
+        let mu = c.mu;
+        let two_mu = 2.0 * mu;
+        let d = c.normal * gap;
+        let slope = |b: Branch, k: f64| if b.is_outer() { k } else { 2.0 * k };
+        let a = Vector2::new(
+            slope(c.branches.x, self.x.stiffness),
+            slope(c.branches.y, self.y.stiffness),
+        );
+        let inv_a = Vector2::new(1.0 / (a.x + two_mu), 1.0 / (a.y + two_mu));
+        let w = d.component_mul(&inv_a);
+        let dw2 = 2.0 * d.dot(&w);
+        let u = d - w * two_mu;
+        let s_dot = c.ring_velocity(r_dot);
+        let d_dot = r_dot - s_dot;
+        let mu_dot = u.dot(r_dot) / dw2;
+        let mu_ddot = (u.dot(r_ddot) - 4.0 * mu_dot * w.dot(&d_dot) + d_dot.norm_squared()) / dw2;
+        let s_ddot = (r_ddot * two_mu + d_dot * (4.0 * mu_dot)).component_mul(&inv_a)
+            + w * (2.0 * mu_ddot);
+        let f = c.elastic + c.damping.component_mul(&s_dot);
+        let f_dot = d * (2.0 * mu_dot) + d_dot * two_mu + c.damping.component_mul(&s_ddot);
+        let n_dot = (d_dot.dot(&f) + d.dot(&f_dot)) / gap;
+        let (cx, cy) = (c.damping.x, c.damping.y);
+        if cx == cy || c.normal_force(r_dot) >= c.separation_force(r_dot) {
+            return n_dot;
+        }
+        let n = c.normal;
+        let nd = d_dot / gap;
+        let p = n.dot(r_dot);
+        let q = cy * n.x * n.x + cx * n.y * n.y;
+        let p_dot = nd.dot(r_dot) + n.dot(r_ddot);
+        let q_dot = 2.0 * (cy * n.x * nd.x + cx * n.y * nd.y);
+        2.0 * gap * mu_dot + cx * cy * (p_dot * q - p * q_dot) / (q * q)
+    }
+
     /// Signed distance of an axis to its preload on the mode's branch: $|s_i| - D_i$ on the inner
     /// branch (negative inside), $\sigma s_i - D_i$ on the outer branch (positive beyond).
     fn preload_distance(&self, b: &Branches, axis: Axis, s: f64) -> f64 {
@@ -697,7 +778,7 @@ impl SnubberRing {
         let stiffness = self.x.stiffness.max(self.y.stiffness);
         let rounding = c.loss_force_rounding(stiffness, gap, &k.v);
         let starts =
-            load > rounding || (load >= -rounding && self.loss_force_rate(&c, k, &accel) > 0.0);
+            load > rounding || (load >= -rounding && self.loss_force_trend(&c, k, &accel) > 0.0);
         if starts {
             return Ok(RingTransition {
                 mode: RingMode::Contact(b),
@@ -713,7 +794,7 @@ impl SnubberRing {
     /// by a central difference over the time in which the station moves $10^{-6}\gamma$ (only
     /// its sign is used, where the force itself is zero to rounding: a relaxed ring touched on
     /// the circle without ring damping, or the end of a sequence of touches without load).
-    fn loss_force_rate(
+    fn loss_force_trend(
         &self,
         c: &RingContact,
         k: &Kinematics,

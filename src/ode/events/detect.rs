@@ -1,6 +1,6 @@
 //! The detector: [`find_first_event`].
 
-use super::state::{Leave, Scratch, Slot};
+use super::state::{EndValue, Leave, Scratch, Slot};
 use super::{Direction, EventHit, EventOptions, EventSet, EventState};
 use crate::ode::roots::illinois;
 use crate::ode::{Integrator, OdeError, OdeSystem};
@@ -68,6 +68,62 @@ fn hermite_extremum_near_zero(a: (f64, f64, f64), b: (f64, f64, f64)) -> bool {
     // No interior extremum of the interpolant despite the derivative signs:
     // be safe and search.
     !any
+}
+
+/// Whether two vectors hold the same bits.
+fn same_bits<D: Dim>(a: &OVector<f64, D>, b: &OVector<f64, D>) -> bool
+where
+    DefaultAllocator: Allocator<D>,
+{
+    a.len() == b.len() && a.iter().zip(b.iter()).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// The step-end screen of one guard: values and derivatives `(g, g')` at both ends of a step of
+/// length `h`, of the same sign, and the cubic Hermite interpolant $p$ through them stays at
+/// least half of the smaller end value $m = \min(|g_a|, |g_b|)$ away from zero on the whole
+/// step (on its side). Then the guard has no root on the step as long as the interpolant's
+/// error is below $m/2$ (module docs, *Screening*). Non-finite input is never cleared.
+fn hermite_clear(a: (f64, f64), b: (f64, f64), h: f64) -> bool {
+    let (ga, da) = a;
+    let (gb, db) = b;
+    if !(ga != 0.0 && gb != 0.0 && (ga > 0.0) == (gb > 0.0)) {
+        return false;
+    }
+    // p(s) = c0 + c1 s + c2 s^2 + c3 s^3 on s in [0, 1], signed so that the ends are positive.
+    let sign = ga.signum();
+    let (c0, c1) = (ga * sign, h * da * sign);
+    let c2 = (3.0 * (gb - ga) - h * (2.0 * da + db)) * sign;
+    let c3 = (2.0 * (ga - gb) + h * (da + db)) * sign;
+    let margin = 0.5 * ga.abs().min(gb.abs());
+    if !(c1.is_finite() && c2.is_finite() && c3.is_finite()) {
+        return false;
+    }
+    let p = |s: f64| c0 + s * (c1 + s * (c2 + s * c3));
+    // Interior extrema: roots of p'(s) = c1 + 2 c2 s + 3 c3 s^2 in (0, 1).
+    let (qa, qb, qc) = (3.0 * c3, 2.0 * c2, c1);
+    let mut ok = true;
+    let mut check = |s: f64| {
+        if s > 0.0 && s < 1.0 {
+            ok &= p(s) >= margin;
+        }
+    };
+    if qa == 0.0 {
+        if qb != 0.0 {
+            check(-qc / qb);
+        }
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc >= 0.0 {
+            let q = -0.5 * (qb + disc.sqrt().copysign(qb));
+            check(q / qa);
+            if q != 0.0 {
+                check(qc / q);
+            } else {
+                check(0.0);
+            }
+        }
+    }
+    ok
 }
 
 /// Locates the root of event `i` in the bracket `lo`..`hi` (values of
@@ -150,6 +206,9 @@ where
         resume,
         last_hit,
         slots,
+        ends,
+        end_at,
+        end_len,
         scratch,
         hit,
     } = state;
@@ -159,11 +218,13 @@ where
         y_b,
         f_b,
         y_p,
+        y_e,
         tmp,
         f_c,
         zero,
     } = scratch;
     let slots = &mut slots[..ne];
+    let ends = &mut ends[..ne];
 
     let origin = match *st_origin {
         None => {
@@ -192,30 +253,66 @@ where
     let mut probed = false;
 
     y_at(integ, sys, start, y_a);
+    // f at the start, when the integrator keeps it there.
+    let f_a_known = start == t_prev
+        && match integ.dy_prev() {
+            Some(f) => {
+                f_a.copy_from(f);
+                true
+            }
+            None => false,
+        };
+    // The end values of the last screened step, if this step starts there with the same state.
+    let reuse = opts.screen
+        && start == t_prev
+        && *end_at == Some(start)
+        && *end_len == ne
+        && same_bits(y_a, y_e);
 
-    let mut any_der = false;
+    let mut start_rhs = false;
     for (i, s) in slots.iter_mut().enumerate() {
         *s = Slot {
             active: events.active(i),
             ..Slot::default()
         };
-        if s.active {
-            s.has_der = events.derivative(i, start, y_a, zero).is_some();
-            any_der |= s.has_der;
+        if !s.active {
+            continue;
         }
+        s.needs_rhs = events.derivative_needs_rhs_of(i);
+        let e = ends[i];
+        if reuse && e.known {
+            s.has_der = e.has_der;
+            s.g_ref = e.g;
+            s.d_ref = e.d;
+            continue;
+        }
+        // The derivative is probed with the true f if known, else with zeros: then it is the
+        // value itself unless the event reads f.
+        let dy: &OVector<f64, D> = if f_a_known { f_a } else { zero };
+        if let Some(d) = events.derivative(i, start, y_a, dy) {
+            s.has_der = true;
+            if f_a_known || !s.needs_rhs {
+                s.d_ref = d;
+            } else {
+                start_rhs = true;
+            }
+        }
+        s.g_ref = events.value(i, start, y_a);
     }
-    let need_rhs = any_der && events.derivative_needs_rhs();
-    if need_rhs {
+    if start_rhs {
         sys.rhs(start, y_a, f_a);
         integ.stats_mut().rhs_evals += 1;
+        for (i, s) in slots.iter_mut().enumerate() {
+            if s.active && s.has_der && s.needs_rhs {
+                s.d_ref = events.derivative(i, start, y_a, f_a).unwrap_or(0.0);
+            }
+        }
     }
-    let dy_a: &OVector<f64, D> = if need_rhs { f_a } else { zero };
     for (i, s) in slots.iter_mut().enumerate() {
         if !s.active {
             continue;
         }
-        let g = events.value(i, start, y_a);
-        s.g_ref = g;
+        let g = s.g_ref;
         s.g_origin = g;
         s.armed = if at_origin {
             g.abs() > vtol
@@ -235,9 +332,6 @@ where
                 }
             }
         }
-        if s.has_der {
-            s.d_ref = events.derivative(i, start, y_a, dy_a).unwrap_or(0.0);
-        }
         let just_fired = matches!(*last_hit, Some((j, _)) if j == i);
         if at_origin && !just_fired && !g.is_nan() {
             // How this guard may leave zero (start-of-segment rule).
@@ -255,6 +349,63 @@ where
         }
     }
 
+    // Screening: every guard at the step's end, then the cubic Hermite test of each.
+    if opts.screen {
+        y_b.copy_from(integ.y());
+        let f_b_known = match integ.dy() {
+            Some(f) => {
+                f_b.copy_from(f);
+                true
+            }
+            None => false,
+        };
+        let mut end_rhs_done = f_b_known;
+        let mut all_cleared = true;
+        for (i, s) in slots.iter_mut().enumerate() {
+            if !s.active {
+                ends[i].known = false;
+                continue;
+            }
+            let g_b = events.value(i, t_end, y_b);
+            let d_b = if s.has_der {
+                if s.needs_rhs && !end_rhs_done {
+                    sys.rhs(t_end, y_b, f_b);
+                    integ.stats_mut().rhs_evals += 1;
+                    end_rhs_done = true;
+                }
+                let dy: &OVector<f64, D> = if s.needs_rhs { f_b } else { zero };
+                events.derivative(i, t_end, y_b, dy).unwrap_or(0.0)
+            } else {
+                0.0
+            };
+            ends[i] = EndValue {
+                known: true,
+                has_der: s.has_der,
+                g: g_b,
+                d: d_b,
+            };
+            // Only a guard armed as usual, with a derivative, can be cleared (a guard on zero
+            // at the origin follows the start-of-segment rule on the samples).
+            s.cleared = s.has_der
+                && s.armed
+                && s.leave == Leave::No
+                && !(at_origin && matches!(*last_hit, Some((j, _)) if j == i))
+                && hermite_clear((s.g_ref, s.d_ref), (g_b, d_b), span);
+            all_cleared &= s.cleared;
+        }
+        *end_at = Some(t_end);
+        *end_len = ne;
+        y_e.copy_from(y_b);
+        if all_cleared {
+            return Ok(None);
+        }
+    } else {
+        *end_at = None;
+    }
+    let need_rhs = slots
+        .iter()
+        .any(|s| s.active && !s.cleared && s.has_der && s.needs_rhs);
+
     let mut t_a = start;
     for k in 1..=m + 1 {
         let t_b = if k == m + 1 {
@@ -262,23 +413,31 @@ where
         } else {
             start + span * (k as f64 / (m + 1) as f64)
         };
-        y_at(integ, sys, t_b, y_b);
-        if need_rhs {
-            sys.rhs(t_b, y_b, f_b);
-            integ.stats_mut().rhs_evals += 1;
+        // The step's end was evaluated by the screen.
+        let screened_end = opts.screen && k == m + 1;
+        if !screened_end {
+            y_at(integ, sys, t_b, y_b);
+            if need_rhs {
+                sys.rhs(t_b, y_b, f_b);
+                integ.stats_mut().rhs_evals += 1;
+            }
         }
-        let dy_b: &OVector<f64, D> = if need_rhs { f_b } else { zero };
         // Best candidate of this interval: (t, index, direction).
         let mut best: Option<(f64, usize, Direction)> = None;
         for (i, s) in slots.iter_mut().enumerate() {
-            if !s.active {
+            if !s.active || s.cleared {
                 continue;
             }
-            let g_b = events.value(i, t_b, y_b);
-            let d_b = if s.has_der {
-                events.derivative(i, t_b, y_b, dy_b).unwrap_or(0.0)
+            let (g_b, d_b) = if screened_end {
+                (ends[i].g, ends[i].d)
             } else {
-                0.0
+                let dy_b: &OVector<f64, D> = if s.needs_rhs { f_b } else { zero };
+                let d_b = if s.has_der {
+                    events.derivative(i, t_b, y_b, dy_b).unwrap_or(0.0)
+                } else {
+                    0.0
+                };
+                (events.value(i, t_b, y_b), d_b)
             };
             if g_b.is_nan() {
                 // No information at this sample: keep the previous reference.
@@ -339,7 +498,7 @@ where
                             i,
                             (t_a, g_a, s.d_ref),
                             (t_b, g_b, d_b),
-                            (tol, max_iter, need_rhs),
+                            (tol, max_iter, s.needs_rhs),
                             tmp,
                             f_c,
                             zero,

@@ -203,6 +203,15 @@ where
     fn derivative_needs_rhs(&self) -> bool {
         true
     }
+    /// Whether the derivative of event `i` reads its `dy` argument (default:
+    /// [`EventSet::derivative_needs_rhs`] for every event). A set whose
+    /// events differ (one derivative needs $f$, the others only $y$) saves the
+    /// rhs evaluations at the samples of steps where only the others are
+    /// sampled.
+    fn derivative_needs_rhs_of(&self, i: usize) -> bool {
+        let _ = i;
+        self.derivative_needs_rhs()
+    }
     /// Whether event `i` is currently active (lets a model switch events off
     /// without reallocating).
     fn active(&self, i: usize) -> bool {
@@ -277,6 +286,13 @@ pub struct EventOptions {
     pub rearm_time: f64,
     /// Maximum iterations of each root/extremum search (>= 1). Default `200`.
     pub max_iter: usize,
+    /// Screen each step from the guards' values and derivatives at its two ends before
+    /// sampling it (see the module docs, *Screening*): a guard whose cubic Hermite
+    /// interpolant stays well away from zero is not sampled, and a step where every guard is
+    /// so cleared costs no dense output at all. Applies to events with a derivative; the
+    /// others are sampled as without it. Default `false`; the hybrid driver turns it on
+    /// ([`SimOptions::screen_events`](crate::hybrid::SimOptions::screen_events)).
+    pub screen: bool,
 }
 
 impl Default for EventOptions {
@@ -287,6 +303,7 @@ impl Default for EventOptions {
             value_tol: 0.0,
             rearm_time: 0.0,
             max_iter: 200,
+            screen: false,
         }
     }
 }
