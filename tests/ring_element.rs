@@ -396,7 +396,10 @@ fn loss_force_derivative_matches_finite_differences() {
             let load = |t: f64| {
                 let r = r0 + v * t + a * (0.5 * t * t);
                 let c = ring.locate_on(&r, b, f64::NAN).unwrap();
-                (c.normal_force(&(v + a * t)), c.separation_force(&(v + a * t)))
+                (
+                    c.normal_force(&(v + a * t)),
+                    c.separation_force(&(v + a * t)),
+                )
             };
             let c = ring.locate_on(&r0, b, f64::NAN).unwrap();
             let (n0, l0) = load(0.0);

@@ -494,8 +494,8 @@ impl SnubberRing {
         let d_dot = r_dot - s_dot;
         let mu_dot = u.dot(r_dot) / dw2;
         let mu_ddot = (u.dot(r_ddot) - 4.0 * mu_dot * w.dot(&d_dot) + d_dot.norm_squared()) / dw2;
-        let s_ddot = (r_ddot * two_mu + d_dot * (4.0 * mu_dot)).component_mul(&inv_a)
-            + w * (2.0 * mu_ddot);
+        let s_ddot =
+            (r_ddot * two_mu + d_dot * (4.0 * mu_dot)).component_mul(&inv_a) + w * (2.0 * mu_ddot);
         let f = c.elastic + c.damping.component_mul(&s_dot);
         let f_dot = d * (2.0 * mu_dot) + d_dot * two_mu + c.damping.component_mul(&s_ddot);
         let n_dot = (d_dot.dot(&f) + d.dot(&f_dot)) / gap;

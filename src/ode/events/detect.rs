@@ -75,7 +75,10 @@ fn same_bits<D: Dim>(a: &OVector<f64, D>, b: &OVector<f64, D>) -> bool
 where
     DefaultAllocator: Allocator<D>,
 {
-    a.len() == b.len() && a.iter().zip(b.iter()).all(|(x, y)| x.to_bits() == y.to_bits())
+    a.len() == b.len()
+        && a.iter()
+            .zip(b.iter())
+            .all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// The step-end screen of one guard: values and derivatives `(g, g')` at both ends of a step of
@@ -206,7 +209,6 @@ where
         resume,
         last_hit,
         slots,
-        ends,
         end_at,
         end_len,
         scratch,
@@ -224,7 +226,6 @@ where
         zero,
     } = scratch;
     let slots = &mut slots[..ne];
-    let ends = &mut ends[..ne];
 
     let origin = match *st_origin {
         None => {
@@ -271,15 +272,16 @@ where
 
     let mut start_rhs = false;
     for (i, s) in slots.iter_mut().enumerate() {
+        let e = s.end;
         *s = Slot {
             active: events.active(i),
+            end: e,
             ..Slot::default()
         };
         if !s.active {
             continue;
         }
         s.needs_rhs = events.derivative_needs_rhs_of(i);
-        let e = ends[i];
         if reuse && e.known {
             s.has_der = e.has_der;
             s.g_ref = e.g;
@@ -363,7 +365,7 @@ where
         let mut all_cleared = true;
         for (i, s) in slots.iter_mut().enumerate() {
             if !s.active {
-                ends[i].known = false;
+                s.end.known = false;
                 continue;
             }
             let g_b = events.value(i, t_end, y_b);
@@ -378,7 +380,7 @@ where
             } else {
                 0.0
             };
-            ends[i] = EndValue {
+            s.end = EndValue {
                 known: true,
                 has_der: s.has_der,
                 g: g_b,
@@ -429,7 +431,7 @@ where
                 continue;
             }
             let (g_b, d_b) = if screened_end {
-                (ends[i].g, ends[i].d)
+                (s.end.g, s.end.d)
             } else {
                 let dy_b: &OVector<f64, D> = if s.needs_rhs { f_b } else { zero };
                 let d_b = if s.has_der {

@@ -25,6 +25,8 @@ pub(super) struct Slot {
     pub cleared: bool,
     /// Its derivative reads `dy` ([`EventSet::derivative_needs_rhs_of`](super::EventSet::derivative_needs_rhs_of)).
     pub needs_rhs: bool,
+    /// Value and derivative at the end of the last screened step (kept across calls).
+    pub end: EndValue,
 }
 
 /// A guard's value and derivative at the end of the last screened step (reused as the start
@@ -60,6 +62,7 @@ impl Default for Slot {
             leave: Leave::No,
             cleared: false,
             needs_rhs: false,
+            end: EndValue::default(),
         }
     }
 }
@@ -89,8 +92,8 @@ where
     /// Index and direction of the last hit (cleared by `reset`).
     pub(super) last_hit: Option<(usize, Direction)>,
     pub(super) slots: Vec<Slot>,
-    /// Guard values at `end_at` (the end of the last screened step), for `end_len` events.
-    pub(super) ends: Vec<EndValue>,
+    /// Time of the end values in the slots (the end of the last screened step), for
+    /// `end_len` events.
     pub(super) end_at: Option<f64>,
     pub(super) end_len: usize,
     pub(super) scratch: Scratch<D>,
@@ -166,7 +169,6 @@ where
             resume: None,
             last_hit: None,
             slots: Vec::with_capacity(4),
-            ends: Vec::with_capacity(4),
             end_at: None,
             end_len: 0,
             scratch: Scratch::new(dim),
@@ -208,7 +210,6 @@ where
         }
         if self.slots.len() < events {
             self.slots.resize(events, Slot::default());
-            self.ends.resize(events, EndValue::default());
         }
     }
 }
