@@ -549,6 +549,11 @@ impl SnubberRing {
                     force: Vector2::zeros(),
                 })
             }
+            // Closed form: computed directly (the cache would only cost a copy).
+            RingMode::Contact(b) if self.is_uniform(*b) => {
+                let (s, s_dot, force) = self.uniform_state(&k.r, &k.v, *b)?;
+                Ok(RingState { s, s_dot, force })
+            }
             RingMode::Contact(b) => self.with_contact(*b, &k.r, cache, |c| {
                 let s_dot = c.ring_velocity(&k.v);
                 RingState {
