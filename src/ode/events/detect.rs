@@ -101,6 +101,10 @@ fn hermite_clear(a: (f64, f64), b: (f64, f64), h: f64) -> bool {
     if !(c1.is_finite() && c2.is_finite() && c3.is_finite()) {
         return false;
     }
+    // Quick sufficient test (s^k in [0, 1]): the usual case of a guard far from zero.
+    if c0 + c1.min(0.0) + c2.min(0.0) + c3.min(0.0) >= margin {
+        return true;
+    }
     let p = |s: f64| c0 + s * (c1 + s * (c2 + s * c3));
     // Interior extrema: roots of p'(s) = c1 + 2 c2 s + 3 c3 s^2 in (0, 1).
     let (qa, qb, qc) = (3.0 * c3, 2.0 * c2, c1);
