@@ -367,31 +367,26 @@ impl RotorModel for JeffcottModel {
         i: usize,
         t: f64,
         y: &State,
-        _dy: &State,
+        dy: &State,
         cache: &Cache,
     ) -> Option<f64> {
         let guard = self.guard_of(&mode, i);
         let k = Self::kinematics(y);
-        if guard != RingGuard::Loss {
-            return self.ring.guard_rate(&mode, guard, t, &k, &cache.ring);
-        }
-        // The loss force's rate needs the rotor's acceleration: the rotor's equation with the
-        // ring's force at the same (cached) location.
-        let ring = self.ring.ring_state(&mode, t, &k, &cache.ring).ok()?;
-        let (cs, sn) = self.forcing_phase(t, cache);
-        let p = &self.params;
-        let accel = Vector2::new(
-            self.amp * cs - 2.0 * p.nu1 * y[2] - (y[0] - p.ex) - ring.force.x,
-            self.amp * sn - 2.0 * p.nu1 * y[3] - (y[1] - p.ey) - ring.force.y,
-        );
+        // The loss force's rate needs the rotor's acceleration, from `dy` (the event detector
+        // has it for free at a step's ends).
+        let accel = Vector2::new(dy[2], dy[3]);
         self.ring
             .guard_rate_with_accel(&mode, guard, t, &k, &accel, &cache.ring)
     }
 
     fn guard_derivative_needs_rhs(&self) -> bool {
-        // Every guard rate needs only the state (the loss force's computes the rotor's
-        // acceleration itself).
-        false
+        // The loss guard's rate reads the rotor's acceleration.
+        true
+    }
+
+    fn guard_derivative_needs_rhs_of(&self, mode: Mode, i: usize) -> bool {
+        // The others need only the rotor's position and velocity, which are in the state.
+        self.guard_of(&mode, i) == RingGuard::Loss
     }
 
     fn guard_label(&self, mode: Mode, i: usize) -> &'static str {

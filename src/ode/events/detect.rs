@@ -578,8 +578,7 @@ where
                         }
                         if !hi.0.is_nan() {
                             let lo = (t_a, g_a, if s.has_der { s.d_ref } else { f64::NAN });
-                            let (lo, hi) =
-                                narrow_bracket(integ, sys, events, i, lo, hi, tol, tmp);
+                            let (lo, hi) = narrow_bracket(integ, sys, events, i, lo, hi, tol, tmp);
                             let r = locate(integ, sys, events, i, lo, hi, tol, max_iter, tmp);
                             if !ignorable(r) {
                                 candidate = Some((r, dir_first));
