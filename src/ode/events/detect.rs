@@ -86,6 +86,8 @@ where
 /// least half of the smaller end value $m = \min(|g_a|, |g_b|)$ away from zero on the whole
 /// step (on its side). Then the guard has no root on the step as long as the interpolant's
 /// error is below $m/2$ (module docs, *Screening*). Non-finite input is never cleared.
+/// Usually decided by the convex hull of the Bernstein coefficients, else at the interior
+/// extrema.
 fn hermite_clear(a: (f64, f64), b: (f64, f64), h: f64) -> bool {
     let (ga, da) = a;
     let (gb, db) = b;
@@ -101,8 +103,11 @@ fn hermite_clear(a: (f64, f64), b: (f64, f64), h: f64) -> bool {
     if !(c1.is_finite() && c2.is_finite() && c3.is_finite()) {
         return false;
     }
-    // Quick sufficient test (s^k in [0, 1]): the usual case of a guard far from zero.
-    if c0 + c1.min(0.0) + c2.min(0.0) + c3.min(0.0) >= margin {
+    // Quick sufficient test, the usual case of a guard far from zero: a cubic on [0, 1] lies
+    // above the smallest of its Bernstein coefficients, (g_a, g_a + h g_a'/3, g_b - h g_b'/3,
+    // g_b) signed, of which the ends are at least 2 margin.
+    let (b1, b2) = (c0 + c1 / 3.0, (gb - h * db / 3.0) * sign);
+    if b1.min(b2) >= margin {
         return true;
     }
     let p = |s: f64| c0 + s * (c1 + s * (c2 + s * c3));
