@@ -236,6 +236,27 @@ where
         self.guard_of(&mode, i) == RingGuard::Loss
     }
 
+    fn guard_values(
+        &self,
+        mode: RingMode,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        dy: &OVector<f64, R::Dim>,
+        with_rates: bool,
+        cache: &RingCache,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
+        let accel = self.rotor.station(dy).v;
+        self.ring.guard_values(
+            &mode,
+            t,
+            &self.rotor.station(y),
+            with_rates.then_some(&accel),
+            cache,
+            out,
+        );
+    }
+
     fn guard_label(&self, mode: RingMode, i: usize) -> &'static str {
         self.guard_of(&mode, i).label()
     }

@@ -186,6 +186,17 @@ where
     fn derivative_needs_rhs_of(&self, i: usize) -> bool {
         self.model.guard_derivative_needs_rhs_of(self.mode, i)
     }
+    fn values_and_derivatives(
+        &self,
+        t: f64,
+        y: &OVector<f64, M::Dim>,
+        dy: &OVector<f64, M::Dim>,
+        with_derivatives: bool,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
+        self.model
+            .guard_values(self.mode, t, y, dy, with_derivatives, self.cache, out);
+    }
 }
 
 /// Pending outputs, in time order.

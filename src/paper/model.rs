@@ -389,6 +389,27 @@ impl RotorModel for JeffcottModel {
         self.guard_of(&mode, i) == RingGuard::Loss
     }
 
+    fn guard_values(
+        &self,
+        mode: Mode,
+        t: f64,
+        y: &State,
+        dy: &State,
+        with_rates: bool,
+        cache: &Cache,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
+        let accel = Vector2::new(dy[2], dy[3]);
+        self.ring.guard_values(
+            &mode,
+            t,
+            &Self::kinematics(y),
+            with_rates.then_some(&accel),
+            &cache.ring,
+            out,
+        );
+    }
+
     fn guard_label(&self, mode: Mode, i: usize) -> &'static str {
         self.guard_of(&mode, i).label()
     }

@@ -512,6 +512,72 @@ impl SnubberRing {
         2.0 * gap * mu_dot + cx * cy * (p_dot * q - p * q_dot) / (q * q)
     }
 
+    /// Every guard of `mode` at one point, in the order of [`SnubberRing::guard`]: calls
+    /// `out(i, value, rate)` for each, with the value of [`SnubberRing::guard_value`] and, if
+    /// `accel` is given ($r^{\prime\prime}$ of the station), the rate of
+    /// [`SnubberRing::guard_rate_with_accel`] (`None` without it). Bitwise the same numbers as
+    /// the one-guard methods, for one ring location instead of one per guard.
+    pub fn guard_values(
+        &self,
+        mode: &RingMode,
+        t: f64,
+        k: &Kinematics,
+        accel: Option<&Vector2<f64>>,
+        cache: &RingCache,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
+        let b = match mode {
+            RingMode::Free { .. } => {
+                let rate = accel.and_then(|_| self.guard_rate(mode, RingGuard::Onset, t, k, cache));
+                out(
+                    0,
+                    self.guard_value(mode, RingGuard::Onset, t, k, cache),
+                    rate,
+                );
+                return;
+            }
+            RingMode::Contact(b) => b,
+        };
+        let gap2 = self.gap * self.gap;
+        let gap = (k.r.norm_squared() - gap2, 2.0 * k.r.dot(&k.v));
+        let done = self.with_contact(*b, &k.r, cache, |c| {
+            let loss = c.loss_force(&k.v);
+            out(
+                0,
+                loss,
+                accel.map(|a| self.loss_force_derivative(c, &k.v, a)),
+            );
+            out(1, gap.0, accel.map(|_| gap.1));
+            let mut i = 2;
+            for axis in [Axis::X, Axis::Y] {
+                if self.axis(axis).preload > 0.0 {
+                    let j = axis.index();
+                    let value = self.preload_distance(b, axis, c.s[j]);
+                    let rate = accel.map(|_| {
+                        let rate = c.ring_velocity(&k.v)[j];
+                        match branch_of(b, axis) {
+                            Branch::Inner => c.s[j].signum() * rate,
+                            Branch::Outer(sigma) => f64::from(sigma) * rate,
+                        }
+                    });
+                    out(i, value, rate);
+                    i += 1;
+                }
+            }
+        });
+        if done.is_err() {
+            // No placement: the contact guards are NaN (the gap guard needs none).
+            let n = self.guard_count(mode);
+            for i in 0..n {
+                if i == 1 {
+                    out(1, gap.0, accel.map(|_| gap.1));
+                } else {
+                    out(i, f64::NAN, None);
+                }
+            }
+        }
+    }
+
     /// Signed distance of an axis to its preload on the mode's branch: $|s_i| - D_i$ on the inner
     /// branch (negative inside), $\sigma s_i - D_i$ on the outer branch (positive beyond).
     fn preload_distance(&self, b: &Branches, axis: Axis, s: f64) -> f64 {

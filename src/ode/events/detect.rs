@@ -368,7 +368,7 @@ where
         && *end_len == ne
         && same_bits(y_a, y_e);
 
-    let mut start_rhs = false;
+    let mut fresh = false;
     for (i, s) in slots.iter_mut().enumerate() {
         let e = s.end;
         *s = Slot {
@@ -384,27 +384,37 @@ where
             s.has_der = e.has_der;
             s.g_ref = e.g;
             s.d_ref = e.d;
-            continue;
+        } else {
+            fresh = true;
         }
-        // The derivative is probed with the true f if known, else with zeros: then it is the
-        // value itself unless the event reads f.
-        let dy: &OVector<f64, D> = if f_a_known { f_a } else { zero };
-        if let Some(d) = events.derivative(i, start, y_a, dy) {
-            s.has_der = true;
-            if f_a_known || !s.needs_rhs {
-                s.d_ref = d;
-            } else {
-                start_rhs = true;
-            }
-        }
-        s.g_ref = events.value(i, start, y_a);
     }
-    if start_rhs {
-        sys.rhs(start, y_a, f_a);
-        integ.stats_mut().rhs_evals += 1;
-        for (i, s) in slots.iter_mut().enumerate() {
-            if s.active && s.has_der && s.needs_rhs {
-                s.d_ref = events.derivative(i, start, y_a, f_a).unwrap_or(0.0);
+    if fresh {
+        // All events at once, the derivatives with the true f if known, else with zeros:
+        // exact unless the event reads f, which is then evaluated.
+        let dy: &OVector<f64, D> = if f_a_known { f_a } else { zero };
+        let mut start_rhs = false;
+        events.values_and_derivatives(start, y_a, dy, true, &mut |i, g, d| {
+            let s = &mut slots[i];
+            if reuse && s.end.known {
+                return;
+            }
+            s.g_ref = g;
+            if let Some(d) = d {
+                s.has_der = true;
+                if f_a_known || !s.needs_rhs {
+                    s.d_ref = d;
+                } else {
+                    start_rhs = true;
+                }
+            }
+        });
+        if start_rhs {
+            sys.rhs(start, y_a, f_a);
+            integ.stats_mut().rhs_evals += 1;
+            for (i, s) in slots.iter_mut().enumerate() {
+                if s.active && s.has_der && s.needs_rhs && !(reuse && s.end.known) {
+                    s.d_ref = events.derivative(i, start, y_a, f_a).unwrap_or(0.0);
+                }
             }
         }
     }
@@ -459,38 +469,51 @@ where
             }
             None => false,
         };
-        let mut end_rhs_done = f_b_known;
-        let mut all_cleared = true;
-        for (i, s) in slots.iter_mut().enumerate() {
-            if !s.active {
-                s.end.known = false;
-                continue;
-            }
-            let g_b = events.value(i, t_end, y_b);
-            let d_b = if s.has_der {
-                if s.needs_rhs && !end_rhs_done {
-                    sys.rhs(t_end, y_b, f_b);
-                    integ.stats_mut().rhs_evals += 1;
-                    end_rhs_done = true;
-                }
-                let dy: &OVector<f64, D> = if s.needs_rhs { f_b } else { zero };
-                events.derivative(i, t_end, y_b, dy).unwrap_or(0.0)
-            } else {
-                0.0
-            };
+        let need_f = !f_b_known && slots.iter().any(|s| s.active && s.has_der && s.needs_rhs);
+        if need_f {
+            sys.rhs(t_end, y_b, f_b);
+            integ.stats_mut().rhs_evals += 1;
+        }
+        let dy: &OVector<f64, D> = if f_b_known || need_f { f_b } else { zero };
+        let any_der = slots.iter().any(|s| s.active && s.has_der);
+        for s in slots.iter_mut() {
+            s.end.known = false;
+        }
+        events.values_and_derivatives(t_end, y_b, dy, any_der, &mut |i, g, d| {
+            let s = &mut slots[i];
             s.end = EndValue {
                 known: true,
                 has_der: s.has_der,
-                g: g_b,
-                d: d_b,
+                g,
+                d: if s.has_der { d.unwrap_or(0.0) } else { 0.0 },
             };
+        });
+        let mut all_cleared = true;
+        for (i, s) in slots.iter_mut().enumerate() {
+            if !s.active {
+                continue;
+            }
+            if !s.end.known {
+                // Not reported by the set's batch evaluation: one by one.
+                let d = if s.has_der {
+                    events.derivative(i, t_end, y_b, dy).unwrap_or(0.0)
+                } else {
+                    0.0
+                };
+                s.end = EndValue {
+                    known: true,
+                    has_der: s.has_der,
+                    g: events.value(i, t_end, y_b),
+                    d,
+                };
+            }
             // Only a guard armed as usual, with a derivative, can be cleared (a guard on zero
             // at the origin follows the start-of-segment rule on the samples).
             s.cleared = s.has_der
                 && s.armed
                 && s.leave == Leave::No
                 && !(at_origin && matches!(*last_hit, Some((j, _)) if j == i))
-                && hermite_clear((s.g_ref, s.d_ref), (g_b, d_b), span);
+                && hermite_clear((s.g_ref, s.d_ref), (s.end.g, s.end.d), span);
             all_cleared &= s.cleared;
         }
         *end_at = Some(t_end);

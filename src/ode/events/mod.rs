@@ -246,6 +246,31 @@ where
         let _ = i;
         self.derivative_needs_rhs()
     }
+    /// Every active event's value and, if `with_derivatives`, its derivative (as
+    /// [`EventSet::derivative`] returns it) at one point: calls `out(i, value, derivative)`
+    /// for each active `i` in increasing order. `dy` is $f(t, y)$ (the detector calls this at
+    /// a step's ends, where it has $f$ for free) or zeros when no event's derivative reads it.
+    /// The default calls [`EventSet::value`] and [`EventSet::derivative`]; a set whose events
+    /// share work (a contact location) can evaluate them together, with the same numbers.
+    fn values_and_derivatives(
+        &self,
+        t: f64,
+        y: &OVector<f64, D>,
+        dy: &OVector<f64, D>,
+        with_derivatives: bool,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
+        for i in 0..self.len() {
+            if self.active(i) {
+                let d = if with_derivatives {
+                    self.derivative(i, t, y, dy)
+                } else {
+                    None
+                };
+                out(i, self.value(i, t, y), d);
+            }
+        }
+    }
     /// Whether event `i` is currently active (lets a model switch events off
     /// without reallocating).
     fn active(&self, i: usize) -> bool {
