@@ -88,27 +88,30 @@ where
 /// error is below $m/2$ (module docs, *Screening*). Non-finite input is never cleared.
 /// Usually decided by the convex hull of the Bernstein coefficients, else at the interior
 /// extrema.
+#[inline]
 fn hermite_clear(a: (f64, f64), b: (f64, f64), h: f64) -> bool {
     let (ga, da) = a;
     let (gb, db) = b;
     if !(ga != 0.0 && gb != 0.0 && (ga > 0.0) == (gb > 0.0)) {
         return false;
     }
-    // p(s) = c0 + c1 s + c2 s^2 + c3 s^3 on s in [0, 1], signed so that the ends are positive.
+    // Signed so that the ends are positive.
     let sign = ga.signum();
-    let (c0, c1) = (ga * sign, h * da * sign);
-    let c2 = (3.0 * (gb - ga) - h * (2.0 * da + db)) * sign;
-    let c3 = (2.0 * (ga - gb) + h * (da + db)) * sign;
     let margin = 0.5 * ga.abs().min(gb.abs());
-    if !(c1.is_finite() && c2.is_finite() && c3.is_finite()) {
-        return false;
-    }
     // Quick sufficient test, the usual case of a guard far from zero: a cubic on [0, 1] lies
     // above the smallest of its Bernstein coefficients, (g_a, g_a + h g_a'/3, g_b - h g_b'/3,
     // g_b) signed, of which the ends are at least 2 margin.
-    let (b1, b2) = (c0 + c1 / 3.0, (gb - h * db / 3.0) * sign);
+    const THIRD: f64 = 1.0 / 3.0;
+    let (b1, b2) = ((ga + h * da * THIRD) * sign, (gb - h * db * THIRD) * sign);
     if b1.min(b2) >= margin {
         return true;
+    }
+    // p(s) = c0 + c1 s + c2 s^2 + c3 s^3 on s in [0, 1].
+    let (c0, c1) = (ga * sign, h * da * sign);
+    let c2 = (3.0 * (gb - ga) - h * (2.0 * da + db)) * sign;
+    let c3 = (2.0 * (ga - gb) + h * (da + db)) * sign;
+    if !(c1.is_finite() && c2.is_finite() && c3.is_finite()) {
+        return false;
     }
     let p = |s: f64| c0 + s * (c1 + s * (c2 + s * c3));
     // Interior extrema: roots of p'(s) = c1 + 2 c2 s + 3 c3 s^2 in (0, 1).
