@@ -404,7 +404,10 @@ type V5 = SVector<f64, 5>;
 #[derive(Clone, Copy, PartialEq)]
 enum CarefulMode {
     /// Free flight, the ring relaxing from `s0` since `t0`.
-    Free { t0: f64, s0: (f64, f64) },
+    Free {
+        t0: f64,
+        s0: (f64, f64),
+    },
     Contact,
 }
 

@@ -153,7 +153,15 @@ fn period_of<M: RotorModel<Dim = U6>>(model: &M, y: &State) -> Trajectory<U6> {
     let p = model.forcing_period();
     let plan = OutputPlan::strobe(p, 301, 301);
     let mut traj = Trajectory::default();
-    simulate(model, 300.0 * p, y, &plan, &SimOptions::default(), &mut traj).expect("run");
+    simulate(
+        model,
+        300.0 * p,
+        y,
+        &plan,
+        &SimOptions::default(),
+        &mut traj,
+    )
+    .expect("run");
     traj
 }
 

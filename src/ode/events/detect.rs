@@ -88,7 +88,7 @@ where
 /// error is below $m/2$ (module docs, *Screening*). Non-finite input is never cleared.
 /// Usually decided by the convex hull of the Bernstein coefficients, else at the interior
 /// extrema.
-#[inline]
+#[inline(always)]
 fn hermite_clear(a: (f64, f64), b: (f64, f64), h: f64) -> bool {
     let (ga, da) = a;
     let (gb, db) = b;
@@ -382,12 +382,13 @@ where
         if !s.active {
             continue;
         }
-        s.needs_rhs = events.derivative_needs_rhs_of(i);
         if reuse && e.known {
             s.has_der = e.has_der;
+            s.needs_rhs = e.needs_rhs;
             s.g_ref = e.g;
             s.d_ref = e.d;
         } else {
+            s.needs_rhs = events.derivative_needs_rhs_of(i);
             fresh = true;
         }
     }
@@ -421,6 +422,12 @@ where
             }
         }
     }
+    // The event that defined the origin (start-of-segment rule 2).
+    let fired = if at_origin {
+        last_hit.map(|(j, _)| j)
+    } else {
+        None
+    };
     for (i, s) in slots.iter_mut().enumerate() {
         if !s.active {
             continue;
@@ -445,8 +452,7 @@ where
                 }
             }
         }
-        let just_fired = matches!(*last_hit, Some((j, _)) if j == i);
-        if at_origin && !just_fired && !g.is_nan() {
+        if at_origin && fired != Some(i) && !g.is_nan() {
             // How this guard may leave zero (start-of-segment rule).
             s.leave = if s.d_ref != 0.0 && !s.d_ref.is_nan() {
                 let on_zero =
@@ -487,6 +493,7 @@ where
             s.end = EndValue {
                 known: true,
                 has_der: s.has_der,
+                needs_rhs: s.needs_rhs,
                 g,
                 d: if s.has_der { d.unwrap_or(0.0) } else { 0.0 },
             };
@@ -506,6 +513,7 @@ where
                 s.end = EndValue {
                     known: true,
                     has_der: s.has_der,
+                    needs_rhs: s.needs_rhs,
                     g: events.value(i, t_end, y_b),
                     d,
                 };
@@ -515,7 +523,7 @@ where
             s.cleared = s.has_der
                 && s.armed
                 && s.leave == Leave::No
-                && !(at_origin && matches!(*last_hit, Some((j, _)) if j == i))
+                && fired != Some(i)
                 && hermite_clear((s.g_ref, s.d_ref), (s.end.g, s.end.d), span);
             all_cleared &= s.cleared;
         }

@@ -35,6 +35,7 @@ pub(super) struct Slot {
 pub(super) struct EndValue {
     pub known: bool,
     pub has_der: bool,
+    pub needs_rhs: bool,
     pub g: f64,
     pub d: f64,
 }
