@@ -489,17 +489,13 @@ impl System<f64, V5> for Careful {
     }
 }
 
+/// The last two step points of a leg, `(t, y)`, and its right-hand-side evaluations.
+type Leg = ((f64, V5), (f64, V5), u64);
+
 /// One Dop853 integration of the careful system from (t, y) to `t_end` (with the given initial
 /// step, 0 = automatic), stopping at the event if the system says so. Returns the last two step
 /// points and the evaluations.
-fn careful_leg(
-    sys: Careful,
-    t: f64,
-    y: V5,
-    t_end: f64,
-    h0: f64,
-    tol: f64,
-) -> Result<((f64, V5), (f64, V5), u64), String> {
+fn careful_leg(sys: Careful, t: f64, y: V5, t_end: f64, h0: f64, tol: f64) -> Result<Leg, String> {
     let h_max = 0.25 * sys.p.forcing_period();
     let mut s = Dop853::from_param(
         sys,

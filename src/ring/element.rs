@@ -461,8 +461,8 @@ impl SnubberRing {
     /// and $w = A^{-1}d$, differentiating the Lagrange system $g(s) = 2\mu d$, $|d| = \gamma$
     /// twice gives
     /// $$\dot\mu = \frac{(d - 2\mu w)\cdot r^\prime}{2\thinspace d\cdot w},\qquad
-    /// \ddot\mu = \frac{(d - 2\mu w)\cdot r^{\prime\prime} - 4\dot\mu\thinspace w\cdot\dot d
-    /// + |\dot d|^2}{2\thinspace d\cdot w},$$
+    /// \ddot\mu = \frac{(d - 2\mu w)\cdot r^{\prime\prime} - 4\dot\mu\thinspace w\cdot\dot d +
+    /// |\dot d|^2}{2\thinspace d\cdot w},$$
     /// $$\ddot s = A^{-1}(2\mu r^{\prime\prime} + 4\dot\mu\dot d) + 2\ddot\mu\thinspace w,$$
     /// with $\dot s = J r^\prime$ and $\dot d = r^\prime - \dot s$. The force
     /// $f = 2\mu d + C\dot s$ then has $\dot f = 2\dot\mu d + 2\mu\dot d + C\ddot s$,
@@ -616,10 +616,7 @@ impl SnubberRing {
                 })
             }
             // Closed form: computed directly (the cache would only cost a copy).
-            RingMode::Contact(b) if self.is_uniform(*b) => {
-                let (s, s_dot, force) = self.uniform_state(&k.r, &k.v, *b)?;
-                Ok(RingState { s, s_dot, force })
-            }
+            RingMode::Contact(b) if self.is_uniform(*b) => self.uniform_state(&k.r, &k.v, *b),
             RingMode::Contact(b) => self.with_contact(*b, &k.r, cache, |c| {
                 let s_dot = c.ring_velocity(&k.v);
                 RingState {

@@ -45,7 +45,9 @@ use nalgebra::{Matrix2, Vector2};
 
 use super::branch::{Branch, Branches};
 use super::SnubberRing;
-use super::{check_finite, check_non_negative, check_positive, Regime, RingAxis, RingError};
+use super::{
+    check_finite, check_non_negative, check_positive, Regime, RingAxis, RingError, RingState,
+};
 
 /// Largest number of safeguarded Newton/bisection steps of the multiplier solver (1 to 4 are
 /// typical, 7 the most seen in the tests).
@@ -396,11 +398,15 @@ impl SnubberRing {
         r: &Vector2<f64>,
         v: &Vector2<f64>,
         branches: Branches,
-    ) -> Result<(Vector2<f64>, Vector2<f64>, Vector2<f64>), RingError> {
+    ) -> Result<RingState, RingError> {
         let u = self.uniform(r, branches)?;
         let s_dot = u.jacobian * v;
         let force = u.d * (2.0 * u.mu) + self.branch_damping(branches).component_mul(&s_dot);
-        Ok((r - u.d, s_dot, force))
+        Ok(RingState {
+            s: r - u.d,
+            s_dot,
+            force,
+        })
     }
 
     /// The closed form of [`SnubberRing::locate_uniform`].
