@@ -488,23 +488,25 @@ impl SnubberRing {
         );
         let inv_a = Vector2::new(1.0 / (a.x + two_mu), 1.0 / (a.y + two_mu));
         let w = d.component_mul(&inv_a);
-        let dw2 = 2.0 * d.dot(&w);
+        let inv_dw2 = 0.5 / d.dot(&w);
         let u = d - w * two_mu;
         let s_dot = c.ring_velocity(r_dot);
         let d_dot = r_dot - s_dot;
-        let mu_dot = u.dot(r_dot) / dw2;
-        let mu_ddot = (u.dot(r_ddot) - 4.0 * mu_dot * w.dot(&d_dot) + d_dot.norm_squared()) / dw2;
+        let mu_dot = u.dot(r_dot) * inv_dw2;
+        let mu_ddot =
+            (u.dot(r_ddot) - 4.0 * mu_dot * w.dot(&d_dot) + d_dot.norm_squared()) * inv_dw2;
         let s_ddot =
             (r_ddot * two_mu + d_dot * (4.0 * mu_dot)).component_mul(&inv_a) + w * (2.0 * mu_ddot);
         let f = c.elastic + c.damping.component_mul(&s_dot);
         let f_dot = d * (2.0 * mu_dot) + d_dot * two_mu + c.damping.component_mul(&s_ddot);
-        let n_dot = (d_dot.dot(&f) + d.dot(&f_dot)) / gap;
+        let inv_gap = 1.0 / gap;
+        let n_dot = (d_dot.dot(&f) + d.dot(&f_dot)) * inv_gap;
         let (cx, cy) = (c.damping.x, c.damping.y);
         if cx == cy || c.normal_force(r_dot) >= c.separation_force(r_dot) {
             return n_dot;
         }
         let n = c.normal;
-        let nd = d_dot / gap;
+        let nd = d_dot * inv_gap;
         let p = n.dot(r_dot);
         let q = cy * n.x * n.x + cx * n.y * n.y;
         let p_dot = nd.dot(r_dot) + n.dot(r_ddot);

@@ -425,8 +425,9 @@ impl SnubberRing {
             return Err(RingError::NoPlacement { x: r.x, y: r.y });
         }
         let outer = branches.x.is_outer();
-        let c = if outer { 2.0 } else { 1.0 };
-        let mu = (a_norm / self.gap - k) / c;
+        // Divided by c = 2 (outer) or 1 (inner), exactly, without a division.
+        let excess = a_norm / self.gap - k;
+        let mu = if outer { excess * 0.5 } else { excess };
         let normal = Vector2::new(ax, ay) * a_norm.recip();
         let d = normal * self.gap;
         let alpha = if outer { k } else { 2.0 * k } + 2.0 * mu;
