@@ -681,7 +681,10 @@ where
                             integ.dense(&sys, to, &mut w.yo);
                         }
                         model.project(mode, to, &mut w.yo, &out_cache);
-                        model.rhs(mode, to, &w.yo, &mut w.dy, &out_cache);
+                        // Only dense samples carry the derivative.
+                        if matches!(due, Due::Dense) {
+                            model.rhs(mode, to, &w.yo, &mut w.dy, &out_cache);
+                        }
                         w.out.emit(obs, due, to, &w.yo, &w.dy, label);
                     }
                     if let Some(h) = hit {

@@ -486,7 +486,14 @@ impl SnubberRing {
             slope(c.branches.x, self.x.stiffness),
             slope(c.branches.y, self.y.stiffness),
         );
-        let inv_a = Vector2::new(1.0 / (a.x + two_mu), 1.0 / (a.y + two_mu));
+        let inv_ax = 1.0 / (a.x + two_mu);
+        // Equal slopes (uniform branches) need one division: the same bits.
+        let inv_ay = if a.y == a.x {
+            inv_ax
+        } else {
+            1.0 / (a.y + two_mu)
+        };
+        let inv_a = Vector2::new(inv_ax, inv_ay);
         let w = d.component_mul(&inv_a);
         let inv_dw2 = 0.5 / d.dot(&w);
         let u = d - w * two_mu;

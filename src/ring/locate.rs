@@ -426,7 +426,13 @@ impl SnubberRing {
         }
         let outer = branches.x.is_outer();
         // Divided by c = 2 (outer) or 1 (inner), exactly, without a division.
-        let excess = a_norm / self.gap - k;
+        // (A gap of 1, the paper's scaling, needs no division: the same bits.)
+        let scaled = if self.gap == 1.0 {
+            a_norm
+        } else {
+            a_norm / self.gap
+        };
+        let excess = scaled - k;
         let mu = if outer { excess * 0.5 } else { excess };
         let normal = Vector2::new(ax, ay) * a_norm.recip();
         let d = normal * self.gap;
