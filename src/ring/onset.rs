@@ -352,6 +352,11 @@ pub fn find_onset(
             // onset lies on the contact side), t itself otherwise (a touch).
             return Onset::At(if h1 > 0.0 { t.next_up().min(t_end) } else { t });
         }
+        if t_next >= t_end && piece_end >= t_end {
+            // The certified step covers the rest of the window: no onset up to t_end, without
+            // an evaluation at t_end (the next window starts there with one).
+            return Onset::None;
+        }
         t = t_next.min(piece_end);
     }
 }
