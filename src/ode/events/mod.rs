@@ -217,8 +217,9 @@ where
     /// `dy` $= f(t, y)$; enables detection of grazing (two roots inside one
     /// sample interval without a sign change) and gives the direction of a
     /// guard that is zero at the start of a segment. Must return `None` for
-    /// every argument when not available (the detector probes it once per
-    /// call).
+    /// every argument when not available (the detector asks at the start of
+    /// a scanned step, and with the screen keeps the answer while it reuses
+    /// the previous step's end values).
     fn derivative(
         &self,
         i: usize,
