@@ -380,6 +380,224 @@ fn naive(
     Ok(([y[0], y[1], y[2], y[3], y[4], y[5]], evals, switches))
 }
 
+// ---------------------------------------------------------------------------------------------
+// The careful hybrid simulation with ode_solvers (zero preload, isotropic K): what a careful
+// user writes with a generic crate.
+//
+// * Time is carried as a state (t' = 1), which sidesteps the DOP853 tableau bug (c12 = 0).
+// * The ring's relaxation in free flight, s' = -(K / 2 nu2) s with time constant 1.3e-4, is
+//   stiff for an explicit method (ode_solvers has no implicit one): a careful user solves it in
+//   closed form, s(t) = s0 exp(-(t - t0) / T), and uses it in the onset guard only; the rotor's
+//   free flight is integrated.
+// * Contact: the rotor with the ring at its closed-form location s = r (R - 1) / R (regime V of
+//   the paper, zero preload), force K s + 2 nu2 s'.
+// * Events: `solout` stops the integration at the first accepted step whose end has crossed the
+//   guard (onset: |r - s(t)| reaches 1 after being below; loss: the normal force n . f falls
+//   below 0, or |r| reaches 1); the crossing is then located by bisection to 1e-12, each
+//   bisection point reached by restarting the integrator from the last point before the
+//   crossing with one step of the bracket's half (its initial step given, no automatic choice).
+//   The new mode starts at the end of the final bracket (after the crossing).
+
+/// State of the careful run: [x, y, x', y', t].
+type V5 = SVector<f64, 5>;
+
+#[derive(Clone, Copy, PartialEq)]
+enum CarefulMode {
+    /// Free flight, the ring relaxing from `s0` since `t0`.
+    Free {
+        t0: f64,
+        s0: (f64, f64),
+    },
+    Contact,
+}
+
+struct Careful {
+    p: Params,
+    amp: f64,
+    mode: CarefulMode,
+    /// The guard has been on its pre-crossing side in this phase (armed).
+    armed: bool,
+    /// Stop at the first step end where the event has happened.
+    stop: bool,
+}
+
+impl Careful {
+    fn relax_time(&self) -> f64 {
+        2.0 * self.p.nu2 / self.p.kx
+    }
+
+    /// The ring's position in free flight at time `t`.
+    fn free_ring(&self, t0: f64, s0: (f64, f64), t: f64) -> (f64, f64) {
+        let e = (-(t - t0) / self.relax_time()).exp();
+        (s0.0 * e, s0.1 * e)
+    }
+
+    /// Whether the mode's event has happened at `y` (past the guard), and whether the guard is
+    /// strictly on its pre-crossing side.
+    fn event(&self, y: &V5) -> (bool, bool) {
+        match self.mode {
+            CarefulMode::Free { t0, s0 } => {
+                let s = self.free_ring(t0, s0, y[4]);
+                let h = (y[0] - s.0).powi(2) + (y[1] - s.1).powi(2) - 1.0;
+                (h >= 0.0, h < 0.0)
+            }
+            CarefulMode::Contact => {
+                let (_, f) = Hybrid::ring_force(&self.p, y);
+                let rr = y[0].hypot(y[1]);
+                let normal = (y[0] * f.0 + y[1] * f.1) / rr;
+                let lost = normal < 0.0 || rr <= 1.0;
+                (lost, !lost)
+            }
+        }
+    }
+}
+
+impl Hybrid {
+    /// Ring location and force in contact (zero preload, isotropic): s = r (R - 1) / R,
+    /// f = K s + 2 nu2 s'.
+    fn ring_force(p: &Params, y: &V5) -> ((f64, f64), (f64, f64)) {
+        let (s, sd) = Self::ring((y[0], y[1]), (y[2], y[3]));
+        let c = 2.0 * p.nu2;
+        (s, (p.kx * s.0 + c * sd.0, p.kx * s.1 + c * sd.1))
+    }
+}
+
+impl System<f64, V5> for Careful {
+    fn system(&self, _t: f64, y: &V5, dy: &mut V5) {
+        let t = y[4];
+        let (sn, cs) = (self.p.eta * t).sin_cos();
+        let mut ax = self.amp * cs - 2.0 * self.p.nu1 * y[2] - (y[0] - self.p.ex);
+        let mut ay = self.amp * sn - 2.0 * self.p.nu1 * y[3] - (y[1] - self.p.ey);
+        if self.mode == CarefulMode::Contact {
+            let (_, f) = Hybrid::ring_force(&self.p, y);
+            ax -= f.0;
+            ay -= f.1;
+        }
+        dy[0] = y[2];
+        dy[1] = y[3];
+        dy[2] = ax;
+        dy[3] = ay;
+        dy[4] = 1.0;
+    }
+
+    fn solout(&mut self, _t: f64, y: &V5, _dy: &V5) -> bool {
+        let (happened, before) = self.event(y);
+        if before {
+            self.armed = true;
+        }
+        self.stop && self.armed && happened
+    }
+}
+
+/// The last two step points of a leg, `(t, y)`, and its right-hand-side evaluations.
+type Leg = ((f64, V5), (f64, V5), u64);
+
+/// One Dop853 integration of the careful system from (t, y) to `t_end` (with the given initial
+/// step, 0 = automatic), stopping at the event if the system says so. Returns the last two step
+/// points and the evaluations.
+fn careful_leg(sys: Careful, t: f64, y: V5, t_end: f64, h0: f64, tol: f64) -> Result<Leg, String> {
+    let h_max = 0.25 * sys.p.forcing_period();
+    let mut s = Dop853::from_param(
+        sys,
+        t,
+        t_end,
+        0.0,
+        y,
+        tol,
+        tol,
+        0.9,
+        0.0,
+        0.333,
+        6.0,
+        h_max,
+        h0,
+        100_000_000,
+        u32::MAX,
+        OutputType::Sparse,
+    );
+    let st = s.integrate().map_err(|e| e.to_string())?;
+    let (xs, ys) = (s.x_out(), s.y_out());
+    let n = xs.len();
+    let last = (xs[n - 1], ys[n - 1]);
+    let prev = if n >= 2 { (xs[n - 2], ys[n - 2]) } else { last };
+    Ok((prev, last, u64::from(st.num_eval)))
+}
+
+/// The careful hybrid run from rest to `t_end`. Returns the final state [x, y, x', y', xs, ys],
+/// the right-hand-side evaluations and the number of mode switches.
+fn careful(p: &Params, t_end: f64, tol: f64) -> Result<([f64; 6], u64, u64), String> {
+    let amp = p.forcing_amplitude();
+    let mut t = 0.0;
+    let mut y = V5::zeros();
+    let mut mode = CarefulMode::Free {
+        t0: 0.0,
+        s0: (0.0, 0.0),
+    };
+    let mut evals = 0u64;
+    let mut switches = 0u64;
+    let make = |mode, stop| Careful {
+        p: *p,
+        amp,
+        mode,
+        armed: false,
+        stop,
+    };
+    while t < t_end {
+        let (prev, last, e) = careful_leg(make(mode, true), t, y, t_end, 0.0, tol)?;
+        evals += e;
+        let probe = make(mode, false);
+        if last.0 >= t_end {
+            // Reached the end (solout stops only at an event).
+            t = last.0;
+            y = last.1;
+            continue;
+        }
+        // Bisection by restarting from the last point before the crossing.
+        let (mut ta, mut ya) = prev;
+        let mut tb = last.0;
+        let mut yb = last.1;
+        while tb - ta > 1e-12 {
+            let m = 0.5 * (ta + tb);
+            let (_, end, e) = careful_leg(make(mode, false), ta, ya, m, m - ta, tol)?;
+            evals += e;
+            if probe.event(&end.1).0 {
+                tb = m;
+                yb = end.1;
+            } else {
+                ta = m;
+                ya = end.1;
+            }
+        }
+        t = tb;
+        y = yb;
+        switches += 1;
+        mode = match mode {
+            CarefulMode::Free { .. } => {
+                let rr = y[0].hypot(y[1]);
+                let (_, f) = Hybrid::ring_force(p, &y);
+                if rr > 1.0 && y[0] * f.0 + y[1] * f.1 > 0.0 {
+                    CarefulMode::Contact
+                } else {
+                    // A touch without load: the ring stays relaxed at its centre.
+                    CarefulMode::Free {
+                        t0: t,
+                        s0: (0.0, 0.0),
+                    }
+                }
+            }
+            CarefulMode::Contact => {
+                let (s, _) = Hybrid::ring((y[0], y[1]), (y[2], y[3]));
+                CarefulMode::Free { t0: t, s0: s }
+            }
+        };
+    }
+    let s = match mode {
+        CarefulMode::Contact => Hybrid::ring((y[0], y[1]), (y[2], y[3])).0,
+        CarefulMode::Free { t0, s0 } => make(mode, false).free_ring(t0, s0, t),
+    };
+    Ok(([y[0], y[1], y[2], y[3], s.0, s.1], evals, switches))
+}
+
 fn crate_run(m: &JeffcottModel, periods: u64, rtol: f64, atol: f64) -> (State, u64) {
     let opts = SimOptions {
         rtol,
@@ -404,12 +622,70 @@ fn min_time<T>(reps: usize, mut f: impl FnMut() -> T) -> (f64, T) {
     (best, out.expect("reps >= 1"))
 }
 
-fn main() {
-    check_forced_oscillator();
-    for rtol in [1e-6, 1e-10] {
-        forced_work(rtol);
+/// The crate against the careful ode_solvers run, side by side in one run: for each tolerance
+/// of the careful run, its error and time per period, and the crate's cheapest run (over
+/// tolerances 1e-3 .. 1e-12) at least as accurate; their time ratio.
+fn careful_table(m: &JeffcottModel, p: &Params, periods: u64, err: &dyn Fn(&[f64]) -> f64) {
+    let t_end = p.forcing_period() * periods as f64;
+    let per = |t: f64| t / periods as f64 * 1e6;
+    println!(
+        "\nCareful ode_solvers (Dop853, time as a state, closed-form ring relaxation, events \
+         bisected to 1e-12 by restarting) against the crate, Fig. 8a, eta = 2.0, {periods} periods \
+         from rest; times per forcing period (minimum of 5 runs); load average {:.1}",
+        load()
+    );
+    let crate_rows: Vec<(f64, f64, f64, u64)> = (3..=12)
+        .map(|e| {
+            let tol = 10f64.powi(-e);
+            let (tc, (yc, rc)) = min_time(5, || crate_run(m, periods, tol, tol));
+            (tol, err(yc.as_slice()), tc, rc)
+        })
+        .collect();
+    println!("crate DOP853: tol, error, us/period, rhs");
+    for (tol, e, t, r) in &crate_rows {
+        println!("  {tol:6.0e} {e:9.2e} {:8.3} {r:7}", per(*t));
     }
+    println!(
+        "careful ode_solvers: tol, error, us/period, rhs, switches | crate's cheapest run at least \
+         as accurate: tol, error, us/period | time ratio"
+    );
+    for e in 6..=12 {
+        let tol = 10f64.powi(-e);
+        let (tn, rn) = min_time(5, || careful(p, t_end, tol));
+        match rn {
+            Ok((yn, evals, sw)) => {
+                let en = err(&yn);
+                let best = crate_rows
+                    .iter()
+                    .filter(|r| r.1 <= en)
+                    .min_by(|a, b| a.2.total_cmp(&b.2));
+                let cmp = match best {
+                    Some((ct, ce, ctime, _)) => format!(
+                        "{ct:6.0e} {ce:9.2e} {:8.3} | {:6.1}x",
+                        per(*ctime),
+                        tn / ctime
+                    ),
+                    None => "not reached by the crate".into(),
+                };
+                println!(
+                    "  {tol:6.0e} {en:9.2e} {:9.2} {evals:8} {sw:4} | {cmp}",
+                    per(tn)
+                );
+            }
+            Err(e) => println!("  {tol:6.0e} failed: {e}"),
+        }
+    }
+}
 
+/// The one-minute load average (Linux), NaN elsewhere.
+fn load() -> f64 {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().and_then(|x| x.parse().ok()))
+        .unwrap_or(f64::NAN)
+}
+
+fn main() {
     let p = Preset::Fig8a.params();
     let periods = 50u64;
     let t_end = p.forcing_period() * periods as f64;
@@ -421,6 +697,15 @@ fn main() {
             .map(|(a, b)| (a - b).abs())
             .fold(0.0f64, f64::max)
     };
+    careful_table(&m, &p, periods, &err);
+    if std::env::var("COMPARE_CAREFUL_ONLY").is_ok() {
+        return;
+    }
+
+    check_forced_oscillator();
+    for rtol in [1e-6, 1e-10] {
+        forced_work(rtol);
+    }
     println!("\nFig. 8a, eta = 2.0, {periods} periods from rest; error = max |state - reference|");
     let variants = [Variant::Dop853, Variant::Dop853Autonomous, Variant::Dopri5];
     let only_fast = std::env::var("COMPARE_FULL").is_err();
@@ -476,6 +761,9 @@ fn main() {
     });
     g.bench_function("ode_solvers_dopri5_naive_rtol1e-9", |b| {
         b.iter(|| naive(&p, black_box(t_end), 1e-9, 1e-9, Variant::Dopri5))
+    });
+    g.bench_function("ode_solvers_dop853_careful_rtol1e-10", |b| {
+        b.iter(|| careful(&p, black_box(t_end), 1e-10))
     });
     g.finish();
     c.final_summary();

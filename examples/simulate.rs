@@ -31,7 +31,7 @@ mod common;
 use std::io::{self, BufWriter, Write};
 
 use common::cli::{fail, Cli};
-use common::csv::fmt_f64;
+use common::csv::write_f64;
 use jeffcott::hybrid::{SimOptions, StrobePoint};
 use jeffcott::nalgebra::U6;
 use jeffcott::ode::Method;
@@ -40,9 +40,11 @@ use jeffcott::JeffcottModel;
 
 fn write_rows(out: &mut impl Write, strobe: &[StrobePoint<U6>], transient: u64) -> io::Result<()> {
     for p in strobe {
-        write!(out, "{},{}", p.k - transient, fmt_f64(p.t))?;
+        write!(out, "{},", p.k - transient)?;
+        write_f64(out, p.t)?;
         for v in p.y.iter() {
-            write!(out, ",{}", fmt_f64(*v))?;
+            out.write_all(b",")?;
+            write_f64(out, *v)?;
         }
         writeln!(out, ",{}", p.label)?;
     }

@@ -268,17 +268,49 @@ where
         i: usize,
         t: f64,
         y: &OVector<f64, R::Dim>,
-        _dy: &OVector<f64, R::Dim>,
+        dy: &OVector<f64, R::Dim>,
         cache: &RingCache,
     ) -> Option<f64> {
         let guard = self.guard_of(&mode, i);
+        let k = self.rotor.station(y);
+        if guard != RingGuard::Loss {
+            return self.ring.guard_rate(&mode, guard, t, &k, cache);
+        }
+        // The station map is linear: applied to y' it gives the station's acceleration.
+        let accel = self.rotor.station(dy).v;
         self.ring
-            .guard_rate(&mode, guard, t, &self.rotor.station(y), cache)
+            .guard_rate_with_accel(&mode, guard, t, &k, &accel, cache)
     }
 
     fn guard_derivative_needs_rhs(&self) -> bool {
-        // The ring's guard rates need only the station's position and velocity.
-        false
+        // The loss force's rate reads the station's acceleration.
+        true
+    }
+
+    fn guard_derivative_needs_rhs_of(&self, mode: RingMode, i: usize) -> bool {
+        // The other guard rates need only the station's position and velocity.
+        self.guard_of(&mode, i) == RingGuard::Loss
+    }
+
+    fn guard_values(
+        &self,
+        mode: RingMode,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        dy: &OVector<f64, R::Dim>,
+        with_rates: bool,
+        cache: &RingCache,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
+        let accel = self.rotor.station(dy).v;
+        self.ring.guard_values(
+            &mode,
+            t,
+            &self.rotor.station(y),
+            with_rates.then_some(&accel),
+            cache,
+            out,
+        );
     }
 
     fn guard_label(&self, mode: RingMode, i: usize) -> &'static str {

@@ -455,10 +455,14 @@ fn zero_force_slide_ends_honestly() {
     let pr = probe(&st.p, m.ring(), loss.t, &loss.before).unwrap();
     assert!(pr.normal.max(pr.lambda).abs() < 1e-9 * pr.f_scale, "{pr:?}");
     assert!(pr.h1.abs() < 1e-9 * pr.h1_scale && pr.h2 > 1e-3, "{pr:?}");
-    // Touches without load follow at once.
+
+    // Touches without load follow at once. How soon depends on the rounding of the loss time
+    // (the load vanishes there to second order): measured a few ulps apart, or 4e-10 apart
+    // from 5e-9 after the loss when the guard screen evaluated the loss guard in another order
+    // (loss time 2e-13 earlier); 1e-7 is a millionth of the forcing period.
     let quick = ev[1..]
         .iter()
-        .take_while(|e| e.kind == guard::ONSET && e.to == 1 && e.t - loss.t < 1e-12)
+        .take_while(|e| e.kind == guard::ONSET && e.to == 1 && e.t - loss.t < 1e-7)
         .count();
     assert!(
         quick >= 10,

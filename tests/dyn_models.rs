@@ -92,6 +92,9 @@ impl RotorModel for DynPaper {
     fn guard_derivative_needs_rhs(&self) -> bool {
         self.inner.guard_derivative_needs_rhs()
     }
+    fn guard_derivative_needs_rhs_of(&self, mode: Mode, i: usize) -> bool {
+        self.inner.guard_derivative_needs_rhs_of(mode, i)
+    }
     fn guard_label(&self, mode: Mode, i: usize) -> &'static str {
         self.inner.guard_label(mode, i)
     }

@@ -2,7 +2,8 @@
 //! `step`, `dense`, `find_first_event`, `truncate` and `reset` of a `Dyn`
 //! system allocate nothing once the integrator and the event state exist.
 //! Counted by the `allocation-counter` global allocator (this test binary
-//! only; it counts the allocations of the current thread).
+//! only; it counts the allocations of the current thread). With and without
+//! the step-end screen of the event detector.
 
 use jeffcott::ode::{
     find_first_event, AnyIntegrator, Direction, EventFns, EventOptions, EventState, Integrator,
@@ -28,7 +29,10 @@ fn chain(t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
 fn thousand_steps_with_events_of_a_dyn_system_allocate_nothing() {
     let m = 6;
     let n = 2 * m;
-    for method in Method::ALL {
+    for (method, screen) in Method::ALL
+        .into_iter()
+        .flat_map(|m| [(m, false), (m, true)])
+    {
         let opts = match method {
             Method::Rk4 => Options::fixed(0.02),
             _ => Options {
@@ -62,7 +66,10 @@ fn thousand_steps_with_events_of_a_dyn_system_allocate_nothing() {
         )
         .terminal([true, false]);
         let mut state = EventState::with_dim(Dyn(n));
-        let ev_opts = EventOptions::default();
+        let ev_opts = EventOptions {
+            screen,
+            ..EventOptions::default()
+        };
         let y0 = DVector::from_fn(n, |i, _| 0.05 * (i as f64 + 1.0).sin());
         let mut y = y0.clone();
         let mut mid = y0.clone();
@@ -94,7 +101,7 @@ fn thousand_steps_with_events_of_a_dyn_system_allocate_nothing() {
             }
         });
         println!(
-            "{}: {steps} steps to t = {:.1}, {impacts} impacts, {levels} level crossings, {:?}",
+            "{} (screen {screen}): {steps} steps to t = {:.1}, {impacts} impacts, {levels} level crossings, {:?}",
             method.name(),
             integ.t(),
             info

@@ -628,13 +628,17 @@ fn bouncing_ball(
     opts: Options<U2>,
     events: &impl EventSet<U2>,
     count: usize,
+    screen: bool,
 ) -> Vec<f64> {
     let ball = |_t: f64, y: &V2, dy: &mut V2| {
         dy[0] = y[1];
         dy[1] = -1.0;
     };
     let e = 0.8;
-    let ev_opts = EventOptions::default();
+    let ev_opts = EventOptions {
+        screen,
+        ..EventOptions::default()
+    };
     let mut integ = AnyIntegrator::new(method, opts).unwrap();
     integ.reset(&ball, 0.0, &V2::new(0.5, 0.0), false).unwrap();
     let mut st = EventState::new();
@@ -687,15 +691,15 @@ fn bouncing_ball_forty_impacts_with_steps_spanning_flights() {
     ];
     for (method, opts, label) in cases {
         for dir in [Direction::Falling, Direction::Either] {
-            for with_derivative in [false, true] {
+            for (with_derivative, screen) in [(false, false), (true, false), (true, true)] {
                 let ev = Comp0 {
                     dir,
                     terminal: true,
                     with_derivative,
                 };
-                let impacts = bouncing_ball(method, opts, &ev, count);
+                let impacts = bouncing_ball(method, opts, &ev, count, screen);
                 let what = format!(
-                    "{} {label} {dir:?} derivative {with_derivative}",
+                    "{} {label} {dir:?} derivative {with_derivative} screen {screen}",
                     method.name()
                 );
                 assert_eq!(impacts.len(), count, "{what}: {impacts:?}");
@@ -949,4 +953,98 @@ fn extrema_far_from_zero_are_not_searched_near_ones_are() {
     assert!(!hit && calls > samples, "{calls}");
     // Minimum 1e-6 below zero: found.
     assert!(calls_for(-1e-6).0);
+}
+
+/// The guard $g = y_0$ with its derivative, counting its evaluations.
+struct CountedLevel {
+    calls: std::cell::Cell<usize>,
+}
+
+impl EventSet<U1> for CountedLevel {
+    fn len(&self) -> usize {
+        1
+    }
+    fn direction(&self, _i: usize) -> Direction {
+        Direction::Either
+    }
+    fn value(&self, _i: usize, _t: f64, y: &V1) -> f64 {
+        self.calls.set(self.calls.get() + 1);
+        y[0]
+    }
+    fn derivative(&self, _i: usize, _t: f64, _y: &V1, dy: &V1) -> Option<f64> {
+        Some(dy[0])
+    }
+}
+
+/// One DOP853 step $[0, 1]$ of $y^\prime = g^\prime(t)$, $y(0) = 1$, for the quartic
+/// $g(t) = 1 - b\thinspace u - a\thinspace u^2$, $u = t(1 - t)$: the step and its dense output
+/// are exact to rounding, $g = 1$ at both ends with $g^\prime = \mp b$, so the cubic Hermite
+/// interpolant of the ends is $p = 1 - b\thinspace u$ (minimum $1 - b/4$) and the part it
+/// cannot see is $a\thinspace u^2$ (at most $a/16$). Returns the first crossing found and the
+/// number of guard evaluations.
+fn quartic_step(b: f64, a: f64, screen: bool) -> (Option<f64>, usize) {
+    let sys = move |t: f64, _y: &V1, dy: &mut V1| {
+        let u = t * (1.0 - t);
+        dy[0] = -(b + 2.0 * a * u) * (1.0 - 2.0 * t);
+    };
+    let mut integ = Dop853::new(Options::fixed(1.0)).unwrap();
+    integ.reset(&sys, 0.0, &V1::new(1.0), false).unwrap();
+    integ.step(&sys, 1.0).unwrap();
+    let ev = CountedLevel {
+        calls: std::cell::Cell::new(0),
+    };
+    let opts = EventOptions {
+        screen,
+        ..EventOptions::default()
+    };
+    let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
+        .unwrap()
+        .map(|h| h.t);
+    (hit, ev.calls.get())
+}
+
+/// The first root of the quartic of [`quartic_step`] (it has one when $1 - b/4 - a/16 < 0$).
+fn quartic_first_root(b: f64, a: f64) -> f64 {
+    let u = (-b + (b * b + 4.0 * a).sqrt()) / (2.0 * a);
+    0.5 * (1.0 - (1.0 - 4.0 * u).sqrt())
+}
+
+/// The screen's threshold: a step whose cubic Hermite interpolant stays at least half the
+/// smaller end value ($m = 1$) away from zero costs the two end evaluations only; one whose
+/// interpolant comes closer is sampled (4 interior samples), here just on either side of
+/// $m/2$.
+#[test]
+fn screen_samples_a_step_only_when_the_interpolant_comes_within_half_the_end_value() {
+    for (b, sampled) in [(2.0 * (1.0 - 1e-6), false), (2.0 * (1.0 + 1e-6), true)] {
+        let (hit, calls) = quartic_step(b, 0.0, true);
+        assert_eq!(hit, None, "b = {b}");
+        assert_eq!(calls, if sampled { 6 } else { 2 }, "b = {b}");
+        let (hit, calls) = quartic_step(b, 0.0, false);
+        assert_eq!((hit, calls), (None, 6), "b = {b} without the screen");
+    }
+}
+
+/// The screen's guarantee and its boundary: no crossing is missed while the interpolant's
+/// error stays below half the smaller end value ($a/16 < 1/2$). The interpolant here sits just
+/// beyond the threshold ($b = 2(1 - 10^{-6})$, minimum $1/2 + 5\cdot10^{-7}$), so the screen
+/// clears the step whatever $a$ is. Just inside the guarantee ($a/16 = 0.999/2$) the guard
+/// indeed stays positive (minimum $5\cdot10^{-4}$): nothing to find. Just outside
+/// ($a/16 = 1.001/2$) it dips $5\cdot10^{-4}$ below zero and the screen misses the pair of
+/// roots, which the sampling finds (grazing pair, with the derivative) to $10^{-12}$.
+#[test]
+fn screen_guarantee_holds_just_inside_and_can_fail_just_outside() {
+    let b = 2.0 * (1.0 - 1e-6);
+    let inside = 8.0 * (1.0 - 1e-3);
+    assert!(1.0 - b / 4.0 - inside / 16.0 > 4e-4);
+    assert_eq!(quartic_step(b, inside, true), (None, 2));
+    assert_eq!(quartic_step(b, inside, false).0, None);
+
+    let outside = 8.0 * (1.0 + 1e-3);
+    assert!(1.0 - b / 4.0 - outside / 16.0 < -4e-4);
+    let (missed, calls) = quartic_step(b, outside, true);
+    assert_eq!((missed, calls), (None, 2), "cleared beyond the guarantee");
+    let (found, _) = quartic_step(b, outside, false);
+    let exact = quartic_first_root(b, outside);
+    let found = found.expect("the sampled step finds the dip");
+    assert!((found - exact).abs() < 1e-12, "{found} vs {exact}");
 }

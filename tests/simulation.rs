@@ -7,7 +7,7 @@ use jeffcott::hybrid::{
 use jeffcott::ode::{Dop853, Integrator, Options};
 use jeffcott::paper::{guard, JeffcottModel, State};
 use jeffcott::params::{Params, Preset};
-use nalgebra::{SVector, Vector2};
+use nalgebra::{SVector, Vector2, U6};
 
 fn opts(rtol: f64) -> SimOptions {
     SimOptions {
@@ -468,4 +468,89 @@ fn the_first_output_is_the_initial_state_exactly() {
         .stroboscopic(&State::zeros(), 0, 0, &opts(1e-9))
         .unwrap();
     assert_eq!(traj.strobe[0].y, State::zeros());
+}
+
+/// Grazing inside contact, where guards are located on the integrator's dense output behind the
+/// step-end screen: the ring's x coordinate reaching its preload by only $10^{-6}$ or
+/// $10^{-9}$ of the gap in one contact gives both crossings (beyond, and back within); stopping
+/// $10^{-6}$ short of it gives none. The scene is Fig. 8b at eta = 2.0 on its period-1
+/// attractor, whose contacts stay inside the preload (0.1); the largest $|x_s|$ of a contact,
+/// $S^*$, is measured on the dense output (a parabola through the top three samples
+/// $10^{-6}$ apart), and $D_x$ is then set to $S^* \mp$ depth: the motion up to the graze is
+/// the same (the preload enters only once crossed), so the graze depth is exact to the
+/// parabola's error ($\sim 10^{-18}$).
+#[test]
+fn a_preload_graze_one_nanometre_of_the_gap_deep_is_found_in_contact() {
+    let base = Preset::Fig8b.params().with_eta(2.0);
+    let o = SimOptions::default();
+    let (traj, _) = JeffcottModel::new(base)
+        .unwrap()
+        .stroboscopic(&State::zeros(), 300, 300, &o)
+        .unwrap();
+    let (t0, y0) = (traj.strobe[0].t, traj.strobe[0].y);
+    let period = base.forcing_period();
+    let run = |p: Params, t_end: f64, dense: Option<DenseSampling>| {
+        JeffcottModel::new(p)
+            .unwrap()
+            .run(
+                t0,
+                &y0,
+                &OutputPlan {
+                    t_end,
+                    strobe: None,
+                    dense,
+                    events: true,
+                },
+                &o,
+            )
+            .unwrap()
+            .0
+    };
+    let peak = |samples: &[jeffcott::hybrid::Sample<U6>]| {
+        let (i, _) = samples
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.label > 1)
+            .map(|(i, s)| (i, s.y[4].abs()))
+            .fold((0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a });
+        i
+    };
+    let dt = period / 4000.0;
+    let coarse = run(base, t0 + period, Some(DenseSampling { t_start: t0, dt }));
+    assert_eq!(coarse.events.len(), 2, "one contact, inside the preload");
+    let tp = coarse.samples[peak(&coarse.samples)].t;
+    let h = 1e-6;
+    let fine = run(
+        base,
+        tp + dt,
+        Some(DenseSampling {
+            t_start: tp - dt,
+            dt: h,
+        }),
+    );
+    let k = peak(&fine.samples);
+    let (a, b, c) = (
+        fine.samples[k - 1].y[4].abs(),
+        fine.samples[k].y[4].abs(),
+        fine.samples[k + 1].y[4].abs(),
+    );
+    let s_star = b + (c - a) * (c - a) / (8.0 * (2.0 * b - a - c));
+    assert!(s_star > 0.01 && s_star < base.dx, "S* = {s_star}");
+    for (depth, expect) in [(1e-6, 2), (1e-9, 2), (-1e-6, 0)] {
+        let p = Params {
+            dx: s_star - depth,
+            ..base
+        };
+        let t = run(p, t0 + period, None);
+        let crossings: Vec<&str> = t
+            .events
+            .iter()
+            .map(|e| e.kind)
+            .filter(|k| *k == guard::X_OUT || *k == guard::X_IN)
+            .collect();
+        assert_eq!(crossings.len(), expect, "depth {depth}: {crossings:?}");
+        if expect == 2 {
+            assert_eq!(crossings, [guard::X_OUT, guard::X_IN], "depth {depth}");
+        }
+    }
 }

@@ -19,6 +19,16 @@ pub fn fmt_f64(v: f64) -> String {
     }
 }
 
+/// Writes a number as [`fmt_f64`] formats it, without building a `String` (for long outputs).
+pub fn write_f64(out: &mut impl Write, v: f64) -> io::Result<()> {
+    let a = v.abs();
+    if v == 0.0 || (1e-4..1e15).contains(&a) || !v.is_finite() {
+        write!(out, "{v}")
+    } else {
+        write!(out, "{v:e}")
+    }
+}
+
 /// Quotes a text field if it needs it.
 pub fn quote(field: &str) -> String {
     if field.contains([',', '"', '\n', '\r']) {

@@ -34,6 +34,12 @@ pub struct SimOptions {
     pub max_events_per_period: u32,
     /// Step attempts allowed per integrated phase. Default 1e7.
     pub max_steps: u64,
+    /// Screen each step from the guards' values and derivatives at its ends before sampling
+    /// its dense output ([`crate::ode::EventOptions::screen`]): guards that the cubic Hermite
+    /// bound clears are not sampled, and a step where all are cleared costs no dense output.
+    /// Applies to guards with [`RotorModel::guard_derivative`]. Default `true`; `false`
+    /// samples every step (`event_samples` points), as before version 0.2.
+    pub screen_events: bool,
 }
 
 impl Default for SimOptions {
@@ -47,6 +53,7 @@ impl Default for SimOptions {
             event_samples: 4,
             max_events_per_period: 1000,
             max_steps: 10_000_000,
+            screen_events: true,
         }
     }
 }
@@ -175,6 +182,20 @@ where
     }
     fn derivative_needs_rhs(&self) -> bool {
         self.model.guard_derivative_needs_rhs()
+    }
+    fn derivative_needs_rhs_of(&self, i: usize) -> bool {
+        self.model.guard_derivative_needs_rhs_of(self.mode, i)
+    }
+    fn values_and_derivatives(
+        &self,
+        t: f64,
+        y: &OVector<f64, M::Dim>,
+        dy: &OVector<f64, M::Dim>,
+        with_derivatives: bool,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
+        self.model
+            .guard_values(self.mode, t, y, dy, with_derivatives, self.cache, out);
     }
 }
 
@@ -559,6 +580,7 @@ where
     let land_on_strobe = opts.method != Method::Dop853;
     let ev_opts = EventOptions {
         samples_per_step: opts.event_samples,
+        screen: opts.screen_events,
         ..EventOptions::default()
     };
     let mut sched = Schedule::new(plan, period, t0);
@@ -659,7 +681,10 @@ where
                             integ.dense(&sys, to, &mut w.yo);
                         }
                         model.project(mode, to, &mut w.yo, &out_cache);
-                        model.rhs(mode, to, &w.yo, &mut w.dy, &out_cache);
+                        // Only dense samples carry the derivative.
+                        if matches!(due, Due::Dense) {
+                            model.rhs(mode, to, &w.yo, &mut w.dy, &out_cache);
+                        }
                         w.out.emit(obs, due, to, &w.yo, &w.dy, label);
                     }
                     if let Some(h) = hit {

@@ -402,6 +402,40 @@ where
         true
     }
 
+    /// Whether the derivative of guard `i` of `mode` reads its `dy` argument (default:
+    /// [`RotorModel::guard_derivative_needs_rhs`]). A model whose guards differ saves the
+    /// right-hand side at the samples of steps where only the others are sampled.
+    fn guard_derivative_needs_rhs_of(&self, mode: Self::Mode, i: usize) -> bool {
+        let _ = (mode, i);
+        self.guard_derivative_needs_rhs()
+    }
+
+    /// Every guard of `mode` at one point: calls `out(i, value, rate)` for `i` in
+    /// `0..guard_count(mode)`, with [`RotorModel::guard_value`] and, if `with_rates`,
+    /// [`RotorModel::guard_derivative`] (`dy` as there). The default calls those two for each
+    /// guard; a model whose guards share work (a contact location) can evaluate them together,
+    /// returning the same numbers. The driver's event detector uses it at every step's end.
+    #[allow(clippy::too_many_arguments)]
+    fn guard_values(
+        &self,
+        mode: Self::Mode,
+        t: f64,
+        y: &OVector<f64, Self::Dim>,
+        dy: &OVector<f64, Self::Dim>,
+        with_rates: bool,
+        cache: &Self::Cache,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
+        for i in 0..self.guard_count(mode) {
+            let rate = if with_rates {
+                self.guard_derivative(mode, i, t, y, dy, cache)
+            } else {
+                None
+            };
+            out(i, self.guard_value(mode, i, t, y, cache), rate);
+        }
+    }
+
     /// Short name of guard `i` of `mode`, for event logs.
     fn guard_label(&self, mode: Self::Mode, i: usize) -> &'static str;
 

@@ -150,4 +150,10 @@ where
     fn dim(&self) -> D {
         dispatch!(self, i => i.dim())
     }
+    fn dy(&self) -> Option<&OVector<f64, D>> {
+        dispatch!(self, i => i.dy())
+    }
+    fn dy_prev(&self) -> Option<&OVector<f64, D>> {
+        dispatch!(self, i => i.dy_prev())
+    }
 }

@@ -435,6 +435,12 @@ macro_rules! core_accessors {
         fn dim(&self) -> D {
             self.core.dim
         }
+        fn dy(&self) -> Option<&OVector<f64, D>> {
+            Some(&self.core.f)
+        }
+        fn dy_prev(&self) -> Option<&OVector<f64, D>> {
+            Some(&self.core.f_prev)
+        }
     };
 }
 pub(crate) use core_accessors;

@@ -270,4 +270,14 @@ where
     fn dim(&self) -> D {
         self.y().shape_generic().0
     }
+    /// $f(t, y)$ at the current point, if the integrator keeps it (the crate's integrators
+    /// do: it is the first stage of the next step). Lets the event detector read the state's
+    /// derivative at a step's ends instead of evaluating $f$. Default: `None`.
+    fn dy(&self) -> Option<&OVector<f64, D>> {
+        None
+    }
+    /// $f$ at [`Integrator::t_prev`], if kept (see [`Integrator::dy`]). Default: `None`.
+    fn dy_prev(&self) -> Option<&OVector<f64, D>> {
+        None
+    }
 }

@@ -17,7 +17,11 @@
 //! falls back to bisection when the secant point is not strictly inside the
 //! bracket, and on every fourth iteration in a row that did not halve the
 //! bracket, so it never needs more than about four times the iterations of
-//! bisection.
+//! bisection. A point is never taken closer than `tol / 2` to an end of the
+//! bracket: once an end sits on the root to rounding (the secant point of a
+//! nearly linear function does so at once), the next point falls half a
+//! tolerance beyond it and closes the bracket, where the far end would
+//! otherwise creep in over many iterations.
 //!
 //! # Guarantee
 //!
@@ -112,6 +116,14 @@ pub fn illinois(
         } else {
             b - fb * (b - a) / (fb - fa)
         };
+        // Never closer than half the tolerance to an end (b - a > tol here): once an end sits
+        // on the root to rounding (the secant point may then round onto it), the next point
+        // lands half a tolerance beyond it and closes the bracket, instead of bisecting from
+        // the far end.
+        let half = 0.5 * tol;
+        if !c.is_nan() && b - a > 2.0 * half {
+            c = c.max(a + half).min(b - half);
+        }
         if !(c > a && c < b) {
             c = 0.5 * (a + b);
             if !(c > a && c < b) {

@@ -367,17 +367,47 @@ impl RotorModel for JeffcottModel {
         i: usize,
         t: f64,
         y: &State,
-        _dy: &State,
+        dy: &State,
         cache: &Cache,
     ) -> Option<f64> {
         let guard = self.guard_of(&mode, i);
+        let k = Self::kinematics(y);
+        // The loss force's rate needs the rotor's acceleration, from `dy` (the event detector
+        // has it for free at a step's ends).
+        let accel = Vector2::new(dy[2], dy[3]);
         self.ring
-            .guard_rate(&mode, guard, t, &Self::kinematics(y), &cache.ring)
+            .guard_rate_with_accel(&mode, guard, t, &k, &accel, &cache.ring)
     }
 
     fn guard_derivative_needs_rhs(&self) -> bool {
-        // The guard rates need only the rotor's position and velocity, which are in the state.
-        false
+        // The loss guard's rate reads the rotor's acceleration.
+        true
+    }
+
+    fn guard_derivative_needs_rhs_of(&self, mode: Mode, i: usize) -> bool {
+        // The others need only the rotor's position and velocity, which are in the state.
+        self.guard_of(&mode, i) == RingGuard::Loss
+    }
+
+    fn guard_values(
+        &self,
+        mode: Mode,
+        t: f64,
+        y: &State,
+        dy: &State,
+        with_rates: bool,
+        cache: &Cache,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
+        let accel = Vector2::new(dy[2], dy[3]);
+        self.ring.guard_values(
+            &mode,
+            t,
+            &Self::kinematics(y),
+            with_rates.then_some(&accel),
+            &cache.ring,
+            out,
+        );
     }
 
     fn guard_label(&self, mode: Mode, i: usize) -> &'static str {

@@ -55,7 +55,7 @@
 //! **No ring damping** ($\nu_2 = 0$): the ring relaxes instantly, so every free flight starts
 //! with the ring at its centre.
 
-use std::cell::Cell;
+use std::cell::RefCell;
 
 use nalgebra::Vector2;
 
@@ -238,10 +238,17 @@ pub struct RingTransition {
 /// field ask for the same point, and the warm start of the next. Not shared between threads.
 #[derive(Debug, Default)]
 pub struct RingCache {
-    /// `(x, y, branches)` of the last location.
-    key: Cell<Option<(f64, f64, Branches)>>,
-    /// The last location.
-    contact: Cell<Option<RingContact>>,
+    /// The last location and the rotor position `(x, y)` it was made for (its branches are
+    /// the contact's). Read in place: a location is large, and copying it on every hit cost as
+    /// much as the closed-form location itself.
+    last: RefCell<Option<CachedContact>>,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct CachedContact {
+    x: f64,
+    y: f64,
+    contact: RingContact,
 }
 
 impl RingContact {
@@ -293,21 +300,35 @@ impl SnubberRing {
         r: &Vector2<f64>,
         cache: &RingCache,
     ) -> Result<RingContact, RingError> {
-        let hint = match cache.key.get() {
-            Some((x, y, b)) if b == branches => {
-                if x == r.x && y == r.y {
-                    if let Some(c) = cache.contact.get() {
-                        return Ok(c);
-                    }
+        self.with_contact(branches, r, cache, |c| *c)
+    }
+
+    /// Applies `f` to the ring located on `branches` at `r` (as [`SnubberRing::contact_on`],
+    /// reading the cached location in place).
+    pub(crate) fn with_contact<T>(
+        &self,
+        branches: Branches,
+        r: &Vector2<f64>,
+        cache: &RingCache,
+        f: impl FnOnce(&RingContact) -> T,
+    ) -> Result<T, RingError> {
+        let mut last = cache.last.borrow_mut();
+        let hint = match &*last {
+            Some(c) if c.contact.branches == branches => {
+                if c.x == r.x && c.y == r.y {
+                    return Ok(f(&c.contact));
                 }
-                cache.contact.get().map_or(f64::NAN, |c| c.mu)
+                c.contact.mu
             }
             _ => f64::NAN,
         };
-        let c = self.locate_on(r, branches, hint)?;
-        cache.key.set(Some((r.x, r.y, branches)));
-        cache.contact.set(Some(c));
-        Ok(c)
+        let contact = self.locate_on(r, branches, hint)?;
+        let c = last.insert(CachedContact {
+            x: r.x,
+            y: r.y,
+            contact,
+        });
+        Ok(f(&c.contact))
     }
 
     /// Number of guards of `mode`: 1 in free flight; in contact loss, gap, and one per
@@ -368,14 +389,13 @@ impl SnubberRing {
             }
             (RingMode::Contact(_), RingGuard::Gap) => k.r.norm_squared() - self.gap * self.gap,
             (RingMode::Contact(b), RingGuard::Loss) => self
-                .contact_on(*b, &k.r, cache)
-                .map_or(f64::NAN, |c| c.loss_force(&k.v)),
-            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
-                match self.contact_on(*b, &k.r, cache) {
-                    Ok(c) => self.preload_distance(b, axis, c.s[axis.index()]),
-                    Err(_) => f64::NAN,
-                }
-            }
+                .with_contact(*b, &k.r, cache, |c| c.loss_force(&k.v))
+                .unwrap_or(f64::NAN),
+            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => self
+                .with_contact(*b, &k.r, cache, |c| {
+                    self.preload_distance(b, axis, c.s[axis.index()])
+                })
+                .unwrap_or(f64::NAN),
             _ => f64::NAN,
         }
     }
@@ -397,16 +417,173 @@ impl SnubberRing {
                 Some(2.0 * (k.r - s).dot(&(k.v - s_dot)))
             }
             (RingMode::Contact(_), RingGuard::Gap) => Some(2.0 * k.r.dot(&k.v)),
-            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
-                let c = self.contact_on(*b, &k.r, cache).ok()?;
-                let i = axis.index();
-                let rate = c.ring_velocity(&k.v)[i];
-                Some(match branch_of(b, axis) {
-                    Branch::Inner => c.s[i].signum() * rate,
-                    Branch::Outer(sigma) => f64::from(sigma) * rate,
+            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => self
+                .with_contact(*b, &k.r, cache, |c| {
+                    let i = axis.index();
+                    let rate = c.ring_velocity(&k.v)[i];
+                    match branch_of(b, axis) {
+                        Branch::Inner => c.s[i].signum() * rate,
+                        Branch::Outer(sigma) => f64::from(sigma) * rate,
+                    }
                 })
-            }
+                .ok(),
             _ => None,
+        }
+    }
+
+    /// As [`SnubberRing::guard_rate`], and for the loss guard too, given the acceleration
+    /// $r^{\prime\prime}$ of the rotor's station ([`SnubberRing::loss_force_derivative`]).
+    pub fn guard_rate_with_accel(
+        &self,
+        mode: &RingMode,
+        guard: RingGuard,
+        t: f64,
+        k: &Kinematics,
+        accel: &Vector2<f64>,
+        cache: &RingCache,
+    ) -> Option<f64> {
+        match (mode, guard) {
+            (RingMode::Contact(b), RingGuard::Loss) => self
+                .with_contact(*b, &k.r, cache, |c| {
+                    self.loss_force_derivative(c, &k.v, accel)
+                })
+                .ok(),
+            _ => self.guard_rate(mode, guard, t, k, cache),
+        }
+    }
+
+    /// Time derivative $\dot L$ of the loss force $L = \max(N, \lambda)$ along the contact
+    /// flow on the branches of `c`, for the station's velocity $r^\prime$ (`r_dot`) and
+    /// acceleration $r^{\prime\prime}$ (`r_ddot`).
+    ///
+    /// On fixed branches each axis' elastic force is affine, $g_i(s) = a_i s_i + b_i$
+    /// ($a_i = 2K_i$ inner, $K_i$ outer). With $d = r - s$, $A = \operatorname{diag}(a_i + 2\mu)$
+    /// and $w = A^{-1}d$, differentiating the Lagrange system $g(s) = 2\mu d$, $|d| = \gamma$
+    /// twice gives
+    /// $$\dot\mu = \frac{(d - 2\mu w)\cdot r^\prime}{2\thinspace d\cdot w},\qquad
+    /// \ddot\mu = \frac{(d - 2\mu w)\cdot r^{\prime\prime} - 4\dot\mu\thinspace w\cdot\dot d +
+    /// |\dot d|^2}{2\thinspace d\cdot w},$$
+    /// $$\ddot s = A^{-1}(2\mu r^{\prime\prime} + 4\dot\mu\dot d) + 2\ddot\mu\thinspace w,$$
+    /// with $\dot s = J r^\prime$ and $\dot d = r^\prime - \dot s$. The force
+    /// $f = 2\mu d + C\dot s$ then has $\dot f = 2\dot\mu d + 2\mu\dot d + C\ddot s$,
+    /// $\dot N = (\dot d\cdot f + d\cdot\dot f)/\gamma$, and for an anisotropic damping
+    /// $\lambda = 2\mu\gamma + c_x c_y P/Q$ with $P = n\cdot r^\prime$,
+    /// $Q = c_y n_x^2 + c_x n_y^2$ gives
+    /// $\dot\lambda = 2\gamma\dot\mu + c_x c_y(\dot P Q - P\dot Q)/Q^2$. The derivative of the
+    /// larger of $N$ and $\lambda$ is returned.
+    pub fn loss_force_derivative(
+        &self,
+        c: &RingContact,
+        r_dot: &Vector2<f64>,
+        r_ddot: &Vector2<f64>,
+    ) -> f64 {
+        let gap = self.gap;
+        let mu = c.mu;
+        let two_mu = 2.0 * mu;
+        let d = c.normal * gap;
+        let slope = |b: Branch, k: f64| if b.is_outer() { k } else { 2.0 * k };
+        let a = Vector2::new(
+            slope(c.branches.x, self.x.stiffness),
+            slope(c.branches.y, self.y.stiffness),
+        );
+        let inv_ax = 1.0 / (a.x + two_mu);
+        // Equal slopes (uniform branches) need one division: the same bits.
+        let inv_ay = if a.y == a.x {
+            inv_ax
+        } else {
+            1.0 / (a.y + two_mu)
+        };
+        let inv_a = Vector2::new(inv_ax, inv_ay);
+        let w = d.component_mul(&inv_a);
+        let inv_dw2 = 0.5 / d.dot(&w);
+        let u = d - w * two_mu;
+        let s_dot = c.ring_velocity(r_dot);
+        let d_dot = r_dot - s_dot;
+        let mu_dot = u.dot(r_dot) * inv_dw2;
+        let mu_ddot =
+            (u.dot(r_ddot) - 4.0 * mu_dot * w.dot(&d_dot) + d_dot.norm_squared()) * inv_dw2;
+        let s_ddot =
+            (r_ddot * two_mu + d_dot * (4.0 * mu_dot)).component_mul(&inv_a) + w * (2.0 * mu_ddot);
+        let f = c.elastic + c.damping.component_mul(&s_dot);
+        let f_dot = d * (2.0 * mu_dot) + d_dot * two_mu + c.damping.component_mul(&s_ddot);
+        let inv_gap = 1.0 / gap;
+        let n_dot = (d_dot.dot(&f) + d.dot(&f_dot)) * inv_gap;
+        let (cx, cy) = (c.damping.x, c.damping.y);
+        if cx == cy || c.normal_force(r_dot) >= c.separation_force(r_dot) {
+            return n_dot;
+        }
+        let n = c.normal;
+        let nd = d_dot * inv_gap;
+        let p = n.dot(r_dot);
+        let q = cy * n.x * n.x + cx * n.y * n.y;
+        let p_dot = nd.dot(r_dot) + n.dot(r_ddot);
+        let q_dot = 2.0 * (cy * n.x * nd.x + cx * n.y * nd.y);
+        2.0 * gap * mu_dot + cx * cy * (p_dot * q - p * q_dot) / (q * q)
+    }
+
+    /// Every guard of `mode` at one point, in the order of [`SnubberRing::guard`]: calls
+    /// `out(i, value, rate)` for each, with the value of [`SnubberRing::guard_value`] and, if
+    /// `accel` is given ($r^{\prime\prime}$ of the station), the rate of
+    /// [`SnubberRing::guard_rate_with_accel`] (`None` without it). Bitwise the same numbers as
+    /// the one-guard methods, for one ring location instead of one per guard.
+    pub fn guard_values(
+        &self,
+        mode: &RingMode,
+        t: f64,
+        k: &Kinematics,
+        accel: Option<&Vector2<f64>>,
+        cache: &RingCache,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
+        let b = match mode {
+            RingMode::Free { .. } => {
+                let rate = accel.and_then(|_| self.guard_rate(mode, RingGuard::Onset, t, k, cache));
+                out(
+                    0,
+                    self.guard_value(mode, RingGuard::Onset, t, k, cache),
+                    rate,
+                );
+                return;
+            }
+            RingMode::Contact(b) => b,
+        };
+        let gap2 = self.gap * self.gap;
+        let gap = (k.r.norm_squared() - gap2, 2.0 * k.r.dot(&k.v));
+        let done = self.with_contact(*b, &k.r, cache, |c| {
+            let loss = c.loss_force(&k.v);
+            out(
+                0,
+                loss,
+                accel.map(|a| self.loss_force_derivative(c, &k.v, a)),
+            );
+            out(1, gap.0, accel.map(|_| gap.1));
+            let mut i = 2;
+            for axis in [Axis::X, Axis::Y] {
+                if self.axis(axis).preload > 0.0 {
+                    let j = axis.index();
+                    let value = self.preload_distance(b, axis, c.s[j]);
+                    let rate = accel.map(|_| {
+                        let rate = c.ring_velocity(&k.v)[j];
+                        match branch_of(b, axis) {
+                            Branch::Inner => c.s[j].signum() * rate,
+                            Branch::Outer(sigma) => f64::from(sigma) * rate,
+                        }
+                    });
+                    out(i, value, rate);
+                    i += 1;
+                }
+            }
+        });
+        if done.is_err() {
+            // No placement: the contact guards are NaN (the gap guard needs none).
+            let n = self.guard_count(mode);
+            for i in 0..n {
+                if i == 1 {
+                    out(1, gap.0, accel.map(|_| gap.1));
+                } else {
+                    out(i, f64::NAN, None);
+                }
+            }
         }
     }
 
@@ -447,15 +624,16 @@ impl SnubberRing {
                     force: Vector2::zeros(),
                 })
             }
-            RingMode::Contact(b) => {
-                let c = self.contact_on(*b, &k.r, cache)?;
+            // Closed form: computed directly (the cache would only cost a copy).
+            RingMode::Contact(b) if self.is_uniform(*b) => self.uniform_state(&k.r, &k.v, *b),
+            RingMode::Contact(b) => self.with_contact(*b, &k.r, cache, |c| {
                 let s_dot = c.ring_velocity(&k.v);
-                Ok(RingState {
+                RingState {
                     s: c.s,
                     s_dot,
                     force: c.elastic + c.damping.component_mul(&s_dot),
-                })
-            }
+                }
+            }),
         }
     }
 
@@ -677,7 +855,7 @@ impl SnubberRing {
         let stiffness = self.x.stiffness.max(self.y.stiffness);
         let rounding = c.loss_force_rounding(stiffness, gap, &k.v);
         let starts =
-            load > rounding || (load >= -rounding && self.loss_force_rate(&c, k, &accel) > 0.0);
+            load > rounding || (load >= -rounding && self.loss_force_trend(&c, k, &accel) > 0.0);
         if starts {
             return Ok(RingTransition {
                 mode: RingMode::Contact(b),
@@ -693,7 +871,7 @@ impl SnubberRing {
     /// by a central difference over the time in which the station moves $10^{-6}\gamma$ (only
     /// its sign is used, where the force itself is zero to rounding: a relaxed ring touched on
     /// the circle without ring damping, or the end of a sequence of touches without load).
-    fn loss_force_rate(
+    fn loss_force_trend(
         &self,
         c: &RingContact,
         k: &Kinematics,

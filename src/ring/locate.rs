@@ -45,7 +45,9 @@ use nalgebra::{Matrix2, Vector2};
 
 use super::branch::{Branch, Branches};
 use super::SnubberRing;
-use super::{check_finite, check_non_negative, check_positive, Regime, RingAxis, RingError};
+use super::{
+    check_finite, check_non_negative, check_positive, Regime, RingAxis, RingError, RingState,
+};
 
 /// Largest number of safeguarded Newton/bisection steps of the multiplier solver (1 to 4 are
 /// typical, 7 the most seen in the tests).
@@ -298,7 +300,7 @@ impl SnubberRing {
         branches: Branches,
         mu_hint: f64,
     ) -> Result<RingContact, RingError> {
-        if self.x.stiffness == self.y.stiffness && branches.x.is_outer() == branches.y.is_outer() {
+        if self.is_uniform(branches) {
             return self.locate_uniform(r, branches);
         }
         self.place(r, branches, (f64::NEG_INFINITY, f64::INFINITY), mu_hint)
@@ -367,6 +369,49 @@ impl SnubberRing {
         r: &Vector2<f64>,
         branches: Branches,
     ) -> Result<RingContact, RingError> {
+        let u = self.uniform(r, branches)?;
+        Ok(RingContact {
+            s: r - u.d,
+            mu: u.mu,
+            normal: u.normal,
+            jacobian: u.jacobian,
+            branches,
+            damping: self.branch_damping(branches),
+            elastic: u.d * (2.0 * u.mu),
+            iterations: 0,
+        })
+    }
+
+    /// Whether [`SnubberRing::locate_on`] solves `branches` in closed form (both axes share
+    /// $K$ and the branch kind).
+    #[inline]
+    pub(crate) fn is_uniform(&self, branches: Branches) -> bool {
+        self.x.stiffness == self.y.stiffness && branches.x.is_outer() == branches.y.is_outer()
+    }
+
+    /// Position, velocity and force of the ring on uniform branches at `r` with rotor velocity
+    /// `v`: the fields of [`SnubberRing::locate_on`] that the vector field needs, bitwise the
+    /// same, without building the whole contact record.
+    #[inline]
+    pub(crate) fn uniform_state(
+        &self,
+        r: &Vector2<f64>,
+        v: &Vector2<f64>,
+        branches: Branches,
+    ) -> Result<RingState, RingError> {
+        let u = self.uniform(r, branches)?;
+        let s_dot = u.jacobian * v;
+        let force = u.d * (2.0 * u.mu) + self.branch_damping(branches).component_mul(&s_dot);
+        Ok(RingState {
+            s: r - u.d,
+            s_dot,
+            force,
+        })
+    }
+
+    /// The closed form of [`SnubberRing::locate_uniform`].
+    #[inline(always)]
+    fn uniform(&self, r: &Vector2<f64>, branches: Branches) -> Result<Uniform, RingError> {
         let k = self.x.stiffness;
         let sigma = |b: Branch| match b {
             Branch::Inner => 0.0,
@@ -380,10 +425,17 @@ impl SnubberRing {
             return Err(RingError::NoPlacement { x: r.x, y: r.y });
         }
         let outer = branches.x.is_outer();
-        let c = if outer { 2.0 } else { 1.0 };
-        let mu = (a_norm / self.gap - k) / c;
+        // Divided by c = 2 (outer) or 1 (inner), exactly, without a division.
+        // (A gap of 1, the paper's scaling, needs no division: the same bits.)
+        let scaled = if self.gap == 1.0 {
+            a_norm
+        } else {
+            a_norm / self.gap
+        };
+        let excess = scaled - k;
+        let mu = if outer { excess * 0.5 } else { excess };
         let normal = Vector2::new(ax, ay) * a_norm.recip();
-        let dvec = normal * self.gap;
+        let d = normal * self.gap;
         let alpha = if outer { k } else { 2.0 * k } + 2.0 * mu;
         let ratio = 2.0 * mu / alpha;
         let q = 1.0 - ratio;
@@ -394,17 +446,22 @@ impl SnubberRing {
             nxy,
             ratio + q * normal.y * normal.y,
         );
-        Ok(RingContact {
-            s: r - dvec,
+        Ok(Uniform {
             mu,
             normal,
+            d,
             jacobian,
-            branches,
-            damping: self.branch_damping(branches),
-            elastic: dvec * (2.0 * mu),
-            iterations: 0,
         })
     }
+}
+
+/// The closed-form location on uniform branches.
+struct Uniform {
+    mu: f64,
+    normal: Vector2<f64>,
+    /// $d = r - s = \gamma n$.
+    d: Vector2<f64>,
+    jacobian: Matrix2<f64>,
 }
 
 /// Closed form of the ring position in regime II for an isotropic ring (paper eq. 22, Table 3):

@@ -186,17 +186,41 @@ fn first_root_cubic(c0: f64, c1: f64, c2: f64, c3: f64) -> f64 {
 
 /// On `[lo, hi]` with `p` monotone increasing, `p(lo) <= 0 < p(hi)`: a point with `p <= 0`
 /// within 1/4096 of the interval below the root (a step a little short of the largest
-/// certified one costs nothing in safety and saves iterations).
+/// certified one costs nothing in safety and saves iterations). Regula falsi with the Illinois
+/// modification, every point kept at least half of that resolution inside the bracket (so
+/// that it closes once an end sits on the root): the bracket always holds the root, as with
+/// bisection, in about a third of bisection's evaluations.
 fn bisect_last_negative(p: &impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
-    for _ in 0..12 {
-        let mid = 0.5 * (lo + hi);
+    let tol = (hi - lo) / 4096.0;
+    let (mut f_lo, mut f_hi) = (p(lo), p(hi));
+    let mut side = 0i8;
+    for _ in 0..64 {
+        if hi - lo <= tol {
+            break;
+        }
+        let mut mid = hi - f_hi * (hi - lo) / (f_hi - f_lo);
+        if mid.is_nan() {
+            mid = 0.5 * (lo + hi);
+        }
+        mid = mid.max(lo + 0.5 * tol).min(hi - 0.5 * tol);
         if mid <= lo || mid >= hi {
             break;
         }
-        if p(mid) <= 0.0 {
+        let f = p(mid);
+        if f <= 0.0 {
             lo = mid;
+            f_lo = f;
+            if side == -1 {
+                f_hi *= 0.5;
+            }
+            side = -1;
         } else {
             hi = mid;
+            f_hi = f;
+            if side == 1 {
+                f_lo *= 0.5;
+            }
+            side = 1;
         }
     }
     lo
@@ -327,6 +351,11 @@ pub fn find_onset(
             // one ulp. Report the first representable time after t when h is rising (so the
             // onset lies on the contact side), t itself otherwise (a touch).
             return Onset::At(if h1 > 0.0 { t.next_up().min(t_end) } else { t });
+        }
+        if t_next >= t_end && piece_end >= t_end {
+            // The certified step covers the rest of the window: no onset up to t_end, without
+            // an evaluation at t_end (the next window starts there with one).
+            return Onset::None;
         }
         t = t_next.min(piece_end);
     }

@@ -30,16 +30,27 @@ fn relax_axis(axis: &RingAxis, damping: f64, s0: f64, t: f64) -> f64 {
     let tc = 2.0 * damping / axis.stiffness;
     let d = axis.preload;
     if d == 0.0 || axis.is_inside(s0) {
-        return s0 * (-t / tc).exp();
+        return s0 * decay(t / tc);
     }
     let a = s0.abs();
     let t1 = tc * ((a - d) / (2.0 * d)).ln_1p();
     let mag = if t <= t1 {
         (a + d) * (-t / tc).exp() - d
     } else {
-        d * (-(t - t1) / tc).exp()
+        d * decay((t - t1) / tc)
     };
     mag.copysign(s0)
+}
+
+/// $e^{-x}$, without calling `exp` where it is 0 (the ring has relaxed for more than 746 time
+/// constants, most of a free flight).
+#[inline]
+fn decay(x: f64) -> f64 {
+    if x > 746.0 {
+        0.0
+    } else {
+        (-x).exp()
+    }
 }
 
 /// Velocity of one free axis at state `s`.

@@ -1,6 +1,6 @@
 //! The detector: [`find_first_event`].
 
-use super::state::{Leave, Scratch, Slot};
+use super::state::{EndValue, Leave, Scratch, Slot};
 use super::{Direction, EventHit, EventOptions, EventSet, EventState};
 use crate::ode::roots::illinois;
 use crate::ode::{Integrator, OdeError, OdeSystem};
@@ -70,6 +70,77 @@ fn hermite_extremum_near_zero(a: (f64, f64, f64), b: (f64, f64, f64)) -> bool {
     !any
 }
 
+/// Whether two vectors hold the same bits.
+fn same_bits<D: Dim>(a: &OVector<f64, D>, b: &OVector<f64, D>) -> bool
+where
+    DefaultAllocator: Allocator<D>,
+{
+    a.len() == b.len()
+        && a.iter()
+            .zip(b.iter())
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// The step-end screen of one guard: values and derivatives `(g, g')` at both ends of a step of
+/// length `h`, of the same sign, and the cubic Hermite interpolant $p$ through them stays at
+/// least half of the smaller end value $m = \min(|g_a|, |g_b|)$ away from zero on the whole
+/// step (on its side). Then the guard has no root on the step as long as the interpolant's
+/// error is below $m/2$ (module docs, *Screening*). Non-finite input is never cleared.
+/// Usually decided by the convex hull of the Bernstein coefficients, else at the interior
+/// extrema.
+#[inline(always)]
+fn hermite_clear(a: (f64, f64), b: (f64, f64), h: f64) -> bool {
+    let (ga, da) = a;
+    let (gb, db) = b;
+    if !(ga != 0.0 && gb != 0.0 && (ga > 0.0) == (gb > 0.0)) {
+        return false;
+    }
+    // Signed so that the ends are positive.
+    let sign = ga.signum();
+    let margin = 0.5 * ga.abs().min(gb.abs());
+    // Quick sufficient test, the usual case of a guard far from zero: a cubic on [0, 1] lies
+    // above the smallest of its Bernstein coefficients, (g_a, g_a + h g_a'/3, g_b - h g_b'/3,
+    // g_b) signed, of which the ends are at least 2 margin.
+    const THIRD: f64 = 1.0 / 3.0;
+    let (b1, b2) = ((ga + h * da * THIRD) * sign, (gb - h * db * THIRD) * sign);
+    if b1.min(b2) >= margin {
+        return true;
+    }
+    // p(s) = c0 + c1 s + c2 s^2 + c3 s^3 on s in [0, 1].
+    let (c0, c1) = (ga * sign, h * da * sign);
+    let c2 = (3.0 * (gb - ga) - h * (2.0 * da + db)) * sign;
+    let c3 = (2.0 * (ga - gb) + h * (da + db)) * sign;
+    if !(c1.is_finite() && c2.is_finite() && c3.is_finite()) {
+        return false;
+    }
+    let p = |s: f64| c0 + s * (c1 + s * (c2 + s * c3));
+    // Interior extrema: roots of p'(s) = c1 + 2 c2 s + 3 c3 s^2 in (0, 1).
+    let (qa, qb, qc) = (3.0 * c3, 2.0 * c2, c1);
+    let mut ok = true;
+    let mut check = |s: f64| {
+        if s > 0.0 && s < 1.0 {
+            ok &= p(s) >= margin;
+        }
+    };
+    if qa == 0.0 {
+        if qb != 0.0 {
+            check(-qc / qb);
+        }
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc >= 0.0 {
+            let q = -0.5 * (qb + disc.sqrt().copysign(qb));
+            check(q / qa);
+            if q != 0.0 {
+                check(qc / q);
+            } else {
+                check(0.0);
+            }
+        }
+    }
+    ok
+}
+
 /// Locates the root of event `i` in the bracket `lo`..`hi` (values of
 /// opposite sign, or zero at `hi`); returns the post-crossing end.
 #[allow(clippy::too_many_arguments)]
@@ -96,6 +167,95 @@ where
         events.value(i, t, tmp)
     })
     .hi
+}
+
+/// Narrows the bracket `lo`..`hi` (values of opposite sign, as for [`locate`]) of event `i`
+/// before the root search, when the derivatives at both ends are known (finite): the root
+/// of the cubic Hermite interpolant of the two ends, $t^*$, is usually within a tiny fraction
+/// of the bracket of the root, so $g$ is evaluated at $t^* \pm \delta$ with
+/// $\delta = 2^{-16}$ of the bracket (at least `tol`) and the narrowest sub-bracket with a
+/// verified sign change is returned (the given one when the estimate misses). Two evaluations
+/// that save about half of the root finder's.
+#[allow(clippy::too_many_arguments)]
+fn narrow_bracket<D, S, I, E>(
+    integ: &mut I,
+    sys: &S,
+    events: &E,
+    i: usize,
+    lo: (f64, f64, f64),
+    hi: (f64, f64, f64),
+    tol: f64,
+    tmp: &mut OVector<f64, D>,
+) -> ((f64, f64), (f64, f64))
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    let (ta, ga, da) = lo;
+    let (tb, gb, db) = hi;
+    let plain = ((ta, ga), (tb, gb));
+    let h = tb - ta;
+    let delta = (h * 2f64.powi(-16)).max(tol);
+    if gb == 0.0 || !(da.is_finite() && db.is_finite()) || 4.0 * delta >= h {
+        return plain;
+    }
+    // Hermite cubic on s in [0, 1], p(0) = ga, p(1) = gb of opposite signs: its root by
+    // bisection safeguarded Newton on the polynomial (no guard evaluations).
+    let c1 = h * da;
+    let c2 = 3.0 * (gb - ga) - h * (2.0 * da + db);
+    let c3 = 2.0 * (ga - gb) + h * (da + db);
+    let p = |u: f64| ga + u * (c1 + u * (c2 + u * c3));
+    let dp = |u: f64| c1 + u * (2.0 * c2 + u * 3.0 * c3);
+    let (mut a, mut b) = (0.0f64, 1.0f64);
+    let mut u = ga / (ga - gb);
+    let resolution = 1e-3 * delta / h;
+    for _ in 0..60 {
+        let v = p(u);
+        if v == 0.0 {
+            break;
+        }
+        if (v > 0.0) == (ga > 0.0) {
+            a = u;
+        } else {
+            b = u;
+        }
+        let next = u - v / dp(u);
+        let newton = next > a && next < b;
+        let step = if newton { next - u } else { 0.5 * (a + b) - u };
+        u += step;
+        if (newton && step.abs() < resolution) || b - a < resolution {
+            break;
+        }
+    }
+    let est = ta + u * h;
+    let (l, r) = (est - delta, est + delta);
+    if !(l > ta && r < tb) {
+        return plain;
+    }
+    let mut g_at = |t: f64| {
+        y_at(integ, sys, t, tmp);
+        events.value(i, t, tmp)
+    };
+    let crossed = |g: f64| g == 0.0 || (g > 0.0) != (ga > 0.0);
+    let gl = g_at(l);
+    if gl.is_nan() {
+        return plain;
+    }
+    if crossed(gl) {
+        return ((ta, ga), (l, gl));
+    }
+    let gr = g_at(r);
+    if gr.is_nan() {
+        return ((l, gl), (tb, gb));
+    }
+    if crossed(gr) {
+        ((l, gl), (r, gr))
+    } else {
+        ((r, gr), (tb, gb))
+    }
 }
 
 /// Look for the earliest event on the last step of `integ` using its dense
@@ -150,6 +310,8 @@ where
         resume,
         last_hit,
         slots,
+        end_at,
+        end_len,
         scratch,
         hit,
     } = state;
@@ -159,6 +321,7 @@ where
         y_b,
         f_b,
         y_p,
+        y_e,
         tmp,
         f_c,
         zero,
@@ -192,30 +355,84 @@ where
     let mut probed = false;
 
     y_at(integ, sys, start, y_a);
+    // f at the start, when the integrator keeps it there.
+    let f_a_known = start == t_prev
+        && match integ.dy_prev() {
+            Some(f) => {
+                f_a.copy_from(f);
+                true
+            }
+            None => false,
+        };
+    // The end values of the last screened step, if this step starts there with the same state.
+    let reuse = opts.screen
+        && start == t_prev
+        && *end_at == Some(start)
+        && *end_len == ne
+        && same_bits(y_a, y_e);
 
-    let mut any_der = false;
+    let mut fresh = false;
     for (i, s) in slots.iter_mut().enumerate() {
+        let e = s.end;
         *s = Slot {
             active: events.active(i),
+            end: e,
             ..Slot::default()
         };
-        if s.active {
-            s.has_der = events.derivative(i, start, y_a, zero).is_some();
-            any_der |= s.has_der;
+        if !s.active {
+            continue;
+        }
+        if reuse && e.known {
+            s.has_der = e.has_der;
+            s.needs_rhs = e.needs_rhs;
+            s.g_ref = e.g;
+            s.d_ref = e.d;
+        } else {
+            s.needs_rhs = events.derivative_needs_rhs_of(i);
+            fresh = true;
         }
     }
-    let need_rhs = any_der && events.derivative_needs_rhs();
-    if need_rhs {
-        sys.rhs(start, y_a, f_a);
-        integ.stats_mut().rhs_evals += 1;
+    if fresh {
+        // All events at once, the derivatives with the true f if known, else with zeros:
+        // exact unless the event reads f, which is then evaluated.
+        let dy: &OVector<f64, D> = if f_a_known { f_a } else { zero };
+        let mut start_rhs = false;
+        events.values_and_derivatives(start, y_a, dy, true, &mut |i, g, d| {
+            let s = &mut slots[i];
+            if reuse && s.end.known {
+                return;
+            }
+            s.g_ref = g;
+            if let Some(d) = d {
+                s.has_der = true;
+                if f_a_known || !s.needs_rhs {
+                    s.d_ref = d;
+                } else {
+                    start_rhs = true;
+                }
+            }
+        });
+        if start_rhs {
+            sys.rhs(start, y_a, f_a);
+            integ.stats_mut().rhs_evals += 1;
+            for (i, s) in slots.iter_mut().enumerate() {
+                if s.active && s.has_der && s.needs_rhs && !(reuse && s.end.known) {
+                    s.d_ref = events.derivative(i, start, y_a, f_a).unwrap_or(0.0);
+                }
+            }
+        }
     }
-    let dy_a: &OVector<f64, D> = if need_rhs { f_a } else { zero };
+    // The event that defined the origin (start-of-segment rule 2).
+    let fired = if at_origin {
+        last_hit.map(|(j, _)| j)
+    } else {
+        None
+    };
     for (i, s) in slots.iter_mut().enumerate() {
         if !s.active {
             continue;
         }
-        let g = events.value(i, start, y_a);
-        s.g_ref = g;
+        let g = s.g_ref;
         s.g_origin = g;
         s.armed = if at_origin {
             g.abs() > vtol
@@ -235,11 +452,7 @@ where
                 }
             }
         }
-        if s.has_der {
-            s.d_ref = events.derivative(i, start, y_a, dy_a).unwrap_or(0.0);
-        }
-        let just_fired = matches!(*last_hit, Some((j, _)) if j == i);
-        if at_origin && !just_fired && !g.is_nan() {
+        if at_origin && fired != Some(i) && !g.is_nan() {
             // How this guard may leave zero (start-of-segment rule).
             s.leave = if s.d_ref != 0.0 && !s.d_ref.is_nan() {
                 let on_zero =
@@ -255,6 +468,78 @@ where
         }
     }
 
+    // Screening: every guard at the step's end, then the cubic Hermite test of each.
+    if opts.screen {
+        y_b.copy_from(integ.y());
+        let f_b_known = match integ.dy() {
+            Some(f) => {
+                f_b.copy_from(f);
+                true
+            }
+            None => false,
+        };
+        let need_f = !f_b_known && slots.iter().any(|s| s.active && s.has_der && s.needs_rhs);
+        if need_f {
+            sys.rhs(t_end, y_b, f_b);
+            integ.stats_mut().rhs_evals += 1;
+        }
+        let dy: &OVector<f64, D> = if f_b_known || need_f { f_b } else { zero };
+        let any_der = slots.iter().any(|s| s.active && s.has_der);
+        for s in slots.iter_mut() {
+            s.end.known = false;
+        }
+        events.values_and_derivatives(t_end, y_b, dy, any_der, &mut |i, g, d| {
+            let s = &mut slots[i];
+            s.end = EndValue {
+                known: true,
+                has_der: s.has_der,
+                needs_rhs: s.needs_rhs,
+                g,
+                d: if s.has_der { d.unwrap_or(0.0) } else { 0.0 },
+            };
+        });
+        let mut all_cleared = true;
+        for (i, s) in slots.iter_mut().enumerate() {
+            if !s.active {
+                continue;
+            }
+            if !s.end.known {
+                // Not reported by the set's batch evaluation: one by one.
+                let d = if s.has_der {
+                    events.derivative(i, t_end, y_b, dy).unwrap_or(0.0)
+                } else {
+                    0.0
+                };
+                s.end = EndValue {
+                    known: true,
+                    has_der: s.has_der,
+                    needs_rhs: s.needs_rhs,
+                    g: events.value(i, t_end, y_b),
+                    d,
+                };
+            }
+            // Only a guard armed as usual, with a derivative, can be cleared (a guard on zero
+            // at the origin follows the start-of-segment rule on the samples).
+            s.cleared = s.has_der
+                && s.armed
+                && s.leave == Leave::No
+                && fired != Some(i)
+                && hermite_clear((s.g_ref, s.d_ref), (s.end.g, s.end.d), span);
+            all_cleared &= s.cleared;
+        }
+        *end_at = Some(t_end);
+        *end_len = ne;
+        y_e.copy_from(y_b);
+        if all_cleared {
+            return Ok(None);
+        }
+    } else {
+        *end_at = None;
+    }
+    let need_rhs = slots
+        .iter()
+        .any(|s| s.active && !s.cleared && s.has_der && s.needs_rhs);
+
     let mut t_a = start;
     for k in 1..=m + 1 {
         let t_b = if k == m + 1 {
@@ -262,23 +547,31 @@ where
         } else {
             start + span * (k as f64 / (m + 1) as f64)
         };
-        y_at(integ, sys, t_b, y_b);
-        if need_rhs {
-            sys.rhs(t_b, y_b, f_b);
-            integ.stats_mut().rhs_evals += 1;
+        // The step's end was evaluated by the screen.
+        let screened_end = opts.screen && k == m + 1;
+        if !screened_end {
+            y_at(integ, sys, t_b, y_b);
+            if need_rhs {
+                sys.rhs(t_b, y_b, f_b);
+                integ.stats_mut().rhs_evals += 1;
+            }
         }
-        let dy_b: &OVector<f64, D> = if need_rhs { f_b } else { zero };
         // Best candidate of this interval: (t, index, direction).
         let mut best: Option<(f64, usize, Direction)> = None;
         for (i, s) in slots.iter_mut().enumerate() {
-            if !s.active {
+            if !s.active || s.cleared {
                 continue;
             }
-            let g_b = events.value(i, t_b, y_b);
-            let d_b = if s.has_der {
-                events.derivative(i, t_b, y_b, dy_b).unwrap_or(0.0)
+            let (g_b, d_b) = if screened_end {
+                (s.end.g, s.end.d)
             } else {
-                0.0
+                let dy_b: &OVector<f64, D> = if s.needs_rhs { f_b } else { zero };
+                let d_b = if s.has_der {
+                    events.derivative(i, t_b, y_b, dy_b).unwrap_or(0.0)
+                } else {
+                    0.0
+                };
+                (events.value(i, t_b, y_b), d_b)
             };
             if g_b.is_nan() {
                 // No information at this sample: keep the previous reference.
@@ -310,19 +603,25 @@ where
                 };
                 if g_b == 0.0 || (g_b > 0.0) != (g_a > 0.0) {
                     if allowed.allows(dir_first) {
-                        let r = locate(
-                            integ,
-                            sys,
-                            events,
-                            i,
-                            (t_a, g_a),
-                            (t_b, g_b),
-                            tol,
-                            max_iter,
-                            tmp,
-                        );
-                        if !ignorable(r) {
-                            candidate = Some((r, dir_first));
+                        // A root already found earlier in this interval: this guard's root
+                        // can only win if it has crossed by then (one root per interval).
+                        let mut hi = (t_b, g_b, d_b);
+                        if let Some((rb, _, _)) = best {
+                            y_at(integ, sys, rb, tmp);
+                            let g_r = events.value(i, rb, tmp);
+                            if g_r == 0.0 || (g_r > 0.0) != (g_a > 0.0) {
+                                hi = (rb, g_r, f64::NAN);
+                            } else if !g_r.is_nan() {
+                                hi.0 = f64::NAN;
+                            }
+                        }
+                        if !hi.0.is_nan() {
+                            let lo = (t_a, g_a, if s.has_der { s.d_ref } else { f64::NAN });
+                            let (lo, hi) = narrow_bracket(integ, sys, events, i, lo, hi, tol, tmp);
+                            let r = locate(integ, sys, events, i, lo, hi, tol, max_iter, tmp);
+                            if !ignorable(r) {
+                                candidate = Some((r, dir_first));
+                            }
                         }
                     }
                 } else {
@@ -339,7 +638,7 @@ where
                             i,
                             (t_a, g_a, s.d_ref),
                             (t_b, g_b, d_b),
-                            (tol, max_iter, need_rhs),
+                            (tol, max_iter, s.needs_rhs),
                             tmp,
                             f_c,
                             zero,

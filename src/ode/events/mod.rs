@@ -53,6 +53,40 @@
 //! found with the derivative and missed by the plain sign check). At the
 //! start of a segment the rule below adds its own condition.
 //!
+//! # Screening (opt-in: [`EventOptions::screen`])
+//!
+//! Before sampling, every active event is evaluated at the step's end, with its derivative
+//! (the state's derivative there is the integrator's own $f$, [`Integrator::dy`](crate::ode::Integrator::dy); no
+//! right-hand side is evaluated). With the values and derivatives at both ends,
+//! $(g_a, \dot g_a)$ and $(g_b, \dot g_b)$, an event is **cleared** for the step when
+//!
+//! * it has a derivative, is armed as usual (not on zero at a segment origin, not the event
+//!   that just fired), and $g_a$, $g_b$ are non-zero of the same sign;
+//! * the cubic Hermite interpolant $p$ of the two ends stays on that side by at least half the
+//!   smaller end value on the whole step: $\operatorname{sign}(g_a)\thinspace p(t) \ge m/2$,
+//!   $m = \min(|g_a|, |g_b|)$ (checked at the interior extrema of $p$).
+//!
+//! A cleared event is not sampled on that step; a step where every active event is cleared
+//! is done after the end evaluations, without dense output. The others are sampled as
+//! described above. The end values are kept and reused as the start values of the next step
+//! when it starts at the same time with bitwise the same state (call
+//! [`EventState::reset`] when the event set changes).
+//!
+//! **Guarantee of the screen.** Relative to the dense output $u$, a cleared event has no root
+//! on the step provided the interpolant's error stays below half the smaller end value:
+//! $|g(t, u(t)) - p(t)| < m/2$ on the step. The error of a cubic Hermite interpolant over a
+//! step of length $h$ is at most $h^4 \max|G^{(4)}|/384$ with $G(t) = g(t, u(t))$ (at the
+//! ends, $u$ and its derivative are the integrator's $y$ and $f$, so $\dot g$ there is the
+//! derivative of $G$). **Conditions:** a derivative that is exact at the ends; a step over
+//! which $G$ is smooth; and the bound above. A dip that the interpolant cannot see by more
+//! than $m/2$ (a quartic term of $G$ of size above $m/2$ at mid-step) can be missed where the
+//! samples would have found it (test
+//! `screen_guarantee_holds_just_inside_and_can_fail_just_outside`). An event whose end value
+//! is tiny (a guard just off zero) has a tiny $m$: the screen still clears it when the
+//! interpolant moves away from zero, outside the stated bound, as the first sample interval
+//! does without the screen. Events on zero at a segment origin are never cleared: they follow
+//! the start-of-segment rule below on the samples.
+//!
 //! # Start of a segment and re-arming (no immediate re-firing)
 //!
 //! The *segment origin* $t_o$ is the left end of the first step scanned after
@@ -183,8 +217,9 @@ where
     /// `dy` $= f(t, y)$; enables detection of grazing (two roots inside one
     /// sample interval without a sign change) and gives the direction of a
     /// guard that is zero at the start of a segment. Must return `None` for
-    /// every argument when not available (the detector probes it once per
-    /// call).
+    /// every argument when not available (the detector asks at the start of
+    /// a scanned step, and with the screen keeps the answer while it reuses
+    /// the previous step's end values).
     fn derivative(
         &self,
         i: usize,
@@ -202,6 +237,40 @@ where
     /// system whose velocities are part of the state).
     fn derivative_needs_rhs(&self) -> bool {
         true
+    }
+    /// Whether the derivative of event `i` reads its `dy` argument (default:
+    /// [`EventSet::derivative_needs_rhs`] for every event). A set whose
+    /// events differ (one derivative needs $f$, the others only $y$) saves the
+    /// rhs evaluations at the samples of steps where only the others are
+    /// sampled.
+    fn derivative_needs_rhs_of(&self, i: usize) -> bool {
+        let _ = i;
+        self.derivative_needs_rhs()
+    }
+    /// Every active event's value and, if `with_derivatives`, its derivative (as
+    /// [`EventSet::derivative`] returns it) at one point: calls `out(i, value, derivative)`
+    /// for each active `i` in increasing order. `dy` is $f(t, y)$ (the detector calls this at
+    /// a step's ends, where it has $f$ for free) or zeros when no event's derivative reads it.
+    /// The default calls [`EventSet::value`] and [`EventSet::derivative`]; a set whose events
+    /// share work (a contact location) can evaluate them together, with the same numbers.
+    fn values_and_derivatives(
+        &self,
+        t: f64,
+        y: &OVector<f64, D>,
+        dy: &OVector<f64, D>,
+        with_derivatives: bool,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
+        for i in 0..self.len() {
+            if self.active(i) {
+                let d = if with_derivatives {
+                    self.derivative(i, t, y, dy)
+                } else {
+                    None
+                };
+                out(i, self.value(i, t, y), d);
+            }
+        }
     }
     /// Whether event `i` is currently active (lets a model switch events off
     /// without reallocating).
@@ -277,6 +346,13 @@ pub struct EventOptions {
     pub rearm_time: f64,
     /// Maximum iterations of each root/extremum search (>= 1). Default `200`.
     pub max_iter: usize,
+    /// Screen each step from the guards' values and derivatives at its two ends before
+    /// sampling it (see the module docs, *Screening*): a guard whose cubic Hermite
+    /// interpolant stays well away from zero is not sampled, and a step where every guard is
+    /// so cleared costs no dense output at all. Applies to events with a derivative; the
+    /// others are sampled as without it. Default `false`; the hybrid driver turns it on
+    /// ([`SimOptions::screen_events`](crate::hybrid::SimOptions::screen_events)).
+    pub screen: bool,
 }
 
 impl Default for EventOptions {
@@ -287,6 +363,7 @@ impl Default for EventOptions {
             value_tol: 0.0,
             rearm_time: 0.0,
             max_iter: 200,
+            screen: false,
         }
     }
 }
