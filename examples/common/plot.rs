@@ -985,3 +985,127 @@ pub fn heatmap(
     }
     w.finish().map_err(|e| perr(path, e))
 }
+
+/// One category of a [`category_map`]: its legend text and colour.
+#[derive(Debug, Clone)]
+pub struct Category {
+    /// Legend text.
+    pub label: String,
+    /// Fill colour.
+    pub colour: RGBColor,
+}
+
+/// Cells of a rectangular grid, each in one category of a [`category_map`] (or none).
+#[derive(Debug, Clone)]
+pub struct CategoryGrid {
+    /// Cell centres along x (increasing).
+    pub xs: Vec<f64>,
+    /// Cell centres along y (increasing).
+    pub ys: Vec<f64>,
+    /// Category index of each cell, row by row (`cells[iy * xs.len() + ix]`); `None` is drawn
+    /// light grey.
+    pub cells: Vec<Option<usize>>,
+}
+
+fn draw_category_chart<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    fig: &Figure,
+    grid: &CategoryGrid,
+    legend: &[Category],
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let body = root
+        .margin(8, 0, 0, 0)
+        .titled(&fig.title, ("sans-serif", 28))
+        .map_err(|e| e.to_string())?;
+    let (w, _) = body.dim_in_pixel();
+    // Wide enough for the longest legend line (about 10 px a character at this size).
+    let longest = legend
+        .iter()
+        .map(|l| l.label.chars().count())
+        .max()
+        .unwrap_or(0) as u32;
+    let panel = (60 + 10 * longest).clamp(160, w / 2);
+    let (main, side) = body.split_horizontally(w.saturating_sub(panel));
+    let (ex, ey) = (edges(&grid.xs), edges(&grid.ys));
+    let xr = auto_range(
+        ex.iter().copied(),
+        fig.x_range.or(Some((ex[0], ex[ex.len() - 1]))),
+    );
+    let yr = auto_range(
+        ey.iter().copied(),
+        fig.y_range.or(Some((ey[0], ey[ey.len() - 1]))),
+    );
+    let mut chart = axes(&main, fig, xr, yr, false)?;
+    let nx = grid.xs.len();
+    let none = RGBColor(225, 225, 225);
+    let colour = |c: Option<usize>| c.and_then(|k| legend.get(k)).map_or(none, |l| l.colour);
+    chart
+        .draw_series((0..grid.ys.len()).flat_map(|iy| {
+            let (ex, ey) = (&ex, &ey);
+            (0..nx).map(move |ix| {
+                Rectangle::new(
+                    [(ex[ix], ey[iy]), (ex[ix + 1], ey[iy + 1])],
+                    colour(grid.cells[iy * nx + ix]).filled(),
+                )
+            })
+        }))
+        .map_err(|e| e.to_string())?;
+    // The legend: a colour box and the text, one line per category.
+    let font = ("sans-serif", 18).into_font();
+    let mut y = 30;
+    for l in legend {
+        side.draw(&Rectangle::new([(8, y), (30, y + 20)], l.colour.filled()))
+            .map_err(|e| e.to_string())?;
+        side.draw(&Rectangle::new(
+            [(8, y), (30, y + 20)],
+            BLACK.stroke_width(1),
+        ))
+        .map_err(|e| e.to_string())?;
+        side.draw(&Text::new(l.label.clone(), (38, y + 1), font.clone()))
+            .map_err(|e| e.to_string())?;
+        y += 30;
+    }
+    Ok(())
+}
+
+/// A map of categories on a grid (basins of attraction, periods over two parameters), with a
+/// legend on the right. Linear axes only. Writes `path` and the CSV (`fig.x_column`,
+/// `fig.y_column`, `category` (the index, empty for none), `label`).
+pub fn category_map(
+    path: impl AsRef<Path>,
+    fig: &Figure,
+    grid: &CategoryGrid,
+    legend: &[Category],
+) -> Result<(), PlotError> {
+    let path = path.as_ref();
+    let (nx, ny) = (grid.xs.len(), grid.ys.len());
+    if nx == 0 || ny == 0 || grid.cells.len() != nx * ny {
+        return Err(perr(
+            path,
+            format!("grid has {nx} × {ny} cells but {} values", grid.cells.len()),
+        ));
+    }
+    on_backend!(path, fig.size, draw_category_chart(fig, grid, legend))?;
+    let mut w = CsvWriter::create(
+        csv_path(path),
+        &[&fig.x_column, &fig.y_column, "category", "label"],
+    )
+    .map_err(|e| perr(path, e))?;
+    for iy in 0..ny {
+        for ix in 0..nx {
+            let c = grid.cells[iy * nx + ix];
+            let label = c
+                .and_then(|k| legend.get(k))
+                .map_or("", |l| l.label.as_str());
+            w.record(&[
+                super::csv::fmt_f64(grid.xs[ix]),
+                super::csv::fmt_f64(grid.ys[iy]),
+                c.map_or(String::new(), |k| k.to_string()),
+                label.to_string(),
+            ])
+            .map_err(|e| perr(path, e))?;
+        }
+    }
+    w.finish().map_err(|e| perr(path, e))
+}

@@ -92,10 +92,16 @@ impl AttractorConfig {
             ("method", Json::from(format!("{:?}", o.method))),
             ("rtol", Json::from(o.rtol)),
             ("atol", Json::from(o.atol)),
-            ("steps_per_period", Json::from(u64::from(o.steps_per_period))),
+            (
+                "steps_per_period",
+                Json::from(u64::from(o.steps_per_period)),
+            ),
             ("max_step_fraction", Json::from(o.max_step_fraction)),
             ("event_samples", Json::from(o.event_samples)),
-            ("max_events_per_period", Json::from(u64::from(o.max_events_per_period))),
+            (
+                "max_events_per_period",
+                Json::from(u64::from(o.max_events_per_period)),
+            ),
             ("max_steps", Json::from(o.max_steps)),
             ("max_period", Json::from(self.period_test.max_period)),
             ("period_tol", Json::from(self.period_test.tol)),
@@ -209,9 +215,7 @@ impl Attractor {
                 let b = other.reduced_cycle(tol.state);
                 let p = a.len();
                 p == b.len()
-                    && (0..p).any(|s| {
-                        (0..p).all(|i| max_diff(&a[i], &b[(i + s) % p]) <= tol.state)
-                    })
+                    && (0..p).any(|s| (0..p).all(|i| max_diff(&a[i], &b[(i + s) % p]) <= tol.state))
             }
             (None, None) => {
                 let (s, o) = (&self.stats, &other.stats);
@@ -224,17 +228,19 @@ impl Attractor {
         }
     }
 
-    /// A one-line description: `period 3, x = (0.3062, …), 1.00 contacts/period` or
-    /// `not periodic (up to 16), 0.97 contacts/period, x in [0.21, 0.68]`.
+    /// A one-line description: `period 3 at (0.3062, …), 0.67 contacts/period, 12 % of the
+    /// time in contact` or `not periodic up to 16, 0.97 contacts/period, …, first component
+    /// in [0.210, 0.680]`.
     pub fn describe(&self) -> String {
-        let cpp = self.stats.contacts_per_period;
+        let cpp = format!(
+            "{:.2} contacts/period, {:.0} % of the time in contact",
+            self.stats.contacts_per_period,
+            100.0 * self.stats.contact_fraction
+        );
         match (self.period(), self.canonical()) {
             (Some(p), Some(z)) => {
                 let head: Vec<String> = z.iter().take(4).map(|v| format!("{v:.4}")).collect();
-                format!(
-                    "period {p} at ({}), {cpp:.2} contacts/period",
-                    head.join(", ")
-                )
+                format!("period {p} at ({}), {cpp}", head.join(", "))
             }
             _ => {
                 let (lo, hi) = (
@@ -242,7 +248,7 @@ impl Attractor {
                     self.stats.hi.first().copied().unwrap_or(f64::NAN),
                 );
                 format!(
-                    "{}, {cpp:.2} contacts/period, first component in [{lo:.3}, {hi:.3}]",
+                    "{}, {cpp}, first component in [{lo:.3}, {hi:.3}]",
                     self.periodicity
                 )
             }
@@ -417,7 +423,13 @@ where
         })?;
         let more = transient_done + config.transient <= config.max_transient;
         if periodicity.period().is_some() || !more || config.transient == 0 {
-            return Ok(summarise(obs, periodicity, periods_run, config.record, t_end));
+            return Ok(summarise(
+                obs,
+                periodicity,
+                periods_run,
+                config.record,
+                t_end,
+            ));
         }
         // Slowly attracting or not periodic: go on from the last state.
         start = obs.strobe.last().cloned().unwrap_or(start);

@@ -164,7 +164,11 @@ impl Record for PointFailure {
             | PointFailure::Analysis { message } => {
                 Json::object([kind, ("message", Json::from(message.as_str()))])
             }
-            PointFailure::Simulation { kind: k, t, message } => Json::object([
+            PointFailure::Simulation {
+                kind: k,
+                t,
+                message,
+            } => Json::object([
                 kind,
                 ("sim_kind", Json::from(k.name())),
                 ("t", Json::from(*t)),

@@ -500,7 +500,10 @@ mod tests {
     fn nested_values_and_escapes_round_trip() {
         let v = Json::object([
             ("a", Json::from(vec![1.5, -2.0])),
-            ("s", Json::from("quote \" back \\ nl \n tab \t bell \u{7} é ✓")),
+            (
+                "s",
+                Json::from("quote \" back \\ nl \n tab \t bell \u{7} é ✓"),
+            ),
             ("n", Json::Null),
             ("b", Json::Bool(false)),
             ("o", Json::object([("k", Json::Array(vec![]))])),

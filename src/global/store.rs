@@ -134,7 +134,10 @@ impl Manifest {
             ("format", Json::from(FORMAT_VERSION)),
             ("kind", Json::from(self.kind.as_str())),
             ("points", Json::from(self.points)),
-            ("fingerprint", Json::from(format!("{:016x}", self.fingerprint))),
+            (
+                "fingerprint",
+                Json::from(format!("{:016x}", self.fingerprint)),
+            ),
             ("description", self.description.clone()),
         ])
     }
@@ -399,9 +402,7 @@ impl RecordWriter {
         let mut buf = Vec::with_capacity(line.len() + 1);
         buf.extend_from_slice(line.as_bytes());
         buf.push(b'\n');
-        self.file
-            .write_all(&buf)
-            .map_err(|e| io_err(&self.path, e))
+        self.file.write_all(&buf).map_err(|e| io_err(&self.path, e))
     }
 }
 
@@ -448,10 +449,8 @@ mod tests {
     use super::*;
 
     fn temp_dir(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!(
-            "jeffcott-store-{name}-{}",
-            std::process::id()
-        ));
+        let dir =
+            std::env::temp_dir().join(format!("jeffcott-store-{name}-{}", std::process::id()));
         let _ = fs::remove_dir_all(&dir);
         dir
     }
@@ -469,7 +468,13 @@ mod tests {
         );
         let other = Json::object([("eta", Json::from(2.3))]);
         let err = SweepStore::open(&dir, "test", other, &points).unwrap_err();
-        assert!(matches!(err, StoreError::Mismatch { field: "description", .. }));
+        assert!(matches!(
+            err,
+            StoreError::Mismatch {
+                field: "description",
+                ..
+            }
+        ));
         let err = SweepStore::open(&dir, "other", desc, &points).unwrap_err();
         assert!(matches!(err, StoreError::Mismatch { field: "kind", .. }));
         fs::remove_dir_all(&dir).unwrap();
@@ -500,7 +505,11 @@ mod tests {
             Err(StoreError::Corrupt { line: 1, .. }) => {}
             other => panic!("{other:?}"),
         }
-        fs::write(store.records_path(1), format!("{}\n", full.replace("\"index\":0", "\"index\":7"))).unwrap();
+        fs::write(
+            store.records_path(1),
+            format!("{}\n", full.replace("\"index\":0", "\"index\":7")),
+        )
+        .unwrap();
         assert!(matches!(
             store.load::<f64, String>(),
             Err(StoreError::IndexOutOfRange { index: 7, .. })

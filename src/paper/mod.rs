@@ -8,5 +8,5 @@ mod planes;
 mod sweep;
 
 pub use model::{guard, Cache, FreeSegment, JeffcottModel, Mode, RunFailure, State};
-pub use sweep::{poincare_map, ParamSweep, RotorStart, SweepParameter};
 pub use planes::{BasinPlane, ParamPlane, StartPlane};
+pub use sweep::{poincare_map, ParamSweep, RotorStart, SweepParameter};

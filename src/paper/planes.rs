@@ -206,7 +206,10 @@ mod tests {
         let p = Preset::Fig8b.params().with_eta(2.2);
         let b = BasinPlane::new(p, StartPlane::PhaseX);
         let (q, s) = b.start([1.5, 0.3]);
-        assert_eq!((q.phi0, s.position, s.velocity), (1.5, [0.3, 0.0], [0.0, 0.0]));
+        assert_eq!(
+            (q.phi0, s.position, s.velocity),
+            (1.5, [0.3, 0.0], [0.0, 0.0])
+        );
         let m = ParamPlane::new(p, SweepParameter::Eta, SweepParameter::Preload);
         let q = m.params([3.0, 0.05]);
         assert_eq!((q.eta, q.dx, q.dy, q.ex), (3.0, 0.05, 0.05, p.ex));
@@ -215,7 +218,8 @@ mod tests {
         // A start beyond the ring is placed in contact; invalid parameters are a build failure.
         let (model, y0) = BasinPlane::new(p, StartPlane::XY).setup()(&[1.05, 0.0]).unwrap();
         assert!(model.params().eta == 2.2 && y0[4] > 0.0);
-        let bad = ParamPlane::new(p, SweepParameter::Eta, SweepParameter::Nu1).setup()(&[-1.0, 0.1]);
+        let bad =
+            ParamPlane::new(p, SweepParameter::Eta, SweepParameter::Nu1).setup()(&[-1.0, 0.1]);
         assert!(matches!(bad, Err(PointFailure::Build { .. })));
     }
 }
