@@ -320,7 +320,8 @@ fn main() {
             vn,
         )
         .with_columns(hn, vn)
-        .with_size(1500, 1000);
+        .with_size(1500, 1000)
+        .with_pin(rest_point[0], rest_point[1], "rest");
         let png = dir.join("basins.png");
         common::or_exit(plot::category_map(
             &png,

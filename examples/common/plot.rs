@@ -103,6 +103,9 @@ pub struct Figure {
     pub legend: LegendPosition,
     /// Vertical reference lines: `(x, label)`, drawn thin and red (e.g. reported bifurcations).
     pub marks: Vec<(f64, String)>,
+    /// Marked points: `(x, y, label)`, drawn as a white-ringed black cross with the label
+    /// (category maps only; e.g. the start from rest on a basin).
+    pub pins: Vec<(f64, f64, String)>,
 }
 
 impl Figure {
@@ -125,6 +128,7 @@ impl Figure {
             max_jump: None,
             legend: LegendPosition::UpperRight,
             marks: Vec::new(),
+            pins: Vec::new(),
         }
     }
     /// Sets the CSV column names of x and y.
@@ -173,6 +177,11 @@ impl Figure {
     /// Places the legend.
     pub fn with_legend(mut self, position: LegendPosition) -> Self {
         self.legend = position;
+        self
+    }
+    /// Adds a marked point with a label (category maps).
+    pub fn with_pin(mut self, x: f64, y: f64, label: &str) -> Self {
+        self.pins.push((x, y, label.to_string()));
         self
     }
     /// Adds a labelled vertical reference line.
@@ -1051,6 +1060,29 @@ fn draw_category_chart<DB: DrawingBackend>(
             })
         }))
         .map_err(|e| e.to_string())?;
+    for (x, y, label) in &fig.pins {
+        if !(x.is_finite() && y.is_finite()) {
+            continue;
+        }
+        let cross = |colour: RGBColor, width: u32, r: i32| {
+            EmptyElement::at((*x, *y))
+                + PathElement::new(vec![(-r, -r), (r, r)], colour.stroke_width(width))
+                + PathElement::new(vec![(-r, r), (r, -r)], colour.stroke_width(width))
+        };
+        chart
+            .draw_series([cross(WHITE, 5, 8), cross(BLACK, 2, 7)])
+            .map_err(|e| e.to_string())?;
+        chart
+            .draw_series(std::iter::once(
+                EmptyElement::at((*x, *y))
+                    + Text::new(
+                        label.clone(),
+                        (10, -22),
+                        ("sans-serif", 18).into_font().color(&BLACK),
+                    ),
+            ))
+            .map_err(|e| e.to_string())?;
+    }
     // The legend: a colour box and the text, one line per category.
     let font = ("sans-serif", 18).into_font();
     let mut y = 30;

@@ -199,7 +199,9 @@ impl Attractor {
     pub fn reduced_cycle(&self, tol: f64) -> &[Vec<f64>] {
         let p = self.cycle.len();
         for q in 1..p {
-            if p % q == 0 && (q..p).all(|i| max_diff(&self.cycle[i], &self.cycle[i - q]) <= tol) {
+            if p.is_multiple_of(q)
+                && (q..p).all(|i| max_diff(&self.cycle[i], &self.cycle[i - q]) <= tol)
+            {
                 return &self.cycle[..q];
             }
         }
@@ -267,6 +269,8 @@ where
     free_label: u8,
     /// Window start time, once reached.
     t0: Option<f64>,
+    /// End of the run.
+    t_end: f64,
     last_t: f64,
     label: u8,
     time_in: [f64; 256],
@@ -307,7 +311,7 @@ fn window<M: RotorModel>(
     transient: u64,
     record: u64,
     config: &AttractorConfig,
-) -> Result<(WindowObserver<M::Dim>, f64), SimError<M::Dim>>
+) -> Result<WindowObserver<M::Dim>, SimError<M::Dim>>
 where
     DefaultAllocator: Allocator<M::Dim>,
 {
@@ -326,6 +330,7 @@ where
         first_k: transient,
         free_label: config.free_label,
         t0: None,
+        t_end: plan.t_end,
         last_t: 0.0,
         label: config.free_label,
         time_in: [0.0; 256],
@@ -333,9 +338,8 @@ where
         strobe: Vec::with_capacity(record as usize),
     };
     simulate(model, 0.0, y0, &plan, &config.opts, &mut obs)?;
-    let t_end = plan.t_end;
-    obs.time_in[usize::from(obs.label)] += t_end - obs.last_t;
-    Ok((obs, t_end))
+    obs.time_in[usize::from(obs.label)] += obs.t_end - obs.last_t;
+    Ok(obs)
 }
 
 /// Runs `model` from `y0` and identifies the attractor it settles on (see the
@@ -410,7 +414,8 @@ where
     let mut transient_done = 0u64;
     let mut periods_run = 0u64;
     loop {
-        let (obs, t_end) = window(model, &start, config.transient, config.record, config)?;
+        let obs = window(model, &start, config.transient, config.record, config)?;
+        let t_end = obs.t_end;
         transient_done += config.transient;
         periods_run += config.transient + config.record;
         // The sizes and settings are checked above: the test fails only on a non-finite
@@ -423,13 +428,7 @@ where
         })?;
         let more = transient_done + config.transient <= config.max_transient;
         if periodicity.period().is_some() || !more || config.transient == 0 {
-            return Ok(summarise(
-                obs,
-                periodicity,
-                periods_run,
-                config.record,
-                t_end,
-            ));
+            return Ok(summarise(obs, periodicity, periods_run, config.record));
         }
         // Slowly attracting or not periodic: go on from the last state.
         start = obs.strobe.last().cloned().unwrap_or(start);
@@ -441,12 +440,11 @@ fn summarise<D: nalgebra::Dim>(
     periodicity: Periodicity,
     periods_run: u64,
     window: u64,
-    t_end: f64,
 ) -> Attractor
 where
     DefaultAllocator: Allocator<D>,
 {
-    let span = t_end - obs.t0.unwrap_or(0.0);
+    let span = obs.t_end - obs.t0.unwrap_or(0.0);
     let dim = obs.strobe.first().map_or(0, |y| y.len());
     let mut lo = vec![f64::INFINITY; dim];
     let mut hi = vec![f64::NEG_INFINITY; dim];

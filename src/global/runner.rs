@@ -10,7 +10,7 @@
 //! * **Deterministic.** The points are independent: each outcome is `runner(&point)` and
 //!   nothing else, so for a runner that is a deterministic function of its point, the
 //!   outcomes are bitwise identical for any number of threads, any number of MPI ranks
-//!   ([`distributed`](super::distributed), feature `mpi`), and across interruptions and
+//!   (module `distributed`, feature `mpi`), and across interruptions and
 //!   restarts.
 //! * **Every outcome passes through its record.** An outcome computed now is encoded, written,
 //!   and decoded back before it is returned, exactly as one read from the folder after a
