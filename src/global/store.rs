@@ -24,7 +24,7 @@
 //! line that is not a valid record is an error ([`StoreError::Corrupt`]), not silently redone.
 
 use std::fs::{self, File, OpenOptions};
-use std::io::{self, Read, Seek, SeekFrom, Write};
+use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;
@@ -170,8 +170,6 @@ pub struct SweepStore {
 pub struct Loaded<T, E> {
     /// One slot per point: its recorded outcome, or `None` if not recorded yet.
     pub results: Vec<Option<Result<T, E>>>,
-    /// The record lines of the recorded points (as written), by index.
-    pub lines: Vec<Option<String>>,
     /// Points recorded more than once (the first record is kept).
     pub duplicates: usize,
     /// Partial last lines ignored (a writer killed mid-write).
@@ -258,29 +256,42 @@ impl SweepStore {
         let n = self.manifest.points;
         let mut loaded = Loaded {
             results: (0..n).map(|_| None).collect(),
-            lines: vec![None; n],
             duplicates: 0,
             partial_lines: 0,
         };
         for path in self.records_files()? {
-            let text = fs::read_to_string(&path).map_err(|e| io_err(&path, e))?;
-            let complete = match text.rfind('\n') {
-                Some(end) => &text[..=end],
-                None => "",
-            };
-            if complete.len() < text.len() {
-                loaded.partial_lines += 1;
-            }
-            for (k, line) in complete.lines().enumerate() {
-                if line.trim().is_empty() {
-                    continue;
+            // Streamed line by line: a big sweep's records need not fit in memory twice.
+            let file = File::open(&path).map_err(|e| io_err(&path, e))?;
+            let mut reader = BufReader::new(file);
+            let mut buf = Vec::new();
+            for k in 0.. {
+                buf.clear();
+                let read = reader
+                    .read_until(b'\n', &mut buf)
+                    .map_err(|e| io_err(&path, e))?;
+                if read == 0 {
+                    break;
+                }
+                if buf.last() != Some(&b'\n') {
+                    // A writer killed mid-write: ignored, and cut off by the next writer.
+                    loaded.partial_lines += 1;
+                    break;
                 }
                 let corrupt = |error| StoreError::Corrupt {
                     path: path.clone(),
                     line: k + 1,
                     error,
                 };
-                let (index, outcome) = decode_line::<T, E>(line).map_err(corrupt)?;
+                let line = std::str::from_utf8(&buf).map_err(|_| {
+                    corrupt(JsonError::Syntax {
+                        at: 0,
+                        what: "UTF-8 text",
+                    })
+                })?;
+                if line.trim().is_empty() {
+                    continue;
+                }
+                let (index, outcome) = decode_line::<T, E>(line.trim_end()).map_err(corrupt)?;
                 if index >= n {
                     return Err(StoreError::IndexOutOfRange {
                         path: path.clone(),
@@ -293,7 +304,6 @@ impl SweepStore {
                     loaded.duplicates += 1;
                 } else {
                     loaded.results[index] = Some(outcome);
-                    loaded.lines[index] = Some(line.to_string());
                 }
             }
         }
