@@ -13,14 +13,14 @@
 //! Non-dimensional (gap $\gamma = 1$, time $\tau = \omega_n t$), rotor centre $r = (x, y)$,
 //! ring centre $s = (x_s, y_s)$:
 //!
-//! $$x'' + 2\nu_1 x' + (x - e_x) + f_x = \beta\eta^2\cos(\varphi_0 + \eta\tau),\qquad
-//!   y'' + 2\nu_1 y' + (y - e_y) + f_y = \beta\eta^2\sin(\varphi_0 + \eta\tau).$$
+//! $$x^{\prime\prime} + 2\nu_1 x^\prime + (x - e_x) + f_x = \beta\eta^2\cos(\varphi_0 + \eta\tau),\qquad
+//!   y^{\prime\prime} + 2\nu_1 y^\prime + (y - e_y) + f_y = \beta\eta^2\sin(\varphi_0 + \eta\tau).$$
 //!
 //! **The ring** ([`ring`]). Each axis has two preloaded units of stiffness $K$ and damping
 //! $2\nu_2$; a unit only pushes, so beyond the preload $D$ one lifts off:
 //!
-//! $$f_i = \begin{cases} 2K s_i + 4\nu_2 s_i' & |s_i| < D_i\\
-//!   \operatorname{sign}(s_i)\,K(|s_i| + D_i) + 2\nu_2 s_i' & |s_i| \ge D_i.\end{cases}$$
+//! $$f_i = \begin{cases} 2K s_i + 4\nu_2 s_i^\prime & |s_i| < D_i\\\\
+//!   \operatorname{sign}(s_i)\thinspace K(|s_i| + D_i) + 2\nu_2 s_i^\prime & |s_i| \ge D_i.\end{cases}$$
 //!
 //! **Five regimes.** I: no contact, $|r - s| < 1$. In contact ($|r - s| = 1$) the massless
 //! ring sits where its elastic energy $E(s)$ is least under that constraint (a Lagrange
@@ -46,6 +46,7 @@
 //! | [`paper`] | the paper's model implementing [`hybrid::RotorModel`], and sweeps over its parameters |
 //! | [`analysis`] | for any [`hybrid::RotorModel`]: period detection, stroboscopic orbits, phase portraits and Poincaré sections, deterministic parallel sweeps, bifurcation diagrams and a bifurcation locator |
 //! | [`global`] | global dynamics: attractors identified and matched, basins of attraction and two-parameter maps, long sweeps that write as they go and resume after a kill, on threads or MPI ranks (feature `mpi`) |
+//! | [`stability`] | linearisation through events: saltation matrices, the stroboscopic map's Jacobian, periodic orbits and their multipliers, Lyapunov exponents, bifurcations located |
 //!
 //! The most used items are re-exported here: [`JeffcottModel`], [`State`], and [`nalgebra`]
 //! itself (the version this crate is built with, so that a user need not match it).
@@ -54,7 +55,7 @@
 //! implemented, every erratum of the paper and every choice), `integrators.md`, `ring.md`,
 //! `reproduction.md`, `accuracy.md`, `performance.md`, and `hybrid.md` (your own rotor model:
 //! the contract of [`hybrid::RotorModel`], run-time sizes, algebraic components, the
-//! analyses).
+//! analyses), `stability.md` (saltation matrices, multipliers, Lyapunov exponents).
 //!
 //! ## Example
 //!
@@ -87,6 +88,7 @@ pub mod paper;
 pub mod params;
 pub mod ring;
 pub mod rotor;
+pub mod stability;
 
 /// The linear algebra crate of the public API (states are `nalgebra` vectors).
 pub use nalgebra;

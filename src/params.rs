@@ -88,8 +88,8 @@ fn positive(field: &'static str, value: f64) -> Result<f64, ParamError> {
 
 /// Non-dimensional parameters of the model (gap = 1). These are what the equations use:
 ///
-/// $$x'' + 2\nu_1 x' + (x - e_x) + f_x = \beta\eta^2\cos(\varphi_0 + \eta\tau),$$
-/// $$y'' + 2\nu_1 y' + (y - e_y) + f_y = \beta\eta^2\sin(\varphi_0 + \eta\tau),$$
+/// $$x^{\prime\prime} + 2\nu_1 x^\prime + (x - e_x) + f_x = \beta\eta^2\cos(\varphi_0 + \eta\tau),$$
+/// $$y^{\prime\prime} + 2\nu_1 y^\prime + (y - e_y) + f_y = \beta\eta^2\sin(\varphi_0 + \eta\tau),$$
 ///
 /// with $f$ the snubber ring's force (zero out of contact).
 ///

@@ -33,3 +33,4 @@ pub fn or_exit<T, E: Display>(r: Result<T, E>) -> T {
         std::process::exit(1)
     })
 }
+pub mod scene;

@@ -1141,3 +1141,56 @@ pub fn category_map(
     }
     w.finish().map_err(|e| perr(path, e))
 }
+
+/// Two panels sharing the x axis, one above the other: a line plot (`top`, `series`) over a
+/// bifurcation diagram (`bottom`, `points` as small dark dots), e.g. the largest Lyapunov
+/// exponent over the diagram it explains. The picture is `top.size` wide and the two panels'
+/// heights tall. Writes `path` and the CSVs of the panels (`<stem>_top.csv`: `series`,
+/// `top.x_column`, `top.y_column`; `<stem>_bottom.csv`: `bottom.x_column`, `bottom.y_column`).
+pub fn lines_over_points(
+    path: impl AsRef<Path>,
+    top: &Figure,
+    series: &[Series],
+    bottom: &Figure,
+    points: &[(f64, f64)],
+) -> Result<(), PlotError> {
+    let path = path.as_ref();
+    let size = (top.size.0, top.size.1 + bottom.size.1);
+    let mapped: Vec<(f64, f64)> = points.iter().filter_map(|&p| bottom.map(p)).collect();
+    let split = top.size.1;
+    on_backend!(
+        path,
+        size,
+        draw_stacked(top, series, bottom, &mapped, split)
+    )?;
+    let stem = path
+        .file_stem()
+        .map_or("figure".into(), |s| s.to_string_lossy().into_owned());
+    write_series_csv(&path.with_file_name(format!("{stem}_top.png")), top, series)?;
+    let bottom_csv = path.with_file_name(format!("{stem}_bottom.csv"));
+    let mut w = CsvWriter::create(&bottom_csv, &[&bottom.x_column, &bottom.y_column])
+        .map_err(|e| perr(path, e))?;
+    for &(x, y) in points {
+        w.row(&[x, y]).map_err(|e| perr(path, e))?;
+    }
+    w.finish().map_err(|e| perr(path, e))
+}
+
+fn draw_stacked<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    top: &Figure,
+    series: &[Series],
+    bottom: &Figure,
+    points: &[(f64, f64)],
+    split: u32,
+) -> Result<(), String> {
+    let (upper, lower) = root.split_vertically(split);
+    draw_lines_chart(&upper, top, series)?;
+    draw_points_chart(
+        &lower,
+        bottom,
+        &[points.to_vec()],
+        &[""],
+        Some(RGBColor(20, 20, 70)),
+    )
+}

@@ -22,10 +22,10 @@ where
 /// $c$ Hairer's coupling constant (0.75 for DOPRI5, 0.2 for DOP853), the
 /// exponent on the current error is $\alpha = 1/q - c\beta$ and the step
 /// ratio on acceptance is
-/// $\mathrm{clamp}(\mathrm{safety}\cdot\mathrm{err}^{-\alpha}\,
-/// \mathrm{err}_{\text{old}}^{\beta}, \mathrm{fac\_min}, \mathrm{fac\_max})$,
+/// $\mathrm{clamp}(\mathrm{safety}\cdot\mathrm{err}^{-\alpha}\thinspace
+/// \mathrm{err}_{\text{old}}^{\beta}, \mathrm{fac\\_min}, \mathrm{fac\\_max})$,
 /// where $\mathrm{err}_{\text{old}} = \max(\mathrm{err}_{\text{prev. accepted}}, 10^{-4})$.
-/// After a rejection the ratio is $\max(\mathrm{fac\_min}, \mathrm{safety}\cdot
+/// After a rejection the ratio is $\max(\mathrm{fac\\_min}, \mathrm{safety}\cdot
 /// \mathrm{err}^{-1/q})$ and the following accepted step may not grow.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct PiController {
@@ -71,10 +71,10 @@ impl PiController {
 }
 
 /// Hairer's initial step selection (`HINIT` of DOPRI5/DOP853), with RMS
-/// norms over the $n_c$ error-controlled components: $d_0 = \|y_0\|$,
-/// $d_1 = \|f_0\|$, $h_0 = 0.01\thinspace d_0/d_1$ (or $10^{-6}$ if either is
+/// norms over the $n_c$ error-controlled components: $d_0 = \Vert y_0\Vert$,
+/// $d_1 = \Vert f_0\Vert$, $h_0 = 0.01\thinspace d_0/d_1$ (or $10^{-6}$ if either is
 /// tiny), one explicit Euler step to estimate
-/// $d_2 = \|f(t+h_0, y_0+h_0f_0) - f_0\|/h_0$, and
+/// $d_2 = \Vert f(t+h_0, y_0+h_0f_0) - f_0\Vert/h_0$, and
 /// $h = \min\big(100 h_0,\ (0.01/\max(d_1,d_2))^{1/p},\ h_{\max}\big)$,
 /// raised to at least $\max(h_{\min}, 100\thinspace\varepsilon\thinspace|t|)$.
 /// `y1` and `f1` are scratch vectors.

@@ -4,7 +4,7 @@
 //! Twelve stages per step (first-same-as-last: 12 evaluations of $f$ per
 //! accepted step, 11 per rejected one). The error estimate combines the
 //! 5th-order estimate $e_5$ and the 3rd-order estimate $e_3$ as
-//! $$\mathrm{err} = |h|\,\frac{\|e_5\|^2}{\sqrt{N\,(\|e_5\|^2 + 0.01\,\|e_3\|^2)}}$$
+//! $$\mathrm{err} = |h|\thinspace\frac{\Vert e_5\Vert^2}{\sqrt{N\thinspace(\Vert e_5\Vert^2 + 0.01\thinspace\Vert e_3\Vert^2)}}$$
 //! (sums of squares of scaled components), which behaves like an
 //! 8th-order estimate. Dense output needs three more stages
 //! ($k_{14}, k_{15}, k_{16}$), computed lazily on the first call of

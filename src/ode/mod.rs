@@ -128,14 +128,14 @@
 //! For a trial step $y_0 \to y_1$ with local error estimate $e$ the scaled
 //! error is the RMS norm over the $n_c$ error-controlled components
 //! $$\mathrm{err} = \sqrt{\tfrac{1}{n_c} \sum_i \big(e_i / s_i\big)^2},\qquad
-//! s_i = \mathrm{atol}_i + \mathrm{rtol}_i \max(|y_{0,i}|, |y_{1,i}|),$$
+//! s_i = \mathrm{atol}\_i + \mathrm{rtol}\_i \max(|y_{0,i}|, |y_{1,i}|),$$
 //! (DOP853 uses Hairer's combination of its 5th- and 3rd-order estimates).
-//! A component with $\mathrm{atol}_i = +\infty$ has $s_i = \infty$: it adds
+//! A component with $\mathrm{atol}\_i = +\infty$ has $s_i = \infty$: it adds
 //! nothing to the sum and is not counted in $n_c$ (see [`Options::atol`]);
 //! otherwise $n_c = N$. The step is accepted when $\mathrm{err} \le 1$ and the
 //! next step is $h_{\text{new}} = h \cdot \mathrm{clamp}\big(\mathrm{safety}\thinspace
-//! \mathrm{err}^{-\alpha}\thinspace\mathrm{err}_{\text{old}}^{\beta},\ \mathrm{fac\_min},
-//! \ \mathrm{fac\_max}\big)$ (Gustafsson's PI controller as in Hairer's codes;
+//! \mathrm{err}^{-\alpha}\thinspace\mathrm{err}_{\text{old}}^{\beta},\ \mathrm{fac\\_min},
+//! \ \mathrm{fac\\_max}\big)$ (Gustafsson's PI controller as in Hairer's codes;
 //! see `docs/integrators.md`).
 
 use nalgebra::allocator::Allocator;

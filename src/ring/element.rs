@@ -22,14 +22,14 @@
 //!
 //! **Loss force.** In contact the paper's normal force is $N = n\cdot f$ with
 //! $f = g(s) + C J r^\prime$. After a loss the free ring relaxes, $C s^\prime = -g(s)$, and the
-//! contact distance starts to change at the rate $h^\prime = 2\gamma\,G$ with
+//! contact distance starts to change at the rate $h^\prime = 2\gamma\thinspace G$ with
 //! $G = n\cdot r^\prime + n\cdot C^{-1} g(s)$. Write
 //! $\lambda = G/(n\cdot C^{-1} n) = 2\mu\gamma + n\cdot r^\prime/(n\cdot C^{-1}n)$: the normal
 //! force that the massless ring's own balance $C s^\prime = \lambda n - g$ needs to keep
 //! $n\cdot(r^\prime - s^\prime) = 0$. For an isotropic damping ($C = cI$: regimes II and V, and
 //! $\nu_2 = 0$) $\lambda = N$. In regimes III and IV, $C = \operatorname{diag}(c_x, c_y)$ with
 //! $c_x \ne c_y$ and $\lambda \ne N$: at $N = 0$,
-//! $h^\prime = 2\gamma\, n_x f_x (1/c_x - 1/c_y)$, which can be positive, i.e. the freed ring
+//! $h^\prime = 2\gamma\thinspace n_x f_x (1/c_x - 1/c_y)$, which can be positive, i.e. the freed ring
 //! would move straight back into the rotor. Contact therefore ends when **both** forces have
 //! fallen to zero: the loss guard is $\max(N, \lambda)$ falling through 0
 //! ([`RingContact::loss_force`]). After a loss $\lambda \le 0$, so $h^\prime \le 0$ in every
@@ -65,7 +65,7 @@ use crate::ode::Direction;
 /// Relative distance inside the gap circle within which a touch still counts as a touch of the
 /// circle itself (the onset time is located to rounding): the contact branches' smooth
 /// extension covers that hair. Farther inside, a touch by a relaxing ring leaves the ring at its
-/// centre. The tolerance also grows with the rounding of time: $4\varepsilon|t|\,|r^\prime|$.
+/// centre. The tolerance also grows with the rounding of time: $4\varepsilon|t|\thinspace|r^\prime|$.
 pub const ONSET_TOUCH: f64 = 1e-12;
 
 /// Relative distance to its preload within which the other axis counts as crossing at the same
@@ -381,7 +381,7 @@ impl SnubberRing {
     }
 
     /// Time derivative of `guard` along the motion, where it needs only $r$ and $r^\prime$
-    /// (onset, gap, preload crossings); `None` for the loss guard (it would need $r''$) and for
+    /// (onset, gap, preload crossings); `None` for the loss guard (it would need $r^{\prime\prime}$) and for
     /// guards that do not belong to `mode`.
     pub fn guard_rate(
         &self,
@@ -573,7 +573,7 @@ impl SnubberRing {
     /// The transition after `guard` of `mode` fired at time `t` with the rotor at `k`: the
     /// next mode and the ring's position (module docs for the rules).
     ///
-    /// `accel(f)` is the acceleration $r''$ of the rotor's station when the ring pushes on the
+    /// `accel(f)` is the acceleration $r^{\prime\prime}$ of the rotor's station when the ring pushes on the
     /// rotor with the force `f` (entering the rotor's equations as $\ldots + f = $ forcing: for
     /// a unit-mass station, its acceleration without the ring minus `f`). It is used only when a
     /// touch leaves the loss force at zero to rounding, to tell whether the force would rise.

@@ -15,7 +15,7 @@
 //! The function $\varphi(\mu) = |d(\mu)|^{-1} - 1/\gamma$ is a weighted power mean of exponent
 //! $-2$ of the affine functions $\beta_i + \mu$ minus a constant, hence **increasing and
 //! concave**, and the root lies in
-//! $[\,|\alpha|/\gamma - \beta_{\max},\ |\alpha|/\gamma - \beta_{\min}\,]$. When both
+//! $[\thinspace|\alpha|/\gamma - \beta_{\max},\ |\alpha|/\gamma - \beta_{\min}\thinspace]$. When both
 //! $\beta_i$ are equal (regimes II and V of an isotropic ring) or one $\alpha_i$ vanishes the
 //! root is closed form, $\mu = |\alpha|/\gamma - \beta$ (paper eq. 22 and Table 3); otherwise a
 //! safeguarded Newton iteration on $\varphi$ converges monotonically from the left (a step that
@@ -39,7 +39,7 @@
 //!
 //! The Jacobian $J = \partial s^*/\partial r$ follows from implicit differentiation: with
 //! $A = \operatorname{diag}(g_i^\prime + 2\mu)$ and $w = A^{-1}d$,
-//! $J = 2\mu A^{-1} + w\,(d - 2\mu w)^{\mathsf T}/(d\cdot w)$ (see `docs/ring.md`).
+//! $J = 2\mu A^{-1} + w\thinspace(d - 2\mu w)^{\mathsf T}/(d\cdot w)$ (see `docs/ring.md`).
 
 use nalgebra::{Matrix2, Vector2};
 
@@ -361,7 +361,7 @@ impl SnubberRing {
     /// Closed form when both axes share $K$ and the branch kind (regimes II and V of an
     /// isotropic ring): $|d| = K|a|/(K + c\mu) = \gamma$ with $a = r + \sigma D$, so
     /// $\mu = K(|a|/\gamma - 1)/c$, $d = \gamma a/|a|$, and with $\alpha = g^\prime + 2\mu$ the
-    /// same on both axes, $J = (2\mu/\alpha) I + (1 - 2\mu/\alpha)\, n n^{\mathsf T}$.
+    /// same on both axes, $J = (2\mu/\alpha) I + (1 - 2\mu/\alpha)\thinspace n n^{\mathsf T}$.
     fn locate_uniform(
         &self,
         r: &Vector2<f64>,

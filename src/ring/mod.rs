@@ -30,11 +30,12 @@ use nalgebra::Vector2;
 use thiserror::Error;
 
 pub mod branch;
-mod element;
-mod locate;
+pub mod element;
+pub mod locate;
 pub mod onset;
-mod regime;
-mod relax;
+pub mod regime;
+pub mod relax;
+pub mod sensitivity;
 
 pub use branch::{Branch, Branches};
 pub use element::{
@@ -43,6 +44,7 @@ pub use element::{
 pub use locate::{regime_ii_position, regime_v_position, RingContact, MAX_ITERATIONS};
 pub use regime::{boundaries, Regime};
 pub use relax::Relaxation;
+pub use sensitivity::{ContactHessian, ForceJacobian, GuardGradient};
 
 /// Errors of the snubber-ring element: every variant names the offending field and its value.
 #[derive(Debug, Clone, Copy, PartialEq, Error)]

@@ -6,8 +6,8 @@
 //!
 //! $$h^\prime = 2\thinspace q\cdot q^\prime,\qquad
 //! h^{\prime\prime} = 2|q^\prime|^2 + 2\thinspace q\cdot q^{\prime\prime},\qquad
-//! h^{\prime\prime\prime} = 6\thinspace q^\prime\cdot q^{\prime\prime}
-//! + 2\thinspace q\cdot q^{\prime\prime\prime}.$$
+//! h^{\prime\prime\prime} = 6\thinspace q^\prime\cdot q^{\prime\prime} +
+//! 2\thinspace q\cdot q^{\prime\prime\prime}.$$
 //!
 //! # Smooth pieces
 //!
@@ -65,10 +65,10 @@
 //!   too: the closed form switches pieces within an ulp of the cut, where it is continuous.
 //! * **What a reported onset means.** The result is the first node $t_s$ with
 //!   $\tilde h(t_s) \ge -\varepsilon_h$: every earlier node had $\tilde h < -\varepsilon_h$,
-//!   so $t_s$ is at or before the first root $\tau^*$ (up to the rounding above), and a near
+//!   so $t_s$ is at or before the first root $\tau^\ast$ (up to the rounding above), and a near
 //!   miss whose maximum is within $\varepsilon_h$ (plus rounding) of zero is reported as a
-//!   touch. Where $h$ rises through zero with slope $g = h^\prime(\tau^*)$,
-//!   $\tau^* - (\varepsilon_h + \delta)/g \lesssim t_s \le \tau^* + \delta/g$; at a grazing
+//!   touch. Where $h$ rises through zero with slope $g = h^\prime(\tau^\ast)$,
+//!   $\tau^\ast - (\varepsilon_h + \delta)/g \lesssim t_s \le \tau^\ast + \delta/g$; at a grazing
 //!   contact of depth $d$ ($g \approx \sqrt{2|h^{\prime\prime}|d}$) this is
 //!   $(\varepsilon_h + \delta)/\sqrt{2|h^{\prime\prime}| d}$, about $10^{-9}$ for
 //!   $d = 10^{-12}\gamma^2$.

@@ -33,7 +33,7 @@
 //! event index. The reported time is the end of the final bracket on the
 //! *post-crossing* side (so $g_i$ there already has its new sign, or is 0),
 //! and the bracket is narrower than the time tolerance
-//! $\max(\text{root\_tol}, 4\varepsilon|t|)$.
+//! $\max(\text{root\\_tol}, 4\varepsilon|t|)$.
 //!
 //!   The extremum is searched only when the cubic Hermite interpolant of
 //!   $g_i$ through the two samples (values and derivatives) gets at least
@@ -59,7 +59,7 @@
 //! [`EventState::new`]/[`EventState::reset`], or the time of the last hit
 //! returned. Let $s$ be the length of the scanned step, $m$ =
 //! `samples_per_step`, $t_1$ the first interior sample, and
-//! $w = \max(\text{rearm\_time}, 2\thinspace\text{tol})$ the *re-arm window*,
+//! $w = \max(\text{rearm\\_time}, 2\thinspace\text{tol})$ the *re-arm window*,
 //! with tol the time tolerance at the end of the step (twice the bracket
 //! width allowed to the root that defined the origin). At the origin:
 //!
@@ -264,7 +264,7 @@ pub struct EventOptions {
     /// (others are an [`OdeError::InvalidOption`]). Default `4`.
     pub samples_per_step: usize,
     /// Time tolerance of the root finder (units of $t$); the effective
-    /// tolerance is $\max(\text{root\_tol}, 4\varepsilon|t|)$, i.e. about 4
+    /// tolerance is $\max(\text{root\\_tol}, 4\varepsilon|t|)$, i.e. about 4
     /// ulp for the default `0`.
     pub root_tol: f64,
     /// Values with $|g| \le$ `value_tol` at the segment origin count as zero
@@ -272,7 +272,7 @@ pub struct EventOptions {
     /// Default `0`.
     pub value_tol: f64,
     /// Re-arm window after the segment origin (units of $t$), see the module
-    /// docs; the effective window is $\max(\text{rearm\_time}, 2\thinspace\text{tol})$.
+    /// docs; the effective window is $\max(\text{rearm\\_time}, 2\thinspace\text{tol})$.
     /// Default `0`.
     pub rearm_time: f64,
     /// Maximum iterations of each root/extremum search (>= 1). Default `200`.

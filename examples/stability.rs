@@ -1,0 +1,416 @@
+//! Stability of the rotor's orbits: periodic orbits and their Floquet multipliers, Lyapunov
+//! exponents, and where a periodic orbit loses stability along η. Prints exactly one JSON
+//! object on standard output, for scripts; `--pictures` draws figures instead.
+//!
+//! Modes (one of them):
+//!
+//! * `--orbit --period N [--transient T]`: runs T forcing periods from the initial state, then
+//!   finds the period-N orbit by Newton's method on P^N(z) - z with the Jacobian of the
+//!   variational equations:
+//!   `{"period": N, "point": [x, y, vx, vy], "residual": r, "multipliers": [[re, im], ...],
+//!   "contacts": c, "min_depth": d, "grazing_margin": g, ...}`, multipliers sorted by
+//!   modulus, largest first; `min_depth` the smallest contact depth and `grazing_margin` the
+//!   closest free-flight approach to contact (`null` when there is none);
+//! * `--lyapunov --transient T --periods P`: the Lyapunov spectrum per forcing period by the
+//!   QR method, its batch-means standard error, and the largest exponent by the
+//!   two-trajectory method: `{"lambda": [l1, l2, l3, l4], "stderr": [...],
+//!   "lambda1_two_trajectory": v, "stderr_two_trajectory": e, ...}`;
+//! * `--locate-loss --from A --to B --period N`: finds the period-N orbit at η = A (after
+//!   the transient), continues it towards η = B and prints the first loss of stability:
+//!   `{"eta": value, "kind": "flip" | "fold" | "neimark-sacker" | "grazing",
+//!   "multipliers": [...], "bracket": [a, b], ...}` (`"eta": null` if it stays stable);
+//! * `--pictures [--out DIR]`: the largest multiplier modulus of the period-1 orbit against
+//!   η up to its loss of stability (both preloads), and the largest Lyapunov exponent against
+//!   η over [2, 5] drawn above the bifurcation diagram from the same runs, for D = 0 and
+//!   D = 0.1 (`--values`, `--periods`, `--transient` set the resolution).
+//!
+//! The scene flags are those of `simulate` (`--preset`, parameter overrides, `--rtol`,
+//! `--atol`, `--method`, the initial state `--x0 --y0 --vx0 --vy0`). Exit status: 0 on success;
+//! 2 with one `error: ...` line on standard error for bad input; 1 with one line if the
+//! computation fails (e.g. Newton does not converge: the line gives the last residual).
+//!
+//! ```text
+//! cargo run --release --example stability -- --orbit --period 1 --eta 2
+//! cargo run --release --example stability -- --lyapunov --eta 2.442 --transient 500 --periods 5000
+//! cargo run --release --example stability -- --locate-loss --from 2 --to 2.3 --period 1 --preset fig8b
+//! cargo run --release --example stability -- --pictures
+//! ```
+
+#[path = "common/mod.rs"]
+mod common;
+
+use std::path::PathBuf;
+
+use common::cli::{fail, Cli};
+use common::or_exit;
+use common::plot::{self, Figure, Series};
+use common::scene::{scene_flags, Scene};
+use jeffcott::analysis::{linspace, sweep, SweepConfig};
+use jeffcott::paper::{JeffcottModel, State};
+use jeffcott::params::Params;
+use jeffcott::stability::{
+    locate_loss, lyapunov_exponents, periodic_orbit, ContinuationOptions, LyapunovOptions,
+    Multiplier, OrbitOptions, StroboscopicMap,
+};
+use serde_json::{json, Value};
+
+/// The mode switches (flags without a value).
+const MODES: [&str; 4] = ["--orbit", "--lyapunov", "--locate-loss", "--pictures"];
+
+fn multipliers_json(m: &[Multiplier]) -> Value {
+    Value::Array(m.iter().map(|m| json!([m.re, m.im])).collect())
+}
+
+/// A finite number, or `null`.
+fn num(v: Option<f64>) -> Value {
+    v.filter(|v| v.is_finite())
+        .map_or(Value::Null, |v| json!(v))
+}
+
+/// The state after `transient` periods from the scene's initial state.
+fn after_transient(model: &JeffcottModel, scene: &Scene, transient: u64) -> State {
+    let [x, y, vx, vy] = scene.start;
+    let start = model
+        .state_at([x, y], [vx, vy])
+        .unwrap_or_else(|e| fail(format!("initial state: {e}")));
+    if transient == 0 {
+        return start;
+    }
+    let map = or_exit(StroboscopicMap::new(model, transient, scene.opts));
+    or_exit(map.advance(&start)).y
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let modes: Vec<&str> = MODES
+        .iter()
+        .copied()
+        .filter(|m| args.iter().any(|a| a == m))
+        .collect();
+    let rest = args.iter().filter(|a| !MODES.contains(&a.as_str()));
+    let mut cli = Cli::from_args(
+        "stability",
+        "Stability of the rotor's orbits, printed as one JSON object. Modes (switches, one of):\n\
+         --orbit (periodic orbit, multipliers), --lyapunov (Lyapunov exponents),\n\
+         --locate-loss (first loss of stability along eta), --pictures (figures).",
+        rest,
+    );
+    let scene = scene_flags(&mut cli);
+    let period = cli.usize_in(
+        "period",
+        1,
+        1,
+        10_000,
+        "period N of the orbit (forcing periods)",
+    );
+    let transient = cli.usize_in(
+        "transient",
+        300,
+        0,
+        100_000_000,
+        "periods run before anything",
+    );
+    let periods = cli.usize_in(
+        "periods",
+        2000,
+        1,
+        100_000_000,
+        "--lyapunov: recorded periods",
+    );
+    let batch = cli.usize_in(
+        "batch",
+        0,
+        0,
+        100_000_000,
+        "--lyapunov: batch length of the error (0: periods/20)",
+    );
+    let from = cli.f64_in("from", f64::NAN, 0.01, 100.0, "--locate-loss: starting eta");
+    let to = cli.f64_in(
+        "to",
+        f64::NAN,
+        0.01,
+        100.0,
+        "--locate-loss: eta to continue towards",
+    );
+    let step = cli.f64_in(
+        "step",
+        0.005,
+        1e-9,
+        1.0,
+        "--locate-loss, --pictures: continuation step in eta",
+    );
+    let tolerance = cli.f64_in(
+        "tolerance",
+        1e-8,
+        1e-14,
+        1e-2,
+        "--locate-loss: width of the final bracket in eta",
+    );
+    let out = PathBuf::from(cli.string("out", "target/figures/stability", "--pictures: folder"));
+    let values = cli.usize_in(
+        "values",
+        151,
+        2,
+        100_000,
+        "--pictures: eta values over [2, 5]",
+    );
+    cli.finish();
+    scene.validate();
+    match modes.as_slice() {
+        ["--orbit"] => orbit(&scene, period as u64, transient as u64),
+        ["--lyapunov"] => {
+            let batch = if batch == 0 {
+                (periods / 20).max(1)
+            } else {
+                batch
+            };
+            if batch > periods {
+                fail(format!(
+                    "--batch ({batch}) cannot exceed --periods ({periods})"
+                ));
+            }
+            lyapunov(&scene, transient as u64, periods as u64, batch as u64)
+        }
+        ["--locate-loss"] => {
+            if from.is_nan() || to.is_nan() {
+                fail("--locate-loss needs --from and --to");
+            }
+            let opts = ContinuationOptions {
+                step,
+                tolerance,
+                orbit: OrbitOptions {
+                    sim: scene.opts,
+                    ..ContinuationOptions::default().orbit
+                },
+                ..ContinuationOptions::default()
+            };
+            locate(&scene, from, to, period as u64, transient as u64, &opts)
+        }
+        ["--pictures"] => pictures(&scene, &out, values, transient as u64, periods as u64, step),
+        [] => fail("give a mode: --orbit, --lyapunov, --locate-loss or --pictures"),
+        _ => fail(format!("give one mode, not {}", modes.join(" and "))),
+    }
+}
+
+fn print(v: Value) {
+    println!("{v}");
+}
+
+fn orbit(scene: &Scene, period: u64, transient: u64) {
+    let model = or_exit(JeffcottModel::new(scene.params));
+    let guess = after_transient(&model, scene, transient);
+    let opts = OrbitOptions {
+        sim: scene.opts,
+        ..OrbitOptions::default()
+    };
+    let o = or_exit(periodic_orbit(&model, &guess, period, &opts));
+    print(json!({
+        "period": period,
+        "point": o.point.as_slice(),
+        "residual": o.residual,
+        "multipliers": multipliers_json(&o.multipliers),
+        "contacts": o.margins.contacts,
+        "min_depth": num(o.margins.min_depth),
+        "grazing_margin": num(o.margins.clearance),
+        "spectral_radius": o.spectral_radius(),
+        "minimal_period": o.minimal_period,
+        "min_event_margin": o.margins.min_event_margin,
+        "iterations": o.iterations,
+    }));
+}
+
+fn lyapunov(scene: &Scene, transient: u64, periods: u64, batch: u64) {
+    let model = or_exit(JeffcottModel::new(scene.params));
+    let [x, y, vx, vy] = scene.start;
+    let y0 = model
+        .state_at([x, y], [vx, vy])
+        .unwrap_or_else(|e| fail(format!("initial state: {e}")));
+    let opts = LyapunovOptions {
+        transient,
+        periods,
+        batch,
+        sim: scene.opts,
+        ..LyapunovOptions::default()
+    };
+    let l = or_exit(lyapunov_exponents(&model, &y0, &opts));
+    let two = l.two_trajectory.as_ref();
+    print(json!({
+        "lambda": l.per_period.mean,
+        "stderr": l.per_period.stderr.iter().map(|&s| num(Some(s))).collect::<Vec<_>>(),
+        "lambda1_two_trajectory": num(two.map(|t| t.lambda)),
+        "stderr_two_trajectory": num(two.map(|t| t.stderr)),
+        "lambda_per_tau": l.per_time,
+        "batch_length": l.per_period.batch_length,
+        "batches": l.per_period.batches,
+        "sum": l.sum(),
+        "mean_log_det": l.log_det.0,
+        "grazing_events": l.grazing_events,
+    }));
+}
+
+fn locate(
+    scene: &Scene,
+    from: f64,
+    to: f64,
+    period: u64,
+    transient: u64,
+    opts: &ContinuationOptions,
+) {
+    let at = |eta: f64| {
+        JeffcottModel::new(Params {
+            eta,
+            ..scene.params
+        })
+    };
+    let model = or_exit(at(from));
+    let guess = after_transient(&model, scene, transient);
+    let c = or_exit(locate_loss(at, from, to, &guess, period, opts));
+    match c.loss {
+        Some(loss) => print(json!({
+            "eta": loss.parameter,
+            "kind": loss.kind.name(),
+            "multipliers": multipliers_json(&loss.orbit.multipliers),
+            "bracket": [loss.bracket.0, loss.bracket.1],
+            "tolerance": opts.tolerance,
+            "period": period,
+            "steps": c.path.len(),
+        })),
+        None => print(json!({
+            "eta": null,
+            "kind": null,
+            "multipliers": [],
+            "period": period,
+            "steps": c.path.len(),
+        })),
+    }
+}
+
+/// The figures (module docs).
+fn pictures(
+    scene: &Scene,
+    out: &std::path::Path,
+    values: usize,
+    transient: u64,
+    periods: u64,
+    step: f64,
+) {
+    let presets = [(0.0, "D = 0"), (0.1, "D = 0.1")];
+    // 1. max |multiplier| of the period-1 orbit against eta, up to its loss of stability.
+    let mut series = Vec::new();
+    let mut fig = Figure::new(
+        "Period-1 orbit: largest multiplier modulus",
+        "eta",
+        "max |multiplier|",
+    )
+    .with_columns("eta", "max_modulus")
+    .with_markers();
+    for (d, label) in &presets {
+        let base = scene.params.with_preload(*d);
+        let at = |eta: f64| JeffcottModel::new(Params { eta, ..base });
+        let model = or_exit(at(2.0));
+        let guess = after_transient(
+            &model,
+            &Scene {
+                params: base.with_eta(2.0),
+                opts: scene.opts,
+                start: scene.start,
+            },
+            transient,
+        );
+        let opts = ContinuationOptions {
+            step,
+            orbit: OrbitOptions {
+                sim: scene.opts,
+                ..ContinuationOptions::default().orbit
+            },
+            ..ContinuationOptions::default()
+        };
+        let c = or_exit(locate_loss(at, 2.0, 3.0, &guess, 1, &opts));
+        let mut points: Vec<(f64, f64)> = c
+            .path
+            .iter()
+            .map(|p| (p.parameter, p.multipliers[0].modulus()))
+            .collect();
+        if let Some(loss) = &c.loss {
+            points.push((loss.parameter, 1.0));
+            fig = fig.with_mark(loss.parameter, &format!("{:.6}", loss.parameter));
+            eprintln!(
+                "{label}: period 1 loses stability at eta = {:.9} ({})",
+                loss.parameter,
+                loss.kind.name()
+            );
+        }
+        series.push(Series::new(label, points));
+    }
+    or_exit(plot::lines(
+        out.join("multipliers_period1.png"),
+        &fig,
+        &series,
+    ));
+
+    // 2. The largest Lyapunov exponent over the bifurcation diagram, from the same runs.
+    let etas = or_exit(linspace(2.0, 5.0, values));
+    for (d, label) in presets {
+        let base = scene.params.with_preload(d);
+        let opts = LyapunovOptions {
+            transient,
+            periods: periods.max(20),
+            batch: (periods / 20).max(1),
+            separation: None,
+            exponents: Some(1),
+            keep: 150,
+            sim: scene.opts,
+            ..LyapunovOptions::default()
+        };
+        let start = scene.start;
+        let runner = |eta: &f64, _: Option<()>| {
+            let model = JeffcottModel::new(base.with_eta(*eta)).map_err(|e| e.to_string())?;
+            let y0 = model
+                .state_at([start[0], start[1]], [start[2], start[3]])
+                .map_err(|e| e.to_string())?;
+            lyapunov_exponents(&model, &y0, &opts)
+                .map(|l| {
+                    (
+                        (l.per_period.mean[0], l.per_period.stderr[0], l.sections),
+                        (),
+                    )
+                })
+                .map_err(|e| e.to_string())
+        };
+        let result = or_exit(sweep(&etas, &SweepConfig::reset(), runner, None));
+        let mut lambda = Vec::new();
+        let mut diagram = Vec::new();
+        for (eta, r) in etas.iter().zip(&result.results) {
+            match r {
+                Ok((l, _, sections)) => {
+                    lambda.push((*eta, *l));
+                    diagram.extend(sections.iter().map(|z| (*eta, z[0])));
+                }
+                Err(e) => eprintln!("eta = {eta}: {e}"),
+            }
+        }
+        let top = Figure::new(
+            &format!("Largest Lyapunov exponent per forcing period, {label}"),
+            "eta",
+            "lambda_1",
+        )
+        .with_columns("eta", "lambda1")
+        .with_size(1200, 400);
+        let bottom = Figure::new(&format!("Bifurcation diagram, {label}"), "eta", "x")
+            .with_columns("eta", "x")
+            .with_size(1200, 600);
+        let name = if d == 0.0 {
+            "lyapunov_fig8a.png"
+        } else {
+            "lyapunov_fig8b.png"
+        };
+        or_exit(plot::lines_over_points(
+            out.join(name),
+            &top,
+            &[Series::new("", lambda)],
+            &bottom,
+            &diagram,
+        ));
+    }
+    print(json!({ "figures": out.display().to_string() }));
+}

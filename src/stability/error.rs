@@ -1,0 +1,73 @@
+//! The errors of the stability analyses.
+
+use nalgebra::DVector;
+use thiserror::Error;
+
+use super::floquet::FloquetError;
+use crate::hybrid::SimErrorKind;
+
+/// Why a stability computation failed.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum StabilityError {
+    /// A run of the model (with or without its variational equations) failed.
+    #[error("simulation failed at t = {t}: {kind}")]
+    Simulation {
+        /// What went wrong (a model error, e.g. a transition the linearisation cannot cross,
+        /// names the event).
+        kind: SimErrorKind,
+        /// Time of the failure.
+        t: f64,
+    },
+    /// Newton's method did not converge: `last` is its best iterate (the non-algebraic
+    /// components at the section) and `residual` its $\lVert P^n(z) - z\rVert_\infty$. Try a
+    /// better guess (a longer transient), another period, or a tolerance above the map's noise.
+    #[error("no periodic orbit: Newton stopped after {iterations} iterations at residual {residual:e} ({reason})")]
+    NotConverged {
+        /// The best iterate.
+        last: DVector<f64>,
+        /// Its residual.
+        residual: f64,
+        /// Iterations made.
+        iterations: u32,
+        /// Why it stopped.
+        reason: &'static str,
+    },
+    /// $DP^n - I$ is singular at `at`: a multiplier is 1 to working precision (a fold).
+    #[error("DP - I is singular at the iterate (residual {residual:e}): a multiplier is 1")]
+    Singular {
+        /// The iterate.
+        at: DVector<f64>,
+        /// Its residual.
+        residual: f64,
+    },
+    /// The model could not be built at a parameter value.
+    #[error("no model at parameter {parameter}: {reason}")]
+    Model {
+        /// The parameter value.
+        parameter: f64,
+        /// The builder's error.
+        reason: String,
+    },
+    /// The orbit a continuation starts from is not stable.
+    #[error("the orbit at parameter {parameter} is not stable (spectral radius {spectral_radius}): start the continuation where it is")]
+    Unstable {
+        /// The parameter value.
+        parameter: f64,
+        /// Its largest multiplier modulus.
+        spectral_radius: f64,
+    },
+    /// The multipliers could not be computed.
+    #[error(transparent)]
+    Floquet(#[from] FloquetError),
+    /// An option or argument is invalid.
+    #[error("invalid `{field}` = {value}: {hint}")]
+    InvalidOption {
+        /// The option.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// What to use.
+        hint: &'static str,
+    },
+}

@@ -1,0 +1,51 @@
+//! Stability of non-smooth orbits: linearisation of the hybrid flow through its events,
+//! periodic orbits and their Floquet multipliers, Lyapunov exponents, and where an orbit loses
+//! stability along a parameter.
+//!
+//! Smooth variational equations are wrong across a contact: a perturbation that moves an event
+//! in time picks up the jump of the vector field there, the **saltation matrix**
+//! ([`saltation()`]). Integrated with the state through every event, the variational
+//! equations give the Jacobian of the stroboscopic map exactly where the map is smooth, and
+//! say where it is not (grazing, with its margin). The layers, bottom up:
+//!
+//! | item | role |
+//! |---|---|
+//! | [`saltation()`] | the saltation matrix of one event, any dimension, typed grazing flag |
+//! | [`Variational`] | what a model supplies: field and reset Jacobians, guard gradients, the closed form's Jacobian, its algebraic components; finite-difference defaults; analytic for [`crate::paper::JeffcottModel`], ring parts analytic for [`crate::rotor::RingedRotor`] |
+//! | [`StroboscopicMap`] | $P^n$ on the non-algebraic components and its Jacobian $DP^n$ (or $DP^n Q$) |
+//! | [`periodic_orbit`] | Newton on $P^n(z) - z$: point, residual, multipliers, grazing margins |
+//! | [`lyapunov_exponents`] | QR (Benettin) spectrum with batch-means errors, two-trajectory check, sum rule |
+//! | [`locate_loss`] | continuation along a parameter (a closure builds the model): flip, fold, Neimark–Sacker, grazing |
+//! | [`floquet`], [`newton`], [`statistics`] | the numerics underneath, on plain matrices and closures |
+//!
+//! The ring's own derivatives are in [`crate::ring::sensitivity`], the paper's free flight's
+//! transition matrix in [`crate::paper::free_flight::FreeOscillator::transition_matrix`]. The
+//! method, every saltation matrix of the model written out, the cross-checks and the results
+//! are in `docs/stability.md`.
+
+mod augmented;
+pub mod continuation;
+mod error;
+pub mod floquet;
+pub mod lyapunov;
+pub mod map;
+pub mod newton;
+pub mod orbit;
+mod ring_models;
+pub mod saltation;
+pub mod statistics;
+pub mod variational;
+
+pub use augmented::LinearEvent;
+pub use continuation::{
+    locate_loss, Continuation, ContinuationOptions, ContinuationPoint, LossKind, StabilityLoss,
+};
+pub use error::StabilityError;
+pub use floquet::{multipliers, CrossingKind, FloquetError, Multiplier};
+pub use lyapunov::{lyapunov_exponents, LyapunovOptions, LyapunovSpectrum, TwoTrajectory};
+pub use map::{Advanced, Linearization, StroboscopicMap};
+pub use newton::{newton_fixed_point, FixedPoint, MapValue, NewtonError, NewtonOptions};
+pub use orbit::{periodic_orbit, OrbitMargins, OrbitOptions, PeriodicOrbit};
+pub use saltation::{saltation, EventLinearization, Saltation, SaltationError, GRAZING_MARGIN};
+pub use statistics::{qr_step, BatchEstimate, BatchMeans};
+pub use variational::{Variational, VariationalAlloc, Workspace};

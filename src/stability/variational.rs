@@ -1,0 +1,351 @@
+//! What a model supplies for its linearisation: the [`Variational`] extension of
+//! [`RotorModel`].
+//!
+//! Linearising a hybrid trajectory needs, besides what the driver uses, the Jacobian of each
+//! mode's vector field, the gradients of the guards, the Jacobian of each transition's reset and,
+//! in exact modes, the Jacobian of the closed form. Every method of [`Variational`] has a
+//! default by **central finite differences** of the model's own [`RotorModel`] methods, so that
+//! `impl Variational for MyModel {}` is enough to start; a model overrides what it knows
+//! analytically (the paper's model overrides all of them, `stability::ring_models`), or what
+//! the differences cannot do (see each method's contract).
+//!
+//! # Algebraic components
+//!
+//! Components that the model sets itself rather than integrates ([`Variational::is_algebraic_variation`],
+//! by default [`RotorModel::is_algebraic`]) are not propagated by the variational equations:
+//! their rows of a variation are written by [`Variational::algebraic_variation`] from the other
+//! rows and from their value when the mode started (right after the transition into it). A
+//! massless ring in contact is $s^*(r)$: its rows are $J$ times the rotor's position rows; out of
+//! contact it relaxes in closed form from where it was released, independently of the rotor: its
+//! rows are those at the release, scaled by the relaxation's sensitivity. Their dynamics may be
+//! stiff; their closed form is what keeps the linearisation cheap and exact.
+//!
+//! # Contracts the defaults rely on
+//!
+//! * [`RotorModel::rhs`] and [`RotorModel::guard_value`] can be evaluated in **every** mode,
+//!   exact ones included (the saltation matrix needs the fields on both sides of an event and
+//!   the guard's gradient), and are smooth in $(t, y)$ within a mode (on the mode's branch:
+//!   the smooth extension);
+//! * a transition keeps its outcome (the next mode) under perturbations of the state of the
+//!   size of the difference step, at least on one side; otherwise override
+//!   [`Variational::transition_jacobian`];
+//! * [`RotorModel::project`] writes the algebraic components as functions of the others (for
+//!   [`Variational::algebraic_variation`]'s default) and leaves alone those that depend on
+//!   the mode's history (those are then carried unchanged from the mode's start: override if
+//!   they evolve, as a relaxing ring does).
+
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, Dyn, OMatrix, OVector, U1};
+
+use crate::hybrid::{ExactSegment, ModelError, RotorModel};
+
+/// The allocations the linearisation of a model of dimension `D` needs (vectors, square
+/// matrices and `D x Dyn` variations); every nalgebra dimension has them. Write
+/// `DefaultAllocator: VariationalAlloc<D>` in bounds.
+pub trait VariationalAlloc<D: Dim>: Allocator<D> + Allocator<D, D> + Allocator<D, Dyn> {}
+
+impl<D: Dim, A> VariationalAlloc<D> for A where A: Allocator<D> + Allocator<D, D> + Allocator<D, Dyn>
+{}
+
+/// Scratch vectors for the finite-difference defaults, sized once per run (no allocation in
+/// the stepping loop, for `Dyn` too).
+#[derive(Debug, Clone)]
+pub struct Workspace<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    y: OVector<f64, D>,
+    plus: OVector<f64, D>,
+    minus: OVector<f64, D>,
+}
+
+impl<D: Dim> Workspace<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Scratch for states of dimension `dim`.
+    pub fn new(dim: D) -> Self {
+        Self {
+            y: OVector::zeros_generic(dim, U1),
+            plus: OVector::zeros_generic(dim, U1),
+            minus: OVector::zeros_generic(dim, U1),
+        }
+    }
+}
+
+/// The linearisation of a [`RotorModel`] (module docs). Every method has a finite-difference
+/// default; see the module docs for what the defaults assume.
+pub trait Variational: RotorModel
+where
+    DefaultAllocator: VariationalAlloc<Self::Dim>,
+{
+    /// Relative step $h$ of the central differences of the defaults: component $j$ moves by
+    /// $h\thinspace(1 + |y_j|)$, time by $h\thinspace(1 + |t|)$. Default $10^{-5}$: for a smooth
+    /// field with derivatives of order 1 to 100 the truncation ($h^2$) and the rounding
+    /// ($\varepsilon/h$) errors are then both about $10^{-10}$ relative.
+    fn difference_step(&self) -> f64 {
+        1e-5
+    }
+
+    /// Whether component `i` is algebraic for the linearisation (module docs). Default:
+    /// [`RotorModel::is_algebraic`].
+    fn is_algebraic_variation(&self, i: usize) -> bool {
+        self.is_algebraic(i)
+    }
+
+    /// The Jacobian $\partial f/\partial y$ of the vector field of `mode` at $(t, y)$, written
+    /// into `jac`. Only the rows of the non-algebraic components are used. Default: central
+    /// differences of [`RotorModel::rhs`].
+    #[allow(clippy::too_many_arguments)]
+    fn rhs_jacobian(
+        &self,
+        mode: Self::Mode,
+        t: f64,
+        y: &OVector<f64, Self::Dim>,
+        jac: &mut OMatrix<f64, Self::Dim, Self::Dim>,
+        cache: &Self::Cache,
+        work: &mut Workspace<Self::Dim>,
+    ) {
+        let h = self.difference_step();
+        work.y.copy_from(y);
+        for j in 0..y.len() {
+            let step = h * (1.0 + y[j].abs());
+            work.y[j] = y[j] + step;
+            self.rhs(mode, t, &work.y, &mut work.plus, cache);
+            work.y[j] = y[j] - step;
+            self.rhs(mode, t, &work.y, &mut work.minus, cache);
+            work.y[j] = y[j];
+            let inv = 0.5 / step;
+            for i in 0..y.len() {
+                jac[(i, j)] = (work.plus[i] - work.minus[i]) * inv;
+            }
+        }
+    }
+
+    /// The gradient $\nabla_y g$ of guard `i` of `mode` at $(t, y)$, written into `grad`, and
+    /// $\partial g/\partial t$, returned: the guard as a function of the **full** state, in
+    /// which algebraic components stand for themselves (a guard that reads a relaxing ring
+    /// depends on the ring's component, and its time derivative at fixed state excludes the
+    /// ring's motion, which the field's ring component carries). Default: central differences
+    /// of [`RotorModel::guard_value`], which then must depend on the algebraic components
+    /// through the state (override otherwise: a difference cannot see a dependence through
+    /// the mode).
+    #[allow(clippy::too_many_arguments)]
+    fn guard_gradient(
+        &self,
+        mode: Self::Mode,
+        i: usize,
+        t: f64,
+        y: &OVector<f64, Self::Dim>,
+        grad: &mut OVector<f64, Self::Dim>,
+        cache: &Self::Cache,
+        work: &mut Workspace<Self::Dim>,
+    ) -> f64 {
+        let h = self.difference_step();
+        work.y.copy_from(y);
+        for j in 0..y.len() {
+            let step = h * (1.0 + y[j].abs());
+            work.y[j] = y[j] + step;
+            let p = self.guard_value(mode, i, t, &work.y, cache);
+            work.y[j] = y[j] - step;
+            let m = self.guard_value(mode, i, t, &work.y, cache);
+            work.y[j] = y[j];
+            grad[j] = (p - m) * (0.5 / step);
+        }
+        let step = h * (1.0 + t.abs());
+        let p = self.guard_value(mode, i, t + step, y, cache);
+        let m = self.guard_value(mode, i, t - step, y, cache);
+        (p - m) * (0.5 / step)
+    }
+
+    /// The Jacobian of the reset of the transition after guard `guard` of `mode` fired at
+    /// $(t, y)$ (projected in `mode`), whose outcome was the state `after` in mode `next`:
+    /// $R_y$ into `rx` and $R_t$ into `rt`. Default: central differences of [`RotorModel::transition`] (one-sided
+    /// where a perturbed transition gives another mode than `next`).
+    ///
+    /// # Errors
+    /// [`ModelError::Transition`] when the perturbed transitions fail or change the outcome
+    /// on both sides of a component (the transition is not differentiable there with this
+    /// step: override this method).
+    #[allow(clippy::too_many_arguments)]
+    fn transition_jacobian(
+        &self,
+        mode: Self::Mode,
+        guard: usize,
+        t: f64,
+        y: &OVector<f64, Self::Dim>,
+        after: &OVector<f64, Self::Dim>,
+        next: Self::Mode,
+        rx: &mut OMatrix<f64, Self::Dim, Self::Dim>,
+        rt: &mut OVector<f64, Self::Dim>,
+    ) -> Result<(), ModelError> {
+        let h = self.difference_step();
+        let nominal = after;
+        // The same outcome: the same mode label (a mode may carry continuous data, e.g. where
+        // a ring was released, that moves with the state).
+        let label = self.mode_label(next);
+        let apply = |t: f64, y: &OVector<f64, Self::Dim>| {
+            let mut out = y.clone_owned();
+            match self.transition(mode, guard, t, &mut out) {
+                Ok(m) if self.mode_label(m) == label => Some(out),
+                _ => None,
+            }
+        };
+        let difference = |plus: Option<OVector<f64, Self::Dim>>,
+                          minus: Option<OVector<f64, Self::Dim>>,
+                          step: f64,
+                          what: &str|
+         -> Result<OVector<f64, Self::Dim>, ModelError> {
+            match (plus, minus) {
+                (Some(p), Some(m)) => Ok((p - m) * (0.5 / step)),
+                (Some(p), None) => Ok((p - nominal) * (1.0 / step)),
+                (None, Some(m)) => Ok((nominal - m) * (1.0 / step)),
+                (None, None) => Err(ModelError::Transition {
+                    t,
+                    reason: format!(
+                        "the transition's outcome changes under a perturbation of {what} by \
+                         {step:e} on both sides: it is not differentiable by differences there \
+                         (override Variational::transition_jacobian)"
+                    ),
+                }),
+            }
+        };
+        let mut yp = y.clone_owned();
+        for j in 0..y.len() {
+            let step = h * (1.0 + y[j].abs());
+            yp[j] = y[j] + step;
+            let plus = apply(t, &yp);
+            yp[j] = y[j] - step;
+            let minus = apply(t, &yp);
+            yp[j] = y[j];
+            let col = difference(plus, minus, step, "a state component")?;
+            rx.set_column(j, &col);
+        }
+        let step = h * (1.0 + t.abs());
+        let col = difference(apply(t + step, y), apply(t - step, y), step, "the time")?;
+        rt.copy_from(&col);
+        Ok(())
+    }
+
+    /// The Jacobian $\partial y(t)/\partial y(t_0)$ of the closed form of an exact `mode`
+    /// started at $(t_0, y_0)$, written into `jac`. Only the rows of the non-algebraic
+    /// components are used. Default: central differences of segments started at perturbed
+    /// states ([`RotorModel::start_segment`], [`ExactSegment::eval`]).
+    fn segment_jacobian(
+        &self,
+        mode: Self::Mode,
+        t0: f64,
+        y0: &OVector<f64, Self::Dim>,
+        t: f64,
+        jac: &mut OMatrix<f64, Self::Dim, Self::Dim>,
+    ) {
+        let h = self.difference_step();
+        let dim = y0.shape_generic().0;
+        let mut start = y0.clone_owned();
+        let mut plus = OVector::zeros_generic(dim, U1);
+        let mut minus = OVector::zeros_generic(dim, U1);
+        let mut dy = OVector::zeros_generic(dim, U1);
+        for j in 0..y0.len() {
+            let step = h * (1.0 + y0[j].abs());
+            start[j] = y0[j] + step;
+            self.start_segment(mode, t0, &start)
+                .eval(t, &mut plus, &mut dy);
+            start[j] = y0[j] - step;
+            self.start_segment(mode, t0, &start)
+                .eval(t, &mut minus, &mut dy);
+            start[j] = y0[j];
+            let inv = 0.5 / step;
+            for i in 0..y0.len() {
+                jac[(i, j)] = (plus[i] - minus[i]) * inv;
+            }
+        }
+    }
+
+    /// Writes the algebraic rows of the variation `m` at $(t, y)$ in `mode` from its other
+    /// rows and from `start`, the variation right after the transition into `mode` (module
+    /// docs). Default: nothing without algebraic components; otherwise central differences of
+    /// [`RotorModel::project`]: rows $\partial\pi/\partial y_{\rm diff}\thinspace m_{\rm diff} +
+    /// \partial\pi/\partial y_{\rm alg}\thinspace {\rm start}_{\rm alg}$, $\pi$ the projection.
+    fn algebraic_variation(
+        &self,
+        mode: Self::Mode,
+        t: f64,
+        y: &OVector<f64, Self::Dim>,
+        start: &OMatrix<f64, Self::Dim, Dyn>,
+        m: &mut OMatrix<f64, Self::Dim, Dyn>,
+        cache: &Self::Cache,
+    ) {
+        let n = y.len();
+        let algebraic: Vec<usize> = (0..n).filter(|&i| self.is_algebraic_variation(i)).collect();
+        if algebraic.is_empty() {
+            return;
+        }
+        let h = self.difference_step();
+        let mut yp = y.clone_owned();
+        let mut ym = y.clone_owned();
+        let mut rows = OMatrix::<f64, Dyn, Dyn>::zeros(algebraic.len(), m.ncols());
+        for j in 0..n {
+            let step = h * (1.0 + y[j].abs());
+            yp.copy_from(y);
+            ym.copy_from(y);
+            yp[j] += step;
+            ym[j] -= step;
+            self.project(mode, t, &mut yp, cache);
+            self.project(mode, t, &mut ym, cache);
+            let source = if self.is_algebraic_variation(j) {
+                start.row(j)
+            } else {
+                m.row(j)
+            };
+            for (a, &i) in algebraic.iter().enumerate() {
+                let d = (yp[i] - ym[i]) * (0.5 / step);
+                if d != 0.0 {
+                    for c in 0..m.ncols() {
+                        rows[(a, c)] += d * source[c];
+                    }
+                }
+            }
+        }
+        for (a, &i) in algebraic.iter().enumerate() {
+            m.row_mut(i).copy_from(&rows.row(a));
+        }
+    }
+
+    /// The full state at a stroboscopic section from the values `z` of its non-algebraic
+    /// components, in their order, and a `template` state there (the trajectory's own): the
+    /// algebraic components are placed for the new values (the driver then projects them).
+    /// Default: `template` with the non-algebraic components replaced by `z`.
+    fn section_state(
+        &self,
+        t: f64,
+        template: &OVector<f64, Self::Dim>,
+        z: &[f64],
+    ) -> OVector<f64, Self::Dim> {
+        let _ = t;
+        let mut y = template.clone_owned();
+        let mut k = 0;
+        for i in 0..y.len() {
+            if !self.is_algebraic_variation(i) {
+                y[i] = z[k];
+                k += 1;
+            }
+        }
+        y
+    }
+
+    /// How far the state at a section is from being a function of its non-algebraic
+    /// components (0 when it is, e.g. a ring that has relaxed to its centre): the map on those
+    /// components is closed only at 0. Default 0.
+    fn section_openness(&self, mode: Self::Mode, t: f64, y: &OVector<f64, Self::Dim>) -> f64 {
+        let _ = (mode, t, y);
+        0.0
+    }
+
+    /// A smooth signed measure of contact for grazing margins: positive, the depth of a
+    /// contact, in contact modes; negative, minus the clearance, out of contact. `None`
+    /// (default) if the model has no such notion.
+    fn contact_depth(&self, mode: Self::Mode, t: f64, y: &OVector<f64, Self::Dim>) -> Option<f64> {
+        let _ = (mode, t, y);
+        None
+    }
+}

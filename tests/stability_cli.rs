@@ -1,0 +1,183 @@
+//! `examples/stability`: one JSON object on standard output with the keys, in every
+//! mode; status 2 with one line on standard error for bad input.
+
+#[path = "support/examples.rs"]
+mod support;
+
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn run(args: &[&str]) -> Output {
+    Command::new(support::example_exe("stability"))
+        .args(args)
+        .output()
+        .expect("run the example")
+}
+
+/// The single JSON object printed by a successful run.
+fn json(args: &[&str]) -> Value {
+    let out = run(args);
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        out.status.success(),
+        "{args:?}: {}\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(stdout.lines().count(), 1, "one line of JSON: {stdout}");
+    serde_json::from_str(&stdout).expect("valid JSON")
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+#[test]
+fn orbit_mode_prints_the_check_value() {
+    let v = json(&["--orbit", "--period", "1", "--eta", "2"]);
+    assert_eq!(v["period"], 1);
+    let point: Vec<f64> = v["point"].as_array().unwrap().iter().map(f).collect();
+    let check = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533];
+    for (a, b) in point.iter().zip(check) {
+        assert!((a - b).abs() < 2e-10, "{a} vs {b}");
+    }
+    assert!(f(&v["residual"]) <= 1e-11);
+    let m = v["multipliers"].as_array().unwrap();
+    assert_eq!(m.len(), 4);
+    let modulus: Vec<f64> = m.iter().map(|p| f(&p[0]).hypot(f(&p[1]))).collect();
+    for (a, b) in modulus
+        .iter()
+        .zip([0.73114935, 0.67460586, 0.67460586, 0.62356301])
+    {
+        assert!((a - b).abs() < 1e-8, "{a} vs {b}");
+    }
+    // Sorted by modulus, largest first; the pair as lambda, conj(lambda).
+    assert!(modulus.windows(2).all(|w| w[0] >= w[1]));
+    assert!(f(&m[1][1]) > 0.0 && f(&m[2][1]) < 0.0);
+    assert_eq!(v["contacts"], 1);
+    assert!((f(&v["min_depth"]) - 0.03886).abs() < 1e-5);
+    assert!(v["grazing_margin"].is_null());
+}
+
+#[test]
+fn lyapunov_mode_prints_the_spectrum_and_its_errors() {
+    let v = json(&[
+        "--lyapunov",
+        "--eta",
+        "2",
+        "--transient",
+        "100",
+        "--periods",
+        "200",
+    ]);
+    let lambda: Vec<f64> = v["lambda"].as_array().unwrap().iter().map(f).collect();
+    assert_eq!(lambda.len(), 4);
+    // A stable fixed point: the logs of its multipliers' moduli.
+    assert!((lambda[0] - 0.73114935f64.ln()).abs() < 1e-5, "{lambda:?}");
+    assert_eq!(v["stderr"].as_array().unwrap().len(), 4);
+    assert!((f(&v["lambda1_two_trajectory"]) - lambda[0]).abs() < 1e-4);
+    assert!(f(&v["stderr_two_trajectory"]) >= 0.0);
+    assert_eq!(v["batch_length"], 10);
+    assert_eq!(v["batches"], 20);
+}
+
+#[test]
+fn locate_loss_mode_prints_the_flip() {
+    // A short continuation near the reference's 2.234843277.
+    let v = json(&[
+        "--locate-loss",
+        "--from",
+        "2.22",
+        "--to",
+        "2.24",
+        "--period",
+        "1",
+        "--step",
+        "0.005",
+    ]);
+    assert!((f(&v["eta"]) - 2.234843277).abs() < 2e-8, "{v}");
+    assert_eq!(v["kind"], "flip");
+    let m = v["multipliers"].as_array().unwrap();
+    assert!((f(&m[0][0]) + 1.0).abs() < 1e-5);
+    // Stable all the way: eta null.
+    let v = json(&[
+        "--locate-loss",
+        "--from",
+        "2.0",
+        "--to",
+        "2.02",
+        "--period",
+        "1",
+    ]);
+    assert!(v["eta"].is_null() && v["kind"].is_null());
+}
+
+#[test]
+fn bad_input_exits_with_status_2_and_one_line() {
+    for args in [
+        vec!["--period", "1"],
+        vec!["--orbit", "--lyapunov"],
+        vec!["--orbit", "--period", "0"],
+        vec!["--locate-loss", "--from", "2"],
+        vec!["--orbit", "--eta", "abc"],
+        vec!["--lyapunov", "--periods", "10", "--batch", "20"],
+        vec!["--orbit", "--bogus", "1"],
+    ] {
+        let out = run(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(out.stdout.is_empty(), "{args:?}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.starts_with("error: "), "{err}");
+    }
+}
+
+#[test]
+fn a_failed_computation_exits_with_status_1() {
+    // Past the flip the period-1 orbit is unstable: there is nothing to continue.
+    let out = run(&[
+        "--locate-loss",
+        "--from",
+        "2.3",
+        "--to",
+        "2.4",
+        "--period",
+        "1",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("stable") || err.contains("residual"), "{err}");
+}
+
+#[test]
+fn pictures_mode_writes_its_figures() {
+    let dir = std::env::temp_dir().join(format!("jeffcott-stability-{}", std::process::id()));
+    let v = json(&[
+        "--pictures",
+        "--out",
+        dir.to_str().unwrap(),
+        "--values",
+        "3",
+        "--transient",
+        "20",
+        "--periods",
+        "40",
+        "--step",
+        "0.05",
+    ]);
+    assert_eq!(v["figures"], dir.to_str().unwrap());
+    for name in [
+        "multipliers_period1.png",
+        "multipliers_period1.csv",
+        "lyapunov_fig8a.png",
+        "lyapunov_fig8a_top.csv",
+        "lyapunov_fig8a_bottom.csv",
+        "lyapunov_fig8b.png",
+    ] {
+        assert!(dir.join(name).exists(), "{name}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
