@@ -6,6 +6,9 @@
 //!   match attractors reached from different starts ([`find_attractor`], [`Attractor`],
 //!   [`MatchTolerance`]).
 //! * [`catalogue`]: the distinct attractors of a scan and the label of each point.
+//! * [`continuation`](mod@continuation): periodic orbits followed in any parameter by
+//!   pseudo-arclength, through folds and grazings, with their stability, bifurcations located
+//!   and branch switching at a flip ([`continue_orbit`], [`switch_at_flip`]).
 //! * [`scan`]: attractor scans over a grid ([`scan_grid`], [`Grid2`]): basins of attraction
 //!   (a grid of initial states) and two-parameter maps (a grid of parameters). The paper's
 //!   model has ready-made planes: [`crate::paper::BasinPlane`], [`crate::paper::ParamPlane`].
@@ -43,6 +46,7 @@
 
 pub mod attractor;
 pub mod catalogue;
+pub mod continuation;
 #[cfg(feature = "mpi")]
 pub mod distributed;
 mod failure;
@@ -54,6 +58,10 @@ pub mod store;
 
 pub use attractor::{find_attractor, Attractor, AttractorConfig, MatchTolerance, OrbitStats};
 pub use catalogue::{Catalogue, CatalogueEntry, PointLabel};
+pub use continuation::{
+    continue_orbit, switch_at_flip, Branch, BranchEnd, BranchPoint, ContinuationConfig,
+    ContinuationError, SpecialKind, SpecialPoint,
+};
 pub use failure::{PointFailure, SimFailureKind};
 pub use json::{Json, JsonError};
 pub use record::Record;
