@@ -186,3 +186,77 @@ fn the_period_3_orbit_is_followed_through_its_fold() {
         later.multipliers
     );
 }
+
+#[path = "support/examples.rs"]
+mod support;
+
+#[test]
+fn the_example_prints_one_json_object_per_special_point() {
+    let exe = support::example_exe("continuation");
+    let dir = std::env::current_exe()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .join("global_continuation_example");
+    let run = std::process::Command::new(&exe)
+        .args([
+            "--param", "eta", "--from", "0.4", "--to", "0.8", "--period", "1", "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let text = String::from_utf8(run.stdout).unwrap();
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 1, "{text}");
+    let g = &lines[0];
+    assert_eq!(g["kind"], "grazing");
+    assert_eq!(g["param"], "eta");
+    let eta_g = grazing_eta(&Preset::Fig8a.params(), 0.4, 0.8);
+    assert!((g["value"].as_f64().unwrap() - eta_g).abs() < 1e-7, "{g}");
+    let m = g["multipliers"].as_array().unwrap();
+    assert_eq!(m.len(), 4);
+    assert!(m.iter().all(|p| p.as_array().unwrap().len() == 2));
+    assert!(dir.join("branch.png").exists() && dir.join("branch.csv").exists());
+
+    // From eta = 2 with --switch: the flip of period 1, then the period-2 branch and its own
+    // flip at 2.3827.
+    let run = std::process::Command::new(&exe)
+        .args([
+            "--param", "eta", "--from", "2", "--to", "2.45", "--period", "1", "--switch", "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let lines: Vec<serde_json::Value> = String::from_utf8(run.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let flip1 = lines
+        .iter()
+        .find(|l| l["kind"] == "flip" && l["period"] == 1)
+        .unwrap();
+    assert!((flip1["value"].as_f64().unwrap() - 2.234843277).abs() < 3e-8);
+    assert!(lines
+        .iter()
+        .any(|l| l["kind"] == "flip" && l["period"] == 2));
+
+    let bad = std::process::Command::new(&exe)
+        .args(["--param", "eta", "--from", "2"])
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+}

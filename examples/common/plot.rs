@@ -1194,3 +1194,124 @@ fn draw_stacked<DB: DrawingBackend>(
         Some(RGBColor(20, 20, 70)),
     )
 }
+
+/// A continued branch for [`branches`]: pieces of curve, each stable (drawn solid) or not
+/// (dashed), in one colour.
+#[derive(Debug, Clone)]
+pub struct BranchCurve {
+    /// Legend text (empty: not in the legend).
+    pub label: String,
+    /// Colour.
+    pub colour: RGBColor,
+    /// The pieces: points and whether the orbit is stable there.
+    pub pieces: Vec<(Vec<(f64, f64)>, bool)>,
+}
+
+fn draw_branches_chart<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    fig: &Figure,
+    background: &[(f64, f64)],
+    curves: &[BranchCurve],
+    points: &[(f64, f64, String)],
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let all: Vec<(f64, f64)> = background
+        .iter()
+        .copied()
+        .chain(
+            curves
+                .iter()
+                .flat_map(|c| c.pieces.iter().flat_map(|p| p.0.iter().copied())),
+        )
+        .collect();
+    let (xr, yr) = ranges(fig, &all);
+    let mut chart = axes(root, fig, xr, yr, true)?;
+    draw_dots(&mut chart, background, RGBColor(90, 90, 90), 2, 0.7)?;
+    for c in curves {
+        let colour = c.colour;
+        for (piece, stable) in &c.pieces {
+            let style = colour.stroke_width(3);
+            if *stable {
+                chart
+                    .draw_series(LineSeries::new(piece.iter().copied(), style))
+                    .map_err(|e| e.to_string())?;
+            } else {
+                chart
+                    .draw_series(DashedLineSeries::new(piece.iter().copied(), 8, 6, style))
+                    .map_err(|e| e.to_string())?;
+            }
+        }
+        if !c.label.is_empty() {
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                .map_err(|e| e.to_string())?
+                .label(c.label.as_str())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(3))
+                });
+        }
+    }
+    let mut placed: Vec<(f64, f64)> = Vec::new();
+    for (x, y, label) in points {
+        // The same point found from two branches is labelled once.
+        if placed
+            .iter()
+            .any(|(a, b)| (a - x).abs() < 1e-3 && (b - y).abs() < 1e-3)
+        {
+            continue;
+        }
+        placed.push((*x, *y));
+        chart
+            .draw_series(std::iter::once(
+                EmptyElement::at((*x, *y))
+                    + Circle::new((0, 0), 6, BLACK.stroke_width(2))
+                    + Text::new(label.clone(), (8, -20), ("sans-serif", 16).into_font()),
+            ))
+            .map_err(|e| e.to_string())?;
+    }
+    if curves.iter().any(|c| !c.label.is_empty()) {
+        draw_legend(&mut chart, fig)?;
+    }
+    Ok(())
+}
+
+/// Continued branches (stable solid, unstable dashed) over a brute-force diagram drawn as grey
+/// dots, with labelled special points. Writes `path` and the CSV of the branches (`branch`,
+/// `stable`, `fig.x_column`, `fig.y_column`).
+pub fn branches(
+    path: impl AsRef<Path>,
+    fig: &Figure,
+    background: &[(f64, f64)],
+    curves: &[BranchCurve],
+    points: &[(f64, f64, String)],
+) -> Result<(), PlotError> {
+    let path = path.as_ref();
+    on_backend!(
+        path,
+        fig.size,
+        draw_branches_chart(fig, background, curves, points)
+    )?;
+    let mut w = CsvWriter::create(
+        csv_path(path),
+        &["branch", "stable", &fig.x_column, &fig.y_column],
+    )
+    .map_err(|e| perr(path, e))?;
+    for (i, c) in curves.iter().enumerate() {
+        for (piece, stable) in &c.pieces {
+            for &(x, y) in piece {
+                w.record(&[
+                    if c.label.is_empty() {
+                        i.to_string()
+                    } else {
+                        c.label.clone()
+                    },
+                    stable.to_string(),
+                    super::csv::fmt_f64(x),
+                    super::csv::fmt_f64(y),
+                ])
+                .map_err(|e| perr(path, e))?;
+            }
+        }
+    }
+    w.finish().map_err(|e| perr(path, e))
+}

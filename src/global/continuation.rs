@@ -849,8 +849,8 @@ where
                 let e = single.eval(&s.u, &s.eval.state).map_err(no_switch)?;
                 if e.f.amax() > 1e3 * config.tolerance + 1e-8 {
                     let dir = (to - flip.param).signum();
-                    let lo = flip.param.min(to) - 10.0 * config.ds_max;
-                    let hi = flip.param.max(to) + 10.0 * config.ds_max;
+                    let lo = flip.param.min(to) - config.ds_max;
+                    let hi = flip.param.max(to) + config.ds_max;
                     return Ok(follow(&solver, s, dir, (lo, hi)));
                 }
                 last = format!("amplitude {amp}: the corrector found the period-{period} orbit");
