@@ -19,10 +19,14 @@ use common::cli::{fail, Cli};
 use common::plot::{self, Category, CategoryGrid, Figure, Grid};
 use common::ranks::Ranks;
 use jeffcott::analysis::StderrProgress;
-use jeffcott::global::{AttractorConfig, Grid2, Json, RunConfig};
+use jeffcott::global::{
+    continue_orbit, AttractorConfig, ContinuationConfig, Grid2, Json, RunConfig, SpecialKind,
+};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{ParamPlane, SweepParameter};
+use jeffcott::params::Params;
 use jeffcott::params::Preset;
+use jeffcott::JeffcottModel;
 use plotters::style::RGBColor;
 
 /// The period classes of the map, with their colours.
@@ -99,6 +103,12 @@ fn main() {
         usize::MAX,
         "run at most this many new points, then stop (a later run resumes)",
     );
+    let overlay = cli.choice(
+        "overlay",
+        "yes",
+        &["yes", "no"],
+        "draw the continuation's bifurcation curves over the period map",
+    ) == "yes";
     cli.finish();
     if eta_min >= eta_max || e_min >= e_max {
         fail("each axis needs its lowest value below its highest");
@@ -219,10 +229,19 @@ fn main() {
                 if name == "preload" { format!("eₓ = {}", base.ex) } else { "D = 0".to_string() },
             )
         };
+        let curves = if overlay {
+            overlays(name, &base, &scan.grid)
+        } else {
+            Vec::new()
+        };
         let fig = |what: &str| {
-            Figure::new(&title(what), "η", y_label)
+            let mut f = Figure::new(&title(what), "η", y_label)
                 .with_columns("eta", param.symbol())
-                .with_size(1600, 900)
+                .with_size(1600, 900);
+            for (label, pts) in &curves {
+                f = f.with_overlay(label, pts.clone());
+            }
+            f
         };
         let png = dir.join("period.png");
         common::or_exit(plot::category_map(
@@ -265,5 +284,95 @@ fn main() {
             "wrote {} (and contacts.png, contact_time.png)",
             png.display()
         );
+    }
+}
+
+/// Bifurcation curves from the continuation, over the map: for the preload map the flips of
+/// the period-1 orbit (followed in η from 2) and of the period-2 orbit (from 3), at each of
+/// 11 preloads; for the eccentricity map the grazing of the orbit without contact (followed
+/// in eₓ from 0.5 at each of 13 η) next to its analytic curve eₓ = 1 − A(η).
+fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f64)>)> {
+    let config = ContinuationConfig::default();
+    let first = |b: &jeffcott::global::Branch, kind| {
+        b.specials.iter().find(|s| s.kind == kind).map(|s| s.param)
+    };
+    let (y0, y1) = (grid.y[0], grid.y[grid.y.len() - 1]);
+    if map == "preload" {
+        let mut flip1 = Vec::new();
+        let mut flip2 = Vec::new();
+        for i in 0..11 {
+            let d = y0 + (y1 - y0) * i as f64 / 10.0;
+            let p = base.with_preload(d);
+            let build = |eta: f64| JeffcottModel::new(p.with_eta(eta));
+            for (eta0, to, period, out) in [(2.0, 2.5, 1, &mut flip1), (3.0, 4.5, 2, &mut flip2)] {
+                let Ok(model) = build(eta0) else { continue };
+                let Ok(y) = model.state_at([0.0; 2], [0.0; 2]) else {
+                    continue;
+                };
+                let Ok((traj, _)) = model.stroboscopic(&y, 600, 600, &config.sim) else {
+                    continue;
+                };
+                let Some(guess) = traj.strobe.last().map(|s| s.y) else {
+                    continue;
+                };
+                if let Ok(b) = continue_orbit(build, eta0, &guess, period, to, &config) {
+                    if let Some(e) = first(&b, SpecialKind::Flip) {
+                        out.push((e, d));
+                    }
+                }
+            }
+        }
+        vec![
+            ("flip of period 1".to_string(), flip1),
+            ("flip of period 2".to_string(), flip2),
+        ]
+    } else {
+        let (x0, x1) = (grid.x[0], grid.x[grid.x.len() - 1]);
+        let analytic: Vec<(f64, f64)> = (0..=60)
+            .map(|i| {
+                let eta = x0 + (x1 - x0) * i as f64 / 60.0;
+                let (re, im) = (1.0 - eta * eta, 2.0 * base.nu1 * eta);
+                (eta, 1.0 - base.beta * eta * eta / re.hypot(im))
+            })
+            .collect();
+        let mut graze = Vec::new();
+        for i in 0..13 {
+            let eta = x0 + (x1 - x0) * i as f64 / 12.0;
+            let p = base.with_eta(eta);
+            let build = |ex: f64| {
+                let mut q = p;
+                q.ex = ex;
+                JeffcottModel::new(q)
+            };
+            let Ok(model) = build(y0) else { continue };
+            let Ok(y) = model.state_at([y0, 0.0], [0.0; 2]) else {
+                continue;
+            };
+            let Ok((traj, _)) = model.stroboscopic(&y, 600, 600, &config.sim) else {
+                continue;
+            };
+            let Some(guess) = traj.strobe.last().map(|s| s.y) else {
+                continue;
+            };
+            if let Ok(b) = continue_orbit(build, y0, &guess, 1, y1, &config) {
+                if let Some(e) = first(&b, SpecialKind::Grazing) {
+                    graze.push((eta, e));
+                }
+            }
+        }
+        println!("ecc: grazing of the orbit without contact, continuation vs 1 - A(eta):");
+        for &(eta, e) in &graze {
+            let (re, im) = (1.0 - eta * eta, 2.0 * base.nu1 * eta);
+            let a = base.beta * eta * eta / re.hypot(im);
+            println!(
+                "  eta = {eta:.3}: e_x = {e:.9} (analytic {:.9}, difference {:.1e})",
+                1.0 - a,
+                e - (1.0 - a)
+            );
+        }
+        vec![
+            ("grazing, e + A(η) = 1".to_string(), analytic),
+            ("grazing (continuation)".to_string(), graze),
+        ]
     }
 }

@@ -106,6 +106,9 @@ pub struct Figure {
     /// Marked points: `(x, y, label)`, drawn as a white-ringed black cross with the label
     /// (category maps only; e.g. the start from rest on a basin).
     pub pins: Vec<(f64, f64, String)>,
+    /// Curves drawn over a category map: `(label, points)`, a black line on a white edge,
+    /// labelled at its last point (e.g. bifurcation curves from a continuation).
+    pub overlays: Vec<(String, Vec<(f64, f64)>)>,
 }
 
 impl Figure {
@@ -129,6 +132,7 @@ impl Figure {
             legend: LegendPosition::UpperRight,
             marks: Vec::new(),
             pins: Vec::new(),
+            overlays: Vec::new(),
         }
     }
     /// Sets the CSV column names of x and y.
@@ -177,6 +181,11 @@ impl Figure {
     /// Places the legend.
     pub fn with_legend(mut self, position: LegendPosition) -> Self {
         self.legend = position;
+        self
+    }
+    /// Adds a labelled curve over a category map.
+    pub fn with_overlay(mut self, label: &str, points: Vec<(f64, f64)>) -> Self {
+        self.overlays.push((label.to_string(), points));
         self
     }
     /// Adds a marked point with a label (category maps).
@@ -1060,6 +1069,31 @@ fn draw_category_chart<DB: DrawingBackend>(
             })
         }))
         .map_err(|e| e.to_string())?;
+    for (label, pts) in &fig.overlays {
+        let pts: Vec<(f64, f64)> = pts
+            .iter()
+            .copied()
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+            .collect();
+        chart
+            .draw_series(LineSeries::new(pts.iter().copied(), WHITE.stroke_width(6)))
+            .map_err(|e| e.to_string())?;
+        chart
+            .draw_series(LineSeries::new(pts.iter().copied(), BLACK.stroke_width(3)))
+            .map_err(|e| e.to_string())?;
+        if let Some(&last) = pts.last() {
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at(last)
+                        + Text::new(
+                            label.clone(),
+                            (-10, -26),
+                            ("sans-serif", 18).into_font().color(&BLACK),
+                        ),
+                ))
+                .map_err(|e| e.to_string())?;
+        }
+    }
     for (x, y, label) in &fig.pins {
         if !(x.is_finite() && y.is_finite()) {
             continue;
