@@ -45,6 +45,7 @@
 //! | [`hybrid`] | the [`hybrid::RotorModel`] trait of piecewise-smooth rotor models (state size fixed, e.g. `U6`, or known at run time, `Dyn`) and the driver through modes and events |
 //! | [`paper`] | the paper's model implementing [`hybrid::RotorModel`], and sweeps over its parameters |
 //! | [`analysis`] | for any [`hybrid::RotorModel`]: period detection, stroboscopic orbits, phase portraits and Poincaré sections, deterministic parallel sweeps, bifurcation diagrams and a bifurcation locator |
+//! | [`global`] | global dynamics: continuation of periodic orbits (pseudo-arclength, folds, flips, grazing, branch switching), attractors identified and matched, basins of attraction and two-parameter maps, long sweeps that write as they go and resume after a kill, on threads or MPI ranks (feature `mpi`) |
 //! | [`stability`] | linearisation through events: saltation matrices, the stroboscopic map's Jacobian, periodic orbits and their multipliers, Lyapunov exponents, bifurcations located |
 //!
 //! The most used items are re-exported here: [`JeffcottModel`], [`State`], and [`nalgebra`]
@@ -80,6 +81,7 @@
 #![deny(missing_docs)]
 
 pub mod analysis;
+pub mod global;
 pub mod hybrid;
 pub mod ode;
 pub mod paper;

@@ -7,7 +7,7 @@ mod common;
 use std::path::PathBuf;
 
 use common::csv::{fmt_f64, quote, write_csv, CsvWriter};
-use common::plot::{self, Figure, Grid, Series};
+use common::plot::{self, Category, CategoryGrid, Figure, Grid, Series};
 
 fn out_dir(name: &str) -> PathBuf {
     let exe = std::env::current_exe().unwrap();
@@ -98,7 +98,42 @@ fn every_plot_kind_writes_png_svg_and_csv() {
             z_range: None,
         };
         plot::heatmap(dir.join(format!("hm.{ext}")), &fig, &grid, "value").unwrap();
+        let cats = CategoryGrid {
+            xs: vec![0.0, 1.0, 2.0],
+            ys: vec![0.0, 1.0],
+            cells: vec![Some(0), Some(1), None, Some(1), Some(7), Some(0)],
+        };
+        let legend = [
+            Category {
+                label: "A0: period 1, with a comma".into(),
+                colour: plot::series_colour(0),
+            },
+            Category {
+                label: "A1: period 3".into(),
+                colour: plot::series_colour(1),
+            },
+        ];
+        plot::category_map(dir.join(format!("cm.{ext}")), &fig, &cats, &legend).unwrap();
+        assert!(plot::category_map(
+            dir.join(format!("bad.{ext}")),
+            &fig,
+            &CategoryGrid {
+                cells: vec![None],
+                ..cats.clone()
+            },
+            &legend
+        )
+        .is_err());
     }
+    // The index of an unknown category (7) is kept, drawn as none, with an empty label.
+    let csv = std::fs::read_to_string(dir.join("cm.csv")).unwrap();
+    assert!(
+        csv.starts_with(
+            "x,y,category,label\n0,0,0,\"A0: period 1, with a comma\"\n1,0,1,A1: period 3\n2,0,,\n"
+        ),
+        "{csv}"
+    );
+    assert!(csv.contains("1,1,7,\n"), "{csv}");
     let csv = std::fs::read_to_string(dir.join("hm.csv")).unwrap();
     assert!(csv.starts_with("x,y,value\n0,0,0\n1,0,1\n"), "{csv}");
     assert!(csv.contains("1,1,NaN"), "{csv}");

@@ -13,6 +13,7 @@
 pub mod cli;
 pub mod csv;
 pub mod plot;
+pub mod ranks;
 
 use std::fmt::Display;
 

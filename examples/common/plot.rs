@@ -103,6 +103,12 @@ pub struct Figure {
     pub legend: LegendPosition,
     /// Vertical reference lines: `(x, label)`, drawn thin and red (e.g. reported bifurcations).
     pub marks: Vec<(f64, String)>,
+    /// Marked points: `(x, y, label)`, drawn as a white-ringed black cross with the label
+    /// (category maps only; e.g. the start from rest on a basin).
+    pub pins: Vec<(f64, f64, String)>,
+    /// Curves drawn over a category map: `(label, points)`, a black line on a white edge,
+    /// labelled at its last point (e.g. bifurcation curves from a continuation).
+    pub overlays: Vec<(String, Vec<(f64, f64)>)>,
 }
 
 impl Figure {
@@ -125,6 +131,8 @@ impl Figure {
             max_jump: None,
             legend: LegendPosition::UpperRight,
             marks: Vec::new(),
+            pins: Vec::new(),
+            overlays: Vec::new(),
         }
     }
     /// Sets the CSV column names of x and y.
@@ -173,6 +181,16 @@ impl Figure {
     /// Places the legend.
     pub fn with_legend(mut self, position: LegendPosition) -> Self {
         self.legend = position;
+        self
+    }
+    /// Adds a labelled curve over a category map.
+    pub fn with_overlay(mut self, label: &str, points: Vec<(f64, f64)>) -> Self {
+        self.overlays.push((label.to_string(), points));
+        self
+    }
+    /// Adds a marked point with a label (category maps).
+    pub fn with_pin(mut self, x: f64, y: f64, label: &str) -> Self {
+        self.pins.push((x, y, label.to_string()));
         self
     }
     /// Adds a labelled vertical reference line.
@@ -986,6 +1004,178 @@ pub fn heatmap(
     w.finish().map_err(|e| perr(path, e))
 }
 
+/// One category of a [`category_map`]: its legend text and colour.
+#[derive(Debug, Clone)]
+pub struct Category {
+    /// Legend text.
+    pub label: String,
+    /// Fill colour.
+    pub colour: RGBColor,
+}
+
+/// Cells of a rectangular grid, each in one category of a [`category_map`] (or none).
+#[derive(Debug, Clone)]
+pub struct CategoryGrid {
+    /// Cell centres along x (increasing).
+    pub xs: Vec<f64>,
+    /// Cell centres along y (increasing).
+    pub ys: Vec<f64>,
+    /// Category index of each cell, row by row (`cells[iy * xs.len() + ix]`); `None` is drawn
+    /// light grey.
+    pub cells: Vec<Option<usize>>,
+}
+
+fn draw_category_chart<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    fig: &Figure,
+    grid: &CategoryGrid,
+    legend: &[Category],
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let body = root
+        .margin(8, 0, 0, 0)
+        .titled(&fig.title, ("sans-serif", 28))
+        .map_err(|e| e.to_string())?;
+    let (w, _) = body.dim_in_pixel();
+    // Wide enough for the longest legend line (about 10 px a character at this size).
+    let longest = legend
+        .iter()
+        .map(|l| l.label.chars().count())
+        .max()
+        .unwrap_or(0) as u32;
+    let panel = (60 + 10 * longest).clamp(160, w / 2);
+    let (main, side) = body.split_horizontally(w.saturating_sub(panel));
+    let (ex, ey) = (edges(&grid.xs), edges(&grid.ys));
+    let xr = auto_range(
+        ex.iter().copied(),
+        fig.x_range.or(Some((ex[0], ex[ex.len() - 1]))),
+    );
+    let yr = auto_range(
+        ey.iter().copied(),
+        fig.y_range.or(Some((ey[0], ey[ey.len() - 1]))),
+    );
+    let mut chart = axes(&main, fig, xr, yr, false)?;
+    let nx = grid.xs.len();
+    let none = RGBColor(225, 225, 225);
+    let colour = |c: Option<usize>| c.and_then(|k| legend.get(k)).map_or(none, |l| l.colour);
+    chart
+        .draw_series((0..grid.ys.len()).flat_map(|iy| {
+            let (ex, ey) = (&ex, &ey);
+            (0..nx).map(move |ix| {
+                Rectangle::new(
+                    [(ex[ix], ey[iy]), (ex[ix + 1], ey[iy + 1])],
+                    colour(grid.cells[iy * nx + ix]).filled(),
+                )
+            })
+        }))
+        .map_err(|e| e.to_string())?;
+    for (label, pts) in &fig.overlays {
+        let pts: Vec<(f64, f64)> = pts
+            .iter()
+            .copied()
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+            .collect();
+        chart
+            .draw_series(LineSeries::new(pts.iter().copied(), WHITE.stroke_width(6)))
+            .map_err(|e| e.to_string())?;
+        chart
+            .draw_series(LineSeries::new(pts.iter().copied(), BLACK.stroke_width(3)))
+            .map_err(|e| e.to_string())?;
+        if let Some(&last) = pts.last() {
+            chart
+                .draw_series(std::iter::once(
+                    EmptyElement::at(last)
+                        + Text::new(
+                            label.clone(),
+                            (-10, -26),
+                            ("sans-serif", 18).into_font().color(&BLACK),
+                        ),
+                ))
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    for (x, y, label) in &fig.pins {
+        if !(x.is_finite() && y.is_finite()) {
+            continue;
+        }
+        let cross = |colour: RGBColor, width: u32, r: i32| {
+            EmptyElement::at((*x, *y))
+                + PathElement::new(vec![(-r, -r), (r, r)], colour.stroke_width(width))
+                + PathElement::new(vec![(-r, r), (r, -r)], colour.stroke_width(width))
+        };
+        chart
+            .draw_series([cross(WHITE, 5, 8), cross(BLACK, 2, 7)])
+            .map_err(|e| e.to_string())?;
+        chart
+            .draw_series(std::iter::once(
+                EmptyElement::at((*x, *y))
+                    + Text::new(
+                        label.clone(),
+                        (10, -22),
+                        ("sans-serif", 18).into_font().color(&BLACK),
+                    ),
+            ))
+            .map_err(|e| e.to_string())?;
+    }
+    // The legend: a colour box and the text, one line per category.
+    let font = ("sans-serif", 18).into_font();
+    let mut y = 30;
+    for l in legend {
+        side.draw(&Rectangle::new([(8, y), (30, y + 20)], l.colour.filled()))
+            .map_err(|e| e.to_string())?;
+        side.draw(&Rectangle::new(
+            [(8, y), (30, y + 20)],
+            BLACK.stroke_width(1),
+        ))
+        .map_err(|e| e.to_string())?;
+        side.draw(&Text::new(l.label.clone(), (38, y + 1), font.clone()))
+            .map_err(|e| e.to_string())?;
+        y += 30;
+    }
+    Ok(())
+}
+
+/// A map of categories on a grid (basins of attraction, periods over two parameters), with a
+/// legend on the right. Linear axes only. Writes `path` and the CSV (`fig.x_column`,
+/// `fig.y_column`, `category` (the index, empty for none), `label`).
+pub fn category_map(
+    path: impl AsRef<Path>,
+    fig: &Figure,
+    grid: &CategoryGrid,
+    legend: &[Category],
+) -> Result<(), PlotError> {
+    let path = path.as_ref();
+    let (nx, ny) = (grid.xs.len(), grid.ys.len());
+    if nx == 0 || ny == 0 || grid.cells.len() != nx * ny {
+        return Err(perr(
+            path,
+            format!("grid has {nx} × {ny} cells but {} values", grid.cells.len()),
+        ));
+    }
+    on_backend!(path, fig.size, draw_category_chart(fig, grid, legend))?;
+    let mut w = CsvWriter::create(
+        csv_path(path),
+        &[&fig.x_column, &fig.y_column, "category", "label"],
+    )
+    .map_err(|e| perr(path, e))?;
+    for iy in 0..ny {
+        for ix in 0..nx {
+            let c = grid.cells[iy * nx + ix];
+            let label = c
+                .and_then(|k| legend.get(k))
+                .map_or("", |l| l.label.as_str());
+            w.record(&[
+                super::csv::fmt_f64(grid.xs[ix]),
+                super::csv::fmt_f64(grid.ys[iy]),
+                c.map_or(String::new(), |k| k.to_string()),
+                label.to_string(),
+            ])
+            .map_err(|e| perr(path, e))?;
+        }
+    }
+    w.finish().map_err(|e| perr(path, e))
+}
+
 /// Two panels sharing the x axis, one above the other: a line plot (`top`, `series`) over a
 /// bifurcation diagram (`bottom`, `points` as small dark dots), e.g. the largest Lyapunov
 /// exponent over the diagram it explains. The picture is `top.size` wide and the two panels'
@@ -1037,4 +1227,125 @@ fn draw_stacked<DB: DrawingBackend>(
         &[""],
         Some(RGBColor(20, 20, 70)),
     )
+}
+
+/// A continued branch for [`branches`]: pieces of curve, each stable (drawn solid) or not
+/// (dashed), in one colour.
+#[derive(Debug, Clone)]
+pub struct BranchCurve {
+    /// Legend text (empty: not in the legend).
+    pub label: String,
+    /// Colour.
+    pub colour: RGBColor,
+    /// The pieces: points and whether the orbit is stable there.
+    pub pieces: Vec<(Vec<(f64, f64)>, bool)>,
+}
+
+fn draw_branches_chart<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    fig: &Figure,
+    background: &[(f64, f64)],
+    curves: &[BranchCurve],
+    points: &[(f64, f64, String)],
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let all: Vec<(f64, f64)> = background
+        .iter()
+        .copied()
+        .chain(
+            curves
+                .iter()
+                .flat_map(|c| c.pieces.iter().flat_map(|p| p.0.iter().copied())),
+        )
+        .collect();
+    let (xr, yr) = ranges(fig, &all);
+    let mut chart = axes(root, fig, xr, yr, true)?;
+    draw_dots(&mut chart, background, RGBColor(90, 90, 90), 2, 0.7)?;
+    for c in curves {
+        let colour = c.colour;
+        for (piece, stable) in &c.pieces {
+            let style = colour.stroke_width(3);
+            if *stable {
+                chart
+                    .draw_series(LineSeries::new(piece.iter().copied(), style))
+                    .map_err(|e| e.to_string())?;
+            } else {
+                chart
+                    .draw_series(DashedLineSeries::new(piece.iter().copied(), 8, 6, style))
+                    .map_err(|e| e.to_string())?;
+            }
+        }
+        if !c.label.is_empty() {
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                .map_err(|e| e.to_string())?
+                .label(c.label.as_str())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(3))
+                });
+        }
+    }
+    let mut placed: Vec<(f64, f64)> = Vec::new();
+    for (x, y, label) in points {
+        // The same point found from two branches is labelled once.
+        if placed
+            .iter()
+            .any(|(a, b)| (a - x).abs() < 1e-3 && (b - y).abs() < 1e-3)
+        {
+            continue;
+        }
+        placed.push((*x, *y));
+        chart
+            .draw_series(std::iter::once(
+                EmptyElement::at((*x, *y))
+                    + Circle::new((0, 0), 6, BLACK.stroke_width(2))
+                    + Text::new(label.clone(), (8, -20), ("sans-serif", 16).into_font()),
+            ))
+            .map_err(|e| e.to_string())?;
+    }
+    if curves.iter().any(|c| !c.label.is_empty()) {
+        draw_legend(&mut chart, fig)?;
+    }
+    Ok(())
+}
+
+/// Continued branches (stable solid, unstable dashed) over a brute-force diagram drawn as grey
+/// dots, with labelled special points. Writes `path` and the CSV of the branches (`branch`,
+/// `stable`, `fig.x_column`, `fig.y_column`).
+pub fn branches(
+    path: impl AsRef<Path>,
+    fig: &Figure,
+    background: &[(f64, f64)],
+    curves: &[BranchCurve],
+    points: &[(f64, f64, String)],
+) -> Result<(), PlotError> {
+    let path = path.as_ref();
+    on_backend!(
+        path,
+        fig.size,
+        draw_branches_chart(fig, background, curves, points)
+    )?;
+    let mut w = CsvWriter::create(
+        csv_path(path),
+        &["branch", "stable", &fig.x_column, &fig.y_column],
+    )
+    .map_err(|e| perr(path, e))?;
+    for (i, c) in curves.iter().enumerate() {
+        for (piece, stable) in &c.pieces {
+            for &(x, y) in piece {
+                w.record(&[
+                    if c.label.is_empty() {
+                        i.to_string()
+                    } else {
+                        c.label.clone()
+                    },
+                    stable.to_string(),
+                    super::csv::fmt_f64(x),
+                    super::csv::fmt_f64(y),
+                ])
+                .map_err(|e| perr(path, e))?;
+            }
+        }
+    }
+    w.finish().map_err(|e| perr(path, e))
 }

@@ -1,0 +1,377 @@
+//! Basins of attraction: which attractor the rotor settles on from each initial state of a
+//! grid, the attractors matched across the grid and drawn in colour with a legend.
+//!
+//! `cargo run --release --example basins` (no flags) draws the three multistable scenes of
+//! `docs/global.md` on 100 × 100 grids of (x₀, x₀′), y₀ = y₀′ = 0:
+//!
+//! * `fig8a-eta2.2`: the paper's Fig. 8 values without preload at η = 2.2 (period 1 and the
+//!   period-3 orbit born in a fold at η = 2.126);
+//! * `fig8b-eta2.2`: the same with preload D = 0.1;
+//! * `fig10a-eta2.5`: the Fig. 10a values (η = 2.5).
+//!
+//! Each scene's folder under `--out` (default `target/figures/basins`) holds the sweep's records
+//! (`manifest.json`, `records-*.jsonl`: one JSON object per grid point, written as it finishes),
+//! the picture `basins.png`, its data `basins.csv` (x, y, attractor) and `attractors.csv` (one
+//! line per attractor: period, canonical point, basin size, contacts per period). **Killed
+//! part-way, the same command resumes**: the points already in the folder are not run again
+//! (delete the folder to start over). Built with `--features mpi` and started by `mpirun` or
+//! `srun`, the grid is split across the ranks (rank 0 draws); see `docs/global.md`.
+
+#[path = "common/mod.rs"]
+mod common;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use common::cli::{fail, Cli};
+use common::csv::{fmt_f64, CsvWriter};
+use common::plot::{self, Category, CategoryGrid, Figure};
+use common::ranks::Ranks;
+use jeffcott::analysis::{PeriodTest, StderrProgress};
+use jeffcott::global::{
+    attractor_at, AttractorConfig, Grid2, Json, MatchTolerance, PointLabel, RunConfig,
+};
+use jeffcott::hybrid::SimOptions;
+use jeffcott::paper::{BasinPlane, StartPlane};
+use jeffcott::params::{Params, Preset};
+
+/// A named scene: preset and its default eta.
+const SCENES: [(&str, Preset, f64); 3] = [
+    ("fig8a", Preset::Fig8a, 2.2),
+    ("fig8b", Preset::Fig8b, 2.2),
+    ("fig10a", Preset::Fig10a, 2.5),
+];
+
+fn main() {
+    let ranks = Ranks::init();
+    let mut cli = Cli::new(
+        "Basins of attraction of the rotor on a grid of initial states, attractors matched and drawn in colour.",
+    );
+    let out = PathBuf::from(cli.string("out", "target/figures/basins", "output folder"));
+    let scene = cli.choice(
+        "scene",
+        "all",
+        &["all", "fig8a", "fig8b", "fig10a"],
+        "parameter set: the paper's Fig. 8a (D = 0), Fig. 8b (D = 0.1) or Fig. 10a values",
+    );
+    let eta = cli.f64_in(
+        "eta",
+        f64::NAN,
+        0.01,
+        100.0,
+        "frequency ratio (default: 2.2 for fig8a/fig8b, 2.5 for fig10a); needs one --scene",
+    );
+    let preload = cli.f64_in(
+        "preload",
+        f64::NAN,
+        0.0,
+        10.0,
+        "preload D = Dx = Dy (default: the scene's); needs one --scene",
+    );
+    let plane = cli.choice(
+        "plane",
+        "x-vx",
+        &["x-vx", "x-y", "phi-x"],
+        "initial states varied: x0 against x0' (y0 = y0' = 0), x0 against y0 (at rest), or the phase phi0 against x0 (at rest)",
+    );
+    let (dh, dv) = match plane.as_str() {
+        "x-y" => ((-1.0, 1.0), (-1.0, 1.0)),
+        "phi-x" => ((0.0, std::f64::consts::TAU), (-1.0, 1.0)),
+        _ => ((-1.0, 1.0), (-1.5, 1.5)),
+    };
+    let h_min = cli.f64_in(
+        "h-min",
+        dh.0,
+        -100.0,
+        100.0,
+        "horizontal axis: lowest value",
+    );
+    let h_max = cli.f64_in(
+        "h-max",
+        dh.1,
+        -100.0,
+        100.0,
+        "horizontal axis: highest value",
+    );
+    let v_min = cli.f64_in("v-min", dv.0, -100.0, 100.0, "vertical axis: lowest value");
+    let v_max = cli.f64_in("v-max", dv.1, -100.0, 100.0, "vertical axis: highest value");
+    let n = cli.usize_in(
+        "n",
+        100,
+        1,
+        100_000,
+        "grid points along the horizontal axis",
+    );
+    let nv = cli.opt_usize_in(
+        "nv",
+        1,
+        100_000,
+        "grid points along the vertical axis (default: --n)",
+    );
+    let d = AttractorConfig::default();
+    let transient = cli.usize_in(
+        "transient",
+        d.transient as usize,
+        1,
+        10_000_000,
+        "forcing periods discarded before each recording",
+    );
+    let record = cli.usize_in(
+        "record",
+        d.record as usize,
+        32,
+        1_000_000,
+        "stroboscopic points recorded and tested for a period (periods up to 16)",
+    );
+    let max_transient = cli.usize_in(
+        "max-transient",
+        d.max_transient as usize,
+        1,
+        100_000_000,
+        "a run with no period goes on until its transients add up to this",
+    );
+    let match_tol = cli.f64_in(
+        "match-tol",
+        MatchTolerance::default().state,
+        1e-12,
+        1.0,
+        "periodic attractors match when their cycle points agree to this (every component)",
+    );
+    let (rtol, atol) = common::tolerance_flags(&mut cli);
+    let threads = cli.opt_usize_in(
+        "threads",
+        1,
+        1024,
+        "worker threads per process, unset = all cores",
+    );
+    let max_new = cli.opt_usize_in(
+        "max-new-points",
+        1,
+        usize::MAX,
+        "run at most this many new points, then stop (a later run resumes)",
+    );
+    cli.finish();
+    if scene == "all" && !(eta.is_nan() && preload.is_nan()) {
+        fail("--eta and --preload need one --scene");
+    }
+    if h_min >= h_max || v_min >= v_max {
+        fail("each axis needs its lowest value below its highest");
+    }
+    if max_transient < transient {
+        fail("--max-transient must be at least --transient");
+    }
+    let start_plane = match plane.as_str() {
+        "x-y" => StartPlane::XY,
+        "phi-x" => StartPlane::PhaseX,
+        _ => StartPlane::XVx,
+    };
+    let config = AttractorConfig {
+        transient: transient as u64,
+        record: record as u64,
+        max_transient: max_transient as u64,
+        opts: SimOptions {
+            rtol,
+            atol,
+            ..SimOptions::default()
+        },
+        period_test: PeriodTest::default(),
+        ..AttractorConfig::default()
+    };
+    let tol = MatchTolerance {
+        state: match_tol,
+        ..MatchTolerance::default()
+    };
+    let mut run = RunConfig::default();
+    if let Some(t) = threads {
+        run = run.with_threads(t);
+    }
+    if let Some(m) = max_new {
+        run = run.with_max_new_points(m);
+    }
+    let grid = common::or_exit(Grid2::linspace(
+        (h_min, h_max, n),
+        (v_min, v_max, nv.unwrap_or(n)),
+    ));
+
+    for &(name, preset, default_eta) in SCENES.iter().filter(|s| scene == "all" || s.0 == scene) {
+        let mut params: Params = preset.params();
+        params.eta = if eta.is_nan() { default_eta } else { eta };
+        if !preload.is_nan() {
+            params = params.with_preload(preload);
+        }
+        let label = format!("{name}-eta{}", params.eta);
+        let dir = out.join(&label);
+        let basin = BasinPlane::new(params, start_plane);
+        let description = Json::object([("plane", basin.to_json()), ("config", config.to_json())]);
+        let points = grid.points();
+        let store = common::or_exit(ranks.open_store(&dir, "basins", description, &points));
+        let progress = StderrProgress::new(if ranks.size > 1 {
+            format!("{label} (rank 0 of {})", ranks.size)
+        } else {
+            label.clone()
+        });
+        let t0 = Instant::now();
+        let scan = common::or_exit(ranks.scan_grid(
+            &grid,
+            basin.setup(),
+            &config,
+            Some(&store),
+            &run,
+            ranks.is_root().then_some(&progress as _),
+        ));
+        let Some(scan) = scan else { continue };
+        let secs = t0.elapsed().as_secs_f64();
+        let r = &scan.results;
+        let periods: u64 = r.successes().map(|(_, a)| a.stats.periods_run).sum();
+        eprintln!(
+            "{label}: {} points computed, {} reused from {}, {} missing; {secs:.1} s wall on {} rank(s) x {} thread(s)",
+            r.computed,
+            r.reused,
+            dir.display(),
+            r.missing(),
+            ranks.size,
+            r.threads,
+        );
+        if r.computed == r.results.len() && periods > 0 {
+            eprintln!(
+                "{label}: {periods} forcing periods in all, {:.1} µs per period (wall)",
+                secs / periods as f64 * 1e6
+            );
+        }
+        for (i, e) in r.failures().take(5) {
+            eprintln!(
+                "warning: {label}: point {i} {:?} failed: {e}",
+                scan.grid.point(i)
+            );
+        }
+        let cat = scan.catalogue(&tol);
+        let total = cat.labels.len() as f64;
+        let (hn, vn) = start_plane.names();
+        println!(
+            "{label}: {} attractor(s) on {} x {} points of ({hn}, {vn}), match tolerance {match_tol}:",
+            cat.entries.len(),
+            scan.grid.x.len(),
+            scan.grid.y.len()
+        );
+        // Where the paper's run from rest goes (the rest state need not be a grid point).
+        let rest_point = match start_plane {
+            StartPlane::PhaseX => [params.phi0, 0.0],
+            _ => [0.0, 0.0],
+        };
+        let rest = attractor_at(&basin.setup(), &rest_point, &config);
+        let rest_k = rest.as_ref().ok().and_then(|a| {
+            cat.entries
+                .iter()
+                .position(|e| e.attractor.matches(a, &tol))
+        });
+        match (&rest, rest_k) {
+            (Ok(_), Some(k)) => println!("  from rest: A{k}"),
+            (Ok(a), None) => println!("  from rest: {} (not reached from the grid)", a.describe()),
+            (Err(e), _) => println!("  from rest: failed: {e}"),
+        }
+        let mut legend: Vec<Category> = Vec::new();
+        for (k, e) in cat.entries.iter().enumerate() {
+            let pct = 100.0 * e.count as f64 / total;
+            println!(
+                "  A{k}: {} — {} points ({pct:.1} %)",
+                e.attractor.describe(),
+                e.count
+            );
+            let short = match (e.attractor.period(), e.attractor.canonical()) {
+                (Some(p), Some(z)) => format!("P{p}, x = {:.4}, x' = {:.4}", z[0], z[2]),
+                _ => format!(
+                    "not periodic, {:.2} contacts/T",
+                    e.attractor.stats.contacts_per_period
+                ),
+            };
+            let from_rest = if rest_k == Some(k) { ", from rest" } else { "" };
+            legend.push(Category {
+                label: format!("A{k}: {short} ({pct:.1} %{from_rest})"),
+                colour: plot::series_colour(k),
+            });
+        }
+        let failed = cat.failed();
+        if failed > 0 {
+            println!("  failed: {failed} points");
+        }
+        let failed_k = legend.len();
+        legend.push(Category {
+            label: format!("failed ({failed})"),
+            colour: plotters_black(),
+        });
+        let cells: Vec<Option<usize>> = cat
+            .labels
+            .iter()
+            .map(|l| match l {
+                PointLabel::Attractor(k) => Some(*k),
+                PointLabel::Failed => Some(failed_k),
+                PointLabel::NotRun => None,
+            })
+            .collect();
+        if failed == 0 {
+            legend.pop();
+        }
+        let fig = Figure::new(
+            &format!(
+                "Basins, {name} values: η = {}, D = {}, e = ({}, {}), ν₁ = {}; {transient}+{record} periods (up to {max_transient})",
+                params.eta, params.dx, params.ex, params.ey, params.nu1
+            ),
+            hn,
+            vn,
+        )
+        .with_columns(hn, vn)
+        .with_size(1500, 1000)
+        .with_pin(rest_point[0], rest_point[1], "rest");
+        let png = dir.join("basins.png");
+        common::or_exit(plot::category_map(
+            &png,
+            &fig,
+            &CategoryGrid {
+                xs: scan.grid.x.clone(),
+                ys: scan.grid.y.clone(),
+                cells,
+            },
+            &legend,
+        ));
+        // One line per attractor.
+        let mut w = common::or_exit(CsvWriter::create(
+            dir.join("attractors.csv"),
+            &[
+                "attractor",
+                "period",
+                "points",
+                "fraction",
+                "contacts_per_period",
+                "contact_fraction",
+                "x",
+                "y",
+                "vx",
+                "vy",
+                "first_point",
+            ],
+        ));
+        for (k, e) in cat.entries.iter().enumerate() {
+            let a = &e.attractor;
+            let z = a.canonical().map_or(vec![f64::NAN; 4], |z| z.to_vec());
+            common::or_exit(w.record(&[
+                format!("A{k}"),
+                a.period().map_or("0".into(), |p| p.to_string()),
+                e.count.to_string(),
+                fmt_f64(e.count as f64 / total),
+                fmt_f64(a.stats.contacts_per_period),
+                fmt_f64(a.stats.contact_fraction),
+                fmt_f64(z[0]),
+                fmt_f64(z[1]),
+                fmt_f64(z[2]),
+                fmt_f64(z[3]),
+                e.first.to_string(),
+            ]));
+        }
+        common::or_exit(w.finish());
+        eprintln!("wrote {}", png.display());
+    }
+}
+
+fn plotters_black() -> plotters::style::RGBColor {
+    plotters::style::RGBColor(30, 30, 30)
+}

@@ -1,0 +1,378 @@
+//! Two-parameter maps: η against the preload D and η against the eccentricity eₓ, each run from
+//! rest (the paper's zero initial conditions), coloured by the detected period, and a second
+//! map by contacts per forcing period (and a third by the fraction of time in contact).
+//!
+//! `cargo run --release --example param_map` (no flags) draws both maps about the paper's
+//! Fig. 8 values on 121 × 41 grids (η ∈ [2, 5]; D ∈ [0, 0.2]; eₓ ∈ [0.5, 1.1]) into
+//! `target/figures/param_map/<map>/`: `period.png`, `contacts.png`, `contact_time.png` with
+//! their CSV, and the sweep's records (`manifest.json`, `records-*.jsonl`). Killed part-way,
+//! the same command resumes where it stopped. With `--features mpi` under `mpirun` or `srun`
+//! the grid is split across the ranks; see `docs/global.md`.
+
+#[path = "common/mod.rs"]
+mod common;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use common::cli::{fail, Cli};
+use common::plot::{self, Category, CategoryGrid, Figure, Grid};
+use common::ranks::Ranks;
+use jeffcott::analysis::StderrProgress;
+use jeffcott::global::{
+    continue_orbit, AttractorConfig, ContinuationConfig, Grid2, Json, RunConfig, SpecialKind,
+};
+use jeffcott::hybrid::SimOptions;
+use jeffcott::paper::{ParamPlane, SweepParameter};
+use jeffcott::params::Params;
+use jeffcott::params::Preset;
+use jeffcott::JeffcottModel;
+use plotters::style::RGBColor;
+
+/// The period classes of the map, with their colours.
+fn period_classes() -> Vec<Category> {
+    let c = |label: &str, (r, g, b): (u8, u8, u8)| Category {
+        label: label.to_string(),
+        colour: RGBColor(r, g, b),
+    };
+    vec![
+        c("period 1", (31, 119, 180)),
+        c("period 2", (44, 160, 44)),
+        c("period 3", (255, 127, 14)),
+        c("period 4", (148, 103, 189)),
+        c("period 5", (140, 86, 75)),
+        c("period 6", (188, 189, 34)),
+        c("period 8", (23, 190, 207)),
+        c("period 7 or 9-16", (227, 119, 194)),
+        c("not periodic (up to 16)", (30, 30, 30)),
+        c("failed", (214, 39, 40)),
+    ]
+}
+
+/// The index in [`period_classes`] of a detected period (`Some(0)`: not periodic, `None`:
+/// failed).
+fn class_of(period: Option<usize>) -> usize {
+    match period {
+        Some(0) => 8,
+        Some(p @ 1..=6) => p - 1,
+        Some(8) => 6,
+        Some(_) => 7,
+        None => 9,
+    }
+}
+
+fn main() {
+    let ranks = Ranks::init();
+    let mut cli = Cli::new(
+        "Two-parameter maps of the rotor from rest: eta against the preload and against the eccentricity, coloured by period and by contacts per period.",
+    );
+    let out = PathBuf::from(cli.string("out", "target/figures/param_map", "output folder"));
+    let which = cli.choice("map", "both", &["both", "preload", "ecc"], "which map");
+    let eta_min = cli.f64_in("eta-min", 2.0, 0.01, 100.0, "lowest eta");
+    let eta_max = cli.f64_in("eta-max", 5.0, 0.01, 100.0, "highest eta");
+    let n_eta = cli.usize_in("n-eta", 121, 1, 1_000_000, "number of eta values");
+    let d_max = cli.f64_in(
+        "preload-max",
+        0.2,
+        0.0,
+        10.0,
+        "preload map: highest D (from 0)",
+    );
+    let e_min = cli.f64_in("ecc-min", 0.5, -10.0, 10.0, "eccentricity map: lowest e_x");
+    let e_max = cli.f64_in("ecc-max", 1.1, -10.0, 10.0, "eccentricity map: highest e_x");
+    let n_y = cli.usize_in("n-y", 41, 1, 1_000_000, "number of values of D or e_x");
+    let transient = cli.usize_in("transient", 500, 1, 10_000_000, "forcing periods discarded");
+    let record = cli.usize_in("record", 64, 32, 1_000_000, "stroboscopic points tested");
+    let max_transient = cli.usize_in(
+        "max-transient",
+        1500,
+        1,
+        100_000_000,
+        "a run with no period goes on until its transients add up to this",
+    );
+    let (rtol, atol) = common::tolerance_flags(&mut cli);
+    let threads = cli.opt_usize_in(
+        "threads",
+        1,
+        1024,
+        "worker threads per process, unset = all cores",
+    );
+    let max_new = cli.opt_usize_in(
+        "max-new-points",
+        1,
+        usize::MAX,
+        "run at most this many new points, then stop (a later run resumes)",
+    );
+    let overlay = cli.choice(
+        "overlay",
+        "yes",
+        &["yes", "no"],
+        "draw the continuation's bifurcation curves over the period map",
+    ) == "yes";
+    cli.finish();
+    if eta_min >= eta_max || e_min >= e_max {
+        fail("each axis needs its lowest value below its highest");
+    }
+    if max_transient < transient {
+        fail("--max-transient must be at least --transient");
+    }
+    let config = AttractorConfig {
+        transient: transient as u64,
+        record: record as u64,
+        max_transient: max_transient as u64,
+        opts: SimOptions {
+            rtol,
+            atol,
+            ..SimOptions::default()
+        },
+        ..AttractorConfig::default()
+    };
+    let mut run = RunConfig::default();
+    if let Some(t) = threads {
+        run = run.with_threads(t);
+    }
+    if let Some(m) = max_new {
+        run = run.with_max_new_points(m);
+    }
+    let base = Preset::Fig8a.params();
+    let maps = [
+        (
+            "preload",
+            SweepParameter::Preload,
+            (0.0, d_max),
+            "D (preload)",
+        ),
+        (
+            "ecc",
+            SweepParameter::Ex,
+            (e_min, e_max),
+            "eₓ (eccentricity)",
+        ),
+    ];
+    for (name, param, (lo, hi), y_label) in
+        maps.into_iter().filter(|m| which == "both" || m.0 == which)
+    {
+        let grid = common::or_exit(Grid2::linspace((eta_min, eta_max, n_eta), (lo, hi, n_y)));
+        let plane = ParamPlane::new(base, SweepParameter::Eta, param);
+        let dir = out.join(name);
+        let description = Json::object([("plane", plane.to_json()), ("config", config.to_json())]);
+        let points = grid.points();
+        let store = common::or_exit(ranks.open_store(&dir, "param_map", description, &points));
+        let progress = StderrProgress::new(format!("map eta x {}", param.symbol()));
+        let t0 = Instant::now();
+        let scan = common::or_exit(ranks.scan_grid(
+            &grid,
+            plane.setup(),
+            &config,
+            Some(&store),
+            &run,
+            ranks.is_root().then_some(&progress as _),
+        ));
+        let Some(scan) = scan else { continue };
+        let secs = t0.elapsed().as_secs_f64();
+        let r = &scan.results;
+        eprintln!(
+            "{name}: {} points computed, {} reused, {} missing; {secs:.1} s wall on {} rank(s) x {} thread(s)",
+            r.computed,
+            r.reused,
+            r.missing(),
+            ranks.size,
+            r.threads
+        );
+        for (i, e) in r.failures().take(5) {
+            eprintln!(
+                "warning: {name}: point {i} {:?} failed: {e}",
+                scan.grid.point(i)
+            );
+        }
+        let classes = period_classes();
+        let cells: Vec<Option<usize>> = scan
+            .periods()
+            .iter()
+            .zip(&r.results)
+            .map(|(p, slot)| slot.as_ref().map(|_| class_of(*p)))
+            .collect();
+        let mut counts = vec![0usize; classes.len()];
+        for c in cells.iter().flatten() {
+            counts[*c] += 1;
+        }
+        let legend: Vec<Category> = classes
+            .into_iter()
+            .zip(&counts)
+            .filter(|(_, &n)| n > 0)
+            .map(|(c, n)| Category {
+                label: format!("{} ({n})", c.label),
+                ..c
+            })
+            .collect();
+        // Re-index the cells to the legend's kept classes.
+        let kept: Vec<usize> = (0..counts.len()).filter(|&k| counts[k] > 0).collect();
+        let cells: Vec<Option<usize>> = cells
+            .iter()
+            .map(|c| c.and_then(|k| kept.iter().position(|&j| j == k)))
+            .collect();
+        println!(
+            "{name}: {} points; {}",
+            cells.len(),
+            legend
+                .iter()
+                .map(|c| c.label.clone())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        let title = |what: &str| {
+            format!(
+                "{what}, from rest: Fig. 8 values (ν₁ = {}, K = {}, β = {}, {}), {transient}+{record} periods (up to {max_transient})",
+                base.nu1,
+                base.kx,
+                base.beta,
+                if name == "preload" { format!("eₓ = {}", base.ex) } else { "D = 0".to_string() },
+            )
+        };
+        let curves = if overlay {
+            overlays(name, &base, &scan.grid)
+        } else {
+            Vec::new()
+        };
+        let fig = |what: &str| {
+            let mut f = Figure::new(&title(what), "η", y_label)
+                .with_columns("eta", param.symbol())
+                .with_size(1600, 900);
+            for (label, pts) in &curves {
+                f = f.with_overlay(label, pts.clone());
+            }
+            f
+        };
+        let png = dir.join("period.png");
+        common::or_exit(plot::category_map(
+            &png,
+            &fig("Detected period"),
+            &CategoryGrid {
+                xs: scan.grid.x.clone(),
+                ys: scan.grid.y.clone(),
+                cells,
+            },
+            &legend,
+        ));
+        for (file, what, values, bar) in [
+            (
+                "contacts.png",
+                "Contacts per forcing period",
+                scan.contacts_per_period(),
+                "contacts per period",
+            ),
+            (
+                "contact_time.png",
+                "Fraction of time in contact",
+                scan.stat(|a| a.stats.contact_fraction),
+                "time in contact",
+            ),
+        ] {
+            common::or_exit(plot::heatmap(
+                dir.join(file),
+                &fig(what),
+                &Grid {
+                    xs: scan.grid.x.clone(),
+                    ys: scan.grid.y.clone(),
+                    values,
+                    z_range: None,
+                },
+                bar,
+            ));
+        }
+        eprintln!(
+            "wrote {} (and contacts.png, contact_time.png)",
+            png.display()
+        );
+    }
+}
+
+/// Bifurcation curves from the continuation, over the map: for the preload map the flips of
+/// the period-1 orbit (followed in η from 2) and of the period-2 orbit (from 3), at each of
+/// 11 preloads; for the eccentricity map the grazing of the orbit without contact (followed
+/// in eₓ from 0.5 at each of 13 η) next to its analytic curve eₓ = 1 − A(η).
+fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f64)>)> {
+    let config = ContinuationConfig::default();
+    let first = |b: &jeffcott::global::Branch, kind| {
+        b.specials.iter().find(|s| s.kind == kind).map(|s| s.param)
+    };
+    let (y0, y1) = (grid.y[0], grid.y[grid.y.len() - 1]);
+    if map == "preload" {
+        let mut flip1 = Vec::new();
+        let mut flip2 = Vec::new();
+        for i in 0..11 {
+            let d = y0 + (y1 - y0) * i as f64 / 10.0;
+            let p = base.with_preload(d);
+            let build = |eta: f64| JeffcottModel::new(p.with_eta(eta));
+            for (eta0, to, period, out) in [(2.0, 2.5, 1, &mut flip1), (3.0, 4.5, 2, &mut flip2)] {
+                let Ok(model) = build(eta0) else { continue };
+                let Ok(y) = model.state_at([0.0; 2], [0.0; 2]) else {
+                    continue;
+                };
+                let Ok((traj, _)) = model.stroboscopic(&y, 600, 600, &config.sim) else {
+                    continue;
+                };
+                let Some(guess) = traj.strobe.last().map(|s| s.y) else {
+                    continue;
+                };
+                if let Ok(b) = continue_orbit(build, eta0, &guess, period, to, &config) {
+                    if let Some(e) = first(&b, SpecialKind::Flip) {
+                        out.push((e, d));
+                    }
+                }
+            }
+        }
+        vec![
+            ("flip of period 1".to_string(), flip1),
+            ("flip of period 2".to_string(), flip2),
+        ]
+    } else {
+        let (x0, x1) = (grid.x[0], grid.x[grid.x.len() - 1]);
+        let analytic: Vec<(f64, f64)> = (0..=60)
+            .map(|i| {
+                let eta = x0 + (x1 - x0) * i as f64 / 60.0;
+                let (re, im) = (1.0 - eta * eta, 2.0 * base.nu1 * eta);
+                (eta, 1.0 - base.beta * eta * eta / re.hypot(im))
+            })
+            .collect();
+        let mut graze = Vec::new();
+        for i in 0..13 {
+            let eta = x0 + (x1 - x0) * i as f64 / 12.0;
+            let p = base.with_eta(eta);
+            let build = |ex: f64| {
+                let mut q = p;
+                q.ex = ex;
+                JeffcottModel::new(q)
+            };
+            let Ok(model) = build(y0) else { continue };
+            let Ok(y) = model.state_at([y0, 0.0], [0.0; 2]) else {
+                continue;
+            };
+            let Ok((traj, _)) = model.stroboscopic(&y, 600, 600, &config.sim) else {
+                continue;
+            };
+            let Some(guess) = traj.strobe.last().map(|s| s.y) else {
+                continue;
+            };
+            if let Ok(b) = continue_orbit(build, y0, &guess, 1, y1, &config) {
+                if let Some(e) = first(&b, SpecialKind::Grazing) {
+                    graze.push((eta, e));
+                }
+            }
+        }
+        println!("ecc: grazing of the orbit without contact, continuation vs 1 - A(eta):");
+        for &(eta, e) in &graze {
+            let (re, im) = (1.0 - eta * eta, 2.0 * base.nu1 * eta);
+            let a = base.beta * eta * eta / re.hypot(im);
+            println!(
+                "  eta = {eta:.3}: e_x = {e:.9} (analytic {:.9}, difference {:.1e})",
+                1.0 - a,
+                e - (1.0 - a)
+            );
+        }
+        vec![
+            ("grazing, e + A(η) = 1".to_string(), analytic),
+            ("grazing (continuation)".to_string(), graze),
+        ]
+    }
+}

@@ -1,0 +1,601 @@
+//! Which attractor a run settles on: its period, a canonical periodic point, and contact
+//! statistics; and when two runs reached the same one.
+//!
+//! # Identification
+//!
+//! [`find_attractor`] runs the model from its initial state at $t = 0$, discards
+//! [`AttractorConfig::transient`] forcing periods, records [`AttractorConfig::record`]
+//! stroboscopic points and tests them for a period ([`PeriodTest`]). If none is found the run
+//! goes on from its last state for another `transient + record` periods, and again, until the
+//! transients add up to [`AttractorConfig::max_transient`]: slowly attracting orbits (a
+//! multiplier near the unit circle, close to a bifurcation) get the time they need, and
+//! chaotic runs stop there. The forcing is periodic, so a run continued from its state at
+//! $t = kP$ is restarted at $t = 0$ with the same forcing phase.
+//!
+//! * A **periodic** attractor of period $p$ is stored as its cycle: the last $p$ stroboscopic
+//!   states, rotated to start at the **canonical point**, the one smallest in the
+//!   lexicographic order of its components (compared with `f64::total_cmp`). Two runs that
+//!   reach the same cycle from different initial states store it starting at the same point,
+//!   up to the convergence of the runs.
+//! * A **non-periodic** attractor (no period up to the test's bound: quasi-periodic, chaotic,
+//!   or not converged within `max_transient`) is described by its statistics.
+//!
+//! Both carry [`OrbitStats`] over the recorded window: contacts per forcing period (onsets,
+//! i.e. transitions out of the free-flight mode), the fraction of time in contact, the
+//! occupancy of each mode (for the paper's model the regimes I-V), and the bounding box of the
+//! recorded stroboscopic states.
+//!
+//! # Matching
+//!
+//! [`Attractor::matches`] with a [`MatchTolerance`]:
+//!
+//! * two periodic attractors match when their cycles, each first reduced to its shortest
+//!   period **at the matching tolerance** (a cycle of period $2p$ whose halves agree to within
+//!   `state` is compared as period $p$), have the same length and, for some cyclic shift,
+//!   every component of every point agrees to within `state`;
+//! * two non-periodic ones match when their contacts per period agree to within `contacts`
+//!   and every side of their bounding boxes to within `extent`;
+//! * a periodic attractor never matches a non-periodic one.
+
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, OVector};
+
+use super::json::{Json, JsonError};
+use super::record::{field, nest, Record};
+use crate::analysis::{PeriodTest, Periodicity};
+use crate::hybrid::{
+    simulate, EventRecord, HybridObserver, OutputPlan, RotorModel, SimError, SimErrorKind,
+    SimOptions, SimStats, StrobePoint, StrobeRange,
+};
+
+/// Settings of [`find_attractor`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AttractorConfig {
+    /// Forcing periods discarded before the first recording. Default 500.
+    pub transient: u64,
+    /// Stroboscopic points recorded and tested (at least `2 · period_test.max_period`).
+    /// Default 64.
+    pub record: u64,
+    /// Largest total transient: a run without a period is continued until its transients add
+    /// up to this (at least `transient`). Default 4000.
+    pub max_transient: u64,
+    /// Integration options. Default [`SimOptions::default`].
+    pub opts: SimOptions,
+    /// The period test (largest period and tolerance). Default: periods up to 16, `tol` 1e-6.
+    pub period_test: PeriodTest,
+    /// The mode label of free flight ([`RotorModel::mode_label`]); a transition out of it is
+    /// a contact. Default 1 (regime I of the paper's model and of [`crate::rotor::RingedRotor`]).
+    pub free_label: u8,
+}
+
+impl Default for AttractorConfig {
+    fn default() -> Self {
+        AttractorConfig {
+            transient: 500,
+            record: 64,
+            max_transient: 4000,
+            opts: SimOptions::default(),
+            period_test: PeriodTest::default(),
+            free_label: 1,
+        }
+    }
+}
+
+impl AttractorConfig {
+    /// The settings as JSON, for a sweep's manifest.
+    pub fn to_json(&self) -> Json {
+        let o = &self.opts;
+        Json::object([
+            ("transient", Json::from(self.transient)),
+            ("record", Json::from(self.record)),
+            ("max_transient", Json::from(self.max_transient)),
+            ("method", Json::from(format!("{:?}", o.method))),
+            ("rtol", Json::from(o.rtol)),
+            ("atol", Json::from(o.atol)),
+            (
+                "steps_per_period",
+                Json::from(u64::from(o.steps_per_period)),
+            ),
+            ("max_step_fraction", Json::from(o.max_step_fraction)),
+            ("event_samples", Json::from(o.event_samples)),
+            (
+                "max_events_per_period",
+                Json::from(u64::from(o.max_events_per_period)),
+            ),
+            ("max_steps", Json::from(o.max_steps)),
+            ("max_period", Json::from(self.period_test.max_period)),
+            ("period_tol", Json::from(self.period_test.tol)),
+            ("free_label", Json::from(u64::from(self.free_label))),
+        ])
+    }
+}
+
+/// Statistics of the recorded window of a run (see the [module docs](self)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OrbitStats {
+    /// Forcing periods run in all, transients included.
+    pub periods_run: u64,
+    /// Forcing periods of the recorded window.
+    pub window: u64,
+    /// Contacts (transitions out of free flight) per forcing period, over the window.
+    pub contacts_per_period: f64,
+    /// Fraction of the window's time outside free flight.
+    pub contact_fraction: f64,
+    /// `(mode label, fraction of the window's time)` for each mode visited, by label.
+    pub occupancy: Vec<(u8, f64)>,
+    /// Smallest value of each state component over the recorded stroboscopic points.
+    pub lo: Vec<f64>,
+    /// Largest value of each state component over the recorded stroboscopic points.
+    pub hi: Vec<f64>,
+}
+
+/// The attractor a run settled on (see the [module docs](self)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Attractor {
+    /// The detected period of the stroboscopic map.
+    pub periodicity: Periodicity,
+    /// Periodic: the cycle's states, starting at the canonical point; otherwise empty.
+    pub cycle: Vec<Vec<f64>>,
+    /// Contact and mode statistics of the recorded window.
+    pub stats: OrbitStats,
+}
+
+/// Tolerances of [`Attractor::matches`] (see the [module docs](self)), in the model's
+/// units (the paper's: gap = 1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MatchTolerance {
+    /// Periodic attractors: largest difference of a state component between matched cycle
+    /// points. Default 1e-3 (runs converge to ~1e-6; coexisting orbits differ by ~0.1).
+    pub state: f64,
+    /// Non-periodic attractors: largest difference of contacts per period. Default 0.1.
+    pub contacts: f64,
+    /// Non-periodic attractors: largest difference of a side of the bounding boxes.
+    /// Default 0.05.
+    pub extent: f64,
+}
+
+impl Default for MatchTolerance {
+    fn default() -> Self {
+        MatchTolerance {
+            state: 1e-3,
+            contacts: 0.1,
+            extent: 0.05,
+        }
+    }
+}
+
+impl MatchTolerance {
+    /// The tolerances as JSON.
+    pub fn to_json(&self) -> Json {
+        Json::object([
+            ("state", Json::from(self.state)),
+            ("contacts", Json::from(self.contacts)),
+            ("extent", Json::from(self.extent)),
+        ])
+    }
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(u, v)| (u - v).abs())
+        .fold(0.0, f64::max)
+}
+
+impl Attractor {
+    /// The period, if periodic.
+    pub fn period(&self) -> Option<usize> {
+        self.periodicity.period()
+    }
+
+    /// The canonical periodic point (the cycle's first state), if periodic.
+    pub fn canonical(&self) -> Option<&[f64]> {
+        self.cycle.first().map(Vec::as_slice)
+    }
+
+    /// The cycle reduced to its shortest period at tolerance `tol`: the first `q` states,
+    /// `q` the smallest divisor of the period with every state within `tol` of the one `q`
+    /// later.
+    pub fn reduced_cycle(&self, tol: f64) -> &[Vec<f64>] {
+        let p = self.cycle.len();
+        for q in 1..p {
+            if p.is_multiple_of(q)
+                && (q..p).all(|i| max_diff(&self.cycle[i], &self.cycle[i - q]) <= tol)
+            {
+                return &self.cycle[..q];
+            }
+        }
+        &self.cycle
+    }
+
+    /// Whether `self` and `other` are the same attractor within `tol` (see the
+    /// [module docs](self)).
+    pub fn matches(&self, other: &Attractor, tol: &MatchTolerance) -> bool {
+        match (self.period(), other.period()) {
+            (Some(_), Some(_)) => {
+                let a = self.reduced_cycle(tol.state);
+                let b = other.reduced_cycle(tol.state);
+                let p = a.len();
+                p == b.len()
+                    && (0..p).any(|s| (0..p).all(|i| max_diff(&a[i], &b[(i + s) % p]) <= tol.state))
+            }
+            (None, None) => {
+                let (s, o) = (&self.stats, &other.stats);
+                (s.contacts_per_period - o.contacts_per_period).abs() <= tol.contacts
+                    && max_diff(&s.lo, &o.lo) <= tol.extent
+                    && max_diff(&s.hi, &o.hi) <= tol.extent
+                    && s.lo.len() == o.lo.len()
+            }
+            _ => false,
+        }
+    }
+
+    /// A one-line description: `period 3 at (0.3062, …), 0.67 contacts/period, 12 % of the
+    /// time in contact` or `not periodic up to 16, 0.97 contacts/period, …, first component
+    /// in [0.210, 0.680]`.
+    pub fn describe(&self) -> String {
+        let cpp = format!(
+            "{:.2} contacts/period, {:.0} % of the time in contact",
+            self.stats.contacts_per_period,
+            100.0 * self.stats.contact_fraction
+        );
+        match (self.period(), self.canonical()) {
+            (Some(p), Some(z)) => {
+                let head: Vec<String> = z.iter().take(4).map(|v| format!("{v:.4}")).collect();
+                format!("period {p} at ({}), {cpp}", head.join(", "))
+            }
+            _ => {
+                let (lo, hi) = (
+                    self.stats.lo.first().copied().unwrap_or(f64::NAN),
+                    self.stats.hi.first().copied().unwrap_or(f64::NAN),
+                );
+                format!(
+                    "{}, {cpp}, first component in [{lo:.3}, {hi:.3}]",
+                    self.periodicity
+                )
+            }
+        }
+    }
+}
+
+/// Counts contacts and time per mode over the recorded window, and keeps its stroboscopic
+/// states.
+struct WindowObserver<D: nalgebra::Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Index of the stroboscopic point that opens the window.
+    first_k: u64,
+    free_label: u8,
+    /// Window start time, once reached.
+    t0: Option<f64>,
+    /// End of the run.
+    t_end: f64,
+    last_t: f64,
+    label: u8,
+    time_in: [f64; 256],
+    onsets: u64,
+    strobe: Vec<OVector<f64, D>>,
+}
+
+impl<D: nalgebra::Dim> HybridObserver<D> for WindowObserver<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn on_strobe(&mut self, point: &StrobePoint<D>) {
+        if point.k == self.first_k {
+            self.t0 = Some(point.t);
+            self.last_t = point.t;
+            self.label = point.label;
+        } else {
+            self.strobe.push(point.y.clone());
+        }
+    }
+
+    fn on_event(&mut self, event: &EventRecord<D>) {
+        if self.t0.is_some_and(|t0| event.t > t0) {
+            self.time_in[usize::from(self.label)] += event.t - self.last_t;
+            self.last_t = event.t;
+            if event.from == self.free_label && event.to != self.free_label {
+                self.onsets += 1;
+            }
+        }
+        self.label = event.to;
+    }
+}
+
+/// One window: discard `transient`, record `record` periods from `y0` at $t = 0$.
+fn window<M: RotorModel>(
+    model: &M,
+    y0: &OVector<f64, M::Dim>,
+    transient: u64,
+    record: u64,
+    config: &AttractorConfig,
+) -> Result<WindowObserver<M::Dim>, SimError<M::Dim>>
+where
+    DefaultAllocator: Allocator<M::Dim>,
+{
+    let period = model.forcing_period();
+    let last = transient + record;
+    let plan = OutputPlan {
+        t_end: period * last as f64,
+        strobe: Some(StrobeRange {
+            first: transient,
+            last,
+        }),
+        dense: None,
+        events: true,
+    };
+    let mut obs = WindowObserver {
+        first_k: transient,
+        free_label: config.free_label,
+        t0: None,
+        t_end: plan.t_end,
+        last_t: 0.0,
+        label: config.free_label,
+        time_in: [0.0; 256],
+        onsets: 0,
+        strobe: Vec::with_capacity(record as usize),
+    };
+    simulate(model, 0.0, y0, &plan, &config.opts, &mut obs)?;
+    obs.time_in[usize::from(obs.label)] += obs.t_end - obs.last_t;
+    Ok(obs)
+}
+
+/// Runs `model` from `y0` and identifies the attractor it settles on (see the
+/// [module docs](self)).
+///
+/// # Errors
+/// The driver's [`SimError`] (with the last good state) if a run fails; invalid settings
+/// (`record < 2 · max_period`, `max_transient < transient`, a period bound of 0, an invalid
+/// period tolerance) are [`SimErrorKind::InvalidOption`].
+///
+/// # Example
+///
+/// ```
+/// use jeffcott::global::{find_attractor, AttractorConfig};
+/// use jeffcott::params::Preset;
+/// use jeffcott::JeffcottModel;
+///
+/// let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.0))?;
+/// let y0 = model.state_at([0.0, 0.0], [0.0, 0.0])?;
+/// let config = AttractorConfig { transient: 300, record: 32, ..Default::default() };
+/// let a = find_attractor(&model, &y0, &config)?;
+/// assert_eq!(a.period(), Some(1));
+/// assert!((a.canonical().unwrap()[0] - 0.5781094858).abs() < 1e-6);
+/// assert_eq!(a.stats.contacts_per_period, 1.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn find_attractor<M: RotorModel>(
+    model: &M,
+    y0: &OVector<f64, M::Dim>,
+    config: &AttractorConfig,
+) -> Result<Attractor, SimError<M::Dim>>
+where
+    DefaultAllocator: Allocator<M::Dim>,
+{
+    let invalid = |field, value: f64, hint| SimError {
+        kind: SimErrorKind::InvalidOption { field, value, hint },
+        t: 0.0,
+        y: y0.clone(),
+        stats: SimStats::default(),
+    };
+    let test = config.period_test;
+    if test.max_period == 0 {
+        return Err(invalid(
+            "period_test.max_period",
+            0.0,
+            "test periods up to at least 1",
+        ));
+    }
+    if !(test.tol.is_finite() && test.tol >= 0.0) {
+        return Err(invalid(
+            "period_test.tol",
+            test.tol,
+            "a finite tolerance >= 0",
+        ));
+    }
+    let needed = 2 * test.max_period as u64;
+    if config.record < needed {
+        return Err(invalid(
+            "record",
+            config.record as f64,
+            "record at least 2 * period_test.max_period points",
+        ));
+    }
+    if config.max_transient < config.transient {
+        return Err(invalid(
+            "max_transient",
+            config.max_transient as f64,
+            "max_transient must be at least transient",
+        ));
+    }
+    let mut start = y0.clone();
+    let mut transient_done = 0u64;
+    let mut periods_run = 0u64;
+    loop {
+        let obs = window(model, &start, config.transient, config.record, config)?;
+        let t_end = obs.t_end;
+        transient_done += config.transient;
+        periods_run += config.transient + config.record;
+        // The sizes and settings are checked above: the test fails only on a non-finite
+        // state, i.e. a diverged run.
+        let periodicity = test.detect(&obs.strobe).map_err(|_| SimError {
+            kind: SimErrorKind::NonFinite,
+            t: t_end,
+            y: obs.strobe.last().cloned().unwrap_or_else(|| start.clone()),
+            stats: SimStats::default(),
+        })?;
+        let more = transient_done + config.transient <= config.max_transient;
+        if periodicity.period().is_some() || !more || config.transient == 0 {
+            return Ok(summarise(obs, periodicity, periods_run, config.record));
+        }
+        // Slowly attracting or not periodic: go on from the last state.
+        start = obs.strobe.last().cloned().unwrap_or(start);
+    }
+}
+
+fn summarise<D: nalgebra::Dim>(
+    obs: WindowObserver<D>,
+    periodicity: Periodicity,
+    periods_run: u64,
+    window: u64,
+) -> Attractor
+where
+    DefaultAllocator: Allocator<D>,
+{
+    let span = obs.t_end - obs.t0.unwrap_or(0.0);
+    let dim = obs.strobe.first().map_or(0, |y| y.len());
+    let mut lo = vec![f64::INFINITY; dim];
+    let mut hi = vec![f64::NEG_INFINITY; dim];
+    for y in &obs.strobe {
+        for (c, v) in y.iter().enumerate() {
+            lo[c] = lo[c].min(*v);
+            hi[c] = hi[c].max(*v);
+        }
+    }
+    let occupancy: Vec<(u8, f64)> = obs
+        .time_in
+        .iter()
+        .enumerate()
+        .filter(|(_, &t)| t > 0.0)
+        .map(|(label, &t)| (label as u8, t / span))
+        .collect();
+    let free = obs.time_in[usize::from(obs.free_label)];
+    let cycle = match periodicity.period() {
+        Some(p) => {
+            let n = obs.strobe.len();
+            let last: Vec<Vec<f64>> = obs.strobe[n - p..]
+                .iter()
+                .map(|y| y.iter().copied().collect())
+                .collect();
+            let start = (0..p)
+                .min_by(|&a, &b| lex_cmp(&last[a], &last[b]))
+                .unwrap_or(0);
+            (0..p).map(|i| last[(start + i) % p].clone()).collect()
+        }
+        None => Vec::new(),
+    };
+    Attractor {
+        periodicity,
+        cycle,
+        stats: OrbitStats {
+            periods_run,
+            window,
+            contacts_per_period: obs.onsets as f64 / window as f64,
+            contact_fraction: 1.0 - free / span,
+            occupancy,
+            lo,
+            hi,
+        },
+    }
+}
+
+fn lex_cmp(a: &[f64], b: &[f64]) -> std::cmp::Ordering {
+    for (u, v) in a.iter().zip(b) {
+        match u.total_cmp(v) {
+            std::cmp::Ordering::Equal => continue,
+            other => return other,
+        }
+    }
+    a.len().cmp(&b.len())
+}
+
+impl Record for OrbitStats {
+    fn to_json(&self) -> Json {
+        Json::object([
+            ("periods_run", Json::from(self.periods_run)),
+            ("window", Json::from(self.window)),
+            ("contacts_per_period", Json::from(self.contacts_per_period)),
+            ("contact_fraction", Json::from(self.contact_fraction)),
+            (
+                "occupancy",
+                Json::Array(
+                    self.occupancy
+                        .iter()
+                        .map(|&(l, f)| Json::Array(vec![l.to_json(), f.to_json()]))
+                        .collect(),
+                ),
+            ),
+            ("lo", self.lo.to_json()),
+            ("hi", self.hi.to_json()),
+        ])
+    }
+
+    fn from_json(json: &Json) -> Result<Self, JsonError> {
+        let occ = json.field("occupancy")?;
+        let occupancy = occ
+            .as_array()
+            .ok_or_else(|| JsonError::shape("occupancy", "an array", occ))?
+            .iter()
+            .enumerate()
+            .map(|(i, pair)| {
+                let (label, frac) = <(u8, f64)>::from_pair(pair)
+                    .map_err(|e| nest(e, &format!("occupancy[{i}]")))?;
+                Ok((label, frac))
+            })
+            .collect::<Result<Vec<_>, JsonError>>()?;
+        Ok(OrbitStats {
+            periods_run: field(json, "periods_run")?,
+            window: field(json, "window")?,
+            contacts_per_period: field(json, "contacts_per_period")?,
+            contact_fraction: field(json, "contact_fraction")?,
+            occupancy,
+            lo: field(json, "lo")?,
+            hi: field(json, "hi")?,
+        })
+    }
+}
+
+trait FromPair: Sized {
+    fn from_pair(json: &Json) -> Result<Self, JsonError>;
+}
+
+impl FromPair for (u8, f64) {
+    fn from_pair(json: &Json) -> Result<Self, JsonError> {
+        match json.as_array() {
+            Some([a, b]) => Ok((
+                u8::from_json(a).map_err(|e| nest(e, "[0]"))?,
+                f64::from_json(b).map_err(|e| nest(e, "[1]"))?,
+            )),
+            _ => Err(JsonError::shape("", "a pair [label, fraction]", json)),
+        }
+    }
+}
+
+impl Record for Attractor {
+    /// `{"period": p, "cycle": [[...], ...], "stats": {...}}`, or
+    /// `{"not_periodic_up_to": n, "cycle": [], "stats": {...}}`.
+    fn to_json(&self) -> Json {
+        let head = match self.periodicity {
+            Periodicity::Period(p) => ("period", Json::from(p)),
+            Periodicity::NotPeriodic { up_to } => ("not_periodic_up_to", Json::from(up_to)),
+        };
+        Json::object([
+            head,
+            ("cycle", self.cycle.to_json()),
+            ("stats", self.stats.to_json()),
+        ])
+    }
+
+    fn from_json(json: &Json) -> Result<Self, JsonError> {
+        let periodicity = match (json.get("period"), json.get("not_periodic_up_to")) {
+            (Some(_), None) => Periodicity::Period(field(json, "period")?),
+            (None, Some(_)) => Periodicity::NotPeriodic {
+                up_to: field(json, "not_periodic_up_to")?,
+            },
+            _ => {
+                return Err(JsonError::shape(
+                    "",
+                    "one of the keys `period` and `not_periodic_up_to`",
+                    json,
+                ))
+            }
+        };
+        Ok(Attractor {
+            periodicity,
+            cycle: field(json, "cycle")?,
+            stats: field(json, "stats")?,
+        })
+    }
+}

@@ -1,0 +1,240 @@
+//! [`PointFailure`]: why one point of a scan has no attractor, in a form that is recorded
+//! and read back.
+
+use std::fmt::Display;
+
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim};
+use thiserror::Error;
+
+use super::json::{Json, JsonError};
+use super::record::{field, Record};
+use crate::analysis::AnalysisError;
+use crate::hybrid::{ModelError, SimError, SimErrorKind};
+
+/// Why one point of a scan failed. Recorded in the sweep's folder and read back on restart,
+/// so it holds text rather than the original error values; the variant and the simulation's
+/// [`SimFailureKind`] stay typed.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum PointFailure {
+    /// The model could not be built at this point (e.g. invalid parameters).
+    #[error("could not build the model: {message}")]
+    Build {
+        /// The builder's message.
+        message: String,
+    },
+    /// The initial state was rejected.
+    #[error("invalid initial state: {message}")]
+    InitialState {
+        /// The model's message.
+        message: String,
+    },
+    /// The simulation failed.
+    #[error("simulation failed at t = {t} ({kind}): {message}")]
+    Simulation {
+        /// Which [`SimErrorKind`] it was.
+        kind: SimFailureKind,
+        /// Last good time.
+        t: f64,
+        /// The driver's message.
+        message: String,
+    },
+    /// A bad setting of the analysis.
+    #[error("{message}")]
+    Analysis {
+        /// The message.
+        message: String,
+    },
+}
+
+/// The variant of a [`SimErrorKind`], for a recorded [`PointFailure::Simulation`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum SimFailureKind {
+    /// [`SimErrorKind::Model`].
+    Model,
+    /// [`SimErrorKind::Integrator`].
+    Integrator,
+    /// [`SimErrorKind::Chattering`].
+    Chattering,
+    /// [`SimErrorKind::Stalled`].
+    Stalled,
+    /// [`SimErrorKind::NonFinite`] (a diverged run).
+    NonFinite,
+    /// [`SimErrorKind::InvalidOption`].
+    InvalidOption,
+}
+
+impl SimFailureKind {
+    const NAMES: [(SimFailureKind, &'static str); 6] = [
+        (SimFailureKind::Model, "model"),
+        (SimFailureKind::Integrator, "integrator"),
+        (SimFailureKind::Chattering, "chattering"),
+        (SimFailureKind::Stalled, "stalled"),
+        (SimFailureKind::NonFinite, "non-finite"),
+        (SimFailureKind::InvalidOption, "invalid-option"),
+    ];
+
+    /// The kind of a driver error.
+    pub fn of(kind: &SimErrorKind) -> Self {
+        match kind {
+            SimErrorKind::Model(_) => SimFailureKind::Model,
+            SimErrorKind::Integrator(_) => SimFailureKind::Integrator,
+            SimErrorKind::Chattering { .. } => SimFailureKind::Chattering,
+            SimErrorKind::Stalled { .. } => SimFailureKind::Stalled,
+            SimErrorKind::NonFinite => SimFailureKind::NonFinite,
+            SimErrorKind::InvalidOption { .. } => SimFailureKind::InvalidOption,
+        }
+    }
+
+    /// Its name in records: `"model"`, `"integrator"`, `"chattering"`, `"stalled"`,
+    /// `"non-finite"` or `"invalid-option"`.
+    pub fn name(self) -> &'static str {
+        Self::NAMES
+            .iter()
+            .find(|(k, _)| *k == self)
+            .map_or("unknown", |(_, n)| n)
+    }
+}
+
+impl std::fmt::Display for SimFailureKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl PointFailure {
+    /// A model that could not be built, with its builder's error.
+    pub fn build(e: impl Display) -> Self {
+        PointFailure::Build {
+            message: e.to_string(),
+        }
+    }
+
+    /// The variant's name in records: `"build"`, `"initial-state"`, `"simulation"`,
+    /// `"analysis"`.
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            PointFailure::Build { .. } => "build",
+            PointFailure::InitialState { .. } => "initial-state",
+            PointFailure::Simulation { .. } => "simulation",
+            PointFailure::Analysis { .. } => "analysis",
+        }
+    }
+}
+
+impl From<ModelError> for PointFailure {
+    fn from(e: ModelError) -> Self {
+        PointFailure::InitialState {
+            message: e.to_string(),
+        }
+    }
+}
+
+impl<D: Dim> From<SimError<D>> for PointFailure
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn from(e: SimError<D>) -> Self {
+        PointFailure::Simulation {
+            kind: SimFailureKind::of(&e.kind),
+            t: e.t,
+            message: e.kind.to_string(),
+        }
+    }
+}
+
+impl From<AnalysisError> for PointFailure {
+    fn from(e: AnalysisError) -> Self {
+        PointFailure::Analysis {
+            message: e.to_string(),
+        }
+    }
+}
+
+impl Record for PointFailure {
+    /// `{"kind": "simulation", "sim_kind": "stalled", "t": 12.5, "message": "..."}`; the other
+    /// variants have `kind` and `message` only.
+    fn to_json(&self) -> Json {
+        let kind = ("kind", Json::from(self.kind_name()));
+        match self {
+            PointFailure::Build { message }
+            | PointFailure::InitialState { message }
+            | PointFailure::Analysis { message } => {
+                Json::object([kind, ("message", Json::from(message.as_str()))])
+            }
+            PointFailure::Simulation {
+                kind: k,
+                t,
+                message,
+            } => Json::object([
+                kind,
+                ("sim_kind", Json::from(k.name())),
+                ("t", Json::from(*t)),
+                ("message", Json::from(message.as_str())),
+            ]),
+        }
+    }
+
+    fn from_json(json: &Json) -> Result<Self, JsonError> {
+        let kind: String = field(json, "kind")?;
+        let message: String = field(json, "message")?;
+        match kind.as_str() {
+            "build" => Ok(PointFailure::Build { message }),
+            "initial-state" => Ok(PointFailure::InitialState { message }),
+            "analysis" => Ok(PointFailure::Analysis { message }),
+            "simulation" => {
+                let name: String = field(json, "sim_kind")?;
+                let k = SimFailureKind::NAMES
+                    .iter()
+                    .find(|(_, n)| *n == name)
+                    .map(|(k, _)| *k)
+                    .ok_or_else(|| {
+                        JsonError::shape("sim_kind", "a simulation failure kind", &name.into())
+                    })?;
+                Ok(PointFailure::Simulation {
+                    kind: k,
+                    t: field(json, "t")?,
+                    message,
+                })
+            }
+            _ => Err(JsonError::shape(
+                "kind",
+                "build, initial-state, simulation or analysis",
+                &kind.into(),
+            )),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn failures_round_trip_through_their_records() {
+        let all = [
+            PointFailure::build("parameter `eta` must be > 0, got -1"),
+            PointFailure::InitialState {
+                message: "rotor beyond the ring".into(),
+            },
+            PointFailure::Analysis {
+                message: "bad".into(),
+            },
+            PointFailure::Simulation {
+                kind: SimFailureKind::Stalled,
+                t: 12.5,
+                message: "stalled".into(),
+            },
+        ];
+        for f in all {
+            let text = f.to_json().to_string();
+            let back = PointFailure::from_json(&Json::parse(&text).unwrap()).unwrap();
+            assert_eq!(back, f);
+        }
+        for (k, n) in SimFailureKind::NAMES {
+            assert_eq!(k.name(), n);
+        }
+    }
+}

@@ -1,0 +1,70 @@
+//! Global dynamics: which attractors coexist, where their basins lie, how the dynamics change
+//! over two parameters, and long sweeps that survive being killed and run on many processes.
+//!
+//! * [`attractor`](mod@attractor): run a model until it settles, identify the attractor
+//!   (period and a canonical periodic point, or "not periodic" with contact statistics), and
+//!   match attractors reached from different starts ([`find_attractor`], [`Attractor`],
+//!   [`MatchTolerance`]).
+//! * [`catalogue`]: the distinct attractors of a scan and the label of each point.
+//! * [`continuation`](mod@continuation): periodic orbits followed in any parameter by
+//!   pseudo-arclength, through folds and grazings, with their stability, bifurcations located
+//!   and branch switching at a flip ([`continue_orbit`], [`switch_at_flip`]).
+//! * [`scan`]: attractor scans over a grid ([`scan_grid`], [`Grid2`]): basins of attraction
+//!   (a grid of initial states) and two-parameter maps (a grid of parameters). The paper's
+//!   model has ready-made planes: [`crate::paper::BasinPlane`], [`crate::paper::ParamPlane`].
+//! * [`runner`]: the engine under every scan: any computation over a list of points, in
+//!   parallel, writing each outcome to a folder as it finishes, and skipping the points
+//!   already there when restarted ([`run_points`], [`RunConfig`]). Results are bitwise
+//!   identical for any number of threads, across restarts, and (feature `mpi`, module
+//!   `distributed`) for any number of MPI ranks.
+//! * [`store`]: the folder (a manifest and records, one JSON object a line) and its rules for
+//!   crashes ([`SweepStore`]); [`json`] and [`record`] the format ([`Json`], [`Record`]).
+//!
+//! # Example: a resumable basin scan
+//!
+//! ```no_run
+//! use jeffcott::analysis::StderrProgress;
+//! use jeffcott::global::{scan_grid, AttractorConfig, Grid2, Json, MatchTolerance, RunConfig, SweepStore};
+//! use jeffcott::paper::{BasinPlane, StartPlane};
+//! use jeffcott::params::Preset;
+//! use jeffcott::global::record::Record;
+//!
+//! let plane = BasinPlane::new(Preset::Fig8a.params().with_eta(2.2), StartPlane::XVx);
+//! let grid = Grid2::linspace((-1.0, 1.0, 200), (-1.5, 1.5, 200))?;
+//! let config = AttractorConfig::default();
+//! let description = Json::object([("plane", plane.to_json()), ("config", config.to_json())]);
+//! // Killed part-way? Run it again: the points in the folder are not run again.
+//! let store = SweepStore::open("out/basins-fig8a", "basins", description, &grid.points())?;
+//! let progress = StderrProgress::new("basins");
+//! let scan = scan_grid(&grid, plane.setup(), &config, Some(&store), &RunConfig::default(), Some(&progress))?;
+//! let catalogue = scan.catalogue(&MatchTolerance::default());
+//! for (k, e) in catalogue.entries.iter().enumerate() {
+//!     println!("attractor {k}: {} ({} points)", e.attractor.describe(), e.count);
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod attractor;
+pub mod catalogue;
+pub mod continuation;
+#[cfg(feature = "mpi")]
+pub mod distributed;
+mod failure;
+pub mod json;
+pub mod record;
+pub mod runner;
+pub mod scan;
+pub mod store;
+
+pub use attractor::{find_attractor, Attractor, AttractorConfig, MatchTolerance, OrbitStats};
+pub use catalogue::{Catalogue, CatalogueEntry, PointLabel};
+pub use continuation::{
+    continue_orbit, switch_at_flip, Branch, BranchEnd, BranchPoint, ContinuationConfig,
+    ContinuationError, SpecialKind, SpecialPoint,
+};
+pub use failure::{PointFailure, SimFailureKind};
+pub use json::{Json, JsonError};
+pub use record::Record;
+pub use runner::{run_points, PointResults, RunConfig};
+pub use scan::{attractor_at, scan_grid, Grid2, GridScan};
+pub use store::{Loaded, Manifest, StoreError, SweepStore};

@@ -1,0 +1,333 @@
+//! Running a computation over a list of points, in parallel, resumably.
+//!
+//! [`run_points`] calls `runner(&point)` once for each point not yet recorded in the sweep's
+//! folder ([`SweepStore`]), on a pool of threads, writes each outcome to the folder as soon as
+//! it is known, and returns every point's outcome (recorded earlier or computed now) in point
+//! order.
+//!
+//! # Guarantees
+//!
+//! * **Deterministic.** The points are independent: each outcome is `runner(&point)` and
+//!   nothing else, so for a runner that is a deterministic function of its point, the
+//!   outcomes are bitwise identical for any number of threads, any number of MPI ranks
+//!   (module `distributed`, feature `mpi`), and across interruptions and
+//!   restarts.
+//! * **Every outcome passes through its record.** An outcome computed now is encoded, written,
+//!   and decoded back before it is returned, exactly as one read from the folder after a
+//!   restart: a restarted run returns the same values as an uninterrupted one even if a
+//!   [`Record`] encoding were lossy.
+//! * **Failures are results.** A runner error is recorded (`"error"` in its line) and returned
+//!   in its slot; it is not computed again on restart (delete its line to retry it). A panic
+//!   inside the runner is a bug: it propagates, the records written so far stay.
+//! * **Partial runs.** [`RunConfig::max_new_points`] and [`RunConfig::time_budget`] stop
+//!   starting new points (for a batch queue's time limit); the points not run are `None` and
+//!   a later run with the same folder does them.
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+
+use super::json::JsonError;
+use super::record::Record;
+use super::store::{decode_line, encode_line, RecordWriter, StoreError, SweepStore};
+use crate::analysis::{AnalysisError, Progress};
+
+/// Settings of [`run_points`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub struct RunConfig {
+    /// Worker threads: `None` (default) uses rayon's global pool (all cores, or
+    /// `RAYON_NUM_THREADS`), `Some(n)` a dedicated pool of `n ≥ 1`. Results do not depend on it.
+    pub threads: Option<usize>,
+    /// Start at most this many points in this run (default: no limit).
+    pub max_new_points: Option<usize>,
+    /// Start no new point after this much wall time (default: no limit); points already
+    /// started finish.
+    pub time_budget: Option<Duration>,
+}
+
+impl RunConfig {
+    /// The same settings with a dedicated pool of `threads` worker threads.
+    pub fn with_threads(self, threads: usize) -> Self {
+        RunConfig {
+            threads: Some(threads),
+            ..self
+        }
+    }
+
+    /// The same settings starting at most `n` new points.
+    pub fn with_max_new_points(self, n: usize) -> Self {
+        RunConfig {
+            max_new_points: Some(n),
+            ..self
+        }
+    }
+
+    /// The same settings starting no new point after `budget`.
+    pub fn with_time_budget(self, budget: Duration) -> Self {
+        RunConfig {
+            time_budget: Some(budget),
+            ..self
+        }
+    }
+}
+
+/// The outcomes of a [`run_points`], in point order.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct PointResults<T, E> {
+    /// One slot per point: its outcome, or `None` if it has not been run (a partial run).
+    pub results: Vec<Option<Result<T, E>>>,
+    /// Points whose outcome was read from the folder (done by an earlier run).
+    pub reused: usize,
+    /// Points computed by this run.
+    pub computed: usize,
+    /// Points found recorded more than once in the folder (the first record is used).
+    pub duplicates: usize,
+    /// Worker threads per process (does not affect the results).
+    pub threads: usize,
+}
+
+impl<T, E> PointResults<T, E> {
+    /// Whether every point has an outcome.
+    pub fn is_complete(&self) -> bool {
+        self.results.iter().all(Option::is_some)
+    }
+
+    /// Number of points not run yet.
+    pub fn missing(&self) -> usize {
+        self.results.iter().filter(|r| r.is_none()).count()
+    }
+
+    /// The failed points, as `(index, error)`, in point order.
+    pub fn failures(&self) -> impl Iterator<Item = (usize, &E)> {
+        self.results
+            .iter()
+            .enumerate()
+            .filter_map(|(i, r)| match r {
+                Some(Err(e)) => Some((i, e)),
+                _ => None,
+            })
+    }
+
+    /// The successful points, as `(index, output)`, in point order.
+    pub fn successes(&self) -> impl Iterator<Item = (usize, &T)> {
+        self.results
+            .iter()
+            .enumerate()
+            .filter_map(|(i, r)| match r {
+                Some(Ok(t)) => Some((i, t)),
+                _ => None,
+            })
+    }
+}
+
+/// Runs `runner` on every point of `points` not yet recorded in `store`, and returns all
+/// outcomes in point order (see the [module docs](self) for the guarantees). Without a
+/// store nothing is written and every point is run.
+///
+/// `progress` is called after each point computed now, with `(done, total)` counting the
+/// points of this run only (not those reused from the folder).
+///
+/// # Errors
+/// [`StoreError`] for a folder that cannot be read or written, holds corrupt records, or a
+/// bad configuration (0 threads). Runner errors are not errors of `run_points`: they are
+/// outcomes. If writing fails part-way, no new point is started and the error is returned
+/// (the points written stay in the folder).
+///
+/// # Example
+///
+/// ```
+/// use jeffcott::global::{run_points, Json, RunConfig, SweepStore};
+///
+/// let dir = std::env::temp_dir().join(format!("jeffcott-doc-run-points-{}", std::process::id()));
+/// # let _ = std::fs::remove_dir_all(&dir);
+/// let points: Vec<f64> = (0..20).map(|i| i as f64).collect();
+/// let store = SweepStore::open(&dir, "squares", Json::Null, &points)?;
+/// let square = |x: &f64| if *x < 15.0 { Ok(x * x) } else { Err(format!("{x} too large")) };
+/// // A first run stops after 8 points; the second does the other 12.
+/// let config = RunConfig::default().with_threads(2);
+/// let first = run_points(&points, Some(&store), &config.with_max_new_points(8), square, None)?;
+/// assert_eq!((first.computed, first.missing()), (8, 12));
+/// let second = run_points(&points, Some(&store), &config, square, None)?;
+/// assert_eq!((second.reused, second.computed), (8, 12));
+/// assert_eq!(second.results[3], Some(Ok(9.0)));
+/// assert_eq!(second.failures().count(), 5);
+/// # std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn run_points<P, T, E, F>(
+    points: &[P],
+    store: Option<&SweepStore>,
+    config: &RunConfig,
+    runner: F,
+    progress: Option<&dyn Progress>,
+) -> Result<PointResults<T, E>, StoreError>
+where
+    P: Record + Sync,
+    T: Record + Send,
+    E: Record + Send,
+    F: Fn(&P) -> Result<T, E> + Sync,
+{
+    check_points(points.len(), store)?;
+    let (mut results, duplicates) = match store {
+        Some(s) => {
+            let loaded = s.load::<T, E>()?;
+            (loaded.results, loaded.duplicates)
+        }
+        None => ((0..points.len()).map(|_| None).collect(), 0),
+    };
+    let reused = results.iter().filter(|r| r.is_some()).count();
+    let todo: Vec<usize> = (0..points.len())
+        .filter(|&i| results[i].is_none())
+        .collect();
+    let writer = store.map(|s| s.writer(0)).transpose()?;
+    let (lines, threads) = compute(points, &todo, writer, config, &runner, progress)?;
+    let computed = lines.len();
+    for (i, line) in lines {
+        results[i] = Some(decode_own(i, &line)?);
+    }
+    Ok(PointResults {
+        results,
+        reused,
+        computed,
+        duplicates,
+        threads,
+    })
+}
+
+pub(crate) fn check_points(n: usize, store: Option<&SweepStore>) -> Result<(), StoreError> {
+    if let Some(s) = store {
+        if s.manifest().points != n {
+            return Err(StoreError::Mismatch {
+                path: s.dir().to_path_buf(),
+                field: "points",
+                expected: n.to_string(),
+                found: s.manifest().points.to_string(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Decodes a line this process wrote; failure means a `Record` impl that does not read back
+/// its own JSON.
+pub(crate) fn decode_own<T: Record, E: Record>(
+    index: usize,
+    line: &str,
+) -> Result<Result<T, E>, StoreError> {
+    let (i, outcome) = decode_line::<T, E>(line).map_err(|error| encoding_error(index, error))?;
+    if i != index {
+        return Err(encoding_error(
+            index,
+            JsonError::Syntax {
+                at: 0,
+                what: "the index written",
+            },
+        ));
+    }
+    Ok(outcome)
+}
+
+fn encoding_error(index: usize, error: JsonError) -> StoreError {
+    StoreError::Corrupt {
+        path: format!("<record of point {index} as just encoded; its Record impl does not read back its own JSON>").into(),
+        line: 1,
+        error,
+    }
+}
+
+/// Runs `f` on a dedicated pool of `threads` threads, or on the global pool.
+pub(crate) fn on_pool<R: Send>(
+    threads: Option<usize>,
+    f: impl FnOnce() -> R + Send,
+) -> Result<(R, usize), StoreError> {
+    match threads {
+        None => Ok((f(), rayon::current_num_threads())),
+        Some(0) => Err(AnalysisError::InvalidCount {
+            name: "threads",
+            value: 0,
+            expected: "at least 1 (or None for the global pool)",
+        }
+        .into()),
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| AnalysisError::ThreadPool {
+                    threads: n,
+                    message: e.to_string(),
+                })?;
+            Ok((pool.install(f), n))
+        }
+    }
+}
+
+/// Runs the points `todo` (indices into `points`) in parallel, appending each record line to
+/// `writer` as it finishes; returns the `(index, line)` of the points run, in `todo` order,
+/// and the number of threads.
+pub(crate) fn compute<P, T, E, F>(
+    points: &[P],
+    todo: &[usize],
+    writer: Option<RecordWriter>,
+    config: &RunConfig,
+    runner: &F,
+    progress: Option<&dyn Progress>,
+) -> Result<(Vec<(usize, String)>, usize), StoreError>
+where
+    P: Record + Sync,
+    T: Record + Send,
+    E: Record + Send,
+    F: Fn(&P) -> Result<T, E> + Sync,
+{
+    let total = config
+        .max_new_points
+        .map_or(todo.len(), |m| m.min(todo.len()));
+    let deadline = config.time_budget.map(|d| Instant::now() + d);
+    let started = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    let writer = writer.map(Mutex::new);
+    let write_error: Mutex<Option<StoreError>> = Mutex::new(None);
+    let run_one = |&i: &usize| -> Option<(usize, String)> {
+        if stop.load(Ordering::Acquire) {
+            return None;
+        }
+        if started.fetch_add(1, Ordering::AcqRel) >= total {
+            return None;
+        }
+        if deadline.is_some_and(|d| Instant::now() >= d) {
+            stop.store(true, Ordering::Release);
+            return None;
+        }
+        let outcome = runner(&points[i]);
+        let line = encode_line(i, &points[i], &outcome);
+        if let Some(w) = &writer {
+            let mut w = w.lock().unwrap_or_else(|p| p.into_inner());
+            if let Err(e) = w.append(&line) {
+                stop.store(true, Ordering::Release);
+                write_error
+                    .lock()
+                    .unwrap_or_else(|p| p.into_inner())
+                    .get_or_insert(e);
+                return None;
+            }
+        }
+        let d = done.fetch_add(1, Ordering::AcqRel) + 1;
+        if let Some(p) = progress {
+            p.update(d, total);
+        }
+        Some((i, line))
+    };
+    let (lines, threads) = on_pool(config.threads, || {
+        todo.par_iter()
+            .map(run_one)
+            .collect::<Vec<Option<(usize, String)>>>()
+    })?;
+    if let Some(e) = write_error.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        return Err(e);
+    }
+    Ok((lines.into_iter().flatten().collect(), threads))
+}

@@ -1,0 +1,209 @@
+//! Attractor scans over a grid: basins of attraction (a grid of initial states) and
+//! two-parameter maps (a grid of parameters).
+//!
+//! Both are the same computation: at each grid point a *setup* closure builds the model and
+//! its initial state, [`find_attractor`] runs it, and the outcome is recorded
+//! ([`run_points`]: parallel, resumable, deterministic). They differ in what the grid means
+//! and how the outcomes are drawn:
+//!
+//! * **basins**: fixed parameters, the grid varies the initial state; the attractors are
+//!   matched across points ([`GridScan::catalogue`]) and each point coloured by the one it
+//!   reached;
+//! * **parameter maps**: the grid varies two parameters, each run from the same initial state;
+//!   each point coloured by its period ([`GridScan::periods`]) or its contacts per period
+//!   ([`GridScan::contacts_per_period`]). Where attractors coexist, the map shows the one
+//!   reached from that initial state.
+
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, OVector};
+
+use super::attractor::{find_attractor, Attractor, AttractorConfig, MatchTolerance};
+use super::catalogue::Catalogue;
+use super::failure::PointFailure;
+use super::runner::{run_points, PointResults, RunConfig};
+use super::store::{StoreError, SweepStore};
+use crate::analysis::{linspace, AnalysisError, Progress};
+use crate::hybrid::RotorModel;
+
+/// A rectangular grid of points $(x_i, y_j)$. Point `k` is `(x[k % nx], y[k / nx])`: rows of
+/// constant `y`, `x` fastest.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid2 {
+    /// Values along the horizontal axis.
+    pub x: Vec<f64>,
+    /// Values along the vertical axis.
+    pub y: Vec<f64>,
+}
+
+impl Grid2 {
+    /// The grid of `x` by `y`.
+    ///
+    /// # Errors
+    /// [`AnalysisError::InvalidCount`] for an empty axis, [`AnalysisError::InvalidValue`] for
+    /// a non-finite value.
+    pub fn new(x: Vec<f64>, y: Vec<f64>) -> Result<Self, AnalysisError> {
+        for (name, axis) in [("x", &x), ("y", &y)] {
+            if axis.is_empty() {
+                return Err(AnalysisError::InvalidCount {
+                    name,
+                    value: 0,
+                    expected: "at least one value per axis",
+                });
+            }
+            if let Some(&v) = axis.iter().find(|v| !v.is_finite()) {
+                return Err(AnalysisError::InvalidValue {
+                    name,
+                    value: v,
+                    expected: "finite grid values",
+                });
+            }
+        }
+        Ok(Grid2 { x, y })
+    }
+
+    /// `nx` values evenly spaced over `[x0, x1]` by `ny` over `[y0, y1]` ([`linspace`]).
+    ///
+    /// # Errors
+    /// As [`linspace`].
+    pub fn linspace(
+        (x0, x1, nx): (f64, f64, usize),
+        (y0, y1, ny): (f64, f64, usize),
+    ) -> Result<Self, AnalysisError> {
+        Grid2::new(linspace(x0, x1, nx)?, linspace(y0, y1, ny)?)
+    }
+
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.x.len() * self.y.len()
+    }
+
+    /// Whether the grid has no point (never, for a grid built by [`Grid2::new`]).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The point of index `k`.
+    pub fn point(&self, k: usize) -> [f64; 2] {
+        let nx = self.x.len();
+        [self.x[k % nx], self.y[k / nx]]
+    }
+
+    /// Every point, in index order.
+    pub fn points(&self) -> Vec<[f64; 2]> {
+        (0..self.len()).map(|k| self.point(k)).collect()
+    }
+}
+
+/// The outcome of [`scan_grid`]: the grid and one attractor (or failure) per point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridScan {
+    /// The grid.
+    pub grid: Grid2,
+    /// One slot per grid point, in index order.
+    pub results: PointResults<Attractor, PointFailure>,
+}
+
+impl GridScan {
+    /// The distinct attractors and each point's label ([`Catalogue::new`]).
+    pub fn catalogue(&self, tol: &MatchTolerance) -> Catalogue {
+        Catalogue::new(&self.results.results, tol)
+    }
+
+    /// Each point's detected period: `Some(p)`, `Some(0)` for not periodic, `None` for a
+    /// failed or missing point.
+    pub fn periods(&self) -> Vec<Option<usize>> {
+        self.results
+            .results
+            .iter()
+            .map(|r| match r {
+                Some(Ok(a)) => Some(a.period().unwrap_or(0)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Each point's contacts per forcing period (NaN for a failed or missing point).
+    pub fn contacts_per_period(&self) -> Vec<f64> {
+        self.stat(|a| a.stats.contacts_per_period)
+    }
+
+    /// Each point's value of `f` (NaN for a failed or missing point).
+    pub fn stat(&self, f: impl Fn(&Attractor) -> f64) -> Vec<f64> {
+        self.results
+            .results
+            .iter()
+            .map(|r| match r {
+                Some(Ok(a)) => f(a),
+                _ => f64::NAN,
+            })
+            .collect()
+    }
+}
+
+/// Builds the model and initial state at `point` with `setup` and identifies the attractor.
+pub fn attractor_at<P, M, S>(
+    setup: &S,
+    point: &P,
+    config: &AttractorConfig,
+) -> Result<Attractor, PointFailure>
+where
+    M: RotorModel,
+    S: Fn(&P) -> Result<(M, OVector<f64, M::Dim>), PointFailure>,
+    DefaultAllocator: Allocator<M::Dim>,
+{
+    let (model, y0) = setup(point)?;
+    Ok(find_attractor(&model, &y0, config)?)
+}
+
+/// Runs [`find_attractor`] at every point of `grid`, the model and initial state built by
+/// `setup` (see the [module docs](self)), in parallel, writing each outcome to `store` as it
+/// finishes and skipping the points it already holds ([`run_points`]).
+///
+/// # Errors
+/// As [`run_points`]: only for the folder or the configuration; a point's failure is its
+/// outcome.
+///
+/// # Example
+///
+/// The basins of the paper's Fig. 8a model at $\eta = 2.2$ on a coarse grid of $(x_0,
+/// x_0^\prime)$, without a folder:
+///
+/// ```
+/// use jeffcott::global::{scan_grid, AttractorConfig, Grid2, MatchTolerance, RunConfig};
+/// use jeffcott::paper::{BasinPlane, StartPlane};
+/// use jeffcott::params::Preset;
+///
+/// let plane = BasinPlane::new(Preset::Fig8a.params().with_eta(2.2), StartPlane::XVx);
+/// let grid = Grid2::linspace((0.2, 0.8, 3), (-0.5, 0.5, 2))?;
+/// let config = AttractorConfig { transient: 400, max_transient: 400, ..Default::default() };
+/// let scan = scan_grid(&grid, plane.setup(), &config, None, &RunConfig::default(), None)?;
+/// let catalogue = scan.catalogue(&MatchTolerance::default());
+/// assert!(catalogue.entries.iter().all(|e| e.attractor.period().is_some()));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn scan_grid<M, S>(
+    grid: &Grid2,
+    setup: S,
+    config: &AttractorConfig,
+    store: Option<&SweepStore>,
+    run: &RunConfig,
+    progress: Option<&dyn Progress>,
+) -> Result<GridScan, StoreError>
+where
+    M: RotorModel,
+    S: Fn(&[f64; 2]) -> Result<(M, OVector<f64, M::Dim>), PointFailure> + Sync,
+    DefaultAllocator: Allocator<M::Dim>,
+{
+    let points = grid.points();
+    let results = run_points(
+        &points,
+        store,
+        run,
+        |p| attractor_at(&setup, p, config),
+        progress,
+    )?;
+    Ok(GridScan {
+        grid: grid.clone(),
+        results,
+    })
+}

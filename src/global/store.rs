@@ -1,0 +1,529 @@
+//! A sweep's output folder: a manifest saying which sweep it holds, and its records, one JSON
+//! object a line, written as points finish.
+//!
+//! # The folder
+//!
+//! * `manifest.json`: `{"format": 1, "kind": "...", "points": N, "fingerprint": "<16 hex
+//!   digits>", "description": {...}}`. `kind` and `description` are the caller's (what the
+//!   sweep computes, with every setting that changes its results); `fingerprint` is the 64-bit
+//!   FNV-1a hash of the points' JSON, one a line. A folder whose manifest differs from the
+//!   sweep being run is refused ([`StoreError::Mismatch`]): results of one sweep are never
+//!   mixed into another.
+//! * `records-<w>.jsonl`, one file per writer `w` (the process, or the MPI rank), each line one
+//!   point: `{"index": i, "point": <the point>, "ok": <the result>}` or
+//!   `{"index": i, "point": <the point>, "error": <the error>}`. `index` is the point's position
+//!   in the sweep's list, so the order of the lines never matters.
+//!
+//! # Crashes and restarts
+//!
+//! A record is written with one `write` call as soon as its point finishes. A process killed
+//! in the middle of a write leaves at most a partial last line without its line break: readers
+//! ignore it, and the next writer of that file cuts it off before appending. On reading, a
+//! point recorded twice (a rare race of two writers) keeps its first record, in the order of
+//! the file names and the lines; the others are counted in [`Loaded::duplicates`]. A complete
+//! line that is not a valid record is an error ([`StoreError::Corrupt`]), not silently redone.
+
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+use super::json::{Json, JsonError};
+use super::record::{field, Record};
+use crate::analysis::AnalysisError;
+
+/// Version of the folder layout and record format written in the manifest.
+pub const FORMAT_VERSION: u64 = 1;
+
+/// File name of the manifest.
+pub const MANIFEST_FILE: &str = "manifest.json";
+
+/// What went wrong with a sweep's folder or its configuration.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum StoreError {
+    /// Reading or writing a file failed.
+    #[error("{}: {message}", path.display())]
+    Io {
+        /// The file or folder.
+        path: PathBuf,
+        /// The system's message.
+        message: String,
+    },
+    /// The folder holds another sweep (or another version of this one).
+    #[error("{}: the folder holds another sweep: {field} is {found}, this sweep has {expected}; use a new folder (or delete this one to start over)", path.display())]
+    Mismatch {
+        /// The manifest.
+        path: PathBuf,
+        /// The field that differs.
+        field: &'static str,
+        /// This sweep's value.
+        expected: String,
+        /// The folder's value.
+        found: String,
+    },
+    /// A complete line of a records file (or the manifest) is not a valid record.
+    #[error("{}, line {line}: not a valid record ({error}); the file was changed by hand or written by another program: move it away and restart", path.display())]
+    Corrupt {
+        /// The file.
+        path: PathBuf,
+        /// Line number (from 1).
+        line: usize,
+        /// What is wrong with it.
+        error: JsonError,
+    },
+    /// A record's index is not a point of this sweep.
+    #[error("{}, line {line}: index {index} but the sweep has {points} points", path.display())]
+    IndexOutOfRange {
+        /// The file.
+        path: PathBuf,
+        /// Line number (from 1).
+        line: usize,
+        /// The index found.
+        index: usize,
+        /// Number of points of the sweep.
+        points: usize,
+    },
+    /// A bad setting of the run (e.g. 0 threads).
+    #[error(transparent)]
+    Config(#[from] AnalysisError),
+    /// The message-passing layer failed or the ranks disagree (feature `mpi`).
+    #[error("MPI: {0}")]
+    Mpi(String),
+}
+
+pub(crate) fn io_err(path: &Path, e: io::Error) -> StoreError {
+    StoreError::Io {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
+}
+
+/// Which sweep a folder holds (see the [module docs](self)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Manifest {
+    /// What the sweep computes (e.g. `"basins"`).
+    pub kind: String,
+    /// Number of points.
+    pub points: usize,
+    /// FNV-1a hash of the points' JSON (one a line).
+    pub fingerprint: u64,
+    /// The caller's description: every setting that changes the results.
+    pub description: Json,
+}
+
+impl Manifest {
+    /// The manifest of a sweep of `kind` over `points`.
+    pub fn new<P: Record>(kind: &str, description: Json, points: &[P]) -> Self {
+        let mut hash = Fnv::new();
+        for p in points {
+            hash.write(p.to_json().to_string().as_bytes());
+            hash.write(b"\n");
+        }
+        Manifest {
+            kind: kind.to_string(),
+            points: points.len(),
+            fingerprint: hash.0,
+            description,
+        }
+    }
+
+    fn to_json(&self) -> Json {
+        Json::object([
+            ("format", Json::from(FORMAT_VERSION)),
+            ("kind", Json::from(self.kind.as_str())),
+            ("points", Json::from(self.points)),
+            (
+                "fingerprint",
+                Json::from(format!("{:016x}", self.fingerprint)),
+            ),
+            ("description", self.description.clone()),
+        ])
+    }
+}
+
+/// 64-bit FNV-1a: a fixed, platform-independent hash.
+struct Fnv(u64);
+
+impl Fnv {
+    fn new() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+}
+
+/// A sweep's output folder (see the [module docs](self)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweepStore {
+    dir: PathBuf,
+    manifest: Manifest,
+}
+
+/// The records found in a folder.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Loaded<T, E> {
+    /// One slot per point: its recorded outcome, or `None` if not recorded yet.
+    pub results: Vec<Option<Result<T, E>>>,
+    /// Points recorded more than once (the first record is kept).
+    pub duplicates: usize,
+    /// Partial last lines ignored (a writer killed mid-write).
+    pub partial_lines: usize,
+}
+
+impl<T, E> Loaded<T, E> {
+    /// Number of points recorded.
+    pub fn recorded(&self) -> usize {
+        self.results.iter().filter(|r| r.is_some()).count()
+    }
+}
+
+impl SweepStore {
+    /// Opens the folder `dir` for the sweep of `kind` over `points` described by `description`:
+    /// creates it with its manifest if it does not exist (or holds no manifest), and checks
+    /// that its manifest is this sweep's otherwise.
+    ///
+    /// # Errors
+    /// [`StoreError::Io`] if the folder or manifest cannot be created or read;
+    /// [`StoreError::Mismatch`] if it holds another sweep; [`StoreError::Corrupt`] for an
+    /// unreadable manifest.
+    pub fn open<P: Record>(
+        dir: impl AsRef<Path>,
+        kind: &str,
+        description: Json,
+        points: &[P],
+    ) -> Result<Self, StoreError> {
+        let dir = dir.as_ref().to_path_buf();
+        let manifest = Manifest::new(kind, description, points);
+        fs::create_dir_all(&dir).map_err(|e| io_err(&dir, e))?;
+        let path = dir.join(MANIFEST_FILE);
+        match fs::read_to_string(&path) {
+            Ok(text) => check_manifest(&path, &text, &manifest)?,
+            Err(e) if e.kind() == io::ErrorKind::NotFound => {
+                // Written whole, then renamed: a reader never sees half a manifest.
+                let tmp = dir.join(format!("{MANIFEST_FILE}.{}.tmp", std::process::id()));
+                let mut text = manifest.to_json().to_string();
+                text.push('\n');
+                fs::write(&tmp, text).map_err(|e| io_err(&tmp, e))?;
+                fs::rename(&tmp, &path).map_err(|e| io_err(&path, e))?;
+            }
+            Err(e) => return Err(io_err(&path, e)),
+        }
+        Ok(SweepStore { dir, manifest })
+    }
+
+    /// The folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The manifest of the sweep.
+    pub fn manifest(&self) -> &Manifest {
+        &self.manifest
+    }
+
+    /// The records file of writer `writer`.
+    pub fn records_path(&self, writer: usize) -> PathBuf {
+        self.dir.join(format!("records-{writer}.jsonl"))
+    }
+
+    /// The records files present, in name order.
+    fn records_files(&self) -> Result<Vec<PathBuf>, StoreError> {
+        let mut files = Vec::new();
+        for entry in fs::read_dir(&self.dir).map_err(|e| io_err(&self.dir, e))? {
+            let entry = entry.map_err(|e| io_err(&self.dir, e))?;
+            let name = entry.file_name();
+            let name = name.to_string_lossy();
+            if name.starts_with("records-") && name.ends_with(".jsonl") {
+                files.push(entry.path());
+            }
+        }
+        files.sort();
+        Ok(files)
+    }
+
+    /// Reads every record in the folder.
+    ///
+    /// # Errors
+    /// [`StoreError::Io`], or [`StoreError::Corrupt`] / [`StoreError::IndexOutOfRange`] for
+    /// a complete line that is not a record of this sweep.
+    pub fn load<T: Record, E: Record>(&self) -> Result<Loaded<T, E>, StoreError> {
+        let n = self.manifest.points;
+        let mut loaded = Loaded {
+            results: (0..n).map(|_| None).collect(),
+            duplicates: 0,
+            partial_lines: 0,
+        };
+        for path in self.records_files()? {
+            // Streamed line by line: a big sweep's records need not fit in memory twice.
+            let file = File::open(&path).map_err(|e| io_err(&path, e))?;
+            let mut reader = BufReader::new(file);
+            let mut buf = Vec::new();
+            for k in 0.. {
+                buf.clear();
+                let read = reader
+                    .read_until(b'\n', &mut buf)
+                    .map_err(|e| io_err(&path, e))?;
+                if read == 0 {
+                    break;
+                }
+                if buf.last() != Some(&b'\n') {
+                    // A writer killed mid-write: ignored, and cut off by the next writer.
+                    loaded.partial_lines += 1;
+                    break;
+                }
+                let corrupt = |error| StoreError::Corrupt {
+                    path: path.clone(),
+                    line: k + 1,
+                    error,
+                };
+                let line = std::str::from_utf8(&buf).map_err(|_| {
+                    corrupt(JsonError::Syntax {
+                        at: 0,
+                        what: "UTF-8 text",
+                    })
+                })?;
+                if line.trim().is_empty() {
+                    continue;
+                }
+                let (index, outcome) = decode_line::<T, E>(line.trim_end()).map_err(corrupt)?;
+                if index >= n {
+                    return Err(StoreError::IndexOutOfRange {
+                        path: path.clone(),
+                        line: k + 1,
+                        index,
+                        points: n,
+                    });
+                }
+                if loaded.results[index].is_some() {
+                    loaded.duplicates += 1;
+                } else {
+                    loaded.results[index] = Some(outcome);
+                }
+            }
+        }
+        Ok(loaded)
+    }
+
+    /// Opens writer `writer`'s records file for appending, cutting off a partial last line.
+    pub(crate) fn writer(&self, writer: usize) -> Result<RecordWriter, StoreError> {
+        let path = self.records_path(writer);
+        let mut file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(&path)
+            .map_err(|e| io_err(&path, e))?;
+        let len = file.metadata().map_err(|e| io_err(&path, e))?.len();
+        if len > 0 {
+            let keep = complete_length(&mut file, len).map_err(|e| io_err(&path, e))?;
+            if keep < len {
+                file.set_len(keep).map_err(|e| io_err(&path, e))?;
+            }
+        }
+        file.seek(SeekFrom::End(0)).map_err(|e| io_err(&path, e))?;
+        Ok(RecordWriter { file, path })
+    }
+}
+
+/// Length of the file up to and including its last line break.
+fn complete_length(file: &mut File, len: u64) -> io::Result<u64> {
+    const BLOCK: u64 = 64 * 1024;
+    let mut end = len;
+    let mut buf = vec![0u8; BLOCK as usize];
+    while end > 0 {
+        let start = end.saturating_sub(BLOCK);
+        let n = (end - start) as usize;
+        file.seek(SeekFrom::Start(start))?;
+        file.read_exact(&mut buf[..n])?;
+        if let Some(pos) = buf[..n].iter().rposition(|&b| b == b'\n') {
+            return Ok(start + pos as u64 + 1);
+        }
+        end = start;
+    }
+    Ok(0)
+}
+
+fn check_manifest(path: &Path, text: &str, expected: &Manifest) -> Result<(), StoreError> {
+    let corrupt = |error| StoreError::Corrupt {
+        path: path.to_path_buf(),
+        line: 1,
+        error,
+    };
+    let json = Json::parse(text.trim()).map_err(corrupt)?;
+    let mismatch = |field, expected: String, found: String| StoreError::Mismatch {
+        path: path.to_path_buf(),
+        field,
+        expected,
+        found,
+    };
+    let format: u64 = field(&json, "format").map_err(corrupt)?;
+    if format != FORMAT_VERSION {
+        return Err(mismatch(
+            "format",
+            FORMAT_VERSION.to_string(),
+            format.to_string(),
+        ));
+    }
+    let kind: String = field(&json, "kind").map_err(corrupt)?;
+    if kind != expected.kind {
+        return Err(mismatch("kind", expected.kind.clone(), kind));
+    }
+    let points: usize = field(&json, "points").map_err(corrupt)?;
+    if points != expected.points {
+        return Err(mismatch(
+            "points",
+            expected.points.to_string(),
+            points.to_string(),
+        ));
+    }
+    let fp: String = field(&json, "fingerprint").map_err(corrupt)?;
+    let want = format!("{:016x}", expected.fingerprint);
+    if fp != want {
+        return Err(mismatch("fingerprint (the points)", want, fp));
+    }
+    let description = json.field("description").map_err(corrupt)?;
+    if *description != expected.description {
+        return Err(mismatch(
+            "description",
+            expected.description.to_string(),
+            description.to_string(),
+        ));
+    }
+    Ok(())
+}
+
+/// One writer's records file, open for appending.
+#[derive(Debug)]
+pub(crate) struct RecordWriter {
+    file: File,
+    path: PathBuf,
+}
+
+impl RecordWriter {
+    /// Appends one line (`line` without its line break) in a single write.
+    pub(crate) fn append(&mut self, line: &str) -> Result<(), StoreError> {
+        let mut buf = Vec::with_capacity(line.len() + 1);
+        buf.extend_from_slice(line.as_bytes());
+        buf.push(b'\n');
+        self.file.write_all(&buf).map_err(|e| io_err(&self.path, e))
+    }
+}
+
+/// The record line of point `index` (without its line break).
+pub(crate) fn encode_line<P: Record, T: Record, E: Record>(
+    index: usize,
+    point: &P,
+    outcome: &Result<T, E>,
+) -> String {
+    let (key, value) = match outcome {
+        Ok(t) => ("ok", t.to_json()),
+        Err(e) => ("error", e.to_json()),
+    };
+    Json::object([
+        ("index", Json::from(index)),
+        ("point", point.to_json()),
+        (key, value),
+    ])
+    .to_string()
+}
+
+/// The index and outcome of a record line.
+pub(crate) fn decode_line<T: Record, E: Record>(
+    line: &str,
+) -> Result<(usize, Result<T, E>), JsonError> {
+    let json = Json::parse(line)?;
+    let index: usize = field(&json, "index")?;
+    let outcome = match (json.get("ok"), json.get("error")) {
+        (Some(_), None) => Ok(field::<T>(&json, "ok")?),
+        (None, Some(_)) => Err(field::<E>(&json, "error")?),
+        _ => {
+            return Err(JsonError::shape(
+                "",
+                "exactly one of the keys `ok` and `error`",
+                &json,
+            ))
+        }
+    };
+    Ok((index, outcome))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temp_dir(name: &str) -> PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("jeffcott-store-{name}-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        dir
+    }
+
+    #[test]
+    fn a_folder_of_another_sweep_is_refused() {
+        let dir = temp_dir("mismatch");
+        let points = [1.0, 2.0];
+        let desc = Json::object([("eta", Json::from(2.2))]);
+        SweepStore::open(&dir, "test", desc.clone(), &points).unwrap();
+        SweepStore::open(&dir, "test", desc.clone(), &points).unwrap();
+        let err = SweepStore::open(&dir, "test", desc.clone(), &[1.0, 2.5]).unwrap_err();
+        assert!(
+            matches!(err, StoreError::Mismatch { field, .. } if field.starts_with("fingerprint"))
+        );
+        let other = Json::object([("eta", Json::from(2.3))]);
+        let err = SweepStore::open(&dir, "test", other, &points).unwrap_err();
+        assert!(matches!(
+            err,
+            StoreError::Mismatch {
+                field: "description",
+                ..
+            }
+        ));
+        let err = SweepStore::open(&dir, "other", desc, &points).unwrap_err();
+        assert!(matches!(err, StoreError::Mismatch { field: "kind", .. }));
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_partial_last_line_is_ignored_then_cut_off() {
+        let dir = temp_dir("partial");
+        let points = [10.0, 20.0, 30.0];
+        let store = SweepStore::open(&dir, "test", Json::Null, &points).unwrap();
+        let full = encode_line::<f64, f64, String>(0, &10.0, &Ok(0.5));
+        let half = encode_line::<f64, f64, String>(2, &30.0, &Err("bad".into()));
+        fs::write(store.records_path(0), format!("{full}\n{}", &half[..10])).unwrap();
+        let loaded = store.load::<f64, String>().unwrap();
+        assert_eq!(loaded.partial_lines, 1);
+        assert_eq!(loaded.results, vec![Some(Ok(0.5)), None, None]);
+        let mut w = store.writer(0).unwrap();
+        w.append(&half).unwrap();
+        let loaded = store.load::<f64, String>().unwrap();
+        assert_eq!(loaded.partial_lines, 0);
+        assert_eq!(
+            loaded.results,
+            vec![Some(Ok(0.5)), None, Some(Err("bad".to_string()))]
+        );
+        // A complete line that is not a record is an error, with its line number.
+        fs::write(store.records_path(1), "{\"index\": 1}\n").unwrap();
+        match store.load::<f64, String>() {
+            Err(StoreError::Corrupt { line: 1, .. }) => {}
+            other => panic!("{other:?}"),
+        }
+        fs::write(
+            store.records_path(1),
+            format!("{}\n", full.replace("\"index\":0", "\"index\":7")),
+        )
+        .unwrap();
+        assert!(matches!(
+            store.load::<f64, String>(),
+            Err(StoreError::IndexOutOfRange { index: 7, .. })
+        ));
+        fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -1,0 +1,262 @@
+//! Continuation of periodic orbits against known answers: the analytic grazing of the orbit
+//! without contact (|e| + A(eta) = 1), the flips of the period-1 orbits of Fig. 8 and the fold
+//! of the period-3 orbit (reference values, docs/global.md), branch switching at a flip, and a
+//! fold passed by pseudo-arclength.
+
+use jeffcott::global::{
+    continue_orbit, switch_at_flip, BranchEnd, ContinuationConfig, SpecialKind,
+};
+use jeffcott::params::{Params, Preset};
+use jeffcott::JeffcottModel;
+
+/// Radius of the steady orbit without contact, and its phase lag.
+fn amplitude(p: &Params, eta: f64) -> (f64, f64) {
+    let (re, im) = (1.0 - eta * eta, 2.0 * p.nu1 * eta);
+    (p.beta * eta * eta / re.hypot(im), im.atan2(re))
+}
+
+/// The eta in (lo, hi) where |e| + A(eta) = 1, by bisection to rounding.
+fn grazing_eta(p: &Params, mut lo: f64, mut hi: f64) -> f64 {
+    let e = p.ex.hypot(p.ey);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if e + amplitude(p, mid).0 < 1.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+#[test]
+fn the_orbit_without_contact_grazes_where_e_plus_a_is_1_then_keeps_one_contact() {
+    let base = Preset::Fig8a.params();
+    let build = |eta: f64| JeffcottModel::new(base.with_eta(eta));
+    let from = 0.4;
+    let (a, psi) = amplitude(&base, from);
+    // The exact steady orbit at tau = 0 (phi0 = 0): a circle of radius A about (ex, ey).
+    let model = build(from).unwrap();
+    let guess = model
+        .state_at(
+            [base.ex + a * psi.cos(), base.ey - a * psi.sin()],
+            [a * from * psi.sin(), a * from * psi.cos()],
+        )
+        .unwrap();
+    let config = ContinuationConfig::default();
+    let branch = continue_orbit(build, from, &guess, 1, 0.8, &config).unwrap();
+    assert_eq!(branch.end, BranchEnd::Reached, "{:?}", branch.end);
+    let first = &branch.points[0];
+    assert!((first.point[0] - (base.ex + a * psi.cos())).abs() < 1e-9);
+    let eta_g = grazing_eta(&base, from, 0.8);
+    let g: Vec<_> = branch
+        .specials
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Grazing)
+        .collect();
+    assert_eq!(
+        g.len(),
+        1,
+        "{:?}",
+        branch
+            .specials
+            .iter()
+            .map(|s| (s.kind, s.param))
+            .collect::<Vec<_>>()
+    );
+    println!(
+        "grazing: continuation {:.12}, analytic {eta_g:.12}, difference {:.2e}, bracket {:?}",
+        g[0].param,
+        g[0].param - eta_g,
+        g[0].bracket
+    );
+    assert!(
+        (g[0].param - eta_g).abs() < 1e-7,
+        "{} vs {eta_g}",
+        g[0].param
+    );
+    assert_eq!(g[0].contacts, (0, 1));
+    // Stable throughout, no contact before the grazing, one contact per period after it.
+    for p in &branch.points {
+        assert!(p.stable, "{}", p.param);
+        let expected = if p.param < eta_g { 0 } else { 1 };
+        assert_eq!(p.contacts, expected, "at eta = {}", p.param);
+    }
+    let after = branch.points.iter().filter(|p| p.param > eta_g).count();
+    assert!(after >= 5, "{after} points after the grazing");
+}
+
+#[test]
+fn period_1_flips_at_the_reference_values_and_the_period_2_branch_is_found() {
+    for (preset, x, flip_ref) in [
+        (
+            Preset::Fig8a,
+            [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533],
+            2.234843277,
+        ),
+        (
+            Preset::Fig8b,
+            [0.5100525457, -0.0204044359, 0.1180488481, -0.3107081594],
+            2.272961816,
+        ),
+    ] {
+        let base = preset.params();
+        let build = |eta: f64| JeffcottModel::new(base.with_eta(eta));
+        let guess = build(2.0)
+            .unwrap()
+            .state_at([x[0], x[1]], [x[2], x[3]])
+            .unwrap();
+        let config = ContinuationConfig::default();
+        let branch = continue_orbit(build, 2.0, &guess, 1, 2.3, &config).unwrap();
+        let flips: Vec<_> = branch
+            .specials
+            .iter()
+            .filter(|s| s.kind == SpecialKind::Flip)
+            .collect();
+        assert_eq!(flips.len(), 1, "{preset}");
+        let f = flips[0];
+        println!(
+            "{preset}: flip at {:.10} (reference {flip_ref}), multipliers {:?}",
+            f.param, f.multipliers
+        );
+        // Reference bracket +-1e-8; ours 1e-8 plus the parameter difference's error.
+        assert!((f.param - flip_ref).abs() < 3e-8, "{preset}: {}", f.param);
+        let m = f.multipliers[0];
+        assert!((m.re + 1.0).abs() < 1e-5 && m.im.abs() < 1e-9, "{m:?}");
+        // Stable before, unstable after.
+        assert!(branch
+            .points
+            .iter()
+            .all(|p| p.stable == (p.param < f.param)));
+        // The period-2 branch from the flip: supercritical, on the far side, stable there.
+        let doubled =
+            switch_at_flip(build, f, 1, 2.27 + (flip_ref - 2.234843277), &config).unwrap();
+        assert_eq!(doubled.period, 2);
+        let p2 = &doubled.points[doubled.points.len() / 2];
+        assert!(p2.param > f.param, "{preset}: {}", p2.param);
+        assert!(p2.stable, "{preset}: {:?}", p2.multipliers);
+        let dx = (p2.cycle[0][0] - p2.cycle[1][0]).abs();
+        assert!(
+            dx > 1e-3,
+            "{preset}: the two points of period 2 differ by {dx}"
+        );
+    }
+}
+
+#[test]
+fn the_period_3_orbit_is_followed_through_its_fold() {
+    // The period-3 orbit of Fig. 8a at eta = 2.17 (reference point), continued downwards: it
+    // turns back in a fold at 2.1259324 and comes back up unstable.
+    let base = Preset::Fig8a.params();
+    let build = |eta: f64| JeffcottModel::new(base.with_eta(eta));
+    let z = [0.4083372776, -0.0332339640, 0.0200130670, -0.3057623329];
+    let guess = build(2.17)
+        .unwrap()
+        .state_at([z[0], z[1]], [z[2], z[3]])
+        .unwrap();
+    let config = ContinuationConfig::default();
+    let branch = continue_orbit(build, 2.17, &guess, 3, 2.10, &config).unwrap();
+    let folds: Vec<_> = branch
+        .specials
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Fold)
+        .collect();
+    assert!(
+        !folds.is_empty(),
+        "{:?}",
+        branch
+            .specials
+            .iter()
+            .map(|s| (s.kind, s.param))
+            .collect::<Vec<_>>()
+    );
+    println!("fold at {:.10} (reference 2.1259324)", folds[0].param);
+    assert!(
+        (folds[0].param - 2.1259324).abs() < 2e-7,
+        "{}",
+        folds[0].param
+    );
+    // Past the fold the parameter grows again and the orbit is unstable.
+    let i = folds[0].after_point + 1;
+    let later = &branch.points[(i + 2).min(branch.points.len() - 1)];
+    assert!(
+        later.param > folds[0].param && !later.stable,
+        "{} {:?}",
+        later.param,
+        later.multipliers
+    );
+}
+
+#[path = "support/examples.rs"]
+mod support;
+
+#[test]
+fn the_example_prints_one_json_object_per_special_point() {
+    let exe = support::example_exe("continuation");
+    let dir = std::env::current_exe()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .join("global_continuation_example");
+    let run = std::process::Command::new(&exe)
+        .args([
+            "--param", "eta", "--from", "0.4", "--to", "0.8", "--period", "1", "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let text = String::from_utf8(run.stdout).unwrap();
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 1, "{text}");
+    let g = &lines[0];
+    assert_eq!(g["kind"], "grazing");
+    assert_eq!(g["param"], "eta");
+    let eta_g = grazing_eta(&Preset::Fig8a.params(), 0.4, 0.8);
+    assert!((g["value"].as_f64().unwrap() - eta_g).abs() < 1e-7, "{g}");
+    let m = g["multipliers"].as_array().unwrap();
+    assert_eq!(m.len(), 4);
+    assert!(m.iter().all(|p| p.as_array().unwrap().len() == 2));
+    assert!(dir.join("branch.png").exists() && dir.join("branch.csv").exists());
+
+    // From eta = 2 with --switch: the flip of period 1, then the period-2 branch and its own
+    // flip at 2.3827.
+    let run = std::process::Command::new(&exe)
+        .args([
+            "--param", "eta", "--from", "2", "--to", "2.45", "--period", "1", "--switch", "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let lines: Vec<serde_json::Value> = String::from_utf8(run.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let flip1 = lines
+        .iter()
+        .find(|l| l["kind"] == "flip" && l["period"] == 1)
+        .unwrap();
+    assert!((flip1["value"].as_f64().unwrap() - 2.234843277).abs() < 3e-8);
+    assert!(lines
+        .iter()
+        .any(|l| l["kind"] == "flip" && l["period"] == 2));
+
+    let bad = std::process::Command::new(&exe)
+        .args(["--param", "eta", "--from", "2"])
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+}

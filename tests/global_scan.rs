@@ -1,0 +1,402 @@
+//! Global dynamics on the paper's model: attractors identified against the reference values
+//! (docs/global.md), matched across starts, basins at eta = 2.2 with both preloads, and the
+//! resumable runner: a run interrupted and restarted equals an uninterrupted one bit for bit,
+//! for 1 and 2 threads; failures are recorded with their kind and not lost.
+
+use std::fs;
+use std::path::PathBuf;
+
+use jeffcott::global::{
+    find_attractor, run_points, scan_grid, Attractor, AttractorConfig, Grid2, GridScan, Json,
+    MatchTolerance, PointFailure, PointLabel, Record, RunConfig, SimFailureKind, SweepStore,
+};
+use jeffcott::hybrid::{OutputPlan, SimOptions};
+use jeffcott::paper::{BasinPlane, ParamPlane, RotorStart, StartPlane, SweepParameter};
+use jeffcott::params::Preset;
+use jeffcott::JeffcottModel;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    let target = exe.parent().and_then(|d| d.parent()).unwrap().to_path_buf();
+    let dir = target.join("global_scan_test").join(name);
+    let _ = fs::remove_dir_all(&dir);
+    dir
+}
+
+/// Every outcome as its record text: equal text is equal bits (numbers round-trip exactly).
+fn texts(scan: &GridScan) -> Vec<String> {
+    scan.results
+        .results
+        .iter()
+        .map(|r| match r {
+            Some(Ok(a)) => a.to_json().to_string(),
+            Some(Err(e)) => e.to_json().to_string(),
+            None => "missing".into(),
+        })
+        .collect()
+}
+
+fn quick() -> AttractorConfig {
+    AttractorConfig {
+        transient: 300,
+        record: 32,
+        max_transient: 600,
+        ..AttractorConfig::default()
+    }
+}
+
+/// A cycle point of `a` within `tol` of `z` (rotor components), and its distance.
+fn nearest(a: &Attractor, z: &[f64]) -> f64 {
+    a.cycle
+        .iter()
+        .map(|p| {
+            p.iter()
+                .zip(z)
+                .map(|(u, v)| (u - v).abs())
+                .fold(0.0, f64::max)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn attractors_match_the_reference_orbits() {
+    // Period 1 of Fig. 8a at eta = 2 (docs/global.md, reference check value, 1e-10).
+    let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.0)).unwrap();
+    let a = find_attractor(
+        &model,
+        &model.state_at([0.0; 2], [0.0; 2]).unwrap(),
+        &quick(),
+    )
+    .unwrap();
+    assert_eq!(a.period(), Some(1));
+    let z = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533];
+    // Converged at rate 0.73 per period for 300 periods: the distance is the check value's
+    // rounding (5e-11) plus the integration tolerance.
+    assert!(nearest(&a, &z) < 1e-8, "{}", nearest(&a, &z));
+    assert_eq!(a.stats.contacts_per_period, 1.0);
+    // One contact from tau = 1.20313 to 1.66682 per period 2 pi / 2 (reference).
+    let fraction = (1.66682 - 1.20313) / std::f64::consts::PI;
+    assert!(
+        (a.stats.contact_fraction - fraction).abs() < 1e-4,
+        "{}",
+        a.stats.contact_fraction
+    );
+    let regimes: Vec<u8> = a.stats.occupancy.iter().map(|o| o.0).collect();
+    assert_eq!(regimes, [1, 5]); // free flight and regime V (no preload)
+
+    // The period-3 orbit of Fig. 8a at eta = 2.17, reached from rest (reference point).
+    let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.17)).unwrap();
+    let config = AttractorConfig {
+        transient: 2000,
+        max_transient: 2000,
+        ..quick()
+    };
+    let b = find_attractor(
+        &model,
+        &model.state_at([0.0; 2], [0.0; 2]).unwrap(),
+        &config,
+    )
+    .unwrap();
+    assert_eq!(b.period(), Some(3));
+    let z3 = [0.4083372776, -0.0332339640, 0.0200130670, -0.3057623329];
+    assert!(nearest(&b, &z3) < 1e-8, "{}", nearest(&b, &z3));
+    // The canonical point is the cycle's lexicographic minimum.
+    let c = b.canonical().unwrap();
+    assert!(b.cycle.iter().all(|p| p[0] >= c[0]));
+    // The cycle really is a period-3 orbit: three periods from its canonical point return to it.
+    let y0 = model.state_at([c[0], c[1]], [c[2], c[3]]).unwrap();
+    let (traj, _) = model
+        .run(
+            0.0,
+            &y0,
+            &OutputPlan::strobe(model.params().forcing_period(), 1, 3),
+            &SimOptions::default(),
+        )
+        .unwrap();
+    let back = &traj.strobe[2].y;
+    let gap = (0..4).map(|i| (back[i] - c[i]).abs()).fold(0.0, f64::max);
+    assert!(gap < 1e-7, "{gap:e}");
+    let one = &traj.strobe[0].y;
+    assert!((one[0] - c[0]).abs() > 0.05); // not a fixed point
+}
+
+#[test]
+fn the_same_attractor_from_other_starts_matches_and_others_do_not() {
+    let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.2)).unwrap();
+    let run = |x: f64, v: f64| {
+        let y0 = model.state_at([x, 0.0], [v, 0.0]).unwrap();
+        find_attractor(&model, &y0, &quick()).unwrap()
+    };
+    // Two starts reaching period 3 and two reaching period 1 (from the basin picture).
+    let p3a = run(0.0, 0.0);
+    let p3b = run(0.6, 1.3);
+    let p1a = run(0.0, -1.5);
+    let p1b = run(-0.2, -1.4);
+    assert_eq!(
+        [p3a.period(), p3b.period(), p1a.period(), p1b.period()],
+        [Some(3), Some(3), Some(1), Some(1)]
+    );
+    let tol = MatchTolerance::default();
+    assert!(p3a.matches(&p3b, &tol) && p1a.matches(&p1b, &tol));
+    assert!(!p3a.matches(&p1a, &tol));
+    // Same canonical point from both starts (rotation fixed by the lexicographic minimum).
+    let d = nearest(&p3a, p3b.canonical().unwrap());
+    assert!(d < 1e-6 && (p3a.canonical().unwrap()[0] - p3b.canonical().unwrap()[0]).abs() < 1e-6);
+    // A cycle rotated by one point still matches; a cycle shifted by 2e-3 does not.
+    let mut rotated = p3a.clone();
+    rotated.cycle.rotate_left(1);
+    assert!(rotated.matches(&p3a, &tol));
+    let mut shifted = p3a.clone();
+    shifted.cycle[1][2] += 2e-3;
+    assert!(!shifted.matches(&p3a, &tol));
+    // A period-1 orbit recorded as period 2 (two equal points) is compared as period 1.
+    let mut doubled = p1a.clone();
+    doubled.cycle.push(doubled.cycle[0].clone());
+    doubled.periodicity = jeffcott::analysis::Periodicity::Period(2);
+    assert!(doubled.matches(&p1b, &tol));
+}
+
+#[test]
+fn basins_at_eta_2_2_hold_period_1_and_period_3_for_both_preloads() {
+    let grid = Grid2::linspace((-1.0, 1.0, 5), (-1.5, 1.5, 4)).unwrap();
+    // With D = 0.1 the period-3 orbit attracts slowly (a multiplier of its third iterate near
+    // -1 makes it look like period 6 after 600 periods): give it 2000.
+    let config = AttractorConfig {
+        transient: 1000,
+        max_transient: 2000,
+        ..quick()
+    };
+    for (preset, rest_period) in [(Preset::Fig8a, 3), (Preset::Fig8b, 1)] {
+        let plane = BasinPlane::new(preset.params().with_eta(2.2), StartPlane::XVx);
+        let scan = scan_grid(
+            &grid,
+            plane.setup(),
+            &config,
+            None,
+            &RunConfig::default(),
+            None,
+        )
+        .unwrap();
+        let cat = scan.catalogue(&MatchTolerance::default());
+        let mut periods: Vec<Option<usize>> =
+            cat.entries.iter().map(|e| e.attractor.period()).collect();
+        periods.sort();
+        assert_eq!(periods, [Some(1), Some(3)], "{preset}");
+        assert_eq!(cat.failed(), 0);
+        assert_eq!(
+            cat.entries.iter().map(|e| e.count).sum::<usize>(),
+            grid.len()
+        );
+        // From rest: period 3 without preload, period 1 with (the paper's 2.165 / 2.213).
+        let setup = plane.setup();
+        let (model, y0) = setup(&[0.0, 0.0]).unwrap();
+        let rest = find_attractor(&model, &y0, &config).unwrap();
+        assert_eq!(rest.period(), Some(rest_period), "{preset}");
+        let k = cat
+            .entries
+            .iter()
+            .position(|e| e.attractor.matches(&rest, &cat.tolerance));
+        assert!(
+            k.is_some(),
+            "{preset}: the attractor from rest is one of the grid's"
+        );
+    }
+}
+
+#[test]
+fn an_interrupted_scan_restarted_equals_an_uninterrupted_one_bitwise() {
+    let grid = Grid2::linspace((-1.0, 1.0, 6), (-1.5, 1.5, 5)).unwrap();
+    let plane = BasinPlane::new(Preset::Fig8b.params().with_eta(2.2), StartPlane::XVx);
+    let config = quick();
+    let description = Json::object([("plane", plane.to_json()), ("config", config.to_json())]);
+    let points = grid.points();
+
+    // Uninterrupted, one thread, in memory.
+    let whole = scan_grid(
+        &grid,
+        plane.setup(),
+        &config,
+        None,
+        &RunConfig::default().with_threads(1),
+        None,
+    )
+    .unwrap();
+    assert!(whole.results.is_complete());
+    assert_eq!(whole.results.computed, grid.len());
+
+    // Interrupted after 7 points (2 threads), then after 9 more (1 thread), then finished (2).
+    let dir = temp_dir("restart");
+    let store = SweepStore::open(&dir, "basins", description.clone(), &points).unwrap();
+    let two = RunConfig::default().with_threads(2);
+    let first = scan_grid(
+        &grid,
+        plane.setup(),
+        &config,
+        Some(&store),
+        &two.with_max_new_points(7),
+        None,
+    )
+    .unwrap();
+    assert_eq!(
+        (first.results.computed, first.results.missing()),
+        (7, grid.len() - 7)
+    );
+    // A kill in the middle of a write leaves a partial last line: simulate it.
+    let path = store.records_path(0);
+    let text = fs::read_to_string(&path).unwrap();
+    let last_line = text.lines().last().unwrap().to_string();
+    fs::write(
+        &path,
+        format!("{text}{}", &last_line[..last_line.len() / 2]),
+    )
+    .unwrap();
+    let store = SweepStore::open(&dir, "basins", description.clone(), &points).unwrap();
+    let second = scan_grid(
+        &grid,
+        plane.setup(),
+        &config,
+        Some(&store),
+        &RunConfig::default().with_threads(1).with_max_new_points(9),
+        None,
+    )
+    .unwrap();
+    assert_eq!((second.results.reused, second.results.computed), (7, 9));
+    let third = scan_grid(&grid, plane.setup(), &config, Some(&store), &two, None).unwrap();
+    assert_eq!(
+        (third.results.reused, third.results.computed),
+        (16, grid.len() - 16)
+    );
+    assert!(third.results.is_complete());
+    assert_eq!(texts(&third), texts(&whole));
+    assert_eq!(third.results.results, whole.results.results);
+
+    // A fourth run has nothing to do and reads back the same.
+    let fourth = scan_grid(&grid, plane.setup(), &config, Some(&store), &two, None).unwrap();
+    assert_eq!(
+        (fourth.results.reused, fourth.results.computed),
+        (grid.len(), 0)
+    );
+    assert_eq!(texts(&fourth), texts(&whole));
+    // Every point is recorded exactly once, the partial line cut off.
+    let lines = fs::read_to_string(&path).unwrap();
+    assert!(lines.ends_with('\n'));
+    assert_eq!(lines.lines().count(), grid.len());
+
+    // A different sweep in the same folder is refused.
+    let other = Json::object([
+        ("plane", plane.to_json()),
+        ("config", quick().to_json()),
+        ("x", Json::Null),
+    ]);
+    assert!(SweepStore::open(&dir, "basins", other, &points).is_err());
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn results_do_not_depend_on_the_number_of_threads() {
+    let grid = Grid2::linspace((2.1, 2.3, 4), (0.0, 0.1, 3)).unwrap();
+    let plane = ParamPlane::new(
+        Preset::Fig8a.params(),
+        SweepParameter::Eta,
+        SweepParameter::Preload,
+    );
+    let run = |t| {
+        scan_grid(
+            &grid,
+            plane.setup(),
+            &quick(),
+            None,
+            &RunConfig::default().with_threads(t),
+            None,
+        )
+        .unwrap()
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!((one.results.threads, two.results.threads), (1, 2));
+    assert_eq!(texts(&one), texts(&two));
+}
+
+#[test]
+fn failed_points_are_recorded_with_their_kind_and_not_rerun() {
+    // nu1 < 0 cannot build; a budget of 2 steps per contact fails the contact integration.
+    let grid = Grid2::new(vec![2.0, 2.2], vec![-0.1, 0.125]).unwrap();
+    let plane = ParamPlane::new(
+        Preset::Fig8a.params(),
+        SweepParameter::Eta,
+        SweepParameter::Nu1,
+    );
+    let dir = temp_dir("failures");
+    let store = SweepStore::open(&dir, "failures", Json::Null, &grid.points()).unwrap();
+    let mut config = quick();
+    config.opts.max_steps = 2;
+    let scan = scan_grid(
+        &grid,
+        plane.setup(),
+        &config,
+        Some(&store),
+        &RunConfig::default(),
+        None,
+    )
+    .unwrap();
+    let f: Vec<_> = scan
+        .results
+        .failures()
+        .map(|(i, e)| (i, e.clone()))
+        .collect();
+    assert_eq!(f.len(), 4);
+    assert!(matches!(f[0].1, PointFailure::Build { ref message } if message.contains("nu1")));
+    assert!(
+        matches!(f[2].1, PointFailure::Simulation { kind: SimFailureKind::Integrator, t, .. } if t > 0.0)
+    );
+    let again = scan_grid(
+        &grid,
+        plane.setup(),
+        &config,
+        Some(&store),
+        &RunConfig::default(),
+        None,
+    )
+    .unwrap();
+    assert_eq!((again.results.computed, again.results.reused), (0, 4));
+    assert_eq!(again.results.results, scan.results.results);
+    let cat = again.catalogue(&MatchTolerance::default());
+    assert_eq!(cat.labels, vec![PointLabel::Failed; 4]);
+    // With a sound budget the valid points succeed.
+    let fine = scan_grid(
+        &grid,
+        plane.setup(),
+        &quick(),
+        None,
+        &RunConfig::default(),
+        None,
+    )
+    .unwrap();
+    assert_eq!(fine.results.failures().count(), 2);
+    assert_eq!(fine.periods(), [None, None, Some(1), Some(3)]);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn run_points_works_on_any_points_and_stops_on_a_time_budget() {
+    let points: Vec<[f64; 2]> = (0..40).map(|i| [i as f64, 0.5]).collect();
+    let f = |p: &[f64; 2]| -> Result<f64, String> {
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        Ok(p[0].sin() * p[1])
+    };
+    let cfg = RunConfig::default()
+        .with_threads(2)
+        .with_time_budget(std::time::Duration::from_millis(30));
+    let partial = run_points(&points, None, &cfg, f, None).unwrap();
+    assert!(
+        partial.computed > 0 && partial.computed < 40,
+        "{}",
+        partial.computed
+    );
+    let done: Vec<f64> = partial.successes().map(|(_, v)| *v).collect();
+    assert!(partial
+        .successes()
+        .all(|(i, v)| v.to_bits() == ((i as f64).sin() * 0.5).to_bits()));
+    assert_eq!(done.len(), partial.computed);
+    let start = RotorStart::at_rest();
+    assert_eq!(start.position, [0.0, 0.0]);
+}
