@@ -29,8 +29,10 @@ pub struct SimOptions {
     /// `1..=`[`MAX_SAMPLES`]. Default 4.
     pub event_samples: usize,
     /// Chattering bound: more transitions than this within one forcing period is an error
-    /// ([`SimErrorKind::Chattering`]). Default 1000. Transitions that do not advance time are
-    /// [`SimErrorKind::Stalled`] after 64 in a row (or this bound, if lower).
+    /// ([`SimErrorKind::Chattering`]), reported once time is seen to advance past the transition
+    /// that exceeded the bound (so that raising it lets the run go further). Default 1000.
+    /// Transitions that do not advance time are [`SimErrorKind::Stalled`] after 64 in a row (or
+    /// this bound, if lower).
     pub max_events_per_period: u32,
     /// Step attempts allowed per integrated phase. Default 1e7.
     pub max_steps: u64,
@@ -77,7 +79,10 @@ pub enum SimErrorKind {
     #[error(transparent)]
     Integrator(#[from] OdeError),
     /// Transitions accumulate: chattering or Zeno behaviour. Time still advances between
-    /// them (a run that cannot advance at all is [`SimErrorKind::Stalled`]).
+    /// them: the error is reported at the first transition after the bound was exceeded that
+    /// advances time (or at the end of the run), with the time and state of the transition
+    /// that exceeded it, so a larger bound lets the run go further. A run that cannot advance
+    /// at all is [`SimErrorKind::Stalled`].
     #[error("chattering: {count} transitions within one forcing period (bound {bound}); raise SimOptions::max_events_per_period if this is expected")]
     Chattering {
         /// Transitions counted in the window.
@@ -578,6 +583,8 @@ where
     let mut y = y0.clone();
     model.project(mode, t, &mut y, &cache);
     let mut keep_step = false;
+    // A chattering error waiting for time to advance (after each transition, below).
+    let mut chattering: Option<SimError<M::Dim>> = None;
 
     'modes: loop {
         let (guard, t_event) = match model.flow(mode) {
@@ -658,6 +665,18 @@ where
                         } else {
                             integ.dense(&sys, to, &mut w.yo);
                         }
+                        if !w.yo.iter().all(|v| v.is_finite()) {
+                            // The dense output inside an accepted step can overflow where the
+                            // step's ends did not (DOP853's extra stages): the last good state
+                            // is the step's start.
+                            collect(&mut stats, &integ);
+                            return Err(fail(
+                                SimErrorKind::NonFinite,
+                                integ.t_prev(),
+                                integ.y_prev(),
+                                stats,
+                            ));
+                        }
                         model.project(mode, to, &mut w.yo, &out_cache);
                         model.rhs(mode, to, &w.yo, &mut w.dy, &out_cache);
                         w.out.emit(obs, due, to, &w.yo, &w.dy, label);
@@ -665,6 +684,16 @@ where
                     if let Some(h) = hit {
                         y.copy_from(&ev_state.hit().y);
                         collect(&mut stats, &integ);
+                        if !y.iter().all(|v| v.is_finite()) {
+                            // As for outputs: the event was located on a dense output that is
+                            // not finite.
+                            return Err(fail(
+                                SimErrorKind::NonFinite,
+                                integ.t_prev(),
+                                integ.y_prev(),
+                                stats,
+                            ));
+                        }
                         break h;
                     }
                     t = integ.t();
@@ -692,8 +721,19 @@ where
         if let Err(k) = stall.record(t, kind) {
             return Err(fail(k, t, &y, stats));
         }
+        // Chattering is reported once time is seen to advance past the transition that
+        // exceeded the bound (or at the end of the run): while transitions pile up at one
+        // instant the stall guard decides, so that raising the bound always lets the run go
+        // further in time.
+        if stall.count == 0 {
+            if let Some(e) = chattering.take() {
+                return Err(e);
+            }
+        }
         if let Err(k) = chatter.record(t) {
-            return Err(fail(k, t, &y, stats));
+            if chattering.is_none() {
+                chattering = Some(fail(k, t, &y, stats));
+            }
         }
         if plan.events {
             let e = &mut w.event;
@@ -707,7 +747,10 @@ where
             break;
         }
     }
-    Ok(stats)
+    match chattering {
+        Some(e) => Err(e),
+        None => Ok(stats),
+    }
 }
 
 fn collect<D: Dim>(stats: &mut SimStats, integ: &AnyIntegrator<D>)
