@@ -175,14 +175,14 @@ fn options() -> impl Strategy<Value = SimOptions> {
         80 => 2usize..=64,
         1 => Just(65usize),
     ];
-    // Up to 1e5 transitions per period: u32::MAX lets a run of unresolved RK4 (whose every
-    // contact multiplies the velocity) touch the ring for hours, as asked.
+    // Up to 1e4 transitions per period: u32::MAX (or 1e5) lets a run of unresolved RK4, whose
+    // every contact multiplies the velocity, touch the ring for minutes or hours, as asked.
     let events = prop_oneof![
         1 => Just(0u32),
         1 => Just(1u32),
         2 => 2u32..100,
         8 => Just(1000u32),
-        1 => Just(100_000u32),
+        1 => Just(10_000u32),
     ];
     let max_steps = prop_oneof![1 => Just(1u64), 2 => 2u64..1000, 8 => 1000u64..100_000];
     (
@@ -466,8 +466,8 @@ struct Consistency {
     resolved: bool,
 }
 
-/// Whether the integrated modes are resolved: adaptive methods always (error control rejects
-/// unstable steps); RK4 when its fixed step $h$ is within its stability region for the stiffest
+/// Whether the integrated modes are resolved: adaptive methods with `rtol <= 1e-3` (error
+/// control rejects unstable steps; `rtol = 1` asks for no accuracy at all); RK4 when its fixed step $h$ is within its stability region for the stiffest
 /// motion of the case, $h\lambda \le 1$ with $\lambda = \sqrt{1 + 2K_{\max} + 3|k_3|u^2}
 /// + 2\nu_1 + 4\nu_2 + |q|$ ($u$ a bound on the rotor's distance from its rest position, for
 /// the cubic bearing). Beyond it RK4 explodes within a few steps to finite garbage on which no
@@ -475,7 +475,7 @@ struct Consistency {
 /// only.
 fn resolved(c: &RunCase) -> bool {
     if c.opts.method != Method::Rk4 {
-        return true;
+        return c.opts.rtol <= 1e-3;
     }
     let p = &c.p;
     let (q, k3) = match c.model {
@@ -492,6 +492,18 @@ fn resolved(c: &RunCase) -> bool {
     h * lambda <= 1.0
 }
 
+/// How an output failed the consistency check.
+#[derive(Debug)]
+enum Violation {
+    /// Free flight with the rotor beyond the ring, at this time.
+    FreeBeyond(f64),
+    /// A contact whose ring is off its minimum-energy position, or labelled with another
+    /// regime than the ring's position, at this time.
+    WrongContact(f64),
+    /// Anything else (non-finite output, broken constraint, unknown label).
+    Other,
+}
+
 /// A state at an output is finite and consistent with its mode label (module docs).
 fn check_point(
     ring: &SnubberRing,
@@ -500,9 +512,10 @@ fn check_point(
     t: f64,
     y: &State,
     label: u8,
-) -> Result<(), String> {
+) -> Result<(), (Violation, String)> {
+    let other = |msg: String| Err((Violation::Other, msg));
     if !(t.is_finite() && y.iter().all(|v| v.is_finite())) {
-        return Err(format!("{what}: non-finite output at t = {t}: {y:?}"));
+        return other(format!("{what}: non-finite output at t = {t}: {y:?}"));
     }
     let r = Vector2::new(y[0], y[1]);
     let s = Vector2::new(y[4], y[5]);
@@ -510,33 +523,40 @@ fn check_point(
     let gap = ring.gap;
     if label == 1 {
         if d > gap * (1.0 + tol.free) {
-            return Err(format!(
-                "{what}: free flight with the rotor beyond the ring, |r - s| - gap = {:e} at t = {t}",
-                d - gap
+            return Err((
+                Violation::FreeBeyond(t),
+                format!(
+                    "{what}: free flight with the rotor beyond the ring, |r - s| - gap = {:e} at t = {t}",
+                    d - gap
+                ),
             ));
         }
         return Ok(());
     }
     if !(2..=5).contains(&label) {
-        return Err(format!("{what}: label {label} at t = {t}"));
+        return other(format!("{what}: label {label} at t = {t}"));
     }
     // |r - s| is rounded relative to |r| and |s|.
     let round = 1e-12 * (gap + r.norm() + s.norm());
     if (d - gap).abs() > 1e-9 * gap + round {
-        return Err(format!(
+        return other(format!(
             "{what}: contact with |r - s| - gap = {:e} at t = {t}",
             d - gap
         ));
     }
     if r.norm() > gap && tol.resolved {
-        let star = ring
-            .locate(&r)
-            .map_err(|e| format!("{what}: locate failed at a contact output: {e}"))?;
+        let star = match ring.locate(&r) {
+            Ok(c) => c,
+            Err(e) => return other(format!("{what}: locate failed at a contact output: {e}")),
+        };
         let off = (star.s - s).norm();
         if off > tol.contact * (1.0 + s.norm()) {
-            return Err(format!(
-                "{what}: contact ring {off:e} away from s*(r) at t = {t} (label {label}, s* regime {})",
-                star.regime()
+            return Err((
+                Violation::WrongContact(t),
+                format!(
+                    "{what}: contact ring {off:e} away from s*(r) at t = {t} (label {label}, s* regime {})",
+                    star.regime()
+                ),
             ));
         }
         // The label is the ring position's regime, up to event location at a preload.
@@ -546,13 +566,51 @@ fn check_point(
                 axis.preload > 0.0 && (v.abs() - axis.preload).abs() <= 1e-6 * (1.0 + axis.preload)
             };
             if !(near(&ring.x, s.x) || near(&ring.y, s.y)) {
-                return Err(format!(
-                    "{what}: label {label} but the ring at {s:?} is in regime {by_s} at t = {t}"
+                return Err((
+                    Violation::WrongContact(t),
+                    format!("{what}: label {label} but the ring at {s:?} is in regime {by_s} at t = {t}"),
                 ));
             }
         }
     }
     Ok(())
+}
+
+/// Known open defect A (docs/reliability.md): in an **integrated** free flight
+/// (`RingedRotor`) that starts with the rotor touching the ring (after a contact loss or a
+/// touch without load, or a start on the gap circle), the onset guard $h = |r - s|^2 -
+/// \gamma^2$ starts at zero; if the rotor then moves or curves into the ring, the guard leaves
+/// zero in its crossing direction, which the start-of-segment rule of `ode::events` takes for
+/// the zero at the start, not an event, and the rotor passes through the ring. Recognised by
+/// the free phase that holds the bad output starting touching ($|h| \le 10^{-9}$).
+fn known_touching_start_swallowed(
+    ring: &SnubberRing,
+    y0: &State,
+    events: &[jeffcott::hybrid::EventRecord<U6>],
+    t_bad: f64,
+) -> bool {
+    let start = events
+        .iter()
+        .rev()
+        .find(|e| e.t <= t_bad)
+        .map_or(y0, |e| &e.after);
+    let r = Vector2::new(start[0], start[1]);
+    let s = Vector2::new(start[4], start[5]);
+    ((r - s).norm_squared() - ring.gap * ring.gap).abs() <= 1e-9
+}
+
+/// Known open defect D (docs/reliability.md): a preload so small that the ring crosses it
+/// within the time resolution of a contact's start (a few ulps of $t$ times the ring's speed):
+/// the preload guard starts within the start-of-segment window of `ode::events` and leaves it
+/// in its crossing direction, so it is taken for the zero at the start, not an event, while the
+/// ring element chose the branch by a tolerance relative to the preload ($10^{-10} D$): the
+/// contact runs on the inner branch with the ring beyond its preload.
+fn known_tiny_preload(ring: &SnubberRing, t: f64, y: &State) -> bool {
+    let speed = 1.0 + y[2].hypot(y[3]);
+    let reach = 64.0 * f64::EPSILON * (1.0 + t.abs()) * speed;
+    [ring.x.preload, ring.y.preload]
+        .iter()
+        .any(|&d| d > 0.0 && d <= reach)
 }
 
 /// Runs a model from `(t0, y0)` with `plan`, recording everything.
@@ -656,11 +714,51 @@ fn check_run(c: RunCase) -> Result<String, String> {
         contact: 1e-6,
         resolved,
     };
-    for pt in &traj.strobe {
-        check_point(&ring, &tol, "strobe", pt.t, &pt.y, pt.label)?;
-    }
-    for s in &traj.samples {
-        check_point(&ring, &tol, "sample", s.t, &s.y, s.label)?;
+    let checked = traj
+        .strobe
+        .iter()
+        .map(|pt| check_point(&ring, &tol, "strobe", pt.t, &pt.y, pt.label))
+        .chain(
+            traj.samples
+                .iter()
+                .map(|s| check_point(&ring, &tol, "sample", s.t, &s.y, s.label)),
+        )
+        .find_map(Result::err);
+    if let Some((violation, msg)) = checked {
+        // The known open defects are counted as such; anything else is a new defect.
+        match (violation, c.model) {
+            (Violation::FreeBeyond(t_bad), ModelSpec::Custom { .. }) => {
+                // The event log (the same trajectory: outputs never change it).
+                let logged = OutputPlan {
+                    events: true,
+                    ..plan
+                };
+                let (_, full) = match c.model {
+                    ModelSpec::Custom { q, k3 } => {
+                        let m = rotor::on_ring(p, q, k3).map_err(|e| e.to_string())?;
+                        sim(&m, c.t0, &y0, &logged, &c.opts)
+                    }
+                    ModelSpec::Paper => (Ok(()), Trajectory::default()),
+                };
+                if known_touching_start_swallowed(&ring, &y0, &full.events, t_bad) {
+                    return Ok(format!("{model}: KNOWN DEFECT A (onset lost at a touching start)"));
+                }
+            }
+            (Violation::WrongContact(t_bad), _) => {
+                let y = traj
+                    .strobe
+                    .iter()
+                    .map(|p| (p.t, p.y))
+                    .chain(traj.samples.iter().map(|s| (s.t, s.y)))
+                    .find(|(t, _)| *t == t_bad)
+                    .map_or(y0, |(_, y)| y);
+                if known_tiny_preload(&ring, t_bad, &y) {
+                    return Ok(format!("{model}: KNOWN DEFECT D (preload below the time resolution)"));
+                }
+            }
+            _ => {}
+        }
+        return Err(msg);
     }
     for e in &traj.events {
         if !(e.t.is_finite()
@@ -1137,7 +1235,8 @@ impl Tally {
                 }
             }
         }
-        for d in self.defects.iter().take(20) {
+        let all = std::env::var("FUZZ_EXAMPLES").is_ok();
+        for d in self.defects.iter().take(if all { usize::MAX } else { 20 }) {
             s += &format!("  DEFECT {d}\n");
         }
         s
