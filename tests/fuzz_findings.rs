@@ -348,3 +348,38 @@ fn chattering_is_not_reported_where_the_run_stalls() {
     let n = slowdown(u32::MAX, 150).unwrap();
     assert!((199..=200).contains(&n), "{n}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// 5. A single transition at the start instant reported as a stall under a low chattering bound.
+
+/// With `max_events_per_period = 1` the stall bound was lowered to 1, so the contact onset of a
+/// start on the gap circle moving outward (a transition at the start instant, as it must be)
+/// ended the run at once in `Stalled { transitions: 1 }`, whose advice ("raising
+/// max_events_per_period will not help") was false. A stall now needs 64 transitions at one
+/// instant whatever the bound; the low bound gives chattering once time advances.
+#[test]
+fn one_transition_at_the_start_is_not_a_stall() {
+    let p = Params::default();
+    let m = JeffcottModel::new(p).unwrap();
+    let y0 = m.state_at([0.0, 1.0], [0.0, 0.5]).unwrap();
+    let run = |bound: u32| {
+        let opts = SimOptions {
+            max_events_per_period: bound,
+            ..SimOptions::default()
+        };
+        m.run(0.0, &y0, &plan(&p, 2), &opts)
+    };
+    match run(1) {
+        Err(f) => match f.error.kind {
+            SimErrorKind::Chattering { bound: 1, .. } => assert!(f.error.t > 0.0, "{}", f.error),
+            other => panic!("{other}"),
+        },
+        Ok((traj, _)) => panic!(
+            "more than one transition per period expected: {:?}",
+            traj.events.len()
+        ),
+    }
+    let (traj, _) = run(1000).unwrap_or_else(|f| panic!("{}", f.error));
+    assert_eq!(traj.events[0].t, 0.0);
+    assert!(traj.events[0].to > 1);
+}

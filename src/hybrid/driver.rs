@@ -31,8 +31,8 @@ pub struct SimOptions {
     /// Chattering bound: more transitions than this within one forcing period is an error
     /// ([`SimErrorKind::Chattering`]), reported once time is seen to advance past the transition
     /// that exceeded the bound (so that raising it lets the run go further). Default 1000.
-    /// Transitions that do not advance time are [`SimErrorKind::Stalled`] after 64 in a row (or
-    /// this bound, if lower).
+    /// Transitions that do not advance time are [`SimErrorKind::Stalled`] after 64 in a row,
+    /// whatever this bound (a lower bound does not shorten the evidence for a stall).
     pub max_events_per_period: u32,
     /// Step attempts allowed per integrated phase. Default 1e7.
     pub max_steps: u64,
@@ -307,7 +307,9 @@ impl ChatterGuard {
 }
 
 /// Consecutive transitions without time advancing after which a run is
-/// [`SimErrorKind::Stalled`] (or the chattering bound, if lower).
+/// [`SimErrorKind::Stalled`]. Not lowered with the chattering bound: a single transition at
+/// the start instant (a start on a boundary) is no evidence of a stall, and the chattering
+/// error waits for the stall guard's verdict (`SimOptions::max_events_per_period`).
 const STALL_TRANSITIONS: u32 = 64;
 
 /// A transition advances time if it is more than this many units of roundoff of the time
@@ -576,7 +578,7 @@ where
     let mut stall = StallGuard {
         last_t: t0,
         count: 0,
-        bound: STALL_TRANSITIONS.min(opts.max_events_per_period.max(1)),
+        bound: STALL_TRANSITIONS,
         period,
     };
     let mut t = t0;
