@@ -13,7 +13,10 @@
 //! `NonFinite`; a failed transition), never in an option or start error. A success has finite
 //! states at every output, the expected strobes, and the ring consistent with the rotor there:
 //! in free flight $|r - s| \le \gamma$, in contact $|r - s| = \gamma$ with the ring at its
-//! minimum-energy position $s^*(r)$ and the regime label of the ring's position.
+//! minimum-energy position $s^*(r)$ and the regime label of the ring's position. Those
+//! consistency checks need a resolved integration ([`resolved`]); unresolved RK4 runs are
+//! counted apart. The two known open defects (docs/reliability.md, A and D) are recognised by
+//! their mechanism and counted as such; any other failure fails the test.
 //!
 //! **Runs.** `cargo test --test fuzz` runs a short version (a few seconds; failures shrink and
 //! are saved in `proptest-regressions/fuzz.txt`, replayed first on every run). The long run

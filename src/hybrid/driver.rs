@@ -21,7 +21,11 @@ pub struct SimOptions {
     pub rtol: f64,
     /// Absolute tolerance of adaptive methods. Default `1e-12`.
     pub atol: f64,
-    /// Fixed steps per forcing period for [`Method::Rk4`] (>= 1). Default 400.
+    /// Fixed steps per forcing period for [`Method::Rk4`] (>= 1). Default 400. RK4 is stable
+    /// only while $h\lambda \lesssim 2.8$ for the fastest rate $\lambda$ of the motion (in
+    /// the paper's model about $\sqrt{1 + 2K} + 2\nu_1 + 4\nu_2$ in contact): beyond it the
+    /// run goes on with finite garbage on which no guard is located reliably (see
+    /// `docs/reliability.md`).
     pub steps_per_period: u32,
     /// Largest step as a fraction of the forcing period (> 0). Default 0.25.
     pub max_step_fraction: f64,
