@@ -1049,6 +1049,16 @@ fn check_ring(c: RingCase) -> Result<String, String> {
             if !(ct.mu.is_finite() && ct.jacobian.iter().all(|x| x.is_finite())) {
                 return Err(format!("locate_on: non-finite contact {ct:?}"));
             }
+            // The warm start changes nothing beyond rounding (guards are evaluated warm,
+            // transitions cold), where contact modes use the extension: from a little inside
+            // the gap circle out (deep inside, an axis near its pole is ill-conditioned).
+            let used = r.norm() >= 0.999 * gap;
+            if let (true, Ok(cold)) = (used, ring.locate_on(&r, b, f64::NAN)) {
+                let diff = (cold.s - ct.s).norm();
+                if diff > 1e-12 * (gap + r.norm()) {
+                    return Err(format!("locate_on: warm start moves the ring by {diff:e}"));
+                }
+            }
         }
         Err(e @ RingError::NotConverged { .. }) => return Err(format!("locate_on {b:?}: {e}")),
         Err(_) => outcome.push("locate_on error".into()),
