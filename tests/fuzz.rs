@@ -467,12 +467,12 @@ struct Consistency {
 }
 
 /// Whether the integrated modes are resolved: adaptive methods with `rtol <= 1e-3` (error
-/// control rejects unstable steps; `rtol = 1` asks for no accuracy at all); RK4 when its fixed step $h$ is within its stability region for the stiffest
-/// motion of the case, $h\lambda \le 1$ with $\lambda = \sqrt{1 + 2K_{\max} + 3|k_3|u^2}
-/// + 2\nu_1 + 4\nu_2 + |q|$ ($u$ a bound on the rotor's distance from its rest position, for
-/// the cubic bearing, none if it softens). Beyond it RK4 explodes within a few steps to finite
-/// garbage on which no guard can be located: such runs are counted apart when their outputs
-/// are inconsistent.
+/// control rejects unstable steps; `rtol = 1` asks for no accuracy at all); RK4 when its fixed
+/// step $h$ is within its stability region for the stiffest motion of the case, $h\lambda \le
+/// 1$ with $\lambda = \sqrt{1 + 2K_{\max} + 3|k_3|u^2} + 2\nu_1 + 4\nu_2 + |q|$ ($u$ a bound
+/// on the rotor's distance from its rest position, for the cubic bearing; none if it softens).
+/// Beyond it RK4 explodes within a few steps to finite garbage on which no guard can be
+/// located: such runs are counted apart when their outputs are inconsistent.
 fn resolved(c: &RunCase) -> bool {
     if c.opts.method != Method::Rk4 {
         return c.opts.rtol <= 1e-3;
@@ -650,6 +650,9 @@ fn known_tiny_preload(
     }
 }
 
+/// A run's end: success, or the error kind with the last good time and state.
+type Ending = Result<(), (SimErrorKind, f64, State)>;
+
 /// Runs a model from `(t0, y0)` with `plan`, recording everything.
 fn sim<M: RotorModel<Dim = U6>>(
     m: &M,
@@ -657,7 +660,7 @@ fn sim<M: RotorModel<Dim = U6>>(
     y0: &State,
     plan: &OutputPlan,
     opts: &SimOptions,
-) -> (Result<(), (SimErrorKind, f64, State)>, Trajectory<U6>) {
+) -> (Ending, Trajectory<U6>) {
     let mut traj = Trajectory::default();
     let res = simulate(m, t0, y0, plan, opts, &mut traj)
         .map(|_| ())
@@ -672,11 +675,8 @@ fn check_run(c: RunCase) -> Result<String, String> {
             .map_err(|e| format!("generated invalid params: {e}"))?;
     let paper = JeffcottModel::new(p).map_err(|e| format!("JeffcottModel::new: {e}"))?;
     let ring = *paper.ring();
-    let y0 = match build_start(&paper, &c.start) {
-        Ok(y) => y,
-        // state_at must accept every finite rotor position.
-        Err(e) => return Err(e),
-    };
+    // state_at must accept every finite rotor position.
+    let y0 = build_start(&paper, &c.start)?;
     let period = p.forcing_period();
     let t_end = c.t0 + f64::from(c.periods) * period;
     let first = (c.t0 / period).ceil() as u64;
@@ -722,14 +722,14 @@ fn check_run(c: RunCase) -> Result<String, String> {
         };
     }
     if !c.start.kind.consistent() {
-        let expected = match (&res, c.start.kind) {
-            (Err((SimErrorKind::NonFinite, _, _)), StartKind::NonFinite) => true,
-            (
-                Err((SimErrorKind::Model(ModelError::InvalidState { .. }), _, _)),
-                StartKind::OffMinimum | StartKind::BeyondRing,
-            ) => true,
-            _ => false,
-        };
+        let expected = matches!(
+            (&res, c.start.kind),
+            (Err((SimErrorKind::NonFinite, _, _)), StartKind::NonFinite)
+                | (
+                    Err((SimErrorKind::Model(ModelError::InvalidState { .. }), _, _)),
+                    StartKind::OffMinimum | StartKind::BeyondRing,
+                )
+        );
         return if expected {
             Ok(format!("{model}: {label} (inconsistent start)"))
         } else {
