@@ -609,15 +609,19 @@ fn known_touching_start_swallowed(
     (q.norm_squared() - ring.gap * ring.gap).abs() <= 1e-9 + rate * window
 }
 
-/// Known open defect D (docs/reliability.md): a preload so small that the ring crosses it
-/// within the time resolution of a contact's start: the preload guard starts within the
-/// start-of-segment window of `ode::events` ($w = 8\varepsilon\max(|t|, |t_\text{end}|)$, the
-/// step's end at most `step_max` later) and leaves it in its crossing direction, so it is taken
-/// for the zero at the start, not an event, while the ring element chose the branch by a
-/// tolerance relative to the preload ($10^{-10} D$): the contact runs on the inner branch with
-/// the ring beyond its preload. Recognised by a transition of the contact phase that holds the
-/// bad output (or the run's start in contact) where some preload is within $4|r^\prime| w$
-/// (the ring moves at most about three times as fast as the rotor).
+/// Known open defect D (docs/reliability.md): a preload so small that the ring's excursion
+/// around it is shorter than the event detector's resolution at a mode's start. Either the
+/// preload guard starts within the start-of-segment window of `ode::events`
+/// ($w = 8\varepsilon\max(|t|, |t_\text{end}|)$, the step's end at most `step_max` later) and
+/// leaves it in its crossing direction, so it is taken for the zero at the start (the ring
+/// element chose the branch by a tolerance relative to the preload, $10^{-10} D$); or, after an
+/// inward crossing, the inner branch's guard $|s_i| - D_i$ dips to $-D_i$ and comes back as the
+/// ring passes through its centre faster than the detector's probe
+/// ($\delta \le \max(4w, 2^{-20} h)$ after the start) can see. Either way the contact runs on
+/// the inner branch with the ring beyond its preload. Recognised by a transition of the contact
+/// phase that holds the bad output (or the run's start in contact) where some preload is
+/// within $4|r^\prime| \max(w, \delta)$ (the ring moves at most about three times as fast as
+/// the rotor).
 fn known_tiny_preload(
     ring: &SnubberRing,
     y0: &State,
@@ -628,7 +632,8 @@ fn known_tiny_preload(
 ) -> bool {
     let within = |t: f64, y: &State| {
         let w = 8.0 * f64::EPSILON * (t.abs() + step_max);
-        let reach = 4.0 * y[2].hypot(y[3]) * w;
+        let probe = (4.0 * w).max(step_max * 2f64.powi(-20));
+        let reach = 4.0 * y[2].hypot(y[3]) * probe;
         [ring.x.preload, ring.y.preload]
             .iter()
             .any(|&d| d > 0.0 && d <= reach)
