@@ -850,7 +850,10 @@ fn check_run(c: RunCase) -> Result<String, String> {
                     }
                 }
             }
-            Ok(format!("{model}: {label}"))
+            Ok(format!(
+                "{model}: {label}{}",
+                if resolved { "" } else { " (RK4 unresolved)" }
+            ))
         }
     }
 }
@@ -1326,7 +1329,7 @@ where
         match verdict {
             Ok(label) => {
                 let ex = t.examples.entry(label.clone()).or_default();
-                if ex.len() < 3 {
+                if ex.len() < env("FUZZ_EXAMPLES", 3) {
                     ex.push(desc);
                 }
                 *t.outcomes.entry(label).or_default() += 1;
