@@ -53,7 +53,8 @@
 //!
 //! Long-form guides live in the repository's `docs/` folder: `model.md` (the model as
 //! implemented, every erratum of the paper and every choice), `integrators.md`, `ring.md`,
-//! `reproduction.md`, `accuracy.md`, `performance.md`, and `hybrid.md` (your own rotor model:
+//! `reproduction.md`, `accuracy.md`, `reliability.md` (every outcome of a run and when it is
+//! the honest one, fuzzing counts), `performance.md`, and `hybrid.md` (your own rotor model:
 //! the contract of [`hybrid::RotorModel`], run-time sizes, algebraic components, the
 //! analyses), `stability.md` (saltation matrices, multipliers, Lyapunov exponents).
 //!

@@ -21,7 +21,11 @@ pub struct SimOptions {
     pub rtol: f64,
     /// Absolute tolerance of adaptive methods. Default `1e-12`.
     pub atol: f64,
-    /// Fixed steps per forcing period for [`Method::Rk4`] (>= 1). Default 400.
+    /// Fixed steps per forcing period for [`Method::Rk4`] (>= 1). Default 400. RK4 is stable
+    /// only while $h\lambda \lesssim 2.8$ for the fastest rate $\lambda$ of the motion (in
+    /// the paper's model about $\sqrt{1 + 2K} + 2\nu_1 + 4\nu_2$ in contact): beyond it the
+    /// run goes on with finite garbage on which no guard is located reliably (see
+    /// `docs/reliability.md`).
     pub steps_per_period: u32,
     /// Largest step as a fraction of the forcing period (> 0). Default 0.25.
     pub max_step_fraction: f64,
@@ -29,8 +33,10 @@ pub struct SimOptions {
     /// `1..=`[`MAX_SAMPLES`]. Default 4.
     pub event_samples: usize,
     /// Chattering bound: more transitions than this within one forcing period is an error
-    /// ([`SimErrorKind::Chattering`]). Default 1000. Transitions that do not advance time are
-    /// [`SimErrorKind::Stalled`] after 64 in a row (or this bound, if lower).
+    /// ([`SimErrorKind::Chattering`]), reported once time is seen to advance past the transition
+    /// that exceeded the bound (so that raising it lets the run go further). Default 1000.
+    /// Transitions that do not advance time are [`SimErrorKind::Stalled`] after 64 in a row,
+    /// whatever this bound (a lower bound does not shorten the evidence for a stall).
     pub max_events_per_period: u32,
     /// Step attempts allowed per integrated phase. Default 1e7.
     pub max_steps: u64,
@@ -84,7 +90,10 @@ pub enum SimErrorKind {
     #[error(transparent)]
     Integrator(#[from] OdeError),
     /// Transitions accumulate: chattering or Zeno behaviour. Time still advances between
-    /// them (a run that cannot advance at all is [`SimErrorKind::Stalled`]).
+    /// them: the error is reported at the first transition after the bound was exceeded that
+    /// advances time (or at the end of the run), with the time and state of the transition
+    /// that exceeded it, so a larger bound lets the run go further. A run that cannot advance
+    /// at all is [`SimErrorKind::Stalled`].
     #[error("chattering: {count} transitions within one forcing period (bound {bound}); raise SimOptions::max_events_per_period if this is expected")]
     Chattering {
         /// Transitions counted in the window.
@@ -323,7 +332,9 @@ impl ChatterGuard {
 }
 
 /// Consecutive transitions without time advancing after which a run is
-/// [`SimErrorKind::Stalled`] (or the chattering bound, if lower).
+/// [`SimErrorKind::Stalled`]. Not lowered with the chattering bound: a single transition at
+/// the start instant (a start on a boundary) is no evidence of a stall, and the chattering
+/// error waits for the stall guard's verdict (`SimOptions::max_events_per_period`).
 const STALL_TRANSITIONS: u32 = 64;
 
 /// A transition advances time if it is more than this many units of roundoff of the time
@@ -593,13 +604,15 @@ where
     let mut stall = StallGuard {
         last_t: t0,
         count: 0,
-        bound: STALL_TRANSITIONS.min(opts.max_events_per_period.max(1)),
+        bound: STALL_TRANSITIONS,
         period,
     };
     let mut t = t0;
     let mut y = y0.clone();
     model.project(mode, t, &mut y, &cache);
     let mut keep_step = false;
+    // A chattering error waiting for time to advance (after each transition, below).
+    let mut chattering: Option<SimError<M::Dim>> = None;
 
     'modes: loop {
         let (guard, t_event) = match model.flow(mode) {
@@ -680,6 +693,18 @@ where
                         } else {
                             integ.dense(&sys, to, &mut w.yo);
                         }
+                        if !w.yo.iter().all(|v| v.is_finite()) {
+                            // The dense output inside an accepted step can overflow where the
+                            // step's ends did not (DOP853's extra stages): the last good state
+                            // is the step's start.
+                            collect(&mut stats, &integ);
+                            return Err(fail(
+                                SimErrorKind::NonFinite,
+                                integ.t_prev(),
+                                integ.y_prev(),
+                                stats,
+                            ));
+                        }
                         model.project(mode, to, &mut w.yo, &out_cache);
                         // Only dense samples carry the derivative.
                         if matches!(due, Due::Dense) {
@@ -690,6 +715,16 @@ where
                     if let Some(h) = hit {
                         y.copy_from(&ev_state.hit().y);
                         collect(&mut stats, &integ);
+                        if !y.iter().all(|v| v.is_finite()) {
+                            // As for outputs: the event was located on a dense output that is
+                            // not finite.
+                            return Err(fail(
+                                SimErrorKind::NonFinite,
+                                integ.t_prev(),
+                                integ.y_prev(),
+                                stats,
+                            ));
+                        }
                         break h;
                     }
                     t = integ.t();
@@ -717,8 +752,19 @@ where
         if let Err(k) = stall.record(t, kind) {
             return Err(fail(k, t, &y, stats));
         }
+        // Chattering is reported once time is seen to advance past the transition that
+        // exceeded the bound (or at the end of the run): while transitions pile up at one
+        // instant the stall guard decides, so that raising the bound always lets the run go
+        // further in time.
+        if stall.count == 0 {
+            if let Some(e) = chattering.take() {
+                return Err(e);
+            }
+        }
         if let Err(k) = chatter.record(t) {
-            return Err(fail(k, t, &y, stats));
+            if chattering.is_none() {
+                chattering = Some(fail(k, t, &y, stats));
+            }
         }
         if plan.events {
             let e = &mut w.event;
@@ -732,7 +778,10 @@ where
             break;
         }
     }
-    Ok(stats)
+    match chattering {
+        Some(e) => Err(e),
+        None => Ok(stats),
+    }
 }
 
 fn collect<D: Dim>(stats: &mut SimStats, integ: &AnyIntegrator<D>)

@@ -855,7 +855,7 @@ impl SnubberRing {
         let stiffness = self.x.stiffness.max(self.y.stiffness);
         let rounding = c.loss_force_rounding(stiffness, gap, &k.v);
         let starts =
-            load > rounding || (load >= -rounding && self.loss_force_trend(&c, k, &accel) > 0.0);
+            load > rounding || (load >= -rounding && self.load_rises(&c, k, &accel, rounding));
         if starts {
             return Ok(RingTransition {
                 mode: RingMode::Contact(b),
@@ -867,16 +867,20 @@ impl SnubberRing {
         Ok(self.release(t, if rn > gap { c.s } else { Vector2::zeros() }))
     }
 
-    /// Sign-worthy rate of change of the loss force along the contact flow on `c`'s branches,
-    /// by a central difference over the time in which the station moves $10^{-6}\gamma$ (only
-    /// its sign is used, where the force itself is zero to rounding: a relaxed ring touched on
-    /// the circle without ring damping, or the end of a sequence of touches without load).
-    fn loss_force_trend(
+    /// Whether the loss force, zero to rounding at the touch, rises along the contact flow on
+    /// `c`'s branches: by the sign of its central difference over the time in which the station
+    /// moves $10^{-6}\gamma$ (a relaxed ring touched on the circle without ring damping, or the
+    /// end of a sequence of touches without load). Where that difference is itself at the
+    /// force's rounding level `rounding` (its first derivative vanishes too: without ring
+    /// damping, a rotor at rest on the circle or moving along it) and the second difference is
+    /// clearly positive, the force grows from a minimum of zero: it rises.
+    fn load_rises(
         &self,
         c: &RingContact,
         k: &Kinematics,
         accel: &impl Fn(&Vector2<f64>) -> Vector2<f64>,
-    ) -> f64 {
+        rounding: f64,
+    ) -> bool {
         let a = accel(&c.force(&k.v));
         let scale = k.v.norm().max((a.norm() * self.gap).sqrt());
         let dt = if scale > 0.0 {
@@ -891,7 +895,13 @@ impl SnubberRing {
             self.locate_on(&r, c.branches, c.mu)
                 .map_or(f64::NAN, |c| c.loss_force(&v))
         };
-        (at(1.0) - at(-1.0)) / (2.0 * dt)
+        let (ahead, behind) = (at(1.0), at(-1.0));
+        if (ahead - behind).abs() <= 2.0 * rounding
+            && ahead + behind - 2.0 * c.loss_force(&k.v) > 4.0 * rounding
+        {
+            return true;
+        }
+        ahead > behind
     }
 }
 

@@ -81,8 +81,9 @@
 //!   $|h^\prime|\thinspace\mathrm{ulp}(t)$ (late in long runs one ulp of time moves the
 //!   rotor by more than $10^{-12}$).
 //! * **A segment's start is not certified.** At $t_0 =$ `rotor.start()` with $|\tilde h| \le
-//!   \varepsilon_\text{start} = \max(\varepsilon_h, 16\varepsilon\gamma(|r| + |s|))$ the start
-//!   is touching (right after contact loss, or a touch without load): it fires only if
+//!   \varepsilon_\text{start} = \max(\varepsilon_h, 16\varepsilon\gamma(\max(|r|, R) + |s|))$,
+//!   $R$ the rotor's position bound ([`MotionBounds::position`]: the size of the closed form's
+//!   terms, which round $h$ even where $r$ itself is small), the start is touching (right after contact loss, or a touch without load): it fires only if
 //!   $\tilde h^\prime$ exceeds $10^{-9}$ of its scale $2|q|(|r^\prime| + |s^\prime|)$, or is 0
 //!   with $\tilde h^{\prime\prime} > 0$, and never with `separating`. Otherwise the first
 //!   bound is built on $\min(\tilde h, 0)$ and, when $|\tilde h^\prime|$ is within that
@@ -291,8 +292,11 @@ pub fn find_onset(
             // An onset that holds at the start (right after contact loss) does not fire again
             // unless h is moving into contact.
             first = false;
-            // |r - s|^2 is rounded relative to the size of r and s.
-            let eps_start = eps_h.max(16.0 * f64::EPSILON * ring.gap * (r.x.hypot(r.y) + s.norm()));
+            // |r - s|^2 is rounded relative to the size of the terms of r and s: the closed
+            // form's terms can be far larger than r itself (a rest position many gaps out), and
+            // the rotor's position bound covers them.
+            let eps_start = eps_h
+                .max(16.0 * f64::EPSILON * ring.gap * (r.x.hypot(r.y).max(r_bound) + s.norm()));
             if h.abs() <= eps_start {
                 // Touching at the start: right after contact loss (where h' = 2 gamma N / c
                 // is zero up to the rounding of the loss time) or a start on the ring. Only a

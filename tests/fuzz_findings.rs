@@ -1,0 +1,428 @@
+//! Regression tests for the defects the in-process fuzzer (`tests/fuzz.rs`) found, one per
+//! defect, each from the case it found (shrunk by hand where that kept the failure). Every test
+//! failed before its fix (docs/reliability.md, "Defects found").
+
+#[allow(dead_code)]
+#[path = "../examples/custom_rotor/rotor.rs"]
+mod rotor;
+
+use jeffcott::hybrid::{
+    simulate, ExactSegment, Flow, GuardCrossing, ModelError, OutputPlan, RotorModel, SimErrorKind,
+    SimOptions, StrobeRange, Trajectory,
+};
+use jeffcott::nalgebra::{SVector, Vector2, U1};
+use jeffcott::ode::{Direction, Method};
+use jeffcott::paper::free_flight::FreeOscillator;
+use jeffcott::paper::{guard, JeffcottModel};
+use jeffcott::params::Params;
+use jeffcott::ring::onset::{find_onset, Onset, OnsetStats};
+use jeffcott::ring::{Kinematics, Relaxation, RingAxis, RingGuard, RingMode, SnubberRing};
+
+/// A plan over `periods` forcing periods from `t0 = 0` with strobes and events.
+fn plan(p: &Params, periods: u64) -> OutputPlan {
+    OutputPlan {
+        t_end: p.forcing_period() * periods as f64,
+        strobe: Some(StrobeRange {
+            first: 0,
+            last: periods,
+        }),
+        dense: None,
+        events: true,
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1. The onset search's touching start ignored the size of the closed form's terms.
+
+/// A rest position 390 gaps out (nu2 = 0): the rotor reaches the ring at speed 24, the contact
+/// is lost, and at the loss the closed form's terms (size ~780) round |r - s|^2 - 1 to
+/// +4.5e-14, above the old touching tolerance 16 eps (|r| + |s|) = 3.5e-15. The separating
+/// start then fired at once, the touch released the ring again, and the run ended in a false
+/// `Stalled` (64 touches at one instant) where free flight parts from the ring.
+fn far_rest_position() -> Params {
+    Params {
+        eta: 0.6625724844423002,
+        nu1: 3.1129335939898386,
+        nu2: 0.0,
+        kx: 17.39548676458057,
+        ky: 1217.5932394137853,
+        beta: 0.04421381400040251,
+        dx: 1.5985144703209029,
+        dy: 1.5985144703209029,
+        ex: 0.0,
+        ey: 389.83665393624375,
+        phi0: 3712.6836424090775,
+    }
+}
+
+#[test]
+fn separating_start_at_the_rounding_of_large_closed_form_terms_does_not_fire() {
+    let p = far_rest_position();
+    let m = JeffcottModel::new(p).unwrap();
+    // The state at the loss: on the circle to the closed form's rounding, moving inward at 17.
+    let t = 0.15624748391902768;
+    let y = [
+        0.0001272219034951596,
+        0.9999999919072932,
+        0.001380339154341887,
+        -17.158464678535783,
+    ];
+    let flight = FreeOscillator::new(&p).segment(t, &y);
+    let mut stats = OnsetStats::default();
+    let found = find_onset(
+        &flight,
+        &Relaxation::at_rest(t),
+        m.ring(),
+        (t, t + 0.1),
+        true,
+        &mut stats,
+    );
+    // It comes back under its acceleration of 496 after about 17/248 = 0.069.
+    match found {
+        Onset::At(t1) => assert!(t1 > t + 0.05 && t1 < t + 0.09, "onset at {t1}"),
+        Onset::None => panic!("the rotor comes back to the ring within the window"),
+    }
+}
+
+#[test]
+fn far_rest_position_runs_without_a_false_stall() {
+    let p = far_rest_position();
+    let m = JeffcottModel::new(p).unwrap();
+    let (rad, ang) = (4.970798185389594e-7f64, 5.468350507140654f64);
+    let (speed, dir) = (8.060840684843925e-5f64, 3.2593507045458265f64);
+    let y0 = m
+        .state_at(
+            [rad * ang.cos(), rad * ang.sin()],
+            [speed * dir.cos(), speed * dir.sin()],
+        )
+        .unwrap();
+    let opts = SimOptions {
+        method: Method::Dopri5,
+        rtol: 1.1237947268150232e-9,
+        atol: 8.222976445674338e-14,
+        max_step_fraction: 0.5182073218068742,
+        event_samples: 41,
+        ..SimOptions::default()
+    };
+    let (traj, stats) = m
+        .run(0.0, &y0, &plan(&p, 1), &opts)
+        .unwrap_or_else(|f| panic!("{}", f.error));
+    assert_eq!(traj.strobe.len(), 2);
+    // A handful of contacts (measured: 5 transitions), not a pile of touches at one instant.
+    assert!(
+        stats.transitions >= 3 && stats.transitions <= 20,
+        "{stats:?}"
+    );
+    assert!(traj.events.iter().any(|e| e.kind == guard::LOSS));
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. A touch without ring damping decided by a load rate that vanishes by symmetry.
+
+/// Without ring damping a rotor at rest on the circle, pushed outward, meets the relaxed ring
+/// with zero load and a load rate that is exactly zero (the central difference is symmetric):
+/// the touch was rejected, the onset fired again one ulp later, and the run ended in a false
+/// `Stalled` at t = 3e-322. The load grows from its minimum: contact starts.
+#[test]
+fn touch_at_rest_on_the_circle_starts_contact_when_pushed_outward() {
+    let ring = SnubberRing::new(
+        RingAxis::new(0.0076, 0.023),
+        RingAxis::new(0.0076, 0.0),
+        0.0,
+        1.0,
+    )
+    .unwrap();
+    let free = RingMode::free(Relaxation::at_rest(0.0));
+    let k = Kinematics::new([0.0, 1.0], [0.0, 0.0]);
+    for (push, contact) in [(1.0, true), (-1.0, false)] {
+        let next = ring
+            .transition(&free, RingGuard::Onset, 0.0, &k, |f| {
+                Vector2::new(0.0, push) - f
+            })
+            .unwrap();
+        assert_eq!(next.mode.is_contact(), contact, "push {push}: {next:?}");
+    }
+}
+
+#[test]
+fn rotor_at_rest_on_the_circle_runs_into_contact() {
+    let p = Params {
+        eta: 13.650920802696696,
+        nu1: 0.05671757645996835,
+        nu2: 0.0,
+        kx: 0.007569438357994995,
+        ky: 0.007569438357994995,
+        beta: 0.22677848281592133,
+        dx: 0.023471471235399378,
+        dy: 0.0,
+        ex: 0.3405069466437222,
+        ey: 0.0,
+        phi0: -4628.288089005627,
+    };
+    let m = JeffcottModel::new(p).unwrap();
+    let y0 = m.state_at([0.0, 1.0], [0.0, 0.0]).unwrap();
+    let (traj, _) = m
+        .run(0.0, &y0, &plan(&p, 1), &SimOptions::default())
+        .unwrap_or_else(|f| panic!("{}", f.error));
+    let first = traj.events.first().expect("a contact");
+    assert_eq!((first.t, first.kind, first.from), (0.0, guard::ONSET, 1));
+    assert!(first.to > 1, "{first:?}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. An event located on a dense output that is not finite.
+
+/// DOP853 with rtol = 1 on a rotor whose cubic bearing, 790 gaps from its rest position, is
+/// stiff beyond resolution: a step is accepted with finite ends while the dense output inside
+/// it overflows (its extra stages). The guard located there handed a NaN state to the
+/// transition: `Model(Transition)` with "no ring placement at r = (NaN, NaN)" and a NaN "last
+/// good state". It is `NonFinite`, with the finite state at the start of that step.
+#[test]
+fn event_on_a_non_finite_dense_output_is_non_finite_with_a_good_last_state() {
+    let p = Params {
+        eta: 0.7239329868293027,
+        nu1: 0.08430715481635692,
+        nu2: 0.00012619507939165824,
+        kx: 51.450251575307085,
+        ky: 51.450251575307085,
+        beta: 0.33580583507383904,
+        dx: 0.03388990559961286,
+        dy: 0.22258657719870328,
+        ex: 789.2941237114546,
+        ey: -1.1696958703506568,
+        phi0: 0.5586127592113209,
+    };
+    let model = rotor::on_ring(p, 0.3516206767875111, 0.27446099680140623).unwrap();
+    let (rad, ang) = (1.1578483935240034e-9f64, 0.21918512356978062f64);
+    let (speed, dir) = (0.13298538077767158f64, 2.0009532603027576f64);
+    let y0 = JeffcottModel::new(p)
+        .unwrap()
+        .state_at(
+            [rad * ang.cos(), rad * ang.sin()],
+            [speed * dir.cos(), speed * dir.sin()],
+        )
+        .unwrap();
+    let opts = SimOptions {
+        rtol: 1.0,
+        atol: 8.572388403695387e-7,
+        max_step_fraction: 0.17217850026456383,
+        event_samples: 24,
+        ..SimOptions::default()
+    };
+    let mut traj = Trajectory::default();
+    let e = simulate(&model, 0.0, &y0, &plan(&p, 3), &opts, &mut traj).unwrap_err();
+    assert_eq!(e.kind, SimErrorKind::NonFinite, "{e}");
+    assert!(
+        e.t.is_finite() && e.y.iter().all(|v| v.is_finite()),
+        "{e:?}"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. Chattering reported at an instant where the run then stalls.
+
+/// Exact modes numbered by the transitions so far: the first `advancing` transitions are
+/// 0.01 apart, every later one a single ulp after the previous.
+struct Slowdown {
+    advancing: u32,
+}
+
+struct SlowdownSegment {
+    next: f64,
+}
+
+impl ExactSegment<U1> for SlowdownSegment {
+    fn eval(&self, _t: f64, _y: &mut SVector<f64, 1>, dy: &mut SVector<f64, 1>) {
+        dy.fill(0.0);
+    }
+    fn next_guard(&mut self, _t_from: f64, t_to: f64) -> Option<GuardCrossing> {
+        (self.next <= t_to).then_some(GuardCrossing {
+            guard: 0,
+            t: self.next,
+        })
+    }
+    fn evaluations(&self) -> u64 {
+        0
+    }
+}
+
+impl RotorModel for Slowdown {
+    type Dim = U1;
+    type Mode = u32;
+    type Segment = SlowdownSegment;
+    type Cache = ();
+
+    fn dim(&self) -> U1 {
+        U1
+    }
+    fn new_cache(&self) {}
+    fn initial_mode(&self, _t: f64, _y: &SVector<f64, 1>) -> Result<u32, ModelError> {
+        Ok(0)
+    }
+    fn flow(&self, _mode: u32) -> Flow {
+        Flow::Exact
+    }
+    fn rhs(&self, _m: u32, _t: f64, _y: &SVector<f64, 1>, dy: &mut SVector<f64, 1>, _c: &()) {
+        dy.fill(0.0);
+    }
+    fn guard_count(&self, _mode: u32) -> usize {
+        1
+    }
+    fn guard_direction(&self, _mode: u32, _i: usize) -> Direction {
+        Direction::Rising
+    }
+    fn guard_value(&self, _m: u32, _i: usize, _t: f64, _y: &SVector<f64, 1>, _c: &()) -> f64 {
+        -1.0
+    }
+    fn guard_label(&self, _mode: u32, _i: usize) -> &'static str {
+        "tick"
+    }
+    fn transition(
+        &self,
+        mode: u32,
+        _g: usize,
+        _t: f64,
+        _y: &mut SVector<f64, 1>,
+    ) -> Result<u32, ModelError> {
+        Ok(mode + 1)
+    }
+    fn start_segment(&self, mode: u32, t: f64, _y: &SVector<f64, 1>) -> SlowdownSegment {
+        SlowdownSegment {
+            next: if mode < self.advancing {
+                t + 0.01
+            } else {
+                t.next_up()
+            },
+        }
+    }
+    fn mode_label(&self, _mode: u32) -> u8 {
+        0
+    }
+    fn forcing_period(&self) -> f64 {
+        1.0
+    }
+}
+
+fn slowdown(advancing: u32, bound: u32) -> Result<u64, SimErrorKind> {
+    let plan = OutputPlan {
+        t_end: 2.0,
+        strobe: None,
+        dense: None,
+        events: false,
+    };
+    let opts = SimOptions {
+        max_events_per_period: bound,
+        ..SimOptions::default()
+    };
+    simulate(
+        &Slowdown { advancing },
+        0.0,
+        &SVector::zeros(),
+        &plan,
+        &opts,
+        &mut (),
+    )
+    .map(|s| s.transitions)
+    .map_err(|e| e.kind)
+}
+
+/// Ten transitions 0.01 apart, then transitions one ulp apart at t = 0.1. With a chattering
+/// bound of 12 the old driver reported chattering at t = 0.1, where every larger bound ends in
+/// `Stalled` at the same instant: the advice "raise max_events_per_period" was false. Now the
+/// stall guard decides while time does not advance.
+#[test]
+fn chattering_is_not_reported_where_the_run_stalls() {
+    for bound in [12, 30, 1000] {
+        match slowdown(10, bound) {
+            Err(SimErrorKind::Stalled { t, .. }) => {
+                assert!((t - 0.1).abs() < 1e-12, "bound {bound}: {t}");
+            }
+            other => panic!("bound {bound}: {other:?}"),
+        }
+    }
+    // Transitions that keep advancing time are still chattering, and a larger bound runs.
+    assert!(matches!(
+        slowdown(u32::MAX, 50),
+        Err(SimErrorKind::Chattering { bound: 50, .. })
+    ));
+    let n = slowdown(u32::MAX, 150).unwrap();
+    assert!((199..=200).contains(&n), "{n}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. A single transition at the start instant reported as a stall under a low chattering bound.
+
+/// With `max_events_per_period = 1` the stall bound was lowered to 1, so the contact onset of a
+/// start on the gap circle moving outward (a transition at the start instant, as it must be)
+/// ended the run at once in `Stalled { transitions: 1 }`, whose advice ("raising
+/// max_events_per_period will not help") was false. A stall now needs 64 transitions at one
+/// instant whatever the bound; the low bound gives chattering once time advances.
+#[test]
+fn one_transition_at_the_start_is_not_a_stall() {
+    let p = Params::default();
+    let m = JeffcottModel::new(p).unwrap();
+    let y0 = m.state_at([0.0, 1.0], [0.0, 0.5]).unwrap();
+    let run = |bound: u32| {
+        let opts = SimOptions {
+            max_events_per_period: bound,
+            ..SimOptions::default()
+        };
+        m.run(0.0, &y0, &plan(&p, 2), &opts)
+    };
+    match run(1) {
+        Err(f) => match f.error.kind {
+            SimErrorKind::Chattering { bound: 1, .. } => assert!(f.error.t > 0.0, "{}", f.error),
+            other => panic!("{other}"),
+        },
+        Ok((traj, _)) => panic!(
+            "more than one transition per period expected: {:?}",
+            traj.events.len()
+        ),
+    }
+    let (traj, _) = run(1000).unwrap_or_else(|f| panic!("{}", f.error));
+    assert_eq!(traj.events[0].t, 0.0);
+    assert!(traj.events[0].to > 1);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 6. The ring's location under extreme anisotropy depended on the warm start.
+
+/// With $K_y/K_x = 10^7$ the multiplier solver stopped on a Newton step relative to the stiff
+/// axis, which left the soft axis' position off by up to 5e-7, differently for each warm start:
+/// the guards (warm-started from the cache) and the transitions (cold) placed the ring
+/// differently, and a preload of 1e-10 was "crossed" at a contact's start (a fuzz case ran a
+/// contact in regime II with the ring beyond its y preload). The tolerance is now relative to
+/// the soft axis: warm and cold starts agree to rounding.
+#[test]
+fn ring_location_does_not_depend_on_the_warm_start_under_extreme_anisotropy() {
+    let ring = SnubberRing::new(
+        RingAxis::new(1e-3, 0.3),
+        RingAxis::new(1e4, 1e-10),
+        0.0,
+        1.0,
+    )
+    .unwrap();
+    let b = jeffcott::ring::Branches {
+        x: jeffcott::ring::Branch::Inner,
+        y: jeffcott::ring::Branch::Inner,
+    };
+    let mut worst = 0.0f64;
+    for i in 0..2000 {
+        let ang = i as f64 * 0.0031;
+        let rad = 1.0 + 1e-9 * (i % 13) as f64 + 0.01 * (i % 7) as f64;
+        let r = Vector2::new(rad * ang.cos(), rad * ang.sin());
+        let cold = ring.locate_on(&r, b, f64::NAN).unwrap();
+        for hint in [
+            cold.mu * (1.0 + 1e-3),
+            cold.mu + 1.0,
+            cold.mu - 1e-6,
+            0.0,
+            1e4,
+        ] {
+            let warm = ring.locate_on(&r, b, hint).unwrap();
+            worst = worst.max((warm.s - cold.s).norm());
+        }
+    }
+    // Measured 3.8e-14 (before: 4.9e-7).
+    assert!(worst <= 1e-12, "warm and cold starts differ by {worst:e}");
+}
