@@ -176,6 +176,20 @@ impl<R> RingedRotor<R> {
         Ok(())
     }
 
+    /// The station's acceleration under a ring force `f`, from the rotor's own equations (the
+    /// station map is linear, so it maps $y^\prime$ to the station's acceleration). Asked for
+    /// only at a touch whose load is zero to rounding: the allocation is rare.
+    fn station_accel(&self, t: f64, y: &OVector<f64, R::Dim>, f: &Vector2<f64>) -> Vector2<f64>
+    where
+        R: SmoothRotor,
+        DefaultAllocator: Allocator<R::Dim>,
+    {
+        let mut dy = y.clone_owned();
+        self.rotor.rhs(t, y, &mut dy);
+        self.rotor.add_station_force(y, &-f, &mut dy);
+        self.rotor.station(&dy).v
+    }
+
     fn guard_of(&self, mode: &RingMode, i: usize) -> RingGuard {
         // The driver asks only for guards below `guard_count`.
         self.ring.guard(mode, i).unwrap_or(RingGuard::Onset)
@@ -204,10 +218,18 @@ where
         self.rotor.ring_slots().contains(&i)
     }
 
+    /// The ring's [`SnubberRing::start_mode`]: a start touching the ring and moving into it
+    /// begins with the touch (the driver then projects the ring onto the mode).
     fn initial_mode(&self, t: f64, y: &OVector<f64, R::Dim>) -> Result<RingMode, ModelError> {
         let [i, j] = self.rotor.ring_slots();
         self.ring
-            .initial_mode(t, &self.rotor.station(y), &Vector2::new(y[i], y[j]))
+            .start_mode(
+                t,
+                &self.rotor.station(y),
+                &Vector2::new(y[i], y[j]),
+                |f: &Vector2<f64>| self.station_accel(t, y, f),
+            )
+            .map(|next| next.mode)
             .map_err(|e| ModelError::InvalidState {
                 t,
                 reason: e.to_string(),
@@ -324,16 +346,8 @@ where
         t: f64,
         y: &mut OVector<f64, R::Dim>,
     ) -> Result<RingMode, ModelError> {
-        // The station's acceleration under a ring force f, from the rotor's own equations
-        // (the station map is linear, so it maps y' to the station's acceleration). Asked for
-        // only at a touch whose load is zero to rounding: the allocation is rare.
         let at: &OVector<f64, R::Dim> = y;
-        let accel = |f: &Vector2<f64>| {
-            let mut dy = at.clone_owned();
-            self.rotor.rhs(t, at, &mut dy);
-            self.rotor.add_station_force(at, &-f, &mut dy);
-            self.rotor.station(&dy).v
-        };
+        let accel = |f: &Vector2<f64>| self.station_accel(t, at, f);
         let next = self
             .ring
             .transition(

@@ -7,8 +7,8 @@
 mod rotor;
 
 use jeffcott::hybrid::{
-    simulate, ExactSegment, Flow, GuardCrossing, ModelError, OutputPlan, RotorModel, SimErrorKind,
-    SimOptions, StrobeRange, Trajectory,
+    simulate, DenseSampling, ExactSegment, Flow, GuardCrossing, ModelError, OutputPlan, RotorModel,
+    SimErrorKind, SimOptions, StrobeRange, Trajectory,
 };
 use jeffcott::nalgebra::{SVector, Vector2, U1};
 use jeffcott::ode::{Direction, Method};
@@ -425,4 +425,293 @@ fn ring_location_does_not_depend_on_the_warm_start_under_extreme_anisotropy() {
     }
     // Measured 3.8e-14 (before: 4.9e-7).
     assert!(worst <= 1e-12, "warm and cold starts differ by {worst:e}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 7. The onset lost at a touching start of an integrated free flight (open defect A before
+//    0.2.0: `RingMode::Free::onset_margin`, `SnubberRing::start_mode`).
+
+/// Runs the custom rotor (`examples/custom_rotor`, integrated free flight) from `(t0, y0)` over
+/// `periods` forcing periods, with dense samples, and returns the largest $|r - s| - \gamma$ at
+/// a free-flight sample (the rotor beyond the ring in free flight, which must not happen) and
+/// the number of contact onsets.
+fn free_excursion(
+    p: Params,
+    (q, k3): (f64, f64),
+    opts: &SimOptions,
+    t0: f64,
+    y0: [f64; 6],
+    periods: f64,
+) -> (f64, usize) {
+    let m = rotor::on_ring(p, q, k3).unwrap();
+    let period = p.forcing_period();
+    let plan = OutputPlan {
+        t_end: t0 + periods * period,
+        strobe: None,
+        dense: Some(DenseSampling {
+            t_start: t0,
+            dt: period / 400.0,
+        }),
+        events: true,
+    };
+    let mut traj = Trajectory::default();
+    simulate(&m, t0, &SVector::from(y0), &plan, opts, &mut traj)
+        .unwrap_or_else(|e| panic!("{}", e.kind));
+    let beyond = traj
+        .samples
+        .iter()
+        .filter(|s| s.label == 1)
+        .map(|s| Vector2::new(s.y[0] - s.y[4], s.y[1] - s.y[5]).norm() - 1.0)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let onsets = traj
+        .events
+        .iter()
+        .filter(|e| e.kind == guard::ONSET)
+        .count();
+    (beyond, onsets)
+}
+
+/// A start on the gap circle moving outward (h = 2e-16, h' = 1.5e-3) at t0 = 6.3e5: the free
+/// mode's onset guard started on zero and left it rising, which the event detector takes for
+/// the zero at the start time. Within one period the rotor was 1.4e3 gaps beyond the ring in
+/// free flight, silently.
+/// The start now begins with the touch.
+#[test]
+fn start_on_the_circle_moving_outward_touches_the_ring() {
+    let p = Params {
+        eta: 1.8179278340216039,
+        nu1: 1.0,
+        nu2: 0.007782008966853292,
+        kx: 3.701706024710605,
+        ky: 0.5074476428029424,
+        beta: 0.0,
+        dx: 1.0072198085363526,
+        dy: 2.879600630688667e-6,
+        ex: 718.6830919807579,
+        ey: 1.1722783136046109,
+        phi0: 1.3080873171970364,
+    };
+    let y0 = [
+        0.9997984176485873,
+        0.020077949780318082,
+        0.0007384722117438068,
+        -3.052862605027371e-5,
+        0.0,
+        0.0,
+    ];
+    let (beyond, onsets) = free_excursion(
+        p,
+        (0.40296995592105744, 0.09172919400476057),
+        &SimOptions::default(),
+        633724.2048084231,
+        y0,
+        1.0,
+    );
+    assert!(
+        beyond <= 1e-9,
+        "rotor {beyond:e} beyond the ring in free flight"
+    );
+    assert!(onsets >= 1 || beyond < 0.0, "{onsets} onsets");
+}
+
+/// Contact with heavy cross coupling and a cubic bearing, lost and touched again without load
+/// (a touch that did not start contact, h' = -1.8e-7 after it): the rotor then curves back
+/// into the ring with a dip of h far below the detector's probe. The onset guard left zero
+/// falling and came back within the probe, unseen, and the rotor ran 0.97 gaps into the ring in
+/// free flight. The onset guard of a free flight that starts touching now starts below zero by
+/// its margin.
+#[test]
+fn rotor_curving_back_after_a_touch_without_load_meets_the_ring() {
+    let p = Params {
+        eta: 0.7651912693916786,
+        nu1: 0.056515211043435314,
+        nu2: 0.07964026905513193,
+        kx: 0.04371170298873562,
+        ky: 0.04371170298873562,
+        beta: 0.4968970340362575,
+        dx: 0.0,
+        dy: 1.1553842745742553e-8,
+        ex: -0.37735206776232294,
+        ey: 0.0,
+        phi0: 0.8014996661189521,
+    };
+    let y0 = [
+        -1.000000000001,
+        1.224646799148578e-16,
+        -0.007571582240769815,
+        0.0021629727941379065,
+        -1.000088900582341e-12,
+        6.123532776778104e-29,
+    ];
+    let opts = SimOptions {
+        method: Method::Dopri5,
+        rtol: 1.0569511298034146e-6,
+        atol: 3.070137861527155e-8,
+        ..SimOptions::default()
+    };
+    let (beyond, _) = free_excursion(
+        p,
+        (-0.47048397918170715, 1.868724081889459),
+        &opts,
+        0.0,
+        y0,
+        3.0,
+    );
+    assert!(
+        beyond <= 1e-9,
+        "rotor {beyond:e} beyond the ring in free flight"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// 8. A preload the ring passes within the time resolution (open defect D before 0.2.0:
+//    `ode::events` rule 4 limited to zeros at the start, `SnubberRing` branches within the
+//    time resolution).
+
+/// Over the strobes and dense samples in contact: the largest distance between the ring in the
+/// state and its minimum-energy position $s^*(r)$, and the number of outputs whose label is not
+/// the regime of the ring's position (more than $10^{-6}$ from a preload). Both are zero when
+/// every contact runs on the right branches (the branches also set the ring's damping).
+fn contact_errors(ring: &SnubberRing, traj: &Trajectory<jeffcott::nalgebra::U6>) -> (f64, usize) {
+    let near = |axis: &RingAxis, v: f64| {
+        axis.preload > 0.0 && (v.abs() - axis.preload).abs() <= 1e-6 * (1.0 + axis.preload)
+    };
+    let outputs: Vec<_> = traj
+        .strobe
+        .iter()
+        .map(|p| (p.label, &p.y))
+        .chain(traj.samples.iter().map(|s| (s.label, &s.y)))
+        .filter(|(label, _)| *label > 1)
+        .collect();
+    let worst = outputs
+        .iter()
+        .map(|(_, y)| {
+            let s = ring.locate(&Vector2::new(y[0], y[1])).unwrap().s;
+            (Vector2::new(y[4], y[5]) - s).norm()
+        })
+        .fold(0.0, f64::max);
+    let mislabelled = outputs
+        .iter()
+        .filter(|(label, y)| {
+            let s = Vector2::new(y[4], y[5]);
+            ring.regime_of_ring(&s).number() != *label
+                && !(near(&ring.x, s.x) || near(&ring.y, s.y))
+        })
+        .count();
+    (worst, mislabelled)
+}
+
+/// A run started at t = 3.5e5 on the gap circle at speed 40, with both preloads 3.8e-11: the
+/// ring crosses them 3e-12 after the contact onset, less than one ulp of time (5.8e-11). The
+/// preload guards started at -D, moving away (|s| falls to 0 before it rises to D), and their
+/// roots within the start-of-segment window were taken for the zero at the start time: the
+/// contact ran on the inner branches (regime II, twice the ring damping) with the ring beyond
+/// its preloads.
+#[test]
+fn preloads_crossed_within_one_ulp_of_the_onset_switch_the_branches() {
+    let p = Params {
+        eta: 19.189417932901375,
+        nu1: 0.16221721434394215,
+        nu2: 0.03934731885351604,
+        kx: 2.6759667021611397,
+        ky: 0.8068550073007944,
+        beta: 2.0539705771890433,
+        dx: 3.7903965444368754e-11,
+        dy: 3.7903965444368754e-11,
+        ex: 551.324845817604,
+        ey: 1.3636017217924248,
+        phi0: 3.016672117375617,
+    };
+    let m = JeffcottModel::new(p).unwrap();
+    let t0 = 353543.8440116018;
+    let y0 = SVector::from([
+        -0.9950236935917485,
+        0.0996385928796378,
+        -15.97948121019019,
+        -36.649355791338024,
+        0.0,
+        0.0,
+    ]);
+    // The strobes as the fuzzer asked for them (DOPRI5 lands its steps on them).
+    let period = p.forcing_period();
+    let t_end = t0 + 3.0 * period;
+    let plan = OutputPlan {
+        t_end,
+        strobe: Some(StrobeRange {
+            first: (t0 / period).ceil() as u64,
+            last: (t_end / period).floor() as u64,
+        }),
+        dense: None,
+        events: false,
+    };
+    let opts = SimOptions {
+        method: Method::Dopri5,
+        rtol: 4.140347919517178e-9,
+        atol: 3.846675761683378e-12,
+        max_step_fraction: 0.004575233048964348,
+        event_samples: 1,
+        ..SimOptions::default()
+    };
+    let (traj, _) = m
+        .run(t0, &y0, &plan, &opts)
+        .unwrap_or_else(|f| panic!("{}", f.error));
+    let (worst, mislabelled) = contact_errors(m.ring(), &traj);
+    assert!(worst <= 1e-6, "ring {worst:e} from s*(r)");
+    assert_eq!(mislabelled, 0, "outputs in contact with the wrong regime");
+}
+
+/// The custom rotor at t = 9.1e5 with preloads 7.4e-9: the ring crosses the whole inner region
+/// (1.5e-8) in 7e-10 of time, within the start-of-segment window (1.6e-9). After an inward
+/// crossing the contact stayed on the inner branch while the ring was already beyond the
+/// opposite preload, 0.03 gaps from s*(r).
+#[test]
+fn a_ring_through_its_inner_region_within_the_time_resolution_takes_the_far_branch() {
+    let p = Params {
+        eta: 1.054338695357757,
+        nu1: 0.35591445021978046,
+        nu2: 8.677115072048805e-7,
+        kx: 0.8629761156047014,
+        ky: 0.0059071402555884115,
+        beta: 1.9194008664156064,
+        dx: 7.393915934856934e-9,
+        dy: 7.393915934856934e-9,
+        ex: 0.0,
+        ey: -417.46553437430345,
+        phi0: 6458.897157350589,
+    };
+    let m = rotor::on_ring(p, 0.3387797602609315, 0.45453609146301244).unwrap();
+    let t0 = 913572.5045672568;
+    let y0 = SVector::from([
+        -0.0,
+        0.0,
+        -0.5459668736363191,
+        0.06477298922061925,
+        0.0001749394416662647,
+        -8.02554528259491e-5,
+    ]);
+    let period = p.forcing_period();
+    let plan = OutputPlan {
+        t_end: t0 + period,
+        strobe: None,
+        dense: Some(DenseSampling {
+            t_start: t0,
+            dt: period / 200.0,
+        }),
+        events: false,
+    };
+    let opts = SimOptions {
+        method: Method::Dopri5,
+        rtol: 4.1252693824424665e-6,
+        atol: 8.731740900609176e-5,
+        max_step_fraction: 0.010815520387604064,
+        event_samples: 14,
+        max_events_per_period: 10_000,
+        screen_events: false,
+        ..SimOptions::default()
+    };
+    let mut traj = Trajectory::default();
+    simulate(&m, t0, &y0, &plan, &opts, &mut traj).unwrap_or_else(|e| panic!("{}", e.kind));
+    let (worst, mislabelled) = contact_errors(m.ring(), &traj);
+    assert!(worst <= 1e-6, "ring {worst:e} from s*(r)");
+    assert_eq!(mislabelled, 0, "outputs in contact with the wrong regime");
 }

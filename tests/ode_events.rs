@@ -1048,3 +1048,33 @@ fn screen_guarantee_holds_just_inside_and_can_fail_just_outside() {
     let found = found.expect("the sampled step finds the dip");
     assert!((found - exact).abs() < 1e-12, "{found} vs {exact}");
 }
+
+/// A guard on zero at the start, moving away from its crossing direction, that comes back
+/// through zero (in its allowed direction) sooner than the probe offset
+/// $\delta = \max(4w, 2^{-20} s)$ after the origin: $g = t(bt - a)$ with $a = 1$, $b = 10^7$
+/// returns at $t^\ast = 10^{-7}$, below $\delta \approx 9.5\times10^{-7}$ on a unit step. The
+/// probe alone sees $g(\delta) > 0$ and took the excursion for the start; the detector now halves
+/// the offset until it sees the departure, and locates the return.
+#[test]
+fn a_return_through_zero_inside_the_probe_offset_is_found() {
+    let (a, b) = (1.0, 1e7);
+    let rhs = move |t: f64, _y: &V1, dy: &mut V1| {
+        dy[0] = -a + 2.0 * b * t;
+    };
+    let events = Comp0 {
+        dir: Direction::Rising,
+        terminal: false,
+        with_derivative: true,
+    };
+    let mut integ = AnyIntegrator::new(Method::Dop853, Options::fixed(1.0)).unwrap();
+    integ.reset(&rhs, 0.0, &V1::zeros(), false).unwrap();
+    integ.step(&rhs, 1.0).unwrap();
+    let mut st = EventState::new();
+    let hit = find_first_event(&mut integ, &rhs, &events, &EventOptions::default(), &mut st)
+        .unwrap()
+        .copied()
+        .expect("the return through zero");
+    assert_eq!(hit.direction, Direction::Rising);
+    let exact = a / b;
+    assert!((hit.t - exact).abs() <= 1e-12 * exact.max(1.0), "t = {:e}", hit.t);
+}

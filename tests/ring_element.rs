@@ -176,7 +176,9 @@ fn touch_without_load_places_the_ring_and_parts() {
                 let c = ring.locate_on(&r, b, f64::NAN).unwrap();
                 assert!((c.s - tr.s).norm() == 0.0);
             }
-            RingMode::Free { relax, separating } => {
+            RingMode::Free {
+                relax, separating, ..
+            } => {
                 rejected += 1;
                 assert!(separating);
                 assert_eq!(relax.s0, tr.s);
@@ -236,9 +238,28 @@ fn preload_crossings_flip_branches_and_corners_flip_both() {
     assert!(gx.abs() < 1e-12, "{gx:e}");
     let tr = ring.transition(&mode, guards[2], 0.0, &k, |f| -f).unwrap();
     assert_eq!(tr.mode.regime(), Regime::V, "{:?}", tr.mode);
-    // Off the corner only x flips.
-    let r = Vector2::new(1.2, 0.05);
-    let c = ring.locate(&r).unwrap();
+    // Off the corner only x flips: at the x crossing on the line y = 0.05 (by bisection).
+    let c = ring.locate(&Vector2::new(1.2, 0.05)).unwrap();
+    let on_branches = RingMode::Contact(c.branches);
+    let x_guard = RingGuard::Preload {
+        axis: Axis::X,
+        outward: c.branches.x == Branch::Inner,
+    };
+    let gx_at = |x: f64| {
+        let k = Kinematics::new([x, 0.05], [1.0, 0.0]);
+        ring.guard_value(&on_branches, x_guard, 0.0, &k, &cache)
+    };
+    let (mut lo, mut hi) = (1.0f64, 1.2f64);
+    assert!(gx_at(lo) * gx_at(hi) < 0.0);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if gx_at(mid) * gx_at(lo) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let r = Vector2::new(hi, 0.05);
     let tr = ring
         .transition(
             &RingMode::Contact(c.branches),
@@ -249,7 +270,15 @@ fn preload_crossings_flip_branches_and_corners_flip_both() {
             0.0,
             &Kinematics {
                 r,
-                v: Vector2::new(1.0, 0.0),
+                // Moving across the preload the way the guard fires.
+                v: Vector2::new(
+                    if c.branches.x == Branch::Inner {
+                        1.0
+                    } else {
+                        -1.0
+                    },
+                    0.0,
+                ),
             },
             |f| -f,
         )

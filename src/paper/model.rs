@@ -448,7 +448,9 @@ impl RotorModel for JeffcottModel {
 
     fn start_segment(&self, mode: Mode, t: f64, y: &State) -> FreeSegment {
         let (relax, separating) = match mode {
-            RingMode::Free { relax, separating } => (relax, separating),
+            RingMode::Free {
+                relax, separating, ..
+            } => (relax, separating),
             // Never started for a contact mode (it is integrated); a ring at rest is harmless.
             _ => (Relaxation::at_rest(t), false),
         };

@@ -73,6 +73,13 @@ pub const ONSET_TOUCH: f64 = 1e-12;
 /// the branch it moves into.
 const CORNER_TOL: f64 = 1e-10;
 
+/// Time, relative to $\max(|t|, 1)$, within which a ring moving towards its preload counts as
+/// on it: more than the resolution of an event located at $t$ and of the start-of-segment
+/// window of [`crate::ode::events`] ($8\varepsilon\max(|t|, |t_\text{end}|)$, for steps up
+/// to $7\max(|t|, 1)$ long). A preload guard closer to zero than its rate times that window
+/// at a mode's start, moving towards it, would be taken for the zero at the start time.
+const PRELOAD_TIME_TOL: f64 = 64.0 * f64::EPSILON;
+
 /// The rotor's displacement and velocity at the ring's station, relative to the ring's rest
 /// centre (in the ring's non-dimensional units: lengths over the gap of the paper's scaling, or
 /// whatever unit [`SnubberRing::gap`] is given in).
@@ -105,6 +112,15 @@ pub enum RingMode {
         /// The ring and the rotor touch at the start and part (right after a loss or a touch
         /// that did not start contact): the onset guard must not fire at the start.
         separating: bool,
+        /// How far $h = |r - s|^2 - \gamma^2$ must rise above zero before the onset guard
+        /// fires: zero, unless the free flight starts touching the ring ($h$ within its
+        /// rounding of zero, [`SnubberRing::onset_margin`]). There the onset guard is
+        /// $h - m$, which starts clearly negative, so that a rotor that curves back into the
+        /// ring (the zero-force slide) or was released a hair inside it is caught by an event
+        /// detector's sign change, at a penetration of at most $m$; a guard on zero at the
+        /// start would be taken for the zero at the start time
+        /// ([`crate::ode::events`], start-of-segment rule 3).
+        onset_margin: f64,
     },
     /// Contact on these branches (regimes II..V).
     Contact(Branches),
@@ -116,6 +132,7 @@ impl RingMode {
         RingMode::Free {
             relax,
             separating: false,
+            onset_margin: 0.0,
         }
     }
 
@@ -383,9 +400,16 @@ impl SnubberRing {
         cache: &RingCache,
     ) -> f64 {
         match (mode, guard) {
-            (RingMode::Free { relax, .. }, RingGuard::Onset) => {
+            (
+                RingMode::Free {
+                    relax,
+                    onset_margin,
+                    ..
+                },
+                RingGuard::Onset,
+            ) => {
                 let (s, _) = relax.at(self, t);
-                (k.r - s).norm_squared() - self.gap * self.gap
+                (k.r - s).norm_squared() - self.gap * self.gap - onset_margin
             }
             (RingMode::Contact(_), RingGuard::Gap) => k.r.norm_squared() - self.gap * self.gap,
             (RingMode::Contact(b), RingGuard::Loss) => self
@@ -679,7 +703,12 @@ impl SnubberRing {
             super::check_finite("s.y", s.y)?;
         }
         if dist < gap - tol || (dist <= gap + tol && k.r.norm() <= gap) {
-            return Ok(RingMode::free(self.released(t, *s)));
+            let relax = self.released(t, *s);
+            return Ok(RingMode::Free {
+                relax,
+                separating: false,
+                onset_margin: self.onset_margin(t, k, &relax),
+            });
         }
         if dist > gap + tol {
             return Err(RingError::BeyondRing {
@@ -694,15 +723,79 @@ impl SnubberRing {
         }
         // The load on the branches the contact would start on (an axis on its preload takes
         // the one it moves into, and the damping differs between them).
-        let b = self.branches_at_start(&c, &k.v);
+        let b = self.branches_at_start(t, &c, &k.v);
         let on_b = self.locate_on(&k.r, b, c.mu)?;
         if on_b.loss_force(&k.v) <= 0.0 {
-            return Ok(RingMode::Free {
-                relax: self.released(t, c.s),
-                separating: true,
-            });
+            return Ok(self.release(t, k, c.s).mode);
         }
         Ok(RingMode::Contact(b))
+    }
+
+    /// The mode of a run's start, as [`SnubberRing::initial_mode`], with a touch at the start
+    /// applied: a free start with the rotor touching the ring ($h$ within its rounding of
+    /// zero, [`SnubberRing::onset_margin`]) and moving into it ($h^\prime$ above $10^{-9}$ of
+    /// its scale $2|r - s|(|r^\prime| + |s^\prime|)$) starts with the onset, decided by the
+    /// touch rule of [`SnubberRing::transition`] (`accel` as there). Use it for a model whose
+    /// free flight is integrated: its onset guard would start on zero and leave it rising,
+    /// which an event detector takes for the zero at the start time, not an event (an exact
+    /// onset search such as [`crate::ring::onset::find_onset`] fires there by itself). Write
+    /// the returned position into the state's ring components.
+    ///
+    /// # Errors
+    /// As [`SnubberRing::initial_mode`] and [`SnubberRing::transition`].
+    pub fn start_mode(
+        &self,
+        t: f64,
+        k: &Kinematics,
+        s: &Vector2<f64>,
+        accel: impl Fn(&Vector2<f64>) -> Vector2<f64>,
+    ) -> Result<RingTransition, RingError> {
+        let mode = self.initial_mode(t, k, s)?;
+        if let RingMode::Free {
+            relax,
+            separating: false,
+            onset_margin,
+        } = mode
+        {
+            let (s, s_dot) = relax.at(self, t);
+            let q = k.r - s;
+            let rate = 2.0 * q.dot(&(k.v - s_dot));
+            let scale = 2.0 * q.norm() * (k.v.norm() + s_dot.norm());
+            if onset_margin > 0.0 && rate > 1e-9 * scale {
+                return self.transition(&mode, RingGuard::Onset, t, k, accel);
+            }
+            return Ok(RingTransition { mode, s });
+        }
+        let s = match mode {
+            RingMode::Contact(b) => self.locate_on(&k.r, b, f64::NAN)?.s,
+            RingMode::Free { relax, .. } => relax.s0,
+        };
+        Ok(RingTransition { mode, s })
+    }
+
+    /// The onset margin of a free flight that starts at time `t` with the rotor at `k` and the
+    /// ring relaxing from `relax` ([`RingMode::Free`]). With $h_0 = |r - s|^2 - \gamma^2$, its
+    /// rate $h_0^\prime = 2(r - s)\cdot(r^\prime - s^\prime)$, its rounding
+    /// $\rho = 16\varepsilon\gamma(|r| + |s| + \gamma)$ and the time resolution
+    /// $\tau = 64\varepsilon\max(|t|, 1)$, let $a = \rho + \max(h_0^\prime, 0)\thinspace\tau$.
+    /// Where the rotor touches the ring up to $a$ ($h_0 \ge -a$: on it, or arriving within
+    /// the time resolution), $m = \max(h_0, 0) + 2a$; else 0. The onset guard $h - m$ then
+    /// starts at or below $-2a$: beyond the rounding of $h$ and, for a rotor moving into the
+    /// ring, beyond what an event detector's start-of-segment window
+    /// ($8\varepsilon\max(|t|, |t_\text{end}|)$ times the rate, for steps up to
+    /// $15\max(|t|, 1)$ long) takes for the zero at the start time.
+    pub fn onset_margin(&self, t: f64, k: &Kinematics, relax: &Relaxation) -> f64 {
+        let (s, s_dot) = relax.at(self, t);
+        let q = k.r - s;
+        let h0 = q.norm_squared() - self.gap * self.gap;
+        let rounding = 16.0 * f64::EPSILON * self.gap * (k.r.norm() + s.norm() + self.gap);
+        let rate = 2.0 * q.dot(&(k.v - s_dot));
+        let a = rounding + rate.max(0.0) * 64.0 * f64::EPSILON * t.abs().max(1.0);
+        if h0 >= -a {
+            h0.max(0.0) + 2.0 * a
+        } else {
+            0.0
+        }
     }
 
     /// The relaxation of a ring released at `s` at time `t` (instant with no ring damping). An
@@ -727,21 +820,63 @@ impl SnubberRing {
         }
     }
 
-    /// Branches of a contact that starts at the located ring `c`: an axis on its preload
-    /// (within the corner tolerance) takes the branch its ring velocity moves into, since its
-    /// guard, zero at the start, would not fire.
-    fn branches_at_start(&self, c: &RingContact, v: &Vector2<f64>) -> Branches {
+    /// Whether the ring located as `c` on branches `b` for the rotor at `k` at time `t` lies
+    /// on them: each preloaded axis on its preload up to [`CORNER_TOL`] and the rounding of
+    /// the located position ($64\varepsilon(|r| + \gamma)$), or on the branch
+    /// [`SnubberRing::branch_at`] gives.
+    fn branches_hold(&self, t: f64, b: &Branches, c: &RingContact, k: &Kinematics) -> bool {
+        let sd = c.ring_velocity(&k.v);
+        let rounding = 64.0 * f64::EPSILON * (k.r.norm() + self.gap);
+        [Axis::X, Axis::Y].into_iter().all(|axis| {
+            let (i, d) = (axis.index(), self.axis(axis).preload);
+            let on_preload = (c.s[i].abs() - d).abs() <= CORNER_TOL * d + rounding;
+            on_preload
+                || self
+                    .branch_at(axis, t, c.s[i], sd[i])
+                    .is_none_or(|branch| branch == branch_of(b, axis))
+        })
+    }
+
+    /// The branch of a preloaded `axis` whose ring coordinate is `s`, moving at `rate`, at
+    /// time `t` (`None` without a preload). On the preload (within [`CORNER_TOL`]) it is the
+    /// branch the ring moves into; elsewhere the branch of the position it reaches within the
+    /// time resolution, $s + s^\prime\tau$, $\tau$ = [`PRELOAD_TIME_TOL`] $\max(|t|, 1)$: a
+    /// preload the ring reaches (or passes, through its centre, to the other side's) within
+    /// that time is crossed at `t`, since its guard would start inside an event detector's
+    /// start-of-segment window and be taken for the zero at the start time.
+    fn branch_at(&self, axis: Axis, t: f64, s: f64, rate: f64) -> Option<Branch> {
+        let d = self.axis(axis).preload;
+        if d == 0.0 {
+            return None;
+        }
+        let side = |s: f64| {
+            if s.abs() > d {
+                Branch::Outer(if s >= 0.0 { 1 } else { -1 })
+            } else {
+                Branch::Inner
+            }
+        };
+        if (s.abs() - d).abs() <= CORNER_TOL * d {
+            return Some(if s * rate > 0.0 {
+                side(s.signum() * 2.0 * d)
+            } else {
+                Branch::Inner
+            });
+        }
+        let ahead = s + rate * PRELOAD_TIME_TOL * t.abs().max(1.0);
+        Some(side(if ahead.is_finite() { ahead } else { s }))
+    }
+
+    /// Branches of a contact that starts at time `t` at the located ring `c`: an axis on its
+    /// preload, or arriving at it within the time resolution, takes the branch its ring
+    /// velocity moves into ([`SnubberRing::branch_at`]), since its guard, zero at the start,
+    /// would not fire.
+    fn branches_at_start(&self, t: f64, c: &RingContact, v: &Vector2<f64>) -> Branches {
         let mut b = c.branches;
         let sd = c.ring_velocity(v);
         for axis in [Axis::X, Axis::Y] {
-            let (i, d) = (axis.index(), self.axis(axis).preload);
-            let s = c.s[i];
-            if d > 0.0 && (s.abs() - d).abs() <= CORNER_TOL * d {
-                let branch = if s * sd[i] > 0.0 {
-                    Branch::Outer(if s >= 0.0 { 1 } else { -1 })
-                } else {
-                    Branch::Inner
-                };
+            let i = axis.index();
+            if let Some(branch) = self.branch_at(axis, t, c.s[i], sd[i]) {
                 set_branch(&mut b, axis, branch);
             }
         }
@@ -772,7 +907,7 @@ impl SnubberRing {
             (RingMode::Free { .. }, RingGuard::Onset) => self.touch(t, k, accel),
             (RingMode::Contact(b), RingGuard::Loss | RingGuard::Gap) => {
                 let c = self.locate_on(&k.r, *b, f64::NAN)?;
-                Ok(self.release(t, c.s))
+                Ok(self.release(t, k, c.s))
             }
             (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
                 let c = self.locate_on(&k.r, *b, f64::NAN)?;
@@ -782,42 +917,49 @@ impl SnubberRing {
                     Branch::Outer(_) => Branch::Inner,
                 };
                 set_branch(&mut next, axis, flip(branch_of(b, axis), c.s[axis.index()]));
-                // A corner: the other axis crosses its preload at the same instant.
+                // The other axis, on the branch it is on within the time resolution: it crosses
+                // its preload at the same instant (a corner of the regime map), or has crossed
+                // within the resolution of this event (a preload the ring passes in less).
                 let other = axis.other();
-                let d = self.axis(other).preload;
-                let (i, s) = (other.index(), c.s[other.index()]);
-                if d > 0.0 && (s.abs() - d).abs() <= CORNER_TOL * d {
-                    let rate = c.ring_velocity(&k.v)[i];
-                    let crossing = match branch_of(b, other) {
-                        Branch::Inner => s * rate > 0.0,
-                        Branch::Outer(sigma) => f64::from(sigma) * rate < 0.0,
-                    };
-                    if crossing {
-                        set_branch(&mut next, other, flip(branch_of(b, other), s));
-                    }
+                let i = other.index();
+                let rate = c.ring_velocity(&k.v)[i];
+                if let Some(branch) = self.branch_at(other, t, c.s[i], rate) {
+                    set_branch(&mut next, other, branch);
+                }
+                let mut on_next = self.locate_on(&k.r, next, c.mu)?;
+                let mut s = c.s;
+                if k.r.norm() > self.gap && !self.branches_hold(t, &next, &on_next, k) {
+                    // The fired axis itself crossed again within the resolution (through the
+                    // ring's centre): start from the minimum-energy position's branches (inside
+                    // the gap circle the gap guard ends the contact instead).
+                    let g = self.locate(&k.r)?;
+                    next = self.branches_at_start(t, &g, &k.v);
+                    on_next = self.locate_on(&k.r, next, g.mu)?;
+                    s = on_next.s;
                 }
                 // The damping, hence the loss force, jumps at a preload: contact on the new
                 // branches holds only if it still carries load there.
-                let on_next = self.locate_on(&k.r, next, c.mu)?;
                 if on_next.loss_force(&k.v) <= 0.0 {
-                    return Ok(self.release(t, c.s));
+                    return Ok(self.release(t, k, c.s));
                 }
                 Ok(RingTransition {
                     mode: RingMode::Contact(next),
-                    s: c.s,
+                    s,
                 })
             }
             _ => Err(RingError::NoPlacement { x: k.r.x, y: k.r.y }),
         }
     }
 
-    /// Free flight from a ring released at `s`: the ring and the rotor touch and part.
-    fn release(&self, t: f64, s: Vector2<f64>) -> RingTransition {
+    /// Free flight from a ring released at `s` with the rotor at `k`: the ring and the rotor
+    /// touch and part.
+    fn release(&self, t: f64, k: &Kinematics, s: Vector2<f64>) -> RingTransition {
         let relax = self.released(t, s);
         RingTransition {
             mode: RingMode::Free {
                 relax,
                 separating: true,
+                onset_margin: self.onset_margin(t, k, &relax),
             },
             s: relax.s0,
         }
@@ -838,15 +980,20 @@ impl SnubberRing {
         if rn < gap - touch {
             // The relaxing ring met a rotor inside the gap circle: the ring's minimum-energy
             // position, its centre, is within reach.
+            let relax = Relaxation::at_rest(t);
             return Ok(RingTransition {
-                mode: RingMode::free(Relaxation::at_rest(t)),
+                mode: RingMode::Free {
+                    relax,
+                    separating: false,
+                    onset_margin: self.onset_margin(t, k, &relax),
+                },
                 s: Vector2::zeros(),
             });
         }
         // Within the touch tolerance of the circle the contact starts from the relaxed ring's
         // branches, whose smooth extension covers the hair inside |r| = gap.
         let b = if rn > gap {
-            self.branches_at_start(&self.locate(&k.r)?, &k.v)
+            self.branches_at_start(t, &self.locate(&k.r)?, &k.v)
         } else {
             Branches::of(self, &Vector2::zeros())
         };
@@ -864,7 +1011,7 @@ impl SnubberRing {
         }
         // No load: the ring stays where contact would put it (the minimiser of its energy over
         // the disk |r - s| <= gap) and the two part, h' = 2 gamma G <= 0.
-        Ok(self.release(t, if rn > gap { c.s } else { Vector2::zeros() }))
+        Ok(self.release(t, k, if rn > gap { c.s } else { Vector2::zeros() }))
     }
 
     /// Whether the loss force, zero to rounding at the touch, rises along the contact flow on

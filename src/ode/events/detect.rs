@@ -579,7 +579,11 @@ where
             }
             let allowed = events.direction(i);
             let tol = tol_at(t_a.abs().max(t_b.abs()));
-            let ignorable = |r: f64| at_origin && r - start <= window;
+            // Only the event that fired and guards on zero at the origin have a zero at the
+            // start time; any other guard's root, however close, is a crossing.
+            let zero_at_start =
+                fired == Some(i) || matches!(s.leave, Leave::Towards(_) | Leave::Probe);
+            let ignorable = |r: f64| at_origin && r - start <= window && zero_at_start;
             let mut candidate: Option<(f64, Direction)> = None;
             // A guard on zero at the origin that left it on the other side of
             // g_b and came back is only visible at the probe point.
@@ -687,14 +691,32 @@ where
                         && (s.leave != Leave::Probe
                             || g_o.abs() <= vtol
                             || g_o.abs() * (t_probe - start) <= (g_p - g_o).abs() * window);
-                    if left {
+                    // The derivative says the guard left zero and the probe is already back
+                    // on the side of g_b: the excursion is shorter than the probe offset.
+                    // Halve the offset (own state in `tmp`) until a point lies on the
+                    // departure side, no closer to the origin than the window.
+                    let mut bracket = left.then_some((t_probe, g_p, t_b, g_b));
+                    if !left && matches!(s.leave, Leave::Towards(_)) && (g_p > 0.0) == (g_b > 0.0) {
+                        let mut dt = (t_probe - start) * 0.5;
+                        while dt > window {
+                            let t_h = start + dt;
+                            y_at(integ, sys, t_h, tmp);
+                            let g_h = events.value(i, t_h, tmp);
+                            if g_h.abs() > vtol && (g_h > 0.0) != (g_b > 0.0) {
+                                bracket = Some((t_h, g_h, t_probe, g_p));
+                                break;
+                            }
+                            dt *= 0.5;
+                        }
+                    }
+                    if let Some((t_l, g_l, t_r, g_r)) = bracket {
                         let r = locate(
                             integ,
                             sys,
                             events,
                             i,
-                            (t_probe, g_p),
-                            (t_b, g_b),
+                            (t_l, g_l),
+                            (t_r, g_r),
                             tol,
                             max_iter,
                             tmp,
