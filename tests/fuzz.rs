@@ -15,8 +15,9 @@
 //! in free flight $|r - s| \le \gamma$, in contact $|r - s| = \gamma$ with the ring at its
 //! minimum-energy position $s^*(r)$ and the regime label of the ring's position. Those
 //! consistency checks need a resolved integration ([`resolved`]); unresolved RK4 runs are
-//! counted apart. The two known open defects (docs/reliability.md, A and D) are recognised by
-//! their mechanism and counted as such; any other failure fails the test.
+//! counted apart. Every failure fails the test; one of the two defect classes fixed in 0.2.0
+//! (docs/reliability.md, fixed 7 and 8: A and D) is named in its message when its mechanism is
+//! recognised.
 //!
 //! **Runs.** `cargo test --test fuzz` runs a short version (a few seconds; failures shrink and
 //! are saved in `proptest-regressions/fuzz.txt`, replayed first on every run). The long run
@@ -594,7 +595,7 @@ fn check_point(
 /// leaves zero in its crossing direction, which the rule takes for the zero at the start, not
 /// an event, and the rotor passes through the ring. Recognised by the free phase that holds the
 /// bad output starting that close to touching.
-fn known_touching_start_swallowed(
+fn touching_start_swallowed(
     ring: &SnubberRing,
     y0: &State,
     t0: f64,
@@ -626,7 +627,7 @@ fn known_touching_start_swallowed(
 /// phase that holds the bad output (or the run's start in contact) where some preload is
 /// within $4|r^\prime| \max(w, \delta)$ (the ring moves at most about three times as fast as
 /// the rotor).
-fn known_tiny_preload(
+fn tiny_preload(
     ring: &SnubberRing,
     y0: &State,
     t0: f64,
@@ -789,7 +790,7 @@ fn check_run(c: RunCase) -> Result<String, String> {
         let class = match violation {
             Violation::FreeBeyond(t_bad)
                 if matches!(c.model, ModelSpec::Custom { .. })
-                    && known_touching_start_swallowed(
+                    && touching_start_swallowed(
                         &ring,
                         &y0,
                         c.t0,
@@ -801,7 +802,7 @@ fn check_run(c: RunCase) -> Result<String, String> {
                 " (class A: onset lost at a touching start)"
             }
             Violation::WrongContact(t_bad)
-                if known_tiny_preload(&ring, &y0, c.t0, &full.events, t_bad, step_max) =>
+                if tiny_preload(&ring, &y0, c.t0, &full.events, t_bad, step_max) =>
             {
                 " (class D: preload below the time resolution)"
             }

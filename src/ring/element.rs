@@ -16,7 +16,8 @@
 //! * **transitions** ([`SnubberRing::transition`]): the next mode and where the ring is placed,
 //!   with the acceptance rule of a touch, the no-pull test and the corner rule built in;
 //! * **consistent initial states** ([`SnubberRing::consistent_position`],
-//!   [`SnubberRing::initial_mode`]).
+//!   [`SnubberRing::initial_mode`], and [`SnubberRing::start_mode`] for an integrated free
+//!   flight: a start touching the ring and moving into it begins with the touch).
 //!
 //! # The rules
 //!
@@ -47,10 +48,29 @@
 //! at once and time advances. A rotor inside the gap circle leaves the ring at its centre (the
 //! minimum is within reach: no force can arise).
 //!
+//! **A free flight that starts touching** (after a loss, a touch without contact, or a start
+//! on the circle) has its onset guard offset by a margin $m$ ([`SnubberRing::onset_margin`]):
+//! the guard is $h - m$, which starts below zero by more than the rounding of $h$ and than an
+//! event detector's start-of-segment window. A guard on zero at a mode's start that leaves it
+//! rising is taken for the zero at the start time ([`crate::ode::events`], rule 3): without
+//! the margin a rotor that curves back into the ring (the zero-force slide) or was released a
+//! hair inside it passed through the ring in free flight, silently. With it, such a rotor
+//! touches the ring again after penetrating at most $m$ (about $10^{-14}\gamma^2$, more late in
+//! long runs for a rotor moving in), and the touch decides.
+//!
 //! **Preload crossings.** The crossing axis switches branch (inner to outer on the side of
-//! $s_i$, outer to inner). At a corner of the regime map both preloads are crossed at once: the
-//! other axis is switched too if it is within $10^{-10} D_i$ of its preload and its ring
-//! velocity moves across it (its guard sits at zero at the new mode's start).
+//! $s_i$, outer to inner). The other axis takes the branch it is on within the time resolution
+//! of the event: at a corner of the regime map, within
+//! $10^{-10} D_i$ of its preload, the branch its ring velocity moves into; elsewhere the branch
+//! of the position it reaches within $\tau = 64\varepsilon\max(|t|, 1)$, so that a preload
+//! it reaches (or passes, through the centre, to the opposite one) sooner than the event is
+//! located is crossed now, rather than left to a guard that would start within the
+//! start-of-segment window and be dropped. If the ring, located on the new branches, is then
+//! on the wrong side of a preload beyond the rounding of its position (the crossing axis
+//! itself passed through its inner region within $\tau$), the branches are taken afresh from
+//! the minimum-energy position, as at a touch. These matter only where a preload is smaller
+//! than the ring moves in $\tau$ ($10^{-8}$ at $t = 10^6$ for a unit ring speed); elsewhere
+//! the rule is the paper's.
 //!
 //! **No ring damping** ($\nu_2 = 0$): the ring relaxes instantly, so every free flight starts
 //! with the ring at its centre.
@@ -838,7 +858,7 @@ impl SnubberRing {
     }
 
     /// The branch of a preloaded `axis` whose ring coordinate is `s`, moving at `rate`, at
-    /// time `t` (`None` without a preload). On the preload (within [`CORNER_TOL`]) it is the
+    /// time `t` (`None` without a preload); the rule of the module docs, "Preload crossings". On the preload (within [`CORNER_TOL`]) it is the
     /// branch the ring moves into; elsewhere the branch of the position it reaches within the
     /// time resolution, $s + s^\prime\tau$, $\tau$ = [`PRELOAD_TIME_TOL`] $\max(|t|, 1)$: a
     /// preload the ring reaches (or passes, through its centre, to the other side's) within

@@ -127,11 +127,17 @@
 //!    shows the guard on the side it must cross back into, in an allowed
 //!    direction, and its motion at $t_o$ pointed the other way, the detector
 //!    evaluates $g_i(t_p)$; if it is beyond `value_tol` on the other side,
-//!    the crossing back is located in $[t_p, t_k]$.
+//!    the crossing back is located in $[t_p, t_k]$. If it is already back on
+//!    the side of $t_k$ while the derivative at $t_o$ pointed away (an
+//!    excursion shorter than $\delta$), the offset is halved,
+//!    $t_o + \delta/2, t_o + \delta/4, \ldots$ down to $w$, until a point is on
+//!    the departure side, and the crossing back is located between it and
+//!    $t_p$.
 //!    **Conditions.** The probe is made only when it can change the result
 //!    (a set whose guards never sit on zero sees exactly the evaluations of
-//!    the plain rules). A guard that returns to zero within $\delta$ of the
-//!    origin is taken as part of the start. Without a derivative, the probe
+//!    the plain rules). A guard that returns to zero within $w$ of the
+//!    origin (within $\delta$ without a derivative) is taken as part of the
+//!    start. Without a derivative, the probe
 //!    is made for a guard armed at the origin only if $|g_i(t_1)| \ge
 //!    |g_i(t_o)|$; a departure and return that leave the first sample closer
 //!    to zero than the origin is a pair of roots inside one sample interval,
@@ -139,9 +145,14 @@
 //!    read correctly when the guard moves off zero faster than its round-off:
 //!    with `value_tol` = 0 and roots located to a few ulp this holds unless it
 //!    is tangent to zero at $t_o$;
-//! 4. a root located within the re-arm window $w$ after $t_o$ is treated as
+//! 4. a root located within the re-arm window $w$ after $t_o$ of the event
+//!    that just fired or of a guard on zero at $t_o$ (rule 3) is treated as
 //!    the zero at the start time (round-off of the event that just fired or of
-//!    a reset map) and is ignored; scanning continues after it.
+//!    a reset map) and is ignored; scanning continues after it. A root of any
+//!    other guard, however close to $t_o$, is a crossing: a guard that starts
+//!    off zero and comes back through it within the window (a non-smooth
+//!    guard such as $|s| - D$ passing its kink, or a fast one late in a long
+//!    run, where $w$ is large) is not round-off.
 //!
 //! Away from the origin, a sample with $g_i = 0$ exactly is the right end of
 //! a reported crossing (if its direction was allowed) and the event stays
