@@ -32,10 +32,9 @@ use std::io::{self, BufWriter, Write};
 
 use common::cli::{fail, Cli};
 use common::csv::write_f64;
-use jeffcott::hybrid::{SimOptions, StrobePoint};
+use common::scene::{scene_flags, Scene};
+use jeffcott::hybrid::StrobePoint;
 use jeffcott::nalgebra::U6;
-use jeffcott::ode::Method;
-use jeffcott::params::{Params, Preset};
 use jeffcott::JeffcottModel;
 
 fn write_rows(out: &mut impl Write, strobe: &[StrobePoint<U6>], transient: u64) -> io::Result<()> {
@@ -56,26 +55,7 @@ fn main() {
         "One simulation of the Jeffcott rotor with a preloaded snubber ring: stroboscopic states\n\
          k,tau,x,y,vx,vy,xs,ys,regime as CSV on stdout, rows k = 0..=N at tau = 2 pi (T + k) / eta.",
     );
-    let preset_name = cli.string(
-        "preset",
-        "fig8a",
-        &format!("parameter preset ({})", Preset::NAMES.join(", ")),
-    );
-    // Without --help an unknown preset stops here; with --help the defaults shown are fig8a's.
-    let preset: Preset = preset_name
-        .parse()
-        .unwrap_or_else(|e| fail(format!("--preset: {e}")));
-    let p = preset.params();
-    let eta = cli.f64("eta", p.eta, "frequency ratio eta = Omega/omega_n (> 0)");
-    let nu1 = cli.f64("nu1", p.nu1, "rotor damping ratio (>= 0)");
-    let nu2 = cli.f64("nu2", p.nu2, "ring damping ratio (>= 0)");
-    let k = cli.f64("k", p.kx, "ring stiffness ratio K = Kx = Ky (>= 0)");
-    let beta = cli.f64("beta", p.beta, "out-of-balance beta (>= 0)");
-    let ex = cli.f64("ex", p.ex, "eccentricity e_x");
-    let ey = cli.f64("ey", p.ey, "eccentricity e_y");
-    let dx = cli.f64("delta-x", p.dx, "preload D_x (>= 0)");
-    let dy = cli.f64("delta-y", p.dy, "preload D_y (>= 0)");
-    let phi0 = cli.f64("phi0", p.phi0, "initial forcing phase phi0 (radians)");
+    let scene = scene_flags(&mut cli);
     let periods = cli.usize_in("periods", 10, 0, 1_000_000_000, "printed periods N");
     let transient = cli.usize_in(
         "transient",
@@ -84,59 +64,17 @@ fn main() {
         1_000_000_000,
         "periods run before the first printed row",
     );
-    let defaults = SimOptions::default();
-    let rtol = cli.f64_in("rtol", defaults.rtol, 0.0, 1.0, "relative tolerance");
-    let atol = cli.f64_in("atol", defaults.atol, 0.0, 1.0, "absolute tolerance");
-    let method = cli.choice(
-        "method",
-        "dop853",
-        &["dop853", "dopri5", "rk4"],
-        "integration method of contact phases",
-    );
-    let steps = cli.usize_in(
-        "steps-per-period",
-        defaults.steps_per_period as usize,
-        1,
-        u32::MAX as usize,
-        "fixed steps per forcing period (rk4)",
-    );
-    let x0 = cli.f64("x0", 0.0, "initial x");
-    let y0 = cli.f64("y0", 0.0, "initial y");
-    let vx0 = cli.f64("vx0", 0.0, "initial x' = dx/dtau");
-    let vy0 = cli.f64("vy0", 0.0, "initial y' = dy/dtau");
     cli.finish();
-    if rtol + atol <= 0.0 {
-        fail("--rtol and --atol cannot both be 0");
-    }
-
-    let params = Params {
-        eta,
-        nu1,
-        nu2,
-        kx: k,
-        ky: k,
-        beta,
-        dx,
-        dy,
-        ex,
-        ey,
-        phi0,
-    };
+    scene.validate();
+    let Scene {
+        params,
+        opts,
+        start: [x0, y0, vx0, vy0],
+    } = scene;
     let model = JeffcottModel::new(params).unwrap_or_else(|e| fail(e));
     let state = model
         .state_at([x0, y0], [vx0, vy0])
         .unwrap_or_else(|e| fail(format!("initial state: {e}")));
-    let opts = SimOptions {
-        method: match method.as_str() {
-            "dopri5" => Method::Dopri5,
-            "rk4" => Method::Rk4,
-            _ => Method::Dop853,
-        },
-        rtol,
-        atol,
-        steps_per_period: u32::try_from(steps).unwrap_or(u32::MAX),
-        ..defaults
-    };
     let (t, n) = (transient as u64, periods as u64);
     let stdout = io::stdout();
     let mut out = BufWriter::new(stdout.lock());
