@@ -364,7 +364,15 @@ where
     /// crossing direction, that departure is the zero at the start time, not an event (the
     /// transition must have dealt with it, e.g. by choosing the mode beyond that boundary); if
     /// it leaves zero the other way, its next crossing fires as usual, even within the first
-    /// step. Exact modes apply the same rule in [`ExactSegment::next_guard`].
+    /// step. Exact modes apply the same rule in [`ExactSegment::next_guard`]. "On zero" includes
+    /// a guard that reaches zero, moving in its crossing direction, within the event
+    /// detector's time resolution $8\varepsilon\max(|t|, |t_\text{end}|)$ of the start: such a
+    /// guard cannot be told from the round-off of a located root. If the model's next motion
+    /// may cross a guard that the transition left (nearly) on zero, let the transition choose
+    /// the mode beyond it, or offset the guard so that it starts clearly on its pre-crossing
+    /// side (what [`crate::ring::RingMode::Free`]'s `onset_margin` does for a free flight that
+    /// starts touching the ring). A guard that starts off zero is never dropped, however close
+    /// to the start its crossing is.
     fn guard_direction(&self, mode: Self::Mode, i: usize) -> Direction;
 
     /// Value $g_i(t, y)$ of guard `i` of an integrated mode (smooth along the mode's flow).
