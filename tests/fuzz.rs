@@ -1413,7 +1413,7 @@ fn fuzz_short() {
 /// `FUZZ_RING_CASES` ring-element cases (default 1e5), without stopping at a defect; fails at
 /// the end if there was any.
 #[test]
-#[ignore = "long run (about an hour): FUZZ_CASES=100000 nice cargo test --test fuzz -- --ignored --nocapture"]
+#[ignore = "long run (about 4 minutes): FUZZ_CASES=100000 nice cargo test --test fuzz -- --ignored --nocapture"]
 fn fuzz_long() {
     let seed: u64 = env("FUZZ_SEED", 0x00F0_2210);
     let runs = fuzz(
