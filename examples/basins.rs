@@ -28,9 +28,7 @@ use common::csv::{fmt_f64, CsvWriter};
 use common::plot::{self, Category, CategoryGrid, Figure};
 use common::ranks::Ranks;
 use jeffcott::analysis::{PeriodTest, StderrProgress};
-use jeffcott::global::{
-    attractor_at, AttractorConfig, Grid2, Json, MatchTolerance, PointLabel, RunConfig,
-};
+use jeffcott::global::{attractor_at, AttractorConfig, Grid2, Json, MatchTolerance, PointLabel};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{BasinPlane, StartPlane};
 use jeffcott::params::{Params, Preset};
@@ -138,18 +136,7 @@ fn main() {
         "periodic attractors match when their cycle points agree to this (every component)",
     );
     let (rtol, atol) = common::tolerance_flags(&mut cli);
-    let threads = cli.opt_usize_in(
-        "threads",
-        1,
-        1024,
-        "worker threads per process, unset = all cores",
-    );
-    let max_new = cli.opt_usize_in(
-        "max-new-points",
-        1,
-        usize::MAX,
-        "run at most this many new points, then stop (a later run resumes)",
-    );
+    let run = common::sweep_run_flags(&mut cli);
     cli.finish();
     if scene == "all" && !(eta.is_nan() && preload.is_nan()) {
         fail("--eta and --preload need one --scene");
@@ -181,13 +168,6 @@ fn main() {
         state: match_tol,
         ..MatchTolerance::default()
     };
-    let mut run = RunConfig::default();
-    if let Some(t) = threads {
-        run = run.with_threads(t);
-    }
-    if let Some(m) = max_new {
-        run = run.with_max_new_points(m);
-    }
     let grid = common::or_exit(Grid2::linspace(
         (h_min, h_max, n),
         (v_min, v_max, nv.unwrap_or(n)),

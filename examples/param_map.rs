@@ -20,7 +20,7 @@ use common::plot::{self, Category, CategoryGrid, Figure, Grid};
 use common::ranks::Ranks;
 use jeffcott::analysis::StderrProgress;
 use jeffcott::global::{
-    continue_orbit, AttractorConfig, ContinuationConfig, Grid2, Json, RunConfig, SpecialKind,
+    continue_orbit, AttractorConfig, ContinuationConfig, Grid2, Json, SpecialKind,
 };
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{ParamPlane, SweepParameter};
@@ -91,18 +91,7 @@ fn main() {
         "a run with no period goes on until its transients add up to this",
     );
     let (rtol, atol) = common::tolerance_flags(&mut cli);
-    let threads = cli.opt_usize_in(
-        "threads",
-        1,
-        1024,
-        "worker threads per process, unset = all cores",
-    );
-    let max_new = cli.opt_usize_in(
-        "max-new-points",
-        1,
-        usize::MAX,
-        "run at most this many new points, then stop (a later run resumes)",
-    );
+    let run = common::sweep_run_flags(&mut cli);
     let overlay = cli.choice(
         "overlay",
         "yes",
@@ -127,13 +116,6 @@ fn main() {
         },
         ..AttractorConfig::default()
     };
-    let mut run = RunConfig::default();
-    if let Some(t) = threads {
-        run = run.with_threads(t);
-    }
-    if let Some(m) = max_new {
-        run = run.with_max_new_points(m);
-    }
     let base = Preset::Fig8a.params();
     let maps = [
         (

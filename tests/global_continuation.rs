@@ -198,17 +198,12 @@ fn the_example_prints_one_json_object_per_special_point() {
         .parent()
         .unwrap()
         .join("global_continuation_example");
-    let run = std::process::Command::new(&exe)
-        .args([
-            "--param", "eta", "--from", "0.4", "--to", "0.8", "--period", "1", "--out",
-        ])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
+    let run = support::run_ok(
+        std::process::Command::new(&exe)
+            .args([
+                "--param", "eta", "--from", "0.4", "--to", "0.8", "--period", "1", "--out",
+            ])
+            .arg(&dir),
     );
     let text = String::from_utf8(run.stdout).unwrap();
     let lines: Vec<serde_json::Value> = text
@@ -228,17 +223,13 @@ fn the_example_prints_one_json_object_per_special_point() {
 
     // From eta = 2 with --switch: the flip of period 1, then the period-2 branch and its own
     // flip at 2.3827.
-    let run = std::process::Command::new(&exe)
-        .args([
-            "--param", "eta", "--from", "2", "--to", "2.45", "--period", "1", "--switch", "--out",
-        ])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
+    let run = support::run_ok(
+        std::process::Command::new(&exe)
+            .args([
+                "--param", "eta", "--from", "2", "--to", "2.45", "--period", "1", "--switch",
+                "--out",
+            ])
+            .arg(&dir),
     );
     let lines: Vec<serde_json::Value> = String::from_utf8(run.stdout)
         .unwrap()

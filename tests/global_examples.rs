@@ -58,16 +58,11 @@ fn basins_killed_and_restarted_equals_an_uninterrupted_run() {
     let exe = support::example_exe("basins");
     let scene = "fig8b-eta2.2";
     let whole = out_dir("whole");
-    let run = Command::new(&exe)
-        .args(SMALL)
-        .args(["--threads", "2", "--out"])
-        .arg(&whole)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
+    let run = support::run_ok(
+        Command::new(&exe)
+            .args(SMALL)
+            .args(["--threads", "2", "--out"])
+            .arg(&whole),
     );
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(
@@ -114,16 +109,11 @@ fn basins_killed_and_restarted_equals_an_uninterrupted_run() {
     }
     let killed_at = killed_at.expect("the run was never caught part-way");
     assert!(!parts.join(scene).join("basins.png").exists());
-    let rerun = Command::new(&exe)
-        .args(SMALL)
-        .args(["--threads", "2", "--out"])
-        .arg(&parts)
-        .output()
-        .unwrap();
-    assert!(
-        rerun.status.success(),
-        "{}",
-        String::from_utf8_lossy(&rerun.stderr)
+    let rerun = support::run_ok(
+        Command::new(&exe)
+            .args(SMALL)
+            .args(["--threads", "2", "--out"])
+            .arg(&parts),
     );
     let err = String::from_utf8_lossy(&rerun.stderr);
     assert!(
@@ -150,25 +140,20 @@ fn basins_killed_and_restarted_equals_an_uninterrupted_run() {
 fn param_map_writes_both_maps() {
     let exe = support::example_exe("param_map");
     let out = out_dir("param_map");
-    let run = Command::new(&exe)
-        .args([
-            "--n-eta",
-            "3",
-            "--n-y",
-            "2",
-            "--transient",
-            "100",
-            "--record",
-            "32",
-        ])
-        .args(["--max-transient", "100", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
+    support::run_ok(
+        Command::new(&exe)
+            .args([
+                "--n-eta",
+                "3",
+                "--n-y",
+                "2",
+                "--transient",
+                "100",
+                "--record",
+                "32",
+            ])
+            .args(["--max-transient", "100", "--out"])
+            .arg(&out),
     );
     for map in ["preload", "ecc"] {
         for f in [

@@ -17,14 +17,8 @@ fn run(args: &[&str]) -> Output {
 
 /// The single JSON object printed by a successful run.
 fn json(args: &[&str]) -> Value {
-    let out = run(args);
+    let out = support::run_ok(Command::new(support::example_exe("stability")).args(args));
     let stdout = String::from_utf8(out.stdout).unwrap();
-    assert!(
-        out.status.success(),
-        "{args:?}: {}\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
     assert_eq!(stdout.lines().count(), 1, "one line of JSON: {stdout}");
     serde_json::from_str(&stdout).expect("valid JSON")
 }

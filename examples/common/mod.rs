@@ -25,6 +25,31 @@ pub fn tolerance_flags(cli: &mut cli::Cli) -> (f64, f64) {
     (rtol, atol)
 }
 
+/// The `--threads` and `--max-new-points` flags of the resumable sweeps, as their run
+/// configuration.
+pub fn sweep_run_flags(cli: &mut cli::Cli) -> jeffcott::global::RunConfig {
+    let threads = cli.opt_usize_in(
+        "threads",
+        1,
+        1024,
+        "worker threads per process, unset = all cores",
+    );
+    let max_new = cli.opt_usize_in(
+        "max-new-points",
+        1,
+        usize::MAX,
+        "run at most this many new points, then stop (a later run resumes)",
+    );
+    let mut run = jeffcott::global::RunConfig::default();
+    if let Some(t) = threads {
+        run = run.with_threads(t);
+    }
+    if let Some(m) = max_new {
+        run = run.with_max_new_points(m);
+    }
+    run
+}
+
 /// Unwraps `r`, or prints `error: {e}` on stderr and exits with status 1 (a failure while
 /// running, as opposed to a bad command line, which exits with status 2).
 pub fn or_exit<T, E: Display>(r: Result<T, E>) -> T {

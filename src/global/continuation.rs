@@ -252,6 +252,27 @@ where
     structure: Vec<&'static str>,
 }
 
+/// The bordered Jacobian of the continuation at `e`: $\begin{pmatrix} DP^n - I & \partial_p P^n
+/// \\ \text{row} \end{pmatrix}$, the last row being the constraint's normal (corrector) or the
+/// previous tangent (tangent).
+fn bordered<D: nalgebra::Dim>(e: &Eval<D>, row: &DVector<f64>) -> DMatrix<f64>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    let k = e.f.len();
+    let mut a = DMatrix::<f64>::zeros(k + 1, k + 1);
+    for i in 0..k {
+        for j in 0..k {
+            a[(i, j)] = e.jac[(i, j)] - if i == j { 1.0 } else { 0.0 };
+        }
+        a[(i, k)] = e.fp[i];
+    }
+    for j in 0..=k {
+        a[(k, j)] = row[j];
+    }
+    a
+}
+
 /// A corrected point.
 struct Solved<D: nalgebra::Dim>
 where
@@ -372,16 +393,7 @@ where
                 reason = format!("residual {res:e} after {it} iterations");
                 break;
             }
-            let mut a = DMatrix::<f64>::zeros(k + 1, k + 1);
-            for i in 0..k {
-                for j in 0..k {
-                    a[(i, j)] = e.jac[(i, j)] - if i == j { 1.0 } else { 0.0 };
-                }
-                a[(i, k)] = e.fp[i];
-            }
-            for j in 0..=k {
-                a[(k, j)] = normal[j];
-            }
+            let a = bordered(&e, normal);
             let mut r = DVector::<f64>::zeros(k + 1);
             for i in 0..k {
                 r[i] = -e.f[i];
@@ -398,16 +410,7 @@ where
     /// The unit tangent at a solved point, oriented along `prev`.
     fn tangent(&self, e: &Eval<M::Dim>, prev: &DVector<f64>) -> DVector<f64> {
         let k = e.f.len();
-        let mut a = DMatrix::<f64>::zeros(k + 1, k + 1);
-        for i in 0..k {
-            for j in 0..k {
-                a[(i, j)] = e.jac[(i, j)] - if i == j { 1.0 } else { 0.0 };
-            }
-            a[(i, k)] = e.fp[i];
-        }
-        for j in 0..=k {
-            a[(k, j)] = prev[j];
-        }
+        let a = bordered(e, prev);
         let mut rhs = DVector::<f64>::zeros(k + 1);
         rhs[k] = 1.0;
         match a.lu().solve(&rhs) {

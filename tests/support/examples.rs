@@ -1,7 +1,7 @@
 //! The built example programs, for the tests of their command-line contracts.
 
 use std::path::PathBuf;
-use std::process::Command;
+use std::process::{Command, Output};
 
 /// Path of example `name`, built by `cargo build --example name` with the profile the test
 /// itself was built with (a no-op after a plain `cargo test`, which builds the examples), so
@@ -39,4 +39,19 @@ pub fn example_exe(name: &str) -> PathBuf {
         bin.display()
     );
     bin
+}
+
+/// Runs `cmd` to completion and returns its output, failing the test with the command's
+/// standard error if it does not exit successfully.
+#[allow(dead_code)] // included by tests that only check failures too
+pub fn run_ok(cmd: &mut Command) -> Output {
+    let out = cmd.output().expect("run the example");
+    assert!(
+        out.status.success(),
+        "{:?}: {}\n{}",
+        cmd,
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
 }
