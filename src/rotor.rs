@@ -15,6 +15,13 @@
 //! two state components are *algebraic*: the composition sets them (relaxing ring in free
 //! flight, $s^*(r)$ in contact) and excludes them from error control.
 //!
+//! **Onset guarantee.** Contact onsets in integrated free flight are found by the event
+//! detector, whose guarantee is relative to the integrated trajectory: every touch of the dense
+//! output is found, and whether the exact orbit touches is decided to the trajectory's own
+//! error. Measured on a closed-form grazing orbit: with `rtol` $10^{-8}$ to $10^{-12}$, touches
+//! and misses by a tenth of `rtol` or more are decided right, shallower ones either way (the
+//! paper's model, with closed-form free flight, decides them at any depth; docs/hybrid.md).
+//!
 //! # Example: a Jeffcott rotor with a cubic bearing, on the ring
 //!
 //! The state is `[x, y, x', y', x_s, y_s]`; the station is the rotor itself (unit mass); the

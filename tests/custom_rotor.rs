@@ -105,3 +105,88 @@ fn cross_coupling_and_cubic_bearing_change_the_orbit() {
         .iter()
         .all(|s| s.y.iter().all(|v| v.is_finite())));
 }
+
+/// The paper's rotor (`q = k3 = 0`) on its steady circular orbit about `e`, radius
+/// $|Z| = B/|1 - \eta^2 + 2i\nu_1\eta|$, with `e` placed so that the orbit's outermost point is
+/// `depth` beyond the gap circle: a touch of that depth once per period (closed form, the same
+/// scene as `tests/simulation.rs`'s grazing scene for the paper's model).
+fn touch_scene(depth: f64) -> (jeffcott::params::Params, SVector<f64, 6>) {
+    let base = Preset::Fig8a.params().with_eta(1.5);
+    let b = base.forcing_amplitude();
+    let (re, im) = (1.0 - base.eta * base.eta, 2.0 * base.nu1 * base.eta);
+    let norm2 = re * re + im * im;
+    let p = jeffcott::params::Params {
+        ex: 1.0 + depth - b / norm2.sqrt(),
+        ey: 0.0,
+        ..base
+    };
+    // Particular solution at t = 0 (phi0 = 0): u = Z, u' = i eta Z, Z = b (re - i im) / norm2.
+    let (zx, zy) = (b * re / norm2, -b * im / norm2);
+    let y0 = SVector::<f64, 6>::from([p.ex + zx, p.ey + zy, -p.eta * zy, p.eta * zx, 0.0, 0.0]);
+    (p, y0)
+}
+
+fn onsets_over_five_periods<M: RotorModel<Dim = U6>>(
+    model: &M,
+    p: f64,
+    y0: &SVector<f64, 6>,
+    rtol: f64,
+) -> usize {
+    let opts = SimOptions {
+        rtol,
+        atol: rtol * 1e-2,
+        ..SimOptions::default()
+    };
+    let plan = OutputPlan {
+        t_end: 5.0 * p,
+        strobe: None,
+        dense: None,
+        events: true,
+    };
+    let mut traj = Trajectory::default();
+    simulate(model, 0.0, y0, &plan, &opts, &mut traj).expect("run");
+    traj.events
+        .iter()
+        .filter(|e| e.kind == "contact onset")
+        .count()
+}
+
+/// The onset guarantee of integrated free flight (docs/hybrid.md). With the rotor's free flight
+/// integrated, the detector finds every touch of the *integrated* trajectory (its guarantee is
+/// relative to the dense output); whether the exact orbit touches is then decided only to the
+/// trajectory's own error. The paper's model, whose free flight is in closed form, decides it at
+/// any depth. Truth: the closed-form steady orbit of `touch_scene`, touching (or missing) the
+/// gap circle by `depth` once per period. Measured (printed): at rtol $10^{-8}$, $10^{-10}$,
+/// $10^{-12}$ every touch or miss by a tenth of rtol or more is decided right; shallower ones
+/// may go either way (at rtol $10^{-6}$ a miss by $10^{-9}$ counts 5 contacts).
+#[test]
+fn ringed_rotor_decides_touches_down_to_a_tenth_of_rtol() {
+    let onsets = |depth: f64, rtol: f64| {
+        let (p, y0) = touch_scene(depth);
+        let period = p.forcing_period();
+        let ringed =
+            onsets_over_five_periods(&rotor::on_ring(p, 0.0, 0.0).unwrap(), period, &y0, rtol);
+        let paper = onsets_over_five_periods(&JeffcottModel::new(p).unwrap(), period, &y0, rtol);
+        println!(
+            "rtol {rtol:e}, depth {depth:+e}: RingedRotor {ringed} onsets, JeffcottModel {paper}"
+        );
+        (ringed, paper)
+    };
+    for rtol in [1e-6, 1e-8, 1e-10, 1e-12] {
+        for exp in 3..=13 {
+            let depth = 10f64.powi(-exp);
+            let (ringed, paper) = onsets(depth, rtol);
+            assert_eq!(paper, 5, "closed-form free flight finds every touch");
+            if depth >= 0.1 * rtol {
+                assert_eq!(ringed, 5, "rtol {rtol:e}: touch {depth:e} deep");
+            }
+        }
+        for miss in [1e-6, 1e-9, 1e-11] {
+            let (ringed, paper) = onsets(-miss, rtol);
+            assert_eq!(paper, 0, "closed-form free flight: no false touch");
+            if miss >= 0.1 * rtol {
+                assert_eq!(ringed, 0, "rtol {rtol:e}: a miss by {miss:e}");
+            }
+        }
+    }
+}
