@@ -15,8 +15,10 @@ use jeffcott::analysis::{
     bifurcation, detect_period, start_from, strobe_orbit, window_residuals, BifurcationConfig,
     PeriodTest, Periodicity,
 };
+use jeffcott::analysis::{section_crossings, section_crossings_hermite};
 use jeffcott::global::{find_attractor, Attractor, AttractorConfig, Json, Record};
 use jeffcott::hybrid::SimOptions;
+use jeffcott::ode::Direction;
 use jeffcott::params::{Params, Preset};
 use jeffcott::{JeffcottModel, State};
 
@@ -282,4 +284,58 @@ fn the_papers_period_3_orbit_near_its_neimark_sacker_point_is_not_period_15() {
     // Given the time, the run settles on the period-3 orbit.
     let a = find_attractor(&model, &y0, &AttractorConfig::default()).unwrap();
     assert_eq!(a.period(), Some(3), "{}", a.describe());
+}
+
+/// Issue 16, item 5 (Poincaré part). The section `h = -1` below `x = 0.3`, `h = 1e-10` from
+/// there on (a threshold with very unequal sides) along `x = t`, sampled at `t = 0, 1`: the one
+/// crossing is at `t = 0.3` exactly. The old private Illinois copy (60 steps, no bisection
+/// fallback) stalled near `t = 1` and returned its smallest-|h| point there as located.
+#[test]
+fn hermite_crossing_of_a_lopsided_threshold_is_where_h_changes_sign() {
+    let times = [0.0, 1.0];
+    let states = [[0.0], [1.0]];
+    let derivs = [[1.0], [1.0]];
+    let h = |_: f64, x: &[f64]| if x[0] < 0.3 { -1.0 } else { 1e-10 };
+    let c = section_crossings_hermite(&times, &states, &derivs, h, Direction::Rising).unwrap();
+    assert_eq!(c.len(), 1);
+    assert!((c[0].t - 0.3).abs() < 1e-12, "{:?}", c[0]);
+    assert!((c[0].state[0] - 0.3).abs() < 1e-12, "{:?}", c[0]);
+    // The crossing carries its bracket, which holds the located time, and is converged.
+    let (lo, hi) = c[0].bracket;
+    assert!(c[0].converged, "{:?}", c[0]);
+    assert!(
+        lo <= c[0].t && c[0].t <= hi && hi - lo <= 1e-13,
+        "{:?}",
+        c[0]
+    );
+    assert!(lo < 0.3 && hi >= 0.3, "{:?}", c[0]);
+}
+
+/// A section function that is NaN on the interpolant between the samples (finite at both):
+/// the search cannot locate the crossing, which is reported flagged, with its bracket.
+#[test]
+fn an_unlocatable_crossing_is_flagged_not_located() {
+    let times = [0.0, 1.0];
+    let states = [[-1.0], [1.0]];
+    let derivs = [[2.0], [2.0]];
+    let h = |_: f64, x: &[f64]| if x[0].abs() < 0.9 { f64::NAN } else { x[0] };
+    let c = section_crossings_hermite(&times, &states, &derivs, h, Direction::Rising).unwrap();
+    assert_eq!(c.len(), 1);
+    assert!(!c[0].converged, "{:?}", c[0]);
+    let (lo, hi) = c[0].bracket;
+    assert!(
+        0.0 <= lo && lo <= c[0].t && c[0].t <= hi && hi <= 1.0,
+        "{:?}",
+        c[0]
+    );
+    // A smooth section is located and converged: x = t - 0.5 crosses 0 at t = 0.5 exactly.
+    let h = |_: f64, x: &[f64]| x[0];
+    let c = section_crossings_hermite(&times, &states, &derivs, h, Direction::Rising).unwrap();
+    assert!(c[0].converged && (c[0].t - 0.5).abs() < 1e-14, "{:?}", c[0]);
+    let lin = section_crossings(&times, &states, h, Direction::Rising).unwrap();
+    assert!(
+        lin[0].converged && lin[0].bracket == (lin[0].t, lin[0].t),
+        "{:?}",
+        lin[0]
+    );
 }
