@@ -140,12 +140,12 @@ where
     let at_from = classify(from)?;
     let mut at_to = classify(to)?;
     if at_from.agrees_with(&at_to) {
-        return Err(OrbitError::NoChange {
+        return Err(OrbitError::NoChange(Box::new(PeriodChange {
             from,
             to,
             at_from,
             at_to,
-        });
+        })));
     }
     let (mut a, mut b) = (from, to);
     while (b - a).abs() > config.resolution {

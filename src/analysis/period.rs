@@ -394,7 +394,7 @@ const OWN_LAG_FALL: f64 = 0.5;
 /// The two convergence checks of the [module docs](self) on the smallest passing lag `p`.
 fn check_converged<S: AsRef<[f64]>>(samples: &[S], p: usize, tol: f64, scale: f64) -> Periodicity {
     let passed = lag_windows(samples, p, scale);
-    for q in (1..p).filter(|q| p % q == 0) {
+    for q in (1..p).filter(|&q| p.is_multiple_of(q)) {
         let shorter = lag_windows(samples, q, scale);
         if shorter.falls_below(SHORTER_LAG_FALL) {
             return Periodicity::NotConverged {

@@ -213,7 +213,7 @@ fn hermite(x0: &[f64], x1: &[f64], d0: &[f64], d1: &[f64], dt: f64, theta: f64) 
 /// Crossings of the section `h(t, x) = 0`, located on the cubic Hermite interpolant built from
 /// the states and their time derivatives `derivatives[k] = x'(t_k)`.
 ///
-/// The crossing parameter `θ` is found by [`illinois`](crate::ode::roots::illinois) in at most
+/// The crossing parameter `θ` is found by [`illinois`] in at most
 /// 200 evaluations, stopping when the bracket is narrower than `1e-14` (relative to the
 /// interval); the section function is called about ten extra times per crossing for a smooth
 /// `h`. Each crossing carries its final bracket and whether the search converged (see the
