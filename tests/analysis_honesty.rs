@@ -338,3 +338,55 @@ fn an_unlocatable_crossing_is_flagged_not_located() {
         lin[0]
     );
 }
+
+/// A small deterministic generator of noise in [-1, 1] (fixed seeds).
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    }
+}
+
+/// Converged cycles with noise up to 0.4 tol per component (lag differences up to 0.8 tol,
+/// stationary): the convergence checks must not mistake the noise for a trend, over many
+/// seeds and record lengths.
+#[test]
+fn noisy_converged_cycles_stay_periodic() {
+    let tol = 1e-6;
+    let bases: [&[[f64; 2]]; 4] = [
+        &[[0.3, -0.2]],
+        &[[0.5, 0.1], [-0.4, 0.2]],
+        &[[0.1, 0.0], [0.7, 0.3], [0.4, -0.6]],
+        &[
+            [0.9, 0.0],
+            [0.2, 0.1],
+            [0.8, 0.05],
+            [0.25, 0.1],
+            [0.6, 0.6],
+            [0.0, 0.3],
+        ],
+    ];
+    for base in bases {
+        for n in [32, 64, 150] {
+            for seed in 0..300u64 {
+                let mut rng = Lcg(seed * 7919 + n as u64);
+                let o: Vec<[f64; 2]> = (0..n)
+                    .map(|i| {
+                        let b = base[i % base.len()];
+                        [b[0] + 0.4 * tol * rng.next(), b[1] + 0.4 * tol * rng.next()]
+                    })
+                    .collect();
+                let got = detect_period(&o, 16, tol).unwrap();
+                assert_eq!(
+                    got,
+                    Periodicity::Period(base.len()),
+                    "n {n}, seed {seed}: {got}"
+                );
+            }
+        }
+    }
+}

@@ -44,8 +44,9 @@
 //!    points may be converging to a period-`q` orbit. For a genuine period-`p` cycle the lag-`q`
 //!    residual is the distance between distinct cycle points: stationary, well above the
 //!    tolerance, so a fall of 10 % is not noise.
-//! 2. **The cycle itself has converged.** If the lag-`p` residual is still shrinking (last
-//!    window at most half the first), its geometric decay is extrapolated: with the contraction
+//! 2. **The cycle itself has converged.** If the lag-`p` residual is still shrinking (falling
+//!    from every window to the next, the last at most half the first: noise at the
+//!    tolerance's level rarely does both), its geometric decay is extrapolated: with the contraction
 //!    per lag `s = (ρ_last/ρ_first)^{p/Δ}` (`Δ` the distance in samples between the centres of
 //!    the first and the last window), the points still have to move by about
 //!    `ρ_last · s/(1 − s)`; if that exceeds `tol`, the cycle has not converged. Residuals at the
@@ -127,6 +128,11 @@ impl LagResiduals {
     /// first is not 0), over at least two windows.
     fn falls_below(&self, fraction: f64) -> bool {
         self.windows >= 2 && self.first() > 0.0 && self.last() <= fraction * self.first()
+    }
+
+    /// Whether every window's residual is below the previous window's.
+    fn decreasing(&self) -> bool {
+        self.per_window().windows(2).all(|w| w[1] < w[0])
     }
 
     /// How far the points still have to move if the residual keeps decaying geometrically as
@@ -403,7 +409,8 @@ fn check_converged<S: AsRef<[f64]>>(samples: &[S], p: usize, tol: f64, scale: f6
             };
         }
     }
-    if passed.falls_below(OWN_LAG_FALL) && passed.extrapolated_drift() > tol {
+    if passed.falls_below(OWN_LAG_FALL) && passed.decreasing() && passed.extrapolated_drift() > tol
+    {
         return Periodicity::NotConverged {
             passed,
             shrinking: passed,
