@@ -79,6 +79,9 @@ fn find_attractor_reports_the_fixed_point_not_a_long_cycle() {
         }
         // The ring never moves: no contact.
         assert_eq!(a.stats.contacts_per_period, 0.0);
+        // The first window (500 + 64 periods) is the one that passed a lag p > 1 with lag 1
+        // failing; one more window shrinks the spiral by 0.98^564 ~ 1e-5, and lag 1 passes.
+        assert_eq!(a.stats.periods_run, 2 * 564, "beta {beta}");
     }
 }
 
