@@ -295,9 +295,10 @@ fn main() {
 }
 
 fn describe(p: &Periodicity) -> String {
-    match p.period() {
-        Some(n) => format!("period {n}"),
-        None => "not periodic".to_string(),
+    match p {
+        Periodicity::Period(n) => format!("period {n}"),
+        Periodicity::NotConverged { .. } => "not converged".to_string(),
+        _ => "not periodic".to_string(),
     }
 }
 

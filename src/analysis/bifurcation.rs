@@ -130,15 +130,17 @@ where
             .collect()
     }
 
-    /// Where the detected periodicity differs from the previous successful value's: a coarse
-    /// map of the bifurcations (`from` the previous value, `to` the value), to refine with
+    /// Where the detected periodicity differs from the previous successful value's
+    /// ([`Periodicity::agrees_with`]: two not-converged columns with the same lags are no
+    /// change, a not-converged column between periodic ones is two changes): a coarse map of
+    /// the bifurcations (`from` the previous value, `to` the value), to refine with
     /// [`locate_period_change`](super::locate_period_change).
     pub fn period_changes(&self) -> Vec<PeriodChange> {
         let mut out = Vec::new();
         let mut prev: Option<(f64, Periodicity)> = None;
         for col in self.columns.iter().flatten() {
             if let Some((v, p)) = prev {
-                if p != col.periodicity {
+                if !p.agrees_with(&col.periodicity) {
                     out.push(PeriodChange {
                         from: v,
                         to: col.value,

@@ -6,7 +6,7 @@ use thiserror::Error;
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim};
 
-use super::Periodicity;
+use super::PeriodChange;
 use crate::hybrid::{ModelError, SimError};
 
 /// What went wrong in an analysis routine.
@@ -121,18 +121,14 @@ where
     /// The analysis of the orbit failed (e.g. non-finite points, bad locator settings).
     #[error(transparent)]
     Analysis(AnalysisError),
-    /// The locator's two ends have the same detected period: nothing to locate.
-    #[error("no change of period between {from} ({at_from}) and {to} ({at_to})")]
-    NoChange {
-        /// Reference end.
-        from: f64,
-        /// Other end.
-        to: f64,
-        /// Periodicity at `from`.
-        at_from: Periodicity,
-        /// Periodicity at `to`.
-        at_to: Periodicity,
-    },
+    /// The locator's two ends have the same detected period
+    /// ([`Periodicity::agrees_with`](super::Periodicity::agrees_with)): nothing to locate.
+    /// Boxed: the two outcomes carry their residuals.
+    #[error(
+        "no change of period between {} ({}) and {} ({})",
+        .0.from, .0.at_from, .0.to, .0.at_to
+    )]
+    NoChange(Box<PeriodChange>),
 }
 
 impl<D: Dim, E> From<SimError<D>> for OrbitError<D, E>

@@ -48,7 +48,7 @@ pub struct PeriodChange {
     pub to: f64,
     /// Periodicity at `from`.
     pub at_from: Periodicity,
-    /// Periodicity at `to` (different from `at_from`).
+    /// Periodicity at `to` (not [agreeing](Periodicity::agrees_with) with `at_from`).
     pub at_to: Periodicity,
 }
 
@@ -89,7 +89,8 @@ impl LocatedChange {
 /// of them is found (not necessarily the nearest).
 ///
 /// # Errors
-/// [`OrbitError::NoChange`] if `from` and `to` have the same periodicity; the builder's,
+/// [`OrbitError::NoChange`] if `from` and `to` have the same periodicity
+/// ([`Periodicity::agrees_with`]); the builder's,
 /// the start rule's, the driver's or the period test's error at any evaluation;
 /// [`OrbitError::Analysis`] for equal or non-finite ends or a bad resolution.
 pub fn locate_period_change<M, E, B, S>(
@@ -138,13 +139,13 @@ where
     };
     let at_from = classify(from)?;
     let mut at_to = classify(to)?;
-    if at_from == at_to {
-        return Err(OrbitError::NoChange {
+    if at_from.agrees_with(&at_to) {
+        return Err(OrbitError::NoChange(Box::new(PeriodChange {
             from,
             to,
             at_from,
             at_to,
-        });
+        })));
     }
     let (mut a, mut b) = (from, to);
     while (b - a).abs() > config.resolution {
@@ -153,7 +154,7 @@ where
             break;
         }
         let pm = classify(m)?;
-        if pm == at_from {
+        if pm.agrees_with(&at_from) {
             a = m;
         } else {
             b = m;

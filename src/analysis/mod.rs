@@ -35,7 +35,7 @@ pub use locate::{locate_period_change, LocatedChange, LocatorConfig, PeriodChang
 pub use orbit::{strobe_orbit, PoincareMap, StrobeOrbit};
 pub use period::{
     count_distinct, detect_period, detect_period_scalar, distinct_values, recurrence_residual,
-    PeriodTest, Periodicity,
+    window_residuals, LagResiduals, PeriodTest, Periodicity,
 };
 pub use poincare::{section_crossings, section_crossings_hermite, Crossing};
 pub use portrait::{phase_portrait, PhasePortrait};

@@ -10,9 +10,10 @@
 //! * the *scale* `S = max(1, E)`;
 //! * the *threshold* `θ = tol · S`.
 //!
-//! The orbit has period `p` if **every** sample `i ≥ p` satisfies
-//! `‖x_i − x_{i−p}‖∞ ≤ θ`. [`detect_period`] reports the smallest such `p` with
-//! `1 ≤ p ≤ max_period`, or [`Periodicity::NotPeriodic`] if there is none.
+//! Lag `p` passes if **every** sample `i ≥ p` satisfies `‖x_i − x_{i−p}‖∞ ≤ θ`.
+//! [`detect_period`] takes the smallest passing `p` with `1 ≤ p ≤ max_period` and reports it as
+//! the period if the orbit has converged (see below; else [`Periodicity::NotConverged`]), or
+//! [`Periodicity::NotPeriodic`] if no lag passes.
 //!
 //! So `tol` is relative to the orbit's size for large orbits and absolute for orbits smaller
 //! than 1 (in the non-dimensional units of the model the gap is 1, so a fixed point with
@@ -21,9 +22,44 @@
 //! A period `p` is only tested with at least `p` comparisons, which is why at least
 //! `2 · max_period` samples are required.
 //!
-//! A multiple of the period also passes the test; the smallest passing `p` is the period.
+//! A multiple of the period also passes the test; the smallest passing `p` is the candidate.
 //! Quasi-periodic and chaotic orbits pass for no `p` (up to the tolerance: a quasi-periodic
 //! orbit whose rotation number is close to `q/p` may pass for `p` if `tol` is loose).
+//!
+//! # A converging orbit is not a cycle
+//!
+//! Passing the tolerance is not enough. Near a Neimark-Sacker point (a multiplier pair
+//! `m e^{±2πi a/b}` with `|m|` just below 1) the transient of a stable **fixed point** is a
+//! slowly shrinking spiral that turns `a` times in `b` samples, so the lag-`b` differences are
+//! about `(1 − m^b)/|m e^{2πi a/b} − 1|` times the lag-1 ones (1/12 for `m = 0.98`, `a/b =
+//! 3/8`): lag `b` (or any lag where the spiral nearly closes) passes while lag 1 does not, and a
+//! fixed point would be reported as a cycle of period 8. A flip multiplier near −1 does the same
+//! with lag 2. So the candidate `p` is only reported as [`Periodicity::Period`] after two checks
+//! on the residuals **per window**: the comparisons `i = p, …, n−1` are cut into
+//! `W = min(4, n − p)` consecutive windows of (nearly) equal length, and the residual of a
+//! window is the largest `‖x_i − x_{i−p}‖∞` in it ([`window_residuals`], relative to `S`).
+//!
+//! 1. **A shorter period that explains the points wins.** If for a proper divisor `q` of `p`
+//!    the lag-`q` residual is still shrinking (last window at most 0.9 times the first), the
+//!    points may be converging to a period-`q` orbit. For a genuine period-`p` cycle the lag-`q`
+//!    residual is the distance between distinct cycle points: stationary, well above the
+//!    tolerance, so a fall of 10 % is not noise.
+//! 2. **The cycle itself has converged.** If the lag-`p` residual is still shrinking (falling
+//!    from every window to the next, the last at most half the first: noise at the
+//!    tolerance's level rarely does both), its geometric decay is extrapolated: with the contraction
+//!    per lag `s = (ρ_last/ρ_first)^{p/Δ}` (`Δ` the distance in samples between the centres of
+//!    the first and the last window), the points still have to move by about
+//!    `ρ_last · s/(1 − s)`; if that exceeds `tol`, the cycle has not converged. Residuals at the
+//!    round-off or integration-noise level, far below `tol`, pass this check whatever their
+//!    trend.
+//!
+//! If either check fails, the answer is [`Periodicity::NotConverged`], with what was seen:
+//! the passing lag and the shrinking lag, each with its residual per window. Run longer (as
+//! [`crate::global::find_attractor`] does) and test again. The checks are conservative: a
+//! genuine cycle whose lag-`q` residual is within a few tolerances of zero and noisy at the
+//! tolerance's level may be reported as not converged rather than as a cycle; a fixed point
+//! whose multipliers are within about `1e-3` of a root of unity can still show a lag-`p`
+//! residual that neither shrinks visibly within the record nor exceeds the tolerance.
 
 use std::fmt;
 
@@ -32,17 +68,128 @@ use nalgebra::{DefaultAllocator, Dim, OVector};
 
 use super::AnalysisError;
 
-/// The outcome of [`detect_period`]. Displays as `period 3` or `not periodic up to 16`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// Most windows a record is cut into for [`window_residuals`].
+pub const MAX_WINDOWS: usize = 4;
+
+/// The residual of one lag over consecutive windows of a record (see the
+/// [module docs](self)): in window `w`, the largest `‖x_i − x_{i−lag}‖∞ / S`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LagResiduals {
+    /// The lag, in samples.
+    pub lag: usize,
+    values: [f64; MAX_WINDOWS],
+    windows: usize,
+    span: f64,
+}
+
+impl LagResiduals {
+    /// Residuals from their parts (e.g. read back from a record): `None` unless `lag ≥ 1`,
+    /// there are 1 to [`MAX_WINDOWS`] windows, every residual is finite and `≥ 0`, and `span`
+    /// is finite and `≥ 0`.
+    pub fn from_parts(lag: usize, per_window: &[f64], span: f64) -> Option<Self> {
+        let ok = lag >= 1
+            && (1..=MAX_WINDOWS).contains(&per_window.len())
+            && per_window.iter().all(|v| v.is_finite() && *v >= 0.0)
+            && span.is_finite()
+            && span >= 0.0;
+        ok.then(|| {
+            let mut values = [0.0; MAX_WINDOWS];
+            values[..per_window.len()].copy_from_slice(per_window);
+            LagResiduals {
+                lag,
+                values,
+                windows: per_window.len(),
+                span,
+            }
+        })
+    }
+
+    /// Distance in samples between the centres of the first and the last window.
+    pub fn span(&self) -> f64 {
+        self.span
+    }
+
+    /// The residual of each window, in order (relative to the orbit's scale `S`).
+    pub fn per_window(&self) -> &[f64] {
+        &self.values[..self.windows]
+    }
+
+    /// The first window's residual.
+    pub fn first(&self) -> f64 {
+        self.values[0]
+    }
+
+    /// The last window's residual.
+    pub fn last(&self) -> f64 {
+        self.values[self.windows.max(1) - 1]
+    }
+
+    /// Whether the last window's residual is at most `fraction` times the first's (and the
+    /// first is not 0), over at least two windows.
+    fn falls_below(&self, fraction: f64) -> bool {
+        self.windows >= 2 && self.first() > 0.0 && self.last() <= fraction * self.first()
+    }
+
+    /// Whether every window's residual is below the previous window's.
+    fn decreasing(&self) -> bool {
+        self.per_window().windows(2).all(|w| w[1] < w[0])
+    }
+
+    /// How far the points still have to move if the residual keeps decaying geometrically as
+    /// it did from the first to the last window (relative to `S`); 0 if it does not decay.
+    pub fn extrapolated_drift(&self) -> f64 {
+        if !(self.windows >= 2 && self.first() > 0.0 && self.last() < self.first()) {
+            return 0.0;
+        }
+        let s = (self.last() / self.first()).powf(self.lag as f64 / self.span.max(1.0));
+        if s >= 1.0 {
+            f64::INFINITY
+        } else {
+            self.last() * s / (1.0 - s)
+        }
+    }
+}
+
+impl fmt::Display for LagResiduals {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let values: Vec<String> = self
+            .per_window()
+            .iter()
+            .map(|v| format!("{v:.2e}"))
+            .collect();
+        write!(
+            f,
+            "lag {} (residual per window {})",
+            self.lag,
+            values.join(", ")
+        )
+    }
+}
+
+/// The outcome of [`detect_period`]. Displays as `period 3`, `not periodic up to 16` or
+/// `not converged: lag 8 (residual per window …) within tolerance, lag 1 (…) still shrinking`.
+#[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
 pub enum Periodicity {
-    /// The orbit repeats after this many samples (the smallest such number; at least 1).
+    /// The orbit repeats after this many samples (the smallest such number; at least 1), and
+    /// has converged (see the [module docs](self)).
     Period(usize),
     /// No period up to and including `up_to` passes the test (quasi-periodic, chaotic, or a
     /// period longer than `up_to`, or a transient still present).
     NotPeriodic {
         /// The largest period that was tested.
         up_to: usize,
+    },
+    /// A lag passes the tolerance but the orbit is still converging: a shorter period may
+    /// explain the points, or the cycle itself still moves by more than the tolerance (see the
+    /// [module docs](self)). Not a period.
+    NotConverged {
+        /// The smallest lag within tolerance, with its residual per window.
+        passed: LagResiduals,
+        /// The lag whose residual was still shrinking: a proper divisor of `passed.lag` (the
+        /// points may be converging to that shorter period), or `passed.lag` itself (its
+        /// extrapolated drift exceeds the tolerance).
+        shrinking: LagResiduals,
     },
 }
 
@@ -51,7 +198,30 @@ impl Periodicity {
     pub fn period(&self) -> Option<usize> {
         match *self {
             Periodicity::Period(p) => Some(p),
-            Periodicity::NotPeriodic { .. } => None,
+            Periodicity::NotPeriodic { .. } | Periodicity::NotConverged { .. } => None,
+        }
+    }
+
+    /// Whether two outcomes say the same thing: the same period, both not periodic up to the
+    /// same bound, or both not converged with the same passing and shrinking lags (their
+    /// residuals may differ). Bifurcation diagrams and the locator compare outcomes with this.
+    pub fn agrees_with(&self, other: &Periodicity) -> bool {
+        match (self, other) {
+            (Periodicity::Period(a), Periodicity::Period(b)) => a == b,
+            (Periodicity::NotPeriodic { up_to: a }, Periodicity::NotPeriodic { up_to: b }) => {
+                a == b
+            }
+            (
+                Periodicity::NotConverged {
+                    passed: pa,
+                    shrinking: sa,
+                },
+                Periodicity::NotConverged {
+                    passed: pb,
+                    shrinking: sb,
+                },
+            ) => pa.lag == pb.lag && sa.lag == sb.lag,
+            _ => false,
         }
     }
 }
@@ -61,6 +231,10 @@ impl fmt::Display for Periodicity {
         match *self {
             Periodicity::Period(p) => write!(f, "period {p}"),
             Periodicity::NotPeriodic { up_to } => write!(f, "not periodic up to {up_to}"),
+            Periodicity::NotConverged { passed, shrinking } => write!(
+                f,
+                "not converged: {passed} within tolerance, {shrinking} still shrinking"
+            ),
         }
     }
 }
@@ -210,12 +384,98 @@ pub fn detect_period<S: AsRef<[f64]>>(
     }
     let (_, scale) = validate(samples)?;
     let threshold = tol * scale;
-    for p in 1..=max_period {
-        if max_lag_distance(samples, p, threshold) <= threshold {
-            return Ok(Periodicity::Period(p));
+    let Some(p) = (1..=max_period).find(|&p| max_lag_distance(samples, p, threshold) <= threshold)
+    else {
+        return Ok(Periodicity::NotPeriodic { up_to: max_period });
+    };
+    Ok(check_converged(samples, p, tol, scale))
+}
+
+/// The residual fall over the record that counts as "still shrinking" for a proper divisor of
+/// the passing lag (see the [module docs](self)).
+const SHORTER_LAG_FALL: f64 = 0.9;
+/// The same for the passing lag itself, whose residual is at the noise level of the samples.
+const OWN_LAG_FALL: f64 = 0.5;
+
+/// The two convergence checks of the [module docs](self) on the smallest passing lag `p`.
+fn check_converged<S: AsRef<[f64]>>(samples: &[S], p: usize, tol: f64, scale: f64) -> Periodicity {
+    let passed = lag_windows(samples, p, scale);
+    for q in (1..p).filter(|&q| p.is_multiple_of(q)) {
+        let shorter = lag_windows(samples, q, scale);
+        if shorter.falls_below(SHORTER_LAG_FALL) {
+            return Periodicity::NotConverged {
+                passed,
+                shrinking: shorter,
+            };
         }
     }
-    Ok(Periodicity::NotPeriodic { up_to: max_period })
+    if passed.falls_below(OWN_LAG_FALL) && passed.decreasing() && passed.extrapolated_drift() > tol
+    {
+        return Periodicity::NotConverged {
+            passed,
+            shrinking: passed,
+        };
+    }
+    Periodicity::Period(p)
+}
+
+/// The residual of lag `p` per window (`1 ≤ p < samples.len()`; validated samples).
+fn lag_windows<S: AsRef<[f64]>>(samples: &[S], p: usize, scale: f64) -> LagResiduals {
+    let m = samples.len().saturating_sub(p);
+    let windows = m.min(MAX_WINDOWS);
+    let mut values = [0.0; MAX_WINDOWS];
+    let bound = |w: usize| p + w * m / windows.max(1);
+    for (w, value) in values.iter_mut().enumerate().take(windows) {
+        let window = &samples[bound(w) - p..bound(w + 1)];
+        *value = max_lag_distance(window, p, f64::INFINITY) / scale;
+    }
+    let centre = |w: usize| 0.5 * (bound(w) + bound(w + 1) - 1) as f64;
+    let span = if windows >= 2 {
+        centre(windows - 1) - centre(0)
+    } else {
+        0.0
+    };
+    LagResiduals {
+        lag: p,
+        values,
+        windows,
+        span,
+    }
+}
+
+/// The residual of lag `p` per window of the record (see the [module docs](self)): the
+/// comparisons `i = p, …, n−1` cut into `min(4, n − p)` consecutive windows, each window's
+/// largest `‖x_i − x_{i−p}‖∞` divided by the scale `S`.
+///
+/// # Errors
+///
+/// As [`recurrence_residual`].
+pub fn window_residuals<S: AsRef<[f64]>>(
+    samples: &[S],
+    p: usize,
+) -> Result<LagResiduals, AnalysisError> {
+    check_lag(samples.len(), p)?;
+    let (_, scale) = validate(samples)?;
+    Ok(lag_windows(samples, p, scale))
+}
+
+fn check_lag(n: usize, p: usize) -> Result<(), AnalysisError> {
+    if p == 0 {
+        return Err(AnalysisError::InvalidCount {
+            name: "p",
+            value: 0,
+            expected: "at least 1",
+        });
+    }
+    let needed = p.saturating_mul(2);
+    if n < needed {
+        return Err(AnalysisError::TooFewSamples {
+            got: n,
+            needed,
+            why: "a lag of p needs 2p samples",
+        });
+    }
+    Ok(())
 }
 
 /// [`detect_period`] for scalar samples (for example the rotor's `x` alone).
@@ -243,21 +503,7 @@ pub fn detect_period_scalar(
 /// [`AnalysisError::InvalidCount`] if `p` is 0, [`AnalysisError::TooFewSamples`] if there are
 /// fewer than `2p` samples, and the sample errors of [`detect_period`].
 pub fn recurrence_residual<S: AsRef<[f64]>>(samples: &[S], p: usize) -> Result<f64, AnalysisError> {
-    if p == 0 {
-        return Err(AnalysisError::InvalidCount {
-            name: "p",
-            value: 0,
-            expected: "at least 1",
-        });
-    }
-    let needed = p.saturating_mul(2);
-    if samples.len() < needed {
-        return Err(AnalysisError::TooFewSamples {
-            got: samples.len(),
-            needed,
-            why: "a lag of p needs 2p samples",
-        });
-    }
+    check_lag(samples.len(), p)?;
     let (_, scale) = validate(samples)?;
     Ok(max_lag_distance(samples, p, f64::INFINITY) / scale)
 }

@@ -16,8 +16,14 @@
 //!   linearly (error `O(Δt²)`); or
 //! * with cubic Hermite interpolation ([`section_crossings_hermite`]), which also uses the time
 //!   derivatives `x'_k` (error `O(Δt⁴)`): `h` along the Hermite cubic is solved for `θ` by the
-//!   Illinois variant of regula falsi, a fixed number of steps at most, so the result is
-//!   deterministic.
+//!   crate's root finder [`ode::roots::illinois`](crate::ode::roots::illinois), a fixed number
+//!   of steps at most, so the result is deterministic.
+//!
+//! Every [`Crossing`] carries the final bracket of its search ([`Crossing::bracket`]) and
+//! whether the search converged ([`Crossing::converged`]): the located point is an end of the
+//! bracket, where `h` has the sign it has after the crossing (or is zero), unless the other
+//! end has the smaller `|h|`. An unconverged search (it ran out of steps, or `h` returned NaN
+//! on the interpolant) is reported, flagged, never passed off as located: check `converged`.
 //!
 //! The stroboscopic map of a periodically forced system (`t = t_0 + 2πk/η`) needs no search; it
 //! comes from the simulation directly ([`strobe_orbit`](super::strobe_orbit)); for a
@@ -29,7 +35,14 @@
 //! non-positive) or `Either`.
 
 use super::AnalysisError;
+use crate::ode::roots::illinois;
 use crate::ode::Direction;
+
+/// Width of the final bracket of the Hermite search, in the interval's parameter `θ ∈ [0, 1]`.
+const THETA_TOL: f64 = 1e-14;
+/// Most evaluations of `h` per Hermite search: the root finder needs at most about four times
+/// the 47 steps of bisection down to [`THETA_TOL`].
+const MAX_STEPS: usize = 200;
 
 /// One crossing of the section.
 #[derive(Debug, Clone, PartialEq)]
@@ -43,6 +56,13 @@ pub struct Crossing {
     pub state: Vec<f64>,
     /// `true` for a rising crossing, `false` for a falling one.
     pub rising: bool,
+    /// Times `(lo, hi)` between which `h` changes sign on the interpolant: the final bracket of
+    /// the search (`(t, t)` for linear interpolation, solved in closed form).
+    pub bracket: (f64, f64),
+    /// Whether the search ended by its tolerance with a valid bracket (always `true` for
+    /// linear interpolation). `false`: the crossing lies in `bracket`, but `t` and `state` are
+    /// not located to the tolerance.
+    pub converged: bool,
 }
 
 fn check_inputs<S: AsRef<[f64]>>(times: &[f64], states: &[S]) -> Result<usize, AnalysisError> {
@@ -161,9 +181,12 @@ where
             let theta = if a == b { 1.0 } else { a / (a - b) };
             let x0 = states[k].as_ref();
             let x1 = states[k + 1].as_ref();
+            let t = times[k] + theta * (times[k + 1] - times[k]);
             Crossing {
                 interval: k,
-                t: times[k] + theta * (times[k + 1] - times[k]),
+                t,
+                bracket: (t, t),
+                converged: true,
                 state: x0
                     .iter()
                     .zip(x1)
@@ -190,9 +213,11 @@ fn hermite(x0: &[f64], x1: &[f64], d0: &[f64], d1: &[f64], dt: f64, theta: f64) 
 /// Crossings of the section `h(t, x) = 0`, located on the cubic Hermite interpolant built from
 /// the states and their time derivatives `derivatives[k] = x'(t_k)`.
 ///
-/// The crossing parameter `θ` is found by at most 60 Illinois steps, stopping when the bracket
-/// is narrower than `1e-14` (relative to the interval); the section function is called about ten
-/// extra times per crossing.
+/// The crossing parameter `θ` is found by [`illinois`] in at most
+/// 200 evaluations, stopping when the bracket is narrower than `1e-14` (relative to the
+/// interval); the section function is called about ten extra times per crossing for a smooth
+/// `h`. Each crossing carries its final bracket and whether the search converged (see the
+/// [module docs](self)).
 ///
 /// # Errors
 ///
@@ -238,52 +263,23 @@ where
             let x = hermite(x0, x1, d0, d1, dt, theta);
             (section(t0 + theta * dt, &x), x)
         };
-        // Illinois regula falsi on [lo, hi] with h(lo) and h(hi) of opposite sign (or zero at hi).
-        let (mut lo, mut hi, mut h_lo, mut h_hi) = (0.0_f64, 1.0_f64, a, b);
-        let mut best = (1.0, b);
-        let mut side = 0i8;
-        for _ in 0..60 {
-            if h_hi == 0.0 || hi - lo <= 1e-14 {
-                break;
-            }
-            let theta = if h_lo == h_hi {
-                0.5 * (lo + hi)
-            } else {
-                (lo - h_lo * (hi - lo) / (h_hi - h_lo)).clamp(lo, hi)
-            };
-            let (h, _) = eval(theta);
-            if h.is_nan() {
-                break;
-            }
-            if h.abs() < best.1.abs() {
-                best = (theta, h);
-            }
-            if h == 0.0 {
-                break;
-            }
-            if (h < 0.0) == (h_lo < 0.0) {
-                lo = theta;
-                h_lo = h;
-                if side == -1 {
-                    h_hi *= 0.5;
-                }
-                side = -1;
-            } else {
-                hi = theta;
-                h_hi = h;
-                if side == 1 {
-                    h_lo *= 0.5;
-                }
-                side = 1;
-            }
-        }
-        let theta = best.0;
+        let found = illinois(0.0, a, 1.0, b, THETA_TOL, MAX_STEPS, |theta| eval(theta).0);
+        // The end to report: the one with the smaller |h| (NaN counts as infinite), `hi` (the
+        // side after the crossing) on a tie.
+        let size = |g: f64| if g.is_nan() { f64::INFINITY } else { g.abs() };
+        let theta = if size(found.g_lo) < size(found.g_hi) {
+            found.lo
+        } else {
+            found.hi
+        };
         let (_, state) = eval(theta);
         out.push(Crossing {
             interval: k,
             t: t0 + theta * dt,
             state,
             rising,
+            bracket: (t0 + found.lo * dt, t0 + found.hi * dt),
+            converged: found.converged && !found.g_lo.is_nan() && !found.g_hi.is_nan(),
         });
     }
     Ok(out)

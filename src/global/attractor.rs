@@ -5,7 +5,8 @@
 //!
 //! [`find_attractor`] runs the model from its initial state at $t = 0$, discards
 //! [`AttractorConfig::transient`] forcing periods, records [`AttractorConfig::record`]
-//! stroboscopic points and tests them for a period ([`PeriodTest`]). If none is found the run
+//! stroboscopic points and tests them for a period ([`PeriodTest`]). If none is found (not
+//! periodic, or not yet converged) the run
 //! goes on from its last state for another `transient + record` periods, and again, until the
 //! transients add up to [`AttractorConfig::max_transient`]: slowly attracting orbits (a
 //! multiplier near the unit circle, close to a bifurcation) get the time they need, and
@@ -18,7 +19,11 @@
 //!   reach the same cycle from different initial states store it starting at the same point,
 //!   up to the convergence of the runs.
 //! * A **non-periodic** attractor (no period up to the test's bound: quasi-periodic, chaotic,
-//!   or not converged within `max_transient`) is described by its statistics.
+//!   or not converged within `max_transient`) is described by its statistics. A run whose
+//!   last window passes the period test for some lag but is still converging (a stable orbit
+//!   near a Neimark-Sacker or flip point, whose slowly shrinking transient nearly closes after
+//!   a few periods) ends as [`Periodicity::NotConverged`] with the residuals seen, never as a
+//!   long cycle: see [`crate::analysis::period`].
 //!
 //! Both carry [`OrbitStats`] over the recorded window: contacts per forcing period (onsets,
 //! i.e. transitions out of the free-flight mode), the fraction of time in contact, the
@@ -42,7 +47,7 @@ use nalgebra::{DefaultAllocator, OVector};
 
 use super::json::{Json, JsonError};
 use super::record::{field, nest, Record};
-use crate::analysis::{PeriodTest, Periodicity};
+use crate::analysis::{LagResiduals, PeriodTest, Periodicity};
 use crate::hybrid::{
     simulate, EventRecord, HybridObserver, OutputPlan, RotorModel, SimError, SimErrorKind,
     SimOptions, SimStats, StrobePoint, StrobeRange,
@@ -547,6 +552,34 @@ impl Record for OrbitStats {
     }
 }
 
+impl Record for LagResiduals {
+    /// `{"lag": 8, "per_window": [...], "span": 42.0}`.
+    fn to_json(&self) -> Json {
+        Json::object([
+            ("lag", Json::from(self.lag)),
+            ("per_window", self.per_window().to_vec().to_json()),
+            ("span", Json::from(self.span())),
+        ])
+    }
+
+    fn from_json(json: &Json) -> Result<Self, JsonError> {
+        lag_residuals_from_json(json)
+    }
+}
+
+fn lag_residuals_from_json(json: &Json) -> Result<LagResiduals, JsonError> {
+    let lag: usize = field(json, "lag")?;
+    let per_window: Vec<f64> = field(json, "per_window")?;
+    let span: f64 = field(json, "span")?;
+    LagResiduals::from_parts(lag, &per_window, span).ok_or_else(|| {
+        JsonError::shape(
+            "",
+            "lag >= 1, 1 to 4 finite residuals >= 0 and a finite span >= 0",
+            json,
+        )
+    })
+}
+
 trait FromPair: Sized {
     fn from_pair(json: &Json) -> Result<Self, JsonError>;
 }
@@ -564,12 +597,21 @@ impl FromPair for (u8, f64) {
 }
 
 impl Record for Attractor {
-    /// `{"period": p, "cycle": [[...], ...], "stats": {...}}`, or
-    /// `{"not_periodic_up_to": n, "cycle": [], "stats": {...}}`.
+    /// `{"period": p, "cycle": [[...], ...], "stats": {...}}`,
+    /// `{"not_periodic_up_to": n, "cycle": [], "stats": {...}}`, or
+    /// `{"not_converged": {"passed": {...}, "shrinking": {...}}, "cycle": [], "stats": {...}}`
+    /// (each a [`LagResiduals`] record).
     fn to_json(&self) -> Json {
         let head = match self.periodicity {
             Periodicity::Period(p) => ("period", Json::from(p)),
             Periodicity::NotPeriodic { up_to } => ("not_periodic_up_to", Json::from(up_to)),
+            Periodicity::NotConverged { passed, shrinking } => (
+                "not_converged",
+                Json::object([
+                    ("passed", passed.to_json()),
+                    ("shrinking", shrinking.to_json()),
+                ]),
+            ),
         };
         Json::object([
             head,
@@ -579,15 +621,28 @@ impl Record for Attractor {
     }
 
     fn from_json(json: &Json) -> Result<Self, JsonError> {
-        let periodicity = match (json.get("period"), json.get("not_periodic_up_to")) {
-            (Some(_), None) => Periodicity::Period(field(json, "period")?),
-            (None, Some(_)) => Periodicity::NotPeriodic {
+        let keys = ["period", "not_periodic_up_to", "not_converged"];
+        let present: Vec<&str> = keys.into_iter().filter(|k| json.get(k).is_some()).collect();
+        let periodicity = match present.as_slice() {
+            ["period"] => Periodicity::Period(field(json, "period")?),
+            ["not_periodic_up_to"] => Periodicity::NotPeriodic {
                 up_to: field(json, "not_periodic_up_to")?,
             },
+            ["not_converged"] => {
+                let nc = json.field("not_converged")?;
+                let part = |key| {
+                    lag_residuals_from_json(nc.field(key)?)
+                        .map_err(|e| nest(nest(e, key), "not_converged"))
+                };
+                Periodicity::NotConverged {
+                    passed: part("passed")?,
+                    shrinking: part("shrinking")?,
+                }
+            }
             _ => {
                 return Err(JsonError::shape(
                     "",
-                    "one of the keys `period` and `not_periodic_up_to`",
+                    "one of the keys `period`, `not_periodic_up_to` and `not_converged`",
                     json,
                 ))
             }
