@@ -10,15 +10,28 @@
 //! * the orbit's **event structure** changes (a contact appears or disappears: a grazing
 //!   bifurcation, which the multipliers do not announce; compared up to a rotation, so that
 //!   an event moving across the section does not count);
-//! * Newton fails and keeps failing as the step is halved down to the tolerance: the branch
-//!   ends, a fold if a real multiplier approaches $+1$ there (above 0.95 at the last orbit),
-//!   otherwise a non-smooth end (reported as grazing: a contact or a regime boundary met
-//!   tangentially, where the map is not differentiable).
+//! * no orbit is found, and none as the step is halved down to the tolerance.
 //!
 //! The bracket is then bisected (Newton at each midpoint, warm-started from the stable end)
 //! until it is narrower than [`ContinuationOptions::tolerance`]; for a multiplier crossing the
 //! value reported is the linear interpolation of the spectral radius to 1 inside the final
-//! bracket, for the others its midpoint.
+//! bracket, for the others its midpoint. The bisection has no other exit: a located
+//! [`StabilityLoss`] always has a bracket of at most the tolerance (or two adjacent floats).
+//!
+//! **A failure is not a bifurcation.** Where no orbit is found at the far end of the final
+//! bracket, the branch ends there; that is called a bifurcation only on positive evidence at
+//! the last orbit found, and only when what failed is Newton itself (no convergence, a
+//! singular $DP^n - I$, or an orbit of the wrong branch):
+//!
+//! * a **fold** if a real multiplier has come near $+1$ (above 0.95, and not farther from 1
+//!   than where the bracket started): a branch of period-$n$ orbits ends by turning back;
+//! * a **grazing** if an event of the last orbit is crossed tangentially
+//!   ([`PeriodicOrbit::grazing`]: its margin has gone to 0): a contact or a regime boundary
+//!   met tangentially, where the map is not differentiable.
+//!
+//! Any other end (a model that cannot be built, a failed simulation, Newton failing with no
+//! such evidence, the step budget exhausted) is reported as a [`BranchFailure`] with its
+//! error, where it happened and the last orbit found, never as a located point.
 
 use nalgebra::{DVector, DefaultAllocator, OVector};
 
@@ -131,14 +144,37 @@ where
     pub beyond_structure: Option<Vec<&'static str>>,
 }
 
-/// The continuation's outcome.
+/// Why a continuation ended before `to` without a located loss of stability (module docs):
+/// the error, where it happened and the last orbit found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BranchFailure<D: nalgebra::Dim>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    /// The parameter at which no orbit was found (the far end of the final bracket), or
+    /// where the budget ran out.
+    pub parameter: f64,
+    /// What went wrong there.
+    pub error: StabilityError,
+    /// The parameter of the last orbit found.
+    pub last_parameter: f64,
+    /// The last orbit found.
+    pub last_orbit: PeriodicOrbit<D>,
+}
+
+/// The continuation's outcome. At most one of `loss` and `failure` is set; neither when the
+/// orbit was followed, stable, up to `to`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Continuation<D: nalgebra::Dim>
 where
     DefaultAllocator: VariationalAlloc<D>,
 {
-    /// The first loss of stability met, `None` if the orbit stays stable up to `to`.
+    /// The first loss of stability met, `None` if there is none up to `to` or up to a
+    /// failure.
     pub loss: Option<StabilityLoss<D>>,
+    /// Why the continuation stopped before `to` without a located loss (module docs), `None`
+    /// if it did not.
+    pub failure: Option<BranchFailure<D>>,
     /// The converged points of the continuation, in order (bisection points excluded).
     pub path: Vec<ContinuationPoint>,
     /// The grazing bifurcations passed with [`ContinuationOptions::through_grazing`], in order.
@@ -175,9 +211,11 @@ where
 /// model at `p`.
 ///
 /// # Errors
-/// [`StabilityError::InvalidOption`] for bad options or a model that cannot be built,
-/// [`StabilityError::Unstable`] if the orbit at `from` is not stable, or the error of the
-/// first orbit solve.
+/// [`StabilityError::InvalidOption`] for bad options, [`StabilityError::Model`] for a model
+/// that cannot be built at `from`, [`StabilityError::Unstable`] if the orbit at `from` is not
+/// stable, or the error of the first orbit solve. A failure after the first orbit (including
+/// [`StabilityError::Budget`] when `max_steps` run out) is returned with the path, in
+/// [`Continuation::failure`].
 pub fn locate_loss<M, F, E>(
     build: F,
     from: f64,
@@ -246,15 +284,17 @@ where
     let mut path = vec![point(from, &first)];
     let mut last: (f64, PeriodicOrbit<M::Dim>) = (from, first);
     let mut before: Option<(f64, DVector<f64>)> = None;
-    // In the bisection: an orbit of another minimal period, or far from the stable end, is
-    // not this branch.
+    // An orbit of another minimal period, or far from the prediction, is not this branch.
     let solve_on_branch = |p: f64, template: &OVector<f64, M::Dim>, z: &DVector<f64>| {
         solve(p, template, z).and_then(|o| {
-            if o.minimal_period != minimal || (&o.point - z).amax() > opts.max_correction {
-                Err(StabilityError::InvalidOption {
-                    field: "max_correction",
-                    value: (&o.point - z).amax(),
-                    hint: "Newton left the branch",
+            let correction = (&o.point - z).amax();
+            if o.minimal_period != minimal || correction > opts.max_correction {
+                Err(StabilityError::LeftBranch {
+                    parameter: p,
+                    correction,
+                    max_correction: opts.max_correction,
+                    minimal_period: o.minimal_period,
+                    expected_period: minimal,
                 })
             } else {
                 Ok(o)
@@ -272,13 +312,22 @@ where
                 _ => last.1.point.clone(),
             }
         };
+    let done = |path, grazings, end: Option<End<M::Dim>>| {
+        let (loss, failure) = match end {
+            None => (None, None),
+            Some(End::Loss(l)) => (Some(l), None),
+            Some(End::Failure(f)) => (None, Some(f)),
+        };
+        Continuation {
+            loss,
+            failure,
+            path,
+            grazings,
+        }
+    };
     for _ in 0..opts.max_steps {
         if (last.0 - to) * dir >= 0.0 {
-            return Ok(Continuation {
-                loss: None,
-                path,
-                grazings,
-            });
+            return Ok(done(path, grazings, None));
         }
         let p = if (last.0 + step - to) * dir > 0.0 {
             to
@@ -287,76 +336,59 @@ where
         };
         let z = predict(&last, &before, p);
         // Another orbit (a jump, or one of a shorter period) is a failed step.
-        let solved = solve(p, &last.1.state, &z).and_then(|o| {
-            if o.minimal_period != minimal || (&o.point - &z).amax() > opts.max_correction {
-                Err(StabilityError::InvalidOption {
-                    field: "max_correction",
-                    value: (&o.point - &z).amax(),
-                    hint: "Newton left the branch",
-                })
-            } else {
-                Ok(o)
-            }
-        });
-        match solved {
+        let solved = solve_on_branch(p, &last.1.state, &z);
+        let far = match solved {
             Ok(o) if !is_lost(&o, &structure) => {
                 path.push(point(p, &o));
                 before = Some((last.0, last.1.point.clone()));
                 last = (p, o);
                 step = opts.step.abs() * dir;
+                continue;
             }
-            Ok(o) => {
-                let (loss, beyond) = bisect(
-                    &solve_on_branch,
-                    last,
-                    (p, Some(o)),
-                    &structure,
-                    opts.tolerance,
-                );
-                match beyond {
-                    Some(next)
-                        if opts.through_grazing
-                            && loss.kind == LossKind::Grazing
-                            && next.1.spectral_radius() < 1.0 =>
-                    {
-                        structure = canonical(&next.1.margins.structure);
-                        path.push(point(next.0, &next.1));
-                        grazings.push(loss);
-                        before = None;
-                        last = next;
-                        step = opts.step.abs() * dir;
-                    }
-                    _ => {
-                        return Ok(Continuation {
-                            loss: Some(loss),
-                            path,
-                            grazings,
-                        })
-                    }
-                }
+            Err(_) if step.abs() > opts.tolerance => {
+                step *= 0.5;
+                continue;
             }
-            Err(_) if step.abs() > opts.tolerance => step *= 0.5,
-            Err(_) => {
-                let (loss, _) = bisect(
-                    &solve_on_branch,
-                    last,
-                    (p, None),
-                    &structure,
-                    opts.tolerance,
-                );
-                return Ok(Continuation {
-                    loss: Some(loss),
-                    path,
-                    grazings,
-                });
+            far => far,
+        };
+        let (end, beyond) = bisect(&solve_on_branch, last, (p, far), &structure, opts.tolerance);
+        match (end, beyond) {
+            (End::Loss(loss), Some(next))
+                if opts.through_grazing
+                    && loss.kind == LossKind::Grazing
+                    && next.1.spectral_radius() < 1.0 =>
+            {
+                structure = canonical(&next.1.margins.structure);
+                path.push(point(next.0, &next.1));
+                grazings.push(loss);
+                before = None;
+                last = next;
+                step = opts.step.abs() * dir;
             }
+            (end, _) => return Ok(done(path, grazings, Some(end))),
         }
     }
-    Err(StabilityError::InvalidOption {
+    let error = StabilityError::Budget {
         field: "max_steps",
-        value: opts.max_steps as f64,
-        hint: "the continuation did not reach `to`: allow more steps or a larger step",
-    })
+        limit: opts.max_steps as f64,
+        parameter: last.0,
+    };
+    let failure = BranchFailure {
+        parameter: last.0,
+        error,
+        last_parameter: last.0,
+        last_orbit: last.1,
+    };
+    Ok(done(path, grazings, Some(End::Failure(failure))))
+}
+
+/// How a bracket ends: a located loss or a failure.
+enum End<D: nalgebra::Dim>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    Loss(StabilityLoss<D>),
+    Failure(BranchFailure<D>),
 }
 
 /// A branch that ends with a real multiplier above this is a fold (its multiplier reaches +1
@@ -364,21 +396,34 @@ where
 /// multiplier moves like $1 - c\sqrt{\eta^{\ast} - \eta}$ with $c$ up to $10^2$).
 const FOLD_MULTIPLIER: f64 = 0.95;
 
+/// The largest real positive multiplier (0 if none).
+fn largest_real_positive<D: nalgebra::Dim>(o: &PeriodicOrbit<D>) -> f64
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    o.multipliers
+        .iter()
+        .filter(|m| m.is_real(1e-6) && m.re > 0.0)
+        .map(|m| m.re)
+        .fold(0.0, f64::max)
+}
+
 /// Bisects `[a, b]` (stable with the reference structure at `a`, not at `b`) to `tol`.
 #[allow(clippy::type_complexity)]
 fn bisect<D, S>(
     solve: &S,
     mut a: (f64, PeriodicOrbit<D>),
-    mut b: (f64, Option<PeriodicOrbit<D>>),
+    mut b: (f64, Result<PeriodicOrbit<D>, StabilityError>),
     structure: &[&'static str],
     tol: f64,
-) -> (StabilityLoss<D>, Option<(f64, PeriodicOrbit<D>)>)
+) -> (End<D>, Option<(f64, PeriodicOrbit<D>)>)
 where
     D: nalgebra::Dim,
     DefaultAllocator: VariationalAlloc<D>,
     S: Fn(f64, &OVector<f64, D>, &DVector<f64>) -> Result<PeriodicOrbit<D>, StabilityError>,
 {
     let lost = |o: &PeriodicOrbit<D>| is_lost(o, structure);
+    let start_real = largest_real_positive(&a.1);
     while (b.0 - a.0).abs() > tol {
         let mid = 0.5 * (a.0 + b.0);
         if mid == a.0 || mid == b.0 {
@@ -386,54 +431,65 @@ where
         }
         match solve(mid, &a.1.state, &a.1.point) {
             Ok(o) if !lost(&o) => a = (mid, o),
-            Ok(o) => b = (mid, Some(o)),
-            Err(_) => b = (mid, None),
+            other => b = (mid, other),
         }
     }
-    let grazing =
-        b.1.as_ref()
-            .is_some_and(|o| canonical(&o.margins.structure) != structure);
-    let (kind, parameter) = match &b.1 {
-        _ if grazing => (LossKind::Grazing, 0.5 * (a.0 + b.0)),
-        Some(o) => {
-            let critical = o
-                .multipliers
-                .first()
-                .copied()
-                .unwrap_or(Multiplier { re: 1.0, im: 0.0 });
-            let (ra, rb) = (a.1.spectral_radius(), o.spectral_radius());
-            let p = if rb > ra {
-                a.0 + (1.0 - ra) / (rb - ra) * (b.0 - a.0)
-            } else {
-                0.5 * (a.0 + b.0)
-            };
-            (LossKind::Multiplier(CrossingKind::of(&critical, 1e-6)), p)
+    let loss = |kind, parameter, beyond: Option<&PeriodicOrbit<D>>, a: (f64, PeriodicOrbit<D>)| {
+        StabilityLoss {
+            parameter,
+            bracket: (a.0, b.0),
+            kind,
+            beyond_structure: beyond.map(|o| o.margins.structure.clone()),
+            beyond: beyond.map(|o| o.multipliers.clone()),
+            orbit: a.1,
         }
-        // The branch ends. With a real multiplier near +1 it is a fold; otherwise it ends at a
-        // non-smooth point (a grazing or a regime boundary met tangentially) where the map is
-        // not differentiable and Newton cannot follow it.
-        None => {
-            let near_one =
-                a.1.multipliers
-                    .iter()
-                    .any(|m| m.is_real(1e-6) && m.re > FOLD_MULTIPLIER);
-            let kind = if near_one {
+    };
+    let o = match b.1 {
+        Ok(o) => o,
+        Err(error) => {
+            // The branch ends: a bifurcation only on positive evidence, and only when Newton
+            // itself is what failed (module docs).
+            let newton = matches!(
+                error,
+                StabilityError::NotConverged { .. }
+                    | StabilityError::Singular { .. }
+                    | StabilityError::LeftBranch { .. }
+            );
+            let real = largest_real_positive(&a.1);
+            let kind = if newton && real > FOLD_MULTIPLIER && real >= start_real {
                 LossKind::Multiplier(CrossingKind::Fold)
-            } else {
+            } else if newton && a.1.grazing {
                 LossKind::Grazing
+            } else {
+                let failure = BranchFailure {
+                    parameter: b.0,
+                    error,
+                    last_parameter: a.0,
+                    last_orbit: a.1,
+                };
+                return (End::Failure(failure), None);
             };
-            (kind, 0.5 * (a.0 + b.0))
+            return (End::Loss(loss(kind, 0.5 * (a.0 + b.0), None, a)), None);
         }
     };
-    let loss = StabilityLoss {
-        parameter,
-        bracket: (a.0, b.0),
-        kind,
-        beyond_structure: b.1.as_ref().map(|o| o.margins.structure.clone()),
-        beyond: b.1.as_ref().map(|o| o.multipliers.clone()),
-        orbit: a.1,
+    let (kind, parameter) = if canonical(&o.margins.structure) != structure {
+        (LossKind::Grazing, 0.5 * (a.0 + b.0))
+    } else {
+        let critical = o
+            .multipliers
+            .first()
+            .copied()
+            .unwrap_or(Multiplier { re: 1.0, im: 0.0 });
+        let (ra, rb) = (a.1.spectral_radius(), o.spectral_radius());
+        let p = if rb > ra {
+            a.0 + (1.0 - ra) / (rb - ra) * (b.0 - a.0)
+        } else {
+            0.5 * (a.0 + b.0)
+        };
+        (LossKind::Multiplier(CrossingKind::of(&critical, 1e-6)), p)
     };
-    (loss, b.1.map(|o| (b.0, o)))
+    let l = loss(kind, parameter, Some(&o), a);
+    (End::Loss(l), Some((b.0, o)))
 }
 
 /// Whether an orbit is unstable or has another event structure than `structure`.

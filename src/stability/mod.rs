@@ -38,7 +38,8 @@ pub mod variational;
 
 pub use augmented::LinearEvent;
 pub use continuation::{
-    locate_loss, Continuation, ContinuationOptions, ContinuationPoint, LossKind, StabilityLoss,
+    locate_loss, BranchFailure, Continuation, ContinuationOptions, ContinuationPoint, LossKind,
+    StabilityLoss,
 };
 pub use error::StabilityError;
 pub use floquet::{multipliers, CrossingKind, FloquetError, Multiplier};
