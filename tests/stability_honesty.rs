@@ -4,7 +4,7 @@
 
 use jeffcott::paper::JeffcottModel;
 use jeffcott::params::Preset;
-use jeffcott::stability::{locate_loss, ContinuationOptions, StabilityError};
+use jeffcott::stability::{locate_loss, ContinuationOptions, StabilityError, GRAZING_MARGIN};
 
 const CHECK: [f64; 4] = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533];
 
@@ -106,4 +106,83 @@ fn an_exhausted_step_budget_returns_the_path_with_the_error() {
         "{}",
         f.last_parameter
     );
+}
+
+/// Radius of the steady orbit without contact and its phase lag (closed form of the linear
+/// oscillator: A = beta eta^2 / |1 - eta^2 + 2 i nu1 eta|).
+fn amplitude(p: &jeffcott::params::Params, eta: f64) -> (f64, f64) {
+    let (re, im) = (1.0 - eta * eta, 2.0 * p.nu1 * eta);
+    (p.beta * eta * eta / re.hypot(im), im.atan2(re))
+}
+
+/// The eta in (lo, hi) where the orbit without contact touches the gap: |e| + A(eta) = 1,
+/// by bisection of the closed form to rounding.
+fn grazing_eta(p: &jeffcott::params::Params, mut lo: f64, mut hi: f64) -> f64 {
+    let e = p.ex.hypot(p.ey);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if e + amplitude(p, mid).0 < 1.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The period-1 orbit of Fig. 8a at `eta`, from the closed-form orbit without contact.
+fn free_orbit(eta: f64) -> jeffcott::stability::PeriodicOrbit<nalgebra::U6> {
+    let base = Preset::Fig8a.params();
+    let model = JeffcottModel::new(base.with_eta(eta)).unwrap();
+    let (a, psi) = amplitude(&base, eta);
+    let start = model
+        .state_at(
+            [base.ex + a * psi.cos(), base.ey - a * psi.sin()],
+            [a * eta * psi.sin(), a * eta * psi.cos()],
+        )
+        .unwrap();
+    jeffcott::stability::periodic_orbit(&model, &start, 1, &Default::default()).unwrap()
+}
+
+/// The orbit without contact of Fig. 8a touches the gap circle at eta_g (closed form). Just
+/// past it the orbit has a contact of depth ~ (eta - eta_g), entered and left at a normal
+/// speed ~ sqrt(depth): both events are grazing, and the orbit must say so. Away from eta_g
+/// (no contact below, an established contact above) it must not.
+#[test]
+fn an_orbit_with_a_grazing_contact_is_flagged() {
+    let base = Preset::Fig8a.params();
+    let eta_g = grazing_eta(&base, 0.4, 0.8);
+    let near = free_orbit(eta_g + 1e-8);
+    assert!(near.grazing, "{:?}", near.events);
+    assert_eq!(near.events.len(), 2, "{:?}", near.events);
+    assert!(near.events.iter().all(|e| e.margin < GRAZING_MARGIN));
+    assert_eq!(
+        near.margins.min_event_margin,
+        near.events.iter().map(|e| e.margin).fold(1.0, f64::min)
+    );
+    // The onset's margin goes to 0 like sqrt(eta - eta_g) (a parabolic approach to the gap
+    // circle, the normal speed ~ sqrt(depth)): 100 times closer, 10 times smaller, to 10 %.
+    // (The loss's margin falls too, but not by this law: the loss force of so shallow a
+    // contact is not the elastic one alone.)
+    let nearer = free_orbit(eta_g + 1e-10);
+    assert!(nearer.grazing);
+    assert_eq!(near.events[0].kind, "contact onset");
+    let ratio = near.events[0].margin / nearer.events[0].margin;
+    assert!((ratio - 10.0).abs() < 1.0, "{ratio}");
+    assert!(nearer.events[1].margin < near.events[1].margin);
+    for (a, b) in near.events.iter().zip(&nearer.events) {
+        // The onset's and this loss's saltations stay bounded at grazing (docs/stability.md
+        // 1.3: the onset's is independent of the approach speed; the contact force, which
+        // the loss's jump is, vanishes with the contact): no growth like 1/margin.
+        assert!(
+            a.saltation_norm < 3.0 && b.saltation_norm < 3.0,
+            "{a:?} {b:?}"
+        );
+    }
+    // No contact below, a contact crossed at a margin far from 0 above: not flagged.
+    let below = free_orbit(eta_g - 1e-3);
+    assert!(below.events.is_empty() && !below.grazing);
+    let above = free_orbit(eta_g + 1e-2);
+    assert_eq!(above.events.len(), 2);
+    assert!(!above.grazing, "{:?}", above.events);
 }
