@@ -38,7 +38,9 @@
 //! Each is located by bisection along the secant between the two points (a corrected point on
 //! the hyperplane through the midpoint, normal to the secant) until the bracket is narrower
 //! than [`ContinuationConfig::locate`] in every component of $(z, p)$; the value reported is
-//! the bracket's midpoint, with the multipliers at its near end.
+//! the bracket's midpoint, with the multipliers at its near end. If the bisection stops short
+//! (no corrected point or no orbit at a midpoint), the point is returned as detected but not
+//! located: [`SpecialPoint::converged`] is `false`, with the reason and the bracket reached.
 //!
 //! **Branch switching** ([`switch_at_flip`]): at a flip of the period-$n$ orbit the period-$2n$
 //! orbit branches off along the eigenvector $v$ of the multiplier $-1$. Its first point is
@@ -184,15 +186,23 @@ pub struct BranchPoint {
     pub arclength: f64,
 }
 
-/// A located special point of a branch.
+/// A special point of a branch, located when its bracket converged.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpecialPoint {
     /// What it is.
     pub kind: SpecialKind,
-    /// The parameter (the final bracket's midpoint).
+    /// The parameter (the final bracket's midpoint): where the point is only if
+    /// [`converged`](Self::converged); otherwise somewhere in the bracket.
     pub param: f64,
     /// The final bracket's parameters (near end, far end).
     pub bracket: (f64, f64),
+    /// Whether the bisection narrowed the bracket to [`ContinuationConfig::locate`] in every
+    /// component of $(z, p)$. `false`: the point was detected between two points but not
+    /// located (`unconverged` says why); read [`bracket`](Self::bracket), not `param`.
+    pub converged: bool,
+    /// Why the bisection stopped before the bracket converged (a corrector or orbit failure
+    /// at a midpoint, or the iteration limit); `None` when it converged.
+    pub unconverged: Option<String>,
     /// The periodic point at the near end.
     pub point: Vec<f64>,
     /// The full state at the near end.
@@ -671,17 +681,26 @@ where
     let mut near_jac = a.eval.jac.clone();
     let mut far = pb.clone();
     let mut template = a.eval.state.clone();
+    let mut failed = None;
     for _ in 0..200 {
         if (&ub - &ua).amax() <= solver.config.locate {
             break;
         }
         let mid = (&ua + &ub) * 0.5;
         let normal = &ub - &ua;
-        let Ok(s) = solver.correct(&mid, &normal, &mid, &template) else {
-            break;
+        let s = match solver.correct(&mid, &normal, &mid, &template) {
+            Ok(s) => s,
+            Err(reason) => {
+                failed = Some(format!("no corrected point at {}: {reason}", mid[k]));
+                break;
+            }
         };
-        let Ok(p) = solver.point(&s, 0.0) else {
-            break;
+        let p = match solver.point(&s, 0.0) {
+            Ok(p) => p,
+            Err(reason) => {
+                failed = Some(format!("no orbit at {}: {reason}", s.u[k]));
+                break;
+            }
         };
         if same(&p) {
             ua = s.u.clone();
@@ -693,10 +712,14 @@ where
             far = p;
         }
     }
+    let unconverged = ((&ub - &ua).amax() > solver.config.locate)
+        .then(|| failed.unwrap_or_else(|| String::from("200 bisections")));
     SpecialPoint {
         kind,
         param: 0.5 * (ua[k] + ub[k]),
         bracket: (ua[k], ub[k]),
+        converged: unconverged.is_none(),
+        unconverged,
         point: near.point.clone(),
         state: near.state.clone(),
         multipliers: near.multipliers.clone(),
