@@ -81,6 +81,13 @@ fn the_orbit_without_contact_grazes_where_e_plus_a_is_1_then_keeps_one_contact()
     // Stable throughout, no contact before the grazing, one contact per period after it.
     for p in &branch.points {
         assert!(p.stable, "{}", p.param);
+        // 1e-4 past the grazing the contact is entered at a margin of about 0.02
+        // (margin ~ sqrt(eta - eta_g)): only points closer than that can be flagged.
+        assert_eq!(
+            p.grazing,
+            p.min_margin < jeffcott::stability::GRAZING_MARGIN
+        );
+        assert!(!p.grazing || (p.param - eta_g).abs() < 1e-4, "{}", p.param);
         let expected = if p.param < eta_g { 0 } else { 1 };
         assert_eq!(p.contacts, expected, "at eta = {}", p.param);
     }

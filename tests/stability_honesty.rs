@@ -2,9 +2,13 @@
 //! error is a failure carrying the error, not a bifurcation; located points say whether
 //! their bracket converged; an orbit with a grazing event says so.
 
+use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::JeffcottModel;
 use jeffcott::params::Preset;
-use jeffcott::stability::{locate_loss, ContinuationOptions, StabilityError, GRAZING_MARGIN};
+use jeffcott::stability::{
+    locate_loss, ContinuationOptions, CrossingKind, LossKind, StabilityError, StroboscopicMap,
+    GRAZING_MARGIN,
+};
 
 const CHECK: [f64; 4] = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533];
 
@@ -185,4 +189,42 @@ fn an_orbit_with_a_grazing_contact_is_flagged() {
     let above = free_orbit(eta_g + 1e-2);
     assert_eq!(above.events.len(), 2);
     assert!(!above.grazing, "{:?}", above.events);
+}
+
+/// The flag travels with the located points: a grazing located by a change of event
+/// structure has, 1e-8 beyond it, an orbit whose new events are crossed almost tangentially
+/// (margin ~ sqrt(1e-8)); a flip has none on either side.
+#[test]
+fn located_points_say_whether_their_orbits_graze() {
+    // D = 0.1, period 2: the ring starts crossing its preload at 3.1028052
+    // (docs/stability.md).
+    let p = Preset::Fig8b.params();
+    let model = JeffcottModel::new(p.with_eta(3.0)).unwrap();
+    let start = StroboscopicMap::new(&model, 300, SimOptions::default())
+        .unwrap()
+        .advance(&jeffcott::paper::State::zeros())
+        .unwrap()
+        .y;
+    let build = |eta: f64| JeffcottModel::new(p.with_eta(eta));
+    let c = locate_loss(build, 3.0, 3.2, &start, 2, &ContinuationOptions::default()).unwrap();
+    let loss = c.loss.expect("the grazing");
+    assert_eq!(loss.kind, LossKind::Grazing);
+    assert!(!loss.orbit.grazing, "{:?}", loss.orbit.events);
+    assert!(loss.beyond_grazing, "the preload crossings just appeared");
+    assert!(c.path.iter().all(|q| !q.grazing));
+    // D = 0, period 1: the flip at 2.2348 (multipliers through -1, no event near tangency).
+    let p = Preset::Fig8a.params();
+    let model = JeffcottModel::new(p.with_eta(2.22)).unwrap();
+    let c = locate_loss(
+        |eta| JeffcottModel::new(p.with_eta(eta)),
+        2.22,
+        2.24,
+        &guess(&model, CHECK),
+        1,
+        &ContinuationOptions::default(),
+    )
+    .unwrap();
+    let loss = c.loss.expect("the flip");
+    assert_eq!(loss.kind, LossKind::Multiplier(CrossingKind::Flip));
+    assert!(!loss.orbit.grazing && !loss.beyond_grazing);
 }

@@ -52,7 +52,9 @@ use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 use thiserror::Error;
 
 use crate::hybrid::SimOptions;
-use crate::stability::{multipliers, Multiplier, StroboscopicMap, Variational, VariationalAlloc};
+use crate::stability::{
+    multipliers, Multiplier, StroboscopicMap, Variational, VariationalAlloc, GRAZING_MARGIN,
+};
 
 /// Settings of [`continue_orbit`] and [`switch_at_flip`]. A plain struct with `Default`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -178,6 +180,13 @@ pub struct BranchPoint {
     pub multipliers: Vec<Multiplier>,
     /// Whether every multiplier is inside the unit circle.
     pub stable: bool,
+    /// The smallest crossing margin of the orbit's events (1 without events:
+    /// [`crate::stability::LinearEvent::margin`]).
+    pub min_margin: f64,
+    /// Whether an event is crossed at a margin below [`GRAZING_MARGIN`]: the map is not
+    /// differentiable at the orbit, and its multipliers are those of one side of it
+    /// ([`crate::stability::PeriodicOrbit::grazing`]).
+    pub grazing: bool,
     /// Contact onsets per orbit.
     pub contacts: usize,
     /// The guards crossed over one orbit, in order from the section.
@@ -209,6 +218,9 @@ pub struct SpecialPoint {
     pub state: Vec<f64>,
     /// The multipliers at the near end.
     pub multipliers: Vec<Multiplier>,
+    /// Whether the orbit at the near end has a grazing event ([`BranchPoint::grazing`]): at a
+    /// grazing it usually has, and its multipliers are those of one side.
+    pub grazing: bool,
     /// Contacts per orbit before and after.
     pub contacts: (usize, usize),
     /// Event structure before and after.
@@ -260,6 +272,7 @@ where
     fp: DVector<f64>,
     state: OVector<f64, D>,
     structure: Vec<&'static str>,
+    min_margin: f64,
 }
 
 /// The bordered Jacobian of the continuation at `e`: $\begin{pmatrix} DP^n - I & \partial_p P^n
@@ -365,12 +378,14 @@ where
             ends.push(mq.reduce(&mq.advance(&y).map_err(|e| e.to_string())?.y));
         }
         let fp = (&ends[0] - &ends[1]) / (2.0 * h);
+        let min_margin = lin.min_margin();
         Ok(Eval {
             f: &lin.value - &z,
             jac: lin.jacobian,
             fp,
             state,
             structure: lin.events.iter().map(|e| e.kind).collect(),
+            min_margin,
         })
     }
 
@@ -456,6 +471,8 @@ where
             state: s.eval.state.iter().copied().collect(),
             cycle,
             stable: m.iter().all(|x| x.modulus() < 1.0),
+            min_margin: s.eval.min_margin,
+            grazing: s.eval.min_margin < GRAZING_MARGIN,
             contacts: s.eval.structure.iter().filter(|&&l| l == onset).count(),
             structure: s.eval.structure.clone(),
             multipliers: m,
@@ -723,6 +740,7 @@ where
         point: near.point.clone(),
         state: near.state.clone(),
         multipliers: near.multipliers.clone(),
+        grazing: near.grazing,
         contacts: (near.contacts, far.contacts),
         structure: (near.structure.clone(), far.structure.clone()),
         eigenvector: (kind == SpecialKind::Flip)

@@ -120,6 +120,9 @@ pub struct ContinuationPoint {
     pub min_depth: Option<f64>,
     /// The closest free-flight approach ([`super::OrbitMargins::clearance`]).
     pub clearance: Option<f64>,
+    /// Whether the orbit has a grazing event ([`PeriodicOrbit::grazing`]): its multipliers
+    /// are then those of one side of a map that is not differentiable there.
+    pub grazing: bool,
 }
 
 /// Where the orbit loses stability.
@@ -139,6 +142,10 @@ where
     pub orbit: PeriodicOrbit<D>,
     /// The multipliers at the other end of the bracket (`None` if no orbit was found there).
     pub beyond: Option<Vec<Multiplier>>,
+    /// Whether the orbit at the other end has a grazing event ([`PeriodicOrbit::grazing`]):
+    /// its multipliers are then those of one side of a non-smooth map, and a crossing they
+    /// show may be a jump at the grazing. `false` if no orbit was found there.
+    pub beyond_grazing: bool,
     /// The event structure at the other end of the bracket (what a grazing changed), `None`
     /// if no orbit was found there.
     pub beyond_structure: Option<Vec<&'static str>>,
@@ -203,6 +210,7 @@ where
         contacts: o.margins.contacts,
         min_depth: o.margins.min_depth,
         clearance: o.margins.clearance,
+        grazing: o.grazing,
     }
 }
 
@@ -441,6 +449,7 @@ where
             kind,
             beyond_structure: beyond.map(|o| o.margins.structure.clone()),
             beyond: beyond.map(|o| o.multipliers.clone()),
+            beyond_grazing: beyond.is_some_and(|o| o.grazing),
             orbit: a.1,
         }
     };
