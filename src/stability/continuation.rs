@@ -508,3 +508,104 @@ where
 {
     o.spectral_radius() >= 1.0 || canonical(&o.margins.structure) != structure
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::stability::orbit::OrbitMargins;
+    use nalgebra::{DMatrix, U1};
+
+    /// A synthetic stable orbit with largest multiplier `m` (real) and an event at `margin`.
+    fn orbit(m: f64, margin: f64) -> PeriodicOrbit<U1> {
+        PeriodicOrbit {
+            period: 1,
+            state: OVector::<f64, U1>::new(0.0),
+            point: DVector::from_element(1, 0.0),
+            residual: 0.0,
+            iterations: 1,
+            monodromy: DMatrix::from_element(1, 1, m),
+            multipliers: vec![Multiplier { re: m, im: 0.0 }],
+            events: Vec::new(),
+            margins: OrbitMargins {
+                contacts: 1,
+                min_depth: None,
+                clearance: None,
+                min_event_margin: margin,
+                structure: vec!["e"],
+            },
+            grazing: margin < crate::stability::GRAZING_MARGIN,
+            openness: 0.0,
+            minimal_period: 1,
+        }
+    }
+
+    /// Bisects [0, 1] with orbits `good(p)` below 0.5 and `bad(p)` from 0.5 on.
+    fn run(
+        good: impl Fn(f64) -> PeriodicOrbit<U1>,
+        bad: impl Fn(f64) -> StabilityError,
+    ) -> End<U1> {
+        let solve = |p: f64, _: &OVector<f64, U1>, _: &DVector<f64>| {
+            if p < 0.5 {
+                Ok(good(p))
+            } else {
+                Err(bad(p))
+            }
+        };
+        let (end, _) = bisect(&solve, (0.0, good(0.0)), (1.0, Err(bad(1.0))), &["e"], 1e-8);
+        end
+    }
+
+    fn newton(_: f64) -> StabilityError {
+        StabilityError::NotConverged {
+            last: DVector::zeros(1),
+            residual: 1.0,
+            iterations: 10,
+            reason: "test",
+        }
+    }
+
+    fn model(p: f64) -> StabilityError {
+        StabilityError::Model {
+            parameter: p,
+            reason: "test".into(),
+        }
+    }
+
+    #[test]
+    fn a_branch_end_is_a_fold_or_a_grazing_only_on_evidence() {
+        // A square-root fold at 0.5: the multiplier rises to 1 there.
+        let fold = |p: f64| orbit(1.0 - (0.5 - p).max(0.0).sqrt(), 0.5);
+        match run(fold, newton) {
+            End::Loss(l) => {
+                assert_eq!(l.kind, LossKind::Multiplier(CrossingKind::Fold));
+                assert!((l.parameter - 0.5).abs() < 1e-8);
+            }
+            End::Failure(f) => panic!("{:?}", f.error),
+        }
+        // An event's margin going to 0 at 0.5.
+        let graze = |p: f64| orbit(0.6, (0.5 - p).max(0.0).sqrt());
+        match run(graze, newton) {
+            End::Loss(l) => assert_eq!(l.kind, LossKind::Grazing),
+            End::Failure(f) => panic!("{:?}", f.error),
+        }
+        // Neither: Newton's failure is reported.
+        match run(|_| orbit(0.6, 0.5), newton) {
+            End::Loss(l) => panic!("a failure located as {:?}", l.kind),
+            End::Failure(f) => {
+                assert!(matches!(f.error, StabilityError::NotConverged { .. }));
+                assert!(f.parameter >= 0.5 && f.last_parameter < 0.5);
+                assert!(f.parameter - f.last_parameter <= 1e-8);
+            }
+        }
+        // With the same evidence, a model that cannot be built is a failure, not a fold.
+        match run(fold, model) {
+            End::Loss(l) => panic!("a failure located as {:?}", l.kind),
+            End::Failure(f) => assert!(matches!(f.error, StabilityError::Model { .. })),
+        }
+        // A multiplier near 1 that moves away from 1 is no fold.
+        match run(|p| orbit(0.99 - 0.01 * p, 0.5), newton) {
+            End::Loss(l) => panic!("a failure located as {:?}", l.kind),
+            End::Failure(_) => {}
+        }
+    }
+}
