@@ -9,11 +9,13 @@
 //!   point as one JSON object a line** on standard output:
 //!
 //!   ```text
-//!   {"kind": "grazing", "param": "eta", "value": 0.684768854, "multipliers": [[re, im], ...], "period": 1, "bracket": [a, b], "contacts": [0, 1]}
+//!   {"kind": "grazing", "param": "eta", "value": 0.684768854, "multipliers": [[re, im], ...], "period": 1, "bracket": [a, b], "converged": true, "unconverged": null, "contacts": [0, 1]}
 //!   ```
 //!
 //!   `kind` is `grazing`, `flip`, `fold` or `neimark-sacker`; the multipliers are those at the
-//!   near end of the final bracket, largest modulus first. With `--switch` the period-2N branch
+//!   near end of the final bracket, largest modulus first; `"converged": false` (with the
+//!   reason in `unconverged`) for a point detected but not located: its value is only
+//!   somewhere in the bracket. With `--switch` the period-2N branch
 //!   is followed from each flip (its special points are printed too, with their period). The
 //!   branch is drawn into `--out` (`branch.png`: x of the orbit's points against P, stable
 //!   solid, unstable dashed, special points marked; `branch.csv`);
@@ -73,6 +75,8 @@ fn special_json(s: &SpecialPoint, param: &str, period: u64) -> String {
         "multipliers": m,
         "period": period,
         "bracket": [s.bracket.0, s.bracket.1],
+        "converged": s.converged,
+        "unconverged": s.unconverged,
         "contacts": [s.contacts.0, s.contacts.1],
     })
     .to_string()

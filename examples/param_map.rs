@@ -276,7 +276,11 @@ fn main() {
 fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f64)>)> {
     let config = ContinuationConfig::default();
     let first = |b: &jeffcott::global::Branch, kind| {
-        b.specials.iter().find(|s| s.kind == kind).map(|s| s.param)
+        // A located point only: an unconverged bracket is not a point of the curve.
+        b.specials
+            .iter()
+            .find(|s| s.kind == kind && s.converged)
+            .map(|s| s.param)
     };
     let (y0, y1) = (grid.y[0], grid.y[grid.y.len() - 1]);
     if map == "preload" {

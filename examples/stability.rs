@@ -18,7 +18,9 @@
 //! * `--locate-loss --from A --to B --period N`: finds the period-N orbit at η = A (after
 //!   the transient), continues it towards η = B and prints the first loss of stability:
 //!   `{"eta": value, "kind": "flip" | "fold" | "neimark-sacker" | "grazing",
-//!   "multipliers": [...], "bracket": [a, b], ...}` (`"eta": null` if it stays stable);
+//!   "multipliers": [...], "bracket": [a, b], ...}` (`"eta": null` if it stays stable; if
+//!   the continuation stops on an error, `"eta": null` with `"failure"`, the error,
+//!   `"failed_at"` and `"last_eta"`, the last orbit's parameter);
 //! * `--pictures [--out DIR]`: the largest multiplier modulus of the period-1 orbit against
 //!   η up to its loss of stability (both preloads), and the largest Lyapunov exponent against
 //!   η over [2, 5] drawn above the bifurcation diagram from the same runs, for D = 0 and
@@ -275,13 +277,26 @@ fn locate(
             "period": period,
             "steps": c.path.len(),
         })),
-        None => print(json!({
-            "eta": null,
-            "kind": null,
-            "multipliers": [],
-            "period": period,
-            "steps": c.path.len(),
-        })),
+        None => match c.failure {
+            // The branch ended by an error: no bifurcation located, the error said.
+            Some(f) => print(json!({
+                "eta": null,
+                "kind": null,
+                "failure": f.error.to_string(),
+                "failed_at": f.parameter,
+                "last_eta": f.last_parameter,
+                "multipliers": multipliers_json(&f.last_orbit.multipliers),
+                "period": period,
+                "steps": c.path.len(),
+            })),
+            None => print(json!({
+                "eta": null,
+                "kind": null,
+                "multipliers": [],
+                "period": period,
+                "steps": c.path.len(),
+            })),
+        },
     }
 }
 
@@ -338,6 +353,12 @@ fn pictures(
                 "{label}: period 1 loses stability at eta = {:.9} ({})",
                 loss.parameter,
                 loss.kind.name()
+            );
+        }
+        if let Some(f) = &c.failure {
+            eprintln!(
+                "{label}: the continuation stopped at eta = {:.9}: {}",
+                f.parameter, f.error
             );
         }
         series.push(Series::new(label, points));

@@ -76,9 +76,18 @@ fn the_orbit_without_contact_grazes_where_e_plus_a_is_1_then_keeps_one_contact()
         g[0].param
     );
     assert_eq!(g[0].contacts, (0, 1));
+    assert!(g[0].converged && g[0].unconverged.is_none());
+    assert!((g[0].bracket.1 - g[0].bracket.0).abs() <= config.locate);
     // Stable throughout, no contact before the grazing, one contact per period after it.
     for p in &branch.points {
         assert!(p.stable, "{}", p.param);
+        // 1e-4 past the grazing the contact is entered at a margin of about 0.02
+        // (margin ~ sqrt(eta - eta_g)): only points closer than that can be flagged.
+        assert_eq!(
+            p.grazing,
+            p.min_margin < jeffcott::stability::GRAZING_MARGIN
+        );
+        assert!(!p.grazing || (p.param - eta_g).abs() < 1e-4, "{}", p.param);
         let expected = if p.param < eta_g { 0 } else { 1 };
         assert_eq!(p.contacts, expected, "at eta = {}", p.param);
     }
@@ -214,6 +223,7 @@ fn the_example_prints_one_json_object_per_special_point() {
     let g = &lines[0];
     assert_eq!(g["kind"], "grazing");
     assert_eq!(g["param"], "eta");
+    assert_eq!(g["converged"], true, "{g}");
     let eta_g = grazing_eta(&Preset::Fig8a.params(), 0.4, 0.8);
     assert!((g["value"].as_f64().unwrap() - eta_g).abs() < 1e-7, "{g}");
     let m = g["multipliers"].as_array().unwrap();
@@ -250,4 +260,55 @@ fn the_example_prints_one_json_object_per_special_point() {
         .output()
         .unwrap();
     assert_eq!(bad.status.code(), Some(2));
+}
+
+/// A located point is one whose bracket converged. Here the model cannot be built within
+/// 1e-6 of the grazing of the orbit without contact (closed form), so the bisection cannot
+/// narrow its bracket below a few 1e-6: the grazing is found but not located, and must say
+/// so instead of passing a 1e-6 bracket for a 1e-8 one.
+#[test]
+fn an_unconverged_bracket_is_not_a_located_point() {
+    let base = Preset::Fig8a.params();
+    let eta_g = grazing_eta(&base, 0.4, 0.8);
+    let build = |eta: f64| {
+        if (eta - eta_g).abs() < 1e-6 {
+            Err(format!("no model near the grazing (asked {eta})"))
+        } else {
+            JeffcottModel::new(base.with_eta(eta)).map_err(|e| e.to_string())
+        }
+    };
+    let from = 0.4;
+    let (a, psi) = amplitude(&base, from);
+    let guess = JeffcottModel::new(base.with_eta(from))
+        .unwrap()
+        .state_at(
+            [base.ex + a * psi.cos(), base.ey - a * psi.sin()],
+            [a * from * psi.sin(), a * from * psi.cos()],
+        )
+        .unwrap();
+    let config = ContinuationConfig::default();
+    let branch = continue_orbit(build, from, &guess, 1, 0.8, &config).unwrap();
+    let g: Vec<_> = branch
+        .specials
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Grazing)
+        .collect();
+    assert_eq!(g.len(), 1);
+    let width = g[0].bracket.1 - g[0].bracket.0;
+    println!("bracket {:?}, width {width:e}", g[0].bracket);
+    // The bracket holds the grazing, and is wider than the 1e-6 hole.
+    assert!(
+        g[0].bracket.0.min(g[0].bracket.1) < eta_g && eta_g < g[0].bracket.0.max(g[0].bracket.1)
+    );
+    assert!(
+        width.abs() > config.locate,
+        "the hole should stop the bisection"
+    );
+    assert!(
+        !g[0].converged,
+        "an unconverged bracket {:?} (width {width:e}) reported as located",
+        g[0].bracket
+    );
+    let why = g[0].unconverged.as_deref().unwrap_or("");
+    assert!(why.contains("no model near the grazing"), "{why}");
 }

@@ -38,7 +38,9 @@
 //! Each is located by bisection along the secant between the two points (a corrected point on
 //! the hyperplane through the midpoint, normal to the secant) until the bracket is narrower
 //! than [`ContinuationConfig::locate`] in every component of $(z, p)$; the value reported is
-//! the bracket's midpoint, with the multipliers at its near end.
+//! the bracket's midpoint, with the multipliers at its near end. If the bisection stops short
+//! (no corrected point or no orbit at a midpoint), the point is returned as detected but not
+//! located: [`SpecialPoint::converged`] is `false`, with the reason and the bracket reached.
 //!
 //! **Branch switching** ([`switch_at_flip`]): at a flip of the period-$n$ orbit the period-$2n$
 //! orbit branches off along the eigenvector $v$ of the multiplier $-1$. Its first point is
@@ -50,7 +52,9 @@ use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 use thiserror::Error;
 
 use crate::hybrid::SimOptions;
-use crate::stability::{multipliers, Multiplier, StroboscopicMap, Variational, VariationalAlloc};
+use crate::stability::{
+    multipliers, Multiplier, StroboscopicMap, Variational, VariationalAlloc, GRAZING_MARGIN,
+};
 
 /// Settings of [`continue_orbit`] and [`switch_at_flip`]. A plain struct with `Default`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -176,6 +180,13 @@ pub struct BranchPoint {
     pub multipliers: Vec<Multiplier>,
     /// Whether every multiplier is inside the unit circle.
     pub stable: bool,
+    /// The smallest crossing margin of the orbit's events (1 without events:
+    /// [`crate::stability::LinearEvent::margin`]).
+    pub min_margin: f64,
+    /// Whether an event is crossed at a margin below [`GRAZING_MARGIN`]: the map is not
+    /// differentiable at the orbit, and its multipliers are those of one side of it
+    /// ([`crate::stability::PeriodicOrbit::grazing`]).
+    pub grazing: bool,
     /// Contact onsets per orbit.
     pub contacts: usize,
     /// The guards crossed over one orbit, in order from the section.
@@ -184,21 +195,32 @@ pub struct BranchPoint {
     pub arclength: f64,
 }
 
-/// A located special point of a branch.
+/// A special point of a branch, located when its bracket converged.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpecialPoint {
     /// What it is.
     pub kind: SpecialKind,
-    /// The parameter (the final bracket's midpoint).
+    /// The parameter (the final bracket's midpoint): where the point is only if
+    /// [`converged`](Self::converged); otherwise somewhere in the bracket.
     pub param: f64,
     /// The final bracket's parameters (near end, far end).
     pub bracket: (f64, f64),
+    /// Whether the bisection narrowed the bracket to [`ContinuationConfig::locate`] in every
+    /// component of $(z, p)$. `false`: the point was detected between two points but not
+    /// located (`unconverged` says why); read [`bracket`](Self::bracket), not `param`.
+    pub converged: bool,
+    /// Why the bisection stopped before the bracket converged (a corrector or orbit failure
+    /// at a midpoint, or the iteration limit); `None` when it converged.
+    pub unconverged: Option<String>,
     /// The periodic point at the near end.
     pub point: Vec<f64>,
     /// The full state at the near end.
     pub state: Vec<f64>,
     /// The multipliers at the near end.
     pub multipliers: Vec<Multiplier>,
+    /// Whether the orbit at the near end has a grazing event ([`BranchPoint::grazing`]): at a
+    /// grazing it usually has, and its multipliers are those of one side.
+    pub grazing: bool,
     /// Contacts per orbit before and after.
     pub contacts: (usize, usize),
     /// Event structure before and after.
@@ -250,6 +272,7 @@ where
     fp: DVector<f64>,
     state: OVector<f64, D>,
     structure: Vec<&'static str>,
+    min_margin: f64,
 }
 
 /// The bordered Jacobian of the continuation at `e`: $\begin{pmatrix} DP^n - I & \partial_p P^n
@@ -355,12 +378,14 @@ where
             ends.push(mq.reduce(&mq.advance(&y).map_err(|e| e.to_string())?.y));
         }
         let fp = (&ends[0] - &ends[1]) / (2.0 * h);
+        let min_margin = lin.min_margin();
         Ok(Eval {
             f: &lin.value - &z,
             jac: lin.jacobian,
             fp,
             state,
             structure: lin.events.iter().map(|e| e.kind).collect(),
+            min_margin,
         })
     }
 
@@ -446,6 +471,8 @@ where
             state: s.eval.state.iter().copied().collect(),
             cycle,
             stable: m.iter().all(|x| x.modulus() < 1.0),
+            min_margin: s.eval.min_margin,
+            grazing: s.eval.min_margin < GRAZING_MARGIN,
             contacts: s.eval.structure.iter().filter(|&&l| l == onset).count(),
             structure: s.eval.structure.clone(),
             multipliers: m,
@@ -671,17 +698,26 @@ where
     let mut near_jac = a.eval.jac.clone();
     let mut far = pb.clone();
     let mut template = a.eval.state.clone();
+    let mut failed = None;
     for _ in 0..200 {
         if (&ub - &ua).amax() <= solver.config.locate {
             break;
         }
         let mid = (&ua + &ub) * 0.5;
         let normal = &ub - &ua;
-        let Ok(s) = solver.correct(&mid, &normal, &mid, &template) else {
-            break;
+        let s = match solver.correct(&mid, &normal, &mid, &template) {
+            Ok(s) => s,
+            Err(reason) => {
+                failed = Some(format!("no corrected point at {}: {reason}", mid[k]));
+                break;
+            }
         };
-        let Ok(p) = solver.point(&s, 0.0) else {
-            break;
+        let p = match solver.point(&s, 0.0) {
+            Ok(p) => p,
+            Err(reason) => {
+                failed = Some(format!("no orbit at {}: {reason}", s.u[k]));
+                break;
+            }
         };
         if same(&p) {
             ua = s.u.clone();
@@ -693,13 +729,18 @@ where
             far = p;
         }
     }
+    let unconverged = ((&ub - &ua).amax() > solver.config.locate)
+        .then(|| failed.unwrap_or_else(|| String::from("200 bisections")));
     SpecialPoint {
         kind,
         param: 0.5 * (ua[k] + ub[k]),
         bracket: (ua[k], ub[k]),
+        converged: unconverged.is_none(),
+        unconverged,
         point: near.point.clone(),
         state: near.state.clone(),
         multipliers: near.multipliers.clone(),
+        grazing: near.grazing,
         contacts: (near.contacts, far.contacts),
         structure: (near.structure.clone(), far.structure.clone()),
         eigenvector: (kind == SpecialKind::Flip)

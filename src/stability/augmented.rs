@@ -38,6 +38,11 @@ pub struct LinearEvent {
     pub margin: f64,
     /// The guard's crossing rate $\nabla g\cdot f^- + g_t$.
     pub rate: f64,
+    /// $\lVert S\rVert_\infty$ (largest absolute row sum) of the event's saltation matrix:
+    /// where the saltation is unbounded at grazing it grows like $1/$`margin` as the margin
+    /// goes to 0; where it stays bounded (a jump of the field proportional to the crossing
+    /// rate) it does not.
+    pub saltation_norm: f64,
 }
 
 /// A state and a variation.
@@ -324,6 +329,11 @@ where
             to: model.mode_label(next),
             margin: s.margin(),
             rate: s.denominator,
+            saltation_norm: s
+                .matrix
+                .row_iter()
+                .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+                .fold(0.0, f64::max),
         });
         *y = self.pack(&y_plus, &m_plus);
         Ok(next)

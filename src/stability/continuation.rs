@@ -10,15 +10,28 @@
 //! * the orbit's **event structure** changes (a contact appears or disappears: a grazing
 //!   bifurcation, which the multipliers do not announce; compared up to a rotation, so that
 //!   an event moving across the section does not count);
-//! * Newton fails and keeps failing as the step is halved down to the tolerance: the branch
-//!   ends, a fold if a real multiplier approaches $+1$ there (above 0.95 at the last orbit),
-//!   otherwise a non-smooth end (reported as grazing: a contact or a regime boundary met
-//!   tangentially, where the map is not differentiable).
+//! * no orbit is found, and none as the step is halved down to the tolerance.
 //!
 //! The bracket is then bisected (Newton at each midpoint, warm-started from the stable end)
 //! until it is narrower than [`ContinuationOptions::tolerance`]; for a multiplier crossing the
 //! value reported is the linear interpolation of the spectral radius to 1 inside the final
-//! bracket, for the others its midpoint.
+//! bracket, for the others its midpoint. The bisection has no other exit: a located
+//! [`StabilityLoss`] always has a bracket of at most the tolerance (or two adjacent floats).
+//!
+//! **A failure is not a bifurcation.** Where no orbit is found at the far end of the final
+//! bracket, the branch ends there; that is called a bifurcation only on positive evidence at
+//! the last orbit found, and only when what failed is Newton itself (no convergence, a
+//! singular $DP^n - I$, or an orbit of the wrong branch):
+//!
+//! * a **fold** if a real multiplier has come near $+1$ (above 0.95, and not farther from 1
+//!   than where the bracket started): a branch of period-$n$ orbits ends by turning back;
+//! * a **grazing** if an event of the last orbit is crossed tangentially
+//!   ([`PeriodicOrbit::grazing`]: its margin has gone to 0): a contact or a regime boundary
+//!   met tangentially, where the map is not differentiable.
+//!
+//! Any other end (a model that cannot be built, a failed simulation, Newton failing with no
+//! such evidence, the step budget exhausted) is reported as a [`BranchFailure`] with its
+//! error, where it happened and the last orbit found, never as a located point.
 
 use nalgebra::{DVector, DefaultAllocator, OVector};
 
@@ -107,6 +120,9 @@ pub struct ContinuationPoint {
     pub min_depth: Option<f64>,
     /// The closest free-flight approach ([`super::OrbitMargins::clearance`]).
     pub clearance: Option<f64>,
+    /// Whether the orbit has a grazing event ([`PeriodicOrbit::grazing`]): its multipliers
+    /// are then those of one side of a map that is not differentiable there.
+    pub grazing: bool,
 }
 
 /// Where the orbit loses stability.
@@ -126,19 +142,46 @@ where
     pub orbit: PeriodicOrbit<D>,
     /// The multipliers at the other end of the bracket (`None` if no orbit was found there).
     pub beyond: Option<Vec<Multiplier>>,
+    /// Whether the orbit at the other end has a grazing event ([`PeriodicOrbit::grazing`]):
+    /// its multipliers are then those of one side of a non-smooth map, and a crossing they
+    /// show may be a jump at the grazing. `false` if no orbit was found there.
+    pub beyond_grazing: bool,
     /// The event structure at the other end of the bracket (what a grazing changed), `None`
     /// if no orbit was found there.
     pub beyond_structure: Option<Vec<&'static str>>,
 }
 
-/// The continuation's outcome.
+/// Why a continuation ended before `to` without a located loss of stability (module docs):
+/// the error, where it happened and the last orbit found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BranchFailure<D: nalgebra::Dim>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    /// The parameter at which no orbit was found (the far end of the final bracket), or
+    /// where the budget ran out.
+    pub parameter: f64,
+    /// What went wrong there.
+    pub error: StabilityError,
+    /// The parameter of the last orbit found.
+    pub last_parameter: f64,
+    /// The last orbit found.
+    pub last_orbit: PeriodicOrbit<D>,
+}
+
+/// The continuation's outcome. At most one of `loss` and `failure` is set; neither when the
+/// orbit was followed, stable, up to `to`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Continuation<D: nalgebra::Dim>
 where
     DefaultAllocator: VariationalAlloc<D>,
 {
-    /// The first loss of stability met, `None` if the orbit stays stable up to `to`.
+    /// The first loss of stability met, `None` if there is none up to `to` or up to a
+    /// failure.
     pub loss: Option<StabilityLoss<D>>,
+    /// Why the continuation stopped before `to` without a located loss (module docs), `None`
+    /// if it did not.
+    pub failure: Option<BranchFailure<D>>,
     /// The converged points of the continuation, in order (bisection points excluded).
     pub path: Vec<ContinuationPoint>,
     /// The grazing bifurcations passed with [`ContinuationOptions::through_grazing`], in order.
@@ -167,6 +210,7 @@ where
         contacts: o.margins.contacts,
         min_depth: o.margins.min_depth,
         clearance: o.margins.clearance,
+        grazing: o.grazing,
     }
 }
 
@@ -175,9 +219,11 @@ where
 /// model at `p`.
 ///
 /// # Errors
-/// [`StabilityError::InvalidOption`] for bad options or a model that cannot be built,
-/// [`StabilityError::Unstable`] if the orbit at `from` is not stable, or the error of the
-/// first orbit solve.
+/// [`StabilityError::InvalidOption`] for bad options, [`StabilityError::Model`] for a model
+/// that cannot be built at `from`, [`StabilityError::Unstable`] if the orbit at `from` is not
+/// stable, or the error of the first orbit solve. A failure after the first orbit (including
+/// [`StabilityError::Budget`] when `max_steps` run out) is returned with the path, in
+/// [`Continuation::failure`].
 pub fn locate_loss<M, F, E>(
     build: F,
     from: f64,
@@ -246,15 +292,17 @@ where
     let mut path = vec![point(from, &first)];
     let mut last: (f64, PeriodicOrbit<M::Dim>) = (from, first);
     let mut before: Option<(f64, DVector<f64>)> = None;
-    // In the bisection: an orbit of another minimal period, or far from the stable end, is
-    // not this branch.
+    // An orbit of another minimal period, or far from the prediction, is not this branch.
     let solve_on_branch = |p: f64, template: &OVector<f64, M::Dim>, z: &DVector<f64>| {
         solve(p, template, z).and_then(|o| {
-            if o.minimal_period != minimal || (&o.point - z).amax() > opts.max_correction {
-                Err(StabilityError::InvalidOption {
-                    field: "max_correction",
-                    value: (&o.point - z).amax(),
-                    hint: "Newton left the branch",
+            let correction = (&o.point - z).amax();
+            if o.minimal_period != minimal || correction > opts.max_correction {
+                Err(StabilityError::LeftBranch {
+                    parameter: p,
+                    correction,
+                    max_correction: opts.max_correction,
+                    minimal_period: o.minimal_period,
+                    expected_period: minimal,
                 })
             } else {
                 Ok(o)
@@ -272,13 +320,22 @@ where
                 _ => last.1.point.clone(),
             }
         };
+    let done = |path, grazings, end: Option<End<M::Dim>>| {
+        let (loss, failure) = match end {
+            None => (None, None),
+            Some(End::Loss(l)) => (Some(l), None),
+            Some(End::Failure(f)) => (None, Some(f)),
+        };
+        Continuation {
+            loss,
+            failure,
+            path,
+            grazings,
+        }
+    };
     for _ in 0..opts.max_steps {
         if (last.0 - to) * dir >= 0.0 {
-            return Ok(Continuation {
-                loss: None,
-                path,
-                grazings,
-            });
+            return Ok(done(path, grazings, None));
         }
         let p = if (last.0 + step - to) * dir > 0.0 {
             to
@@ -287,76 +344,59 @@ where
         };
         let z = predict(&last, &before, p);
         // Another orbit (a jump, or one of a shorter period) is a failed step.
-        let solved = solve(p, &last.1.state, &z).and_then(|o| {
-            if o.minimal_period != minimal || (&o.point - &z).amax() > opts.max_correction {
-                Err(StabilityError::InvalidOption {
-                    field: "max_correction",
-                    value: (&o.point - &z).amax(),
-                    hint: "Newton left the branch",
-                })
-            } else {
-                Ok(o)
-            }
-        });
-        match solved {
+        let solved = solve_on_branch(p, &last.1.state, &z);
+        let far = match solved {
             Ok(o) if !is_lost(&o, &structure) => {
                 path.push(point(p, &o));
                 before = Some((last.0, last.1.point.clone()));
                 last = (p, o);
                 step = opts.step.abs() * dir;
+                continue;
             }
-            Ok(o) => {
-                let (loss, beyond) = bisect(
-                    &solve_on_branch,
-                    last,
-                    (p, Some(o)),
-                    &structure,
-                    opts.tolerance,
-                );
-                match beyond {
-                    Some(next)
-                        if opts.through_grazing
-                            && loss.kind == LossKind::Grazing
-                            && next.1.spectral_radius() < 1.0 =>
-                    {
-                        structure = canonical(&next.1.margins.structure);
-                        path.push(point(next.0, &next.1));
-                        grazings.push(loss);
-                        before = None;
-                        last = next;
-                        step = opts.step.abs() * dir;
-                    }
-                    _ => {
-                        return Ok(Continuation {
-                            loss: Some(loss),
-                            path,
-                            grazings,
-                        })
-                    }
-                }
+            Err(_) if step.abs() > opts.tolerance => {
+                step *= 0.5;
+                continue;
             }
-            Err(_) if step.abs() > opts.tolerance => step *= 0.5,
-            Err(_) => {
-                let (loss, _) = bisect(
-                    &solve_on_branch,
-                    last,
-                    (p, None),
-                    &structure,
-                    opts.tolerance,
-                );
-                return Ok(Continuation {
-                    loss: Some(loss),
-                    path,
-                    grazings,
-                });
+            far => far,
+        };
+        let (end, beyond) = bisect(&solve_on_branch, last, (p, far), &structure, opts.tolerance);
+        match (end, beyond) {
+            (End::Loss(loss), Some(next))
+                if opts.through_grazing
+                    && loss.kind == LossKind::Grazing
+                    && next.1.spectral_radius() < 1.0 =>
+            {
+                structure = canonical(&next.1.margins.structure);
+                path.push(point(next.0, &next.1));
+                grazings.push(loss);
+                before = None;
+                last = next;
+                step = opts.step.abs() * dir;
             }
+            (end, _) => return Ok(done(path, grazings, Some(end))),
         }
     }
-    Err(StabilityError::InvalidOption {
+    let error = StabilityError::Budget {
         field: "max_steps",
-        value: opts.max_steps as f64,
-        hint: "the continuation did not reach `to`: allow more steps or a larger step",
-    })
+        limit: opts.max_steps as f64,
+        parameter: last.0,
+    };
+    let failure = BranchFailure {
+        parameter: last.0,
+        error,
+        last_parameter: last.0,
+        last_orbit: last.1,
+    };
+    Ok(done(path, grazings, Some(End::Failure(failure))))
+}
+
+/// How a bracket ends: a located loss or a failure.
+enum End<D: nalgebra::Dim>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    Loss(StabilityLoss<D>),
+    Failure(BranchFailure<D>),
 }
 
 /// A branch that ends with a real multiplier above this is a fold (its multiplier reaches +1
@@ -364,21 +404,34 @@ where
 /// multiplier moves like $1 - c\sqrt{\eta^{\ast} - \eta}$ with $c$ up to $10^2$).
 const FOLD_MULTIPLIER: f64 = 0.95;
 
+/// The largest real positive multiplier (0 if none).
+fn largest_real_positive<D: nalgebra::Dim>(o: &PeriodicOrbit<D>) -> f64
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    o.multipliers
+        .iter()
+        .filter(|m| m.is_real(1e-6) && m.re > 0.0)
+        .map(|m| m.re)
+        .fold(0.0, f64::max)
+}
+
 /// Bisects `[a, b]` (stable with the reference structure at `a`, not at `b`) to `tol`.
 #[allow(clippy::type_complexity)]
 fn bisect<D, S>(
     solve: &S,
     mut a: (f64, PeriodicOrbit<D>),
-    mut b: (f64, Option<PeriodicOrbit<D>>),
+    mut b: (f64, Result<PeriodicOrbit<D>, StabilityError>),
     structure: &[&'static str],
     tol: f64,
-) -> (StabilityLoss<D>, Option<(f64, PeriodicOrbit<D>)>)
+) -> (End<D>, Option<(f64, PeriodicOrbit<D>)>)
 where
     D: nalgebra::Dim,
     DefaultAllocator: VariationalAlloc<D>,
     S: Fn(f64, &OVector<f64, D>, &DVector<f64>) -> Result<PeriodicOrbit<D>, StabilityError>,
 {
     let lost = |o: &PeriodicOrbit<D>| is_lost(o, structure);
+    let start_real = largest_real_positive(&a.1);
     while (b.0 - a.0).abs() > tol {
         let mid = 0.5 * (a.0 + b.0);
         if mid == a.0 || mid == b.0 {
@@ -386,54 +439,66 @@ where
         }
         match solve(mid, &a.1.state, &a.1.point) {
             Ok(o) if !lost(&o) => a = (mid, o),
-            Ok(o) => b = (mid, Some(o)),
-            Err(_) => b = (mid, None),
+            other => b = (mid, other),
         }
     }
-    let grazing =
-        b.1.as_ref()
-            .is_some_and(|o| canonical(&o.margins.structure) != structure);
-    let (kind, parameter) = match &b.1 {
-        _ if grazing => (LossKind::Grazing, 0.5 * (a.0 + b.0)),
-        Some(o) => {
-            let critical = o
-                .multipliers
-                .first()
-                .copied()
-                .unwrap_or(Multiplier { re: 1.0, im: 0.0 });
-            let (ra, rb) = (a.1.spectral_radius(), o.spectral_radius());
-            let p = if rb > ra {
-                a.0 + (1.0 - ra) / (rb - ra) * (b.0 - a.0)
-            } else {
-                0.5 * (a.0 + b.0)
-            };
-            (LossKind::Multiplier(CrossingKind::of(&critical, 1e-6)), p)
+    let loss = |kind, parameter, beyond: Option<&PeriodicOrbit<D>>, a: (f64, PeriodicOrbit<D>)| {
+        StabilityLoss {
+            parameter,
+            bracket: (a.0, b.0),
+            kind,
+            beyond_structure: beyond.map(|o| o.margins.structure.clone()),
+            beyond: beyond.map(|o| o.multipliers.clone()),
+            beyond_grazing: beyond.is_some_and(|o| o.grazing),
+            orbit: a.1,
         }
-        // The branch ends. With a real multiplier near +1 it is a fold; otherwise it ends at a
-        // non-smooth point (a grazing or a regime boundary met tangentially) where the map is
-        // not differentiable and Newton cannot follow it.
-        None => {
-            let near_one =
-                a.1.multipliers
-                    .iter()
-                    .any(|m| m.is_real(1e-6) && m.re > FOLD_MULTIPLIER);
-            let kind = if near_one {
+    };
+    let o = match b.1 {
+        Ok(o) => o,
+        Err(error) => {
+            // The branch ends: a bifurcation only on positive evidence, and only when Newton
+            // itself is what failed (module docs).
+            let newton = matches!(
+                error,
+                StabilityError::NotConverged { .. }
+                    | StabilityError::Singular { .. }
+                    | StabilityError::LeftBranch { .. }
+            );
+            let real = largest_real_positive(&a.1);
+            let kind = if newton && real > FOLD_MULTIPLIER && real >= start_real {
                 LossKind::Multiplier(CrossingKind::Fold)
-            } else {
+            } else if newton && a.1.grazing {
                 LossKind::Grazing
+            } else {
+                let failure = BranchFailure {
+                    parameter: b.0,
+                    error,
+                    last_parameter: a.0,
+                    last_orbit: a.1,
+                };
+                return (End::Failure(failure), None);
             };
-            (kind, 0.5 * (a.0 + b.0))
+            return (End::Loss(loss(kind, 0.5 * (a.0 + b.0), None, a)), None);
         }
     };
-    let loss = StabilityLoss {
-        parameter,
-        bracket: (a.0, b.0),
-        kind,
-        beyond_structure: b.1.as_ref().map(|o| o.margins.structure.clone()),
-        beyond: b.1.as_ref().map(|o| o.multipliers.clone()),
-        orbit: a.1,
+    let (kind, parameter) = if canonical(&o.margins.structure) != structure {
+        (LossKind::Grazing, 0.5 * (a.0 + b.0))
+    } else {
+        let critical = o
+            .multipliers
+            .first()
+            .copied()
+            .unwrap_or(Multiplier { re: 1.0, im: 0.0 });
+        let (ra, rb) = (a.1.spectral_radius(), o.spectral_radius());
+        let p = if rb > ra {
+            a.0 + (1.0 - ra) / (rb - ra) * (b.0 - a.0)
+        } else {
+            0.5 * (a.0 + b.0)
+        };
+        (LossKind::Multiplier(CrossingKind::of(&critical, 1e-6)), p)
     };
-    (loss, b.1.map(|o| (b.0, o)))
+    let l = loss(kind, parameter, Some(&o), a);
+    (End::Loss(l), Some((b.0, o)))
 }
 
 /// Whether an orbit is unstable or has another event structure than `structure`.
@@ -442,4 +507,105 @@ where
     DefaultAllocator: VariationalAlloc<D>,
 {
     o.spectral_radius() >= 1.0 || canonical(&o.margins.structure) != structure
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::stability::orbit::OrbitMargins;
+    use nalgebra::{DMatrix, U1};
+
+    /// A synthetic stable orbit with largest multiplier `m` (real) and an event at `margin`.
+    fn orbit(m: f64, margin: f64) -> PeriodicOrbit<U1> {
+        PeriodicOrbit {
+            period: 1,
+            state: OVector::<f64, U1>::new(0.0),
+            point: DVector::from_element(1, 0.0),
+            residual: 0.0,
+            iterations: 1,
+            monodromy: DMatrix::from_element(1, 1, m),
+            multipliers: vec![Multiplier { re: m, im: 0.0 }],
+            events: Vec::new(),
+            margins: OrbitMargins {
+                contacts: 1,
+                min_depth: None,
+                clearance: None,
+                min_event_margin: margin,
+                structure: vec!["e"],
+            },
+            grazing: margin < crate::stability::GRAZING_MARGIN,
+            openness: 0.0,
+            minimal_period: 1,
+        }
+    }
+
+    /// Bisects [0, 1] with orbits `good(p)` below 0.5 and `bad(p)` from 0.5 on.
+    fn run(
+        good: impl Fn(f64) -> PeriodicOrbit<U1>,
+        bad: impl Fn(f64) -> StabilityError,
+    ) -> End<U1> {
+        let solve = |p: f64, _: &OVector<f64, U1>, _: &DVector<f64>| {
+            if p < 0.5 {
+                Ok(good(p))
+            } else {
+                Err(bad(p))
+            }
+        };
+        let (end, _) = bisect(&solve, (0.0, good(0.0)), (1.0, Err(bad(1.0))), &["e"], 1e-8);
+        end
+    }
+
+    fn newton(_: f64) -> StabilityError {
+        StabilityError::NotConverged {
+            last: DVector::zeros(1),
+            residual: 1.0,
+            iterations: 10,
+            reason: "test",
+        }
+    }
+
+    fn model(p: f64) -> StabilityError {
+        StabilityError::Model {
+            parameter: p,
+            reason: "test".into(),
+        }
+    }
+
+    #[test]
+    fn a_branch_end_is_a_fold_or_a_grazing_only_on_evidence() {
+        // A square-root fold at 0.5: the multiplier rises to 1 there.
+        let fold = |p: f64| orbit(1.0 - (0.5 - p).max(0.0).sqrt(), 0.5);
+        match run(fold, newton) {
+            End::Loss(l) => {
+                assert_eq!(l.kind, LossKind::Multiplier(CrossingKind::Fold));
+                assert!((l.parameter - 0.5).abs() < 1e-8);
+            }
+            End::Failure(f) => panic!("{:?}", f.error),
+        }
+        // An event's margin going to 0 at 0.5.
+        let graze = |p: f64| orbit(0.6, (0.5 - p).max(0.0).sqrt());
+        match run(graze, newton) {
+            End::Loss(l) => assert_eq!(l.kind, LossKind::Grazing),
+            End::Failure(f) => panic!("{:?}", f.error),
+        }
+        // Neither: Newton's failure is reported.
+        match run(|_| orbit(0.6, 0.5), newton) {
+            End::Loss(l) => panic!("a failure located as {:?}", l.kind),
+            End::Failure(f) => {
+                assert!(matches!(f.error, StabilityError::NotConverged { .. }));
+                assert!(f.parameter >= 0.5 && f.last_parameter < 0.5);
+                assert!(f.parameter - f.last_parameter <= 1e-8);
+            }
+        }
+        // With the same evidence, a model that cannot be built is a failure, not a fold.
+        match run(fold, model) {
+            End::Loss(l) => panic!("a failure located as {:?}", l.kind),
+            End::Failure(f) => assert!(matches!(f.error, StabilityError::Model { .. })),
+        }
+        // A multiplier near 1 that moves away from 1 is no fold.
+        match run(|p| orbit(0.99 - 0.01 * p, 0.5), newton) {
+            End::Loss(l) => panic!("a failure located as {:?}", l.kind),
+            End::Failure(_) => {}
+        }
+    }
 }

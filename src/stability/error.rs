@@ -57,6 +57,34 @@ pub enum StabilityError {
         /// Its largest multiplier modulus.
         spectral_radius: f64,
     },
+    /// Newton converged, but to another orbit than the one followed: its correction from the
+    /// prediction exceeds the largest accepted one, or its minimal period differs.
+    #[error("Newton left the branch at parameter {parameter}: correction {correction:e} (largest accepted {max_correction:e}), minimal period {minimal_period} (followed {expected_period})")]
+    LeftBranch {
+        /// The parameter value.
+        parameter: f64,
+        /// $\lVert z^{\ast} - z_{\rm predicted}\rVert_\infty$.
+        correction: f64,
+        /// The largest correction accepted.
+        max_correction: f64,
+        /// The minimal period of the orbit found.
+        minimal_period: u64,
+        /// The minimal period of the orbit followed.
+        expected_period: u64,
+    },
+    /// A computation ran out of its budget before it was done (what it computed is returned
+    /// with this error).
+    #[error(
+        "`{field}` = {limit} exhausted at parameter {parameter}: allow more, or a larger step"
+    )]
+    Budget {
+        /// The option that set the budget.
+        field: &'static str,
+        /// Its value.
+        limit: f64,
+        /// Where the computation stopped.
+        parameter: f64,
+    },
     /// The multipliers could not be computed.
     #[error(transparent)]
     Floquet(#[from] FloquetError),

@@ -15,7 +15,7 @@
 //! | [`StroboscopicMap`] | $P^n$ on the non-algebraic components and its Jacobian $DP^n$ (or $DP^n Q$) |
 //! | [`periodic_orbit`] | Newton on $P^n(z) - z$: point, residual, multipliers, grazing margins |
 //! | [`lyapunov_exponents`] | QR (Benettin) spectrum with batch-means errors, two-trajectory check, sum rule |
-//! | [`locate_loss`] | continuation along a parameter (a closure builds the model): flip, fold, Neimark–Sacker, grazing |
+//! | [`locate_loss`] | continuation along a parameter (a closure builds the model): flip, fold, Neimark–Sacker, grazing, or a failure with its error |
 //! | [`floquet`], [`newton`], [`statistics`] | the numerics underneath, on plain matrices and closures |
 //!
 //! The ring's own derivatives are in [`crate::ring::sensitivity`], the paper's free flight's
@@ -38,7 +38,8 @@ pub mod variational;
 
 pub use augmented::LinearEvent;
 pub use continuation::{
-    locate_loss, Continuation, ContinuationOptions, ContinuationPoint, LossKind, StabilityLoss,
+    locate_loss, BranchFailure, Continuation, ContinuationOptions, ContinuationPoint, LossKind,
+    StabilityLoss,
 };
 pub use error::StabilityError;
 pub use floquet::{multipliers, CrossingKind, FloquetError, Multiplier};

@@ -8,7 +8,9 @@
 //! contact in free flight (both from the model's [`Variational::contact_depth`], sampled 64
 //! times on each smooth piece between events and refined by a parabola through the largest
 //! sample and its neighbours), and the smallest crossing margin of the events' saltation
-//! matrices.
+//! matrices. An orbit with an event crossed at a margin below [`GRAZING_MARGIN`] is flagged
+//! ([`PeriodicOrbit::grazing`]): its multipliers are those of a map that is not
+//! differentiable there.
 
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 
@@ -17,6 +19,7 @@ use super::error::StabilityError;
 use super::floquet::{multipliers, Multiplier};
 use super::map::{Linearization, StroboscopicMap};
 use super::newton::{newton_fixed_point, MapValue, NewtonError, NewtonOptions};
+use super::saltation::GRAZING_MARGIN;
 use super::variational::{Variational, VariationalAlloc};
 use crate::hybrid::{
     simulate, DenseSampling, EventRecord, HybridObserver, OutputPlan, Sample, SimOptions,
@@ -74,6 +77,13 @@ where
     pub events: Vec<LinearEvent>,
     /// Grazing margins.
     pub margins: OrbitMargins,
+    /// Whether an event of the orbit is grazing: crossed at a margin
+    /// ([`OrbitMargins::min_event_margin`], the smallest crossing rate relative to its scale)
+    /// below [`GRAZING_MARGIN`]. The map is then not differentiable at the orbit and the
+    /// multipliers are those of one side of it, through a saltation matrix that may be
+    /// unbounded there ([`LinearEvent::saltation_norm`] of the grazing events says how large
+    /// it is): do not read them as the orbit's stability without looking.
+    pub grazing: bool,
     /// How far the section is from closing the map on $z$ (0 for a closed map:
     /// [`Linearization::openness`]).
     pub openness: f64,
@@ -136,6 +146,7 @@ where
         monodromy: fp.map.jacobian,
         multipliers,
         events: lin.events,
+        grazing: margins.min_event_margin < GRAZING_MARGIN,
         margins,
         openness: lin.openness[0].max(lin.openness[1]),
         minimal_period,
