@@ -245,7 +245,6 @@ fn lyapunov(scene: &Scene, transient: u64, periods: u64, batch: u64) {
         "batch_length": l.per_period.batch_length,
         "batches": l.per_period.batches,
         "sum": l.sum(),
-        "mean_log_det": l.log_det.0,
         "grazing_events": l.grazing_events,
     }));
 }

@@ -77,7 +77,7 @@ fn compare(
 #[test]
 fn period_one_orbits_at_eta_2_regimes_v_and_ii() {
     let check = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533];
-    for (preset, bound) in [(Preset::Fig8a, 1e-9), (Preset::Fig8b, 1e-9)] {
+    for (preset, bound) in [(Preset::Fig8a, 3e-10), (Preset::Fig8b, 5e-10)] {
         let model = JeffcottModel::new(preset.params()).unwrap();
         let y = model
             .state_at([check[0], check[1]], [check[2], check[3]])
@@ -131,7 +131,7 @@ fn preload_crossings_and_a_section_in_contact() {
         assert!(kinds.contains(&k), "{k} missing from {kinds:?}");
     }
     // Measured: 1.4e-10.
-    assert!(worst < 2e-9, "{worst:e}");
+    assert!(worst < 5e-10, "{worst:e}");
 }
 
 #[test]
@@ -149,7 +149,7 @@ fn chaotic_orbits_at_eta_2_442() {
         let (worst, kinds, margin) = compare(p, y, 1, 10, 3e-5);
         eprintln!("{preset} chaotic: |DP - FD| = {worst:e}, events {kinds:?}, min margin {margin}");
         // Measured: 2.0e-10 (8a), 2.9e-10 (8b) at h = 3e-5; entries of DP up to 3.
-        assert!(worst < 2e-9, "{preset}: {worst:e}");
+        assert!(worst < 1e-9, "{preset}: {worst:e}");
     }
 }
 

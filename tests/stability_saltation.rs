@@ -76,12 +76,17 @@ fn bouncing_ball_saltation_matches_finite_differences_and_the_classical_form() {
     // The map is smooth (square roots away from zero): central differences at h = 1e-6 are
     // good to ~1e-9.
     let err = (composed - fd).norm();
-    assert!(err < 1e-8, "{err:e}");
+    eprintln!("bouncing ball: |S composed - FD| = {err:e}");
+    // Measured 1.1e-9.
+    assert!(err < 3e-9, "{err:e}");
     // The event time's gradient.
     let dte = fd_jacobian(|x| Vector2::new(ball_map(x, e, t_end).1, 0.0), &x0, 1e-6)
         .row(0)
         .into_owned();
-    assert!((dte - s.time_gradient.transpose() * fall_stm(te)).norm() < 1e-8);
+    let err_t = (dte - s.time_gradient.transpose() * fall_stm(te)).norm();
+    eprintln!("bouncing ball: event time gradient vs FD {err_t:e}");
+    // Measured 5.6e-11.
+    assert!(err_t < 2e-10, "{err_t:e}");
 }
 
 /// Wall position and its derivatives.
@@ -167,7 +172,9 @@ fn time_dependent_guard_and_reset_match_finite_differences_for_fixed_and_dynamic
     let composed = fall_stm(t_end - te) * s.matrix * fall_stm(te);
     let fd = fd_jacobian(|x| moving_wall_map(x, t_end).0, &x0, 1e-6);
     let err = (composed - fd).norm();
-    assert!(err < 1e-8, "{err:e}: {composed} vs {fd}");
+    eprintln!("moving wall: |S composed - FD| = {err:e}");
+    // Measured 7.0e-10.
+    assert!(err < 2e-9, "{err:e}: {composed} vs {fd}");
     // Leaving out R_t or g_t is wrong by O(1): the check can fail.
     let zero = Vector2::zeros();
     let without_rt = moving_wall_saltation(&f_minus, &f_plus, &grad, -wv, &reset, &zero);

@@ -12,9 +12,11 @@
 //!   a second trajectory $d_0$ away along $u_k$ is run one period with the model's own
 //!   simulation, its distance $d_{k+1}$ recorded as $\ln(d_{k+1}/d_0)$, and it is renormalised
 //!   back to $d_0$ along the new separation.
-//! * **Sum rule.** $\sum_i\lambda_i$ against the mean of $\ln|\det DP(z_k)|$, the latter from an
-//!   LU factorisation of each period's $DP\thinspace Q$ (the QR's diagonal and the LU's pivots are
-//!   different arithmetic on the same matrices).
+//! * **Sum of the exponents.** With the whole spectrum, $\sum_i\lambda_i$ is the mean of
+//!   $\ln|\det DP(z_k)|$ by construction (the product of the QR's diagonal), so it is no check
+//!   of $DP$. The check is Liouville's formula along the trajectory, independent of the
+//!   variational code: $\ln|\det DP| = \int\operatorname{tr}(\partial f/\partial y)\thinspace d\tau
+//!   + \sum_e\ln|\det S_e|$ over the period (`tests/stability_lyapunov.rs`, docs/stability.md).
 //!
 //! Every event of the fiducial trajectory is crossed through its saltation matrix; the result
 //! counts those crossed at a margin below [`GRAZING_MARGIN`] (the exponents stay meaningful:
@@ -46,8 +48,8 @@ pub struct LyapunovOptions {
     /// Initial separation of the two-trajectory method; `None` skips it. Default
     /// `Some(1e-8)`.
     pub separation: Option<f64>,
-    /// How many exponents, the largest first: `None` (default) for all (then the sum rule is
-    /// checked); fewer carry fewer directions (one: a Jacobian-vector product per period).
+    /// How many exponents, the largest first: `None` (default) for all; fewer carry fewer
+    /// directions (one: a Jacobian-vector product per period).
     pub exponents: Option<usize>,
     /// The last this many recorded sections' states (the non-algebraic components) are kept in
     /// [`LyapunovSpectrum::sections`], e.g. for a bifurcation diagram. Default 0.
@@ -96,9 +98,6 @@ pub struct LyapunovSpectrum {
     pub forcing_period: f64,
     /// The largest exponent by the two-trajectory method, if asked for.
     pub two_trajectory: Option<TwoTrajectory>,
-    /// Mean and batch-means error of $\ln|\det DP|$ per period (the sum rule:
-    /// $\sum_i\lambda_i$ must equal the mean); NaN unless the whole spectrum was asked for.
-    pub log_det: (f64, f64),
     /// Events crossed at a margin below [`GRAZING_MARGIN`] (recorded periods).
     pub grazing_events: usize,
     /// The smallest event margin met (recorded periods).
@@ -162,7 +161,6 @@ where
     let mut q = DMatrix::identity(d, p);
     let mut qr_stats = BatchMeans::new(p, opts.batch as usize);
     let mut sections = std::collections::VecDeque::with_capacity(opts.keep);
-    let mut det_stats = BatchMeans::new(1, opts.batch as usize);
     let mut two_stats = BatchMeans::new(1, opts.batch as usize);
     let mut u = unit(d);
     let (mut grazing_events, mut min_margin, mut open_sections) = (0, 1.0f64, 0);
@@ -184,15 +182,9 @@ where
                 u = diff / dist;
             }
         }
-        let log_det = if p == d {
-            log_abs_det(&lin.jacobian)
-        } else {
-            f64::NAN
-        };
         let (qn, logs) = qr_step(lin.jacobian);
         if record {
             qr_stats.push(logs.as_slice());
-            det_stats.push(&[log_det]);
             for e in &lin.events {
                 min_margin = min_margin.min(e.margin);
                 if e.margin < GRAZING_MARGIN {
@@ -214,7 +206,6 @@ where
     }
     let per_period = qr_stats.estimate();
     let period = model.forcing_period();
-    let det = det_stats.estimate();
     let two_trajectory = opts.separation.map(|d0| {
         let e = two_stats.estimate();
         TwoTrajectory {
@@ -229,7 +220,6 @@ where
         per_period,
         forcing_period: period,
         two_trajectory,
-        log_det: (det.mean[0], det.stderr[0]),
         grazing_events,
         min_margin,
         open_sections,
@@ -241,11 +231,4 @@ where
 /// $(1, 1, \dots)/\sqrt d$: the first direction of the second trajectory.
 fn unit(d: usize) -> DVector<f64> {
     DVector::from_element(d, 1.0 / (d as f64).sqrt())
-}
-
-/// $\ln|\det A|$ by LU with partial pivoting.
-fn log_abs_det(a: &DMatrix<f64>) -> f64 {
-    let lu = a.clone().lu();
-    let u = lu.u();
-    (0..u.nrows()).map(|i| u[(i, i)].abs().ln()).sum()
 }

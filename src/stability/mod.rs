@@ -14,7 +14,7 @@
 //! | [`Variational`] | what a model supplies: field and reset Jacobians, guard gradients, the closed form's Jacobian, its algebraic components; finite-difference defaults; analytic for [`crate::paper::JeffcottModel`], ring parts analytic for [`crate::rotor::RingedRotor`] |
 //! | [`StroboscopicMap`] | $P^n$ on the non-algebraic components and its Jacobian $DP^n$ (or $DP^n Q$) |
 //! | [`periodic_orbit`] | Newton on $P^n(z) - z$: point, residual, multipliers, grazing margins |
-//! | [`lyapunov_exponents`] | QR (Benettin) spectrum with batch-means errors, two-trajectory check, sum rule |
+//! | [`lyapunov_exponents`] | QR (Benettin) spectrum with batch-means errors, two-trajectory check |
 //! | [`locate_loss`] | continuation along a parameter (a closure builds the model): flip, fold, Neimark–Sacker, grazing, or a failure with its error |
 //! | [`floquet`], [`newton`], [`statistics`] | the numerics underneath, on plain matrices and closures |
 //!

@@ -20,7 +20,8 @@
 //! With $Q_k$ orthonormal ($d\times p$) and $Y = DP(z_k)\thinspace Q_k = Q_{k+1}R_k$ (thin QR, $R_k$
 //! upper triangular with a positive diagonal), the $i$-th Lyapunov exponent per iteration of
 //! the map is the time average of $\ln R_{k,ii}$ ([`qr_step`]). Summed over $i = 1..d$ the
-//! samples are $\ln|\det DP(z_k)|$ exactly: the sum rule.
+//! samples are $\ln|\det DP(z_k)|$ by construction (an identity of the factorisation, not a
+//! check of $DP$; the check of the exponents' sum is Liouville's formula, `lyapunov`).
 
 use nalgebra::{DMatrix, DVector};
 
@@ -205,7 +206,7 @@ mod tests {
                 expect[i]
             );
         }
-        // Sum rule: exactly ln|det| per step.
+        // The identity of the factorisation: ln|det| per step.
         assert!((exps.sum() - (2.0f64 * 0.5 * 0.1).ln()).abs() < 1e-12);
     }
 }
