@@ -69,7 +69,14 @@ fn started(name: &str) -> PathBuf {
 /// scan, then scanning.
 fn resume(dir: &Path, grid: &Grid2, config: &AttractorConfig) -> Result<GridScan, StoreError> {
     let store = SweepStore::open_scan(dir, "basins", description(), grid, config)?;
-    scan_grid(grid, plane().setup(), config, Some(&store), &one_thread(), None)
+    scan_grid(
+        grid,
+        plane().setup(),
+        config,
+        Some(&store),
+        &one_thread(),
+        None,
+    )
 }
 
 fn texts(scan: &GridScan) -> Vec<String> {
@@ -111,7 +118,10 @@ fn a_resume_with_another_setting_is_refused_naming_it() {
         matches!(&err, StoreError::SettingMismatch { setting, .. } if setting == "settings.transient"),
         "{err}"
     );
-    assert!(err.to_string().contains("settings.transient = 100"), "{err}");
+    assert!(
+        err.to_string().contains("settings.transient = 100"),
+        "{err}"
+    );
 }
 
 #[test]

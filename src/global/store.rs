@@ -643,7 +643,10 @@ mod tests {
                 expected,
                 found,
                 ..
-            } => assert_eq!((&*setting, &*expected, &*found), ("description.eta", "2.3", "2.2")),
+            } => assert_eq!(
+                (&*setting, &*expected, &*found),
+                ("description.eta", "2.3", "2.2")
+            ),
             other => panic!("{other:?}"),
         }
         let err = SweepStore::open(&dir, "other", desc, &points).unwrap_err();
