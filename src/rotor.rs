@@ -266,7 +266,8 @@ where
         OVector::<f64, R::Dim>::zeros_generic(self.rotor.dim(), U1)
     }
 
-    /// `station(y)` as `[r.x, r.y, v.x, v.y]`, refused if not finite.
+    /// `station(y)` as `[r.x, r.y, v.x, v.y]`, refused if not finite (so that the checks below
+    /// compare finite numbers).
     fn station4(&self, y: &OVector<f64, R::Dim>) -> Result<[f64; 4], RotorError> {
         let k = kin4(&self.rotor.station(y));
         match k.iter().find(|v| !v.is_finite()) {
@@ -359,7 +360,7 @@ where
             let velocity = [k[2], k[3]];
             let diff = [derivative[0] - velocity[0], derivative[1] - velocity[1]];
             let scale = amax(&derivative).max(amax(&velocity));
-            if !(amax(&diff) <= VELOCITY_RTOL * scale + atol) {
+            if amax(&diff) > VELOCITY_RTOL * scale + atol {
                 return Err(RotorError::StationVelocity {
                     t,
                     velocity,
@@ -399,7 +400,7 @@ where
             let k = self.station4(&dy)?;
             let accel = [k[2] - zero_v[0], k[3] - zero_v[1]];
             let along = accel[0] * dir.x + accel[1] * dir.y;
-            if !(along > AFFINE_RTOL * amax(&accel)) {
+            if along <= AFFINE_RTOL * amax(&accel) {
                 return Err(RotorError::StationForce {
                     force: [force.x, force.y],
                     accel,
