@@ -28,7 +28,9 @@ use common::csv::{fmt_f64, CsvWriter};
 use common::plot::{self, Category, CategoryGrid, Figure};
 use common::ranks::Ranks;
 use jeffcott::analysis::{PeriodTest, StderrProgress};
-use jeffcott::global::{attractor_at, AttractorConfig, Grid2, Json, MatchTolerance, PointLabel};
+use jeffcott::global::{
+    attractor_at, AttractorConfig, Grid2, Json, Manifest, MatchTolerance, PointLabel,
+};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{BasinPlane, StartPlane};
 use jeffcott::params::{Params, Preset};
@@ -182,9 +184,11 @@ fn main() {
         let label = format!("{name}-eta{}", params.eta);
         let dir = out.join(&label);
         let basin = BasinPlane::new(params, start_plane);
-        let description = Json::object([("plane", basin.to_json()), ("config", config.to_json())]);
-        let points = grid.points();
-        let store = common::or_exit(ranks.open_store(&dir, "basins", description, &points));
+        // The folder records the grid and every setting of `config`; the description adds
+        // the model's parameters.
+        let description = Json::object([("plane", basin.to_json())]);
+        let manifest = Manifest::scan("basins", description, &grid, &config);
+        let store = common::or_exit(ranks.open_store(&dir, manifest));
         let progress = StderrProgress::new(if ranks.size > 1 {
             format!("{label} (rank 0 of {})", ranks.size)
         } else {

@@ -20,7 +20,7 @@ use common::plot::{self, Category, CategoryGrid, Figure, Grid};
 use common::ranks::Ranks;
 use jeffcott::analysis::StderrProgress;
 use jeffcott::global::{
-    continue_orbit, AttractorConfig, ContinuationConfig, Grid2, Json, SpecialKind,
+    continue_orbit, AttractorConfig, ContinuationConfig, Grid2, Json, Manifest, SpecialKind,
 };
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{ParamPlane, SweepParameter};
@@ -137,9 +137,11 @@ fn main() {
         let grid = common::or_exit(Grid2::linspace((eta_min, eta_max, n_eta), (lo, hi, n_y)));
         let plane = ParamPlane::new(base, SweepParameter::Eta, param);
         let dir = out.join(name);
-        let description = Json::object([("plane", plane.to_json()), ("config", config.to_json())]);
-        let points = grid.points();
-        let store = common::or_exit(ranks.open_store(&dir, "param_map", description, &points));
+        // The folder records the grid and every setting of `config`; the description adds
+        // the model's parameters.
+        let description = Json::object([("plane", plane.to_json())]);
+        let manifest = Manifest::scan("param_map", description, &grid, &config);
+        let store = common::or_exit(ranks.open_store(&dir, manifest));
         let progress = StderrProgress::new(format!("map eta x {}", param.symbol()));
         let t0 = Instant::now();
         let scan = common::or_exit(ranks.scan_grid(

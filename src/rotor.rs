@@ -79,7 +79,8 @@
 //! ```
 
 use nalgebra::allocator::Allocator;
-use nalgebra::{DefaultAllocator, Dim, OVector, Vector2};
+use nalgebra::{DefaultAllocator, Dim, OVector, Vector2, U1};
+use thiserror::Error;
 
 use crate::hybrid::{Flow, ModelError, NoExactModes, RotorModel};
 use crate::ode::Direction;
@@ -104,15 +105,20 @@ where
     fn rhs(&self, t: f64, y: &OVector<f64, Self::Dim>, dy: &mut OVector<f64, Self::Dim>);
 
     /// Displacement and velocity of the rotor at the ring's station, relative to the ring's rest
-    /// centre, in units of the ring's gap. Must be linear in `y` (positions and velocities are
-    /// components or fixed combinations of components): applied to $y^\prime$ it then gives the
-    /// station's velocity and acceleration, which the ring's acceptance test uses.
+    /// centre, in the ring's length unit (that of its gap). Must be *affine* in `y`: positions
+    /// and velocities are fixed combinations of components, the position plus a constant (the
+    /// station's rest position relative to the ring's centre, e.g. an eccentric ring), the
+    /// velocity without one. The velocity must be the time derivative of the position under
+    /// [`SmoothRotor::rhs`]. The composition relies on this: the station's acceleration is
+    /// the velocity part of `station` applied to $y^\prime$, and the stability tools read the
+    /// map's coefficients. [`RingedRotor::new`] checks it.
     fn station(&self, y: &OVector<f64, Self::Dim>) -> Kinematics;
 
     /// Adds to `dy` the effect of the force `force` acting on the rotor at the station (for a
     /// lumped station of mass $m$ whose velocities are `y[i]`, `y[j]`: `dy[i] += force.x / m`,
     /// `dy[j] += force.y / m`; for a modal model, the modal forces $\Phi_s^{\mathsf T}$ `force`
-    /// divided by the modal masses).
+    /// divided by the modal masses). A force must accelerate the station along itself
+    /// (positive mass); [`RingedRotor::new`] checks it.
     fn add_station_force(
         &self,
         y: &OVector<f64, Self::Dim>,
@@ -136,16 +142,277 @@ pub struct RingedRotor<R> {
     ring: SnubberRing,
 }
 
-impl<R> RingedRotor<R> {
-    /// Composes `rotor` with `ring`.
+/// A rotor that cannot be put on the ring: the ring's parameters, or a [`SmoothRotor`] method
+/// that breaks its contract ([`RingedRotor::new`]). Each variant names the method and the
+/// values it gave.
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[non_exhaustive]
+pub enum RotorError {
+    /// The ring's parameters are invalid.
+    #[error(transparent)]
+    Ring(#[from] RingError),
+    /// The ring's slots are not two distinct components of the state.
+    #[error("SmoothRotor::ring_slots is {slots:?} but the state has {dim} components (SmoothRotor::dim): give two distinct indices below {dim}")]
+    RingSlots {
+        /// The slots returned.
+        slots: [usize; 2],
+        /// The state's dimension.
+        dim: usize,
+    },
+    /// A method returned a non-finite value at a finite probe state.
+    #[error(
+        "SmoothRotor::{method} returned {value} at a finite probe state: it must be finite there"
+    )]
+    NonFinite {
+        /// The method (`"station"`, `"add_station_force"`).
+        method: &'static str,
+        /// The value returned.
+        value: f64,
+    },
+    /// The station's velocity at the zero state is not zero (the velocity has an offset).
+    #[error("SmoothRotor::station: at the zero state the velocity is ({}, {}), not zero: the velocity must be a fixed combination of state components without offset (only the position may have one)", velocity[0], velocity[1])]
+    StationVelocityOffset {
+        /// `station(0).v`.
+        velocity: [f64; 2],
+    },
+    /// The station map is not affine: `station(a x + b z) - station(0)` differs from
+    /// `a (station(x) - station(0)) + b (station(z) - station(0))`.
+    #[error("SmoothRotor::station is not affine in the state: for a = {a}, b = {b}, station(a x + b z) - station(0) = {got:?} but a (station(x) - station(0)) + b (station(z) - station(0)) = {want:?} (r.x, r.y, v.x, v.y); positions and velocities must be fixed combinations of state components")]
+    StationNotAffine {
+        /// Coefficient of the first probe state.
+        a: f64,
+        /// Coefficient of the second probe state.
+        b: f64,
+        /// `station(a x + b z) - station(0)`, as `[r.x, r.y, v.x, v.y]`.
+        got: [f64; 4],
+        /// `a (station(x) - station(0)) + b (station(z) - station(0))`.
+        want: [f64; 4],
+    },
+    /// The station's velocity is not the time derivative of its position under the rotor's
+    /// field.
+    #[error("SmoothRotor::station: at a probe state (t = {t}) the velocity is {velocity:?} but the position's time derivative under SmoothRotor::rhs is {derivative:?}: station(y).v must be d/dt station(y).r (check the velocity's sign and components)")]
+    StationVelocity {
+        /// The probe's time.
+        t: f64,
+        /// `station(y).v`.
+        velocity: [f64; 2],
+        /// `station(rhs(t, y)).r - station(0).r`.
+        derivative: [f64; 2],
+    },
+    /// A force at the station does not accelerate it along the force.
+    #[error("SmoothRotor::add_station_force: the force {force:?} at the station changes the station's acceleration by {accel:?}, whose component along the force is {along}, not positive: a force must push the station along itself (dy[velocity] += force / mass)")]
+    StationForce {
+        /// The force applied.
+        force: [f64; 2],
+        /// The change of the station's acceleration.
+        accel: [f64; 2],
+        /// `accel · force / |force|`.
+        along: f64,
+    },
+}
+
+/// Relative tolerance of the station map's affinity (rounding of a fixed combination).
+const AFFINE_RTOL: f64 = 1e-8;
+/// Relative tolerance of the velocity against the position's derivative.
+const VELOCITY_RTOL: f64 = 1e-6;
+/// Absolute tolerances, as a fraction of the ring's gap (per unit time for velocities).
+const GAP_ATOL: f64 = 1e-12;
+
+fn kin4(k: &Kinematics) -> [f64; 4] {
+    [k.r.x, k.r.y, k.v.x, k.v.y]
+}
+
+fn sub4(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3]]
+}
+
+fn amax(a: &[f64]) -> f64 {
+    a.iter().fold(0.0, |m, v| m.max(v.abs()))
+}
+
+impl<R: SmoothRotor> RingedRotor<R>
+where
+    DefaultAllocator: Allocator<R::Dim>,
+{
+    /// Composes `rotor` with `ring`, after checking the rotor's contract on a few
+    /// deterministic probe states (scaled to put the station about half the gap from its rest
+    /// position; tolerances relative plus an absolute $10^{-12}$ of the gap):
+    ///
+    /// * [`SmoothRotor::ring_slots`] are two distinct components of the state;
+    /// * [`SmoothRotor::station`] is affine, its velocity without offset (`station(0).v = 0`);
+    /// * the station's velocity is the time derivative of its position under
+    ///   [`SmoothRotor::rhs`] (to $10^{-6}$ relative), at two times;
+    /// * a force at the station ([`SmoothRotor::add_station_force`]) accelerates it with a
+    ///   positive component along the force, for forces along both axes and the station's
+    ///   radius.
+    ///
+    /// These mistakes otherwise surface late and far from their cause: as chattering, a
+    /// solution growing to overflow, or a stability tool unable to place the ring.
     ///
     /// # Errors
-    /// The ring's [`RingError`] if its parameters are invalid.
-    pub fn new(rotor: R, ring: SnubberRing) -> Result<Self, RingError> {
+    /// [`RotorError::Ring`] if the ring's parameters are invalid; the other variants name the
+    /// method that breaks its contract and the values it gave.
+    pub fn new(rotor: R, ring: SnubberRing) -> Result<Self, RotorError> {
         ring.validate()?;
-        Ok(Self { rotor, ring })
+        let model = Self { rotor, ring };
+        model.check_slots()?;
+        let probes = model.check_station()?;
+        model.check_velocity(&probes)?;
+        model.check_force(&probes)?;
+        Ok(model)
     }
 
+    fn zero_state(&self) -> OVector<f64, R::Dim> {
+        OVector::<f64, R::Dim>::zeros_generic(self.rotor.dim(), U1)
+    }
+
+    /// `station(y)` as `[r.x, r.y, v.x, v.y]`, refused if not finite (so that the checks below
+    /// compare finite numbers).
+    fn station4(&self, y: &OVector<f64, R::Dim>) -> Result<[f64; 4], RotorError> {
+        let k = kin4(&self.rotor.station(y));
+        match k.iter().find(|v| !v.is_finite()) {
+            Some(&value) => Err(RotorError::NonFinite {
+                method: "station",
+                value,
+            }),
+            None => Ok(k),
+        }
+    }
+
+    fn check_slots(&self) -> Result<(), RotorError> {
+        let dim = self.rotor.dim().value();
+        let slots = self.rotor.ring_slots();
+        if slots[0] >= dim || slots[1] >= dim || slots[0] == slots[1] {
+            return Err(RotorError::RingSlots { slots, dim });
+        }
+        Ok(())
+    }
+
+    /// Two probe states, deterministic and generic (no component zero but the ring's slots),
+    /// scaled so that each moves the station about half the gap.
+    fn probe_states(&self) -> Result<[OVector<f64, R::Dim>; 2], RotorError> {
+        let zero = self.station4(&self.zero_state())?;
+        let slots = self.rotor.ring_slots();
+        let mut probes = [self.zero_state(), self.zero_state()];
+        for (n, p) in probes.iter_mut().enumerate() {
+            for k in (0..p.len()).filter(|k| !slots.contains(k)) {
+                let phase = 0.9 + 1.3 * n as f64 + (1.7 + 0.6 * n as f64) * k as f64;
+                p[k] = 0.25 + 0.75 * phase.sin().abs();
+                if (k + n) % 2 == 1 {
+                    p[k] = -p[k];
+                }
+            }
+            let moved = amax(&sub4(self.station4(p)?, zero));
+            if moved > 0.0 && moved.is_finite() {
+                *p *= 0.5 * self.ring.gap / moved;
+            }
+        }
+        Ok(probes)
+    }
+
+    /// Checks that the station map is affine with a velocity without offset; returns the
+    /// probe states.
+    fn check_station(&self) -> Result<[OVector<f64, R::Dim>; 2], RotorError> {
+        let gap = self.ring.gap;
+        let zero = self.station4(&self.zero_state())?;
+        let probes = self.probe_states()?;
+        let lx = sub4(self.station4(&probes[0])?, zero);
+        let lz = sub4(self.station4(&probes[1])?, zero);
+        let scale = amax(&lx).max(amax(&lz));
+        let velocity = [zero[2], zero[3]];
+        if amax(&velocity) > AFFINE_RTOL * scale + GAP_ATOL * gap {
+            return Err(RotorError::StationVelocityOffset { velocity });
+        }
+        let (a, b) = (0.7, -1.3);
+        let combo = &probes[0] * a + &probes[1] * b;
+        let got = sub4(self.station4(&combo)?, zero);
+        let want: [f64; 4] = std::array::from_fn(|i| a * lx[i] + b * lz[i]);
+        let tol = AFFINE_RTOL * (a.abs() * amax(&lx) + b.abs() * amax(&lz)) + GAP_ATOL * gap;
+        if amax(&sub4(got, want)) > tol {
+            return Err(RotorError::StationNotAffine { a, b, got, want });
+        }
+        Ok(probes)
+    }
+
+    /// Checks that the station's velocity is the derivative of its position under the
+    /// rotor's field, at the probes and two times (probes where the field is not finite are
+    /// skipped: nothing can be said there).
+    fn check_velocity(&self, probes: &[OVector<f64, R::Dim>; 2]) -> Result<(), RotorError> {
+        let period = self.rotor.forcing_period();
+        let zero_r = {
+            let z = self.station4(&self.zero_state())?;
+            [z[0], z[1]]
+        };
+        let atol = GAP_ATOL * self.ring.gap / period.abs().max(f64::MIN_POSITIVE);
+        for (n, y) in probes.iter().enumerate() {
+            let t = if n == 0 { 0.0 } else { 0.37 * period };
+            let mut dy = self.zero_state();
+            self.rotor.rhs(t, y, &mut dy);
+            let [i, j] = self.rotor.ring_slots();
+            dy[i] = 0.0;
+            dy[j] = 0.0;
+            if dy.iter().any(|v| !v.is_finite()) {
+                continue;
+            }
+            let d = self.station4(&dy)?;
+            let derivative = [d[0] - zero_r[0], d[1] - zero_r[1]];
+            let k = self.station4(y)?;
+            let velocity = [k[2], k[3]];
+            let diff = [derivative[0] - velocity[0], derivative[1] - velocity[1]];
+            let scale = amax(&derivative).max(amax(&velocity));
+            if amax(&diff) > VELOCITY_RTOL * scale + atol {
+                return Err(RotorError::StationVelocity {
+                    t,
+                    velocity,
+                    derivative,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks that forces along both axes and along the station's radius accelerate the
+    /// station along themselves.
+    fn check_force(&self, probes: &[OVector<f64, R::Dim>; 2]) -> Result<(), RotorError> {
+        let y = &probes[0];
+        let zero_v = {
+            let z = self.station4(&self.zero_state())?;
+            [z[2], z[3]]
+        };
+        let r = self.rotor.station(y).r;
+        let radial = if r.norm() > 0.0 {
+            r / r.norm()
+        } else {
+            Vector2::new(1.0, 0.0)
+        };
+        // A load of a tenth of the gap's deflection of the stiffer ring axis.
+        let size = 0.1 * self.ring.gap * self.ring.x.stiffness.max(self.ring.y.stiffness);
+        for dir in [Vector2::new(1.0, 0.0), Vector2::new(0.0, 1.0), radial] {
+            let force = dir * size;
+            let mut dy = self.zero_state();
+            self.rotor.add_station_force(y, &force, &mut dy);
+            if let Some(&value) = dy.iter().find(|v| !v.is_finite()) {
+                return Err(RotorError::NonFinite {
+                    method: "add_station_force",
+                    value,
+                });
+            }
+            let k = self.station4(&dy)?;
+            let accel = [k[2] - zero_v[0], k[3] - zero_v[1]];
+            let along = accel[0] * dir.x + accel[1] * dir.y;
+            if along <= AFFINE_RTOL * amax(&accel) {
+                return Err(RotorError::StationForce {
+                    force: [force.x, force.y],
+                    accel,
+                    along,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+impl<R> RingedRotor<R> {
     /// The rotor.
     pub fn rotor(&self) -> &R {
         &self.rotor

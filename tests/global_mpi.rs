@@ -12,7 +12,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use jeffcott::global::{
-    distributed, scan_grid, AttractorConfig, Grid2, GridScan, Json, Record, RunConfig, SweepStore,
+    distributed, scan_grid, AttractorConfig, Grid2, GridScan, Json, Manifest, Record, RunConfig,
+    SweepStore,
 };
 use jeffcott::paper::{BasinPlane, StartPlane};
 use jeffcott::params::Preset;
@@ -39,7 +40,7 @@ fn config() -> AttractorConfig {
 }
 
 fn description() -> Json {
-    Json::object([("plane", plane().to_json()), ("config", config().to_json())])
+    Json::object([("plane", plane().to_json())])
 }
 
 /// Every outcome as its record text (equal text is equal bits).
@@ -65,8 +66,8 @@ fn mpi_worker() {
     let universe = mpi::initialize().expect("MPI initialised once");
     let world = universe.world();
     let grid = grid();
-    let store =
-        distributed::open_store(&world, &dir, "basins", description(), &grid.points()).unwrap();
+    let manifest = Manifest::scan("basins", description(), &grid, &config());
+    let store = distributed::open_store(&world, &dir, manifest).unwrap();
     let mut run = RunConfig::default().with_threads(1);
     if phase == "partial" {
         run = run.with_max_new_points(4); // per rank
@@ -185,7 +186,7 @@ fn two_ranks_equal_one_process_bitwise_across_a_restart() {
     }
 
     // One process reads the ranks' records back: nothing to run, the same outcomes.
-    let store = SweepStore::open(&dir, "basins", description(), &grid.points()).unwrap();
+    let store = SweepStore::open_scan(&dir, "basins", description(), &grid, &config()).unwrap();
     let back = scan_grid(
         &grid,
         plane().setup(),

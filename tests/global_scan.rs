@@ -208,8 +208,7 @@ fn an_interrupted_scan_restarted_equals_an_uninterrupted_one_bitwise() {
     let grid = Grid2::linspace((-1.0, 1.0, 6), (-1.5, 1.5, 5)).unwrap();
     let plane = BasinPlane::new(Preset::Fig8b.params().with_eta(2.2), StartPlane::XVx);
     let config = quick();
-    let description = Json::object([("plane", plane.to_json()), ("config", config.to_json())]);
-    let points = grid.points();
+    let description = Json::object([("plane", plane.to_json())]);
 
     // Uninterrupted, one thread, in memory.
     let whole = scan_grid(
@@ -226,7 +225,7 @@ fn an_interrupted_scan_restarted_equals_an_uninterrupted_one_bitwise() {
 
     // Interrupted after 7 points (2 threads), then after 9 more (1 thread), then finished (2).
     let dir = temp_dir("restart");
-    let store = SweepStore::open(&dir, "basins", description.clone(), &points).unwrap();
+    let store = SweepStore::open_scan(&dir, "basins", description.clone(), &grid, &config).unwrap();
     let two = RunConfig::default().with_threads(2);
     let first = scan_grid(
         &grid,
@@ -250,7 +249,7 @@ fn an_interrupted_scan_restarted_equals_an_uninterrupted_one_bitwise() {
         format!("{text}{}", &last_line[..last_line.len() / 2]),
     )
     .unwrap();
-    let store = SweepStore::open(&dir, "basins", description.clone(), &points).unwrap();
+    let store = SweepStore::open_scan(&dir, "basins", description.clone(), &grid, &config).unwrap();
     let second = scan_grid(
         &grid,
         plane.setup(),
@@ -283,12 +282,8 @@ fn an_interrupted_scan_restarted_equals_an_uninterrupted_one_bitwise() {
     assert_eq!(lines.lines().count(), grid.len());
 
     // A different sweep in the same folder is refused.
-    let other = Json::object([
-        ("plane", plane.to_json()),
-        ("config", quick().to_json()),
-        ("x", Json::Null),
-    ]);
-    assert!(SweepStore::open(&dir, "basins", other, &points).is_err());
+    let other = Json::object([("plane", plane.to_json()), ("x", Json::Null)]);
+    assert!(SweepStore::open_scan(&dir, "basins", other, &grid, &config).is_err());
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -326,9 +321,9 @@ fn failed_points_are_recorded_with_their_kind_and_not_rerun() {
         SweepParameter::Nu1,
     );
     let dir = temp_dir("failures");
-    let store = SweepStore::open(&dir, "failures", Json::Null, &grid.points()).unwrap();
     let mut config = quick();
     config.opts.max_steps = 2;
+    let store = SweepStore::open_scan(&dir, "failures", Json::Null, &grid, &config).unwrap();
     let scan = scan_grid(
         &grid,
         plane.setup(),

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use jeffcott::analysis::Progress;
 use jeffcott::global::{
-    AttractorConfig, Grid2, GridScan, Json, PointFailure, Record, RunConfig, StoreError, SweepStore,
+    AttractorConfig, Grid2, GridScan, Manifest, PointFailure, RunConfig, StoreError, SweepStore,
 };
 use jeffcott::hybrid::RotorModel;
 use jeffcott::nalgebra::allocator::Allocator;
@@ -50,26 +50,15 @@ impl Ranks {
         self.rank == 0
     }
 
-    /// Opens the sweep's folder (rank 0 first).
-    pub fn open_store<P: Record>(
-        &self,
-        dir: &Path,
-        kind: &str,
-        description: Json,
-        points: &[P],
-    ) -> Result<SweepStore, StoreError> {
+    /// Opens the sweep's folder (rank 0 first) for the sweep of `manifest`
+    /// ([`Manifest::scan`] for a scan).
+    pub fn open_store(&self, dir: &Path, manifest: Manifest) -> Result<SweepStore, StoreError> {
         #[cfg(feature = "mpi")]
         {
-            jeffcott::global::distributed::open_store(
-                &self.universe.world(),
-                dir,
-                kind,
-                description,
-                points,
-            )
+            jeffcott::global::distributed::open_store(&self.universe.world(), dir, manifest)
         }
         #[cfg(not(feature = "mpi"))]
-        SweepStore::open(dir, kind, description, points)
+        SweepStore::open_manifest(dir, manifest)
     }
 
     /// The grid scan, on this process or across the ranks; `Some` on rank 0.

@@ -7,8 +7,8 @@
 
 use jeffcott::nalgebra::{SVector, Vector2, U6};
 use jeffcott::params::Params;
-use jeffcott::ring::{Kinematics, RingAxis, RingError, SnubberRing};
-use jeffcott::rotor::{RingedRotor, SmoothRotor};
+use jeffcott::ring::{Kinematics, RingAxis, SnubberRing};
+use jeffcott::rotor::{RingedRotor, RotorError, SmoothRotor};
 
 /// The rotor without the ring; state `[x, y, x', y', x_s, y_s]`.
 #[derive(Debug, Clone, PartialEq)]
@@ -56,7 +56,7 @@ pub fn on_ring(
     params: Params,
     q: f64,
     k3: f64,
-) -> Result<RingedRotor<CrossCoupledRotor>, RingError> {
+) -> Result<RingedRotor<CrossCoupledRotor>, RotorError> {
     let ring = SnubberRing::new(
         RingAxis::new(params.kx, params.dx),
         RingAxis::new(params.ky, params.dy),

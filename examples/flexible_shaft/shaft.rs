@@ -57,7 +57,7 @@ use std::f64::consts::PI;
 use jeffcott::nalgebra::{DVector, Dyn, Vector2};
 use jeffcott::params::{ParamError, Params};
 use jeffcott::ring::{Kinematics, RingAxis, RingError, SnubberRing};
-use jeffcott::rotor::{RingedRotor, SmoothRotor};
+use jeffcott::rotor::{RingedRotor, RotorError, SmoothRotor};
 
 /// Why a shaft could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -95,6 +95,9 @@ pub enum ShaftError {
     /// Invalid ring.
     #[error("invalid ring: {0}")]
     Ring(#[from] RingError),
+    /// The shaft breaks the contract of `SmoothRotor` (checked by `RingedRotor::new`).
+    #[error("the shaft on the ring: {0}")]
+    Rotor(#[from] RotorError),
 }
 
 /// How the shaft is discretised and where the out-of-balance and the ring sit.

@@ -87,30 +87,50 @@ impl Default for AttractorConfig {
 }
 
 impl AttractorConfig {
-    /// The settings as JSON, for a sweep's manifest.
+    /// The settings as JSON, for a sweep's manifest: every field (of [`SimOptions`] and
+    /// [`PeriodTest`] too), so that a resumed sweep with any other setting is refused.
     pub fn to_json(&self) -> Json {
-        let o = &self.opts;
+        // Destructured without `..`: a field added to any of these structs does not compile
+        // until it is recorded here.
+        let AttractorConfig {
+            transient,
+            record,
+            max_transient,
+            opts,
+            period_test,
+            free_label,
+        } = *self;
+        let SimOptions {
+            method,
+            rtol,
+            atol,
+            steps_per_period,
+            max_step_fraction,
+            event_samples,
+            max_events_per_period,
+            max_steps,
+            screen_events,
+        } = opts;
+        let PeriodTest { max_period, tol } = period_test;
         Json::object([
-            ("transient", Json::from(self.transient)),
-            ("record", Json::from(self.record)),
-            ("max_transient", Json::from(self.max_transient)),
-            ("method", Json::from(format!("{:?}", o.method))),
-            ("rtol", Json::from(o.rtol)),
-            ("atol", Json::from(o.atol)),
-            (
-                "steps_per_period",
-                Json::from(u64::from(o.steps_per_period)),
-            ),
-            ("max_step_fraction", Json::from(o.max_step_fraction)),
-            ("event_samples", Json::from(o.event_samples)),
+            ("transient", Json::from(transient)),
+            ("record", Json::from(record)),
+            ("max_transient", Json::from(max_transient)),
+            ("method", Json::from(format!("{method:?}"))),
+            ("rtol", Json::from(rtol)),
+            ("atol", Json::from(atol)),
+            ("steps_per_period", Json::from(u64::from(steps_per_period))),
+            ("max_step_fraction", Json::from(max_step_fraction)),
+            ("event_samples", Json::from(event_samples)),
             (
                 "max_events_per_period",
-                Json::from(u64::from(o.max_events_per_period)),
+                Json::from(u64::from(max_events_per_period)),
             ),
-            ("max_steps", Json::from(o.max_steps)),
-            ("max_period", Json::from(self.period_test.max_period)),
-            ("period_tol", Json::from(self.period_test.tol)),
-            ("free_label", Json::from(u64::from(self.free_label))),
+            ("max_steps", Json::from(max_steps)),
+            ("screen_events", Json::from(screen_events)),
+            ("max_period", Json::from(max_period)),
+            ("period_tol", Json::from(tol)),
+            ("free_label", Json::from(u64::from(free_label))),
         ])
     }
 }

@@ -43,11 +43,10 @@ use nalgebra::{DefaultAllocator, OVector};
 
 use super::attractor::AttractorConfig;
 use super::failure::PointFailure;
-use super::json::Json;
 use super::record::Record;
 use super::runner::{check_points, compute, PointResults, RunConfig};
-use super::scan::{attractor_at, Grid2, GridScan};
-use super::store::{decode_line, Manifest, StoreError, SweepStore};
+use super::scan::{attractor_at, check_settings, Grid2, GridScan};
+use super::store::{decode_line, fingerprint, Manifest, StoreError, SweepStore};
 use crate::analysis::Progress;
 use crate::hybrid::RotorModel;
 
@@ -69,28 +68,27 @@ fn agree<C: Communicator, T>(
     }
 }
 
-/// [`SweepStore::open`] on every rank: rank 0 creates or checks the folder first, then the
-/// others check it. Collective: call it on every rank.
+/// [`SweepStore::open_manifest`] on every rank: rank 0 creates or checks the folder first,
+/// then the others check it. Collective: call it on every rank. A scan's manifest is
+/// [`Manifest::scan`] (the grid and its settings), another computation's [`Manifest::new`].
 ///
 /// # Errors
-/// As [`SweepStore::open`], on every rank if any rank failed.
-pub fn open_store<C: Communicator, P: Record>(
+/// As [`SweepStore::open_manifest`], on every rank if any rank failed.
+pub fn open_store<C: Communicator>(
     comm: &C,
     dir: impl AsRef<Path>,
-    kind: &str,
-    description: Json,
-    points: &[P],
+    manifest: Manifest,
 ) -> Result<SweepStore, StoreError> {
     let root = comm.rank() == 0;
     let first = if root {
-        SweepStore::open(&dir, kind, description.clone(), points).map(Some)
+        SweepStore::open_manifest(&dir, manifest.clone()).map(Some)
     } else {
         Ok(None)
     };
     let first = agree(comm, first, "to open the folder")?;
     let store = match first {
         Some(s) => Ok(s),
-        None => SweepStore::open(&dir, kind, description, points),
+        None => SweepStore::open_manifest(&dir, manifest),
     };
     agree(comm, store, "to open the folder")
 }
@@ -131,11 +129,11 @@ where
     let root = rank == 0;
 
     // The same points on every rank.
-    let fingerprint = Manifest::new("", Json::Null, points).fingerprint;
+    let fingerprint = fingerprint(points);
     let mut check = vec![points.len() as u64, fingerprint];
     broadcast_u64s(comm, &mut check);
     let same = if check == [points.len() as u64, fingerprint] {
-        check_points(points.len(), store)
+        check_points(points, store)
     } else {
         Err(StoreError::Mpi(format!(
             "rank {rank} was given other points than rank 0 ({} points, fingerprint {fingerprint:016x}; rank 0: {} points, {:016x})",
@@ -246,10 +244,11 @@ where
 }
 
 /// [`super::scan_grid`] split across the ranks of `comm`. Collective; the scan is returned on
-/// rank 0, `None` on the others.
+/// rank 0, `None` on the others. The folder is opened with [`Manifest::scan`].
 ///
 /// # Errors
-/// As [`run_points`].
+/// As [`run_points`] and [`super::scan_grid`] (a folder of other settings is refused on every
+/// rank).
 pub fn scan_grid<C, M, S>(
     comm: &C,
     grid: &Grid2,
@@ -265,6 +264,11 @@ where
     S: Fn(&[f64; 2]) -> Result<(M, OVector<f64, M::Dim>), PointFailure> + Sync,
     DefaultAllocator: Allocator<M::Dim>,
 {
+    agree(
+        comm,
+        check_settings(store, config),
+        "the check of the settings",
+    )?;
     let points = grid.points();
     let results = run_points(
         comm,

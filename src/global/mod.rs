@@ -32,9 +32,12 @@
 //! let plane = BasinPlane::new(Preset::Fig8a.params().with_eta(2.2), StartPlane::XVx);
 //! let grid = Grid2::linspace((-1.0, 1.0, 200), (-1.5, 1.5, 200))?;
 //! let config = AttractorConfig::default();
-//! let description = Json::object([("plane", plane.to_json()), ("config", config.to_json())]);
-//! // Killed part-way? Run it again: the points in the folder are not run again.
-//! let store = SweepStore::open("out/basins-fig8a", "basins", description, &grid.points())?;
+//! // The folder records the grid, every setting of `config` and the crate's version; the
+//! // description adds what the scan cannot see: the model's parameters.
+//! let description = Json::object([("plane", plane.to_json())]);
+//! // Killed part-way? Run it again: the points in the folder are not run again (and a run
+//! // with another grid, other settings or another description is refused).
+//! let store = SweepStore::open_scan("out/basins-fig8a", "basins", description, &grid, &config)?;
 //! let progress = StderrProgress::new("basins");
 //! let scan = scan_grid(&grid, plane.setup(), &config, Some(&store), &RunConfig::default(), Some(&progress))?;
 //! let catalogue = scan.catalogue(&MatchTolerance::default());
@@ -67,4 +70,6 @@ pub use json::{Json, JsonError};
 pub use record::Record;
 pub use runner::{run_points, PointResults, RunConfig};
 pub use scan::{attractor_at, scan_grid, Grid2, GridScan};
-pub use store::{Loaded, Manifest, StoreError, SweepStore};
+pub use store::{
+    Loaded, Manifest, StoreError, SweepStore, CRATE_VERSION, FORMAT_VERSION, RESULTS_VERSION,
+};

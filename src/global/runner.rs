@@ -31,7 +31,9 @@ use rayon::prelude::*;
 
 use super::json::JsonError;
 use super::record::Record;
-use super::store::{decode_line, encode_line, RecordWriter, StoreError, SweepStore};
+use super::store::{
+    decode_line, encode_line, fingerprint, RecordWriter, StoreError, SweepStore, MANIFEST_FILE,
+};
 use crate::analysis::{AnalysisError, Progress};
 
 /// Settings of [`run_points`].
@@ -132,8 +134,8 @@ impl<T, E> PointResults<T, E> {
 /// points of this run only (not those reused from the folder).
 ///
 /// # Errors
-/// [`StoreError`] for a folder that cannot be read or written, holds corrupt records, or a
-/// bad configuration (0 threads). Runner errors are not errors of `run_points`: they are
+/// [`StoreError`] for a folder that cannot be read or written, holds corrupt records, was
+/// opened for other points ([`StoreError::Mismatch`]), or a bad configuration (0 threads). Runner errors are not errors of `run_points`: they are
 /// outcomes. If writing fails part-way, no new point is started and the error is returned
 /// (the points written stay in the folder).
 ///
@@ -171,7 +173,7 @@ where
     E: Record + Send,
     F: Fn(&P) -> Result<T, E> + Sync,
 {
-    check_points(points.len(), store)?;
+    check_points(points, store)?;
     let (mut results, duplicates) = match store {
         Some(s) => {
             let loaded = s.load::<T, E>()?;
@@ -198,16 +200,34 @@ where
     })
 }
 
-pub(crate) fn check_points(n: usize, store: Option<&SweepStore>) -> Result<(), StoreError> {
-    if let Some(s) = store {
-        if s.manifest().points != n {
-            return Err(StoreError::Mismatch {
-                path: s.dir().to_path_buf(),
-                field: "points",
-                expected: n.to_string(),
-                found: s.manifest().points.to_string(),
-            });
-        }
+/// Checks that `store` (if any) was opened for `points`: their number and their fingerprint
+/// (a folder opened over one grid never receives another grid's results).
+pub(crate) fn check_points<P: Record>(
+    points: &[P],
+    store: Option<&SweepStore>,
+) -> Result<(), StoreError> {
+    let Some(s) = store else { return Ok(()) };
+    let m = s.manifest();
+    let mismatch = |field, expected: String, found: String| StoreError::Mismatch {
+        path: s.dir().join(MANIFEST_FILE),
+        field,
+        expected,
+        found,
+    };
+    if m.points != points.len() {
+        return Err(mismatch(
+            "points",
+            points.len().to_string(),
+            m.points.to_string(),
+        ));
+    }
+    let given = fingerprint(points);
+    if m.fingerprint != given {
+        return Err(mismatch(
+            "fingerprint (the points)",
+            format!("{given:016x}"),
+            format!("{:016x}", m.fingerprint),
+        ));
     }
     Ok(())
 }

@@ -20,8 +20,9 @@ use nalgebra::{DefaultAllocator, OVector};
 use super::attractor::{find_attractor, Attractor, AttractorConfig, MatchTolerance};
 use super::catalogue::Catalogue;
 use super::failure::PointFailure;
+use super::json::Json;
 use super::runner::{run_points, PointResults, RunConfig};
-use super::store::{StoreError, SweepStore};
+use super::store::{check_same, Manifest, StoreError, SweepStore, MANIFEST_FILE};
 use crate::analysis::{linspace, AnalysisError, Progress};
 use crate::hybrid::RotorModel;
 
@@ -140,6 +141,50 @@ impl GridScan {
     }
 }
 
+impl Manifest {
+    /// The manifest of a scan of `kind` over `grid` with `config`: the grid's points, and
+    /// every field of `config` as the settings ([`AttractorConfig::to_json`]). `description`
+    /// is the caller's: what the scan cannot see, e.g. the parameters its `setup` uses.
+    pub fn scan(kind: &str, description: Json, grid: &Grid2, config: &AttractorConfig) -> Self {
+        Manifest::new(kind, description, &grid.points()).with_settings(config.to_json())
+    }
+}
+
+impl SweepStore {
+    /// Opens the folder `dir` for a scan ([`scan_grid`]) of `kind` over `grid` with
+    /// `config`, described by `description` ([`Manifest::scan`]): the folder records the
+    /// grid and every setting of `config`, and a resume with another grid or another setting
+    /// is refused.
+    ///
+    /// # Errors
+    /// As [`SweepStore::open_manifest`].
+    pub fn open_scan(
+        dir: impl AsRef<std::path::Path>,
+        kind: &str,
+        description: Json,
+        grid: &Grid2,
+        config: &AttractorConfig,
+    ) -> Result<Self, StoreError> {
+        SweepStore::open_manifest(dir, Manifest::scan(kind, description, grid, config))
+    }
+}
+
+/// Checks that `store` (if any) records the scan's `config` ([`SweepStore::open_scan`]).
+pub(crate) fn check_settings(
+    store: Option<&SweepStore>,
+    config: &AttractorConfig,
+) -> Result<(), StoreError> {
+    let Some(s) = store else { return Ok(()) };
+    let path = s.dir().join(MANIFEST_FILE);
+    if s.manifest().settings == Json::Null {
+        return Err(StoreError::SettingsNotRecorded {
+            path,
+            needed: "AttractorConfig",
+        });
+    }
+    check_same(&path, "settings", &config.to_json(), &s.manifest().settings)
+}
+
 /// Builds the model and initial state at `point` with `setup` and identifies the attractor.
 pub fn attractor_at<P, M, S>(
     setup: &S,
@@ -159,9 +204,15 @@ where
 /// `setup` (see the [module docs](self)), in parallel, writing each outcome to `store` as it
 /// finishes and skipping the points it already holds ([`run_points`]).
 ///
+/// A folder must be opened for this scan with [`SweepStore::open_scan`]: it records the grid
+/// and every setting of `config`, and a scan with another grid or another setting is refused
+/// before any point runs, so that a resumed scan never mixes results of two settings.
+///
 /// # Errors
 /// As [`run_points`]: only for the folder or the configuration; a point's failure is its
-/// outcome.
+/// outcome. [`StoreError::SettingMismatch`] (naming the setting) if `config` is not the
+/// folder's, [`StoreError::Mismatch`] if `grid` is not, [`StoreError::SettingsNotRecorded`]
+/// for a folder opened with [`SweepStore::open`].
 ///
 /// # Example
 ///
@@ -194,6 +245,7 @@ where
     S: Fn(&[f64; 2]) -> Result<(M, OVector<f64, M::Dim>), PointFailure> + Sync,
     DefaultAllocator: Allocator<M::Dim>,
 {
+    check_settings(store, config)?;
     let points = grid.points();
     let results = run_points(
         &points,

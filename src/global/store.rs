@@ -3,12 +3,25 @@
 //!
 //! # The folder
 //!
-//! * `manifest.json`: `{"format": 1, "kind": "...", "points": N, "fingerprint": "<16 hex
-//!   digits>", "description": {...}}`. `kind` and `description` are the caller's (what the
-//!   sweep computes, with every setting that changes its results); `fingerprint` is the 64-bit
-//!   FNV-1a hash of the points' JSON, one a line. A folder whose manifest differs from the
-//!   sweep being run is refused ([`StoreError::Mismatch`]): results of one sweep are never
-//!   mixed into another.
+//! * `manifest.json`: `{"format": 2, "crate_version": "0.2.0", "results_version": 1, "kind":
+//!   "...", "points": N, "fingerprint": "<16 hex digits>", "settings": {...}, "description":
+//!   {...}}`, written when the folder is created and checked whenever it is opened again:
+//!   * `crate_version` and `results_version` are written by the crate ([`CRATE_VERSION`],
+//!     [`RESULTS_VERSION`]); a folder of another results version is refused
+//!     ([`StoreError::ResultsVersion`]): its records were computed by a version whose results
+//!     differ from this one's. A folder of another crate version with the same results
+//!     version is resumed.
+//!   * `fingerprint` is the 64-bit FNV-1a hash of the points' JSON, one a line (the grid).
+//!   * `settings` are the computation's settings, recorded by the crate: for
+//!     [`super::scan_grid`] every field of its [`super::AttractorConfig`]
+//!     ([`SweepStore::open_scan`]); `null` for a folder opened with [`SweepStore::open`].
+//!   * `kind` and `description` are the caller's: what the sweep computes, and what the crate
+//!     cannot see, e.g. the model's parameters that the caller's `setup` closure uses.
+//!
+//!   A folder whose manifest differs from the sweep being run is refused
+//!   ([`StoreError::Mismatch`], [`StoreError::SettingMismatch`] naming the setting, the
+//!   folder's value and this run's): results of one sweep are never mixed into another, and a
+//!   sweep is resumed only with the settings it was started with.
 //! * `records-<w>.jsonl`, one file per writer `w` (the process, or the MPI rank), each line one
 //!   point: `{"index": i, "point": <the point>, "ok": <the result>}` or
 //!   `{"index": i, "point": <the point>, "error": <the error>}`. `index` is the point's position
@@ -33,8 +46,18 @@ use super::json::{Json, JsonError};
 use super::record::{field, Record};
 use crate::analysis::AnalysisError;
 
-/// Version of the folder layout and record format written in the manifest.
-pub const FORMAT_VERSION: u64 = 1;
+/// Version of the folder layout and record format written in the manifest (2: the manifest
+/// records the crate's version, its results version and the computation's settings).
+pub const FORMAT_VERSION: u64 = 2;
+
+/// Version of the crate's *results*, written in every manifest: bumped by every release
+/// whose changes move the outcome of a sweep's point (integrators, event location, the ring's
+/// rules, the period test, attractor identification, record encoding). A folder written with
+/// another results version is not resumed ([`StoreError::ResultsVersion`]).
+pub const RESULTS_VERSION: u64 = 1;
+
+/// The crate's version (`CARGO_PKG_VERSION`), written in every manifest.
+pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
 
 /// File name of the manifest.
 pub const MANIFEST_FILE: &str = "manifest.json";
@@ -62,6 +85,43 @@ pub enum StoreError {
         expected: String,
         /// The folder's value.
         found: String,
+    },
+    /// A setting (or a key of the caller's description) differs from the folder's: resuming
+    /// would mix results of two sweeps.
+    #[error("{}: the folder's sweep was run with {setting} = {found}, this run has {setting} = {expected}; resume with the folder's settings, or use a new folder", path.display())]
+    SettingMismatch {
+        /// The manifest.
+        path: PathBuf,
+        /// The setting that differs, as a path into the manifest (e.g.
+        /// `settings.transient`, `description.plane.eta`).
+        setting: String,
+        /// This run's value (JSON; `absent` if this run has no such key).
+        expected: String,
+        /// The folder's value (JSON; `absent` if the folder has no such key).
+        found: String,
+    },
+    /// The folder was written by a version of the crate whose results differ from this one's.
+    #[error("{}: written by jeffcott {found_crate} (results version {found}); this is jeffcott {crate_version} (results version {expected}), whose results differ: resuming would mix results of both versions; use a new folder (or delete this one to start over)", path.display())]
+    ResultsVersion {
+        /// The manifest.
+        path: PathBuf,
+        /// The folder's results version.
+        found: u64,
+        /// The crate version that wrote the folder.
+        found_crate: String,
+        /// This crate's results version ([`RESULTS_VERSION`]).
+        expected: u64,
+        /// This crate's version ([`CRATE_VERSION`]).
+        crate_version: &'static str,
+    },
+    /// A scan was given a folder opened without its settings ([`SweepStore::open`] instead of
+    /// [`SweepStore::open_scan`]): the folder could not tell a resume with other settings.
+    #[error("{}: the folder does not record the {needed} of the scan (opened with SweepStore::open); open it with SweepStore::open_scan", path.display())]
+    SettingsNotRecorded {
+        /// The manifest.
+        path: PathBuf,
+        /// The settings the computation needs recorded (e.g. `"AttractorConfig"`).
+        needed: &'static str,
     },
     /// A complete line of a records file (or the manifest) is not a valid record.
     #[error("{}, line {line}: not a valid record ({error}); the file was changed by hand or written by another program: move it away and restart", path.display())]
@@ -102,6 +162,7 @@ pub(crate) fn io_err(path: &Path, e: io::Error) -> StoreError {
 
 /// Which sweep a folder holds (see the [module docs](self)).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Manifest {
     /// What the sweep computes (e.g. `"basins"`).
     pub kind: String,
@@ -109,35 +170,59 @@ pub struct Manifest {
     pub points: usize,
     /// FNV-1a hash of the points' JSON (one a line).
     pub fingerprint: u64,
-    /// The caller's description: every setting that changes the results.
+    /// The computation's settings, recorded by the crate (`null` if it records none).
+    pub settings: Json,
+    /// The caller's description: every setting that changes the results and that the crate
+    /// does not record itself (e.g. the model's parameters).
     pub description: Json,
+    /// The crate version that wrote the folder ([`CRATE_VERSION`] for a new one).
+    pub crate_version: String,
+    /// The results version of that crate ([`RESULTS_VERSION`] for a new one).
+    pub results_version: u64,
+}
+
+/// FNV-1a hash of the points' JSON, one a line.
+pub(crate) fn fingerprint<P: Record>(points: &[P]) -> u64 {
+    let mut hash = Fnv::new();
+    for p in points {
+        hash.write(p.to_json().to_string().as_bytes());
+        hash.write(b"\n");
+    }
+    hash.0
 }
 
 impl Manifest {
-    /// The manifest of a sweep of `kind` over `points`.
+    /// The manifest of a sweep of `kind` over `points`, without settings, by this crate
+    /// version.
     pub fn new<P: Record>(kind: &str, description: Json, points: &[P]) -> Self {
-        let mut hash = Fnv::new();
-        for p in points {
-            hash.write(p.to_json().to_string().as_bytes());
-            hash.write(b"\n");
-        }
         Manifest {
             kind: kind.to_string(),
             points: points.len(),
-            fingerprint: hash.0,
+            fingerprint: fingerprint(points),
+            settings: Json::Null,
             description,
+            crate_version: CRATE_VERSION.to_string(),
+            results_version: RESULTS_VERSION,
         }
+    }
+
+    /// The same manifest recording the computation's `settings`.
+    pub fn with_settings(self, settings: Json) -> Self {
+        Manifest { settings, ..self }
     }
 
     fn to_json(&self) -> Json {
         Json::object([
             ("format", Json::from(FORMAT_VERSION)),
+            ("crate_version", Json::from(self.crate_version.as_str())),
+            ("results_version", Json::from(self.results_version)),
             ("kind", Json::from(self.kind.as_str())),
             ("points", Json::from(self.points)),
             (
                 "fingerprint",
                 Json::from(format!("{:016x}", self.fingerprint)),
             ),
+            ("settings", self.settings.clone()),
             ("description", self.description.clone()),
         ])
     }
@@ -184,26 +269,39 @@ impl<T, E> Loaded<T, E> {
 }
 
 impl SweepStore {
-    /// Opens the folder `dir` for the sweep of `kind` over `points` described by `description`:
-    /// creates it with its manifest if it does not exist (or holds no manifest), and checks
-    /// that its manifest is this sweep's otherwise.
+    /// Opens the folder `dir` for the sweep of `kind` over `points` described by `description`,
+    /// without settings recorded by the crate ([`Manifest::new`]): for [`super::run_points`]
+    /// with the caller's own computation, whose settings `description` must hold. A scan opens
+    /// its folder with [`SweepStore::open_scan`].
     ///
     /// # Errors
-    /// [`StoreError::Io`] if the folder or manifest cannot be created or read;
-    /// [`StoreError::Mismatch`] if it holds another sweep; [`StoreError::Corrupt`] for an
-    /// unreadable manifest.
+    /// As [`SweepStore::open_manifest`].
     pub fn open<P: Record>(
         dir: impl AsRef<Path>,
         kind: &str,
         description: Json,
         points: &[P],
     ) -> Result<Self, StoreError> {
+        Self::open_manifest(dir, Manifest::new(kind, description, points))
+    }
+
+    /// Opens the folder `dir` for the sweep of `manifest`: creates it with its manifest if it
+    /// does not exist (or holds no manifest), and checks that its manifest is this sweep's
+    /// otherwise (see the [module docs](self)).
+    ///
+    /// # Errors
+    /// [`StoreError::Io`] if the folder or manifest cannot be created or read;
+    /// [`StoreError::ResultsVersion`] if it was written by a version of other results;
+    /// [`StoreError::Mismatch`] if it holds another sweep (kind, points);
+    /// [`StoreError::SettingMismatch`] if it was run with other settings or description;
+    /// [`StoreError::Corrupt`] for an unreadable manifest.
+    pub fn open_manifest(dir: impl AsRef<Path>, manifest: Manifest) -> Result<Self, StoreError> {
         let dir = dir.as_ref().to_path_buf();
-        let manifest = Manifest::new(kind, description, points);
         fs::create_dir_all(&dir).map_err(|e| io_err(&dir, e))?;
         let path = dir.join(MANIFEST_FILE);
+        let mut manifest = manifest;
         match fs::read_to_string(&path) {
-            Ok(text) => check_manifest(&path, &text, &manifest)?,
+            Ok(text) => manifest.crate_version = check_manifest(&path, &text, &manifest)?,
             Err(e) if e.kind() == io::ErrorKind::NotFound => {
                 // Written whole, then renamed: a reader never sees half a manifest.
                 let tmp = dir.join(format!("{MANIFEST_FILE}.{}.tmp", std::process::id()));
@@ -222,7 +320,8 @@ impl SweepStore {
         &self.dir
     }
 
-    /// The manifest of the sweep.
+    /// The manifest of the sweep (its `crate_version` that of the crate that created the
+    /// folder).
     pub fn manifest(&self) -> &Manifest {
         &self.manifest
     }
@@ -350,7 +449,9 @@ fn complete_length(file: &mut File, len: u64) -> io::Result<u64> {
     Ok(0)
 }
 
-fn check_manifest(path: &Path, text: &str, expected: &Manifest) -> Result<(), StoreError> {
+/// Checks the folder's manifest `text` against this sweep's; returns the crate version that
+/// wrote it.
+fn check_manifest(path: &Path, text: &str, expected: &Manifest) -> Result<String, StoreError> {
     let corrupt = |error| StoreError::Corrupt {
         path: path.to_path_buf(),
         line: 1,
@@ -371,6 +472,17 @@ fn check_manifest(path: &Path, text: &str, expected: &Manifest) -> Result<(), St
             format.to_string(),
         ));
     }
+    let found_crate: String = field(&json, "crate_version").map_err(corrupt)?;
+    let results_version: u64 = field(&json, "results_version").map_err(corrupt)?;
+    if results_version != expected.results_version {
+        return Err(StoreError::ResultsVersion {
+            path: path.to_path_buf(),
+            found: results_version,
+            found_crate,
+            expected: expected.results_version,
+            crate_version: CRATE_VERSION,
+        });
+    }
     let kind: String = field(&json, "kind").map_err(corrupt)?;
     if kind != expected.kind {
         return Err(mismatch("kind", expected.kind.clone(), kind));
@@ -388,15 +500,62 @@ fn check_manifest(path: &Path, text: &str, expected: &Manifest) -> Result<(), St
     if fp != want {
         return Err(mismatch("fingerprint (the points)", want, fp));
     }
-    let description = json.field("description").map_err(corrupt)?;
-    if *description != expected.description {
-        return Err(mismatch(
-            "description",
-            expected.description.to_string(),
-            description.to_string(),
-        ));
+    for key in ["settings", "description"] {
+        let found = json.field(key).map_err(corrupt)?;
+        let given = if key == "settings" {
+            &expected.settings
+        } else {
+            &expected.description
+        };
+        check_same(path, key, given, found)?;
     }
-    Ok(())
+    Ok(found_crate)
+}
+
+/// [`StoreError::SettingMismatch`] naming the first key where `found` (the folder's) differs
+/// from `given` (this run's), as a path from `name`.
+pub(crate) fn check_same(
+    path: &Path,
+    name: &str,
+    given: &Json,
+    found: &Json,
+) -> Result<(), StoreError> {
+    match first_difference(name.to_string(), given, found) {
+        None => Ok(()),
+        Some((setting, expected, found)) => Err(StoreError::SettingMismatch {
+            path: path.to_path_buf(),
+            setting,
+            expected,
+            found,
+        }),
+    }
+}
+
+/// The path and both values of the first difference of two JSON values, descending into
+/// objects key by key (`given`'s keys first, then keys only `found` has).
+fn first_difference(at: String, given: &Json, found: &Json) -> Option<(String, String, String)> {
+    const ABSENT: &str = "absent";
+    if given == found {
+        return None;
+    }
+    if let (Json::Object(g), Json::Object(f)) = (given, found) {
+        for (k, gv) in g {
+            let at = format!("{at}.{k}");
+            match found.get(k) {
+                Some(fv) => {
+                    if let Some(d) = first_difference(at, gv, fv) {
+                        return Some(d);
+                    }
+                }
+                None => return Some((at, gv.to_string(), ABSENT.into())),
+            }
+        }
+        if let Some((k, fv)) = f.iter().find(|(k, _)| given.get(k).is_none()) {
+            return Some((format!("{at}.{k}"), ABSENT.into(), fv.to_string()));
+        }
+    }
+    // Same keys and values in another order, or values of other shapes.
+    Some((at, given.to_string(), found.to_string()))
 }
 
 /// One writer's records file, open for appending.
@@ -478,13 +637,18 @@ mod tests {
         );
         let other = Json::object([("eta", Json::from(2.3))]);
         let err = SweepStore::open(&dir, "test", other, &points).unwrap_err();
-        assert!(matches!(
-            err,
-            StoreError::Mismatch {
-                field: "description",
+        match err {
+            StoreError::SettingMismatch {
+                setting,
+                expected,
+                found,
                 ..
-            }
-        ));
+            } => assert_eq!(
+                (&*setting, &*expected, &*found),
+                ("description.eta", "2.3", "2.2")
+            ),
+            other => panic!("{other:?}"),
+        }
         let err = SweepStore::open(&dir, "other", desc, &points).unwrap_err();
         assert!(matches!(err, StoreError::Mismatch { field: "kind", .. }));
         fs::remove_dir_all(&dir).unwrap();

@@ -31,12 +31,15 @@ use crate::ring::{
 };
 use crate::rotor::{RingedRotor, SmoothRotor};
 
-/// The ring at a rotor's station: the station's linear map and the ring's slots.
+/// The ring at a rotor's station: the station's affine map and the ring's slots.
 struct Station<'a> {
     ring: &'a SnubberRing,
     /// Row `a` (`r.x, r.y, v.x, v.y`) of the station map has its coefficient of `y[j]` at
     /// `(a, j)`; stored as the nonzero entries.
     map: Vec<(usize, usize, f64)>,
+    /// The map's constant: the station at the zero state (the station's rest position
+    /// relative to the ring's centre; zero velocity, checked by `RingedRotor::new`).
+    offset: [f64; 4],
     slots: [usize; 2],
 }
 
@@ -46,23 +49,28 @@ impl<'a> Station<'a> {
         Self {
             ring,
             map: vec![(0, 0, 1.0), (1, 1, 1.0), (2, 2, 1.0), (3, 3, 1.0)],
+            offset: [0.0; 4],
             slots: [4, 5],
         }
     }
 
-    /// A smooth rotor's station, from its (linear) station map applied to unit vectors.
+    /// A smooth rotor's station, from its (affine) station map applied to the zero state and
+    /// to unit vectors.
     fn of<R: SmoothRotor>(rotor: &R, ring: &'a SnubberRing) -> Self
     where
         DefaultAllocator: Allocator<R::Dim>,
     {
         let dim = rotor.dim();
         let mut e = OVector::<f64, R::Dim>::zeros_generic(dim, nalgebra::U1);
+        let k0 = rotor.station(&e);
+        let offset = [k0.r.x, k0.r.y, k0.v.x, k0.v.y];
         let mut map = Vec::new();
         for j in 0..dim.value() {
             e[j] = 1.0;
             let k = rotor.station(&e);
             e[j] = 0.0;
             for (a, c) in [k.r.x, k.r.y, k.v.x, k.v.y].into_iter().enumerate() {
+                let c = c - offset[a];
                 if c != 0.0 {
                     map.push((a, j, c));
                 }
@@ -71,6 +79,7 @@ impl<'a> Station<'a> {
         Self {
             ring,
             map,
+            offset,
             slots: rotor.ring_slots(),
         }
     }
@@ -79,7 +88,7 @@ impl<'a> Station<'a> {
     where
         DefaultAllocator: Allocator<D>,
     {
-        let mut k = [0.0; 4];
+        let mut k = self.offset;
         for &(a, j, c) in &self.map {
             k[a] += c * y[j];
         }
