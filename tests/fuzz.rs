@@ -189,7 +189,7 @@ fn options() -> impl Strategy<Value = SimOptions> {
         1 => Just(10_000u32),
     ];
     let max_steps = prop_oneof![1 => Just(1u64), 2 => 2u64..1000, 8 => 1000u64..100_000];
-    // Screening on (the default) three times in four.
+    // Screening on three times in four (off is the default; the screen is the riskier path).
     let screen = prop_oneof![3 => Just(true), 1 => Just(false)];
     (
         method, rtol, atol, steps, fraction, samples, events, max_steps, screen,

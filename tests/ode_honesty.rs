@@ -34,3 +34,130 @@ fn illinois_nan_mid_iteration_is_not_converged() {
     assert!(!r.g_lo.is_nan() && !r.g_hi.is_nan(), "{r:?}");
     assert!(r.g_lo < 0.0 && r.g_hi > 0.0, "{r:?}");
 }
+
+use jeffcott::hybrid::{
+    simulate, Flow, ModelError, NoExactModes, OutputPlan, RotorModel, SimOptions, Trajectory,
+};
+use jeffcott::ode::{Direction, Method};
+use nalgebra::{SVector, U1};
+
+type V1 = SVector<f64, 1>;
+
+/// A model whose one guard is a function of time only, on a unit forcing period:
+/// $g(t) = 1 - b\thinspace u - a\thinspace u^2$, $u = t(1 - t)$, with its exact derivative.
+/// On the step $[0, 1]$ the cubic Hermite interpolant of the step's ends is $1 - b\thinspace u$
+/// (minimum $1 - b/4$) and the part it cannot see is $a\thinspace u^2$ (at most $a/16$).
+struct QuarticGuard {
+    b: f64,
+    a: f64,
+}
+
+impl RotorModel for QuarticGuard {
+    type Dim = U1;
+    type Mode = ();
+    type Segment = NoExactModes;
+    type Cache = ();
+
+    fn dim(&self) -> U1 {
+        U1
+    }
+    fn new_cache(&self) {}
+    fn initial_mode(&self, _t: f64, _y: &V1) -> Result<(), ModelError> {
+        Ok(())
+    }
+    fn flow(&self, _mode: ()) -> Flow {
+        Flow::Integrated
+    }
+    fn rhs(&self, _mode: (), _t: f64, _y: &V1, dy: &mut V1, _: &()) {
+        dy[0] = 0.0;
+    }
+    fn guard_count(&self, _mode: ()) -> usize {
+        1
+    }
+    fn guard_direction(&self, _mode: (), _i: usize) -> Direction {
+        Direction::Falling
+    }
+    fn guard_value(&self, _: (), _i: usize, t: f64, _y: &V1, _: &()) -> f64 {
+        let u = t * (1.0 - t);
+        1.0 - self.b * u - self.a * u * u
+    }
+    fn guard_derivative(&self, _: (), _i: usize, t: f64, _y: &V1, _dy: &V1, _: &()) -> Option<f64> {
+        let u = t * (1.0 - t);
+        Some(-(self.b + 2.0 * self.a * u) * (1.0 - 2.0 * t))
+    }
+    fn guard_derivative_needs_rhs(&self) -> bool {
+        false
+    }
+    fn guard_label(&self, _mode: (), _i: usize) -> &'static str {
+        "dip"
+    }
+    fn transition(&self, _mode: (), _guard: usize, _t: f64, _y: &mut V1) -> Result<(), ModelError> {
+        Ok(())
+    }
+    fn start_segment(&self, _: (), _t: f64, _y: &V1) -> NoExactModes {
+        NoExactModes
+    }
+    fn mode_label(&self, _mode: ()) -> u8 {
+        0
+    }
+    fn forcing_period(&self) -> f64 {
+        1.0
+    }
+}
+
+/// The first crossing of the guard of [`QuarticGuard`] (closed form: it has one when
+/// $1 - b/4 - a/16 < 0$).
+fn quartic_first_root(b: f64, a: f64) -> f64 {
+    let u = (-b + (b * b + 4.0 * a).sqrt()) / (2.0 * a);
+    0.5 * (1.0 - (1.0 - 4.0 * u).sqrt())
+}
+
+/// The events of one run of [`QuarticGuard`] over $[0, 1]$ in one fixed RK4 step (the step
+/// is the forcing period), with the driver's options otherwise as given.
+fn quartic_events(b: f64, a: f64, base: SimOptions) -> Vec<f64> {
+    let model = QuarticGuard { b, a };
+    let plan = OutputPlan {
+        t_end: 1.0,
+        strobe: None,
+        dense: None,
+        events: true,
+    };
+    let opts = SimOptions {
+        method: Method::Rk4,
+        steps_per_period: 1,
+        ..base
+    };
+    let mut traj = Trajectory::default();
+    simulate(&model, 0.0, &V1::zeros(), &plan, &opts, &mut traj).unwrap();
+    traj.events.iter().map(|e| e.t).collect()
+}
+
+/// The driver's default is the sound event detection: every step sampled. The step-end screen
+/// is sound only while the cubic Hermite interpolant of the step's ends is within half the
+/// smaller end value of the guard; here (one step, $b = 2(1 - 10^{-6})$, $a/16 = 1.001/2$) the
+/// guard dips $5\cdot10^{-4}$ below zero between the ends, the interpolant stays at
+/// $1/2 + 5\cdot10^{-7}$: the screen clears the step and misses both crossings. With the
+/// default options the first crossing is found at its closed-form time. (Before the fix the
+/// default had the screen on and the run reported no event.)
+#[test]
+fn the_driver_default_finds_a_dip_the_step_end_screen_misses() {
+    let b = 2.0 * (1.0 - 1e-6);
+    let a = 8.0 * (1.0 + 1e-3);
+    assert!(1.0 - b / 4.0 - a / 16.0 < -4e-4, "the guard dips below zero");
+    let exact = quartic_first_root(b, a);
+
+    let found = quartic_events(b, a, SimOptions::default());
+    assert!(!found.is_empty(), "default options missed the dip");
+    assert!((found[0] - exact).abs() < 1e-12, "{} vs {exact}", found[0]);
+
+    // The screen, asked for explicitly, keeps its documented failure mode.
+    let screened = quartic_events(
+        b,
+        a,
+        SimOptions {
+            screen_events: true,
+            ..SimOptions::default()
+        },
+    );
+    assert!(screened.is_empty(), "screen found {screened:?}");
+}

@@ -361,8 +361,9 @@ pub struct EventOptions {
     /// sampling it (see the module docs, *Screening*): a guard whose cubic Hermite
     /// interpolant stays well away from zero is not sampled, and a step where every guard is
     /// so cleared costs no dense output at all. Applies to events with a derivative; the
-    /// others are sampled as without it. Default `false`; the hybrid driver turns it on
-    /// ([`SimOptions::screen_events`](crate::hybrid::SimOptions::screen_events)).
+    /// others are sampled as without it. Default `false`, as in the hybrid driver
+    /// ([`SimOptions::screen_events`](crate::hybrid::SimOptions::screen_events)): the screen's
+    /// guarantee is conditional (module docs, *Guarantee of the screen*).
     pub screen: bool,
 }
 
