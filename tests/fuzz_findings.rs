@@ -632,7 +632,7 @@ fn preloads_crossed_within_one_ulp_of_the_onset_switch_the_branches() {
         0.0,
         0.0,
     ]);
-    // The strobes as the fuzzer asked for them (DOPRI5 lands its steps on them).
+    // The strobes as the fuzzer asked for them (DOPRI5 landed its steps on them then).
     let period = p.forcing_period();
     let t_end = t0 + 3.0 * period;
     let plan = OutputPlan {

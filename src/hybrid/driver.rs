@@ -538,10 +538,15 @@ where
 /// Runs `model` from `(t0, y0)` to `plan.t_end`, reporting outputs to `obs`.
 ///
 /// See [`RotorModel`] for what the driver does with the model (initial projection,
-/// transitions, outputs). Stroboscopic outputs in integrated modes come from the dense output
-/// of the last step (DOP853: 7th order) or, for DOPRI5 and RK4, from steps that land exactly
-/// on them; in exact modes they are the closed form. All work vectors are allocated when the
-/// run starts: stepping allocates nothing, whatever the dimension.
+/// transitions, outputs). Outputs (stroboscopic points, dense samples, the event log) never
+/// change the trajectory: the steps go towards the next event or `plan.t_end` whatever is
+/// asked for, and outputs in integrated modes are read from the dense output of the step that
+/// contains them (DOP853: 7th order; DOPRI5: 4th order; RK4: the cubic Hermite interpolant of
+/// the step's ends, 3rd order, local error $O(h^4)$, so a strobe point of an RK4 run is as
+/// accurate as the run, $O(h^4)$, not exact to its step); in exact modes they are the closed
+/// form. A run with outputs gives bitwise the same steps, events and final state as one
+/// without. All work vectors are allocated when the run starts: stepping allocates nothing,
+/// whatever the dimension.
 ///
 /// # Errors
 /// [`SimError`] with the last good `(t, y)`; the observer keeps what was recorded. A `y0` of
@@ -592,7 +597,6 @@ where
     let mut integ = build_integrator(model, opts, period).map_err(|e| fail(e, t0, y0, stats))?;
     let mut ev_state = EventState::with_dim(dim);
     let mut w = Scratch::new(dim);
-    let land_on_strobe = opts.method != Method::Dop853;
     let ev_opts = EventOptions {
         samples_per_step: opts.event_samples,
         screen: opts.screen_events,
@@ -664,12 +668,8 @@ where
                 ev_state.reset();
                 let label = model.mode_label(mode);
                 loop {
-                    let bound = if land_on_strobe {
-                        sched.next_strobe().min(plan.t_end)
-                    } else {
-                        plan.t_end
-                    };
-                    if let Err(e) = integ.step(&sys, bound) {
+                    // Outputs never bound a step (they come from the dense output).
+                    if let Err(e) = integ.step(&sys, plan.t_end) {
                         collect(&mut stats, &integ);
                         return Err(fail(e.into(), integ.t(), integ.y(), stats));
                     }
