@@ -220,3 +220,143 @@ fn outputs_never_change_the_trajectory() {
         assert_eq!(ta, tb, "{method:?}: event times");
     }
 }
+
+use jeffcott::hybrid::SimErrorKind;
+
+/// A model whose guard $g = y - 1/2$ (with $y^\prime = 1$, $y(0) = 0$: $g$ crosses zero at
+/// $t = 1/2$) cannot be evaluated for $y \in (0.3, 0.7)$: it returns NaN there, as a contact
+/// guard does where the ring cannot be placed.
+struct NanWindow;
+
+impl RotorModel for NanWindow {
+    type Dim = U1;
+    type Mode = ();
+    type Segment = NoExactModes;
+    type Cache = ();
+
+    fn dim(&self) -> U1 {
+        U1
+    }
+    fn new_cache(&self) {}
+    fn initial_mode(&self, _t: f64, _y: &V1) -> Result<(), ModelError> {
+        Ok(())
+    }
+    fn flow(&self, _mode: ()) -> Flow {
+        Flow::Integrated
+    }
+    fn rhs(&self, _mode: (), _t: f64, _y: &V1, dy: &mut V1, _: &()) {
+        dy[0] = 1.0;
+    }
+    fn guard_count(&self, _mode: ()) -> usize {
+        1
+    }
+    fn guard_direction(&self, _mode: (), _i: usize) -> Direction {
+        Direction::Rising
+    }
+    fn guard_value(&self, _: (), _i: usize, _t: f64, y: &V1, _: &()) -> f64 {
+        if y[0] > 0.3 && y[0] < 0.7 {
+            f64::NAN
+        } else {
+            y[0] - 0.5
+        }
+    }
+    fn guard_label(&self, _mode: (), _i: usize) -> &'static str {
+        "window"
+    }
+    fn transition(&self, _mode: (), _guard: usize, _t: f64, _y: &mut V1) -> Result<(), ModelError> {
+        Ok(())
+    }
+    fn start_segment(&self, _: (), _t: f64, _y: &V1) -> NoExactModes {
+        NoExactModes
+    }
+    fn mode_label(&self, _mode: ()) -> u8 {
+        0
+    }
+    fn forcing_period(&self) -> f64 {
+        1.0
+    }
+}
+
+/// NaN is not an error channel: a guard that cannot be evaluated where the detector needs it
+/// stops the run with a typed error naming the guard and the time, and the last good time and
+/// state (before the NaN window, where the guard had a value). (Before the fix the NaN samples
+/// were skipped and the root finder bracketed the NaN: an event was reported inside the window,
+/// at a time where the guard has no value.)
+#[test]
+fn a_guard_that_cannot_be_evaluated_stops_the_run_with_a_typed_error() {
+    let plan = OutputPlan {
+        t_end: 1.0,
+        strobe: None,
+        dense: None,
+        events: true,
+    };
+    for method in Method::ALL {
+        for screen_events in [false, true] {
+            let opts = SimOptions {
+                method,
+                screen_events,
+                ..SimOptions::default()
+            };
+            let mut traj = Trajectory::default();
+            let r = simulate(&NanWindow, 0.0, &V1::zeros(), &plan, &opts, &mut traj);
+            let e = match r {
+                Ok(_) => panic!(
+                    "{method:?} screen {screen_events}: no error, events at {:?}",
+                    traj.events.iter().map(|e| e.t).collect::<Vec<_>>()
+                ),
+                Err(e) => e,
+            };
+            match &e.kind {
+                SimErrorKind::Guard { guard, t, .. } => {
+                    assert_eq!(*guard, "window");
+                    assert!(*t > 0.3 && *t < 0.7, "{e}");
+                }
+                other => panic!("{method:?} screen {screen_events}: {other:?}"),
+            }
+            // The last good point: the start of the step with the NaN, before the window.
+            assert!(e.t <= 0.3 && (e.y[0] - e.t).abs() < 1e-12, "{e:?}");
+            assert!(traj.events.is_empty(), "{:?}", traj.events);
+        }
+    }
+}
+
+use jeffcott::ring::{Branch, Branches, Kinematics, RingCache, RingError, RingGuard, RingMode};
+
+/// The ring's typed error reaches the driver's error channel: a contact guard of the paper's
+/// model (Fig. 8b, ring on its inner branches) asked at the rotor position $r = 0$, the centre
+/// of both inner branches, where the branch formulas have no solution, has no value; the ring
+/// element says why ([`RingError::NoPlacement`]), and the model hands that error to the driver
+/// ([`RotorModel::guard_error`] gives [`ModelError::Ring`]), which puts it in
+/// `SimErrorKind::Guard` (the previous test shows the driver's side).
+#[test]
+fn a_contact_guard_without_a_ring_placement_gives_the_rings_error() {
+    let model = JeffcottModel::new(Preset::Fig8b.params()).unwrap();
+    let mode = RingMode::Contact(Branches {
+        x: Branch::Inner,
+        y: Branch::Inner,
+    });
+    let y = State::from([0.0, 0.0, 0.3, 1.0, 0.0, 0.0]);
+    let cache = model.new_cache();
+    let k = Kinematics::new([0.0, 0.0], [0.3, 1.0]);
+    let ring = model.ring();
+    let expected = RingError::NoPlacement { x: 0.0, y: 0.0 };
+    let loss = 0; // the loss guard, first of a contact mode
+    assert_eq!(ring.guard(&mode, loss), Some(RingGuard::Loss));
+    assert!(model.guard_value(mode, loss, 1.0, &y, &cache).is_nan());
+    assert_eq!(
+        ring.try_guard_value(&mode, RingGuard::Loss, 1.0, &k, &RingCache::default()),
+        Err(expected)
+    );
+    assert_eq!(
+        model.guard_error(mode, loss, 1.0, &y, &cache),
+        ModelError::Ring {
+            t: 1.0,
+            source: expected
+        }
+    );
+    // The gap guard needs no placement: it has a value there.
+    assert_eq!(
+        ring.try_guard_value(&mode, RingGuard::Gap, 1.0, &k, &RingCache::default()),
+        Ok(-1.0)
+    );
+}

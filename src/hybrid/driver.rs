@@ -120,6 +120,20 @@ pub enum SimErrorKind {
     /// The state became NaN or infinite.
     #[error("non-finite state")]
     NonFinite,
+    /// A guard returned NaN where the event detector needed its sign (it cannot tell whether
+    /// or where the guard crosses zero): the run stops rather than skip it. `source` is the
+    /// model's reason ([`RotorModel::guard_error`]; for the ring's models the ring element's
+    /// error, [`ModelError::Ring`]). The error's `t`, `y` are the start of the step where it
+    /// happened.
+    #[error("guard `{guard}` has no value at t = {t}: {source}")]
+    Guard {
+        /// Label of the guard ([`RotorModel::guard_label`]).
+        guard: &'static str,
+        /// Time at which it returned NaN.
+        t: f64,
+        /// Why ([`RotorModel::guard_error`]).
+        source: ModelError,
+    },
     /// An option is invalid.
     #[error("invalid option `{field}` = {value}: {hint}")]
     InvalidOption {
@@ -685,6 +699,24 @@ where
                     let hit =
                         match find_first_event(&mut integ, &sys, &sys, &ev_opts, &mut ev_state) {
                             Ok(hit) => hit.map(|h| (h.index, h.t)),
+                            Err(OdeError::EventNotANumber { index, t: t_nan }) => {
+                                // The last good point is the step's start, where every guard
+                                // had a value.
+                                collect(&mut stats, &integ);
+                                integ.dense(&sys, t_nan, &mut w.yo);
+                                let kind = if w.yo.iter().all(|v| v.is_finite()) {
+                                    SimErrorKind::Guard {
+                                        guard: model.guard_label(mode, index),
+                                        t: t_nan,
+                                        source: model
+                                            .guard_error(mode, index, t_nan, &w.yo, &out_cache),
+                                    }
+                                } else {
+                                    // The dense output itself is not finite there.
+                                    SimErrorKind::NonFinite
+                                };
+                                return Err(fail(kind, integ.t_prev(), integ.y_prev(), stats));
+                            }
                             Err(e) => {
                                 collect(&mut stats, &integ);
                                 return Err(fail(e.into(), integ.t(), integ.y(), stats));

@@ -157,7 +157,15 @@
 //! Away from the origin, a sample with $g_i = 0$ exactly is the right end of
 //! a reported crossing (if its direction was allowed) and the event stays
 //! disarmed until $g_i \ne 0$ again, so a root is never reported twice.
-//! Samples where $g_i$ is NaN are skipped (the previous reference is kept).
+//!
+//! **NaN is not a sign.** An event that returns NaN where the detector needs its sign stops
+//! the scan with [`OdeError::EventNotANumber`]: at the start of the scanned step; at a sample,
+//! unless another event crosses earlier in that sample interval and this one has a value at
+//! the pre-crossing end of that root's bracket (then it is located before it if it has crossed
+//! by then; an event undefined beyond another's crossing, such as a contact force once the
+//! contact is lost, is allowed); at the probe points of rule 3; inside a root or extremum
+//! search ([`roots::illinois`](super::roots::illinois) stops at a NaN, not converged). An event
+//! function must have a value wherever the integration may go before another event ends it.
 
 mod closures;
 mod detect;
