@@ -143,7 +143,10 @@ fn quartic_events(b: f64, a: f64, base: SimOptions) -> Vec<f64> {
 fn the_driver_default_finds_a_dip_the_step_end_screen_misses() {
     let b = 2.0 * (1.0 - 1e-6);
     let a = 8.0 * (1.0 + 1e-3);
-    assert!(1.0 - b / 4.0 - a / 16.0 < -4e-4, "the guard dips below zero");
+    assert!(
+        1.0 - b / 4.0 - a / 16.0 < -4e-4,
+        "the guard dips below zero"
+    );
     let exact = quartic_first_root(b, a);
 
     let found = quartic_events(b, a, SimOptions::default());

@@ -457,7 +457,7 @@ where
     /// Why guard `i` of `mode` has no value at `(t, y)`: the driver asks when
     /// [`RotorModel::guard_value`] (or [`RotorModel::guard_values`]) returned NaN where the event
     /// detector needed the guard's sign, and stops the run with
-    /// [`SimErrorKind::Guard`](driver::SimErrorKind::Guard) carrying the answer. NaN is not a
+    /// [`SimErrorKind::Guard`] carrying the answer. NaN is not a
     /// way to say "no event here": a guard must have a value wherever the mode's flow may go
     /// before another guard ends the mode. `y` is the integrator's dense output at `t` (not
     /// projected). Default: [`ModelError::InvalidState`] saying that the guard returned NaN; a

@@ -429,10 +429,7 @@ where
     }
     // No sign at the start: nothing can be said about this step.
     if let Some(i) = slots.iter().position(|s| s.active && s.g_ref.is_nan()) {
-        return Err(OdeError::EventNotANumber {
-            index: i,
-            t: start,
-        });
+        return Err(OdeError::EventNotANumber { index: i, t: start });
     }
     // The event that defined the origin (start-of-segment rule 2).
     let fired = if at_origin {
