@@ -363,3 +363,67 @@ fn a_contact_guard_without_a_ring_placement_gives_the_rings_error() {
         Ok(-1.0)
     );
 }
+
+use jeffcott::ode::{
+    find_first_event, Dop853, EventOptions, EventSet, EventState, Integrator, OdeError, Options,
+};
+
+/// Two events on $y^\prime = 1$, $y(0) = 0$: event 0 is $y - \ell$ (rising, at $t = \ell$,
+/// `level`); event 1 is $0.7 - y$ except that it has no value (NaN) for $y$ in `nan`.
+struct TwoEvents {
+    level: f64,
+    nan: (f64, f64),
+}
+
+impl EventSet<U1> for TwoEvents {
+    fn len(&self) -> usize {
+        2
+    }
+    fn direction(&self, i: usize) -> Direction {
+        [Direction::Rising, Direction::Falling][i]
+    }
+    fn value(&self, i: usize, _t: f64, y: &V1) -> f64 {
+        match i {
+            0 => y[0] - self.level,
+            _ if y[0] > self.nan.0 && y[0] < self.nan.1 => f64::NAN,
+            _ => 0.7 - y[0],
+        }
+    }
+}
+
+/// One DOP853 step over $[0, 1]$ and the first event on it.
+fn first_event(events: &TwoEvents) -> Result<Option<(usize, f64)>, OdeError> {
+    let sys = |_t: f64, _y: &V1, dy: &mut V1| dy[0] = 1.0;
+    let mut integ = Dop853::new(Options::fixed(1.0)).unwrap();
+    integ.reset(&sys, 0.0, &V1::zeros(), false).unwrap();
+    integ.step(&sys, 1.0).unwrap();
+    let mut st = EventState::new();
+    let hit = find_first_event(&mut integ, &sys, events, &EventOptions::default(), &mut st)?;
+    Ok(hit.map(|h| (h.index, h.t)))
+}
+
+/// An event without a value where the detector needs its sign is an error of the ODE layer,
+/// naming the event and the time; one without a value only beyond another event's crossing is
+/// not (a contact force once the contact is lost). (Before the fix the first case reported
+/// event 1 at the end of the root finder's bracket, at a time where it is not zero.)
+#[test]
+fn the_detector_reports_an_event_without_a_value_unless_another_crossed_first() {
+    // Event 1 crosses at 0.7, inside its NaN window (0.65, 0.75), and nothing else crosses
+    // (level 2): the samples at 0.6 and 0.8 bracket the crossing, the root finder meets the NaN.
+    let lone = TwoEvents {
+        level: 2.0,
+        nan: (0.65, 0.75),
+    };
+    match first_event(&lone) {
+        Err(OdeError::EventNotANumber { index: 1, t }) => assert!(t > 0.65 && t < 0.75),
+        other => panic!("{other:?}"),
+    }
+    // NaN beyond y = 1/2, where event 0 crosses first: event 0 at 1/2, no error.
+    let after = TwoEvents {
+        level: 0.5,
+        nan: (0.5, 2.0),
+    };
+    let (i, t) = first_event(&after).unwrap().unwrap();
+    assert_eq!(i, 0);
+    assert!((t - 0.5).abs() < 1e-14, "{t}");
+}
