@@ -444,6 +444,7 @@ fn outcome_label(kind: &SimErrorKind) -> String {
         SimErrorKind::Chattering { .. } => "Chattering".into(),
         SimErrorKind::Stalled { .. } => "Stalled".into(),
         SimErrorKind::NonFinite => "NonFinite".into(),
+        SimErrorKind::Guard { .. } => "Guard without a value".into(),
         other => format!("other: {other}"),
     }
 }
@@ -460,6 +461,11 @@ fn runtime_error(kind: &SimErrorKind) -> bool {
             | SimErrorKind::Stalled { .. }
             | SimErrorKind::NonFinite
             | SimErrorKind::Model(ModelError::Transition { .. })
+            // A contact guard whose ring cannot be placed: the ring's error, as for a transition.
+            | SimErrorKind::Guard {
+                source: ModelError::Ring { .. },
+                ..
+            }
     )
 }
 

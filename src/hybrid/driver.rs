@@ -708,8 +708,9 @@ where
                                     SimErrorKind::Guard {
                                         guard: model.guard_label(mode, index),
                                         t: t_nan,
+                                        // The detector's cache (a warm start may matter).
                                         source: model
-                                            .guard_error(mode, index, t_nan, &w.yo, &out_cache),
+                                            .guard_error(mode, index, t_nan, &w.yo, &cache),
                                     }
                                 } else {
                                     // The dense output itself is not finite there.

@@ -828,6 +828,7 @@ where
     };
     let allowed = events.direction(i);
     let mut crossed: Option<(f64, f64)> = None;
+    let mut g_nan: Option<f64> = None;
     let pos_g = g_a > 0.0;
     let mut evals = 0u64;
     let search = illinois(t_a, d_a, t_b, d_b, tol, max_iter, |t| {
@@ -837,6 +838,7 @@ where
         y_at(integ, sys, t, tmp);
         let g = events.value(i, t, tmp);
         if g.is_nan() {
+            g_nan = Some(t);
             return f64::NAN; // stops the search (below)
         }
         if g == 0.0 || (g > 0.0) != pos_g {
@@ -851,9 +853,14 @@ where
         events.derivative(i, t, tmp, dy).unwrap_or(0.0)
     });
     integ.stats_mut().rhs_evals += evals;
-    if let Some(t) = search.nan_at {
-        // The event or its derivative has no value there.
+    if let Some(t) = g_nan {
+        // The event has no value there.
         return Err(OdeError::EventNotANumber { index: i, t });
+    }
+    if search.nan_at.is_some() {
+        // Its derivative has none: as for an event without a derivative, the pair is not
+        // searched.
+        return Ok(None);
     }
     let Some((c, g_c)) = crossed else {
         return Ok(None);

@@ -166,6 +166,9 @@
 //! contact is lost, is allowed); at the probe points of rule 3; inside a root or extremum
 //! search ([`roots::illinois`](super::roots::illinois) stops at a NaN, not converged). An event
 //! function must have a value wherever the integration may go before another event ends it.
+//! A NaN *derivative* inside the extremum search of a grazing pair ends that search without a
+//! result, as for an event without a derivative (a pair of roots inside one sample interval
+//! may then be missed, see the guarantee above).
 
 mod closures;
 mod detect;
