@@ -613,6 +613,26 @@ where
         self.guard_of(&mode, i).label()
     }
 
+    /// The ring element's error ([`SnubberRing::try_guard_value`]).
+    fn guard_error(
+        &self,
+        mode: RingMode,
+        i: usize,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        cache: &RingCache,
+    ) -> ModelError {
+        let guard = self.guard_of(&mode, i);
+        let k = self.rotor.station(y);
+        match self.ring.try_guard_value(&mode, guard, t, &k, cache) {
+            Err(source) => ModelError::Ring { t, source },
+            Ok(v) => ModelError::InvalidState {
+                t,
+                reason: format!("guard `{}` = {v}: the ring gave no error", guard.label()),
+            },
+        }
+    }
+
     fn transition(
         &self,
         mode: RingMode,

@@ -482,7 +482,11 @@ fn the_first_output_is_the_initial_state_exactly() {
 #[test]
 fn a_preload_graze_one_nanometre_of_the_gap_deep_is_found_in_contact() {
     let base = Preset::Fig8b.params().with_eta(2.0);
-    let o = SimOptions::default();
+    // The screen is off by default: this test is about the screen, so it asks for it.
+    let o = SimOptions {
+        screen_events: true,
+        ..SimOptions::default()
+    };
     let (traj, _) = JeffcottModel::new(base)
         .unwrap()
         .stroboscopic(&State::zeros(), 300, 300, &o)

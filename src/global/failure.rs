@@ -52,7 +52,8 @@ pub enum PointFailure {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum SimFailureKind {
-    /// [`SimErrorKind::Model`].
+    /// [`SimErrorKind::Model`], or [`SimErrorKind::Guard`] (a guard of the model without a
+    /// value).
     Model,
     /// [`SimErrorKind::Integrator`].
     Integrator,
@@ -79,7 +80,7 @@ impl SimFailureKind {
     /// The kind of a driver error.
     pub fn of(kind: &SimErrorKind) -> Self {
         match kind {
-            SimErrorKind::Model(_) => SimFailureKind::Model,
+            SimErrorKind::Model(_) | SimErrorKind::Guard { .. } => SimFailureKind::Model,
             SimErrorKind::Integrator(_) => SimFailureKind::Integrator,
             SimErrorKind::Chattering { .. } => SimFailureKind::Chattering,
             SimErrorKind::Stalled { .. } => SimFailureKind::Stalled,

@@ -43,8 +43,12 @@ pub struct SimOptions {
     /// Screen each step from the guards' values and derivatives at its ends before sampling
     /// its dense output ([`crate::ode::EventOptions::screen`]): guards that the cubic Hermite
     /// bound clears are not sampled, and a step where all are cleared costs no dense output.
-    /// Applies to guards with [`RotorModel::guard_derivative`]. Default `true`; `false`
-    /// samples every step (`event_samples` points), as before version 0.2.
+    /// Applies to guards with [`RotorModel::guard_derivative`]. Default `false`: every step
+    /// is sampled (`event_samples` points). The screen's guarantee is conditional (the
+    /// interpolant of a step's ends must be within half the smaller end value of the guard,
+    /// see [`crate::ode::events`]): a dip between the ends that this interpolant cannot see
+    /// is missed where the samples find it. `true` is faster (see `docs/performance.md`) and
+    /// is a choice to make knowingly.
     pub screen_events: bool,
 }
 
@@ -59,7 +63,7 @@ impl Default for SimOptions {
             event_samples: 4,
             max_events_per_period: 1000,
             max_steps: 10_000_000,
-            screen_events: true,
+            screen_events: false,
         }
     }
 }
@@ -116,6 +120,20 @@ pub enum SimErrorKind {
     /// The state became NaN or infinite.
     #[error("non-finite state")]
     NonFinite,
+    /// A guard returned NaN where the event detector needed its sign (it cannot tell whether
+    /// or where the guard crosses zero): the run stops rather than skip it. `source` is the
+    /// model's reason ([`RotorModel::guard_error`]; for the ring's models the ring element's
+    /// error, [`ModelError::Ring`]). The error's `t`, `y` are the start of the step where it
+    /// happened.
+    #[error("guard `{guard}` has no value at t = {t}: {source}")]
+    Guard {
+        /// Label of the guard ([`RotorModel::guard_label`]).
+        guard: &'static str,
+        /// Time at which it returned NaN.
+        t: f64,
+        /// Why ([`RotorModel::guard_error`]).
+        source: ModelError,
+    },
     /// An option is invalid.
     #[error("invalid option `{field}` = {value}: {hint}")]
     InvalidOption {
@@ -534,10 +552,15 @@ where
 /// Runs `model` from `(t0, y0)` to `plan.t_end`, reporting outputs to `obs`.
 ///
 /// See [`RotorModel`] for what the driver does with the model (initial projection,
-/// transitions, outputs). Stroboscopic outputs in integrated modes come from the dense output
-/// of the last step (DOP853: 7th order) or, for DOPRI5 and RK4, from steps that land exactly
-/// on them; in exact modes they are the closed form. All work vectors are allocated when the
-/// run starts: stepping allocates nothing, whatever the dimension.
+/// transitions, outputs). Outputs (stroboscopic points, dense samples, the event log) never
+/// change the trajectory: the steps go towards the next event or `plan.t_end` whatever is
+/// asked for, and outputs in integrated modes are read from the dense output of the step that
+/// contains them (DOP853: 7th order; DOPRI5: 4th order; RK4: the cubic Hermite interpolant of
+/// the step's ends, 3rd order, local error $O(h^4)$, so a strobe point of an RK4 run is as
+/// accurate as the run, $O(h^4)$, not exact to its step); in exact modes they are the closed
+/// form. A run with outputs gives bitwise the same steps, events and final state as one
+/// without. All work vectors are allocated when the run starts: stepping allocates nothing,
+/// whatever the dimension.
 ///
 /// # Errors
 /// [`SimError`] with the last good `(t, y)`; the observer keeps what was recorded. A `y0` of
@@ -588,7 +611,6 @@ where
     let mut integ = build_integrator(model, opts, period).map_err(|e| fail(e, t0, y0, stats))?;
     let mut ev_state = EventState::with_dim(dim);
     let mut w = Scratch::new(dim);
-    let land_on_strobe = opts.method != Method::Dop853;
     let ev_opts = EventOptions {
         samples_per_step: opts.event_samples,
         screen: opts.screen_events,
@@ -660,12 +682,8 @@ where
                 ev_state.reset();
                 let label = model.mode_label(mode);
                 loop {
-                    let bound = if land_on_strobe {
-                        sched.next_strobe().min(plan.t_end)
-                    } else {
-                        plan.t_end
-                    };
-                    if let Err(e) = integ.step(&sys, bound) {
+                    // Outputs never bound a step (they come from the dense output).
+                    if let Err(e) = integ.step(&sys, plan.t_end) {
                         collect(&mut stats, &integ);
                         return Err(fail(e.into(), integ.t(), integ.y(), stats));
                     }
@@ -681,6 +699,25 @@ where
                     let hit =
                         match find_first_event(&mut integ, &sys, &sys, &ev_opts, &mut ev_state) {
                             Ok(hit) => hit.map(|h| (h.index, h.t)),
+                            Err(OdeError::EventNotANumber { index, t: t_nan }) => {
+                                // The last good point is the step's start, where every guard
+                                // had a value.
+                                collect(&mut stats, &integ);
+                                integ.dense(&sys, t_nan, &mut w.yo);
+                                let kind = if w.yo.iter().all(|v| v.is_finite()) {
+                                    SimErrorKind::Guard {
+                                        guard: model.guard_label(mode, index),
+                                        t: t_nan,
+                                        // The detector's cache (a warm start may matter).
+                                        source: model
+                                            .guard_error(mode, index, t_nan, &w.yo, &cache),
+                                    }
+                                } else {
+                                    // The dense output itself is not finite there.
+                                    SimErrorKind::NonFinite
+                                };
+                                return Err(fail(kind, integ.t_prev(), integ.y_prev(), stats));
+                            }
                             Err(e) => {
                                 collect(&mut stats, &integ);
                                 return Err(fail(e.into(), integ.t(), integ.y(), stats));

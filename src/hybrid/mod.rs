@@ -63,6 +63,7 @@ use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector};
 
 use crate::ode::Direction;
+use crate::ring::RingError;
 
 /// How a mode is advanced in time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -93,6 +94,15 @@ pub enum ModelError {
         t: f64,
         /// What went wrong.
         reason: String,
+    },
+    /// The snubber ring could not be evaluated (e.g. no placement of the ring on the contact
+    /// mode's branches at the rotor's position): the ring element's own error.
+    #[error("ring at t = {t}: {source}")]
+    Ring {
+        /// Time.
+        t: f64,
+        /// The ring element's error.
+        source: RingError,
     },
 }
 
@@ -441,6 +451,30 @@ where
                 None
             };
             out(i, self.guard_value(mode, i, t, y, cache), rate);
+        }
+    }
+
+    /// Why guard `i` of `mode` has no value at `(t, y)`: the driver asks when
+    /// [`RotorModel::guard_value`] (or [`RotorModel::guard_values`]) returned NaN where the event
+    /// detector needed the guard's sign, and stops the run with
+    /// [`SimErrorKind::Guard`] carrying the answer. NaN is not a
+    /// way to say "no event here": a guard must have a value wherever the mode's flow may go
+    /// before another guard ends the mode. `y` is the integrator's dense output at `t` (not
+    /// projected). Default: [`ModelError::InvalidState`] saying that the guard returned NaN; a
+    /// model whose guards can fail should say why (the ring's models give
+    /// [`ModelError::Ring`]).
+    fn guard_error(
+        &self,
+        mode: Self::Mode,
+        i: usize,
+        t: f64,
+        y: &OVector<f64, Self::Dim>,
+        cache: &Self::Cache,
+    ) -> ModelError {
+        let _ = (mode, y, cache);
+        ModelError::InvalidState {
+            t,
+            reason: format!("guard {i} returned NaN: it has no value at this state"),
         }
     }
 

@@ -79,6 +79,17 @@ pub enum OdeError {
         /// Right end of the last step.
         t: f64,
     },
+    /// An event function returned NaN where the detector needed its sign (at the start of a
+    /// scanned step, at a sample with no crossing of another event before it, or inside a
+    /// root bracket): whether and where it crosses zero cannot be decided, so the detector
+    /// stops rather than skip it.
+    #[error("event {index} returned NaN at t = {t}: its crossings cannot be decided there; an event function must have a value wherever the integration may go (end the integration before it with another event)")]
+    EventNotANumber {
+        /// Index of the event in its set.
+        index: usize,
+        /// Time of the NaN.
+        t: f64,
+    },
     /// A vector (an initial state, a per-component tolerance) has the wrong
     /// number of components for the integrator's dimension (only possible
     /// with [`Dyn`](nalgebra::Dyn)).

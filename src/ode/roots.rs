@@ -28,7 +28,8 @@
 //! If $g$ is continuous on $[a, b]$ the returned bracket always contains a
 //! root, with $g(\text{lo})$ of the sign of $g(a)$ and $g(\text{hi})$ of the
 //! opposite sign or zero: a sign change is never lost, whatever $g$ does
-//! (round-off included). The search stops when $\text{hi} - \text{lo} \le$
+//! (round-off included), as long as it returns numbers: a NaN from $g$ stops the
+//! search, not converged ([`Bracket::nan_at`]). The search stops when $\text{hi} - \text{lo} \le$
 //! `tol`, when $g(\text{hi}) = 0$, when the ends are adjacent floats, or after
 //! `max_iter` evaluations.
 //!
@@ -60,9 +61,15 @@ pub struct Bracket {
     pub evaluations: usize,
     /// Whether the search ended by its tolerance ($\text{hi} - \text{lo} \le$
     /// `tol`, $g(\text{hi}) = 0$ or adjacent floats). `false` when `max_iter`
-    /// was reached or the input was not a bracket (then `lo`, `hi` are the
-    /// inputs).
+    /// was reached, when `g` returned NaN ([`Bracket::nan_at`]) or the input was
+    /// not a bracket (then `lo`, `hi` are the inputs).
     pub converged: bool,
+    /// `Some(t)` when `g(t)` returned NaN inside the bracket: the search stopped
+    /// there, not converged (NaN has no sign, so the side of the root is
+    /// unknown), and `lo`, `hi`, `g_lo`, `g_hi` are the last bracket with
+    /// numbers at both ends. `None` otherwise (NaN in the initial `fa`, `fb` is
+    /// reported as not a bracket, with `None` here).
+    pub nan_at: Option<f64>,
 }
 
 /// Illinois (modified regula falsi) on the bracket $[a, b]$ with `fa` $=
@@ -73,7 +80,8 @@ pub struct Bracket {
 /// $\max(\text{tol}, 4\varepsilon|t|)$ to ask for "a few ulp"); at most
 /// `max_iter` evaluations of `g` are made. Input that is not a bracket (`fa`
 /// zero or NaN, `fb` NaN or of the sign of `fa`) returns at once with
-/// `converged == false`. Never panics.
+/// `converged == false`. A NaN returned by `g` during the search stops it with
+/// `converged == false` and [`Bracket::nan_at`] set. Never panics.
 pub fn illinois(
     a: f64,
     fa: f64,
@@ -90,6 +98,7 @@ pub fn illinois(
         g_hi: fb,
         evaluations: 0,
         converged: false,
+        nan_at: None,
     };
     let pos_a = fa > 0.0;
     let is_bracket =
@@ -133,6 +142,11 @@ pub fn illinois(
         }
         let fc = g(c);
         out.evaluations += 1;
+        if fc.is_nan() {
+            // No sign: the side of the root is unknown. Stop, not converged.
+            out.nan_at = Some(c);
+            break;
+        }
         if fc == 0.0 || (fc > 0.0) != pos_a {
             b = c;
             fb = fc;

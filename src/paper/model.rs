@@ -414,6 +414,19 @@ impl RotorModel for JeffcottModel {
         self.guard_of(&mode, i).label()
     }
 
+    /// The ring element's error ([`SnubberRing::try_guard_value`]).
+    fn guard_error(&self, mode: Mode, i: usize, t: f64, y: &State, cache: &Cache) -> ModelError {
+        let guard = self.guard_of(&mode, i);
+        let k = Self::kinematics(y);
+        match self.ring.try_guard_value(&mode, guard, t, &k, &cache.ring) {
+            Err(source) => ModelError::Ring { t, source },
+            Ok(v) => ModelError::InvalidState {
+                t,
+                reason: format!("guard `{}` = {v}: the ring gave no error", guard.label()),
+            },
+        }
+    }
+
     fn transition(
         &self,
         mode: Mode,

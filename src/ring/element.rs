@@ -410,7 +410,8 @@ impl SnubberRing {
     }
 
     /// Value of `guard` in `mode` at time `t` (NaN when it cannot be evaluated there, e.g. a
-    /// contact guard in free flight or a contact mode with no ring placement).
+    /// contact guard in free flight or a contact mode with no ring placement: ask
+    /// [`SnubberRing::try_guard_value`] why).
     pub fn guard_value(
         &self,
         mode: &RingMode,
@@ -419,7 +420,26 @@ impl SnubberRing {
         k: &Kinematics,
         cache: &RingCache,
     ) -> f64 {
-        match (mode, guard) {
+        self.try_guard_value(mode, guard, t, k, cache)
+            .unwrap_or(f64::NAN)
+    }
+
+    /// Value of `guard` in `mode` at time `t`, or why it has none.
+    ///
+    /// # Errors
+    /// The ring's error when a contact guard cannot place the ring on the mode's branches
+    /// ([`SnubberRing::locate_on`]: e.g. [`RingError::InsideGap`] once the rotor is inside the
+    /// gap), or [`RingError::NoPlacement`] at the rotor's position for a guard that does not
+    /// belong to `mode`.
+    pub fn try_guard_value(
+        &self,
+        mode: &RingMode,
+        guard: RingGuard,
+        t: f64,
+        k: &Kinematics,
+        cache: &RingCache,
+    ) -> Result<f64, RingError> {
+        Ok(match (mode, guard) {
             (
                 RingMode::Free {
                     relax,
@@ -432,16 +452,16 @@ impl SnubberRing {
                 (k.r - s).norm_squared() - self.gap * self.gap - onset_margin
             }
             (RingMode::Contact(_), RingGuard::Gap) => k.r.norm_squared() - self.gap * self.gap,
-            (RingMode::Contact(b), RingGuard::Loss) => self
-                .with_contact(*b, &k.r, cache, |c| c.loss_force(&k.v))
-                .unwrap_or(f64::NAN),
-            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => self
-                .with_contact(*b, &k.r, cache, |c| {
+            (RingMode::Contact(b), RingGuard::Loss) => {
+                self.with_contact(*b, &k.r, cache, |c| c.loss_force(&k.v))?
+            }
+            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
+                self.with_contact(*b, &k.r, cache, |c| {
                     self.preload_distance(b, axis, c.s[axis.index()])
-                })
-                .unwrap_or(f64::NAN),
-            _ => f64::NAN,
-        }
+                })?
+            }
+            _ => return Err(RingError::NoPlacement { x: k.r.x, y: k.r.y }),
+        })
     }
 
     /// Time derivative of `guard` along the motion, where it needs only $r$ and $r^\prime$

@@ -283,6 +283,19 @@ where
         self.model.guard_label(mode, i)
     }
 
+    fn guard_error(
+        &self,
+        mode: M::Mode,
+        i: usize,
+        t: f64,
+        y: &DVector<f64>,
+        cache: &AugmentedCache<M>,
+    ) -> ModelError {
+        let mut s = cache.scratch.borrow_mut();
+        s.y.copy_from_slice(&y.as_slice()[..self.n]);
+        self.model.guard_error(mode, i, t, &s.y, &cache.inner)
+    }
+
     fn transition(
         &self,
         mode: M::Mode,

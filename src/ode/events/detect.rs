@@ -142,7 +142,9 @@ fn hermite_clear(a: (f64, f64), b: (f64, f64), h: f64) -> bool {
 }
 
 /// Locates the root of event `i` in the bracket `lo`..`hi` (values of
-/// opposite sign, or zero at `hi`); returns the post-crossing end.
+/// opposite sign, or zero at `hi`); returns the final bracket `(lo, hi)`, `hi` the
+/// post-crossing end. A NaN of the event inside the bracket is
+/// [`OdeError::EventNotANumber`].
 #[allow(clippy::too_many_arguments)]
 fn locate<D, S, I, E>(
     integ: &mut I,
@@ -154,7 +156,7 @@ fn locate<D, S, I, E>(
     tol: f64,
     max_iter: usize,
     tmp: &mut OVector<f64, D>,
-) -> f64
+) -> Result<(f64, f64), OdeError>
 where
     D: Dim,
     DefaultAllocator: Allocator<D>,
@@ -162,11 +164,14 @@ where
     I: Integrator<D>,
     E: EventSet<D> + ?Sized,
 {
-    illinois(lo.0, lo.1, hi.0, hi.1, tol, max_iter, |t| {
+    let b = illinois(lo.0, lo.1, hi.0, hi.1, tol, max_iter, |t| {
         y_at(integ, sys, t, tmp);
         events.value(i, t, tmp)
-    })
-    .hi
+    });
+    match b.nan_at {
+        Some(t) => Err(OdeError::EventNotANumber { index: i, t }),
+        None => Ok((b.lo, b.hi)),
+    }
 }
 
 /// Narrows the bracket `lo`..`hi` (values of opposite sign, as for [`locate`]) of event `i`
@@ -422,6 +427,10 @@ where
             }
         }
     }
+    // No sign at the start: nothing can be said about this step.
+    if let Some(i) = slots.iter().position(|s| s.active && s.g_ref.is_nan()) {
+        return Err(OdeError::EventNotANumber { index: i, t: start });
+    }
     // The event that defined the origin (start-of-segment rule 2).
     let fired = if at_origin {
         last_hit.map(|(j, _)| j)
@@ -556,9 +565,11 @@ where
                 integ.stats_mut().rhs_evals += 1;
             }
         }
-        // Best candidate of this interval: (t, index, direction).
-        let mut best: Option<(f64, usize, Direction)> = None;
+        // Best candidate of this interval: (t, index, direction, pre-crossing end of its bracket).
+        let mut best: Option<(f64, usize, Direction, f64)> = None;
+        let mut any_nan = false;
         for (i, s) in slots.iter_mut().enumerate() {
+            s.nan = false;
             if !s.active || s.cleared {
                 continue;
             }
@@ -574,7 +585,9 @@ where
                 (events.value(i, t_b, y_b), d_b)
             };
             if g_b.is_nan() {
-                // No information at this sample: keep the previous reference.
+                // No sign at this sample: decided after the interval's other events.
+                s.nan = true;
+                any_nan = true;
                 continue;
             }
             let allowed = events.direction(i);
@@ -584,7 +597,8 @@ where
             let zero_at_start =
                 fired == Some(i) || matches!(s.leave, Leave::Towards(_) | Leave::Probe);
             let ignorable = |r: f64| at_origin && r - start <= window && zero_at_start;
-            let mut candidate: Option<(f64, Direction)> = None;
+            // (t, direction, pre-crossing end of the bracket)
+            let mut candidate: Option<(f64, Direction, f64)> = None;
             // A guard on zero at the origin that left it on the other side of
             // g_b and came back is only visible at the probe point.
             let mut check_return = false;
@@ -609,22 +623,32 @@ where
                     if allowed.allows(dir_first) {
                         // A root already found earlier in this interval: this guard's root
                         // can only win if it has crossed by then (one root per interval).
+                        // (If this event has no value at that root, it must have one at the
+                        // pre-crossing end of the root's bracket.)
                         let mut hi = (t_b, g_b, d_b);
-                        if let Some((rb, _, _)) = best {
+                        if let Some((mut rb, _, _, rb_lo)) = best {
                             y_at(integ, sys, rb, tmp);
-                            let g_r = events.value(i, rb, tmp);
+                            let mut g_r = events.value(i, rb, tmp);
+                            if g_r.is_nan() {
+                                rb = rb_lo;
+                                y_at(integ, sys, rb, tmp);
+                                g_r = events.value(i, rb, tmp);
+                            }
+                            if g_r.is_nan() {
+                                return Err(OdeError::EventNotANumber { index: i, t: rb });
+                            }
                             if g_r == 0.0 || (g_r > 0.0) != (g_a > 0.0) {
                                 hi = (rb, g_r, f64::NAN);
-                            } else if !g_r.is_nan() {
+                            } else {
                                 hi.0 = f64::NAN;
                             }
                         }
                         if !hi.0.is_nan() {
                             let lo = (t_a, g_a, if s.has_der { s.d_ref } else { f64::NAN });
                             let (lo, hi) = narrow_bracket(integ, sys, events, i, lo, hi, tol, tmp);
-                            let r = locate(integ, sys, events, i, lo, hi, tol, max_iter, tmp);
+                            let (l, r) = locate(integ, sys, events, i, lo, hi, tol, max_iter, tmp)?;
                             if !ignorable(r) {
-                                candidate = Some((r, dir_first));
+                                candidate = Some((r, dir_first, l));
                             }
                         }
                     }
@@ -647,7 +671,7 @@ where
                             f_c,
                             zero,
                             ignorable,
-                        );
+                        )?;
                     }
                     // No sign change over the first interval: it may hide a
                     // departure from zero and the crossing back.
@@ -682,6 +706,12 @@ where
                         probed = true;
                     }
                     let g_p = events.value(i, t_probe, y_p);
+                    if g_p.is_nan() {
+                        return Err(OdeError::EventNotANumber {
+                            index: i,
+                            t: t_probe,
+                        });
+                    }
                     let g_o = s.g_origin;
                     // The probe must be beyond value_tol on the other side,
                     // and, without a derivative, the guard must have reached
@@ -702,6 +732,9 @@ where
                             let t_h = start + dt;
                             y_at(integ, sys, t_h, tmp);
                             let g_h = events.value(i, t_h, tmp);
+                            if g_h.is_nan() {
+                                return Err(OdeError::EventNotANumber { index: i, t: t_h });
+                            }
                             if g_h.abs() > vtol && (g_h > 0.0) != (g_b > 0.0) {
                                 bracket = Some((t_h, g_h, t_probe, g_p));
                                 break;
@@ -710,7 +743,7 @@ where
                         }
                     }
                     if let Some((t_l, g_l, t_r, g_r)) = bracket {
-                        let r = locate(
+                        let (l, r) = locate(
                             integ,
                             sys,
                             events,
@@ -720,20 +753,32 @@ where
                             tol,
                             max_iter,
                             tmp,
-                        );
+                        )?;
                         if !ignorable(r) {
-                            candidate = Some((r, dir_back));
+                            candidate = Some((r, dir_back, l));
                         }
                     }
                 }
             }
-            if let Some((r, d)) = candidate {
-                if best.is_none_or(|(tb, _, _)| r < tb) {
-                    best = Some((r, i, d));
+            if let Some((r, d, l)) = candidate {
+                if best.is_none_or(|(tb, _, _, _)| r < tb) {
+                    best = Some((r, i, d, l));
                 }
             }
         }
-        if let Some((r, i, d)) = best {
+        if any_nan {
+            best = nan_in_interval(
+                integ,
+                sys,
+                events,
+                slots,
+                best,
+                (t_a, t_b),
+                (tol_at(t_a.abs().max(t_b.abs())), max_iter),
+                tmp,
+            )?;
+        }
+        if let Some((r, i, d, _)) = best {
             y_at(integ, sys, r, &mut hit.y);
             hit.index = i;
             hit.t = r;
@@ -766,7 +811,7 @@ fn grazing_pair<D, S, I, E>(
     f_c: &mut OVector<f64, D>,
     zero: &OVector<f64, D>,
     ignorable: impl Fn(f64) -> bool,
-) -> Option<(f64, Direction)>
+) -> Result<Option<(f64, Direction, f64)>, OdeError>
 where
     D: Dim,
     DefaultAllocator: Allocator<D>,
@@ -783,14 +828,19 @@ where
     };
     let allowed = events.direction(i);
     let mut crossed: Option<(f64, f64)> = None;
+    let mut g_nan: Option<f64> = None;
     let pos_g = g_a > 0.0;
     let mut evals = 0u64;
-    illinois(t_a, d_a, t_b, d_b, tol, max_iter, |t| {
+    let search = illinois(t_a, d_a, t_b, d_b, tol, max_iter, |t| {
         if crossed.is_some() {
             return 0.0; // terminate: bracket found
         }
         y_at(integ, sys, t, tmp);
         let g = events.value(i, t, tmp);
+        if g.is_nan() {
+            g_nan = Some(t);
+            return f64::NAN; // stops the search (below)
+        }
         if g == 0.0 || (g > 0.0) != pos_g {
             crossed = Some((t, g));
             return 0.0;
@@ -803,9 +853,20 @@ where
         events.derivative(i, t, tmp, dy).unwrap_or(0.0)
     });
     integ.stats_mut().rhs_evals += evals;
-    let (c, g_c) = crossed?;
+    if let Some(t) = g_nan {
+        // The event has no value there.
+        return Err(OdeError::EventNotANumber { index: i, t });
+    }
+    if search.nan_at.is_some() {
+        // Its derivative has none: as for an event without a derivative, the pair is not
+        // searched.
+        return Ok(None);
+    }
+    let Some((c, g_c)) = crossed else {
+        return Ok(None);
+    };
     if allowed.allows(dir_first) {
-        let r = locate(
+        let (l, r) = locate(
             integ,
             sys,
             events,
@@ -815,13 +876,13 @@ where
             tol,
             max_iter,
             tmp,
-        );
+        )?;
         if !ignorable(r) {
-            return Some((r, dir_first));
+            return Ok(Some((r, dir_first, l)));
         }
     }
     if allowed.allows(dir_first.opposite()) && g_c != 0.0 {
-        let r = locate(
+        let (l, r) = locate(
             integ,
             sys,
             events,
@@ -831,10 +892,77 @@ where
             tol,
             max_iter,
             tmp,
-        );
+        )?;
         if !ignorable(r) {
-            return Some((r, dir_first.opposite()));
+            return Ok(Some((r, dir_first.opposite(), l)));
         }
     }
-    None
+    Ok(None)
+}
+
+/// Events that were NaN at the right end of the sample interval `t_a`..`t_b` (flagged
+/// `nan`): without a hit earlier in the interval nothing can be said about their crossing,
+/// [`OdeError::EventNotANumber`] at `t_b`. With a hit, each must have a value at the
+/// pre-crossing end of the hit's bracket (else the same error there); one that has crossed by
+/// then in an allowed direction is located in `t_a`.. that point and wins if earlier. (An event
+/// that is undefined beyond another's crossing, e.g. a contact force once the contact is
+/// lost, is so allowed to be NaN after it.)
+#[allow(clippy::too_many_arguments)]
+fn nan_in_interval<D, S, I, E>(
+    integ: &mut I,
+    sys: &S,
+    events: &E,
+    slots: &[Slot],
+    best: Option<(f64, usize, Direction, f64)>,
+    (t_a, t_b): (f64, f64),
+    (tol, max_iter): (f64, usize),
+    tmp: &mut OVector<f64, D>,
+) -> Result<Option<(f64, usize, Direction, f64)>, OdeError>
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    let mut out = best;
+    for (j, s) in slots.iter().enumerate() {
+        if !s.nan {
+            continue;
+        }
+        let Some((_, _, _, r_lo)) = best else {
+            return Err(OdeError::EventNotANumber { index: j, t: t_b });
+        };
+        y_at(integ, sys, r_lo, tmp);
+        let g = events.value(j, r_lo, tmp);
+        if g.is_nan() {
+            return Err(OdeError::EventNotANumber { index: j, t: r_lo });
+        }
+        if !s.armed || !(g == 0.0 || (g > 0.0) != (s.g_ref > 0.0)) {
+            continue;
+        }
+        let dir = if s.g_ref < 0.0 {
+            Direction::Rising
+        } else {
+            Direction::Falling
+        };
+        if !events.direction(j).allows(dir) || r_lo <= t_a {
+            continue;
+        }
+        let (l, r) = locate(
+            integ,
+            sys,
+            events,
+            j,
+            (t_a, s.g_ref),
+            (r_lo, g),
+            tol,
+            max_iter,
+            tmp,
+        )?;
+        if out.is_none_or(|(tb, _, _, _)| r < tb) {
+            out = Some((r, j, dir, l));
+        }
+    }
+    Ok(out)
 }

@@ -157,7 +157,18 @@
 //! Away from the origin, a sample with $g_i = 0$ exactly is the right end of
 //! a reported crossing (if its direction was allowed) and the event stays
 //! disarmed until $g_i \ne 0$ again, so a root is never reported twice.
-//! Samples where $g_i$ is NaN are skipped (the previous reference is kept).
+//!
+//! **NaN is not a sign.** An event that returns NaN where the detector needs its sign stops
+//! the scan with [`OdeError::EventNotANumber`]: at the start of the scanned step; at a sample,
+//! unless another event crosses earlier in that sample interval and this one has a value at
+//! the pre-crossing end of that root's bracket (then it is located before it if it has crossed
+//! by then; an event undefined beyond another's crossing, such as a contact force once the
+//! contact is lost, is allowed); at the probe points of rule 3; inside a root or extremum
+//! search ([`roots::illinois`](super::roots::illinois) stops at a NaN, not converged). An event
+//! function must have a value wherever the integration may go before another event ends it.
+//! A NaN *derivative* inside the extremum search of a grazing pair ends that search without a
+//! result, as for an event without a derivative (a pair of roots inside one sample interval
+//! may then be missed, see the guarantee above).
 
 mod closures;
 mod detect;
@@ -361,8 +372,9 @@ pub struct EventOptions {
     /// sampling it (see the module docs, *Screening*): a guard whose cubic Hermite
     /// interpolant stays well away from zero is not sampled, and a step where every guard is
     /// so cleared costs no dense output at all. Applies to events with a derivative; the
-    /// others are sampled as without it. Default `false`; the hybrid driver turns it on
-    /// ([`SimOptions::screen_events`](crate::hybrid::SimOptions::screen_events)).
+    /// others are sampled as without it. Default `false`, as in the hybrid driver
+    /// ([`SimOptions::screen_events`](crate::hybrid::SimOptions::screen_events)): the screen's
+    /// guarantee is conditional (module docs, *Guarantee of the screen*).
     pub screen: bool,
 }
 

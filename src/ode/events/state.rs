@@ -27,6 +27,8 @@ pub(super) struct Slot {
     pub needs_rhs: bool,
     /// Value and derivative at the end of the last screened step (kept across calls).
     pub end: EndValue,
+    /// NaN at the right end of the current sample interval.
+    pub nan: bool,
 }
 
 /// A guard's value and derivative at the end of the last screened step (reused as the start
@@ -64,6 +66,7 @@ impl Default for Slot {
             cleared: false,
             needs_rhs: false,
             end: EndValue::default(),
+            nan: false,
         }
     }
 }
