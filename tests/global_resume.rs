@@ -96,7 +96,8 @@ fn a_resume_with_another_setting_is_refused_naming_it() {
     let dir = started("setting");
     // `screen_events` was not in the manifest before: a resume with it changed went on.
     let mut other = quick();
-    other.opts.screen_events = false;
+    let stored = other.opts.screen_events;
+    other.opts.screen_events = !stored;
     match resume(&dir, &grid(), &other) {
         Err(StoreError::SettingMismatch {
             setting,
@@ -105,7 +106,11 @@ fn a_resume_with_another_setting_is_refused_naming_it() {
             ..
         }) => assert_eq!(
             (&*setting, &*expected, &*found),
-            ("settings.screen_events", "false", "true")
+            (
+                "settings.screen_events",
+                &*(!stored).to_string(),
+                &*stored.to_string()
+            )
         ),
         other => panic!("{:?}", other.map(|s| s.results.computed)),
     }
