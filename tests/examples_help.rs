@@ -212,6 +212,8 @@ fn a_positional_output_folder_never_takes_a_flag() {
         let dir = empty_dir(name);
         for args in [&["--help"][..], &["-h"], &["out", "--help"]] {
             let out = run(&exe, &dir, args);
+            let written: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+            assert!(written.is_empty(), "{name} {args:?} wrote {written:?}");
             assert_eq!(out.status.code(), Some(0), "{name} {args:?}");
         }
         let out = run(&exe, &dir, &["--bogus"]);
