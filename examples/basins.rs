@@ -23,10 +23,12 @@ mod common;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use common::cli::{fail, Cli};
+use clap::Parser;
+use common::cli::{f64_in, fail, num, parse, usize_in};
 use common::csv::{fmt_f64, CsvWriter};
 use common::plot::{self, Category, CategoryGrid, Figure};
 use common::ranks::Ranks;
+use common::{SweepRunFlags, Tolerances};
 use jeffcott::analysis::{PeriodTest, StderrProgress};
 use jeffcott::global::{
     attractor_at, AttractorConfig, Grid2, Json, Manifest, MatchTolerance, PointLabel,
@@ -42,104 +44,103 @@ const SCENES: [(&str, Preset, f64); 3] = [
     ("fig10a", Preset::Fig10a, 2.5),
 ];
 
+/// Basins of attraction of the rotor on a grid of initial states, attractors matched and drawn
+/// in colour.
+#[derive(Parser)]
+#[command(name = "basins")]
+struct Flags {
+    /// Output folder
+    #[arg(long, value_name = "DIR", default_value = "target/figures/basins")]
+    out: PathBuf,
+    /// Parameter set: the paper's Fig. 8a (D = 0), Fig. 8b (D = 0.1) or Fig. 10a values
+    #[arg(long, default_value = "all", value_parser = ["all", "fig8a", "fig8b", "fig10a"])]
+    scene: String,
+    /// Frequency ratio (default: 2.2 for fig8a/fig8b, 2.5 for fig10a); needs one --scene
+    /// [range: 0.01..=100]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.01, 100.0))]
+    eta: Option<f64>,
+    /// Preload D = Dx = Dy (default: the scene's); needs one --scene [range: 0..=10]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 10.0))]
+    preload: Option<f64>,
+    /// Initial states varied: x0 against x0' (y0 = y0' = 0), x0 against y0 (at rest), or the
+    /// phase phi0 against x0 (at rest)
+    #[arg(long, default_value = "x-vx", value_parser = ["x-vx", "x-y", "phi-x"])]
+    plane: String,
+    /// Horizontal axis: lowest value (default: -1; 0 for phi-x) [range: -100..=100]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(-100.0, 100.0))]
+    h_min: Option<f64>,
+    /// Horizontal axis: highest value (default: 1; 2 pi for phi-x) [range: -100..=100]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(-100.0, 100.0))]
+    h_max: Option<f64>,
+    /// Vertical axis: lowest value (default: -1.5 for x-vx, -1 otherwise) [range: -100..=100]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(-100.0, 100.0))]
+    v_min: Option<f64>,
+    /// Vertical axis: highest value (default: 1.5 for x-vx, 1 otherwise) [range: -100..=100]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(-100.0, 100.0))]
+    v_max: Option<f64>,
+    /// Grid points along the horizontal axis [range: 1..=100000]
+    #[arg(long, value_name = "COUNT", default_value = "100", value_parser = usize_in(1, 100_000))]
+    n: usize,
+    /// Grid points along the vertical axis (default: --n) [range: 1..=100000]
+    #[arg(long, value_name = "COUNT", value_parser = usize_in(1, 100_000))]
+    nv: Option<usize>,
+    /// Forcing periods discarded before each recording [range: 1..=10000000]
+    #[arg(long, value_name = "COUNT", value_parser = usize_in(1, 10_000_000),
+          default_value = AttractorConfig::default().transient.to_string())]
+    transient: usize,
+    /// Stroboscopic points recorded and tested for a period (periods up to 16)
+    /// [range: 32..=1000000]
+    #[arg(long, value_name = "COUNT", value_parser = usize_in(32, 1_000_000),
+          default_value = AttractorConfig::default().record.to_string())]
+    record: usize,
+    /// A run with no period goes on until its transients add up to this
+    /// [range: 1..=100000000]
+    #[arg(long, value_name = "COUNT", value_parser = usize_in(1, 100_000_000),
+          default_value = AttractorConfig::default().max_transient.to_string())]
+    max_transient: usize,
+    /// Periodic attractors match when their cycle points agree to this (every component)
+    /// [range: 1e-12..=1]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(1e-12, 1.0),
+          default_value = num(MatchTolerance::default().state))]
+    match_tol: f64,
+    #[command(flatten)]
+    tol: Tolerances,
+    #[command(flatten)]
+    run: SweepRunFlags,
+}
+
 fn main() {
     let ranks = Ranks::init();
-    let mut cli = Cli::new(
-        "Basins of attraction of the rotor on a grid of initial states, attractors matched and drawn in colour.",
-    );
-    let out = PathBuf::from(cli.string("out", "target/figures/basins", "output folder"));
-    let scene = cli.choice(
-        "scene",
-        "all",
-        &["all", "fig8a", "fig8b", "fig10a"],
-        "parameter set: the paper's Fig. 8a (D = 0), Fig. 8b (D = 0.1) or Fig. 10a values",
-    );
-    let eta = cli.f64_in(
-        "eta",
-        f64::NAN,
-        0.01,
-        100.0,
-        "frequency ratio (default: 2.2 for fig8a/fig8b, 2.5 for fig10a); needs one --scene",
-    );
-    let preload = cli.f64_in(
-        "preload",
-        f64::NAN,
-        0.0,
-        10.0,
-        "preload D = Dx = Dy (default: the scene's); needs one --scene",
-    );
-    let plane = cli.choice(
-        "plane",
-        "x-vx",
-        &["x-vx", "x-y", "phi-x"],
-        "initial states varied: x0 against x0' (y0 = y0' = 0), x0 against y0 (at rest), or the phase phi0 against x0 (at rest)",
-    );
+    let Flags {
+        out,
+        scene,
+        eta,
+        preload,
+        plane,
+        h_min,
+        h_max,
+        v_min,
+        v_max,
+        n,
+        nv,
+        transient,
+        record,
+        max_transient,
+        match_tol,
+        tol: tolerances,
+        run,
+    } = parse();
+    let (rtol, atol) = tolerances.get();
+    let run = run.config();
     let (dh, dv) = match plane.as_str() {
         "x-y" => ((-1.0, 1.0), (-1.0, 1.0)),
         "phi-x" => ((0.0, std::f64::consts::TAU), (-1.0, 1.0)),
         _ => ((-1.0, 1.0), (-1.5, 1.5)),
     };
-    let h_min = cli.f64_in(
-        "h-min",
-        dh.0,
-        -100.0,
-        100.0,
-        "horizontal axis: lowest value",
-    );
-    let h_max = cli.f64_in(
-        "h-max",
-        dh.1,
-        -100.0,
-        100.0,
-        "horizontal axis: highest value",
-    );
-    let v_min = cli.f64_in("v-min", dv.0, -100.0, 100.0, "vertical axis: lowest value");
-    let v_max = cli.f64_in("v-max", dv.1, -100.0, 100.0, "vertical axis: highest value");
-    let n = cli.usize_in(
-        "n",
-        100,
-        1,
-        100_000,
-        "grid points along the horizontal axis",
-    );
-    let nv = cli.opt_usize_in(
-        "nv",
-        1,
-        100_000,
-        "grid points along the vertical axis (default: --n)",
-    );
-    let d = AttractorConfig::default();
-    let transient = cli.usize_in(
-        "transient",
-        d.transient as usize,
-        1,
-        10_000_000,
-        "forcing periods discarded before each recording",
-    );
-    let record = cli.usize_in(
-        "record",
-        d.record as usize,
-        32,
-        1_000_000,
-        "stroboscopic points recorded and tested for a period (periods up to 16)",
-    );
-    let max_transient = cli.usize_in(
-        "max-transient",
-        d.max_transient as usize,
-        1,
-        100_000_000,
-        "a run with no period goes on until its transients add up to this",
-    );
-    let match_tol = cli.f64_in(
-        "match-tol",
-        MatchTolerance::default().state,
-        1e-12,
-        1.0,
-        "periodic attractors match when their cycle points agree to this (every component)",
-    );
-    let (rtol, atol) = common::tolerance_flags(&mut cli);
-    let run = common::sweep_run_flags(&mut cli);
-    cli.finish();
+    let (h_min, h_max) = (h_min.unwrap_or(dh.0), h_max.unwrap_or(dh.1));
+    let (v_min, v_max) = (v_min.unwrap_or(dv.0), v_max.unwrap_or(dv.1));
+    // Unset values as NaN below.
+    let (eta, preload) = (eta.unwrap_or(f64::NAN), preload.unwrap_or(f64::NAN));
     if scene == "all" && !(eta.is_nan() && preload.is_nan()) {
         fail("--eta and --preload need one --scene");
     }

@@ -15,9 +15,11 @@ mod common;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use common::cli::{fail, Cli};
+use clap::Parser;
+use common::cli::{f64_in, fail, parse, usize_in};
 use common::csv::{fmt_f64, CsvWriter};
 use common::plot::{self, Figure};
+use common::Tolerances;
 use jeffcott::analysis::{linspace, BifurcationConfig, LocatorConfig, StderrProgress, SweepConfig};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{ParamSweep, SweepParameter};
@@ -36,75 +38,90 @@ const PAPER_MARKS: [(&str, f64, &str); 9] = [
     ("b", 4.484, "4.484"),
 ];
 
+/// Bifurcation diagrams of x_r against eta (paper Fig. 8a: D = 0, Fig. 8b: D = 0.1).
+#[derive(Parser)]
+#[command(name = "bifurcation")]
+struct Flags {
+    /// Output folder
+    #[arg(long, value_name = "DIR", default_value = "target/figures/bifurcation")]
+    out: PathBuf,
+    /// Lowest eta [range: 0.01..=100]
+    #[arg(long, value_name = "NUMBER", default_value = "2", value_parser = f64_in(0.01, 100.0))]
+    eta_min: f64,
+    /// Highest eta [range: 0.01..=100]
+    #[arg(long, value_name = "NUMBER", default_value = "5", value_parser = f64_in(0.01, 100.0))]
+    eta_max: f64,
+    /// Number of eta values [range: 1..=1000000]
+    #[arg(long, value_name = "COUNT", default_value = "601", value_parser = usize_in(1, 1_000_000))]
+    steps: usize,
+    /// Periods discarded [range: 0..=10000000]
+    #[arg(long, value_name = "COUNT", default_value = "300", value_parser = usize_in(0, 10_000_000))]
+    transient: usize,
+    /// Periods recorded [range: 2..=1000000]
+    #[arg(long, value_name = "COUNT", default_value = "150", value_parser = usize_in(2, 1_000_000))]
+    record: usize,
+    /// Which diagram
+    #[arg(long, default_value = "both", value_parser = ["a", "b", "both"])]
+    diagram: String,
+    /// Preload D = Dx = Dy for a single diagram (default: the paper's 0 for a, 0.1 for b)
+    /// [range: 0..=10]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 10.0))]
+    preload: Option<f64>,
+    /// State carried over from the previous eta, or every eta from rest
+    #[arg(long, default_value = "reset", value_parser = ["carry", "reset"])]
+    mode: String,
+    /// Carry mode: contiguous chunks, each starting from rest (1 = one serial chain)
+    /// [range: 1..=1000000]
+    #[arg(long, value_name = "COUNT", default_value = "8", value_parser = usize_in(1, 1_000_000))]
+    chunks: usize,
+    /// Worker threads, unset = all cores [range: 1..=1024]
+    #[arg(long, value_name = "COUNT", value_parser = usize_in(1, 1024))]
+    threads: Option<usize>,
+    #[command(flatten)]
+    tol: Tolerances,
+    /// Relative tolerance of the period test [range: 0..=1]
+    #[arg(long, value_name = "NUMBER", default_value = "1e-6", value_parser = f64_in(0.0, 1.0))]
+    period_tol: f64,
+    /// With --locate-to and --diagram a|b: locate by bisection (each run from rest) where the
+    /// period detected at this eta ends towards --locate-to, print it and exit
+    /// [range: 0.01..=100]
+    #[arg(long = "locate-from", value_name = "NUMBER", value_parser = f64_in(0.01, 100.0))]
+    locate_lo: Option<f64>,
+    /// Other end for --locate-from (above or below it) [range: 0.01..=100]
+    #[arg(long = "locate-to", value_name = "NUMBER", value_parser = f64_in(0.01, 100.0))]
+    locate_hi: Option<f64>,
+    /// Periods discarded at each bisection step [range: 0..=10000000]
+    #[arg(long, value_name = "COUNT", default_value = "2000", value_parser = usize_in(0, 10_000_000))]
+    locate_transient: usize,
+    /// Periods recorded at each bisection step [range: 2..=1000000]
+    #[arg(long, value_name = "COUNT", default_value = "200", value_parser = usize_in(2, 1_000_000))]
+    locate_record: usize,
+}
+
 fn main() {
-    let mut cli = Cli::new(
-        "Bifurcation diagrams of x_r against eta (paper Fig. 8a: D = 0, Fig. 8b: D = 0.1).",
-    );
-    let out = PathBuf::from(cli.string("out", "target/figures/bifurcation", "output folder"));
-    let eta_min = cli.f64_in("eta-min", 2.0, 0.01, 100.0, "lowest eta");
-    let eta_max = cli.f64_in("eta-max", 5.0, 0.01, 100.0, "highest eta");
-    let steps = cli.usize_in("steps", 601, 1, 1_000_000, "number of eta values");
-    let transient = cli.usize_in("transient", 300, 0, 10_000_000, "periods discarded");
-    let record = cli.usize_in("record", 150, 2, 1_000_000, "periods recorded");
-    let diagram = cli.choice("diagram", "both", &["a", "b", "both"], "which diagram");
-    let preload = cli.f64_in(
-        "preload",
-        f64::NAN,
-        0.0,
-        10.0,
-        "preload D = Dx = Dy for a single diagram (default: the paper's 0 for a, 0.1 for b)",
-    );
-    let mode = cli.choice(
-        "mode",
-        "reset",
-        &["carry", "reset"],
-        "state carried over from the previous eta, or every eta from rest",
-    );
-    let chunks = cli.usize_in(
-        "chunks",
-        8,
-        1,
-        1_000_000,
-        "carry mode: contiguous chunks, each starting from rest (1 = one serial chain)",
-    );
-    let threads = cli.opt_usize_in("threads", 1, 1024, "worker threads, unset = all cores");
-    let (rtol, atol) = common::tolerance_flags(&mut cli);
-    let tol = cli.f64_in(
-        "period-tol",
-        1e-6,
-        0.0,
-        1.0,
-        "relative tolerance of the period test",
-    );
-    let locate_lo = cli.f64_in(
-        "locate-from",
-        f64::NAN,
-        0.01,
-        100.0,
-        "with --locate-to and --diagram a|b: locate by bisection (each run from rest) where the period detected at this eta ends towards --locate-to, print it and exit",
-    );
-    let locate_hi = cli.f64_in(
-        "locate-to",
-        f64::NAN,
-        0.01,
-        100.0,
-        "other end for --locate-from (above or below it)",
-    );
-    let locate_transient = cli.usize_in(
-        "locate-transient",
-        2000,
-        0,
-        10_000_000,
-        "periods discarded at each bisection step",
-    );
-    let locate_record = cli.usize_in(
-        "locate-record",
-        200,
-        2,
-        1_000_000,
-        "periods recorded at each bisection step",
-    );
-    cli.finish();
+    let Flags {
+        out,
+        eta_min,
+        eta_max,
+        steps,
+        transient,
+        record,
+        diagram,
+        preload,
+        mode,
+        chunks,
+        threads,
+        tol: tolerances,
+        period_tol: tol,
+        locate_lo,
+        locate_hi,
+        locate_transient,
+        locate_record,
+    } = parse();
+    let (rtol, atol) = tolerances.get();
+    // Unset values as NaN below.
+    let preload = preload.unwrap_or(f64::NAN);
+    let (locate_lo, locate_hi) = (locate_lo.unwrap_or(f64::NAN), locate_hi.unwrap_or(f64::NAN));
     if locate_lo.is_nan() != locate_hi.is_nan() {
         fail("--locate-from and --locate-to go together");
     }

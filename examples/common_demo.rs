@@ -16,36 +16,61 @@ mod common;
 use std::f64::consts::TAU;
 use std::path::PathBuf;
 
-use common::cli::{fail, Cli};
+use clap::Parser;
+use common::cli::{f64_in, fail, parse, usize_in};
 use common::plot::{self, Figure, Grid, LegendPosition, Series};
 use jeffcott::analysis::{detect_period_scalar, sweep, Periodicity, StderrProgress, SweepConfig};
 
+/// Demo of the examples' shared helpers on synthetic data (logistic map, standard map,
+/// bouncing ball, Lyapunov heat map, work-precision diagram).
+#[derive(Parser)]
+#[command(name = "common_demo")]
+struct Flags {
+    /// Output folder
+    #[arg(long, value_name = "DIR", default_value = "target/figures/common_demo")]
+    out: PathBuf,
+    /// Lowest logistic parameter r [range: 0..=4]
+    #[arg(long, value_name = "NUMBER", default_value = "2.8", value_parser = f64_in(0.0, 4.0))]
+    r_min: f64,
+    /// Highest logistic parameter r [range: 0..=4]
+    #[arg(long, value_name = "NUMBER", default_value = "4", value_parser = f64_in(0.0, 4.0))]
+    r_max: f64,
+    /// Number of r values [range: 2..=100000]
+    #[arg(long, value_name = "COUNT", default_value = "1500", value_parser = usize_in(2, 100_000))]
+    values: usize,
+    /// Points plotted per r value [range: 1..=100000]
+    #[arg(long, value_name = "COUNT", default_value = "300", value_parser = usize_in(1, 100_000))]
+    points: usize,
+    /// Iterations discarded per r value
+    #[arg(long, value_name = "COUNT", default_value = "1000")]
+    transient: usize,
+    /// State carried from value to value, or reset
+    #[arg(long, default_value = "carry", value_parser = ["carry", "reset"])]
+    mode: String,
+    /// Contiguous chunks in carry mode [range: 1..=100000]
+    #[arg(long, value_name = "COUNT", default_value = "8", value_parser = usize_in(1, 100_000))]
+    chunks: usize,
+    /// Worker threads, unset = all cores [range: 1..=1024]
+    #[arg(long, value_name = "COUNT", value_parser = usize_in(1, 1024))]
+    threads: Option<usize>,
+    /// Format of the phase portrait
+    #[arg(long, default_value = "png", value_parser = ["png", "svg"])]
+    lines_format: String,
+}
+
 fn main() {
-    let mut cli = Cli::new(
-        "Demo of the examples' shared helpers on synthetic data (logistic map, standard map,\n\
-         bouncing ball, Lyapunov heat map, work-precision diagram).",
-    );
-    let out = PathBuf::from(cli.string("out", "target/figures/common_demo", "output folder"));
-    let r_min = cli.f64_in("r-min", 2.8, 0.0, 4.0, "lowest logistic parameter r");
-    let r_max = cli.f64_in("r-max", 4.0, 0.0, 4.0, "highest logistic parameter r");
-    let values = cli.usize_in("values", 1500, 2, 100_000, "number of r values");
-    let points = cli.usize_in("points", 300, 1, 100_000, "points plotted per r value");
-    let transient = cli.usize("transient", 1000, "iterations discarded per r value");
-    let mode = cli.choice(
-        "mode",
-        "carry",
-        &["carry", "reset"],
-        "state carried from value to value, or reset",
-    );
-    let chunks = cli.usize_in("chunks", 8, 1, 100_000, "contiguous chunks in carry mode");
-    let threads = cli.opt_usize_in("threads", 1, 1024, "worker threads, unset = all cores");
-    let format = cli.choice(
-        "lines-format",
-        "png",
-        &["png", "svg"],
-        "format of the phase portrait",
-    );
-    cli.finish();
+    let Flags {
+        out,
+        r_min,
+        r_max,
+        values,
+        points,
+        transient,
+        mode,
+        chunks,
+        threads,
+        lines_format: format,
+    } = parse();
     if r_min >= r_max {
         fail(format!("--r-min ({r_min}) must be below --r-max ({r_max})"));
     }

@@ -39,10 +39,11 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::cli::{fail, Cli};
+use clap::Parser;
+use common::cli::{f64_in, fail, finite, num, parse, usize_in};
 use common::or_exit;
 use common::plot::{self, BranchCurve, Figure};
-use common::scene::scene_flags;
+use common::scene::SceneFlags;
 use jeffcott::analysis::{linspace, BifurcationConfig};
 use jeffcott::global::{
     continue_orbit, find_attractor, switch_at_flip, AttractorConfig, Branch, ContinuationConfig,
@@ -126,43 +127,64 @@ fn marks(branch: &Branch) -> Vec<(f64, f64, String)> {
         .collect()
 }
 
+/// Continuation of periodic orbits: special points as JSON lines on stdout, the branch drawn.
+#[derive(Parser)]
+#[command(name = "continuation")]
+struct Flags {
+    #[command(flatten)]
+    scene: SceneFlags,
+    /// The parameter continued
+    #[arg(long, default_value = "eta", value_parser = PARAMS.map(|p| p.0))]
+    param: String,
+    /// Starting value of the parameter (needed unless --coexistence)
+    #[arg(long, value_name = "NUMBER", value_parser = finite,
+          required_unless_present = "coexistence")]
+    from: Option<f64>,
+    /// Value to continue towards (needed unless --coexistence; not --from)
+    #[arg(long, value_name = "NUMBER", value_parser = finite,
+          required_unless_present = "coexistence")]
+    to: Option<f64>,
+    /// Period N of the orbit (forcing periods) [range: 1..=1000]
+    #[arg(long, value_name = "COUNT", default_value = "1", value_parser = usize_in(1, 1000))]
+    period: usize,
+    /// Periods run from the initial state before Newton [range: 0..=100000000]
+    #[arg(long, value_name = "COUNT", default_value = "300", value_parser = usize_in(0, 100_000_000))]
+    transient: usize,
+    /// Largest arclength step [range: 1e-6..=1]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(1e-6, 1.0),
+          default_value = num(ContinuationConfig::default().ds_max))]
+    ds_max: f64,
+    /// Output folder
+    #[arg(
+        long,
+        value_name = "DIR",
+        default_value = "target/figures/continuation"
+    )]
+    out: PathBuf,
+    /// Also follow the period-doubled branch from each flip
+    #[arg(long)]
+    switch: bool,
+    /// Instead of one branch: the continued branches over the brute-force diagrams of Fig. 8
+    /// (D = 0 and D = 0.1; uses only --out, --ds-max and the integration flags)
+    #[arg(long, conflicts_with_all = ["from", "to", "switch"])]
+    coexistence: bool,
+}
+
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let switches = ["--coexistence", "--switch"];
-    let coexistence = args.iter().any(|a| a == "--coexistence");
-    let switch = args.iter().any(|a| a == "--switch");
-    let rest = args.iter().filter(|a| !switches.contains(&a.as_str()));
-    let mut cli = Cli::from_args(
-        "continuation",
-        "Continuation of periodic orbits: special points as JSON lines on stdout, the branch drawn.\n\
-         Switches: --switch (follow the period-doubled branch from each flip), --coexistence\n\
-         (continued branches over the brute-force diagrams of Fig. 8).",
-        rest,
-    );
-    let scene = scene_flags(&mut cli);
-    let names: Vec<&str> = PARAMS.iter().map(|p| p.0).collect();
-    let param = cli.choice("param", "eta", &names, "the parameter continued");
-    let from = cli.f64("from", f64::NAN, "starting value of the parameter");
-    let to = cli.f64("to", f64::NAN, "value to continue towards");
-    let period = cli.usize_in(
-        "period",
-        1,
-        1,
-        1000,
-        "period N of the orbit (forcing periods)",
-    );
-    let transient = cli.usize_in(
-        "transient",
-        300,
-        0,
-        100_000_000,
-        "periods run from the initial state before Newton",
-    );
+    let Flags {
+        scene,
+        param,
+        from,
+        to,
+        period,
+        transient,
+        ds_max,
+        out,
+        switch,
+        coexistence,
+    } = parse();
+    let scene = scene.scene();
     let d = ContinuationConfig::default();
-    let ds_max = cli.f64_in("ds-max", d.ds_max, 1e-6, 1.0, "largest arclength step");
-    let out = PathBuf::from(cli.string("out", "target/figures/continuation", "output folder"));
-    cli.finish();
-    scene.validate();
     let config = ContinuationConfig {
         ds: d.ds.min(ds_max),
         ds_max,
@@ -173,8 +195,11 @@ fn main() {
         run_coexistence(&out, &config);
         return;
     }
-    if from.is_nan() || to.is_nan() || from == to {
-        fail("--from and --to are needed, and must differ (or use --coexistence)");
+    let (Some(from), Some(to)) = (from, to) else {
+        fail("--from and --to are needed (or use --coexistence)");
+    };
+    if from == to {
+        fail("--to must differ from --from");
     }
     let sp = PARAMS
         .iter()

@@ -2,15 +2,20 @@
 //! shaded by the classifier `SnubberRing::regime` on a grid, with the analytic boundary curves
 //! (eqs. 23-27) overlaid.
 //!
-//! Usage: `cargo run --example fig6_regions [OUT_DIR] [DX DY]` (default `target/figures/fig6`, Dx = 1.5,
+//! Usage: `cargo run --example fig6_regions [OUT_DIR] [DX] [DY]` (default `target/figures/fig6`, Dx = 1.5,
 //! Dy = 1.1 as in the paper's Fig. 7). Writes `fig6_regions.png`,
 //! `fig6_regions_grid.csv` (x_r, y_r, regime) and `fig6_boundaries.csv` (boundary, x_r, y_r).
+
+#[path = "common/mod.rs"]
+mod common;
 
 use std::error::Error;
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use clap::Parser;
+use common::cli::{finite, parse};
 use jeffcott::ring::boundaries::{Boundary, RegionBoundaries};
 use jeffcott::ring::{Regime, RingAxis, SnubberRing};
 use nalgebra::Vector2;
@@ -141,13 +146,25 @@ where
     Ok(())
 }
 
+/// Paper Fig. 6: the regions I..V of the rotor plane (first quadrant) for a preloaded ring,
+/// shaded by the classifier on a grid, with the analytic boundary curves (eqs. 23-27).
+/// Writes fig6_regions.png, fig6_regions_grid.csv and fig6_boundaries.csv into OUT_DIR.
+#[derive(Parser)]
+#[command(name = "fig6_regions")]
+struct Flags {
+    /// Output folder
+    #[arg(value_name = "OUT_DIR", default_value = "target/figures/fig6")]
+    out: PathBuf,
+    /// Preload D_x of the ring (stiffness 30 on both axes)
+    #[arg(value_name = "DX", default_value = "1.5", value_parser = finite)]
+    dx: f64,
+    /// Preload D_y of the ring
+    #[arg(value_name = "DY", default_value = "1.1", value_parser = finite)]
+    dy: f64,
+}
+
 fn main() -> Result<(), Box<dyn Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let out: PathBuf = args
-        .first()
-        .map_or_else(|| "target/figures/fig6".into(), PathBuf::from);
-    let dx: f64 = args.get(1).map_or(Ok(1.5), |s| s.parse())?;
-    let dy: f64 = args.get(2).map_or(Ok(1.1), |s| s.parse())?;
+    let Flags { out, dx, dy } = parse();
     fs::create_dir_all(&out)?;
     register_font(
         "sans-serif",

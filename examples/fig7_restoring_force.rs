@@ -13,11 +13,16 @@
 //! `fig7_restoring_force.png`, `fig7_force_grid.csv` (x_r, y_r, regime, F_rx, F_ry, |F_r|) and
 //! `fig7_cuts.csv` (phi_deg, R, F_rx, regime).
 
+#[path = "common/mod.rs"]
+mod common;
+
 use std::error::Error;
 use std::fs;
 use std::io::Write;
 use std::path::PathBuf;
 
+use clap::Parser;
+use common::cli::parse;
 use jeffcott::ring::boundaries::{Boundary, RegionBoundaries};
 use jeffcott::ring::{Regime, RingAxis, SnubberRing};
 use nalgebra::Vector2;
@@ -148,10 +153,19 @@ where
     Ok(())
 }
 
+/// Paper Fig. 7: the restoring force on the rotor for Dx = 1.5, Dy = 1.1, K = 30,
+/// ex = ey = 0: heat maps of F_rx, F_ry and |F_r|, and cuts F_rx(R) along rays. Writes
+/// fig7_restoring_force.png, fig7_force_grid.csv and fig7_cuts.csv into OUT_DIR.
+#[derive(Parser)]
+#[command(name = "fig7_restoring_force")]
+struct Flags {
+    /// Output folder
+    #[arg(value_name = "OUT_DIR", default_value = "target/figures/fig7")]
+    out: PathBuf,
+}
+
 fn main() -> Result<(), Box<dyn Error>> {
-    let out: PathBuf = std::env::args()
-        .nth(1)
-        .map_or_else(|| "target/figures/fig7".into(), PathBuf::from);
+    let Flags { out } = parse();
     fs::create_dir_all(&out)?;
     register_font(
         "sans-serif",

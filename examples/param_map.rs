@@ -15,9 +15,11 @@ mod common;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use common::cli::{fail, Cli};
+use clap::Parser;
+use common::cli::{f64_in, fail, parse, usize_in};
 use common::plot::{self, Category, CategoryGrid, Figure, Grid};
 use common::ranks::Ranks;
+use common::{SweepRunFlags, Tolerances};
 use jeffcott::analysis::StderrProgress;
 use jeffcott::global::{
     continue_orbit, AttractorConfig, ContinuationConfig, Grid2, Json, Manifest, SpecialKind,
@@ -61,44 +63,79 @@ fn class_of(period: Option<usize>) -> usize {
     }
 }
 
+/// Two-parameter maps of the rotor from rest: eta against the preload and against the
+/// eccentricity, coloured by period and by contacts per period.
+#[derive(Parser)]
+#[command(name = "param_map")]
+struct Flags {
+    /// Output folder
+    #[arg(long, value_name = "DIR", default_value = "target/figures/param_map")]
+    out: PathBuf,
+    /// Which map
+    #[arg(long = "map", default_value = "both", value_parser = ["both", "preload", "ecc"])]
+    which: String,
+    /// Lowest eta [range: 0.01..=100]
+    #[arg(long, value_name = "NUMBER", default_value = "2", value_parser = f64_in(0.01, 100.0))]
+    eta_min: f64,
+    /// Highest eta [range: 0.01..=100]
+    #[arg(long, value_name = "NUMBER", default_value = "5", value_parser = f64_in(0.01, 100.0))]
+    eta_max: f64,
+    /// Number of eta values [range: 1..=1000000]
+    #[arg(long, value_name = "COUNT", default_value = "121", value_parser = usize_in(1, 1_000_000))]
+    n_eta: usize,
+    /// Preload map: highest D (from 0) [range: 0..=10]
+    #[arg(long = "preload-max", value_name = "NUMBER", default_value = "0.2", value_parser = f64_in(0.0, 10.0))]
+    d_max: f64,
+    /// Eccentricity map: lowest e_x [range: -10..=10]
+    #[arg(long = "ecc-min", value_name = "NUMBER", default_value = "0.5", value_parser = f64_in(-10.0, 10.0))]
+    e_min: f64,
+    /// Eccentricity map: highest e_x [range: -10..=10]
+    #[arg(long = "ecc-max", value_name = "NUMBER", default_value = "1.1", value_parser = f64_in(-10.0, 10.0))]
+    e_max: f64,
+    /// Number of values of D or e_x [range: 1..=1000000]
+    #[arg(long, value_name = "COUNT", default_value = "41", value_parser = usize_in(1, 1_000_000))]
+    n_y: usize,
+    /// Forcing periods discarded [range: 1..=10000000]
+    #[arg(long, value_name = "COUNT", default_value = "500", value_parser = usize_in(1, 10_000_000))]
+    transient: usize,
+    /// Stroboscopic points tested [range: 32..=1000000]
+    #[arg(long, value_name = "COUNT", default_value = "64", value_parser = usize_in(32, 1_000_000))]
+    record: usize,
+    /// A run with no period goes on until its transients add up to this
+    /// [range: 1..=100000000]
+    #[arg(long, value_name = "COUNT", default_value = "1500", value_parser = usize_in(1, 100_000_000))]
+    max_transient: usize,
+    #[command(flatten)]
+    tol: Tolerances,
+    #[command(flatten)]
+    run: SweepRunFlags,
+    /// Draw the continuation's bifurcation curves over the period map
+    #[arg(long, default_value = "yes", value_parser = ["yes", "no"])]
+    overlay: String,
+}
+
 fn main() {
     let ranks = Ranks::init();
-    let mut cli = Cli::new(
-        "Two-parameter maps of the rotor from rest: eta against the preload and against the eccentricity, coloured by period and by contacts per period.",
-    );
-    let out = PathBuf::from(cli.string("out", "target/figures/param_map", "output folder"));
-    let which = cli.choice("map", "both", &["both", "preload", "ecc"], "which map");
-    let eta_min = cli.f64_in("eta-min", 2.0, 0.01, 100.0, "lowest eta");
-    let eta_max = cli.f64_in("eta-max", 5.0, 0.01, 100.0, "highest eta");
-    let n_eta = cli.usize_in("n-eta", 121, 1, 1_000_000, "number of eta values");
-    let d_max = cli.f64_in(
-        "preload-max",
-        0.2,
-        0.0,
-        10.0,
-        "preload map: highest D (from 0)",
-    );
-    let e_min = cli.f64_in("ecc-min", 0.5, -10.0, 10.0, "eccentricity map: lowest e_x");
-    let e_max = cli.f64_in("ecc-max", 1.1, -10.0, 10.0, "eccentricity map: highest e_x");
-    let n_y = cli.usize_in("n-y", 41, 1, 1_000_000, "number of values of D or e_x");
-    let transient = cli.usize_in("transient", 500, 1, 10_000_000, "forcing periods discarded");
-    let record = cli.usize_in("record", 64, 32, 1_000_000, "stroboscopic points tested");
-    let max_transient = cli.usize_in(
-        "max-transient",
-        1500,
-        1,
-        100_000_000,
-        "a run with no period goes on until its transients add up to this",
-    );
-    let (rtol, atol) = common::tolerance_flags(&mut cli);
-    let run = common::sweep_run_flags(&mut cli);
-    let overlay = cli.choice(
-        "overlay",
-        "yes",
-        &["yes", "no"],
-        "draw the continuation's bifurcation curves over the period map",
-    ) == "yes";
-    cli.finish();
+    let Flags {
+        out,
+        which,
+        eta_min,
+        eta_max,
+        n_eta,
+        d_max,
+        e_min,
+        e_max,
+        n_y,
+        transient,
+        record,
+        max_transient,
+        tol,
+        run,
+        overlay,
+    } = parse();
+    let (rtol, atol) = tol.get();
+    let run = run.config();
+    let overlay = overlay == "yes";
     if eta_min >= eta_max || e_min >= e_max {
         fail("each axis needs its lowest value below its highest");
     }

@@ -12,8 +12,10 @@ mod common;
 
 use std::path::PathBuf;
 
-use common::cli::Cli;
+use clap::Parser;
+use common::cli::{f64_in, parse, usize_in};
 use common::plot::{self, Figure, Series};
+use common::Tolerances;
 use jeffcott::analysis::PeriodTest;
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{poincare_map, RotorStart};
@@ -37,34 +39,47 @@ fn padded_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (mid - half, mid + half)
 }
 
+/// Poincaré maps (x_r, x_r') of the paper's Fig. 9a-d.
+#[derive(Parser)]
+#[command(name = "poincare")]
+struct Flags {
+    /// Output folder
+    #[arg(long, value_name = "DIR", default_value = "target/figures/poincare")]
+    out: PathBuf,
+    /// Which panel of Fig. 9
+    #[arg(long, default_value = "all", value_parser = ["a", "b", "c", "d", "all"])]
+    figure: String,
+    /// Periods discarded [range: 0..=100000000]
+    #[arg(long, value_name = "COUNT", default_value = "1000", value_parser = usize_in(0, 100_000_000))]
+    transient: usize,
+    /// Periods recorded [range: 2..=100000000]
+    #[arg(long, value_name = "COUNT", default_value = "3000", value_parser = usize_in(2, 100_000_000))]
+    record: usize,
+    /// Override the panel's eta (default: the paper's) [range: 0.01..=100]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.01, 100.0))]
+    eta: Option<f64>,
+    #[command(flatten)]
+    tol: Tolerances,
+    /// Relative tolerance of the period test [range: 0..=1]
+    #[arg(long, value_name = "NUMBER", default_value = "1e-6", value_parser = f64_in(0.0, 1.0))]
+    period_tol: f64,
+    /// Largest period tested [range: 1..=10000]
+    #[arg(long, value_name = "COUNT", default_value = "16", value_parser = usize_in(1, 10_000))]
+    max_period: usize,
+}
+
 fn main() {
-    let mut cli = Cli::new("Poincaré maps (x_r, x_r') of the paper's Fig. 9a-d.");
-    let out = PathBuf::from(cli.string("out", "target/figures/poincare", "output folder"));
-    let figure = cli.choice(
-        "figure",
-        "all",
-        &["a", "b", "c", "d", "all"],
-        "which panel of Fig. 9",
-    );
-    let transient = cli.usize_in("transient", 1000, 0, 100_000_000, "periods discarded");
-    let record = cli.usize_in("record", 3000, 2, 100_000_000, "periods recorded");
-    let eta = cli.f64_in(
-        "eta",
-        f64::NAN,
-        0.01,
-        100.0,
-        "override the panel's eta (default: the paper's)",
-    );
-    let (rtol, atol) = common::tolerance_flags(&mut cli);
-    let tol = cli.f64_in(
-        "period-tol",
-        1e-6,
-        0.0,
-        1.0,
-        "relative tolerance of the period test",
-    );
-    let max_period = cli.usize_in("max-period", 16, 1, 10_000, "largest period tested");
-    cli.finish();
+    let Flags {
+        out,
+        figure,
+        transient,
+        record,
+        eta,
+        tol: tolerances,
+        period_tol: tol,
+        max_period,
+    } = parse();
+    let (rtol, atol) = tolerances.get();
 
     let panels: Vec<(&str, Preset)> = [
         ("a", Preset::Fig9a),
@@ -83,7 +98,7 @@ fn main() {
     let test = PeriodTest { max_period, tol };
     for (name, preset) in panels {
         let mut params = preset.params();
-        if !eta.is_nan() {
+        if let Some(eta) = eta {
             params.eta = eta;
         }
         let map = common::or_exit(poincare_map(

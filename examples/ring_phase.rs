@@ -17,34 +17,49 @@ mod common;
 use std::f64::consts::TAU;
 use std::path::PathBuf;
 
-use common::cli::Cli;
+use clap::Parser;
+use common::cli::{parse, usize_in};
 use common::csv::{fmt_f64, CsvWriter};
 use common::plot::{self, Figure, Series};
+use common::Tolerances;
 use jeffcott::analysis::phase_portrait;
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::JeffcottModel;
 use jeffcott::params::Preset;
 
+/// Ring phase portraits (x_s, x_s') of the paper's Fig. 10a-d.
+#[derive(Parser)]
+#[command(name = "ring_phase")]
+struct Flags {
+    /// Output folder
+    #[arg(long, value_name = "DIR", default_value = "target/figures/ring_phase")]
+    out: PathBuf,
+    /// Which panel of Fig. 10
+    #[arg(long, default_value = "all", value_parser = ["a", "b", "c", "d", "all"])]
+    figure: String,
+    /// Periods discarded [range: 0..=100000000]
+    #[arg(long, value_name = "COUNT", default_value = "300", value_parser = usize_in(0, 100_000_000))]
+    transient: usize,
+    /// Periods drawn [range: 1..=10000]
+    #[arg(long, value_name = "COUNT", default_value = "8", value_parser = usize_in(1, 10_000))]
+    periods: usize,
+    /// Dense samples per forcing period [range: 10..=1000000]
+    #[arg(long = "samples", value_name = "COUNT", default_value = "4000", value_parser = usize_in(10, 1_000_000))]
+    per_period: usize,
+    #[command(flatten)]
+    tol: Tolerances,
+}
+
 fn main() {
-    let mut cli = Cli::new("Ring phase portraits (x_s, x_s') of the paper's Fig. 10a-d.");
-    let out = PathBuf::from(cli.string("out", "target/figures/ring_phase", "output folder"));
-    let figure = cli.choice(
-        "figure",
-        "all",
-        &["a", "b", "c", "d", "all"],
-        "which panel of Fig. 10",
-    );
-    let transient = cli.usize_in("transient", 300, 0, 100_000_000, "periods discarded");
-    let periods = cli.usize_in("periods", 8, 1, 10_000, "periods drawn");
-    let per_period = cli.usize_in(
-        "samples",
-        4000,
-        10,
-        1_000_000,
-        "dense samples per forcing period",
-    );
-    let (rtol, atol) = common::tolerance_flags(&mut cli);
-    cli.finish();
+    let Flags {
+        out,
+        figure,
+        transient,
+        periods,
+        per_period,
+        tol,
+    } = parse();
+    let (rtol, atol) = tol.get();
 
     let panels: Vec<(&str, Preset)> = [
         ("a", Preset::Fig10a),

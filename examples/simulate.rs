@@ -30,9 +30,10 @@ mod common;
 
 use std::io::{self, BufWriter, Write};
 
-use common::cli::{fail, Cli};
+use clap::Parser;
+use common::cli::{fail, parse, usize_in};
 use common::csv::write_f64;
-use common::scene::{scene_flags, Scene};
+use common::scene::{Scene, SceneFlags};
 use jeffcott::hybrid::StrobePoint;
 use jeffcott::nalgebra::U6;
 use jeffcott::JeffcottModel;
@@ -50,22 +51,25 @@ fn write_rows(out: &mut impl Write, strobe: &[StrobePoint<U6>], transient: u64) 
     Ok(())
 }
 
+/// One simulation of the Jeffcott rotor with a preloaded snubber ring: stroboscopic states
+/// k,tau,x,y,vx,vy,xs,ys,regime as CSV on stdout, rows k = 0..=N at tau = 2 pi (T + k) / eta.
+#[derive(Parser)]
+#[command(name = "simulate")]
+struct Flags {
+    #[command(flatten)]
+    scene: SceneFlags,
+    /// Printed periods N [range: 0..=1000000000]
+    #[arg(long, value_name = "COUNT", default_value = "10", value_parser = usize_in(0, 1_000_000_000))]
+    periods: usize,
+    /// Periods T run before the first printed row [range: 0..=1000000000]
+    #[arg(long, value_name = "COUNT", default_value = "0", value_parser = usize_in(0, 1_000_000_000))]
+    transient: usize,
+}
+
 fn main() {
-    let mut cli = Cli::new(
-        "One simulation of the Jeffcott rotor with a preloaded snubber ring: stroboscopic states\n\
-         k,tau,x,y,vx,vy,xs,ys,regime as CSV on stdout, rows k = 0..=N at tau = 2 pi (T + k) / eta.",
-    );
-    let scene = scene_flags(&mut cli);
-    let periods = cli.usize_in("periods", 10, 0, 1_000_000_000, "printed periods N");
-    let transient = cli.usize_in(
-        "transient",
-        0,
-        0,
-        1_000_000_000,
-        "periods run before the first printed row",
-    );
-    cli.finish();
-    scene.validate();
+    let flags: Flags = parse();
+    let (periods, transient) = (flags.periods, flags.transient);
+    let scene = flags.scene.scene();
     let Scene {
         params,
         opts,

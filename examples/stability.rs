@@ -1,41 +1,41 @@
 //! Stability of the rotor's orbits: periodic orbits and their Floquet multipliers, Lyapunov
 //! exponents, and where a periodic orbit loses stability along η. Prints exactly one JSON
-//! object on standard output, for scripts; `--pictures` draws figures instead.
+//! object on standard output, for scripts; `pictures` draws figures instead.
 //!
-//! Modes (one of them):
+//! Modes (subcommands, one of them; `stability MODE --help` lists its flags):
 //!
-//! * `--orbit --period N [--transient T]`: runs T forcing periods from the initial state, then
+//! * `orbit --period N [--transient T]`: runs T forcing periods from the initial state, then
 //!   finds the period-N orbit by Newton's method on P^N(z) - z with the Jacobian of the
 //!   variational equations:
 //!   `{"period": N, "point": [x, y, vx, vy], "residual": r, "multipliers": [[re, im], ...],
 //!   "contacts": c, "min_depth": d, "grazing_margin": g, ...}`, multipliers sorted by
 //!   modulus, largest first; `min_depth` the smallest contact depth and `grazing_margin` the
 //!   closest free-flight approach to contact (`null` when there is none);
-//! * `--lyapunov --transient T --periods P`: the Lyapunov spectrum per forcing period by the
+//! * `lyapunov --transient T --periods P`: the Lyapunov spectrum per forcing period by the
 //!   QR method, its batch-means standard error, and the largest exponent by the
 //!   two-trajectory method: `{"lambda": [l1, l2, l3, l4], "stderr": [...],
 //!   "lambda1_two_trajectory": v, "stderr_two_trajectory": e, ...}`;
-//! * `--locate-loss --from A --to B --period N`: finds the period-N orbit at η = A (after
+//! * `locate-loss --from A --to B --period N`: finds the period-N orbit at η = A (after
 //!   the transient), continues it towards η = B and prints the first loss of stability:
 //!   `{"eta": value, "kind": "flip" | "fold" | "neimark-sacker" | "grazing",
 //!   "multipliers": [...], "bracket": [a, b], ...}` (`"eta": null` if it stays stable; if
 //!   the continuation stops on an error, `"eta": null` with `"failure"`, the error,
 //!   `"failed_at"` and `"last_eta"`, the last orbit's parameter);
-//! * `--pictures [--out DIR]`: the largest multiplier modulus of the period-1 orbit against
+//! * `pictures [--out DIR]`: the largest multiplier modulus of the period-1 orbit against
 //!   η up to its loss of stability (both preloads), and the largest Lyapunov exponent against
 //!   η over [2, 5] drawn above the bifurcation diagram from the same runs, for D = 0 and
 //!   D = 0.1 (`--values`, `--periods`, `--transient` set the resolution).
 //!
-//! The scene flags are those of `simulate` (`--preset`, parameter overrides, `--rtol`,
+//! Every mode takes the scene flags of `simulate` (`--preset`, parameter overrides, `--rtol`,
 //! `--atol`, `--method`, the initial state `--x0 --y0 --vx0 --vy0`). Exit status: 0 on success;
 //! 2 with one `error: ...` line on standard error for bad input; 1 with one line if the
 //! computation fails (e.g. Newton does not converge: the line gives the last residual).
 //!
 //! ```text
-//! cargo run --release --example stability -- --orbit --period 1 --eta 2
-//! cargo run --release --example stability -- --lyapunov --eta 2.442 --transient 500 --periods 5000
-//! cargo run --release --example stability -- --locate-loss --from 2 --to 2.3 --period 1 --preset fig8b
-//! cargo run --release --example stability -- --pictures
+//! cargo run --release --example stability -- orbit --period 1 --eta 2
+//! cargo run --release --example stability -- lyapunov --eta 2.442 --transient 500 --periods 5000
+//! cargo run --release --example stability -- locate-loss --from 2 --to 2.3 --period 1 --preset fig8b
+//! cargo run --release --example stability -- pictures
 //! ```
 
 #[path = "common/mod.rs"]
@@ -43,10 +43,11 @@ mod common;
 
 use std::path::PathBuf;
 
-use common::cli::{fail, Cli};
+use clap::{Args, Parser, Subcommand};
+use common::cli::{f64_in, fail, parse, usize_in};
 use common::or_exit;
 use common::plot::{self, Figure, Series};
-use common::scene::{scene_flags, Scene};
+use common::scene::{Scene, SceneFlags};
 use jeffcott::analysis::{linspace, sweep, SweepConfig};
 use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::Params;
@@ -55,9 +56,6 @@ use jeffcott::stability::{
     Multiplier, OrbitOptions, StroboscopicMap,
 };
 use serde_json::{json, Value};
-
-/// The mode switches (flags without a value).
-const MODES: [&str; 4] = ["--orbit", "--lyapunov", "--locate-loss", "--pictures"];
 
 fn multipliers_json(m: &[Multiplier]) -> Value {
     Value::Array(m.iter().map(|m| json!([m.re, m.im])).collect())
@@ -82,85 +80,133 @@ fn after_transient(model: &JeffcottModel, scene: &Scene, transient: u64) -> Stat
     or_exit(map.advance(&start)).y
 }
 
+/// Stability of the rotor's orbits, printed as one JSON object (pictures: figures).
+#[derive(Parser)]
+#[command(name = "stability", arg_required_else_help = false)]
+struct Flags {
+    #[command(subcommand)]
+    mode: Mode,
+}
+
+/// `--transient`, shared by every mode.
+#[derive(Args)]
+struct Transient {
+    /// Periods run from the initial state before anything [range: 0..=100000000]
+    #[arg(long, value_name = "COUNT", default_value = "300", value_parser = usize_in(0, 100_000_000))]
+    transient: usize,
+}
+
+/// `--period`, the period of the orbit.
+#[derive(Args)]
+struct Period {
+    /// Period N of the orbit (forcing periods) [range: 1..=10000]
+    #[arg(long, value_name = "COUNT", default_value = "1", value_parser = usize_in(1, 10_000))]
+    period: usize,
+}
+
+/// `--periods`, the recorded periods of the Lyapunov exponents.
+#[derive(Args)]
+struct Periods {
+    /// Periods recorded for the Lyapunov exponents [range: 1..=100000000]
+    #[arg(long, value_name = "COUNT", default_value = "2000", value_parser = usize_in(1, 100_000_000))]
+    periods: usize,
+}
+
+/// `--step`, the continuation step in eta.
+#[derive(Args)]
+struct Step {
+    /// Continuation step in eta [range: 1e-9..=1]
+    #[arg(long, value_name = "NUMBER", default_value = "0.005", value_parser = f64_in(1e-9, 1.0))]
+    step: f64,
+}
+
+#[derive(Subcommand)]
+enum Mode {
+    /// The period-N orbit (Newton on P^N(z) - z after the transient) and its Floquet
+    /// multipliers
+    Orbit {
+        #[command(flatten)]
+        scene: SceneFlags,
+        #[command(flatten)]
+        period: Period,
+        #[command(flatten)]
+        transient: Transient,
+    },
+    /// The Lyapunov spectrum per forcing period (QR method) with its batch-means standard
+    /// error, and the largest exponent by two trajectories
+    Lyapunov {
+        #[command(flatten)]
+        scene: SceneFlags,
+        #[command(flatten)]
+        transient: Transient,
+        #[command(flatten)]
+        periods: Periods,
+        /// Batch length of the standard error (0: periods/20) [range: 0..=100000000]
+        #[arg(long, value_name = "COUNT", default_value = "0", value_parser = usize_in(0, 100_000_000))]
+        batch: usize,
+    },
+    /// The first loss of stability of the period-N orbit continued in eta from --from towards
+    /// --to
+    LocateLoss {
+        #[command(flatten)]
+        scene: SceneFlags,
+        #[command(flatten)]
+        period: Period,
+        #[command(flatten)]
+        transient: Transient,
+        /// Starting eta [range: 0.01..=100]
+        #[arg(long, value_name = "NUMBER", required = true, value_parser = f64_in(0.01, 100.0))]
+        from: f64,
+        /// Eta to continue towards [range: 0.01..=100]
+        #[arg(long, value_name = "NUMBER", required = true, value_parser = f64_in(0.01, 100.0))]
+        to: f64,
+        #[command(flatten)]
+        step: Step,
+        /// Width of the final bracket in eta [range: 1e-14..=0.01]
+        #[arg(long, value_name = "NUMBER", default_value = "1e-8", value_parser = f64_in(1e-14, 1e-2))]
+        tolerance: f64,
+    },
+    /// Figures: the largest multiplier modulus of the period-1 orbit against eta up to its
+    /// loss of stability, and the largest Lyapunov exponent against eta over [2, 5] above
+    /// the bifurcation diagram, for D = 0 and D = 0.1
+    Pictures {
+        #[command(flatten)]
+        scene: SceneFlags,
+        /// Output folder
+        #[arg(long, value_name = "DIR", default_value = "target/figures/stability")]
+        out: PathBuf,
+        /// Eta values over [2, 5] [range: 2..=100000]
+        #[arg(long, value_name = "COUNT", default_value = "151", value_parser = usize_in(2, 100_000))]
+        values: usize,
+        #[command(flatten)]
+        transient: Transient,
+        #[command(flatten)]
+        periods: Periods,
+        #[command(flatten)]
+        step: Step,
+    },
+}
+
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let modes: Vec<&str> = MODES
-        .iter()
-        .copied()
-        .filter(|m| args.iter().any(|a| a == m))
-        .collect();
-    let rest = args.iter().filter(|a| !MODES.contains(&a.as_str()));
-    let mut cli = Cli::from_args(
-        "stability",
-        "Stability of the rotor's orbits, printed as one JSON object. Modes (switches, one of):\n\
-         --orbit (periodic orbit, multipliers), --lyapunov (Lyapunov exponents),\n\
-         --locate-loss (first loss of stability along eta), --pictures (figures).",
-        rest,
-    );
-    let scene = scene_flags(&mut cli);
-    let period = cli.usize_in(
-        "period",
-        1,
-        1,
-        10_000,
-        "period N of the orbit (forcing periods)",
-    );
-    let transient = cli.usize_in(
-        "transient",
-        300,
-        0,
-        100_000_000,
-        "periods run before anything",
-    );
-    let periods = cli.usize_in(
-        "periods",
-        2000,
-        1,
-        100_000_000,
-        "--lyapunov: recorded periods",
-    );
-    let batch = cli.usize_in(
-        "batch",
-        0,
-        0,
-        100_000_000,
-        "--lyapunov: batch length of the error (0: periods/20)",
-    );
-    let from = cli.f64_in("from", f64::NAN, 0.01, 100.0, "--locate-loss: starting eta");
-    let to = cli.f64_in(
-        "to",
-        f64::NAN,
-        0.01,
-        100.0,
-        "--locate-loss: eta to continue towards",
-    );
-    let step = cli.f64_in(
-        "step",
-        0.005,
-        1e-9,
-        1.0,
-        "--locate-loss, --pictures: continuation step in eta",
-    );
-    let tolerance = cli.f64_in(
-        "tolerance",
-        1e-8,
-        1e-14,
-        1e-2,
-        "--locate-loss: width of the final bracket in eta",
-    );
-    let out = PathBuf::from(cli.string("out", "target/figures/stability", "--pictures: folder"));
-    let values = cli.usize_in(
-        "values",
-        151,
-        2,
-        100_000,
-        "--pictures: eta values over [2, 5]",
-    );
-    cli.finish();
-    scene.validate();
-    match modes.as_slice() {
-        ["--orbit"] => orbit(&scene, period as u64, transient as u64),
-        ["--lyapunov"] => {
+    let Flags { mode } = parse();
+    match mode {
+        Mode::Orbit {
+            scene,
+            period,
+            transient,
+        } => orbit(
+            &scene.scene(),
+            period.period as u64,
+            transient.transient as u64,
+        ),
+        Mode::Lyapunov {
+            scene,
+            transient,
+            periods,
+            batch,
+        } => {
+            let scene = scene.scene();
+            let periods = periods.periods;
             let batch = if batch == 0 {
                 (periods / 20).max(1)
             } else {
@@ -171,14 +217,25 @@ fn main() {
                     "--batch ({batch}) cannot exceed --periods ({periods})"
                 ));
             }
-            lyapunov(&scene, transient as u64, periods as u64, batch as u64)
+            lyapunov(
+                &scene,
+                transient.transient as u64,
+                periods as u64,
+                batch as u64,
+            )
         }
-        ["--locate-loss"] => {
-            if from.is_nan() || to.is_nan() {
-                fail("--locate-loss needs --from and --to");
-            }
+        Mode::LocateLoss {
+            scene,
+            period,
+            transient,
+            from,
+            to,
+            step,
+            tolerance,
+        } => {
+            let scene = scene.scene();
             let opts = ContinuationOptions {
-                step,
+                step: step.step,
                 tolerance,
                 orbit: OrbitOptions {
                     sim: scene.opts,
@@ -186,11 +243,30 @@ fn main() {
                 },
                 ..ContinuationOptions::default()
             };
-            locate(&scene, from, to, period as u64, transient as u64, &opts)
+            locate(
+                &scene,
+                from,
+                to,
+                period.period as u64,
+                transient.transient as u64,
+                &opts,
+            )
         }
-        ["--pictures"] => pictures(&scene, &out, values, transient as u64, periods as u64, step),
-        [] => fail("give a mode: --orbit, --lyapunov, --locate-loss or --pictures"),
-        _ => fail(format!("give one mode, not {}", modes.join(" and "))),
+        Mode::Pictures {
+            scene,
+            out,
+            values,
+            transient,
+            periods,
+            step,
+        } => pictures(
+            &scene.scene(),
+            &out,
+            values,
+            transient.transient as u64,
+            periods.periods as u64,
+            step.step,
+        ),
     }
 }
 

@@ -28,7 +28,8 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use common::cli::Cli;
+use clap::Parser;
+use common::cli::{parse, usize_in};
 use common::csv::CsvWriter;
 use common::plot::{self, Figure, LegendPosition, Series};
 use jeffcott::hybrid::{EventRecord, OutputPlan, SimOptions, SimStats, StrobeRange};
@@ -169,32 +170,38 @@ fn opts_for(method: Method, tol: f64, steps: u32) -> SimOptions {
     }
 }
 
+/// Work-precision diagrams (error against wall time and right-hand-side evaluations) of
+/// DOP853, DOPRI5 and RK4 on four fixed scenes of the Jeffcott rotor with snubber ring.
+#[derive(Parser)]
+#[command(name = "work_precision")]
+struct Flags {
+    /// Output folder
+    #[arg(
+        long,
+        value_name = "DIR",
+        default_value = "target/figures/work_precision"
+    )]
+    out: PathBuf,
+    /// Runs per point; the minimum time is kept [range: 1..=1000]
+    #[arg(long, value_name = "COUNT", default_value = "5", value_parser = usize_in(1, 1000))]
+    repeat: usize,
+    /// One scene or all
+    #[arg(long = "scene", default_value = "all", value_parser = ["fig8a", "fig8b", "stiff", "chaos", "all"])]
+    only: String,
+    /// Run once with METHOD:SETTING (dop853:1e-10, dopri5:1e-8, rk4:400) and print the work
+    /// done; no reference, no files (for instruction counts under valgrind)
+    #[arg(long, value_name = "METHOD:SETTING")]
+    single: Option<String>,
+}
+
 fn main() {
-    let mut cli = Cli::new(
-        "Work-precision diagrams (error against wall time and right-hand-side evaluations) of\n\
-         DOP853, DOPRI5 and RK4 on four fixed scenes of the Jeffcott rotor with snubber ring.",
-    );
-    let out = PathBuf::from(cli.string("out", "target/figures/work_precision", "output folder"));
-    let repeat = cli.usize_in(
-        "repeat",
-        5,
-        1,
-        1000,
-        "runs per point; the minimum time is kept",
-    );
-    let only = cli.string(
-        "scene",
-        "all",
-        "one scene (fig8a, fig8b, stiff, chaos) or all",
-    );
-    let single = cli.string(
-        "single",
-        "",
-        "run once with METHOD:SETTING (dop853:1e-10, dopri5:1e-8, rk4:400) and print the work \
-         done; no reference, no files (for instruction counts under valgrind)",
-    );
-    cli.finish();
-    if !single.is_empty() {
+    let Flags {
+        out,
+        repeat,
+        only,
+        single,
+    } = parse();
+    if let Some(single) = single {
         run_single(&only, &single);
         return;
     }

@@ -1,5 +1,6 @@
 //! `examples/stability`: one JSON object on standard output with the keys, in every
-//! mode; status 2 with one line on standard error for bad input.
+//! mode (`orbit`, `lyapunov`, `locate-loss`, `pictures`); status 2 with one line on standard
+//! error for bad input.
 
 #[path = "support/examples.rs"]
 mod support;
@@ -29,7 +30,7 @@ fn f(v: &Value) -> f64 {
 
 #[test]
 fn orbit_mode_prints_the_check_value() {
-    let v = json(&["--orbit", "--period", "1", "--eta", "2"]);
+    let v = json(&["orbit", "--period", "1", "--eta", "2"]);
     assert_eq!(v["period"], 1);
     let point: Vec<f64> = v["point"].as_array().unwrap().iter().map(f).collect();
     let check = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533];
@@ -61,7 +62,7 @@ fn orbit_mode_prints_the_check_value() {
 #[test]
 fn lyapunov_mode_prints_the_spectrum_and_its_errors() {
     let v = json(&[
-        "--lyapunov",
+        "lyapunov",
         "--eta",
         "2",
         "--transient",
@@ -95,7 +96,7 @@ fn locate_loss_mode_prints_the_flip() {
     // A short continuation near the reference's 2.2348432765533 (+- 2e-11,
     // tests/data/stability_reference.csv).
     let v = json(&[
-        "--locate-loss",
+        "locate-loss",
         "--from",
         "2.22",
         "--to",
@@ -116,7 +117,7 @@ fn locate_loss_mode_prints_the_flip() {
     assert!((f(&m[0][0]) + 1.0).abs() < 1e-5);
     // Stable all the way: eta null.
     let v = json(&[
-        "--locate-loss",
+        "locate-loss",
         "--from",
         "2.0",
         "--to",
@@ -131,12 +132,15 @@ fn locate_loss_mode_prints_the_flip() {
 fn bad_input_exits_with_status_2_and_one_line() {
     for args in [
         vec!["--period", "1"],
-        vec!["--orbit", "--lyapunov"],
-        vec!["--orbit", "--period", "0"],
-        vec!["--locate-loss", "--from", "2"],
-        vec!["--orbit", "--eta", "abc"],
-        vec!["--lyapunov", "--periods", "10", "--batch", "20"],
-        vec!["--orbit", "--bogus", "1"],
+        vec![],
+        vec!["orbit", "lyapunov"],
+        vec!["--orbit"],
+        vec!["lyapunov", "--from", "2"],
+        vec!["orbit", "--period", "0"],
+        vec!["locate-loss", "--from", "2"],
+        vec!["orbit", "--eta", "abc"],
+        vec!["lyapunov", "--periods", "10", "--batch", "20"],
+        vec!["orbit", "--bogus", "1"],
     ] {
         let out = run(&args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
@@ -151,7 +155,7 @@ fn bad_input_exits_with_status_2_and_one_line() {
 fn a_failed_computation_exits_with_status_1() {
     // Past the flip the period-1 orbit is unstable: there is nothing to continue.
     let out = run(&[
-        "--locate-loss",
+        "locate-loss",
         "--from",
         "2.3",
         "--to",
@@ -170,7 +174,7 @@ fn a_failed_computation_exits_with_status_1() {
 fn pictures_mode_writes_its_figures() {
     let dir = std::env::temp_dir().join(format!("jeffcott-stability-{}", std::process::id()));
     let v = json(&[
-        "--pictures",
+        "pictures",
         "--out",
         dir.to_str().unwrap(),
         "--values",

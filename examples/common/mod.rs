@@ -17,37 +17,54 @@ pub mod ranks;
 
 use std::fmt::Display;
 
-/// The `--rtol` and `--atol` flags of the simulation examples, with the crate's defaults.
-pub fn tolerance_flags(cli: &mut cli::Cli) -> (f64, f64) {
-    let d = jeffcott::hybrid::SimOptions::default();
-    let rtol = cli.f64_in("rtol", d.rtol, 1e-15, 1e-2, "relative tolerance");
-    let atol = cli.f64_in("atol", d.atol, 1e-18, 1e-2, "absolute tolerance");
-    (rtol, atol)
+/// The `--rtol` and `--atol` flags of the simulation examples, with the crate's defaults (one
+/// declaration for every example: `#[command(flatten)]`).
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct Tolerances {
+    /// Relative tolerance of the integrator [range: 0..=0.01]
+    #[arg(long, value_name = "NUMBER", value_parser = cli::f64_in(0.0, 1e-2),
+          default_value = cli::num(jeffcott::hybrid::SimOptions::default().rtol))]
+    pub rtol: f64,
+    /// Absolute tolerance of the integrator [range: 0..=0.01; not 0 with --rtol 0]
+    #[arg(long, value_name = "NUMBER", value_parser = cli::f64_in(0.0, 1e-2),
+          default_value = cli::num(jeffcott::hybrid::SimOptions::default().atol))]
+    pub atol: f64,
 }
 
-/// The `--threads` and `--max-new-points` flags of the resumable sweeps, as their run
-/// configuration.
-pub fn sweep_run_flags(cli: &mut cli::Cli) -> jeffcott::global::RunConfig {
-    let threads = cli.opt_usize_in(
-        "threads",
-        1,
-        1024,
-        "worker threads per process, unset = all cores",
-    );
-    let max_new = cli.opt_usize_in(
-        "max-new-points",
-        1,
-        usize::MAX,
-        "run at most this many new points, then stop (a later run resumes)",
-    );
-    let mut run = jeffcott::global::RunConfig::default();
-    if let Some(t) = threads {
-        run = run.with_threads(t);
+impl Tolerances {
+    /// `(rtol, atol)`, or exits with status 2 if both are 0.
+    pub fn get(&self) -> (f64, f64) {
+        if self.rtol + self.atol <= 0.0 {
+            cli::fail("--rtol and --atol cannot both be 0");
+        }
+        (self.rtol, self.atol)
     }
-    if let Some(m) = max_new {
-        run = run.with_max_new_points(m);
+}
+
+/// The `--threads` and `--max-new-points` flags of the resumable sweeps.
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct SweepRunFlags {
+    /// Worker threads per process, unset = all cores [range: 1..=1024]
+    #[arg(long, value_name = "COUNT", value_parser = cli::usize_in(1, 1024))]
+    pub threads: Option<usize>,
+    /// Run at most this many new points, then stop (a later run resumes); unset = all
+    /// [range: 1..]
+    #[arg(long, value_name = "COUNT", value_parser = cli::usize_in(1, usize::MAX))]
+    pub max_new_points: Option<usize>,
+}
+
+impl SweepRunFlags {
+    /// The run configuration these flags describe.
+    pub fn config(&self) -> jeffcott::global::RunConfig {
+        let mut run = jeffcott::global::RunConfig::default();
+        if let Some(t) = self.threads {
+            run = run.with_threads(t);
+        }
+        if let Some(m) = self.max_new_points {
+            run = run.with_max_new_points(m);
+        }
+        run
     }
-    run
 }
 
 /// Unwraps `r`, or prints `error: {e}` on stderr and exits with status 1 (a failure while

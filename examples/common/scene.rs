@@ -1,11 +1,13 @@
 //! The scene flags of the simulation examples (those of `simulate`): the preset, every
 //! parameter override, the integration options and the initial rotor state.
 
+use clap::Args;
 use jeffcott::hybrid::SimOptions;
 use jeffcott::ode::Method;
 use jeffcott::params::{Params, Preset};
 
-use super::cli::{fail, Cli};
+use super::cli::{fail, finite, num, usize_in};
+use super::Tolerances;
 
 /// A scene: parameters, integration options and the initial rotor state `[x, y, x', y']`.
 pub struct Scene {
@@ -17,85 +19,118 @@ pub struct Scene {
     pub start: [f64; 4],
 }
 
-/// Declares the scene flags of `simulate` on `cli` (call before `cli.finish()`); the result is
-/// checked by [`Scene::validate`] after it.
-pub fn scene_flags(cli: &mut Cli) -> Scene {
-    let preset_name = cli.string(
-        "preset",
-        "fig8a",
-        &format!("parameter preset ({})", Preset::NAMES.join(", ")),
-    );
-    let preset: Preset = preset_name
-        .parse()
-        .unwrap_or_else(|e| fail(format!("--preset: {e}")));
-    let p = preset.params();
-    let eta = cli.f64("eta", p.eta, "frequency ratio eta = Omega/omega_n (> 0)");
-    let nu1 = cli.f64("nu1", p.nu1, "rotor damping ratio (>= 0)");
-    let nu2 = cli.f64("nu2", p.nu2, "ring damping ratio (>= 0)");
-    let k = cli.f64("k", p.kx, "ring stiffness ratio K = Kx = Ky (>= 0)");
-    let beta = cli.f64("beta", p.beta, "out-of-balance beta (>= 0)");
-    let ex = cli.f64("ex", p.ex, "eccentricity e_x");
-    let ey = cli.f64("ey", p.ey, "eccentricity e_y");
-    let dx = cli.f64("delta-x", p.dx, "preload D_x (>= 0)");
-    let dy = cli.f64("delta-y", p.dy, "preload D_y (>= 0)");
-    let phi0 = cli.f64("phi0", p.phi0, "initial forcing phase phi0 (radians)");
-    let defaults = SimOptions::default();
-    let rtol = cli.f64_in("rtol", defaults.rtol, 0.0, 1.0, "relative tolerance");
-    let atol = cli.f64_in("atol", defaults.atol, 0.0, 1.0, "absolute tolerance");
-    let method = cli.choice(
-        "method",
-        "dop853",
-        &["dop853", "dopri5", "rk4"],
-        "integration method of contact phases",
-    );
-    let steps = cli.usize_in(
-        "steps-per-period",
-        defaults.steps_per_period as usize,
-        1,
-        u32::MAX as usize,
-        "fixed steps per forcing period (rk4)",
-    );
-    let x0 = cli.f64("x0", 0.0, "initial x");
-    let y0 = cli.f64("y0", 0.0, "initial y");
-    let vx0 = cli.f64("vx0", 0.0, "initial x' = dx/dtau");
-    let vy0 = cli.f64("vy0", 0.0, "initial y' = dy/dtau");
-    Scene {
-        params: Params {
-            eta,
-            nu1,
-            nu2,
+/// The integration method of contact phases.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum MethodFlag {
+    /// Dormand-Prince 8(5,3), adaptive
+    Dop853,
+    /// Dormand-Prince 5(4), adaptive
+    Dopri5,
+    /// Classical Runge-Kutta, fixed steps (--steps-per-period)
+    Rk4,
+}
+
+/// The scene flags of `simulate` (`#[command(flatten)]`); [`SceneFlags::scene`] checks and
+/// assembles them.
+#[derive(Args, Debug, Clone)]
+pub struct SceneFlags {
+    /// Parameter preset
+    #[arg(long, default_value = "fig8a", value_parser = Preset::NAMES)]
+    pub preset: String,
+    /// Frequency ratio eta = Omega/omega_n (> 0) [default: the preset's]
+    #[arg(long, value_name = "NUMBER", value_parser = finite)]
+    pub eta: Option<f64>,
+    /// Rotor damping ratio (>= 0) [default: the preset's]
+    #[arg(long, value_name = "NUMBER", value_parser = finite)]
+    pub nu1: Option<f64>,
+    /// Ring damping ratio (>= 0) [default: the preset's]
+    #[arg(long, value_name = "NUMBER", value_parser = finite)]
+    pub nu2: Option<f64>,
+    /// Ring stiffness ratio K = Kx = Ky (>= 0) [default: the preset's]
+    #[arg(long, value_name = "NUMBER", value_parser = finite)]
+    pub k: Option<f64>,
+    /// Out-of-balance beta (>= 0) [default: the preset's]
+    #[arg(long, value_name = "NUMBER", value_parser = finite)]
+    pub beta: Option<f64>,
+    /// Eccentricity e_x [default: the preset's]
+    #[arg(long, value_name = "NUMBER", value_parser = finite)]
+    pub ex: Option<f64>,
+    /// Eccentricity e_y [default: the preset's]
+    #[arg(long, value_name = "NUMBER", value_parser = finite)]
+    pub ey: Option<f64>,
+    /// Preload D_x (>= 0) [default: the preset's]
+    #[arg(long = "delta-x", value_name = "NUMBER", value_parser = finite)]
+    pub dx: Option<f64>,
+    /// Preload D_y (>= 0) [default: the preset's]
+    #[arg(long = "delta-y", value_name = "NUMBER", value_parser = finite)]
+    pub dy: Option<f64>,
+    /// Initial forcing phase phi0 (radians) [default: the preset's]
+    #[arg(long, value_name = "NUMBER", value_parser = finite)]
+    pub phi0: Option<f64>,
+    #[command(flatten)]
+    pub tol: Tolerances,
+    /// Integration method of contact phases
+    #[arg(long, value_enum, default_value = "dop853")]
+    pub method: MethodFlag,
+    /// Fixed steps per forcing period (rk4) [range: 1..=4294967295]
+    #[arg(long, value_name = "COUNT", value_parser = usize_in(1, u32::MAX as usize),
+          default_value = SimOptions::default().steps_per_period.to_string())]
+    pub steps_per_period: usize,
+    /// Initial x
+    #[arg(long, value_name = "NUMBER", value_parser = finite, default_value = num(0.0))]
+    pub x0: f64,
+    /// Initial y
+    #[arg(long, value_name = "NUMBER", value_parser = finite, default_value = num(0.0))]
+    pub y0: f64,
+    /// Initial x' = dx/dtau
+    #[arg(long, value_name = "NUMBER", value_parser = finite, default_value = num(0.0))]
+    pub vx0: f64,
+    /// Initial y' = dy/dtau
+    #[arg(long, value_name = "NUMBER", value_parser = finite, default_value = num(0.0))]
+    pub vy0: f64,
+}
+
+impl SceneFlags {
+    /// The scene, checked (exits with status 2 on bad input).
+    pub fn scene(&self) -> Scene {
+        let preset: Preset = self
+            .preset
+            .parse()
+            .unwrap_or_else(|e| fail(format!("--preset: {e}")));
+        let p = preset.params();
+        let k = self.k.unwrap_or(p.kx);
+        let params = Params {
+            eta: self.eta.unwrap_or(p.eta),
+            nu1: self.nu1.unwrap_or(p.nu1),
+            nu2: self.nu2.unwrap_or(p.nu2),
             kx: k,
             ky: k,
-            beta,
-            dx,
-            dy,
-            ex,
-            ey,
-            phi0,
-        },
-        opts: SimOptions {
-            method: match method.as_str() {
-                "dopri5" => Method::Dopri5,
-                "rk4" => Method::Rk4,
-                _ => Method::Dop853,
+            beta: self.beta.unwrap_or(p.beta),
+            dx: self.dx.unwrap_or(p.dx),
+            dy: self.dy.unwrap_or(p.dy),
+            ex: self.ex.unwrap_or(p.ex),
+            ey: self.ey.unwrap_or(p.ey),
+            phi0: self.phi0.unwrap_or(p.phi0),
+        };
+        if let Err(e) = params.validated() {
+            fail(e);
+        }
+        let (rtol, atol) = self.tol.get();
+        let opts = SimOptions {
+            method: match self.method {
+                MethodFlag::Dop853 => Method::Dop853,
+                MethodFlag::Dopri5 => Method::Dopri5,
+                MethodFlag::Rk4 => Method::Rk4,
             },
             rtol,
             atol,
-            steps_per_period: u32::try_from(steps).unwrap_or(u32::MAX),
-            ..defaults
-        },
-        start: [x0, y0, vx0, vy0],
-    }
-}
-
-impl Scene {
-    /// Checks what the flags alone cannot (exits with status 2 on bad input).
-    pub fn validate(&self) {
-        if self.opts.rtol + self.opts.atol <= 0.0 {
-            fail("--rtol and --atol cannot both be 0");
-        }
-        if let Err(e) = self.params.validated() {
-            fail(e);
+            steps_per_period: u32::try_from(self.steps_per_period).unwrap_or(u32::MAX),
+            ..SimOptions::default()
+        };
+        Scene {
+            params,
+            opts,
+            start: [self.x0, self.y0, self.vx0, self.vy0],
         }
     }
 }

@@ -12,30 +12,54 @@
 mod common;
 mod rotor;
 
-use common::cli::Cli;
+use clap::Parser;
+use common::cli::{f64_in, finite, parse, usize_in};
 use common::csv::fmt_f64;
 use common::plot::{self, Figure, Series};
-use common::{or_exit, tolerance_flags};
+use common::{or_exit, Tolerances};
 use jeffcott::analysis::orbit::strobe_orbit;
 use jeffcott::analysis::portrait::phase_portrait;
 use jeffcott::hybrid::SimOptions;
 use jeffcott::params::Preset;
 
+/// A Jeffcott rotor with cross-coupled stiffness and a cubic bearing on the snubber ring
+/// (Fig. 8a values otherwise).
+#[derive(Parser)]
+#[command(name = "custom_rotor")]
+struct Flags {
+    /// Ring and rotor values
+    #[arg(long, default_value = "fig8a", value_parser = ["fig8a", "fig8b"])]
+    preset: String,
+    /// Frequency ratio eta [range: 0.001..=100]
+    #[arg(long, value_name = "NUMBER", default_value = "2", value_parser = f64_in(1e-3, 100.0))]
+    eta: f64,
+    /// Cross-coupled stiffness q
+    #[arg(long, value_name = "NUMBER", default_value = "0.05", value_parser = finite)]
+    q: f64,
+    /// Cubic bearing stiffness k3
+    #[arg(long, value_name = "NUMBER", default_value = "0.5", value_parser = finite)]
+    k3: f64,
+    /// Periods discarded [range: 0..=1000000]
+    #[arg(long, value_name = "COUNT", default_value = "300", value_parser = usize_in(0, 1_000_000))]
+    transient: usize,
+    /// Periods printed [range: 1..=1000000]
+    #[arg(long, value_name = "COUNT", default_value = "20", value_parser = usize_in(1, 1_000_000))]
+    periods: usize,
+    #[command(flatten)]
+    tol: Tolerances,
+}
+
 fn main() {
-    let mut cli = Cli::new("A Jeffcott rotor with cross-coupled stiffness and a cubic bearing on the snubber ring (Fig. 8a values otherwise).");
-    let preset = cli.choice(
-        "preset",
-        "fig8a",
-        &["fig8a", "fig8b"],
-        "ring and rotor values",
-    );
-    let eta = cli.f64_in("eta", 2.0, 1e-3, 100.0, "frequency ratio eta");
-    let q = cli.f64("q", 0.05, "cross-coupled stiffness q");
-    let k3 = cli.f64("k3", 0.5, "cubic bearing stiffness k3");
-    let transient = cli.usize_in("transient", 300, 0, 1_000_000, "periods discarded");
-    let periods = cli.usize_in("periods", 20, 1, 1_000_000, "periods printed");
-    let (rtol, atol) = tolerance_flags(&mut cli);
-    cli.finish();
+    let Flags {
+        preset,
+        eta,
+        q,
+        k3,
+        transient,
+        periods,
+        tol,
+    } = parse();
+    let (rtol, atol) = tol.get();
 
     let params = if preset == "fig8a" {
         Preset::Fig8a

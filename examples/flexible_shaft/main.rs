@@ -29,9 +29,10 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use common::cli::{fail, Cli};
+use clap::Parser;
+use common::cli::{f64_in, fail, parse, usize_in};
 use common::plot::{self, Figure, Series};
-use common::{or_exit, tolerance_flags};
+use common::{or_exit, Tolerances};
 use jeffcott::analysis::{
     bifurcation, linspace, phase_portrait, start_from, strobe_orbit, BifurcationConfig, PeriodTest,
     Periodicity, SweepConfig,
@@ -41,73 +42,84 @@ use jeffcott::nalgebra::DVector;
 use jeffcott::params::Preset;
 use shaft::Layout;
 
+/// A pinned-pinned flexible shaft in its first bending modes on the snubber ring: orbit and
+/// bifurcation diagram.
+#[derive(Parser)]
+#[command(name = "flexible_shaft")]
+struct Flags {
+    /// Output folder
+    #[arg(
+        long,
+        value_name = "DIR",
+        default_value = "target/figures/flexible_shaft"
+    )]
+    out: PathBuf,
+    /// Bending modes kept (state size 4 modes + 2) [range: 1..=64]
+    #[arg(long, value_name = "COUNT", default_value = "4", value_parser = usize_in(1, 64))]
+    modes: usize,
+    /// Evenly spaced stations (default: as many as modes) [range: 1..=64]
+    #[arg(long, value_name = "COUNT", value_parser = usize_in(1, 64))]
+    stations: Option<usize>,
+    /// Station of the out-of-balance [range: 1..=64]
+    #[arg(long, value_name = "STATION", default_value = "2", value_parser = usize_in(1, 64))]
+    unbalance: usize,
+    /// Station of the snubber ring [range: 1..=64]
+    #[arg(long, value_name = "STATION", default_value = "3", value_parser = usize_in(1, 64))]
+    ring: usize,
+    /// Ring, damping and forcing values of the paper's Fig. 8a (D = 0) or 8b (D = 0.1)
+    #[arg(long, default_value = "fig8a", value_parser = ["fig8a", "fig8b"])]
+    preset: String,
+    /// Eta = forcing frequency / first natural frequency [range: 0.001..=100]
+    #[arg(long, value_name = "NUMBER", default_value = "3", value_parser = f64_in(1e-3, 100.0))]
+    eta: f64,
+    /// Modal damping ratio of every mode (default: the preset's nu1) [range: 0..=10]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 10.0))]
+    zeta: Option<f64>,
+    /// Orbit: forcing periods discarded [range: 0..=1000000]
+    #[arg(long, value_name = "COUNT", default_value = "300", value_parser = usize_in(0, 1_000_000))]
+    transient: usize,
+    /// Orbit: forcing periods drawn [range: 1..=100000]
+    #[arg(long, value_name = "COUNT", default_value = "20", value_parser = usize_in(1, 100_000))]
+    periods: usize,
+    /// Bifurcation: lowest eta [range: 0.001..=100]
+    #[arg(long, value_name = "NUMBER", default_value = "2", value_parser = f64_in(1e-3, 100.0))]
+    eta_min: f64,
+    /// Bifurcation: highest eta [range: 0.001..=100]
+    #[arg(long, value_name = "NUMBER", default_value = "5", value_parser = f64_in(1e-3, 100.0))]
+    eta_max: f64,
+    /// Bifurcation: eta values [range: 1..=100000]
+    #[arg(long, value_name = "COUNT", default_value = "121", value_parser = usize_in(1, 100_000))]
+    steps: usize,
+    /// Bifurcation: forcing periods discarded [range: 0..=1000000]
+    #[arg(long, value_name = "COUNT", default_value = "200", value_parser = usize_in(0, 1_000_000))]
+    bif_transient: usize,
+    /// Bifurcation: forcing periods recorded [range: 2..=100000]
+    #[arg(long, value_name = "COUNT", default_value = "40", value_parser = usize_in(2, 100_000))]
+    record: usize,
+    #[command(flatten)]
+    tol: Tolerances,
+}
+
 fn main() {
-    let mut cli = Cli::new(
-        "A pinned-pinned flexible shaft in its first bending modes on the snubber ring: orbit and bifurcation diagram.",
-    );
-    let out = PathBuf::from(cli.string("out", "target/figures/flexible_shaft", "output folder"));
-    let modes = cli.usize_in(
-        "modes",
-        4,
-        1,
-        64,
-        "bending modes kept (state size 4 modes + 2)",
-    );
-    let stations = cli.opt_usize_in(
-        "stations",
-        1,
-        64,
-        "evenly spaced stations (default: as many as modes)",
-    );
-    let unbalance = cli.usize_in("unbalance", 2, 1, 64, "station of the out-of-balance");
-    let ring = cli.usize_in("ring", 3, 1, 64, "station of the snubber ring");
-    let preset = cli.choice(
-        "preset",
-        "fig8a",
-        &["fig8a", "fig8b"],
-        "ring, damping and forcing values of the paper's Fig. 8a (D = 0) or 8b (D = 0.1)",
-    );
-    let eta = cli.f64_in(
-        "eta",
-        3.0,
-        1e-3,
-        100.0,
-        "eta = forcing frequency / first natural frequency",
-    );
-    let zeta = cli.f64_in(
-        "zeta",
-        f64::NAN,
-        0.0,
-        10.0,
-        "modal damping ratio of every mode (default: the preset's nu1)",
-    );
-    let transient = cli.usize_in(
-        "transient",
-        300,
-        0,
-        1_000_000,
-        "orbit: forcing periods discarded",
-    );
-    let periods = cli.usize_in("periods", 20, 1, 100_000, "orbit: forcing periods drawn");
-    let eta_min = cli.f64_in("eta-min", 2.0, 1e-3, 100.0, "bifurcation: lowest eta");
-    let eta_max = cli.f64_in("eta-max", 5.0, 1e-3, 100.0, "bifurcation: highest eta");
-    let steps = cli.usize_in("steps", 121, 1, 100_000, "bifurcation: eta values");
-    let bif_transient = cli.usize_in(
-        "bif-transient",
-        200,
-        0,
-        1_000_000,
-        "bifurcation: forcing periods discarded",
-    );
-    let record = cli.usize_in(
-        "record",
-        40,
-        2,
-        100_000,
-        "bifurcation: forcing periods recorded",
-    );
-    let (rtol, atol) = tolerance_flags(&mut cli);
-    cli.finish();
+    let Flags {
+        out,
+        modes,
+        stations,
+        unbalance,
+        ring,
+        preset,
+        eta,
+        zeta,
+        transient,
+        periods,
+        eta_min,
+        eta_max,
+        steps,
+        bif_transient,
+        record,
+        tol,
+    } = parse();
+    let (rtol, atol) = tol.get();
     if eta_max < eta_min {
         fail(format!("--eta-max {eta_max} is below --eta-min {eta_min}"));
     }
@@ -119,7 +131,7 @@ fn main() {
     }
     .params()
     .with_eta(eta);
-    if zeta.is_finite() {
+    if let Some(zeta) = zeta {
         params.nu1 = zeta;
     }
     let layout = Layout {
