@@ -715,3 +715,92 @@ fn a_ring_through_its_inner_region_within_the_time_resolution_takes_the_far_bran
     assert!(worst <= 1e-6, "ring {worst:e} from s*(r)");
     assert_eq!(mislabelled, 0, "outputs in contact with the wrong regime");
 }
+
+// ---------------------------------------------------------------------------------------------
+// 9. The ring's location next to a branch's pole (issue 16, item 3).
+
+/// On fixed branches an axis' distance is $d_i = \alpha_i/(\beta_i + \mu)$, with a pole at
+/// $\mu = -\beta_i$. On branches that hold the root beyond the stiff axis' reach (here the
+/// y axis on its outer branch on the far side of the centre), the root sits next to the soft
+/// axis' pole, $\beta_x + \mu \approx |\alpha_x|/d_x$: with $r_x = 3.5\times10^{-17}$ that is
+/// far below one ulp of $\mu$, and the solver, iterating on $\mu$, returned `NotConverged`
+/// (which its docs called impossible); at $r_x = 0$ an exact `== 0.0` shortcut returned
+/// another root (the ring with $d_x = 0$ beyond the pole), so the answer jumped in $r_x$.
+///
+/// The expected position is independent of the solver: at the pole $\mu = -\beta_x$ the
+/// stiff axis' distance is $d_y = \alpha_y/(\beta_y - \beta_x)$ and the soft axis takes the
+/// rest of the length, $d_x = \operatorname{sign}(r_x)\sqrt{\gamma^2 - d_y^2}$; for
+/// $|r_x| \to 0$ the root tends to it, at a rate bounded by the Jacobian (order 1 here).
+#[test]
+fn ring_next_to_a_branch_pole_is_placed_continuously_in_r() {
+    use jeffcott::ring::{Branch, Branches, RingError};
+    let (kx, ky, d) = (1.0813235859593051, 2.2087045555397626, 0.21104992476420698);
+    let ring = SnubberRing::new(RingAxis::new(kx, d), RingAxis::new(ky, d), 0.1, 1.0).unwrap();
+    let b = Branches {
+        x: Branch::Inner,
+        y: Branch::Outer(0),
+    };
+    let ry = 0.016991106264126143;
+    // The limit at the pole, from the branch formulas alone: inner x (beta_x = K_x), outer y
+    // without side (alpha_y = K_y r_y / 2, beta_y = K_y / 2).
+    let dy0 = 0.5 * ky * ry / (0.5 * ky - kx);
+    let dx0 = (1.0 - dy0 * dy0).sqrt();
+    assert!(dy0.abs() < 1.0);
+    for rx in [3.5e-17, -3.5e-17, 1e-20, -1e-20, 0.0, -0.0, 1e-300] {
+        let r = Vector2::new(rx, ry);
+        for hint in [f64::NAN, -kx, -kx + 1e-9, 0.0, 30.0] {
+            let c = match ring.locate_on(&r, b, hint) {
+                Ok(c) => c,
+                Err(e @ RingError::NotConverged { .. }) => {
+                    panic!("r.x = {rx:e}, hint {hint}: {e}")
+                }
+                Err(e) => panic!("r.x = {rx:e}, hint {hint}: unexpected {e}"),
+            };
+            let dn = r - c.s;
+            assert!(
+                (dn.norm() - 1.0).abs() <= 1e-14,
+                "constraint {:e}",
+                dn.norm() - 1.0
+            );
+            let sign = if rx.is_sign_negative() { -1.0 } else { 1.0 };
+            let expected = Vector2::new(sign * dx0, dy0);
+            let off = (dn - expected).norm();
+            assert!(
+                off <= 1e-12,
+                "r.x = {rx:e}, hint {hint}: r - s = {dn:?}, the pole's limit {expected:?} ({off:e} away)"
+            );
+            assert!(c.jacobian.iter().all(|v| v.is_finite()), "{:?}", c.jacobian);
+        }
+    }
+}
+
+/// The fuzzer's ring cases (seed 4) found warm and cold starts $6.3\times10^{-8}$ apart with
+/// $K_y/K_x = 3.5\times10^4$ and the soft axis next to its pole ($r_x = 6\times10^{-17}$,
+/// the y axis on its outer branch on the far side): iterating on $\mu$ cannot resolve
+/// $\beta_x + \mu \approx 10^{-17}$, so each start stopped somewhere else in that ulp. (The
+/// docs promised agreement to $4\times10^{-14}$.)
+#[test]
+fn warm_and_cold_starts_agree_next_to_a_pole_under_anisotropy() {
+    use jeffcott::ring::{Branch, Branches};
+    let ring = SnubberRing::new(
+        RingAxis::new(0.24009143467938432, 0.0),
+        RingAxis::new(8312.502750502606, 0.25230395558520735),
+        1.6052530072191538e-10,
+        1.0,
+    )
+    .unwrap();
+    let b = Branches {
+        x: Branch::Inner,
+        y: Branch::Outer(-1),
+    };
+    let mut worst = 0.0f64;
+    for rx in [6.125191028758804e-17, 1e-16, 3e-15, 1e-13] {
+        let r = Vector2::new(rx, 1.0003196077470502);
+        let cold = ring.locate_on(&r, b, f64::NAN).unwrap();
+        for hint in [1527.0035500571137, -0.2, 0.0, -1e3, cold.mu + 1e-9] {
+            let warm = ring.locate_on(&r, b, hint).unwrap();
+            worst = worst.max((warm.s - cold.s).norm());
+        }
+    }
+    assert!(worst <= 1e-13, "warm and cold starts differ by {worst:e}");
+}
