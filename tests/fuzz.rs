@@ -14,8 +14,9 @@
 //! states at every output, the expected strobes, and the ring consistent with the rotor there:
 //! in free flight $|r - s| \le \gamma$, in contact $|r - s| = \gamma$ with the ring at its
 //! minimum-energy position $s^*(r)$ and the regime label of the ring's position. Those
-//! consistency checks need a resolved integration ([`resolved`]); unresolved RK4 runs are
-//! counted apart. Every failure fails the test; one of the two defect classes fixed in 0.2.0
+//! consistency checks need a resolved integration ([`Resolution`]: RK4 runs with steps the
+//! library counts as unresolved, `SimStats::unresolved_steps`, and adaptive runs with
+//! `rtol > 1e-3` are counted apart). Every failure fails the test; one of the two defect classes fixed in 0.2.0
 //! (docs/reliability.md, fixed 7 and 8: A and D) is named in its message when its mechanism is
 //! recognised.
 //!
@@ -68,7 +69,9 @@ use proptest::test_runner::{Config, FileFailurePersistence, RngSeed, TestCaseErr
 const REGRESSIONS: &str = "proptest-regressions/fuzz.txt";
 
 /// Time limit of one case: a hang fails the case (typical cases take milliseconds).
-const CASE_LIMIT: Duration = Duration::from_secs(60);
+/// Generous: the machine may be shared (a case that takes 2 s alone took 60 s under a load
+/// of 7 per core).
+const CASE_LIMIT: Duration = Duration::from_secs(300);
 
 // ---------------------------------------------------------------------------------------------
 // Strategies.
@@ -423,6 +426,11 @@ fn outcome_label(kind: &SimErrorKind) -> String {
     match kind {
         SimErrorKind::InvalidOption { .. } => "InvalidOption".into(),
         SimErrorKind::Model(ModelError::InvalidState { .. }) => "Model: invalid state".into(),
+        SimErrorKind::Model(ModelError::Transition { reason, .. })
+            if reason.contains("below the resolution") =>
+        {
+            "Model: preload below the resolution".into()
+        }
         SimErrorKind::Model(ModelError::Transition { .. }) => "Model: transition failed".into(),
         SimErrorKind::Integrator(OdeError::StepSizeUnderflow { .. }) => {
             "Integrator: step-size underflow".into()
@@ -463,34 +471,38 @@ struct Consistency {
     contact: f64,
 }
 
-/// Whether the integrated modes are resolved: adaptive methods with `rtol <= 1e-3` (error
-/// control rejects unstable steps; `rtol = 1` asks for no accuracy at all); RK4 when its fixed
-/// step $h$ is within its stability region for the stiffest motion of the case, $h\lambda \le
-/// 1$ with $\lambda = \sqrt{1 + 2K_{\max} + 3|k_3|u^2} + 2\nu_1 + 4\nu_2 + |q|$ ($u$ a bound
-/// on the rotor's distance from its rest position, for the cubic bearing; none if it softens).
-/// Beyond it RK4 explodes within a few steps to finite garbage on which no guard can be
-/// located: such runs are counted apart when their outputs are inconsistent.
-fn resolved(c: &RunCase) -> bool {
-    if c.opts.method != Method::Rk4 {
-        return c.opts.rtol <= 1e-3;
+/// Whether the run's integration resolves its motion, which the consistency checks need.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Resolution {
+    /// Resolved.
+    Resolved,
+    /// RK4 with fixed steps beyond the model's rates: `SimStats::unresolved_steps > 0`, the
+    /// library's count (from `RotorModel::max_rate`, $h\lambda > 1$). Beyond RK4's stability
+    /// limit the state explodes within a few steps to finite garbage on which no guard can be
+    /// located: such runs are counted apart when their outputs are inconsistent.
+    Rk4Unresolved,
+    /// An adaptive method with `rtol > 1e-3`: no accuracy asked for (`rtol = 1`).
+    LooseTolerance,
+}
+
+impl Resolution {
+    fn of(c: &RunCase, unresolved_steps: u64) -> Self {
+        if c.opts.method != Method::Rk4 && c.opts.rtol > 1e-3 {
+            Resolution::LooseTolerance
+        } else if unresolved_steps > 0 {
+            Resolution::Rk4Unresolved
+        } else {
+            Resolution::Resolved
+        }
     }
-    let p = &c.p;
-    let (q, k3) = match c.model {
-        ModelSpec::Paper => (0.0, 0.0),
-        ModelSpec::Custom { q, k3 } => (q, k3),
-    };
-    if k3 < 0.0 {
-        // A softening bearing lets the rotor escape: no bound on its stiffness.
-        return false;
+
+    fn suffix(self) -> &'static str {
+        match self {
+            Resolution::Resolved => "",
+            Resolution::Rk4Unresolved => " (RK4 unresolved)",
+            Resolution::LooseTolerance => " (rtol > 1e-3)",
+        }
     }
-    let z = FreeOscillator::new(p).steady_radius();
-    let u = p.ex.hypot(p.ey) + z + 2.0 + c.start.rad + c.start.speed;
-    let lambda = (1.0 + 2.0 * p.kx.max(p.ky) + 3.0 * k3.abs() * u * u).sqrt()
-        + 2.0 * p.nu1
-        + 4.0 * p.nu2
-        + q.abs();
-    let h = p.forcing_period() / f64::from(c.opts.steps_per_period.max(1));
-    h * lambda <= 1.0
 }
 
 /// How an output failed the consistency check.
@@ -685,19 +697,21 @@ fn tiny_preload(
 /// A run's end: success, or the error kind with the last good time and state.
 type Ending = Result<(), (SimErrorKind, f64, State)>;
 
-/// Runs a model from `(t0, y0)` with `plan`, recording everything.
+/// Runs a model from `(t0, y0)` with `plan`, recording everything; with the run's count of
+/// unresolved fixed steps.
 fn sim<M: RotorModel<Dim = U6>>(
     m: &M,
     t0: f64,
     y0: &State,
     plan: &OutputPlan,
     opts: &SimOptions,
-) -> (Ending, Trajectory<U6>) {
+) -> (Ending, Trajectory<U6>, u64) {
     let mut traj = Trajectory::default();
-    let res = simulate(m, t0, y0, plan, opts, &mut traj)
-        .map(|_| ())
-        .map_err(|e| (e.kind, e.t, e.y));
-    (res, traj)
+    let (res, unresolved) = match simulate(m, t0, y0, plan, opts, &mut traj) {
+        Ok(stats) => (Ok(()), stats.unresolved_steps),
+        Err(e) => (Err((e.kind, e.t, e.y)), e.stats.unresolved_steps),
+    };
+    (res, traj, unresolved)
 }
 
 /// Runs one simulation case and checks it; `Ok(outcome)` or `Err(defect)`.
@@ -731,7 +745,7 @@ fn check_run(c: RunCase) -> Result<String, String> {
             sim(&m, c.t0, &y0, &plan, opts)
         }
     };
-    let (res, traj) = run(&c.opts);
+    let (res, traj, unresolved_steps) = run(&c.opts);
     let model = match c.model {
         ModelSpec::Paper => "paper",
         ModelSpec::Custom { .. } => "custom",
@@ -774,7 +788,7 @@ fn check_run(c: RunCase) -> Result<String, String> {
     }
     // Free flight is exact in the paper's model (certified onset); integrated in the custom
     // model, where the onset guard is located on the dense output (not certified).
-    let resolved = resolved(&c);
+    let resolution = Resolution::of(&c, unresolved_steps);
     let tol = Consistency {
         free: match c.model {
             ModelSpec::Paper => 1e-9,
@@ -790,7 +804,8 @@ fn check_run(c: RunCase) -> Result<String, String> {
         .chain(traj.events.iter().map(|e| (e.t, &e.after)))
         .collect();
     // The paper model's closed-form free flight carries the rounding of its forcing phase
-    // eta t, amplified by its steady amplitude (1e5 gaps next to an undamped resonance).
+    // phi0 + eta t, amplified by its steady amplitude (1e5 gaps next to an undamped
+    // resonance): the rounding level of `ring::onset` (its module docs, "The guarantee").
     let closed_form = match c.model {
         ModelSpec::Paper => {
             8.0 * f64::EPSILON * (FreeOscillator::new(&p).steady_radius() + p.ex.hypot(p.ey))
@@ -799,7 +814,7 @@ fn check_run(c: RunCase) -> Result<String, String> {
     };
     let slack = |phase: usize, t: f64, y: &State, label: u8| {
         let (t_s, y_s) = starts[phase];
-        let rounding = closed_form * (p.eta * t.abs()).max(1.0);
+        let rounding = closed_form * (p.phi0 + p.eta * t).abs().max(1.0);
         let depth = if label == 1 && y_s.iter().all(|v| v.is_finite()) {
             margin_depth(&ring, t_s, y_s)
         } else {
@@ -846,12 +861,11 @@ fn check_run(c: RunCase) -> Result<String, String> {
         }))
         .find_map(Result::err);
     if let Some((violation, msg)) = checked {
-        if !resolved {
+        if resolution != Resolution::Resolved {
             // Unresolved RK4: no guard is located reliably on its dense output, and a
             // transition at a bogus state can leave the rotor beyond the ring.
-            return Ok(format!(
-                "{model}: {label} (RK4 unresolved, inconsistent output)"
-            ));
+            let why = resolution.suffix().trim_end_matches(')');
+            return Ok(format!("{model}: {label}{why}, inconsistent output)"));
         }
         // Name the defect class when it is one of those fixed in 0.2.0 (docs/reliability.md,
         // fixed 7 and 8): every violation fails.
@@ -888,10 +902,7 @@ fn check_run(c: RunCase) -> Result<String, String> {
                     traj.strobe.len()
                 ));
             }
-            Ok(format!(
-                "{model}: ok{}",
-                if resolved { "" } else { " (RK4 unresolved)" }
-            ))
+            Ok(format!("{model}: ok{}", resolution.suffix()))
         }
         Err((kind, t, y)) => {
             if !runtime_error(&kind) {
@@ -910,7 +921,7 @@ fn check_run(c: RunCase) -> Result<String, String> {
                     max_events_per_period: bound.max(1).saturating_mul(2),
                     ..c.opts
                 };
-                let (res2, _) = run(&more);
+                let (res2, _, _) = run(&more);
                 if let Err((k2, t2, _)) = &res2 {
                     if *t2 <= t {
                         return Err(format!(
@@ -920,10 +931,7 @@ fn check_run(c: RunCase) -> Result<String, String> {
                     }
                 }
             }
-            Ok(format!(
-                "{model}: {label}{}",
-                if resolved { "" } else { " (RK4 unresolved)" }
-            ))
+            Ok(format!("{model}: {label}{}", resolution.suffix()))
         }
     }
 }
@@ -1425,6 +1433,10 @@ where
                 Ok(())
             }
             Err(defect) => {
+                if !stop {
+                    // As it happens: a long run takes minutes.
+                    eprintln!("DEFECT (case {}): {defect}\n    case: {desc}", t.cases);
+                }
                 *t.outcomes.entry("DEFECT".into()).or_default() += 1;
                 t.defects.push(format!("{defect}\n    case: {desc}"));
                 if stop {

@@ -887,6 +887,31 @@ impl SnubberRing {
         Some(side(if ahead.is_finite() { ahead } else { s }))
     }
 
+    /// [`RingError::PreloadBelowResolution`] when a preloaded axis' inner region ($2D_i$) is
+    /// narrower than the resolution at which its branch is decided at time `t` for the ring
+    /// located as `c` with the rotor at `k` (the rounding of the located position,
+    /// $64\varepsilon(|r| + \gamma)$, plus the distance the ring moves in the time resolution,
+    /// $|s_i^\prime|\tau$), and the ring is within that resolution of it.
+    fn check_resolution(&self, t: f64, c: &RingContact, k: &Kinematics) -> Result<(), RingError> {
+        let sd = c.ring_velocity(&k.v);
+        let rounding = 64.0 * f64::EPSILON * (k.r.norm() + self.gap);
+        let tau = PRELOAD_TIME_TOL * t.abs().max(1.0);
+        for (axis, field) in [(Axis::X, "x.preload"), (Axis::Y, "y.preload")] {
+            let (i, d) = (axis.index(), self.axis(axis).preload);
+            let resolution = rounding + (sd[i] * tau).abs();
+            // (A NaN velocity, a ring without damping released at once, fails neither test.)
+            if d > 0.0 && 2.0 * d < resolution && c.s[i].abs() <= d + resolution {
+                return Err(RingError::PreloadBelowResolution {
+                    field,
+                    preload: d,
+                    resolution,
+                    t,
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// Branches of a contact that starts at time `t` at the located ring `c`: an axis on its
     /// preload, or arriving at it within the time resolution, takes the branch its ring
     /// velocity moves into ([`SnubberRing::branch_at`]), since its guard, zero at the start,
@@ -931,6 +956,7 @@ impl SnubberRing {
             }
             (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
                 let c = self.locate_on(&k.r, *b, f64::NAN)?;
+                self.check_resolution(t, &c, k)?;
                 let mut next = *b;
                 let flip = |branch: Branch, s: f64| match branch {
                     Branch::Inner => Branch::Outer(if s >= 0.0 { 1 } else { -1 }),
@@ -1018,9 +1044,13 @@ impl SnubberRing {
             Branches::of(self, &Vector2::zeros())
         };
         let c = self.locate_on(&k.r, b, f64::NAN)?;
+        self.check_resolution(t, &c, k)?;
         let load = c.loss_force(&k.v);
         let stiffness = self.x.stiffness.max(self.y.stiffness);
-        let rounding = c.loss_force_rounding(stiffness, gap, &k.v);
+        // A rotor inside the circle within the touch tolerance has mu < 0 by up to
+        // K (gap - |r|)/gap on the smooth extension: the load there is zero to that level too.
+        let inside = 2.0 * stiffness * (gap - rn).max(0.0);
+        let rounding = c.loss_force_rounding(stiffness, gap, &k.v) + inside;
         let starts =
             load > rounding || (load >= -rounding && self.load_rises(&c, k, &accel, rounding));
         if starts {
