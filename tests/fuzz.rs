@@ -425,12 +425,8 @@ fn invalid_fields(o: &SimOptions) -> Vec<&'static str> {
 fn outcome_label(kind: &SimErrorKind) -> String {
     match kind {
         SimErrorKind::InvalidOption { .. } => "InvalidOption".into(),
+        k if below_resolution(k) => "Model: preload below the resolution".into(),
         SimErrorKind::Model(ModelError::InvalidState { .. }) => "Model: invalid state".into(),
-        SimErrorKind::Model(ModelError::Transition { reason, .. })
-            if reason.contains("below the resolution") =>
-        {
-            "Model: preload below the resolution".into()
-        }
         SimErrorKind::Model(ModelError::Transition { .. }) => "Model: transition failed".into(),
         SimErrorKind::Integrator(OdeError::StepSizeUnderflow { .. }) => {
             "Integrator: step-size underflow".into()
@@ -448,19 +444,31 @@ fn outcome_label(kind: &SimErrorKind) -> String {
     }
 }
 
+/// The typed error of a preload below the resolution of the run
+/// (`RingError::PreloadBelowResolution`), at a transition or at the start.
+fn below_resolution(kind: &SimErrorKind) -> bool {
+    match kind {
+        SimErrorKind::Model(
+            ModelError::Transition { reason, .. } | ModelError::InvalidState { reason, .. },
+        ) => reason.contains("below the resolution"),
+        _ => false,
+    }
+}
+
 /// Whether `kind` is an honest run-time outcome of a valid case.
 fn runtime_error(kind: &SimErrorKind) -> bool {
-    matches!(
-        kind,
-        SimErrorKind::Integrator(
-            OdeError::StepSizeUnderflow { .. }
-                | OdeError::TooManySteps { .. }
-                | OdeError::NonFiniteRhs { .. }
-        ) | SimErrorKind::Chattering { .. }
-            | SimErrorKind::Stalled { .. }
-            | SimErrorKind::NonFinite
-            | SimErrorKind::Model(ModelError::Transition { .. })
-    )
+    below_resolution(kind)
+        || matches!(
+            kind,
+            SimErrorKind::Integrator(
+                OdeError::StepSizeUnderflow { .. }
+                    | OdeError::TooManySteps { .. }
+                    | OdeError::NonFiniteRhs { .. }
+            ) | SimErrorKind::Chattering { .. }
+                | SimErrorKind::Stalled { .. }
+                | SimErrorKind::NonFinite
+                | SimErrorKind::Model(ModelError::Transition { .. })
+        )
 }
 
 /// Tolerances of the consistency check at outputs.
@@ -526,10 +534,12 @@ fn time_resolution(t: f64) -> f64 {
 }
 
 /// How far the rotor and the ring may be from where the state's mode puts them because of the
-/// time resolution at `t`: the rotor moves $|r^\prime|\tau$, the ring up to about three times
-/// that (docs/reliability.md, class D), in the time an event is located to.
-fn resolution_slack(t: f64, y: &State) -> f64 {
-    4.0 * y[2].hypot(y[3]) * time_resolution(t)
+/// time resolution at `t`: the rotor moves $|r^\prime|\tau$, the ring in contact up to about
+/// three times that (docs/reliability.md, class D), and a relaxing ring at its own speed
+/// `ring_speed` (which can be $10^{13}$ with $T = 2\nu_2/K \sim 10^{-14}$), in the time an
+/// event is located to.
+fn resolution_slack(t: f64, y: &State, ring_speed: f64) -> f64 {
+    (4.0 * y[2].hypot(y[3]) + ring_speed) * time_resolution(t)
 }
 
 /// How deep the rotor may be beyond the ring in a free flight that started at `(t_s, y_s)`:
@@ -815,12 +825,21 @@ fn check_run(c: RunCase) -> Result<String, String> {
     let slack = |phase: usize, t: f64, y: &State, label: u8| {
         let (t_s, y_s) = starts[phase];
         let rounding = closed_form * (p.phi0 + p.eta * t).abs().max(1.0);
-        let depth = if label == 1 && y_s.iter().all(|v| v.is_finite()) {
-            margin_depth(&ring, t_s, y_s)
+        let finite = y_s.iter().all(|v| v.is_finite());
+        let (depth, ring_speed) = if label == 1 && finite {
+            let relax = Relaxation {
+                t0: t_s,
+                s0: Vector2::new(y_s[4], y_s[5]),
+            };
+            let speed = relax.at(&ring, t).1.norm();
+            (
+                margin_depth(&ring, t_s, y_s),
+                if speed.is_finite() { speed } else { 0.0 },
+            )
         } else {
-            0.0
+            (0.0, 0.0)
         };
-        resolution_slack(t, y) + depth + rounding
+        resolution_slack(t, y, ring_speed) + depth + rounding
     };
     // The phase holding an output at t: the one started by the last event before t (an output
     // at an event's time is its left limit).
