@@ -910,7 +910,25 @@ fn check_run(c: RunCase) -> Result<String, String> {
             }
             _ => "",
         };
-        return Err(format!("{msg}{class}"));
+        // Class S: the same case without the event screen (`SimOptions::screen_events`,
+        // `ode::events`, "Screening") is consistent: the screen cleared a guard over a step on
+        // which it crossed (its Hermite bound does not hold there).
+        let screen = if c.opts.screen_events {
+            let unscreened = RunCase {
+                opts: SimOptions {
+                    screen_events: false,
+                    ..c.opts
+                },
+                ..c
+            };
+            match check_run(unscreened) {
+                Ok(_) => " (class S: the event screen cleared a crossing; consistent without it)",
+                Err(_) => "",
+            }
+        } else {
+            ""
+        };
+        return Err(format!("{msg}{class}{screen}"));
     }
     match res {
         Ok(()) => {
