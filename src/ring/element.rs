@@ -70,7 +70,14 @@
 //! itself passed through its inner region within $\tau$), the branches are taken afresh from
 //! the minimum-energy position, as at a touch. These matter only where a preload is smaller
 //! than the ring moves in $\tau$ ($10^{-8}$ at $t = 10^6$ for a unit ring speed); elsewhere
-//! the rule is the paper's.
+//! the rule is the paper's. Where a preloaded axis' whole inner region $2D_i$ is narrower than
+//! the resolution of the decision, $64\varepsilon(|r| + \gamma) + |s_i^\prime|\tau$ (the
+//! rounding of the located position and the ring's motion in $\tau$), with the ring within that
+//! resolution of it, at a touch or a preload crossing, no rule can tell the side: the
+//! transition fails with [`RingError::PreloadBelowResolution`] rather than run a contact on a
+//! branch that may be wrong (the ring hovered at such a preload, its guard crossing back and
+//! forth within rounding, until a crossing was lost and the contact ran with the ring up to
+//! 0.3 gaps from $s^*(r)$).
 //!
 //! **No ring damping** ($\nu_2 = 0$): the ring relaxes instantly, so every free flight starts
 //! with the ring at its centre.
