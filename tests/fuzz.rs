@@ -10,15 +10,16 @@
 //! (ring off its minimum, rotor beyond the ring) or `NonFinite`; a valid case ends in success
 //! or in one of the run-time errors (integrator step-size underflow, too many steps, non-finite
 //! right-hand side; `Chattering`, which a larger bound must let go further; `Stalled`;
-//! `NonFinite`; a failed transition), never in an option or start error. A success has finite
-//! states at every output, the expected strobes, and the ring consistent with the rotor there:
-//! in free flight $|r - s| \le \gamma$, in contact $|r - s| = \gamma$ with the ring at its
-//! minimum-energy position $s^*(r)$ and the regime label of the ring's position. Those
-//! consistency checks need a resolved integration ([`Resolution`]: RK4 runs with steps the
-//! library counts as unresolved, `SimStats::unresolved_steps`, and adaptive runs with
-//! `rtol > 1e-3` are counted apart). Every failure fails the test; one of the two defect classes fixed in 0.2.0
-//! (docs/reliability.md, fixed 7 and 8: A and D) is named in its message when its mechanism is
-//! recognised.
+//! `NonFinite`; a failed transition, including a preload below the resolution of the run),
+//! never in an option or start error. Every output and both sides of every event record are
+//! finite with the ring consistent with the rotor there (the expected strobes too, for a
+//! success): in free flight $|r - s| \le \gamma$, in contact $|r - s| = \gamma$ with the ring at
+//! its minimum-energy position $s^*(r)$ and the regime label of the ring's position, up to the
+//! resolution the crate documents there ([`check_point`]). Those consistency checks need a
+//! resolved integration ([`Resolution`]: RK4 runs with steps the library counts as unresolved,
+//! `SimStats::unresolved_steps`, and adaptive runs with `rtol > 1e-3` are counted apart).
+//! Every failure fails the test; its class is named when its mechanism is recognised: A and D
+//! (docs/reliability.md, fixed 7 and 8), S (consistent without the event screen).
 //!
 //! **Runs.** `cargo test --test fuzz` runs a short version (a few seconds; failures shrink and
 //! are saved in `proptest-regressions/fuzz.txt`, replayed first on every run). The long run
