@@ -1101,3 +1101,63 @@ fn the_event_screen_does_not_clear_a_crossing() {
         assert!(worst <= 1e-9, "screen {screen_events}: {worst:e} off");
     }
 }
+
+/// A fuzz case (seed 777): the custom rotor at rest on the gap circle at $t_0 = 1.3\times10^5$,
+/// its cubic bearing pulling it at $10^7$ towards a rest position 197 gaps out. The onset guard
+/// $h - m$ of the touching start (margin $m = 1.4\times10^{-14}$, the rounding alone: the rate
+/// is zero) crossed zero $3\times10^{-11}$ after the start, inside the event detector's
+/// start-of-segment window ($2\times10^{-10}$ there): no event, and the rotor ended 187 gaps
+/// beyond the ring in free flight, silently. A start touching the ring at rest relative to it
+/// but accelerated into it ($h^{\prime\prime} > 0$) now begins with the touch. (The preloads,
+/// $4.9\times10^{-9}$, are below the resolution there: the run then ends in that typed error.)
+#[test]
+fn a_start_on_the_circle_accelerated_outward_touches_the_ring() {
+    let p = Params {
+        eta: 7.287078531856548,
+        nu1: 0.28704646824984587,
+        nu2: 0.0001107071654938028,
+        kx: 0.569707051220153,
+        ky: 0.569707051220153,
+        beta: 0.2569784821708299,
+        dx: 4.9436962441037195e-9,
+        dy: 4.9436962441037195e-9,
+        ex: -196.96049351820622,
+        ey: -0.29587893441891916,
+        phi0: -9429.594455455182,
+    };
+    let m = rotor::on_ring(p, 0.10646495618094938, 1.4904665233746726).unwrap();
+    let ang = 3.9089143892087774f64;
+    let y0 = SVector::from([ang.cos(), ang.sin(), 0.0, 0.0, 0.0, 0.0]);
+    let t0 = 128274.73172044598;
+    let period = p.forcing_period();
+    let t_end = t0 + 3.0 * period;
+    let plan = OutputPlan {
+        t_end,
+        strobe: Some(StrobeRange {
+            first: (t0 / period).ceil() as u64,
+            last: (t_end / period).floor() as u64,
+        }),
+        dense: None,
+        events: true,
+    };
+    let opts = SimOptions {
+        method: Method::Dop853,
+        rtol: 4.993687308337673e-13,
+        atol: 2.0228944270706403e-9,
+        steps_per_period: 5,
+        max_step_fraction: 0.1043659477653059,
+        event_samples: 1,
+        max_events_per_period: 1000,
+        max_steps: 83257,
+        screen_events: false,
+    };
+    let mut traj = Trajectory::default();
+    if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
+        below_resolution_or_panic(&e.kind);
+    }
+    let worst = worst_inconsistency(m.ring(), &traj);
+    assert!(
+        worst <= 1e-6,
+        "rotor or ring {worst:e} off where the mode puts it"
+    );
+}

@@ -788,7 +788,16 @@ impl SnubberRing {
             let q = k.r - s;
             let rate = 2.0 * q.dot(&(k.v - s_dot));
             let scale = 2.0 * q.norm() * (k.v.norm() + s_dot.norm());
-            if onset_margin > 0.0 && rate > 1e-9 * scale {
+            // A rotor touching the ring at rest relative to it (rate zero to rounding) but
+            // accelerated into it, h'' = 2|r' - s'|^2 + 2 q.r'' > 0 (the ring's own
+            // acceleration left out: a touch that finds no load releases the ring anyway),
+            // crosses the margin within the detector's window late in long runs (a cubic
+            // bearing pulling at 1e7 towards a rest position 200 gaps out: 3e-11 at
+            // t = 1.3e5): it begins with the touch too.
+            let curvature =
+                2.0 * (k.v - s_dot).norm_squared() + 2.0 * q.dot(&accel(&Vector2::zeros()));
+            let moving_in = rate > 1e-9 * scale || (rate >= -1e-9 * scale && curvature > 0.0);
+            if onset_margin > 0.0 && moving_in {
                 return self.transition(&mode, RingGuard::Onset, t, k, accel);
             }
             return Ok(RingTransition { mode, s });
