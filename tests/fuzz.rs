@@ -1568,7 +1568,7 @@ fn fuzz_short() {
 /// ring-element cases (default 1e5, seed + 1), without stopping at a defect; prints each
 /// seed's counts as it finishes, and fails at the end if any seed had a defect.
 #[test]
-#[ignore = "long run (about 4 minutes per seed): FUZZ_CASES=100000 nice cargo test --test fuzz -- --ignored --nocapture"]
+#[ignore = "long run (three seeds, minutes each): FUZZ_CASES=100000 nice cargo test --test fuzz -- --ignored --nocapture"]
 fn fuzz_long() {
     let mut summary = Vec::new();
     for seed in long_seeds() {
