@@ -132,6 +132,24 @@ where
     /// The forcing period (stroboscopic sampling and the chattering window use it; an unforced
     /// rotor gives a characteristic period, e.g. that of its first mode).
     fn forcing_period(&self) -> f64;
+
+    /// An upper bound of the rates of the rotor's motion at `(t, y)` with a spring of
+    /// stiffness `stiffness` and a damper of coefficient `damping` acting at the station (both
+    /// 0 in free flight; in contact the ring's [`SnubberRing::contact_bounds`]), if known: for
+    /// a unit-mass station of stiffness $k_0$ and damping $c_0$,
+    /// $\sqrt{k_0 + k} + c_0 + c$. [`RingedRotor`] passes it on as
+    /// [`RotorModel::max_rate`], which flags fixed steps that do not resolve the motion.
+    /// Default: `None`.
+    fn max_rate(
+        &self,
+        t: f64,
+        y: &OVector<f64, Self::Dim>,
+        stiffness: f64,
+        damping: f64,
+    ) -> Option<f64> {
+        let _ = (t, y, stiffness, damping);
+        None
+    }
 }
 
 /// A [`SmoothRotor`] with the snubber ring at its station: a [`RotorModel`] whose modes are the
@@ -682,5 +700,13 @@ where
 
     fn forcing_period(&self) -> f64 {
         self.rotor.forcing_period()
+    }
+
+    fn max_rate(&self, mode: RingMode, t: f64, y: &OVector<f64, R::Dim>) -> Option<f64> {
+        let (k, c) = match mode {
+            RingMode::Contact(_) => self.ring.contact_bounds(),
+            _ => (0.0, 0.0),
+        };
+        self.rotor.max_rate(t, y, k, c)
     }
 }

@@ -458,8 +458,9 @@ fn free_excursion(
         events: true,
     };
     let mut traj = Trajectory::default();
-    simulate(&m, t0, &SVector::from(y0), &plan, opts, &mut traj)
-        .unwrap_or_else(|e| panic!("{}", e.kind));
+    if let Err(e) = simulate(&m, t0, &SVector::from(y0), &plan, opts, &mut traj) {
+        below_resolution_or_panic(&e.kind);
+    }
     let beyond = traj
         .samples
         .iter()
@@ -571,6 +572,17 @@ fn rotor_curving_back_after_a_touch_without_load_meets_the_ring() {
 //    `ode::events` rule 4 limited to zeros at the start, `SnubberRing` branches within the
 //    time resolution).
 
+/// A run may end in the typed error of a preload below the resolution of the run (issue 16:
+/// the open class of 0.2.0 turned into an error), with what it recorded before consistent;
+/// any other error fails the test.
+fn below_resolution_or_panic(kind: &SimErrorKind) {
+    match kind {
+        SimErrorKind::Model(ModelError::Transition { reason, .. })
+            if reason.contains("below the resolution") => {}
+        other => panic!("{other}"),
+    }
+}
+
 /// Over the strobes and dense samples in contact: the largest distance between the ring in the
 /// state and its minimum-energy position $s^*(r)$, and the number of outputs whose label is not
 /// the regime of the ring's position (more than $10^{-6}$ from a preload). Both are zero when
@@ -655,9 +667,13 @@ fn preloads_crossed_within_one_ulp_of_the_onset_switch_the_branches() {
         event_samples: 1,
         ..SimOptions::default()
     };
-    let (traj, _) = m
-        .run(t0, &y0, &plan, &opts)
-        .unwrap_or_else(|f| panic!("{}", f.error));
+    let traj = match m.run(t0, &y0, &plan, &opts) {
+        Ok((traj, _)) => traj,
+        Err(f) => {
+            below_resolution_or_panic(&f.error.kind);
+            f.partial
+        }
+    };
     let (worst, mislabelled) = contact_errors(m.ring(), &traj);
     assert!(worst <= 1e-6, "ring {worst:e} from s*(r)");
     assert_eq!(mislabelled, 0, "outputs in contact with the wrong regime");
@@ -713,8 +729,438 @@ fn a_ring_through_its_inner_region_within_the_time_resolution_takes_the_far_bran
         ..SimOptions::default()
     };
     let mut traj = Trajectory::default();
-    simulate(&m, t0, &y0, &plan, &opts, &mut traj).unwrap_or_else(|e| panic!("{}", e.kind));
+    if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
+        below_resolution_or_panic(&e.kind);
+    }
     let (worst, mislabelled) = contact_errors(m.ring(), &traj);
     assert!(worst <= 1e-6, "ring {worst:e} from s*(r)");
     assert_eq!(mislabelled, 0, "outputs in contact with the wrong regime");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 9. The ring's location next to a branch's pole (issue 16, item 3).
+
+/// On fixed branches an axis' distance is $d_i = \alpha_i/(\beta_i + \mu)$, with a pole at
+/// $\mu = -\beta_i$. On branches that hold the root beyond the stiff axis' reach (here the
+/// y axis on its outer branch on the far side of the centre), the root sits next to the soft
+/// axis' pole, $\beta_x + \mu \approx |\alpha_x|/d_x$: with $r_x = 3.5\times10^{-17}$ that is
+/// far below one ulp of $\mu$, and the solver, iterating on $\mu$, returned `NotConverged`
+/// (which its docs called impossible); at $r_x = 0$ an exact `== 0.0` shortcut returned
+/// another root (the ring with $d_x = 0$ beyond the pole), so the answer jumped in $r_x$.
+///
+/// The expected position is independent of the solver: at the pole $\mu = -\beta_x$ the
+/// stiff axis' distance is $d_y = \alpha_y/(\beta_y - \beta_x)$ and the soft axis takes the
+/// rest of the length, $d_x = \operatorname{sign}(r_x)\sqrt{\gamma^2 - d_y^2}$; for
+/// $|r_x| \to 0$ the root tends to it, at a rate bounded by the Jacobian (order 1 here).
+#[test]
+fn ring_next_to_a_branch_pole_is_placed_continuously_in_r() {
+    use jeffcott::ring::{Branch, Branches, RingError};
+    let (kx, ky, d) = (1.0813235859593051, 2.2087045555397626, 0.21104992476420698);
+    let ring = SnubberRing::new(RingAxis::new(kx, d), RingAxis::new(ky, d), 0.1, 1.0).unwrap();
+    let b = Branches {
+        x: Branch::Inner,
+        y: Branch::Outer(0),
+    };
+    let ry = 0.016991106264126143;
+    // The limit at the pole, from the branch formulas alone: inner x (beta_x = K_x), outer y
+    // without side (alpha_y = K_y r_y / 2, beta_y = K_y / 2).
+    let dy0 = 0.5 * ky * ry / (0.5 * ky - kx);
+    let dx0 = (1.0 - dy0 * dy0).sqrt();
+    assert!(dy0.abs() < 1.0);
+    for rx in [3.5e-17, -3.5e-17, 1e-20, -1e-20, 0.0, -0.0, 1e-300] {
+        let r = Vector2::new(rx, ry);
+        for hint in [f64::NAN, -kx, -kx + 1e-9, 0.0, 30.0] {
+            let c = match ring.locate_on(&r, b, hint) {
+                Ok(c) => c,
+                Err(e @ RingError::NotConverged { .. }) => {
+                    panic!("r.x = {rx:e}, hint {hint}: {e}")
+                }
+                Err(e) => panic!("r.x = {rx:e}, hint {hint}: unexpected {e}"),
+            };
+            let dn = r - c.s;
+            assert!(
+                (dn.norm() - 1.0).abs() <= 1e-14,
+                "constraint {:e}",
+                dn.norm() - 1.0
+            );
+            let sign = if rx.is_sign_negative() { -1.0 } else { 1.0 };
+            let expected = Vector2::new(sign * dx0, dy0);
+            let off = (dn - expected).norm();
+            assert!(
+                off <= 1e-12,
+                "r.x = {rx:e}, hint {hint}: r - s = {dn:?}, the pole's limit {expected:?} ({off:e} away)"
+            );
+            assert!(c.jacobian.iter().all(|v| v.is_finite()), "{:?}", c.jacobian);
+        }
+    }
+}
+
+/// The fuzzer's ring cases (seed 4) found warm and cold starts $6.3\times10^{-8}$ apart with
+/// $K_y/K_x = 3.5\times10^4$ and the soft axis next to its pole ($r_x = 6\times10^{-17}$,
+/// the y axis on its outer branch on the far side): iterating on $\mu$ cannot resolve
+/// $\beta_x + \mu \approx 10^{-17}$, so each start stopped somewhere else in that ulp. (The
+/// docs promised agreement to $4\times10^{-14}$.)
+#[test]
+fn warm_and_cold_starts_agree_next_to_a_pole_under_anisotropy() {
+    use jeffcott::ring::{Branch, Branches};
+    let ring = SnubberRing::new(
+        RingAxis::new(0.24009143467938432, 0.0),
+        RingAxis::new(8312.502750502606, 0.25230395558520735),
+        1.6052530072191538e-10,
+        1.0,
+    )
+    .unwrap();
+    let b = Branches {
+        x: Branch::Inner,
+        y: Branch::Outer(-1),
+    };
+    let mut worst = 0.0f64;
+    for rx in [6.125191028758804e-17, 1e-16, 3e-15, 1e-13] {
+        let r = Vector2::new(rx, 1.0003196077470502);
+        let cold = ring.locate_on(&r, b, f64::NAN).unwrap();
+        for hint in [1527.0035500571137, -0.2, 0.0, -1e3, cold.mu + 1e-9] {
+            let warm = ring.locate_on(&r, b, hint).unwrap();
+            worst = worst.max((warm.s - cold.s).norm());
+        }
+    }
+    assert!(worst <= 1e-13, "warm and cold starts differ by {worst:e}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 10. Unresolved RK4 and preloads below the resolution of the run (issue 16, item 4).
+
+/// The largest inconsistency of a paper-model trajectory's outputs and event records: in free
+/// flight how far the rotor is beyond the ring, in contact how far the ring is from $s^*(r)$.
+fn worst_inconsistency(ring: &SnubberRing, traj: &Trajectory<jeffcott::nalgebra::U6>) -> f64 {
+    let points = traj
+        .strobe
+        .iter()
+        .map(|p| (p.label, p.y))
+        .chain(traj.samples.iter().map(|s| (s.label, s.y)))
+        .chain(
+            traj.events
+                .iter()
+                .flat_map(|e| [(e.from, e.before), (e.to, e.after)]),
+        );
+    points
+        .map(|(label, y)| {
+            let (r, s) = (Vector2::new(y[0], y[1]), Vector2::new(y[4], y[5]));
+            if label == 1 {
+                (r - s).norm() - ring.gap
+            } else {
+                ring.locate(&r).map_or(0.0, |c| (c.s - s).norm())
+            }
+        })
+        .fold(0.0, f64::max)
+}
+
+/// A fuzz case (seed 0x00F02210): RK4 at 2 steps per forcing period ($h = 7.3$, against the
+/// contact's rate $\sqrt{1 + 2K_x} + 2\nu_1 = 4.2$ and the forcing's $\eta = 0.43$) from a start in
+/// contact. The run returned `Ok` with the ring off its minimum-energy position, and nothing
+/// told the caller that the fixed step resolved nothing. The run's statistics now count the
+/// unresolved steps (`SimStats::unresolved_steps`, from `RotorModel::max_rate`).
+#[test]
+fn unresolved_rk4_is_flagged_in_the_run_statistics() {
+    let p = Params {
+        eta: 0.4293363198007349,
+        nu1: 1.0,
+        nu2: 0.0,
+        kx: 1.8787053313903253,
+        ky: 0.04189614751011124,
+        beta: 0.19527375640602046,
+        dx: 2.5549268424925526,
+        dy: 0.17450925165544648,
+        ex: 1.2973612936305643,
+        ey: 0.0,
+        phi0: 6233.100750082036,
+    };
+    let m = JeffcottModel::new(p).unwrap();
+    let (ang, speed, dir) = (
+        1.4949077148689516f64,
+        2.7384895452314577f64,
+        2.666265055456449f64,
+    );
+    let y0 = m
+        .state_at(
+            [(1.0 + 1e-12) * ang.cos(), (1.0 + 1e-12) * ang.sin()],
+            [speed * dir.cos(), speed * dir.sin()],
+        )
+        .unwrap();
+    let opts = SimOptions {
+        method: Method::Rk4,
+        steps_per_period: 2,
+        event_samples: 41,
+        max_events_per_period: 62,
+        ..SimOptions::default()
+    };
+    let (traj, stats) = match m.run(0.0, &y0, &plan(&p, 3), &opts) {
+        Ok(ok) => ok,
+        Err(f) => (f.partial, f.error.stats),
+    };
+    let worst = worst_inconsistency(m.ring(), &traj);
+    // The outputs are inconsistent (measured 8.7e-2, all 16 steps unresolved); the run must
+    // say it was not resolved.
+    assert!(
+        worst > 1e-6,
+        "outputs consistent ({worst:e}): not the case kept"
+    );
+    assert!(
+        stats.unresolved_steps > 0,
+        "inconsistent outputs ({worst:e}) from a run with no unresolved step: {stats:?}"
+    );
+    // The same run resolved: no step flagged.
+    let fine = SimOptions {
+        steps_per_period: 2000,
+        ..opts
+    };
+    let stats = match m.run(0.0, &y0, &plan(&p, 3), &fine) {
+        Ok((_, stats)) => stats,
+        Err(f) => f.error.stats,
+    };
+    assert_eq!(stats.unresolved_steps, 0, "{stats:?}");
+}
+
+/// A fuzz case (seed 2): the custom rotor with preloads $1.7\times10^{-12}$ and a rest position
+/// 222 gaps out, moving at $2\times10^4$ with the ring up to 300 gaps from its centre. The
+/// rounding of the ring's position ($64\varepsilon|r| \approx 4\times10^{-12}$) exceeds the
+/// whole inner region: the y axis hovered at its preload, crossing back and forth within
+/// rounding, until a crossing was lost, and the contact ran on the inner branch with the ring
+/// 38 gaps beyond the preload, 0.28 from $s^*(r)$ at a strobe. Such a transition is now the
+/// typed error `RingError::PreloadBelowResolution` (in `ModelError::Transition`), and what was
+/// recorded before it is consistent.
+#[test]
+fn a_preload_below_the_rounding_of_the_ring_position_is_a_typed_error() {
+    let p = Params {
+        eta: 3.462266724068028,
+        nu1: 0.14915655580950976,
+        nu2: 0.025829978595550855,
+        kx: 481.736231419149,
+        ky: 2375.7619144085797,
+        beta: 2.041337774855918,
+        dx: 1.6826827198743493e-12,
+        dy: 1.6826827198743493e-12,
+        ex: -221.94949895229098,
+        ey: -0.8915492326421556,
+        phi0: 5845.364383598749,
+    };
+    let m = rotor::on_ring(p, -0.16674255294477353, 0.5506916622927115).unwrap();
+    let (speed, dir) = (1.526470520501915e-6f64, 0.054227660851708895f64);
+    let y0 = SVector::from([0.0, 0.0, speed * dir.cos(), speed * dir.sin(), 0.0, 0.0]);
+    let opts = SimOptions {
+        method: Method::Dop853,
+        rtol: 3.9459873847590993e-10,
+        atol: 7.170878364034749e-6,
+        steps_per_period: 10,
+        max_step_fraction: 0.001725827382784153,
+        event_samples: 41,
+        max_events_per_period: 1000,
+        max_steps: 48401,
+        screen_events: true,
+    };
+    let mut traj = Trajectory::default();
+    let res = simulate(&m, 0.0, &y0, &plan(&p, 2), &opts, &mut traj);
+    let worst = worst_inconsistency(m.ring(), &traj);
+    assert!(worst <= 1e-6, "ring {worst:e} off where its mode puts it");
+    match res {
+        Err(e) => below_resolution_or_panic(&e.kind),
+        Ok(stats) => panic!("the run succeeded ({stats:?}): expected the typed error"),
+    }
+}
+
+/// A fuzz case (seed 2; found by checking every event record): the paper's model without ring
+/// damping touches the relaxed ring with the rotor $4.3\times10^{-15}$ inside the gap circle
+/// (within the touch tolerance) and moving outward at 1.3. On the smooth extension there
+/// $\mu \approx -K\cdot4.3\times10^{-15}$, a load below its rounding estimate, so the touch was
+/// rejected and the separating free flight ran on until the next onset, with the rotor
+/// $2.9\times10^{-9}$ beyond the ring. The deficit of a rotor inside the circle within the
+/// touch tolerance now counts as zero load, and the load's rise decides: contact starts.
+#[test]
+fn a_touch_a_hair_inside_the_circle_moving_outward_starts_contact() {
+    let p = Params {
+        eta: 1.0708489957908562,
+        nu1: 0.09120843157122241,
+        nu2: 0.0,
+        kx: 28.702618999845047,
+        ky: 28.702618999845047,
+        beta: 2.2647658352696896,
+        dx: 0.21363401211192354,
+        dy: 0.21363401211192354,
+        ex: 0.9979955948186914,
+        ey: -0.2690879492423149,
+        phi0: -2.9308844040897273,
+    };
+    let m = JeffcottModel::new(p).unwrap();
+    let (ang, speed, dir) = (
+        1.1356288715427505f64,
+        6.440870855099381e-5f64,
+        3.663708422489889f64,
+    );
+    let y0 = m
+        .state_at(
+            [(1.0 + 1e-12) * ang.cos(), (1.0 + 1e-12) * ang.sin()],
+            [speed * dir.cos(), speed * dir.sin()],
+        )
+        .unwrap();
+    let t0 = 42.85066978428691;
+    let period = p.forcing_period();
+    let t_end = t0 + 2.0 * period;
+    // The strobes as the fuzzer asked for them (RK4 lands its steps on them).
+    let plan = OutputPlan {
+        t_end,
+        strobe: Some(StrobeRange {
+            first: (t0 / period).ceil() as u64,
+            last: (t_end / period).floor() as u64,
+        }),
+        dense: None,
+        events: true,
+    };
+    let opts = SimOptions {
+        method: Method::Rk4,
+        rtol: 4.579066598091129e-6,
+        atol: 8.121132758309089e-6,
+        steps_per_period: 454,
+        max_step_fraction: 0.21273644290132865,
+        event_samples: 41,
+        max_events_per_period: 1000,
+        max_steps: 65047,
+        screen_events: true,
+    };
+    let (traj, stats) = m
+        .run(t0, &y0, &plan, &opts)
+        .unwrap_or_else(|f| panic!("{}", f.error));
+    assert_eq!(stats.unresolved_steps, 0);
+    let worst = worst_inconsistency(m.ring(), &traj);
+    assert!(
+        worst <= 1e-9,
+        "rotor or ring {worst:e} off where the mode puts it"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Open (issue 16): the event screen clears a crossing.
+
+/// A fuzz case (seed 777, found by checking every event record): with the event screen on
+/// (`SimOptions::screen_events`, opt-in since issue 16), the paper model's gap guard was cleared over a
+/// step on which it crossed (the screen's Hermite bound does not hold there), and the next
+/// onset found the rotor $1.7\times10^{-5}$ beyond the ring; without the screen
+/// $5\times10^{-13}$. Ignored until the screen is fixed (`ode::events`, not the ring): run it
+/// with `--ignored`.
+#[test]
+#[ignore = "open: the opt-in event screen clears a crossing (ode::events); cargo test --test fuzz_findings -- --ignored"]
+fn the_event_screen_does_not_clear_a_crossing() {
+    let p = Params {
+        eta: 1.000001,
+        nu1: 0.2644262900836974,
+        nu2: 18.581640394368485,
+        kx: 303.5460041812279,
+        ky: 303.5460041812279,
+        beta: 0.4778906670584586,
+        dx: 0.0,
+        dy: 0.0,
+        ex: 0.46373481098207564,
+        ey: -0.024712567647993608,
+        phi0: 6313.669037864115,
+    };
+    let m = JeffcottModel::new(p).unwrap();
+    let (ang, speed, dir) = (
+        3.6679441733133755f64,
+        0.00043863967322860134f64,
+        0.26853541169432377f64,
+    );
+    let y0 = m
+        .state_at(
+            [(1.0 + 1e-12) * ang.cos(), (1.0 + 1e-12) * ang.sin()],
+            [speed * dir.cos(), speed * dir.sin()],
+        )
+        .unwrap();
+    let t0 = 91.92633304343948;
+    let period = p.forcing_period();
+    let t_end = t0 + 3.0 * period;
+    let plan = OutputPlan {
+        t_end,
+        strobe: Some(StrobeRange {
+            first: (t0 / period).ceil() as u64,
+            last: (t_end / period).floor() as u64,
+        }),
+        dense: None,
+        events: true,
+    };
+    for screen_events in [false, true] {
+        let opts = SimOptions {
+            method: Method::Dop853,
+            rtol: 2.4485229992722414e-11,
+            atol: 0.0008890410066892507,
+            steps_per_period: 10,
+            max_step_fraction: 0.09872976906416432,
+            event_samples: 18,
+            max_events_per_period: 48,
+            max_steps: 79607,
+            screen_events,
+        };
+        let (traj, _) = m
+            .run(t0, &y0, &plan, &opts)
+            .unwrap_or_else(|f| panic!("{}", f.error));
+        let worst = worst_inconsistency(m.ring(), &traj);
+        assert!(worst <= 1e-9, "screen {screen_events}: {worst:e} off");
+    }
+}
+
+/// A fuzz case (seed 777): the custom rotor at rest on the gap circle at $t_0 = 1.3\times10^5$,
+/// its cubic bearing pulling it at $10^7$ towards a rest position 197 gaps out. The onset guard
+/// $h - m$ of the touching start (margin $m = 1.4\times10^{-14}$, the rounding alone: the rate
+/// is zero) crossed zero $3\times10^{-11}$ after the start, inside the event detector's
+/// start-of-segment window ($2\times10^{-10}$ there): no event, and the rotor ended 187 gaps
+/// beyond the ring in free flight, silently. A start touching the ring at rest relative to it
+/// but accelerated into it ($h^{\prime\prime} > 0$) now begins with the touch. (The preloads,
+/// $4.9\times10^{-9}$, are below the resolution there: the run then ends in that typed error.)
+#[test]
+fn a_start_on_the_circle_accelerated_outward_touches_the_ring() {
+    let p = Params {
+        eta: 7.287078531856548,
+        nu1: 0.28704646824984587,
+        nu2: 0.0001107071654938028,
+        kx: 0.569707051220153,
+        ky: 0.569707051220153,
+        beta: 0.2569784821708299,
+        dx: 4.9436962441037195e-9,
+        dy: 4.9436962441037195e-9,
+        ex: -196.96049351820622,
+        ey: -0.29587893441891916,
+        phi0: -9429.594455455182,
+    };
+    let m = rotor::on_ring(p, 0.10646495618094938, 1.4904665233746726).unwrap();
+    let ang = 3.9089143892087774f64;
+    let y0 = SVector::from([ang.cos(), ang.sin(), 0.0, 0.0, 0.0, 0.0]);
+    let t0 = 128274.73172044598;
+    let period = p.forcing_period();
+    let t_end = t0 + 3.0 * period;
+    let plan = OutputPlan {
+        t_end,
+        strobe: Some(StrobeRange {
+            first: (t0 / period).ceil() as u64,
+            last: (t_end / period).floor() as u64,
+        }),
+        dense: None,
+        events: true,
+    };
+    let opts = SimOptions {
+        method: Method::Dop853,
+        rtol: 4.993687308337673e-13,
+        atol: 2.0228944270706403e-9,
+        steps_per_period: 5,
+        max_step_fraction: 0.1043659477653059,
+        event_samples: 1,
+        max_events_per_period: 1000,
+        max_steps: 83257,
+        screen_events: false,
+    };
+    let mut traj = Trajectory::default();
+    if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
+        below_resolution_or_panic(&e.kind);
+    }
+    let worst = worst_inconsistency(m.ring(), &traj);
+    assert!(
+        worst <= 1e-6,
+        "rotor or ring {worst:e} off where the mode puts it"
+    );
 }

@@ -49,6 +49,14 @@ impl SmoothRotor for CrossCoupledRotor {
     fn forcing_period(&self) -> f64 {
         self.params.forcing_period()
     }
+    fn max_rate(&self, _t: f64, y: &SVector<f64, 6>, k: f64, c: f64) -> Option<f64> {
+        // Unit mass: stiffness 1 + k3 (|u|^2 I + 2 u u^T) (eigenvalues up to 3 |k3| |u|^2),
+        // the cross coupling q (a skew part, rate |q|), damping 2 nu1.
+        let u2 = (y[0] - self.params.ex).powi(2) + (y[1] - self.params.ey).powi(2);
+        let stiffness = 1.0 + 3.0 * self.k3.abs() * u2 + k;
+        // The forcing's frequency eta must be resolved too.
+        Some((stiffness.sqrt() + self.q.abs() + 2.0 * self.params.nu1 + c).max(self.params.eta))
+    }
 }
 
 /// The rotor on the ring of `params` (stiffness, preload, damping; gap 1).

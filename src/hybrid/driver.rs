@@ -81,6 +81,12 @@ pub struct SimStats {
     pub exact_evals: u64,
     /// Transitions (events that changed the mode).
     pub transitions: u64,
+    /// Fixed (RK4) steps longer than the inverse of the model's bound on its rates
+    /// ([`RotorModel::max_rate`]): steps that do not resolve the motion. A run with any is
+    /// not trustworthy (its outputs may be inconsistent, e.g. the rotor beyond the ring):
+    /// raise [`SimOptions::steps_per_period`] until this is 0. Always 0 for the adaptive
+    /// methods and for models that give no bound.
+    pub unresolved_steps: u64,
 }
 
 /// What went wrong in a run.
@@ -611,6 +617,7 @@ where
     let mut integ = build_integrator(model, opts, period).map_err(|e| fail(e, t0, y0, stats))?;
     let mut ev_state = EventState::with_dim(dim);
     let mut w = Scratch::new(dim);
+    let fixed_step = opts.method == Method::Rk4;
     let ev_opts = EventOptions {
         samples_per_step: opts.event_samples,
         screen: opts.screen_events,
@@ -686,6 +693,11 @@ where
                     if let Err(e) = integ.step(&sys, plan.t_end) {
                         collect(&mut stats, &integ);
                         return Err(fail(e.into(), integ.t(), integ.y(), stats));
+                    }
+                    if fixed_step {
+                        let h = integ.t() - integ.t_prev();
+                        let rate = model.max_rate(mode, integ.t_prev(), integ.y_prev());
+                        stats.unresolved_steps += u64::from(rate.is_some_and(|l| h * l > 1.0));
                     }
                     if !integ.y().iter().all(|v| v.is_finite()) {
                         collect(&mut stats, &integ);

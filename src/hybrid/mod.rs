@@ -531,4 +531,19 @@ where
     /// period of its motion instead (e.g. $2\pi/\omega_n$ of its lowest mode, or the sampling
     /// interval wanted for its stroboscopic outputs): finite and > 0.
     fn forcing_period(&self) -> f64;
+
+    /// An upper bound $\lambda$ of the rates of the motion in `mode` at `(t, y)` (the spectral
+    /// radius of the vector field's Jacobian, for a unit-mass oscillator of stiffness $k$ and
+    /// damping coefficient $c$ bounded by $\sqrt{k} + c$, and the forcing's frequency), if the
+    /// model knows one. The driver
+    /// counts the fixed (RK4) steps $h$ with $h\lambda > 1$ in
+    /// [`SimStats::unresolved_steps`](crate::hybrid::SimStats::unresolved_steps): beyond that
+    /// the fixed step does not resolve the motion (RK4's stability limit is $h\lambda \approx
+    /// 2.8$; past it the state explodes to finite garbage within a few steps), guards are
+    /// located on a dense output that means nothing, and a transition there can leave the
+    /// rotor beyond the ring. Default: `None` (such steps are not counted).
+    fn max_rate(&self, mode: Self::Mode, t: f64, y: &OVector<f64, Self::Dim>) -> Option<f64> {
+        let _ = (mode, t, y);
+        None
+    }
 }

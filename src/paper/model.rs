@@ -500,6 +500,17 @@ impl RotorModel for JeffcottModel {
     fn forcing_period(&self) -> f64 {
         self.params.forcing_period()
     }
+
+    /// $\max(\sqrt{1 + k} + 2\nu_1 + c,\ \eta)$ with the ring's
+    /// [`SnubberRing::contact_bounds`] $(k, c)$ in contact (0 in free flight, which is exact):
+    /// the motion's rates and the forcing's frequency.
+    fn max_rate(&self, mode: Mode, _t: f64, _y: &State) -> Option<f64> {
+        let (k, c) = match mode {
+            RingMode::Contact(_) => self.ring.contact_bounds(),
+            _ => (0.0, 0.0),
+        };
+        Some(((1.0 + k).sqrt() + 2.0 * self.params.nu1 + c).max(self.params.eta))
+    }
 }
 
 #[cfg(test)]

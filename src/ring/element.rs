@@ -70,7 +70,14 @@
 //! itself passed through its inner region within $\tau$), the branches are taken afresh from
 //! the minimum-energy position, as at a touch. These matter only where a preload is smaller
 //! than the ring moves in $\tau$ ($10^{-8}$ at $t = 10^6$ for a unit ring speed); elsewhere
-//! the rule is the paper's.
+//! the rule is the paper's. Where a preloaded axis' whole inner region $2D_i$ is narrower than
+//! the resolution of the decision, $64\varepsilon(|r| + \gamma) + |s_i^\prime|\tau$ (the
+//! rounding of the located position and the ring's motion in $\tau$), with the ring within that
+//! resolution of it, at a touch or a preload crossing, no rule can tell the side: the
+//! transition fails with [`RingError::PreloadBelowResolution`] rather than run a contact on a
+//! branch that may be wrong (the ring hovered at such a preload, its guard crossing back and
+//! forth within rounding, until a crossing was lost and the contact ran with the ring up to
+//! 0.3 gaps from $s^*(r)$).
 //!
 //! **No ring damping** ($\nu_2 = 0$): the ring relaxes instantly, so every free flight starts
 //! with the ring at its centre.
@@ -801,7 +808,16 @@ impl SnubberRing {
             let q = k.r - s;
             let rate = 2.0 * q.dot(&(k.v - s_dot));
             let scale = 2.0 * q.norm() * (k.v.norm() + s_dot.norm());
-            if onset_margin > 0.0 && rate > 1e-9 * scale {
+            // A rotor touching the ring at rest relative to it (rate zero to rounding) but
+            // accelerated into it, h'' = 2|r' - s'|^2 + 2 q.r'' > 0 (the ring's own
+            // acceleration left out: a touch that finds no load releases the ring anyway),
+            // crosses the margin within the detector's window late in long runs (a cubic
+            // bearing pulling at 1e7 towards a rest position 200 gaps out: 3e-11 at
+            // t = 1.3e5): it begins with the touch too.
+            let curvature =
+                2.0 * (k.v - s_dot).norm_squared() + 2.0 * q.dot(&accel(&Vector2::zeros()));
+            let moving_in = rate > 1e-9 * scale || (rate >= -1e-9 * scale && curvature > 0.0);
+            if onset_margin > 0.0 && moving_in {
                 return self.transition(&mode, RingGuard::Onset, t, k, accel);
             }
             return Ok(RingTransition { mode, s });
@@ -907,6 +923,31 @@ impl SnubberRing {
         Some(side(if ahead.is_finite() { ahead } else { s }))
     }
 
+    /// [`RingError::PreloadBelowResolution`] when a preloaded axis' inner region ($2D_i$) is
+    /// narrower than the resolution at which its branch is decided at time `t` for the ring
+    /// located as `c` with the rotor at `k` (the rounding of the located position,
+    /// $64\varepsilon(|r| + \gamma)$, plus the distance the ring moves in the time resolution,
+    /// $|s_i^\prime|\tau$), and the ring is within that resolution of it.
+    fn check_resolution(&self, t: f64, c: &RingContact, k: &Kinematics) -> Result<(), RingError> {
+        let sd = c.ring_velocity(&k.v);
+        let rounding = 64.0 * f64::EPSILON * (k.r.norm() + self.gap);
+        let tau = PRELOAD_TIME_TOL * t.abs().max(1.0);
+        for (axis, field) in [(Axis::X, "x.preload"), (Axis::Y, "y.preload")] {
+            let (i, d) = (axis.index(), self.axis(axis).preload);
+            let resolution = rounding + (sd[i] * tau).abs();
+            // (A NaN velocity, a ring without damping released at once, fails neither test.)
+            if d > 0.0 && 2.0 * d < resolution && c.s[i].abs() <= d + resolution {
+                return Err(RingError::PreloadBelowResolution {
+                    field,
+                    preload: d,
+                    resolution,
+                    t,
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// Branches of a contact that starts at time `t` at the located ring `c`: an axis on its
     /// preload, or arriving at it within the time resolution, takes the branch its ring
     /// velocity moves into ([`SnubberRing::branch_at`]), since its guard, zero at the start,
@@ -951,6 +992,7 @@ impl SnubberRing {
             }
             (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
                 let c = self.locate_on(&k.r, *b, f64::NAN)?;
+                self.check_resolution(t, &c, k)?;
                 let mut next = *b;
                 let flip = |branch: Branch, s: f64| match branch {
                     Branch::Inner => Branch::Outer(if s >= 0.0 { 1 } else { -1 }),
@@ -1038,9 +1080,13 @@ impl SnubberRing {
             Branches::of(self, &Vector2::zeros())
         };
         let c = self.locate_on(&k.r, b, f64::NAN)?;
+        self.check_resolution(t, &c, k)?;
         let load = c.loss_force(&k.v);
         let stiffness = self.x.stiffness.max(self.y.stiffness);
-        let rounding = c.loss_force_rounding(stiffness, gap, &k.v);
+        // A rotor inside the circle within the touch tolerance has mu < 0 by up to
+        // K (gap - |r|)/gap on the smooth extension: the load there is zero to that level too.
+        let inside = 2.0 * stiffness * (gap - rn).max(0.0);
+        let rounding = c.loss_force_rounding(stiffness, gap, &k.v) + inside;
         let starts =
             load > rounding || (load >= -rounding && self.load_rises(&c, k, &accel, rounding));
         if starts {

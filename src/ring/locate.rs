@@ -15,23 +15,39 @@
 //! The function $\varphi(\mu) = |d(\mu)|^{-1} - 1/\gamma$ is a weighted power mean of exponent
 //! $-2$ of the affine functions $\beta_i + \mu$ minus a constant, hence **increasing and
 //! concave**, and the root lies in
-//! $[\thinspace|\alpha|/\gamma - \beta_{\max},\ |\alpha|/\gamma - \beta_{\min}\thinspace]$. When both
-//! $\beta_i$ are equal (regimes II and V of an isotropic ring) or one $\alpha_i$ vanishes the
-//! root is closed form, $\mu = |\alpha|/\gamma - \beta$ (paper eq. 22 and Table 3); otherwise a
+//! $[\thinspace|\alpha|/\gamma - \beta_{\max},\ |\alpha|/\gamma - \beta_{\min}\thinspace]$.
+//!
+//! **Next to the pole.** The solver works in $u = \beta_{\min} + \mu > 0$, the distance from the
+//! soft axis' pole, and computes $\beta_i + \mu = (\beta_i - \beta_{\min}) + u$ and $d$ from it:
+//! where the stiff axis alone cannot reach the ring ($d_t = |\alpha_t|/(\beta_{\max} -
+//! \beta_{\min}) < \gamma$ at the pole; on a branch on the far side of the centre, or inside
+//! $|r| = \gamma$) the root is at $u \approx |\alpha_s|/\sqrt{\gamma^2 - d_t^2}$, which for
+//! $r_s \sim 10^{-17}$ is far below one ulp of $\mu$ but well resolved in $u$. The bracket
+//! $|\alpha_s|/\gamma \le u \le |\alpha_s|/\sqrt{\gamma^2 - d_t^2}$ holds it. For $\alpha_s = 0$
+//! the root is the pole's limit: $d_s = \pm\sqrt{\gamma^2 - d_t^2}$ with the sign of $\alpha_s$
+//! (of $r_s = \pm 0$), the limit of $r_s \to 0^\pm$, so that the answer is continuous in $r$
+//! from either side. No float equality picks a formula: equal betas give a bracket of one point,
+//! $u = |\alpha|/\gamma$ (regimes II and V of an isotropic ring, paper eq. 22 and Table 3),
+//! and the pole's limit replaces $d_s = \alpha_s/u$ only where that is $0/0$. Otherwise a
 //! safeguarded Newton iteration on $\varphi$ converges monotonically from the left (a step that
-//! leaves the bracket is replaced by bisection).
+//! leaves the bracket is replaced by bisection, geometric while the bracket spans orders of
+//! magnitude; after 8 Newton steps, lost in the rounding of the residual, only bisection).
 //!
 //! **Stopping rule and tolerance.** The iteration stops after a Newton step
-//! $|\delta| \le \max(10^{-10}(\beta_{\min} + \mu), 4\varepsilon(\beta_{\max} + \mu))$ (on a
-//! fixed branch the error left after such a step is $\lesssim \delta^2/(\beta_{\min} + \mu)$,
-//! below rounding), or when the bracket is narrower than $16\varepsilon(\beta_{\max} + \mu)$:
-//! $\mu$ is resolved to rounding relative to $\beta + \mu$. The tolerance is relative to the
-//! soft axis because the ring's position moves by about $|r|\thinspace d\mu/(\beta_{\min} +
-//! \mu)$ there: relative to $\beta_{\max}$ it left errors up to $10^{-20}(\beta_{\max}/
-//! \beta_{\min})^2$ in $s$ ($5\times10^{-7}$ for $K_y/K_x = 10^7$, depending on the warm start).
-//! Extreme anisotropy costs iterations: up to about 30 for $K_y/K_x = 10^7$. It never returns an unconverged iterate: after [`MAX_ITERATIONS`] steps it
-//! returns [`RingError::NotConverged`] (bisection halves the bracket, so this cannot happen for
-//! finite input; the error keeps the promise checkable).
+//! $|\delta| \le 10^{-10} u$ (on a fixed branch the error left after such a step is
+//! $\lesssim \delta^2/u$, below rounding), or once a Newton step or the bracket moves the ring
+//! by less than its rounding, $|\delta|\thinspace|d^\prime(u)| \le 4\varepsilon\gamma$, or
+//! when the bracket is at adjacent floats. The tolerance is relative to the soft axis because
+//! the ring's position moves by about $|d|\thinspace du/u$ there: relative to $\beta_{\max}$
+//! it left errors up to $10^{-20}(\beta_{\max}/\beta_{\min})^2$ in $s$ ($5\times10^{-7}$ for
+//! $K_y/K_x = 10^7$, depending on the warm start), and iterating on $\mu$ could not resolve a
+//! root next to the pole at all. Warm and cold starts agree to rounding ($1.5\times10^{-15}$
+//! relative to $\gamma + |r|$ over $10^6$ random placements with one coordinate of $r$ at or
+//! near 0, $K$ from $10^{-3}$ to $10^4$ per axis, any branches and hints). About 1.6
+//! iterations on average there, at most 60; it never returns an unconverged iterate: after
+//! [`MAX_ITERATIONS`] steps it returns [`RingError::NotConverged`] (the bisection reaches
+//! adjacent floats well before, so this cannot happen for finite input; the error keeps the
+//! promise checkable).
 //!
 //! # Choosing the branches
 //! [`SnubberRing::locate`] also finds the branches the minimiser lies on. For a given $\mu$
@@ -43,7 +59,11 @@
 //!
 //! The Jacobian $J = \partial s^*/\partial r$ follows from implicit differentiation: with
 //! $A = \operatorname{diag}(g_i^\prime + 2\mu)$ and $w = A^{-1}d$,
-//! $J = 2\mu A^{-1} + w\thinspace(d - 2\mu w)^{\mathsf T}/(d\cdot w)$ (see `docs/ring.md`).
+//! $J = 2\mu A^{-1} + w\thinspace(d - 2\mu w)^{\mathsf T}/(d\cdot w)$ (see `docs/ring.md`). With
+//! $A_{ii} = a_i = 2(\beta_i + \mu)$ and $a_i - 2\mu = 2\beta_i$ this is
+//! $J = I - \frac{2}{P}\begin{pmatrix}\beta_x d_y^2 & -\beta_y d_x d_y\\\\ -\beta_x d_x d_y &
+//! \beta_y d_x^2\end{pmatrix}$ with $P = a_y d_x^2 + a_x d_y^2$: no cancellation of
+//! $\mu/(\beta_i + \mu)$ terms, and finite at a pole ($a_i = 0$), which is how it is computed.
 
 use nalgebra::{Matrix2, Vector2};
 
@@ -54,7 +74,8 @@ use super::{
 };
 
 /// Largest number of safeguarded Newton/bisection steps of the multiplier solver (1 to 4 are
-/// typical; about 30 with a stiffness ratio of $10^7$ between the axes and a poor warm start).
+/// typical; up to about 60 with a stiffness ratio of $10^7$ between the axes or a root next to
+/// a branch's pole, and a poor warm start).
 pub const MAX_ITERATIONS: u32 = 100;
 
 /// The ring located in contact with the rotor at `r`, on given force-law branches.
@@ -150,85 +171,141 @@ fn dist2_at(ring: &SnubberRing, r: &Vector2<f64>, bx: f64, by: f64, mu: f64) -> 
     dx * dx + dy * dy
 }
 
+/// The root of $|d| = \gamma$ on fixed branch coefficients.
+struct Root {
+    /// The multiplier $\mu$.
+    mu: f64,
+    /// $\beta_i + \mu$ of each axis, computed from $u = \beta_{\min} + \mu$ so that it keeps its
+    /// relative accuracy next to the soft axis' pole.
+    shift: (f64, f64),
+    /// $d = r - s$, of length $\gamma$ to rounding.
+    d: (f64, f64),
+    /// Newton and bisection steps used.
+    iterations: u32,
+}
+
+/// $d_i = \alpha_i/(o_i + u)$ of both axes at $u = \beta_{\min} + \mu$ (offsets
+/// $o_i = \beta_i - \beta_{\min}$). At the pole itself ($u = 0$, where the soft axis' formula is
+/// $0/0$: reached only when its $\alpha$ vanishes) the soft axis takes its limit from $u > 0$,
+/// the rest of the length on the side of the sign of $\alpha$ (so that $r_i = \pm 0$ gives
+/// the limits of $r_i \to 0^\pm$).
+#[inline(always)]
+fn distances((ax, ox): (f64, f64), (ay, oy): (f64, f64), gap: f64, u: f64) -> (f64, f64) {
+    let (dx, dy) = (ax / (ox + u), ay / (oy + u));
+    let rest = |other: f64| ((gap - other.abs()) * (gap + other.abs())).max(0.0).sqrt();
+    match (dx.is_nan(), dy.is_nan()) {
+        (true, false) => (rest(dy).copysign(ax), dy),
+        (false, true) => (dx, rest(dx).copysign(ay)),
+        _ => (dx, dy),
+    }
+}
+
 /// Solves $|d(\mu)| = \gamma$ for fixed coefficients inside `[lo, hi]` (a piece of the branch
-/// map; `lo` may be the pole $-\beta_{\min}$, which is never evaluated). Returns `(mu, iterations)`.
+/// map), on $\mu > -\beta_{\min}$ (module docs), in the variable $u = \beta_{\min} + \mu$.
 fn solve_mu(
     (ax, bx): (f64, f64),
     (ay, by): (f64, f64),
     gap: f64,
     (lo, hi): (f64, f64),
     hint: f64,
-) -> Result<(f64, u32), RingError> {
+) -> Result<Root, RingError> {
     // Callers check that |alpha| is positive and finite.
+    let bmin = bx.min(by);
+    let (ox, oy) = (bx - bmin, by - bmin);
+    let delta = ox.max(oy);
     let norm = (ax * ax + ay * ay).sqrt();
-    // Closed forms: a single active axis, or equal betas.
-    if ax == 0.0 {
-        return Ok(((ay.abs() / gap - by).max(lo).min(hi), 0));
+    // |alpha| of the soft axis (pole at u = 0) and of the stiff one (pole at u = -delta); with
+    // equal betas both axes are soft.
+    let (a_soft, a_stiff) = if delta <= 0.0 {
+        (norm, 0.0)
+    } else if bx <= by {
+        (ax.abs(), ay.abs())
+    } else {
+        (ay.abs(), ax.abs())
+    };
+    // The bracket: |d_soft| <= gamma, and |alpha|/(delta + u) <= |d| = gamma <= |alpha|/u.
+    let mut left = (lo + bmin)
+        .max(a_soft / gap)
+        .max(norm / gap - delta)
+        .max(0.0);
+    let mut right = (hi + bmin).min(norm / gap);
+    // If the stiff axis alone stays inside the ring up to the pole (d_t0 < gamma there), the
+    // soft axis takes at least the rest of the length: u <= |alpha_soft|/sqrt(gamma^2 - d_t0^2).
+    // (Zero when alpha_soft vanishes: the root is the pole's limit.)
+    if delta > 0.0 {
+        let dt0 = a_stiff / delta;
+        if dt0 < gap {
+            right = right.min(a_soft / ((gap - dt0) * (gap + dt0)).sqrt());
+        }
     }
-    if ay == 0.0 {
-        return Ok(((ax.abs() / gap - bx).max(lo).min(hi), 0));
-    }
-    if bx == by {
-        return Ok(((norm / gap - bx).max(lo).min(hi), 0));
-    }
-    let (bmin, bmax) = if bx < by { (bx, by) } else { (by, bx) };
-    let mut left = lo.max(norm / gap - bmax).max(-bmin);
-    let mut right = hi.min(norm / gap - bmin);
-    if left > right {
-        // The piece and the bracket touch only through rounding: the root is at their meeting.
-        let m = 0.5 * (left + right);
-        return Ok((m, 0));
+    let (cx, cy) = ((ax, ox), (ay, oy));
+    let root = |u: f64, iterations: u32| Root {
+        mu: u - bmin,
+        shift: (ox + u, oy + u),
+        d: distances(cx, cy, gap, u),
+        iterations,
+    };
+    if left >= right {
+        // A closed form (equal betas: u = |alpha|/gamma; the pole's limit), or the piece and
+        // the bracket touch through rounding: the root is at their meeting.
+        return Ok(root(0.5 * (left + right), 0));
     }
     let (a2x, a2y) = (ax * ax, ay * ay);
-    // Inside the bracket and off the pole at -beta_min.
-    let valid = |m: f64, left: f64, right: f64| m >= left && m <= right && m > -bmin;
-    let mut mu = if valid(hint, left, right) {
-        hint
+    // Inside the bracket and off the pole at u = 0.
+    let valid = |u: f64, left: f64, right: f64| u >= left && u <= right && u > 0.0;
+    let mut u = if valid(hint + bmin, left, right) {
+        hint + bmin
     } else {
-        // First-order guess: for mu >> beta, |d|^2 ~ |alpha|^2/(mu + beta_bar)^2 with the
-        // alpha^2-weighted mean beta_bar.
-        let beta_bar = (a2x * bx + a2y * by) / (a2x + a2y);
-        let guess = (norm / gap - beta_bar).max(left).min(right);
+        // First-order guess: for u >> delta, |d|^2 ~ |alpha|^2/(u + o_bar)^2 with the
+        // alpha^2-weighted mean offset o_bar.
+        let o_bar = (a2x * ox + a2y * oy) / (a2x + a2y);
+        let guess = (norm / gap - o_bar).max(left).min(right);
         if valid(guess, left, right) {
             guess
         } else {
-            right
+            0.5 * (left + right)
         }
     };
-    let inv_gap = 1.0 / gap;
     let mut iterations = 0;
     while iterations < MAX_ITERATIONS {
         iterations += 1;
-        let ix = 1.0 / (bx + mu);
-        let iy = 1.0 / (by + mu);
-        let tx = a2x * ix * ix;
-        let ty = a2y * iy * iy;
-        let f = tx + ty;
-        let s3 = tx * ix + ty * iy;
-        let residual = f.sqrt() * inv_gap - 1.0; // > 0 left of the root
+        let (dx, dy) = distances(cx, cy, gap, u);
+        let (px, py) = (ox + u, oy + u);
+        let f = dx * dx + dy * dy;
+        // -f'(u)/2, and |d'(u)|: how far the ring moves per unit of u.
+        let s3 = dx * dx / px + dy * dy / py;
+        let speed = ((dx / px).powi(2) + (dy / py).powi(2)).sqrt();
+        let residual = f.sqrt() / gap - 1.0; // > 0 left of the root
         if residual > 0.0 {
-            left = mu;
+            left = u;
         } else if residual < 0.0 {
-            right = mu;
+            right = u;
         } else {
-            return Ok((mu, iterations));
+            return Ok(root(u, iterations));
         }
         let step = f * residual / s3;
-        let mut next = mu + step;
-        let newton = valid(next, left, right);
+        let mut next = u + step;
+        // Newton while it converges (a handful of steps); a step that leaves the bracket, and
+        // every step after the first 8 (Newton lost in the rounding of the residual), bisects:
+        // geometrically while the bracket spans orders of magnitude (next to the pole).
+        let newton = iterations <= 8 && valid(next, left, right);
         if !newton {
-            next = 0.5 * (left + right);
+            next = if left > 0.0 && right > 4.0 * left {
+                (left * right).sqrt()
+            } else {
+                0.5 * (left + right)
+            };
         }
-        let scale = bmax + mu;
-        // The ring's position moves by about |r| dmu / (beta_min + mu) on the soft axis: a
-        // Newton step is small enough once it is below 1e-10 of that axis' scale (or at the
-        // rounding of mu itself), whatever the anisotropy.
-        let small = (1e-10 * (bmin + mu)).max(4.0 * f64::EPSILON * scale.abs());
-        let done =
-            (newton && step.abs() <= small) || right - left <= 16.0 * f64::EPSILON * scale.abs();
-        mu = next;
+        // Resolved once a Newton step is below 1e-10 of u (the soft axis' scale: the error left
+        // is ~ step^2/u, below rounding) or moves the ring by less than its rounding, or the
+        // bracket is at adjacent floats or moves the ring by less than its rounding.
+        let rounding = 4.0 * f64::EPSILON * gap;
+        let done = (newton && (step.abs() <= 1e-10 * u || step.abs() * speed <= rounding))
+            || right <= left.next_up()
+            || (right - left) * speed <= rounding;
+        u = next;
         if done {
-            return Ok((mu, iterations));
+            return Ok(root(u, iterations));
         }
     }
     Err(RingError::NotConverged {
@@ -328,28 +405,29 @@ impl SnubberRing {
         if !((cx.0 * cx.0 + cy.0 * cy.0).sqrt() > 0.0 && (cx.0 + cy.0).is_finite()) {
             return Err(no_placement);
         }
-        let (mu, iterations) = solve_mu(cx, cy, self.gap, bounds, mu_hint)?;
-        let dx = cx.0 / (cx.1 + mu);
-        let dy = cy.0 / (cy.1 + mu);
+        let root = solve_mu(cx, cy, self.gap, bounds, mu_hint)?;
+        let (dx, dy) = root.d;
         let dn = (dx * dx + dy * dy).sqrt();
         if !(dn > 0.0 && dn.is_finite()) {
             return Err(no_placement);
         }
         let normal = Vector2::new(dx / dn, dy / dn);
         let d = normal * self.gap;
-        // A = diag(g' + 2 mu): inner 2K + 2mu, outer K + 2mu.
-        let slope = |b: Branch, k: f64| if b.is_outer() { k } else { 2.0 * k };
+        let mu = root.mu;
         let two_mu = 2.0 * mu;
-        let ix = 1.0 / (slope(branches.x, self.x.stiffness) + two_mu);
-        let iy = 1.0 / (slope(branches.y, self.y.stiffness) + two_mu);
-        let w = Vector2::new(d.x * ix, d.y * iy);
-        let v = (d - w * two_mu) * (1.0 / d.dot(&w));
+        // J = I - (2/P) [[beta_x d_y^2, -beta_y d_x d_y], [-beta_x d_x d_y, beta_y d_x^2]] with
+        // P = a_y d_x^2 + a_x d_y^2, a_i = g_i' + 2 mu = 2 (beta_i + mu) (docs/ring.md): no
+        // cancellation, finite at a pole (a_i = 0).
+        let (bex, bey) = (cx.1, cy.1);
+        let (a_x, a_y) = (2.0 * root.shift.0, 2.0 * root.shift.1);
+        let q = 2.0 / (a_y * d.x * d.x + a_x * d.y * d.y);
         let jacobian = Matrix2::new(
-            two_mu * ix + w.x * v.x,
-            w.x * v.y,
-            w.y * v.x,
-            two_mu * iy + w.y * v.y,
+            1.0 - q * bex * d.y * d.y,
+            q * bey * d.x * d.y,
+            q * bex * d.x * d.y,
+            1.0 - q * bey * d.x * d.x,
         );
+        let iterations = root.iterations;
         Ok(RingContact {
             s: r - d,
             mu,

@@ -118,6 +118,26 @@ pub enum RingError {
         /// The gap.
         gap: f64,
     },
+    /// At a contact transition at time `t`, a preloaded axis' whole inner region ($2D_i$
+    /// wide) is narrower than the resolution at which the ring's branch is decided there (the
+    /// rounding of the located position plus the distance the ring moves in the time
+    /// resolution of an event), with the ring within that resolution of it: which side of the
+    /// preload the ring is on cannot be decided, and a contact run on the wrong branch would
+    /// be a silent wrong answer (docs/reliability.md, "Preloads below the resolution of the
+    /// run"). Set such a preload to 0, or make it larger than the resolution (shorter runs,
+    /// a rest position nearer the ring, slower motion).
+    #[error("{field} = {preload:e} is below the resolution {resolution:e} of the ring's position at t = {t}: the side of the preload cannot be decided; set it to 0 or above the resolution")]
+    PreloadBelowResolution {
+        /// `"x.preload"` or `"y.preload"`.
+        field: &'static str,
+        /// The preload $D_i$.
+        preload: f64,
+        /// The resolution: $64\varepsilon(|r| + \gamma) + |s_i^\prime|\tau$, with
+        /// $\tau = 64\varepsilon\max(|t|, 1)$.
+        resolution: f64,
+        /// Time of the transition.
+        t: f64,
+    },
     /// In contact, the ring is not at its minimum-energy position $s^*(r)$.
     #[error("rotor in contact but the ring is {offset} away from its minimum-energy position; place it with SnubberRing::consistent_position")]
     RingOffMinimum {
@@ -286,6 +306,18 @@ impl SnubberRing {
     /// `true` when both axes have the same stiffness and the same preload.
     pub fn is_isotropic(&self) -> bool {
         self.x == self.y
+    }
+
+    /// Bounds of the stiffness and of the damping coefficient with which the ring in contact
+    /// acts on the rotor's station: $2\max(K_x, K_y)$ (both units of the stiffer axis; the ring
+    /// is never stiffer than its stiffest branch) and $4\nu_2$ (both dampers of an inner
+    /// branch). For [`crate::hybrid::RotorModel::max_rate`]: a unit-mass station with the
+    /// ring adds at most $\sqrt{k}$ and $c$ to the rates of its motion.
+    pub fn contact_bounds(&self) -> (f64, f64) {
+        (
+            2.0 * self.x.stiffness.max(self.y.stiffness),
+            4.0 * self.damping,
+        )
     }
 
     /// `true` when at least one axis is preloaded (`D_x > 0` or `D_y > 0`).
