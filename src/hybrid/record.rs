@@ -119,6 +119,9 @@ where
     /// Time of the event.
     pub t: f64,
     /// Guard name ([`super::RotorModel::guard_label`]).
+    ///
+    /// Read back with the `serde` feature, a name is interned: each distinct name is allocated
+    /// once and kept for the life of the process (so the record stays `'static`-labelled).
     #[cfg_attr(
         feature = "serde",
         serde(deserialize_with = "crate::serde_util::label")
