@@ -89,6 +89,13 @@ pub mod paper;
 pub mod params;
 pub mod ring;
 pub mod rotor;
+#[cfg(feature = "serde")]
+mod serde_util;
+
+/// `&'static str`, spelt so that serde's derive does not borrow it from the input: a field of
+/// this type is read back through an interned copy (`serde_util::label`), so the types holding
+/// one implement `Deserialize<'de>` for every `'de` (not only `'static`).
+type StaticStr = &'static str;
 pub mod stability;
 
 /// The linear algebra crate of the public API (states are `nalgebra` vectors).

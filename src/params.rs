@@ -20,13 +20,18 @@ use thiserror::Error;
 
 /// Invalid parameter: the field and the value are named.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum ParamError {
     /// A value is NaN or infinite.
     #[error("parameter `{field}` must be finite, got {value}")]
     NotFinite {
         /// Field name.
-        field: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
         /// Offending value.
         value: f64,
     },
@@ -34,7 +39,11 @@ pub enum ParamError {
     #[error("parameter `{field}` must be >= 0, got {value}")]
     Negative {
         /// Field name.
-        field: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
         /// Offending value.
         value: f64,
     },
@@ -42,7 +51,11 @@ pub enum ParamError {
     #[error("parameter `{field}` must be > 0, got {value}")]
     NotPositive {
         /// Field name.
-        field: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
         /// Offending value.
         value: f64,
     },
@@ -379,6 +392,7 @@ impl DimensionalParams {
 /// with $e_x = e_y = 0$ (the force is plotted about the ring's centre).
 /// $\varphi_0$ is given nowhere in the paper: 0 throughout.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum Preset {
     /// Fig. 7: restoring force surfaces.

@@ -1,7 +1,23 @@
-//! Parameter sets serialize and read back unchanged (feature `serde`).
+//! Parameter sets, options and results serialize and read back unchanged (feature `serde`).
 #![cfg(feature = "serde")]
 
+use std::fmt::Debug;
+
+use jeffcott::analysis::{
+    BifurcationConfig, LocatorConfig, PeriodTest, Periodicity, SweepConfig, SweepMode,
+};
+use jeffcott::global::{continue_orbit, find_attractor, AttractorConfig, ContinuationConfig};
+use jeffcott::hybrid::{DenseSampling, OutputPlan, SimOptions, StrobeRange};
+use jeffcott::nalgebra::U6;
+use jeffcott::ode::{EventOptions, Method, Options, Tolerance};
+use jeffcott::paper::{ParamSweep, RotorStart, SweepParameter};
 use jeffcott::params::{Params, Preset, Scales};
+use jeffcott::stability::{
+    locate_loss, periodic_orbit, ContinuationOptions, LossKind, LyapunovOptions, NewtonOptions,
+    OrbitOptions, StroboscopicMap,
+};
+use jeffcott::JeffcottModel;
+use serde::{de::DeserializeOwned, Serialize};
 
 #[test]
 fn params_round_trip_through_json() {
@@ -23,4 +39,276 @@ fn params_round_trip_through_json() {
         serde_json::from_str::<jeffcott::params::DimensionalParams>(&text).unwrap(),
         d
     );
+}
+
+// Options and results of short runs of the paper's model, read back bit for bit.
+
+/// `x` written to JSON and read back: equal, and written again to the same text (so every f64
+/// came back with its bits: `float_roundtrip` reads the shortest representation exactly, and
+/// the text tells -0.0 from 0.0).
+fn round_trip<T: Serialize + DeserializeOwned + PartialEq + Debug>(x: &T) -> T {
+    let text = serde_json::to_string(x).unwrap();
+    let back: T = serde_json::from_str(&text).unwrap();
+    assert_eq!(&back, x, "{text}");
+    assert_eq!(serde_json::to_string(&back).unwrap(), text);
+    back
+}
+
+/// The bits of every number of a JSON value, in order.
+fn bits(v: &serde_json::Value, out: &mut Vec<u64>) {
+    match v {
+        serde_json::Value::Number(n) => out.push(n.as_f64().unwrap().to_bits()),
+        serde_json::Value::Array(a) => a.iter().for_each(|x| bits(x, out)),
+        serde_json::Value::Object(o) => o.values().for_each(|x| bits(x, out)),
+        _ => {}
+    }
+}
+
+/// Options a user would save, with values other than the defaults.
+#[test]
+fn options_round_trip_through_json() {
+    let sim = SimOptions {
+        method: Method::Dopri5,
+        rtol: 3.3e-9,
+        atol: 1.0 / 3.0,
+        steps_per_period: 123,
+        screen_events: true,
+        ..SimOptions::default()
+    };
+    round_trip(&sim);
+    let period_test = PeriodTest {
+        max_period: 7,
+        tol: 2.0e-7,
+    };
+    round_trip(&period_test);
+    let mut sweep = SweepConfig::default();
+    sweep.mode = SweepMode::CarryOver { chunks: 3 };
+    sweep.threads = Some(2);
+    round_trip(&BifurcationConfig {
+        transient: 17,
+        record: 19,
+        sweep,
+        opts: sim,
+        period_test,
+    });
+    round_trip(&LocatorConfig {
+        resolution: 0.1 + 0.2,
+        ..LocatorConfig::default()
+    });
+    // JSON has no infinity (serde_json writes null and refuses to read it back): a finite
+    // h_max here; formats with non-finite numbers take the default +inf as well.
+    let ode = Options::<U6> {
+        rtol: Tolerance::PerComponent(jeffcott::State::from_fn(|i, _| 1e-9 * (i + 1) as f64)),
+        atol: Tolerance::Scalar(1e-13),
+        h_max: 0.7,
+        beta: Some(0.04),
+        ..Options::default()
+    };
+    round_trip(&ode);
+    round_trip(&EventOptions {
+        samples_per_step: 7,
+        root_tol: 1e-14,
+        screen: true,
+        ..EventOptions::default()
+    });
+    let newton = NewtonOptions {
+        tolerance: 3e-12,
+        max_iterations: 9,
+        max_halvings: 4,
+    };
+    let orbit = OrbitOptions { newton, sim };
+    round_trip(&orbit);
+    round_trip(&ContinuationOptions {
+        step: 0.003,
+        through_grazing: true,
+        orbit,
+        ..ContinuationOptions::default()
+    });
+    round_trip(&LyapunovOptions {
+        separation: None,
+        exponents: Some(2),
+        keep: 5,
+        sim,
+        ..LyapunovOptions::default()
+    });
+    round_trip(&AttractorConfig {
+        transient: 301,
+        period_test,
+        free_label: 2,
+        ..AttractorConfig::default()
+    });
+    // A label that is not one of the crate's literals: read back as an interned copy.
+    let label = String::from("my onset");
+    let config = ContinuationConfig {
+        ds: 0.011,
+        onset_label: Box::leak(label.into_boxed_str()),
+        ..ContinuationConfig::default()
+    };
+    let back = round_trip(&config);
+    let again = round_trip(&config);
+    assert!(
+        std::ptr::eq(back.onset_label, again.onset_label),
+        "interned once"
+    );
+    round_trip(
+        &ParamSweep::new(Preset::Fig8b.params(), SweepParameter::Nu2).with_start(RotorStart {
+            position: [0.1, -0.2],
+            velocity: [0.0, 0.3],
+        }),
+    );
+}
+
+/// Fig. 8a at eta = 2 (a period-1 orbit with one contact per period), from rest.
+fn fig8a(eta: f64) -> JeffcottModel {
+    JeffcottModel::new(Preset::Fig8a.params().with_eta(eta)).unwrap()
+}
+
+#[test]
+fn a_trajectory_of_a_few_periods_round_trips_bit_for_bit() {
+    let model = fig8a(2.0);
+    let period = model.params().forcing_period();
+    let plan = OutputPlan {
+        t_end: 4.0 * period,
+        strobe: Some(StrobeRange { first: 0, last: 4 }),
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: period / 16.0,
+        }),
+        events: true,
+    };
+    round_trip(&plan);
+    let y0 = model.state_at([0.0, 0.0], [0.0, 0.0]).unwrap();
+    let (traj, stats) = model.run(0.0, &y0, &plan, &SimOptions::default()).unwrap();
+    assert_eq!(traj.strobe.len(), 5);
+    assert_eq!(traj.samples.len(), 65);
+    assert!(
+        !traj.events.is_empty(),
+        "contacts in four periods from rest"
+    );
+    round_trip(&stats);
+    let back = round_trip(&traj);
+    // Bit for bit, field by field (not through f64 equality, which takes -0.0 for 0.0).
+    let f = |t: &jeffcott::hybrid::Trajectory<U6>| {
+        let mut v = Vec::new();
+        for p in &t.strobe {
+            v.push(p.t.to_bits());
+            v.extend(p.y.iter().map(|x| x.to_bits()));
+        }
+        for s in &t.samples {
+            v.push(s.t.to_bits());
+            v.extend(s.y.iter().chain(s.dy.iter()).map(|x| x.to_bits()));
+        }
+        for e in &t.events {
+            v.push(e.t.to_bits());
+            v.extend(e.before.iter().chain(e.after.iter()).map(|x| x.to_bits()));
+        }
+        v
+    };
+    assert_eq!(f(&back), f(&traj));
+    // The JSON holds every one of those numbers as written (no rounding on the way out).
+    let mut from_text = Vec::new();
+    bits(&serde_json::to_value(&traj).unwrap(), &mut from_text);
+    let mut want = f(&traj);
+    want.sort_unstable();
+    from_text.sort_unstable();
+    assert!(want.iter().all(|b| from_text.binary_search(b).is_ok()));
+    // The events' labels come back as the model's (interned, one copy per label).
+    for (e, b) in traj.events.iter().zip(&back.events) {
+        assert_eq!(e.kind, b.kind);
+    }
+    let again = round_trip(&traj);
+    assert!(std::ptr::eq(again.events[0].kind, back.events[0].kind));
+}
+
+/// The period-1 orbit at eta = 2: its state from 300 periods of the stroboscopic map.
+fn period_one_guess(eta: f64) -> jeffcott::State {
+    let model = fig8a(eta);
+    StroboscopicMap::new(&model, 300, SimOptions::default())
+        .unwrap()
+        .advance(&model.state_at([0.0, 0.0], [0.0, 0.0]).unwrap())
+        .unwrap()
+        .y
+}
+
+#[test]
+fn a_periodic_orbit_round_trips() {
+    let model = fig8a(2.0);
+    let orbit =
+        periodic_orbit(&model, &period_one_guess(2.0), 1, &OrbitOptions::default()).unwrap();
+    assert_eq!(orbit.margins.structure, ["contact onset", "contact loss"]);
+    let back = round_trip(&orbit);
+    assert_eq!(back.events.len(), 2);
+    let mut a = Vec::new();
+    let mut b = Vec::new();
+    bits(&serde_json::to_value(&orbit).unwrap(), &mut a);
+    bits(&serde_json::to_value(&back).unwrap(), &mut b);
+    assert_eq!(a, b);
+    assert_eq!(back.monodromy, orbit.monodromy);
+    assert_eq!(back.point, orbit.point);
+}
+
+#[test]
+fn a_bifurcation_of_three_values_round_trips_with_a_failed_column() {
+    let sweep = ParamSweep::new(Preset::Fig8a.params(), SweepParameter::Eta);
+    let config = BifurcationConfig {
+        transient: 100,
+        record: 32,
+        ..BifurcationConfig::default()
+    };
+    // Three values, and a fourth the model refuses (a negative frequency ratio): its column
+    // is the build error, which is saved too.
+    let diagram = sweep
+        .bifurcation(&[1.9, 2.0, 2.1, -1.0], &config, None)
+        .unwrap();
+    assert!(diagram.columns[..3].iter().all(Result::is_ok));
+    assert!(diagram.columns[3].is_err());
+    let back = round_trip(&diagram);
+    let col = back.columns[1].as_ref().unwrap();
+    assert_eq!(col.orbit.points.len(), 32);
+    assert!(matches!(col.periodicity, Periodicity::Period(_)));
+}
+
+#[test]
+fn an_attractor_round_trips() {
+    let model = fig8a(2.0);
+    let y0 = model.state_at([0.0, 0.0], [0.0, 0.0]).unwrap();
+    let config = AttractorConfig {
+        transient: 300,
+        record: 32,
+        ..Default::default()
+    };
+    let a = find_attractor(&model, &y0, &config).unwrap();
+    assert_eq!(a.period(), Some(1));
+    round_trip(&a);
+}
+
+/// Across the flip of the period-1 orbit near eta = 2.2348 (docs/global.md): the stability
+/// continuation's points and loss, and the arclength continuation's points and special point.
+#[test]
+fn continuation_points_round_trip() {
+    let guess = period_one_guess(2.2);
+    let build = |eta: f64| JeffcottModel::new(Preset::Fig8a.params().with_eta(eta));
+    let c = locate_loss(build, 2.2, 2.25, &guess, 1, &ContinuationOptions::default()).unwrap();
+    assert!(c.path.len() >= 2);
+    let loss = c.loss.as_ref().expect("the flip");
+    assert!(matches!(loss.kind, LossKind::Multiplier(_)));
+    let back = round_trip(&c);
+    assert_eq!(back.path, c.path);
+    let branch =
+        continue_orbit(build, 2.2, &guess, 1, 2.25, &ContinuationConfig::default()).unwrap();
+    assert!(!branch.specials.is_empty());
+    let back = round_trip(&branch);
+    assert_eq!(back.points[0].structure, ["contact onset", "contact loss"]);
+}
+
+/// Values a run cannot produce but a file may hold: a count above its array is refused.
+#[test]
+fn lag_residuals_with_too_many_windows_are_refused() {
+    use jeffcott::analysis::LagResiduals;
+    let r = LagResiduals::from_parts(2, &[1e-3, 1e-4], 40.0).unwrap();
+    let text = serde_json::to_string(&r).unwrap();
+    assert!(text.contains("\"windows\":2"), "{text}");
+    let bad = text.replace("\"windows\":2", "\"windows\":5");
+    assert!(serde_json::from_str::<LagResiduals>(&bad).is_err());
+    round_trip(&r);
 }

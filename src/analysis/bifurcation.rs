@@ -32,6 +32,7 @@ use crate::hybrid::{ModelError, RotorModel, SimOptions};
 
 /// Settings of a [`bifurcation`] sweep.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BifurcationConfig {
     /// Forcing periods discarded at each value. Default 300 (the paper's).
     pub transient: u64,
@@ -59,6 +60,14 @@ impl Default for BifurcationConfig {
 
 /// One column of a bifurcation diagram: the orbit recorded at one parameter value.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct Column<D: Dim>
 where
     DefaultAllocator: Allocator<D>,
@@ -76,6 +85,14 @@ where
 
 /// A bifurcation diagram: one column (or the error that prevented it) per parameter value.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize, E: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>, E: serde::Deserialize<'de>"
+    ))
+)]
 pub struct Bifurcation<D: Dim, E>
 where
     DefaultAllocator: Allocator<D>,

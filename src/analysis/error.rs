@@ -14,27 +14,44 @@ use crate::hybrid::{ModelError, SimError};
 /// Every variant names the offending argument and carries its value, so the message alone says
 /// what to fix. New variants may be added in minor releases.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum AnalysisError {
     /// A real-valued argument is NaN, infinite or outside its allowed range.
     #[error("invalid {name} = {value}: expected {expected}")]
     InvalidValue {
         /// Name of the argument.
-        name: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        name: crate::StaticStr,
         /// The value received.
         value: f64,
         /// What the argument must satisfy, in words.
-        expected: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        expected: crate::StaticStr,
     },
     /// A count argument (a period bound, a number of chunks or threads) is out of range.
     #[error("invalid {name} = {value}: expected {expected}")]
     InvalidCount {
         /// Name of the argument.
-        name: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        name: crate::StaticStr,
         /// The value received.
         value: usize,
         /// What the argument must satisfy, in words.
-        expected: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        expected: crate::StaticStr,
     },
     /// Too few samples to run the requested test.
     #[error("too few samples: got {got}, need at least {needed} ({why})")]
@@ -44,7 +61,11 @@ pub enum AnalysisError {
         /// Minimum number of samples needed.
         needed: usize,
         /// Why that many are needed.
-        why: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        why: crate::StaticStr,
     },
     /// A sample (state vector) has a different length from the first one.
     #[error("sample {index} has {found} components, but sample 0 has {expected}")]
@@ -70,11 +91,19 @@ pub enum AnalysisError {
     #[error("{first} has {first_len} entries but {second} has {second_len}; they must match")]
     LengthMismatch {
         /// Name of the first slice.
-        first: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        first: crate::StaticStr,
         /// Its length.
         first_len: usize,
         /// Name of the second slice.
-        second: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        second: crate::StaticStr,
         /// Its length.
         second_len: usize,
     },
@@ -104,6 +133,14 @@ pub enum AnalysisError {
 /// `E` is the error of the user's model builder (for the paper's model
 /// [`ParamError`](crate::params::ParamError)).
 #[derive(Debug, Clone, PartialEq, Error)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize, E: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>, E: serde::Deserialize<'de>"
+    ))
+)]
 #[non_exhaustive]
 pub enum OrbitError<D: Dim, E>
 where

@@ -13,6 +13,7 @@ use crate::hybrid::{ModelError, RotorModel, SimOptions};
 
 /// Settings of [`locate_period_change`].
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LocatorConfig {
     /// Forcing periods discarded at each evaluation. Default 2000 (longer than a diagram's,
     /// because transients decay slowly near a bifurcation).
@@ -41,6 +42,7 @@ impl Default for LocatorConfig {
 
 /// Two parameter values with different detected periods.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PeriodChange {
     /// The value on the reference side.
     pub from: f64,
@@ -61,6 +63,7 @@ impl PeriodChange {
 
 /// The bracket found by [`locate_period_change`].
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LocatedChange {
     /// The final bracket: `at_from` is the periodicity at the initial `from`, and
     /// `|to − from| ≤ resolution`.

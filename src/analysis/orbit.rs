@@ -24,6 +24,14 @@ use crate::hybrid::{
 
 /// A stroboscopic orbit after a transient.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct StrobeOrbit<D: Dim>
 where
     DefaultAllocator: Allocator<D>,
@@ -79,6 +87,14 @@ where
 
 /// A stroboscopic orbit and its detected period.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct PoincareMap<D: Dim>
 where
     DefaultAllocator: Allocator<D>,

@@ -46,6 +46,7 @@ const MAX_STEPS: usize = 200;
 
 /// One crossing of the section.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct Crossing {
     /// Index `k` of the sample that starts the interval `[t_k, t_{k+1}]` holding the crossing.

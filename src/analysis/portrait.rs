@@ -13,6 +13,14 @@ use crate::ode::Direction;
 
 /// Dense samples of a run and its event log: a phase portrait that knows where it jumps.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct PhasePortrait<D: Dim>
 where
     DefaultAllocator: Allocator<D>,

@@ -55,6 +55,7 @@ use super::AnalysisError;
 
 /// How successive parameter values are linked. See the [module docs](self).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum SweepMode {
     /// Every value starts from the reset state; values run in parallel.
@@ -70,6 +71,7 @@ pub enum SweepMode {
 
 /// Settings of a [`sweep`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct SweepConfig {
     /// How successive values are linked. Default: [`SweepMode::Reset`].
@@ -114,6 +116,7 @@ impl SweepConfig {
 
 /// The results of a [`sweep`], in parameter order.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct SweepResult<T, E> {
     /// One entry per parameter value, in the order of the parameter list.

@@ -55,6 +55,7 @@ use crate::hybrid::{
 
 /// Settings of [`find_attractor`].
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct AttractorConfig {
     /// Forcing periods discarded before the first recording. Default 500.
     pub transient: u64,
@@ -137,6 +138,7 @@ impl AttractorConfig {
 
 /// Statistics of the recorded window of a run (see the [module docs](self)).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct OrbitStats {
     /// Forcing periods run in all, transients included.
     pub periods_run: u64,
@@ -156,6 +158,7 @@ pub struct OrbitStats {
 
 /// The attractor a run settled on (see the [module docs](self)).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Attractor {
     /// The detected period of the stroboscopic map.
     pub periodicity: Periodicity,
@@ -168,6 +171,7 @@ pub struct Attractor {
 /// Tolerances of [`Attractor::matches`] (see the [module docs](self)), in the model's
 /// units (the paper's: gap = 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct MatchTolerance {
     /// Periodic attractors: largest difference of a state component between matched cycle
     /// points. Default 1e-3 (runs converge to ~1e-6; coexisting orbits differ by ~0.1).

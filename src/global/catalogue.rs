@@ -4,6 +4,7 @@ use super::attractor::{Attractor, MatchTolerance};
 
 /// What a point of a scan is labelled with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum PointLabel {
     /// The point reached attractor `k` of [`Catalogue::entries`].
     Attractor(usize),
@@ -15,6 +16,7 @@ pub enum PointLabel {
 
 /// One distinct attractor of a [`Catalogue`].
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CatalogueEntry {
     /// The attractor as reached from the first point that found it: its representative.
     pub attractor: Attractor,
@@ -31,6 +33,7 @@ pub struct CatalogueEntry {
 /// becomes a new entry. The result depends only on the outcomes and their order, never on
 /// how they were computed (threads, ranks, restarts).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Catalogue {
     /// The distinct attractors, in order of first appearance.
     pub entries: Vec<CatalogueEntry>,

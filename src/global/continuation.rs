@@ -58,6 +58,7 @@ use crate::stability::{
 
 /// Settings of [`continue_orbit`] and [`switch_at_flip`]. A plain struct with `Default`.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContinuationConfig {
     /// First arclength step (in the max norm of $(z, p)$ units). Default 0.01.
     pub ds: f64,
@@ -81,7 +82,11 @@ pub struct ContinuationConfig {
     pub sim: SimOptions,
     /// The guard label of a contact onset, to count contacts per orbit. Default
     /// `"contact onset"` ([`crate::paper::guard::ONSET`]).
-    pub onset_label: &'static str,
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::serde_util::label")
+    )]
+    pub onset_label: crate::StaticStr,
 }
 
 impl Default for ContinuationConfig {
@@ -139,6 +144,7 @@ pub enum ContinuationError {
 
 /// What a special point is (see the [module docs](self)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum SpecialKind {
     /// A real multiplier through $+1$: the branch turns back (saddle-node).
@@ -166,6 +172,7 @@ impl SpecialKind {
 
 /// One point of a branch.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BranchPoint {
     /// The parameter.
     pub param: f64,
@@ -190,6 +197,10 @@ pub struct BranchPoint {
     /// Contact onsets per orbit.
     pub contacts: usize,
     /// The guards crossed over one orbit, in order from the section.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::serde_util::labels")
+    )]
     pub structure: Vec<&'static str>,
     /// Arclength from the branch's first point.
     pub arclength: f64,
@@ -197,6 +208,7 @@ pub struct BranchPoint {
 
 /// A special point of a branch, located when its bracket converged.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpecialPoint {
     /// What it is.
     pub kind: SpecialKind,
@@ -224,6 +236,10 @@ pub struct SpecialPoint {
     /// Contacts per orbit before and after.
     pub contacts: (usize, usize),
     /// Event structure before and after.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::serde_util::label_pair")
+    )]
     pub structure: (Vec<&'static str>, Vec<&'static str>),
     /// For a flip: the eigenvector of the multiplier $-1$ (unit, on $z$).
     pub eigenvector: Option<Vec<f64>>,
@@ -233,6 +249,7 @@ pub struct SpecialPoint {
 
 /// How a branch ended.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum BranchEnd {
     /// The parameter left the range asked for.
@@ -251,6 +268,7 @@ pub enum BranchEnd {
 
 /// A continued branch of period-`period` orbits.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Branch {
     /// The period in forcing periods.
     pub period: u64,

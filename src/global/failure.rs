@@ -16,6 +16,7 @@ use crate::hybrid::{ModelError, SimError, SimErrorKind};
 /// so it holds text rather than the original error values; the variant and the simulation's
 /// [`SimFailureKind`] stay typed.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum PointFailure {
     /// The model could not be built at this point (e.g. invalid parameters).
@@ -50,6 +51,7 @@ pub enum PointFailure {
 
 /// The variant of a [`SimErrorKind`], for a recorded [`PointFailure::Simulation`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum SimFailureKind {
     /// [`SimErrorKind::Model`], or [`SimErrorKind::Guard`] (a guard of the model without a

@@ -38,6 +38,7 @@ use crate::analysis::{AnalysisError, Progress};
 
 /// Settings of [`run_points`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct RunConfig {
     /// Worker threads: `None` (default) uses rayon's global pool (all cores, or
@@ -78,6 +79,7 @@ impl RunConfig {
 
 /// The outcomes of a [`run_points`], in point order.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct PointResults<T, E> {
     /// One slot per point: its outcome, or `None` if it has not been run (a partial run).

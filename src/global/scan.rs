@@ -29,6 +29,7 @@ use crate::hybrid::RotorModel;
 /// A rectangular grid of points $(x_i, y_j)$. Point `k` is `(x[k % nx], y[k / nx])`: rows of
 /// constant `y`, `x` fastest.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Grid2 {
     /// Values along the horizontal axis.
     pub x: Vec<f64>,
@@ -97,6 +98,7 @@ impl Grid2 {
 
 /// The outcome of [`scan_grid`]: the grid and one attractor (or failure) per point.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct GridScan {
     /// The grid.
     pub grid: Grid2,

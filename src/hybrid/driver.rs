@@ -14,6 +14,7 @@ use crate::ode::{
 
 /// Options of a hybrid run. A plain struct with `Default`.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SimOptions {
     /// Integration method of integrated modes. Default [`Method::Dop853`].
     pub method: Method,
@@ -70,6 +71,7 @@ impl Default for SimOptions {
 
 /// Work done by a run.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SimStats {
     /// Accepted integrator steps.
     pub steps: u64,
@@ -91,6 +93,7 @@ pub struct SimStats {
 
 /// What went wrong in a run.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum SimErrorKind {
     /// The model rejected the initial state or a transition.
@@ -121,7 +124,11 @@ pub enum SimErrorKind {
         /// Consecutive transitions that did not advance time.
         transitions: u32,
         /// Label of the last guard that fired ([`RotorModel::guard_label`]).
-        last_guard: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        last_guard: crate::StaticStr,
     },
     /// The state became NaN or infinite.
     #[error("non-finite state")]
@@ -134,7 +141,11 @@ pub enum SimErrorKind {
     #[error("guard `{guard}` has no value at t = {t}: {source}")]
     Guard {
         /// Label of the guard ([`RotorModel::guard_label`]).
-        guard: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        guard: crate::StaticStr,
         /// Time at which it returned NaN.
         t: f64,
         /// Why ([`RotorModel::guard_error`]).
@@ -144,17 +155,33 @@ pub enum SimErrorKind {
     #[error("invalid option `{field}` = {value}: {hint}")]
     InvalidOption {
         /// Field of [`SimOptions`] or [`OutputPlan`].
-        field: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
         /// Offending value.
         value: f64,
         /// What to do.
-        hint: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        hint: crate::StaticStr,
     },
 }
 
 /// A failed run: the error, where it happened, and the work done. Whatever the observer
 /// recorded up to that point stays in the observer.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 #[error("simulation failed at t = {t}: {kind}")]
 pub struct SimError<D: Dim>
 where

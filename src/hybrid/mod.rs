@@ -67,6 +67,7 @@ use crate::ring::RingError;
 
 /// How a mode is advanced in time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum Flow {
     /// Integrated numerically by the driver's [`crate::ode::Integrator`].
@@ -77,6 +78,7 @@ pub enum Flow {
 
 /// Why a model rejected a state or a transition.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum ModelError {
     /// The state is not allowed by the model (e.g. the rotor beyond the ring).
@@ -108,6 +110,7 @@ pub enum ModelError {
 
 /// The first guard crossing an [`ExactSegment`] finds.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct GuardCrossing {
     /// Index of the guard that fires.
     pub guard: usize,

@@ -7,6 +7,7 @@ use nalgebra::{DefaultAllocator, Dim, OVector};
 ///
 /// `first > last` is an invalid option of [`super::simulate`] (not an empty output).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct StrobeRange {
     /// First index `k` (inclusive).
     pub first: u64,
@@ -17,6 +18,7 @@ pub struct StrobeRange {
 /// Dense samples at $t_\text{start} + i\thinspace\Delta t$, $i = 0, 1, \dots$, up to the end of
 /// the run (phase portraits).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DenseSampling {
     /// Time of the first sample (samples before the run's start are skipped).
     pub t_start: f64,
@@ -26,6 +28,7 @@ pub struct DenseSampling {
 
 /// Which outputs a run produces (all times absolute).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct OutputPlan {
     /// End time of the run.
     pub t_end: f64,
@@ -52,6 +55,14 @@ impl OutputPlan {
 
 /// A stroboscopic output: index `k`, time $t_k = kP$, state, mode label.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct StrobePoint<D: Dim>
 where
     DefaultAllocator: Allocator<D>,
@@ -69,6 +80,14 @@ where
 
 /// A dense sample: time, state, its derivative and the mode label.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct Sample<D: Dim>
 where
     DefaultAllocator: Allocator<D>,
@@ -85,6 +104,14 @@ where
 
 /// One entry of the event log.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct EventRecord<D: Dim>
 where
     DefaultAllocator: Allocator<D>,
@@ -92,7 +119,14 @@ where
     /// Time of the event.
     pub t: f64,
     /// Guard name ([`super::RotorModel::guard_label`]).
-    pub kind: &'static str,
+    ///
+    /// Read back with the `serde` feature, a name is interned: each distinct name is allocated
+    /// once and kept for the life of the process (so the record stays `'static`-labelled).
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::serde_util::label")
+    )]
+    pub kind: crate::StaticStr,
     /// State just before the transition.
     pub before: OVector<f64, D>,
     /// State just after the transition (equal unless the transition resets it).
@@ -128,6 +162,14 @@ impl<D: Dim> HybridObserver<D> for () where DefaultAllocator: Allocator<D> {}
 
 /// Records everything in memory.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct Trajectory<D: Dim>
 where
     DefaultAllocator: Allocator<D>,

@@ -5,17 +5,26 @@ use thiserror::Error;
 /// Errors of the ODE layer. Every variant says where it happened and what to
 /// try.
 #[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum OdeError {
     /// An option is invalid.
     #[error("invalid option `{field}` = {value}: {hint}")]
     InvalidOption {
         /// Name of the field of [`Options`](super::Options) (or [`EventOptions`](super::EventOptions)).
-        field: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
         /// The offending value (`NaN` when the value is missing).
         value: f64,
         /// What to do instead.
-        hint: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        hint: crate::StaticStr,
     },
     /// The initial time or state given to [`Integrator::reset`](super::Integrator::reset) is not finite.
     #[error("non-finite initial value at t = {t}: component {component} = {value}; pass a finite time and state")]
@@ -96,7 +105,11 @@ pub enum OdeError {
     #[error("`{field}` has {found} components but the integrator was built for dimension {expected}; build it with the system's dimension (Dop853::with_dim(Dyn(n), ..)) or pass a vector of that length")]
     DimensionMismatch {
         /// What has the wrong length: `"y0"`, `"rtol"`, `"atol"`.
-        field: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
         /// The integrator's dimension.
         expected: usize,
         /// The length given.

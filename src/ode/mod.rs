@@ -194,6 +194,7 @@ where
 
 /// Work counters of an integrator (since construction).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Stats {
     /// Accepted steps.
     pub steps: u64,

@@ -14,6 +14,14 @@ use super::OdeError;
 /// `Copy` for fixed dimensions; only `Clone` for [`Dyn`](nalgebra::Dyn)
 /// (the per-component vector lives on the heap).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub enum Tolerance<D: Dim>
 where
     DefaultAllocator: Allocator<D>,
@@ -110,6 +118,14 @@ where
 /// Times and step sizes are in the time unit of the system. `Copy` for
 /// fixed dimensions, `Clone` for [`Dyn`](nalgebra::Dyn).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct Options<D: Dim>
 where
     DefaultAllocator: Allocator<D>,

@@ -115,6 +115,7 @@ where
 
 /// Why [`solve`] stopped.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Stopped {
     /// `t_end` was reached.
     Reached,
@@ -124,6 +125,14 @@ pub enum Stopped {
 
 /// Result of a successful [`solve`].
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct SolveReport<D: Dim>
 where
     DefaultAllocator: Allocator<D>,

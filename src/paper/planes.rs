@@ -10,6 +10,7 @@ use crate::params::Params;
 /// Which two coordinates of the start a basin grid varies (horizontal, vertical); the other
 /// coordinates are those of [`BasinPlane::rest`] (by default zero).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum StartPlane {
     /// $x_0$ against $x_0^\prime$ (the default).
@@ -37,6 +38,7 @@ impl StartPlane {
 /// A plane of initial states of the paper's model at fixed parameters: the grid of a basin
 /// of attraction ([`crate::global::scan_grid`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BasinPlane {
     /// The parameters (for [`StartPlane::PhaseX`], `phi0` is replaced at each point).
     pub params: Params,
@@ -102,6 +104,7 @@ impl BasinPlane {
 /// A plane of two parameters of the paper's model, every run from the same start: the grid
 /// of a two-parameter map ([`crate::global::scan_grid`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ParamPlane {
     /// The other parameters.
     pub base: Params,

@@ -14,6 +14,7 @@ use super::{JeffcottModel, State};
 
 /// A parameter of [`Params`] that a sweep varies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum SweepParameter {
     /// Frequency ratio $\eta$ (the default).
@@ -94,6 +95,7 @@ impl SweepParameter {
 /// velocity $(x^\prime, y^\prime)$. The default is at rest at the origin (the paper's zero
 /// initial conditions).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RotorStart {
     /// Position $(x, y)$.
     pub position: [f64; 2],
@@ -136,6 +138,7 @@ impl RotorStart {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ParamSweep {
     /// The other parameters.
     pub base: Params,

@@ -48,13 +48,18 @@ pub use sensitivity::{ContactHessian, ForceJacobian, GuardGradient};
 
 /// Errors of the snubber-ring element: every variant names the offending field and its value.
 #[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum RingError {
     /// A parameter or input is NaN or infinite.
     #[error("{field} must be finite, got {value}")]
     NonFinite {
         /// Name of the field or argument (e.g. `"x.stiffness"`, `"r.y"`).
-        field: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
         /// The offending value.
         value: f64,
     },
@@ -62,7 +67,11 @@ pub enum RingError {
     #[error("{field} must be >= 0, got {value}")]
     Negative {
         /// Name of the field.
-        field: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
         /// The offending value.
         value: f64,
     },
@@ -70,7 +79,11 @@ pub enum RingError {
     #[error("{field} must be > 0, got {value}")]
     NotPositive {
         /// Name of the field.
-        field: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
         /// The offending value.
         value: f64,
     },

@@ -23,12 +23,16 @@ use crate::ode::Direction;
 
 /// One event crossed by a linearised trajectory, with the crossing's margin.
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LinearEvent {
     /// Time of the event.
     pub t: f64,
     /// The guard's label ([`RotorModel::guard_label`]).
-    pub kind: &'static str,
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::serde_util::label")
+    )]
+    pub kind: crate::StaticStr,
     /// Mode label before.
     pub from: u8,
     /// Mode label after.

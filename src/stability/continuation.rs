@@ -43,6 +43,7 @@ use super::variational::{Variational, VariationalAlloc};
 
 /// Options of [`locate_loss`]. A plain struct with `Default`.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContinuationOptions {
     /// The continuation step (its sign is taken from the direction `from -> to`). Default
     /// 0.005.
@@ -89,6 +90,7 @@ impl Default for ContinuationOptions {
 
 /// How an orbit loses stability.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum LossKind {
     /// A multiplier crossing the unit circle.
@@ -109,6 +111,7 @@ impl LossKind {
 
 /// One converged point of the continuation.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContinuationPoint {
     /// The parameter.
     pub parameter: f64,
@@ -127,6 +130,14 @@ pub struct ContinuationPoint {
 
 /// Where the orbit loses stability.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct StabilityLoss<D: nalgebra::Dim>
 where
     DefaultAllocator: VariationalAlloc<D>,
@@ -148,12 +159,24 @@ where
     pub beyond_grazing: bool,
     /// The event structure at the other end of the bracket (what a grazing changed), `None`
     /// if no orbit was found there.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::serde_util::option_labels")
+    )]
     pub beyond_structure: Option<Vec<&'static str>>,
 }
 
 /// Why a continuation ended before `to` without a located loss of stability (module docs):
 /// the error, where it happened and the last orbit found.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct BranchFailure<D: nalgebra::Dim>
 where
     DefaultAllocator: VariationalAlloc<D>,
@@ -172,6 +195,14 @@ where
 /// The continuation's outcome. At most one of `loss` and `failure` is set; neither when the
 /// orbit was followed, stable, up to `to`.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct Continuation<D: nalgebra::Dim>
 where
     DefaultAllocator: VariationalAlloc<D>,

@@ -8,6 +8,7 @@ use crate::hybrid::SimErrorKind;
 
 /// Why a stability computation failed.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum StabilityError {
     /// A run of the model (with or without its variational equations) failed.
@@ -31,7 +32,11 @@ pub enum StabilityError {
         /// Iterations made.
         iterations: u32,
         /// Why it stopped.
-        reason: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        reason: crate::StaticStr,
     },
     /// $DP^n - I$ is singular at `at`: a multiplier is 1 to working precision (a fold).
     #[error("DP - I is singular at the iterate (residual {residual:e}): a multiplier is 1")]
@@ -79,7 +84,11 @@ pub enum StabilityError {
     )]
     Budget {
         /// The option that set the budget.
-        field: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
         /// Its value.
         limit: f64,
         /// Where the computation stopped.
@@ -92,10 +101,18 @@ pub enum StabilityError {
     #[error("invalid `{field}` = {value}: {hint}")]
     InvalidOption {
         /// The option.
-        field: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
         /// Its value.
         value: f64,
         /// What to use.
-        hint: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        hint: crate::StaticStr,
     },
 }

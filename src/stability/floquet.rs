@@ -82,6 +82,7 @@ impl CrossingKind {
 
 /// Why multipliers could not be computed.
 #[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum FloquetError {
     /// The matrix is not square.

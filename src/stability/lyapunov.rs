@@ -34,6 +34,7 @@ use crate::hybrid::SimOptions;
 
 /// Options of [`lyapunov_exponents`]. A plain struct with `Default`.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LyapunovOptions {
     /// Forcing periods run (plain simulation) before anything, to reach the attractor.
     /// Default 300.
@@ -75,6 +76,7 @@ impl Default for LyapunovOptions {
 
 /// The largest exponent by the two-trajectory method.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct TwoTrajectory {
     /// $\lambda_1$ per forcing period.
     pub lambda: f64,
@@ -86,6 +88,7 @@ pub struct TwoTrajectory {
 
 /// Lyapunov exponents of a trajectory.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LyapunovSpectrum {
     /// The exponents per forcing period, largest first (QR method), with their batch-means
     /// errors and running estimate.

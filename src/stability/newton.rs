@@ -13,6 +13,7 @@ use thiserror::Error;
 
 /// Options of [`newton_fixed_point`]. A plain struct with `Default`.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct NewtonOptions {
     /// Convergence: $\lVert P(z) - z\rVert_\infty$ at most this. Default `1e-11`; it must be
     /// above the noise of the map's evaluation (a few `1e-15` for the paper's stroboscopic

@@ -27,6 +27,7 @@ use crate::hybrid::{
 
 /// Options of [`periodic_orbit`]. A plain struct with `Default`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct OrbitOptions {
     /// Newton's options (tolerance on $\lVert P^n(z) - z\rVert_\infty$, default `1e-11`).
     pub newton: NewtonOptions,
@@ -36,6 +37,7 @@ pub struct OrbitOptions {
 
 /// How far a periodic orbit is from grazing (module docs).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct OrbitMargins {
     /// Contact phases per orbit (consecutive contact modes, e.g. across a preload crossing,
     /// count once).
@@ -50,11 +52,23 @@ pub struct OrbitMargins {
     /// The smallest crossing margin of the events' saltation matrices (1 without events).
     pub min_event_margin: f64,
     /// The events' labels in order over the orbit: its event structure.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::serde_util::labels")
+    )]
     pub structure: Vec<&'static str>,
 }
 
 /// A periodic orbit of the stroboscopic map.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct PeriodicOrbit<D: nalgebra::Dim>
 where
     DefaultAllocator: VariationalAlloc<D>,

@@ -188,6 +188,7 @@ pub const MAX_SAMPLES: usize = 64;
 
 /// Allowed crossing direction of an event (the crate's one direction type).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Direction {
     /// $g$ goes from negative to non-negative.
     Rising,
@@ -325,6 +326,14 @@ where
 /// by the [`EventState`] (no allocation); clone it to keep it (`Copy` for
 /// fixed dimensions).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(bound(
+        serialize = "nalgebra::OVector<f64, D>: serde::Serialize",
+        deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
+    ))
+)]
 pub struct EventHit<D: Dim>
 where
     DefaultAllocator: Allocator<D>,
@@ -350,6 +359,7 @@ where
 /// ([`find_first_event`], [`solve_with`](super::solve_with)) validates them
 /// first ([`EventOptions::validate`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct EventOptions {
     /// Interior dense-output samples per step, in `1..=`[`MAX_SAMPLES`]
     /// (others are an [`OdeError::InvalidOption`]). Default `4`.
