@@ -56,23 +56,32 @@
 //!
 //! Long-form guides ship with the crate, in its `docs/` folder (Markdown, formulas in TeX):
 //!
-//! * [model.md](https://docs.rs/crate/jeffcott/latest/source/docs/model.md): the model as implemented, every erratum of the paper and every
+//! * [model.md][guide-model]: the model as implemented, every erratum of the paper and every
 //!   choice;
-//! * [hybrid.md](https://docs.rs/crate/jeffcott/latest/source/docs/hybrid.md): your own rotor model: the contract of
-//!   [`hybrid::RotorModel`], run-time sizes, algebraic components, the analyses;
-//! * [ring.md](https://docs.rs/crate/jeffcott/latest/source/docs/ring.md): the snubber ring's element, its minimum-energy location and
-//!   its solver;
-//! * [integrators.md](https://docs.rs/crate/jeffcott/latest/source/docs/integrators.md): the Runge–Kutta integrators, dense output and
-//!   event location;
-//! * [stability.md](https://docs.rs/crate/jeffcott/latest/source/docs/stability.md): saltation matrices, multipliers, Lyapunov exponents;
-//! * [global.md](https://docs.rs/crate/jeffcott/latest/source/docs/global.md): continuation, coexisting attractors, basins, two-parameter
+//! * [hybrid.md][guide-hybrid]: your own rotor model: the contract of [`hybrid::RotorModel`],
+//!   run-time sizes, algebraic components, the analyses;
+//! * [ring.md][guide-ring]: the snubber ring's element, its minimum-energy location and its solver;
+//! * [integrators.md][guide-integrators]: the Runge–Kutta integrators, dense output and event
+//!   location;
+//! * [stability.md][guide-stability]: saltation matrices, multipliers, Lyapunov exponents;
+//! * [global.md][guide-global]: continuation, coexisting attractors, basins, two-parameter
 //!   maps, long resumable sweeps, MPI on a cluster;
-//! * [reproduction.md](https://docs.rs/crate/jeffcott/latest/source/docs/reproduction.md): the paper's figures and numbers against the
-//!   crate's;
-//! * [accuracy.md](https://docs.rs/crate/jeffcott/latest/source/docs/accuracy.md): work-precision data against independent references;
-//! * [reliability.md](https://docs.rs/crate/jeffcott/latest/source/docs/reliability.md): every outcome of a run and when it is the honest
-//!   one, fuzzing counts, known open defects;
-//! * [performance.md](https://docs.rs/crate/jeffcott/latest/source/docs/performance.md): what runs cost and how to keep a debug build fast.
+//! * [reproduction.md][guide-reproduction]: the paper's figures and numbers against the crate's;
+//! * [accuracy.md][guide-accuracy]: work-precision data against independent references;
+//! * [reliability.md][guide-reliability]: every outcome of a run and when it is the honest one,
+//!   fuzzing counts, known open defects;
+//! * [performance.md][guide-performance]: what runs cost and how to keep a debug build fast.
+//!
+//! [guide-model]: https://docs.rs/crate/jeffcott/latest/source/docs/model.md
+//! [guide-hybrid]: https://docs.rs/crate/jeffcott/latest/source/docs/hybrid.md
+//! [guide-ring]: https://docs.rs/crate/jeffcott/latest/source/docs/ring.md
+//! [guide-integrators]: https://docs.rs/crate/jeffcott/latest/source/docs/integrators.md
+//! [guide-stability]: https://docs.rs/crate/jeffcott/latest/source/docs/stability.md
+//! [guide-global]: https://docs.rs/crate/jeffcott/latest/source/docs/global.md
+//! [guide-reproduction]: https://docs.rs/crate/jeffcott/latest/source/docs/reproduction.md
+//! [guide-accuracy]: https://docs.rs/crate/jeffcott/latest/source/docs/accuracy.md
+//! [guide-reliability]: https://docs.rs/crate/jeffcott/latest/source/docs/reliability.md
+//! [guide-performance]: https://docs.rs/crate/jeffcott/latest/source/docs/performance.md
 //!
 //! ## Features
 //!
