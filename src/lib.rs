@@ -46,17 +46,60 @@
 //! | [`paper`] | the paper's model implementing [`hybrid::RotorModel`], and sweeps over its parameters |
 //! | [`analysis`] | for any [`hybrid::RotorModel`]: period detection, stroboscopic orbits, phase portraits and Poincaré sections, deterministic parallel sweeps, bifurcation diagrams and a bifurcation locator |
 //! | [`global`] | global dynamics: continuation of periodic orbits (pseudo-arclength, folds, flips, grazing, branch switching), attractors identified and matched, basins of attraction and two-parameter maps, long sweeps that write as they go and resume after a kill, on threads or MPI ranks (feature `mpi`) |
+//! | [`rotor`] | your rotor on the ring: a smooth rotor model of any size ([`rotor::SmoothRotor`]) composed with the ring's contact element into a [`hybrid::RotorModel`] ([`rotor::RingedRotor`]) |
 //! | [`stability`] | linearisation through events: saltation matrices, the stroboscopic map's Jacobian, periodic orbits and their multipliers, Lyapunov exponents, bifurcations located |
 //!
 //! The most used items are re-exported here: [`JeffcottModel`], [`State`], and [`nalgebra`]
 //! itself (the version this crate is built with, so that a user need not match it).
 //!
-//! Long-form guides live in the repository's `docs/` folder: `model.md` (the model as
-//! implemented, every erratum of the paper and every choice), `integrators.md`, `ring.md`,
-//! `reproduction.md`, `accuracy.md`, `reliability.md` (every outcome of a run and when it is
-//! the honest one, fuzzing counts), `performance.md`, and `hybrid.md` (your own rotor model:
-//! the contract of [`hybrid::RotorModel`], run-time sizes, algebraic components, the
-//! analyses), `stability.md` (saltation matrices, multipliers, Lyapunov exponents).
+//! ## Guides
+//!
+//! Long-form guides ship with the crate, in its `docs/` folder (Markdown, formulas in TeX):
+//!
+//! * [model.md][guide-model]: the model as implemented, every erratum of the paper and every
+//!   choice;
+//! * [hybrid.md][guide-hybrid]: your own rotor model: the contract of [`hybrid::RotorModel`],
+//!   run-time sizes, algebraic components, the analyses;
+//! * [ring.md][guide-ring]: the snubber ring's element, its minimum-energy location and its solver;
+//! * [integrators.md][guide-integrators]: the Runge–Kutta integrators, dense output and event
+//!   location;
+//! * [stability.md][guide-stability]: saltation matrices, multipliers, Lyapunov exponents;
+//! * [global.md][guide-global]: continuation, coexisting attractors, basins, two-parameter
+//!   maps, long resumable sweeps, MPI on a cluster;
+//! * [reproduction.md][guide-reproduction]: the paper's figures and numbers against the crate's;
+//! * [accuracy.md][guide-accuracy]: work-precision data against independent references;
+//! * [reliability.md][guide-reliability]: every outcome of a run and when it is the honest one,
+//!   fuzzing counts, known open defects;
+//! * [performance.md][guide-performance]: what runs cost and how to keep a debug build fast.
+//!
+//! [guide-model]: https://docs.rs/crate/jeffcott/latest/source/docs/model.md
+//! [guide-hybrid]: https://docs.rs/crate/jeffcott/latest/source/docs/hybrid.md
+//! [guide-ring]: https://docs.rs/crate/jeffcott/latest/source/docs/ring.md
+//! [guide-integrators]: https://docs.rs/crate/jeffcott/latest/source/docs/integrators.md
+//! [guide-stability]: https://docs.rs/crate/jeffcott/latest/source/docs/stability.md
+//! [guide-global]: https://docs.rs/crate/jeffcott/latest/source/docs/global.md
+//! [guide-reproduction]: https://docs.rs/crate/jeffcott/latest/source/docs/reproduction.md
+//! [guide-accuracy]: https://docs.rs/crate/jeffcott/latest/source/docs/accuracy.md
+//! [guide-reliability]: https://docs.rs/crate/jeffcott/latest/source/docs/reliability.md
+//! [guide-performance]: https://docs.rs/crate/jeffcott/latest/source/docs/performance.md
+//!
+//! ## Features
+//!
+//! Both are off by default.
+//!
+//! * **`serde`**: `Serialize` and `Deserialize` (with [`serde`](https://docs.rs/serde)'s
+//!   derive) for the types a user saves: the parameter sets ([`params::Params`],
+//!   [`params::Scales`], [`params::DimensionalParams`]), the Floquet multipliers
+//!   ([`stability::Multiplier`], [`stability::CrossingKind`]) and Lyapunov batch estimates
+//!   ([`stability::BatchEstimate`]); `Serialize` for [`stability::LinearEvent`]. It turns on
+//!   nalgebra's `serde-serialize`, so the vectors inside serialize too. Pure Rust, no system
+//!   library.
+//! * **`mpi`**: the module `global::distributed`: the resumable sweeps of [`global`]
+//!   (`open_store`, `run_points`, `scan_grid`) split across MPI ranks, with results bitwise
+//!   equal to one process (the examples `basins` and `param_map` use it under `mpirun`). It
+//!   builds the [`mpi`](https://docs.rs/mpi) crate (rsmpi), which needs an MPI library and
+//!   libclang at build time (Debian: `libopenmpi-dev`, `openmpi-bin`, `libclang-dev`) and
+//!   `mpirun` to run. Not built on docs.rs: `cargo doc --features mpi` documents it locally.
 //!
 //! ## Example
 //!
@@ -80,6 +123,8 @@
 //! ```
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
+// docs.rs (`--cfg docsrs`, nightly rustdoc) marks the items of a feature with a badge.
+#![cfg_attr(docsrs, feature(doc_cfg))]
 
 pub mod analysis;
 pub mod global;
@@ -101,3 +146,8 @@ pub mod stability;
 /// The linear algebra crate of the public API (states are `nalgebra` vectors).
 pub use nalgebra;
 pub use paper::{JeffcottModel, State};
+
+/// The README's Rust snippets, compiled and run as doctests (`cargo test --doc`).
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

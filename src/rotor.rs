@@ -20,7 +20,9 @@
 //! output is found, and whether the exact orbit touches is decided to the trajectory's own
 //! error. Measured on a closed-form grazing orbit: with `rtol` $10^{-8}$ to $10^{-12}$, touches
 //! and misses by a tenth of `rtol` or more are decided right, shallower ones either way (the
-//! paper's model, with closed-form free flight, decides them at any depth; docs/hybrid.md).
+//! paper's model, with closed-form free flight, decides them at any depth; [hybrid.md]).
+//!
+//! [hybrid.md]: https://docs.rs/crate/jeffcott/latest/source/docs/hybrid.md
 //!
 //! # Example: a Jeffcott rotor with a cubic bearing, on the ring
 //!

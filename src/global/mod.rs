@@ -51,6 +51,7 @@ pub mod attractor;
 pub mod catalogue;
 pub mod continuation;
 #[cfg(feature = "mpi")]
+#[cfg_attr(docsrs, doc(cfg(feature = "mpi")))]
 pub mod distributed;
 mod failure;
 pub mod json;

@@ -136,7 +136,7 @@
 //! next step is $h_{\text{new}} = h \cdot \mathrm{clamp}\big(\mathrm{safety}\thinspace
 //! \mathrm{err}^{-\alpha}\thinspace\mathrm{err}_{\text{old}}^{\beta},\ \mathrm{fac\\_min},
 //! \ \mathrm{fac\\_max}\big)$ (Gustafsson's PI controller as in Hairer's codes;
-//! see `docs/integrators.md`).
+//! see [integrators.md](https://docs.rs/crate/jeffcott/latest/source/docs/integrators.md)).
 
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector};

@@ -1,30 +1,35 @@
 //! The preloaded snubber ring as a reusable contact element.
 //!
 //! All quantities are non-dimensional (lengths in units of the physical gap, forces in units of
-//! `k_r * gamma`, time `tau = omega_n t`), but the constraint radius [`SnubberRing::gap`] is kept
+//! $k_r \gamma$, time $\tau = \omega_n t$), but the constraint radius [`SnubberRing::gap`] is kept
 //! as a field so the element can be used with any scaling (it is 1 in the paper's).
 //!
 //! # Model
 //!
-//! Per axis `i` in `{x, y}` the ring is held by two preloaded spring-damper units of unit
-//! stiffness `K_i > 0` and preload `D_i >= 0` (see [`RingAxis`]). With `s` the ring centre:
+//! Per axis $i \in \lbrace x, y \rbrace$ the ring is held by two preloaded spring-damper units of
+//! unit stiffness $K_i > 0$ and preload $D_i \ge 0$ (see [`RingAxis`]). With $s$ the ring centre
+//! (the axis index dropped where one axis is meant):
 //!
-//! * elastic energy `e_i(s) = K s^2` for `|s| <= D`, `e_i(s) = (K/2)((|s| + D)^2 - 2 D^2)` for
-//!   `|s| >= D` (both give `K D^2` at `|s| = D`); total `E(s) = e_x(s_x) + e_y(s_y)`;
-//! * elastic force `g_i(s) = e_i'(s) = 2 K s` inside the preload and `sign(s) K (|s| + D)` beyond it
-//!   (continuous at `|s| = D`, slope `2K -> K`);
-//! * damping `c_i(s) s'` with `c_i = 4 nu2` inside (both units act) and `2 nu2` beyond (one unit
-//!   has lifted off);
-//! * total force of the ring `f = g(s) + C(s) s'`, `C = diag(c_x, c_y)`.
+//! * elastic energy
+//!   $$e_i(s) = \begin{cases} K s^2 & |s| \le D,\\\\ \tfrac{K}{2}\left((|s| + D)^2 - 2 D^2\right) & |s| \ge D \end{cases}$$
+//!   (both give $K D^2$ at $|s| = D$); total $E(s) = e_x(s_x) + e_y(s_y)$;
+//! * elastic force $g_i(s) = e_i^\prime(s)$: $2 K s$ inside the preload and
+//!   $\operatorname{sign}(s)\thinspace K (|s| + D)$ beyond it (continuous at $|s| = D$, slope
+//!   $2K \to K$);
+//! * damping $c_i\thinspace s_i^\prime$ with $c_i = 4 \nu_2$ inside (both units act) and
+//!   $2 \nu_2$ beyond (one unit has lifted off);
+//! * total force of the ring $f = g(s) + C s^\prime$, $C = \operatorname{diag}(c_x, c_y)$.
 //!
-//! An axis is *inside* its preload when `D > 0` and `|s| <= D`, and *beyond* it otherwise: an axis
-//! with zero preload is always beyond (then `g = K s`, `c = 2 nu2`). The same predicate decides the
-//! energy branch, the force branch, the damping coefficient, the Jacobian and the regime, so they
-//! never disagree (the paper's strict `|s| < D` for the damping only differs on the set `|s| = D`).
+//! An axis is *inside* its preload when $D > 0$ and $|s| \le D$, and *beyond* it otherwise: an
+//! axis with zero preload is always beyond (then $g = K s$, $c = 2 \nu_2$). The same predicate
+//! decides the energy branch, the force branch, the damping coefficient, the Jacobian and the
+//! regime, so they never disagree (the paper's strict $|s| < D$ for the damping only differs on
+//! the set $|s| = D$).
 //!
-//! In contact (`|r| > gap`) the ring sits at the energy minimiser `s*(r)` on the circle
-//! `|r - s| = gap` ([`SnubberRing::locate`], see `locate.rs` and `docs/ring.md` for the solver);
-//! out of contact the massless ring relaxes exactly ([`SnubberRing::relax`]).
+//! In contact ($|r| > \mathrm{gap}$) the ring sits at the energy minimiser $s^{\ast}(r)$ on the
+//! circle $|r - s| = \mathrm{gap}$ ([`SnubberRing::locate`], see [`locate`] and
+//! [ring.md](https://docs.rs/crate/jeffcott/latest/source/docs/ring.md) for the solver); out of
+//! contact the massless ring relaxes exactly ([`SnubberRing::relax`]).
 
 use nalgebra::Vector2;
 use thiserror::Error;

@@ -21,7 +21,7 @@
 //! The ring's own derivatives are in [`crate::ring::sensitivity`], the paper's free flight's
 //! transition matrix in [`crate::paper::free_flight::FreeOscillator::transition_matrix`]. The
 //! method, every saltation matrix of the model written out, the cross-checks and the results
-//! are in `docs/stability.md`.
+//! are in [stability.md](https://docs.rs/crate/jeffcott/latest/source/docs/stability.md).
 
 mod augmented;
 pub mod continuation;
