@@ -68,7 +68,7 @@ pub use continuation::{
 pub use failure::{PointFailure, SimFailureKind};
 pub use json::{Json, JsonError};
 pub use record::Record;
-pub use runner::{run_points, PointResults, RunConfig};
+pub use runner::{run_points, PointResults, RunConfig, Shard};
 pub use scan::{attractor_at, scan_grid, Grid2, GridScan};
 pub use store::{
     Loaded, Manifest, StoreError, SweepStore, CRATE_VERSION, FORMAT_VERSION, RESULTS_VERSION,
