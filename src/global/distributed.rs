@@ -2,7 +2,8 @@
 //!
 //! Every rank calls the same function with the same points; rank 0 reads the sweep's folder,
 //! decides which points are still to run and sends the list to all; rank `r` of `n` runs the
-//! points `r, r + n, r + 2n, …` of that list (on its own threads, [`RunConfig::threads`]),
+//! points `r, r + n, r + 2n, …` of that list (the rule of [`super::Shard`]; on its own
+//! threads, [`RunConfig::threads`]),
 //! appending each outcome to its own file `records-<r>.jsonl` as it finishes; at the end the
 //! record lines are gathered on rank 0, which returns every point's outcome. Other ranks get
 //! `None`.

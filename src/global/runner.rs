@@ -88,7 +88,7 @@ impl Shard {
     }
 
     /// This shard's items of `list`: those at positions `index`, `index + count`, ….
-    pub fn take<'a, T>(&self, list: &'a [T]) -> impl Iterator<Item = &'a T> + 'a {
+    pub fn take<T>(self, list: &[T]) -> impl Iterator<Item = &T> {
         list.iter().skip(self.index).step_by(self.count)
     }
 }
