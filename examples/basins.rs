@@ -15,7 +15,9 @@
 //! line per attractor: period, canonical point, basin size, contacts per period). **Killed
 //! part-way, the same command resumes**: the points already in the folder are not run again
 //! (delete the folder to start over). Built with `--features mpi` and started by `mpirun` or
-//! `srun`, the grid is split across the ranks (rank 0 draws); see `docs/global.md`.
+//! `srun`, the grid is split across the ranks (rank 0 draws); see `docs/global.md`. Without
+//! MPI, `--shard I/N` runs one of N parts into the same folder (e.g. a task of a job array);
+//! the same command without `--shard` then reads every point and draws.
 
 #[path = "common/mod.rs"]
 mod common;
@@ -131,6 +133,10 @@ fn main() {
         run,
     } = parse();
     let (rtol, atol) = tolerances.get();
+    let shard = run.shard;
+    if shard.is_some() && ranks.size > 1 {
+        fail("--shard splits a sweep into independent processes: run it without mpirun/srun -n, or run the whole sweep with MPI");
+    }
     let run = run.config();
     let (dh, dv) = match plane.as_str() {
         "x-y" => ((-1.0, 1.0), (-1.0, 1.0)),
@@ -192,6 +198,8 @@ fn main() {
         let store = common::or_exit(ranks.open_store(&dir, manifest));
         let progress = StderrProgress::new(if ranks.size > 1 {
             format!("{label} (rank 0 of {})", ranks.size)
+        } else if let Some(s) = shard {
+            format!("{label} (shard {s})")
         } else {
             label.clone()
         });
@@ -205,6 +213,18 @@ fn main() {
             ranks.is_root().then_some(&progress as _),
         ));
         let Some(scan) = scan else { continue };
+        if let Some(shard) = shard {
+            // One part of the sweep: the figures wait for the whole (a run without --shard).
+            let r = &scan.results;
+            eprintln!(
+                "{label}: shard {shard}: {} points computed, {} recorded in all, {} to go in {}; when every shard has finished, run again without --shard to draw",
+                r.computed,
+                r.results.len() - r.missing(),
+                r.missing(),
+                dir.display(),
+            );
+            continue;
+        }
         let secs = t0.elapsed().as_secs_f64();
         let r = &scan.results;
         let periods: u64 = r.successes().map(|(_, a)| a.stats.periods_run).sum();

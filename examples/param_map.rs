@@ -7,7 +7,9 @@
 //! `target/figures/param_map/<map>/`: `period.png`, `contacts.png`, `contact_time.png` with
 //! their CSV, and the sweep's records (`manifest.json`, `records-*.jsonl`). Killed part-way,
 //! the same command resumes where it stopped. With `--features mpi` under `mpirun` or `srun`
-//! the grid is split across the ranks; see `docs/global.md`.
+//! the grid is split across the ranks; see `docs/global.md`. Without MPI, `--shard I/N` runs
+//! one of N parts into the same folder (e.g. a task of a job array); the same command without
+//! `--shard` then reads every point and draws.
 
 #[path = "common/mod.rs"]
 mod common;
@@ -134,6 +136,10 @@ fn main() {
         overlay,
     } = parse();
     let (rtol, atol) = tol.get();
+    let shard = run.shard;
+    if shard.is_some() && ranks.size > 1 {
+        fail("--shard splits a sweep into independent processes: run it without mpirun/srun -n, or run the whole sweep with MPI");
+    }
     let run = run.config();
     let overlay = overlay == "yes";
     if eta_min >= eta_max || e_min >= e_max {
@@ -190,6 +196,18 @@ fn main() {
             ranks.is_root().then_some(&progress as _),
         ));
         let Some(scan) = scan else { continue };
+        if let Some(shard) = shard {
+            // One part of the sweep: the figures wait for the whole (a run without --shard).
+            let r = &scan.results;
+            eprintln!(
+                "{name}: shard {shard}: {} points computed, {} recorded in all, {} to go in {}; when every shard has finished, run again without --shard to draw",
+                r.computed,
+                r.results.len() - r.missing(),
+                r.missing(),
+                dir.display(),
+            );
+            continue;
+        }
         let secs = t0.elapsed().as_secs_f64();
         let r = &scan.results;
         eprintln!(

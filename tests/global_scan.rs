@@ -8,7 +8,8 @@ use std::path::PathBuf;
 
 use jeffcott::global::{
     find_attractor, run_points, scan_grid, Attractor, AttractorConfig, Grid2, GridScan, Json,
-    MatchTolerance, PointFailure, PointLabel, Record, RunConfig, SimFailureKind, SweepStore,
+    MatchTolerance, PointFailure, PointLabel, Record, RunConfig, Shard, SimFailureKind, StoreError,
+    SweepStore,
 };
 use jeffcott::hybrid::{OutputPlan, SimOptions};
 use jeffcott::paper::{BasinPlane, ParamPlane, RotorStart, StartPlane, SweepParameter};
@@ -394,4 +395,222 @@ fn run_points_works_on_any_points_and_stops_on_a_time_budget() {
     assert_eq!(done.len(), partial.computed);
     let start = RotorStart::at_rest();
     assert_eq!(start.position, [0.0, 0.0]);
+}
+
+/// Every f64 of a scan's outcomes as its bits, point by point (`None` for a failed or missing
+/// point): the cycle, the statistics and the occupancy.
+fn bits(scan: &GridScan) -> Vec<Option<Vec<u64>>> {
+    scan.results
+        .results
+        .iter()
+        .map(|r| match r {
+            Some(Ok(a)) => {
+                let s = &a.stats;
+                let mut v: Vec<u64> = a.cycle.iter().flatten().map(|x| x.to_bits()).collect();
+                v.extend([s.contacts_per_period, s.contact_fraction].map(f64::to_bits));
+                v.extend(s.occupancy.iter().map(|o| o.1.to_bits()));
+                v.extend(s.lo.iter().chain(&s.hi).map(|x| x.to_bits()));
+                v.extend([s.periods_run, s.window]);
+                Some(v)
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn shards_run_separately_then_merged_equal_one_run_bitwise() {
+    let grid = Grid2::linspace((-1.0, 1.0, 4), (-1.5, 1.5, 3)).unwrap();
+    let plane = BasinPlane::new(Preset::Fig8b.params().with_eta(2.2), StartPlane::XVx);
+    let config = quick();
+    let description = Json::object([("plane", plane.to_json())]);
+    let one = RunConfig::default().with_threads(1);
+
+    // One run, one process, its own folder.
+    let dir = temp_dir("shard-whole");
+    let store = SweepStore::open_scan(&dir, "basins", description.clone(), &grid, &config).unwrap();
+    let whole = scan_grid(&grid, plane.setup(), &config, Some(&store), &one, None).unwrap();
+    assert!(whole.results.is_complete());
+
+    // Three shards, as three tasks of a job array would: each opens the folder and runs its
+    // part only, into its own file; the other points stay `None`.
+    let dir = temp_dir("shards");
+    let mut done = Vec::new();
+    for i in 0..3 {
+        let shard = Shard::new(i, 3).unwrap();
+        let store =
+            SweepStore::open_scan(&dir, "basins", description.clone(), &grid, &config).unwrap();
+        let part = scan_grid(
+            &grid,
+            plane.setup(),
+            &config,
+            Some(&store),
+            &one.with_shard(shard),
+            None,
+        )
+        .unwrap();
+        // Shard i runs the points i, i + 3, i + 6, i + 9 (the MPI ranks' rule).
+        let mine: Vec<usize> = (0..grid.len()).filter(|k| k % 3 == i).collect();
+        assert_eq!(part.results.computed, mine.len());
+        assert_eq!(part.results.reused, done.len());
+        done.extend(&mine);
+        for k in 0..grid.len() {
+            assert_eq!(part.results.results[k].is_some(), done.contains(&k), "{k}");
+        }
+        assert!(store.shard_records_path(shard).exists());
+        assert!(!store.records_path(0).exists());
+    }
+    // The merge: a run without a shard reads every point from the three files, runs none.
+    let store = SweepStore::open_scan(&dir, "basins", description.clone(), &grid, &config).unwrap();
+    let merged = scan_grid(&grid, plane.setup(), &config, Some(&store), &one, None).unwrap();
+    assert_eq!(
+        (merged.results.reused, merged.results.computed),
+        (grid.len(), 0)
+    );
+    assert_eq!(merged.results.duplicates, 0);
+    assert!(merged.results.is_complete());
+    assert_eq!(bits(&merged), bits(&whole));
+    assert_eq!(texts(&merged), texts(&whole));
+    assert_eq!(merged.results.results, whole.results.results);
+    // The same labels and catalogue (the figure's data) as one run.
+    let tol = MatchTolerance::default();
+    assert_eq!(merged.catalogue(&tol).labels, whole.catalogue(&tol).labels);
+    // The same record set: every point once, in point order after sorting by index.
+    let records = |d: &std::path::Path| {
+        let mut lines: Vec<String> = fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "jsonl"))
+            .flat_map(|p| {
+                fs::read_to_string(p)
+                    .unwrap()
+                    .lines()
+                    .map(String::from)
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        lines.sort_by_key(|l| Json::parse(l).unwrap().get("index").unwrap().as_u64());
+        lines
+    };
+    assert_eq!(records(&dir), records(&temp_dir_kept("shard-whole")));
+    assert_eq!(
+        fs::read_to_string(dir.join("manifest.json")).unwrap(),
+        fs::read_to_string(temp_dir_kept("shard-whole").join("manifest.json")).unwrap()
+    );
+    fs::remove_dir_all(&dir).unwrap();
+    fs::remove_dir_all(temp_dir_kept("shard-whole")).unwrap();
+}
+
+/// The folder of `temp_dir(name)`, not emptied.
+fn temp_dir_kept(name: &str) -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    let target = exe.parent().and_then(|d| d.parent()).unwrap().to_path_buf();
+    target.join("global_scan_test").join(name)
+}
+
+#[test]
+fn a_shard_resumed_runs_only_its_points_not_yet_done() {
+    let grid = Grid2::linspace((-1.0, 1.0, 3), (-1.5, 1.5, 3)).unwrap();
+    let plane = BasinPlane::new(Preset::Fig8a.params().with_eta(2.2), StartPlane::XVx);
+    let config = quick();
+    let dir = temp_dir("shard-resume");
+    let store = SweepStore::open_scan(&dir, "basins", Json::Null, &grid, &config).unwrap();
+    let shard = "1/2".parse::<Shard>().unwrap();
+    let run = RunConfig::default().with_threads(1).with_shard(shard);
+    // Shard 1 of 2 owns the points 1, 3, 5, 7: killed after 2 of them.
+    let first = scan_grid(
+        &grid,
+        plane.setup(),
+        &config,
+        Some(&store),
+        &run.with_max_new_points(2),
+        None,
+    )
+    .unwrap();
+    assert_eq!(first.results.computed, 2);
+    let second = scan_grid(&grid, plane.setup(), &config, Some(&store), &run, None).unwrap();
+    assert_eq!((second.results.reused, second.results.computed), (2, 2));
+    let has = |k: usize| second.results.results[k].is_some();
+    assert!((0..grid.len()).all(|k| has(k) == (k % 2 == 1)));
+    // Done: a third run of the shard has nothing to do.
+    let third = scan_grid(&grid, plane.setup(), &config, Some(&store), &run, None).unwrap();
+    assert_eq!((third.results.reused, third.results.computed), (4, 0));
+    let lines = fs::read_to_string(store.shard_records_path(shard)).unwrap();
+    assert_eq!(lines.lines().count(), 4);
+    fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_shard_that_does_not_exist_is_a_typed_error() {
+    assert!(matches!(
+        Shard::new(3, 3),
+        Err(StoreError::InvalidShard {
+            field: "index",
+            index: 3,
+            count: 3
+        })
+    ));
+    assert!(matches!(
+        Shard::new(0, 0),
+        Err(StoreError::InvalidShard {
+            field: "count",
+            index: 0,
+            count: 0
+        })
+    ));
+    assert!(matches!(
+        "3/3".parse::<Shard>(),
+        Err(StoreError::InvalidShard { field: "index", .. })
+    ));
+    assert!(matches!(
+        "0/0".parse::<Shard>(),
+        Err(StoreError::InvalidShard { field: "count", .. })
+    ));
+    for text in ["2", "2/", "a/8", "-1/8", "2/8/1", ""] {
+        assert!(
+            matches!(text.parse::<Shard>(), Err(StoreError::ShardSyntax { .. })),
+            "{text}"
+        );
+    }
+    let s: Shard = " 2/8 ".parse().unwrap();
+    assert_eq!(
+        (s.index(), s.count(), s.to_string()),
+        (2, 8, "2/8".to_string())
+    );
+    let msg = Shard::new(3, 3).unwrap_err().to_string();
+    assert!(msg.contains("3/3") && msg.contains("0 to 2"), "{msg}");
+}
+
+#[test]
+fn shards_creating_one_folder_at_once_agree_on_one_manifest() {
+    let grid = Grid2::linspace((0.0, 1.0, 2), (0.0, 1.0, 2)).unwrap();
+    let config = quick();
+    for round in 0..200 {
+        let dir = temp_dir(&format!("shard-race-{round}"));
+        // Eight processes of the same sweep, and eight of another description, at once.
+        let barrier = std::sync::Barrier::new(16);
+        let outcomes: Vec<(usize, bool)> = std::thread::scope(|s| {
+            let handles: Vec<_> = (0..16)
+                .map(|t| {
+                    let (dir, grid, config, barrier) = (&dir, &grid, &config, &barrier);
+                    s.spawn(move || {
+                        let desc = Json::object([("sweep", Json::from(t % 2))]);
+                        barrier.wait();
+                        let ok = SweepStore::open_scan(dir, "basins", desc, grid, config).is_ok();
+                        (t % 2, ok)
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        // Exactly one sweep's processes opened the folder: those of the manifest it holds.
+        let text = fs::read_to_string(dir.join("manifest.json")).unwrap();
+        let winner = usize::from(text.contains("\"sweep\":1"));
+        for (sweep, ok) in outcomes {
+            assert_eq!(ok, sweep == winner, "round {round}: {text}");
+        }
+        // No temporary file is left.
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 1);
+        fs::remove_dir_all(&dir).unwrap();
+    }
 }

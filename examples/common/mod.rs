@@ -41,9 +41,15 @@ impl Tolerances {
     }
 }
 
-/// The `--threads` and `--max-new-points` flags of the resumable sweeps.
+/// The `--threads`, `--max-new-points` and `--shard` flags of the resumable sweeps.
 #[derive(clap::Args, Debug, Clone, Copy)]
 pub struct SweepRunFlags {
+    /// Run only shard I of N (0 <= I < N: the points I, I + N, I + 2N, ...) into its own file
+    /// of the folder, e.g. one task of a job array (--shard $SLURM_ARRAY_TASK_ID/8); nothing
+    /// is drawn. When every shard has finished, the same command without --shard reads all
+    /// points and draws
+    #[arg(long, value_name = "I/N", value_parser = shard)]
+    pub shard: Option<jeffcott::global::Shard>,
     /// Worker threads per process, unset = all cores [range: 1..=1024]
     #[arg(long, value_name = "COUNT", value_parser = cli::usize_in(1, 1024))]
     pub threads: Option<usize>,
@@ -63,8 +69,17 @@ impl SweepRunFlags {
         if let Some(m) = self.max_new_points {
             run = run.with_max_new_points(m);
         }
+        if let Some(s) = self.shard {
+            run = run.with_shard(s);
+        }
         run
     }
+}
+
+/// A value parser: a shard `I/N` ([`jeffcott::global::Shard`]).
+fn shard(s: &str) -> Result<jeffcott::global::Shard, String> {
+    s.parse()
+        .map_err(|e: jeffcott::global::StoreError| e.to_string())
 }
 
 /// Unwraps `r`, or prints `error: {e}` on stderr and exits with status 1 (a failure while

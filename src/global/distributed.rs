@@ -2,7 +2,8 @@
 //!
 //! Every rank calls the same function with the same points; rank 0 reads the sweep's folder,
 //! decides which points are still to run and sends the list to all; rank `r` of `n` runs the
-//! points `r, r + n, r + 2n, …` of that list (on its own threads, [`RunConfig::threads`]),
+//! points `r, r + n, r + 2n, …` of that list (the rule of [`super::Shard`]; on its own
+//! threads, [`RunConfig::threads`]),
 //! appending each outcome to its own file `records-<r>.jsonl` as it finishes; at the end the
 //! record lines are gathered on rank 0, which returns every point's outcome. Other ranks get
 //! `None`.
@@ -44,7 +45,7 @@ use nalgebra::{DefaultAllocator, OVector};
 use super::attractor::AttractorConfig;
 use super::failure::PointFailure;
 use super::record::Record;
-use super::runner::{check_points, compute, PointResults, RunConfig};
+use super::runner::{check_points, compute, PointResults, RunConfig, Shard};
 use super::scan::{attractor_at, check_settings, Grid2, GridScan};
 use super::store::{decode_line, fingerprint, Manifest, StoreError, SweepStore};
 use crate::analysis::Progress;
@@ -108,7 +109,8 @@ fn broadcast_u64s<C: Communicator>(comm: &C, data: &mut Vec<u64>) {
 ///
 /// # Errors
 /// As [`super::run_points`], on every rank if any rank failed; [`StoreError::Mpi`] if the
-/// ranks were given different points or the records exceed 2 GiB.
+/// ranks were given different points, a [`RunConfig::shard`] (the ranks split the whole
+/// sweep), or the records exceed 2 GiB.
 pub fn run_points<C, P, T, E, F>(
     comm: &C,
     points: &[P],
@@ -127,6 +129,11 @@ where
     let rank = comm.rank() as usize;
     let size = comm.size() as usize;
     let root = rank == 0;
+    if let Some(shard) = config.shard {
+        return Err(StoreError::Mpi(format!(
+            "shard {shard} given to an MPI run: the ranks split the whole sweep; run one shard per process without MPI, or the whole sweep with MPI"
+        )));
+    }
 
     // The same points on every rank.
     let fingerprint = fingerprint(points);
@@ -161,10 +168,9 @@ where
         Vec::new()
     };
     broadcast_u64s(comm, &mut todo);
-    let mine: Vec<usize> = todo
-        .iter()
-        .skip(rank)
-        .step_by(size)
+    // The shard rule: rank r of n takes positions r, r + n, … of the list.
+    let mine: Vec<usize> = Shard::new(rank, size)?
+        .take(&todo)
         .map(|&i| i as usize)
         .collect();
     let reused = points.len() - todo.len();

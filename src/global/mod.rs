@@ -14,8 +14,9 @@
 //!   model has ready-made planes: [`crate::paper::BasinPlane`], [`crate::paper::ParamPlane`].
 //! * [`runner`]: the engine under every scan: any computation over a list of points, in
 //!   parallel, writing each outcome to a folder as it finishes, and skipping the points
-//!   already there when restarted ([`run_points`], [`RunConfig`]). Results are bitwise
-//!   identical for any number of threads, across restarts, and (feature `mpi`, module
+//!   already there when restarted ([`run_points`], [`RunConfig`]), or only one [`Shard`] of
+//!   them (a task of a job array, without MPI). Results are bitwise identical for any number
+//!   of threads, across restarts, for any number of shards, and (feature `mpi`, module
 //!   `distributed`) for any number of MPI ranks.
 //! * [`store`]: the folder (a manifest and records, one JSON object a line) and its rules for
 //!   crashes ([`SweepStore`]); [`json`] and [`record`] the format ([`Json`], [`Record`]).
@@ -69,7 +70,7 @@ pub use continuation::{
 pub use failure::{PointFailure, SimFailureKind};
 pub use json::{Json, JsonError};
 pub use record::Record;
-pub use runner::{run_points, PointResults, RunConfig};
+pub use runner::{run_points, PointResults, RunConfig, Shard};
 pub use scan::{attractor_at, scan_grid, Grid2, GridScan};
 pub use store::{
     Loaded, Manifest, StoreError, SweepStore, CRATE_VERSION, FORMAT_VERSION, RESULTS_VERSION,

@@ -19,6 +19,12 @@
 //! * **Failures are results.** A runner error is recorded (`"error"` in its line) and returned
 //!   in its slot; it is not computed again on restart (delete its line to retry it). A panic
 //!   inside the runner is a bug: it propagates, the records written so far stay.
+//! * **Shards.** [`RunConfig::shard`] runs only the points of one [`Shard`] `i/n` (the points
+//!   `i, i + n, i + 2n, …`) and writes them to the shard's own file in the folder: `n`
+//!   independent processes (the tasks of a scheduler's job array) together run the whole
+//!   sweep, without MPI and without file locking; a run without a shard then reads every
+//!   point from the folder (and runs any a shard left undone). The outcomes are those of one
+//!   run, bit for bit.
 //! * **Partial runs.** [`RunConfig::max_new_points`] and [`RunConfig::time_budget`] stop
 //!   starting new points (for a batch queue's time limit); the points not run are `None` and
 //!   a later run with the same folder does them.
@@ -36,6 +42,78 @@ use super::store::{
 };
 use crate::analysis::{AnalysisError, Progress};
 
+/// One part `index` of `count` of a sweep, run by its own process (e.g. the task
+/// `$SLURM_ARRAY_TASK_ID` of a job array of `count` tasks): the points at positions `index`,
+/// `index + count`, `index + 2 count`, … of the list, the rule that splits a sweep's points
+/// across MPI ranks (module `distributed`). Written `index/count` (`"2/8"`, [`str::parse`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Shard {
+    index: usize,
+    count: usize,
+}
+
+impl Shard {
+    /// The shard `index` of `count` (numbered from 0).
+    ///
+    /// # Errors
+    /// [`StoreError::InvalidShard`] naming the field: `count` 0, or `index ≥ count`.
+    pub fn new(index: usize, count: usize) -> Result<Self, StoreError> {
+        let field = if count == 0 {
+            "count"
+        } else if index >= count {
+            "index"
+        } else {
+            return Ok(Shard { index, count });
+        };
+        Err(StoreError::InvalidShard {
+            field,
+            index,
+            count,
+        })
+    }
+
+    /// The shard's index, in `0..count`.
+    pub fn index(&self) -> usize {
+        self.index
+    }
+
+    /// The number of shards.
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// Whether the point at position `position` of a list is this shard's.
+    pub fn owns(&self, position: usize) -> bool {
+        position % self.count == self.index
+    }
+
+    /// This shard's items of `list`: those at positions `index`, `index + count`, ….
+    pub fn take<T>(self, list: &[T]) -> impl Iterator<Item = &T> {
+        list.iter().skip(self.index).step_by(self.count)
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+impl std::str::FromStr for Shard {
+    type Err = StoreError;
+
+    /// Parses `index/count`, e.g. `"2/8"`.
+    fn from_str(text: &str) -> Result<Self, StoreError> {
+        let syntax = || StoreError::ShardSyntax {
+            text: text.to_string(),
+        };
+        let (i, n) = text.trim().split_once('/').ok_or_else(syntax)?;
+        let i: usize = i.trim().parse().map_err(|_| syntax())?;
+        let n: usize = n.trim().parse().map_err(|_| syntax())?;
+        Shard::new(i, n)
+    }
+}
+
 /// Settings of [`run_points`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -49,6 +127,9 @@ pub struct RunConfig {
     /// Start no new point after this much wall time (default: no limit); points already
     /// started finish.
     pub time_budget: Option<Duration>,
+    /// Run only this shard's points, written to its own file in the folder (default: all
+    /// points). See [`Shard`].
+    pub shard: Option<Shard>,
 }
 
 impl RunConfig {
@@ -64,6 +145,14 @@ impl RunConfig {
     pub fn with_max_new_points(self, n: usize) -> Self {
         RunConfig {
             max_new_points: Some(n),
+            ..self
+        }
+    }
+
+    /// The same settings running only the points of `shard`.
+    pub fn with_shard(self, shard: Shard) -> Self {
+        RunConfig {
+            shard: Some(shard),
             ..self
         }
     }
@@ -130,7 +219,9 @@ impl<T, E> PointResults<T, E> {
 
 /// Runs `runner` on every point of `points` not yet recorded in `store`, and returns all
 /// outcomes in point order (see the [module docs](self) for the guarantees). Without a
-/// store nothing is written and every point is run.
+/// store nothing is written and every point is run. With [`RunConfig::shard`], only the
+/// shard's points are run (written to the shard's file); the other points are those the
+/// folder holds, `None` if it holds none.
 ///
 /// `progress` is called after each point computed now, with `(done, total)` counting the
 /// points of this run only (not those reused from the folder).
@@ -185,9 +276,13 @@ where
     };
     let reused = results.iter().filter(|r| r.is_some()).count();
     let todo: Vec<usize> = (0..points.len())
-        .filter(|&i| results[i].is_none())
+        .filter(|&i| results[i].is_none() && config.shard.is_none_or(|s| s.owns(i)))
         .collect();
-    let writer = store.map(|s| s.writer(0)).transpose()?;
+    let writer = match (store, config.shard) {
+        (Some(s), Some(shard)) => Some(s.shard_writer(shard)?),
+        (Some(s), None) => Some(s.writer(0)?),
+        (None, _) => None,
+    };
     let (lines, threads) = compute(points, &todo, writer, config, &runner, progress)?;
     let computed = lines.len();
     for (i, line) in lines {

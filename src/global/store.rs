@@ -22,10 +22,19 @@
 //!   ([`StoreError::Mismatch`], [`StoreError::SettingMismatch`] naming the setting, the
 //!   folder's value and this run's): results of one sweep are never mixed into another, and a
 //!   sweep is resumed only with the settings it was started with.
-//! * `records-<w>.jsonl`, one file per writer `w` (the process, or the MPI rank), each line one
-//!   point: `{"index": i, "point": <the point>, "ok": <the result>}` or
+//! * `records-<w>.jsonl`, one file per writer `w` (the process, or the MPI rank), and
+//!   `records-shard-<i>-of-<n>.jsonl`, one per shard of a sweep split into independent
+//!   processes ([`super::Shard`], e.g. the tasks of a job array); each line one point:
+//!   `{"index": i, "point": <the point>, "ok": <the result>}` or
 //!   `{"index": i, "point": <the point>, "error": <the error>}`. `index` is the point's position
-//!   in the sweep's list, so the order of the lines never matters.
+//!   in the sweep's list, so the order of the lines never matters. Reading the folder merges
+//!   every records file: no file is written by two processes at once, so no file locking is
+//!   needed, on a shared file system neither.
+//!
+//! Several processes may open the same new folder at once (the shards of a job array): the
+//! manifest is written whole to a temporary file and linked to `manifest.json` only if there
+//! is none yet (an atomic create-if-absent, also on NFS), then read back and checked: exactly
+//! one manifest is created, and a process of another sweep is refused.
 //!
 //! # Crashes and restarts
 //!
@@ -148,9 +157,38 @@ pub enum StoreError {
     /// A bad setting of the run (e.g. 0 threads).
     #[error(transparent)]
     Config(#[from] AnalysisError),
+    /// A shard that does not exist: `count` 0, or `index` not below `count`
+    /// ([`super::Shard::new`]).
+    #[error("shard {index}/{count}: {}", shard_rule(field, *count))]
+    InvalidShard {
+        /// The field that is wrong: `"count"` or `"index"`.
+        field: &'static str,
+        /// The shard's index given.
+        index: usize,
+        /// The number of shards given.
+        count: usize,
+    },
+    /// Text that is not a shard `i/n` ([`super::Shard`]'s `FromStr`).
+    #[error("{text:?} is not a shard: expected i/n, two whole numbers (e.g. 2/8, the shard 2 of 0 to 7)")]
+    ShardSyntax {
+        /// The text given.
+        text: String,
+    },
     /// The message-passing layer failed or the ranks disagree (feature `mpi`).
     #[error("MPI: {0}")]
     Mpi(String),
+}
+
+/// What a shard's `field` must satisfy, for [`StoreError::InvalidShard`].
+fn shard_rule(field: &str, count: usize) -> String {
+    if field == "count" {
+        "the count of shards must be at least 1".to_string()
+    } else {
+        format!(
+            "the index must be below the count (the shards of {count} are 0 to {})",
+            count.saturating_sub(1)
+        )
+    }
 }
 
 pub(crate) fn io_err(path: &Path, e: io::Error) -> StoreError {
@@ -300,18 +338,16 @@ impl SweepStore {
         fs::create_dir_all(&dir).map_err(|e| io_err(&dir, e))?;
         let path = dir.join(MANIFEST_FILE);
         let mut manifest = manifest;
-        match fs::read_to_string(&path) {
-            Ok(text) => manifest.crate_version = check_manifest(&path, &text, &manifest)?,
+        let text = match fs::read_to_string(&path) {
+            Ok(text) => text,
             Err(e) if e.kind() == io::ErrorKind::NotFound => {
-                // Written whole, then renamed: a reader never sees half a manifest.
-                let tmp = dir.join(format!("{MANIFEST_FILE}.{}.tmp", std::process::id()));
-                let mut text = manifest.to_json().to_string();
-                text.push('\n');
-                fs::write(&tmp, text).map_err(|e| io_err(&tmp, e))?;
-                fs::rename(&tmp, &path).map_err(|e| io_err(&path, e))?;
+                create_manifest(&dir, &path, &manifest)?;
+                // Read back: another process may have created it first.
+                fs::read_to_string(&path).map_err(|e| io_err(&path, e))?
             }
             Err(e) => return Err(io_err(&path, e)),
-        }
+        };
+        manifest.crate_version = check_manifest(&path, &text, &manifest)?;
         Ok(SweepStore { dir, manifest })
     }
 
@@ -329,6 +365,16 @@ impl SweepStore {
     /// The records file of writer `writer`.
     pub fn records_path(&self, writer: usize) -> PathBuf {
         self.dir.join(format!("records-{writer}.jsonl"))
+    }
+
+    /// The records file of shard `shard` ([`super::Shard`]):
+    /// `records-shard-<index>-of-<count>.jsonl`.
+    pub fn shard_records_path(&self, shard: super::Shard) -> PathBuf {
+        self.dir.join(format!(
+            "records-shard-{}-of-{}.jsonl",
+            shard.index(),
+            shard.count()
+        ))
     }
 
     /// The records files present, in name order.
@@ -411,7 +457,16 @@ impl SweepStore {
 
     /// Opens writer `writer`'s records file for appending, cutting off a partial last line.
     pub(crate) fn writer(&self, writer: usize) -> Result<RecordWriter, StoreError> {
-        let path = self.records_path(writer);
+        self.writer_at(self.records_path(writer))
+    }
+
+    /// Opens shard `shard`'s records file for appending, cutting off a partial last line.
+    pub(crate) fn shard_writer(&self, shard: super::Shard) -> Result<RecordWriter, StoreError> {
+        self.writer_at(self.shard_records_path(shard))
+    }
+
+    /// Opens the records file `path` for appending, cutting off a partial last line.
+    fn writer_at(&self, path: PathBuf) -> Result<RecordWriter, StoreError> {
         let mut file = OpenOptions::new()
             .read(true)
             .write(true)
@@ -429,6 +484,36 @@ impl SweepStore {
         file.seek(SeekFrom::End(0)).map_err(|e| io_err(&path, e))?;
         Ok(RecordWriter { file, path })
     }
+}
+
+/// Creates the manifest `path` of `manifest` unless it exists: written whole to a temporary
+/// file of a name no other process uses, then hard-linked to `path`, which fails if `path`
+/// exists (atomic, also on NFS): a reader never sees half a manifest, and of several processes
+/// creating the folder at once exactly one manifest wins (the caller reads it back and checks
+/// it). On a file system without hard links, renamed instead if `path` is still absent.
+fn create_manifest(dir: &Path, path: &Path, manifest: &Manifest) -> Result<(), StoreError> {
+    static COUNTER: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    let unique = format!(
+        "{}-{nanos}-{}",
+        std::process::id(),
+        COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+    );
+    let tmp = dir.join(format!("{MANIFEST_FILE}.{unique}.tmp"));
+    let mut text = manifest.to_json().to_string();
+    text.push('\n');
+    fs::write(&tmp, text).map_err(|e| io_err(&tmp, e))?;
+    let linked = match fs::hard_link(&tmp, path) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == io::ErrorKind::AlreadyExists => Ok(()),
+        Err(_) if !path.exists() => fs::rename(&tmp, path).map_err(|e| io_err(path, e)),
+        Err(_) => Ok(()),
+    };
+    // Nothing to do if the rename moved it already.
+    let _ = fs::remove_file(&tmp);
+    linked
 }
 
 /// Length of the file up to and including its last line break.
