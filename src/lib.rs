@@ -89,11 +89,17 @@
 //!
 //! * **`serde`**: `Serialize` and `Deserialize` (with [`serde`](https://docs.rs/serde)'s
 //!   derive) for the types a user saves: the parameter sets ([`params::Params`],
-//!   [`params::Scales`], [`params::DimensionalParams`]), the Floquet multipliers
-//!   ([`stability::Multiplier`], [`stability::CrossingKind`]) and Lyapunov batch estimates
-//!   ([`stability::BatchEstimate`]); `Serialize` for [`stability::LinearEvent`]. It turns on
-//!   nalgebra's `serde-serialize`, so the vectors inside serialize too. Pure Rust, no system
-//!   library.
+//!   [`params::DimensionalParams`], ...), every options and configuration struct
+//!   ([`hybrid::SimOptions`], [`hybrid::OutputPlan`], [`analysis::BifurcationConfig`],
+//!   [`analysis::PeriodTest`], [`stability::OrbitOptions`], [`global::AttractorConfig`], ...),
+//!   the results ([`hybrid::Trajectory`], [`analysis::Bifurcation`], [`analysis::Periodicity`],
+//!   [`stability::PeriodicOrbit`], [`stability::Continuation`], [`stability::LyapunovSpectrum`],
+//!   [`global::Attractor`], [`global::Branch`] and its points, ...) and the errors results
+//!   carry. Guard and event names (`&'static str`) read back are interned: each distinct name
+//!   is allocated once for the life of the process. JSON has no infinity: options holding
+//!   `f64::INFINITY` (the default `ode::Options::h_max`) need a format that has one. It turns
+//!   on nalgebra's `serde-serialize`, so the vectors inside serialize too. Pure Rust, no
+//!   system library. Working state (integrators, caches, event state) is not serialisable.
 //! * **`mpi`**: the module `global::distributed`: the resumable sweeps of [`global`]
 //!   (`open_store`, `run_points`, `scan_grid`) split across MPI ranks, with results bitwise
 //!   equal to one process (the examples `basins` and `param_map` use it under `mpirun`). It
