@@ -898,12 +898,11 @@ fn unresolved_rk4_is_flagged_in_the_run_statistics() {
         Err(f) => (f.partial, f.error.stats),
     };
     let worst = worst_inconsistency(m.ring(), &traj);
-    // The outputs are inconsistent (measured 8.7e-2, all 16 steps unresolved); the run must
+    // When found, the outputs were inconsistent (8.7e-2, all 16 steps unresolved). Since
+    // outputs no longer end RK4 steps (issue 16 item 7) the same run happens to give outputs
+    // consistent to 8e-9: what an unresolved run outputs is luck either way, and the run must
     // say it was not resolved.
-    assert!(
-        worst > 1e-6,
-        "outputs consistent ({worst:e}): not the case kept"
-    );
+    println!("unresolved run: outputs inconsistent by {worst:e}");
     assert!(
         stats.unresolved_steps > 0,
         "inconsistent outputs ({worst:e}) from a run with no unresolved step: {stats:?}"
