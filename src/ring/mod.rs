@@ -147,7 +147,11 @@ pub enum RingError {
     #[error("{field} = {preload:e} is below the resolution {resolution:e} of the ring's position at t = {t}: the side of the preload cannot be decided; set it to 0 or above the resolution")]
     PreloadBelowResolution {
         /// `"x.preload"` or `"y.preload"`.
-        field: &'static str,
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
         /// The preload $D_i$.
         preload: f64,
         /// The resolution: $64\varepsilon(|r| + \gamma) + |s_i^\prime|\tau$, with
