@@ -645,7 +645,10 @@ where
         let guard = self.guard_of(&mode, i);
         let k = self.rotor.station(y);
         match self.ring.try_guard_value(&mode, guard, t, &k, cache) {
-            Err(source) => ModelError::Ring { t, source },
+            Err(source) => ModelError::Ring {
+                t,
+                source: Box::new(source),
+            },
             Ok(v) => ModelError::InvalidState {
                 t,
                 reason: format!("guard `{}` = {v}: the ring gave no error", guard.label()),

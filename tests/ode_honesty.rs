@@ -354,7 +354,7 @@ fn a_contact_guard_without_a_ring_placement_gives_the_rings_error() {
         model.guard_error(mode, loss, 1.0, &y, &cache),
         ModelError::Ring {
             t: 1.0,
-            source: expected
+            source: Box::new(expected)
         }
     );
     // The gap guard needs no placement: it has a value there.

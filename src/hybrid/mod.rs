@@ -103,8 +103,8 @@ pub enum ModelError {
     Ring {
         /// Time.
         t: f64,
-        /// The ring element's error.
-        source: RingError,
+        /// The ring element's error (boxed: it keeps every run's error type small).
+        source: Box<RingError>,
     },
 }
 

@@ -419,7 +419,10 @@ impl RotorModel for JeffcottModel {
         let guard = self.guard_of(&mode, i);
         let k = Self::kinematics(y);
         match self.ring.try_guard_value(&mode, guard, t, &k, &cache.ring) {
-            Err(source) => ModelError::Ring { t, source },
+            Err(source) => ModelError::Ring {
+                t,
+                source: Box::new(source),
+            },
             Ok(v) => ModelError::InvalidState {
                 t,
                 reason: format!("guard `{}` = {v}: the ring gave no error", guard.label()),
