@@ -23,13 +23,12 @@ use common::plot::{self, Category, CategoryGrid, Figure, Grid};
 use common::ranks::Ranks;
 use common::{SweepRunFlags, Tolerances};
 use jeffcott::analysis::StderrProgress;
-use jeffcott::global::{
-    continue_orbit, AttractorConfig, ContinuationConfig, Grid2, Json, Manifest, SpecialKind,
-};
+use jeffcott::global::{AttractorConfig, Grid2, Json, Manifest};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{ParamPlane, SweepParameter};
 use jeffcott::params::Params;
 use jeffcott::params::Preset;
+use jeffcott::stability::{continue_orbit, Branch, ContinuationOptions, SpecialKind};
 use jeffcott::JeffcottModel;
 use plotters::style::RGBColor;
 
@@ -331,8 +330,8 @@ fn main() {
 /// 11 preloads; for the eccentricity map the grazing of the orbit without contact (followed
 /// in eₓ from 0.5 at each of 13 η) next to its analytic curve eₓ = 1 − A(η).
 fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f64)>)> {
-    let config = ContinuationConfig::default();
-    let first = |b: &jeffcott::global::Branch, kind| {
+    let config = ContinuationOptions::default();
+    let first = |b: &Branch, kind| {
         // A located point only: an unconverged bracket is not a point of the curve.
         b.specials
             .iter()
@@ -358,7 +357,7 @@ fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f6
                 let Some(guess) = traj.strobe.last().map(|s| s.y) else {
                     continue;
                 };
-                if let Ok(b) = continue_orbit(build, eta0, &guess, period, to, &config) {
+                if let Ok(b) = continue_orbit(build, eta0, to, &guess, period, &config) {
                     if let Some(e) = first(&b, SpecialKind::Flip) {
                         out.push((e, d));
                     }
@@ -397,7 +396,7 @@ fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f6
             let Some(guess) = traj.strobe.last().map(|s| s.y) else {
                 continue;
             };
-            if let Ok(b) = continue_orbit(build, y0, &guess, 1, y1, &config) {
+            if let Ok(b) = continue_orbit(build, y0, y1, &guess, 1, &config) {
                 if let Some(e) = first(&b, SpecialKind::Grazing) {
                     graze.push((eta, e));
                 }

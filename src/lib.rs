@@ -45,9 +45,9 @@
 //! | [`hybrid`] | the [`hybrid::RotorModel`] trait of piecewise-smooth rotor models (state size fixed, e.g. `U6`, or known at run time, `Dyn`) and the driver through modes and events |
 //! | [`paper`] | the paper's model implementing [`hybrid::RotorModel`], and sweeps over its parameters |
 //! | [`analysis`] | for any [`hybrid::RotorModel`]: period detection, stroboscopic orbits, phase portraits and Poincaré sections, deterministic parallel sweeps, bifurcation diagrams and a bifurcation locator |
-//! | [`global`] | global dynamics: continuation of periodic orbits (pseudo-arclength, folds, flips, grazing, branch switching), attractors identified and matched, basins of attraction and two-parameter maps, long sweeps that write as they go and resume after a kill, on threads or MPI ranks (feature `mpi`) |
+//! | [`global`] | global dynamics: attractors identified and matched, basins of attraction and two-parameter maps, long sweeps that write as they go and resume after a kill, on threads or MPI ranks (feature `mpi`) |
 //! | [`rotor`] | your rotor on the ring: a smooth rotor model of any size ([`rotor::SmoothRotor`]) composed with the ring's contact element into a [`hybrid::RotorModel`] ([`rotor::RingedRotor`]) |
-//! | [`stability`] | linearisation through events: saltation matrices, the stroboscopic map's Jacobian, periodic orbits and their multipliers, Lyapunov exponents, bifurcations located |
+//! | [`stability`] | linearisation through events: saltation matrices, the stroboscopic map's Jacobian, periodic orbits and their multipliers, Lyapunov exponents, continuation of periodic orbits (pseudo-arclength, folds, flips, grazing, branch switching) and bifurcations located |
 //!
 //! The most used items are re-exported here: [`JeffcottModel`], [`State`], and [`nalgebra`]
 //! itself (the version this crate is built with, so that a user need not match it).
@@ -94,7 +94,7 @@
 //!   [`analysis::PeriodTest`], [`stability::OrbitOptions`], [`global::AttractorConfig`], ...),
 //!   the results ([`hybrid::Trajectory`], [`analysis::Bifurcation`], [`analysis::Periodicity`],
 //!   [`stability::PeriodicOrbit`], [`stability::Continuation`], [`stability::LyapunovSpectrum`],
-//!   [`global::Attractor`], [`global::Branch`] and its points, ...) and the errors results
+//!   [`global::Attractor`], [`stability::Branch`] and its points, ...) and the errors results
 //!   carry. Guard and event names (`&'static str`) read back are interned: each distinct name
 //!   is allocated once for the life of the process. JSON has no infinity: options holding
 //!   `f64::INFINITY` (the default `ode::Options::h_max`) need a format that has one. It turns

@@ -565,6 +565,11 @@ where
         self.guard_of(&mode, i).direction()
     }
 
+    /// The ring's [`RingGuard::Onset`](crate::ring::RingGuard::Onset).
+    fn is_contact_onset(&self, mode: RingMode, i: usize) -> bool {
+        self.guard_of(&mode, i) == crate::ring::RingGuard::Onset
+    }
+
     fn guard_value(
         &self,
         mode: RingMode,

@@ -6,9 +6,8 @@
 //!   match attractors reached from different starts ([`find_attractor`], [`Attractor`],
 //!   [`MatchTolerance`]).
 //! * [`catalogue`]: the distinct attractors of a scan and the label of each point.
-//! * [`continuation`](mod@continuation): periodic orbits followed in any parameter by
-//!   pseudo-arclength, through folds and grazings, with their stability, bifurcations located
-//!   and branch switching at a flip ([`continue_orbit`], [`switch_at_flip`]).
+//! * The continuation of periodic orbits (pseudo-arclength, bifurcations, branch switching)
+//!   is in [`crate::stability`] ([`crate::stability::continue_orbit`]).
 //! * [`scan`]: attractor scans over a grid ([`scan_grid`], [`Grid2`]): basins of attraction
 //!   (a grid of initial states) and two-parameter maps (a grid of parameters). The paper's
 //!   model has ready-made planes: [`crate::paper::BasinPlane`], [`crate::paper::ParamPlane`].
@@ -50,7 +49,6 @@
 
 pub mod attractor;
 pub mod catalogue;
-pub mod continuation;
 #[cfg(feature = "mpi")]
 #[cfg_attr(docsrs, doc(cfg(feature = "mpi")))]
 pub mod distributed;
@@ -63,10 +61,6 @@ pub mod store;
 
 pub use attractor::{find_attractor, Attractor, AttractorConfig, MatchTolerance, OrbitStats};
 pub use catalogue::{Catalogue, CatalogueEntry, PointLabel};
-pub use continuation::{
-    continue_orbit, switch_at_flip, Branch, BranchEnd, BranchPoint, ContinuationConfig,
-    ContinuationError, SpecialKind, SpecialPoint,
-};
 pub use failure::{PointFailure, SimFailureKind};
 pub use json::{Json, JsonError};
 pub use record::Record;

@@ -355,6 +355,11 @@ impl RotorModel for JeffcottModel {
         self.guard_of(&mode, i).direction()
     }
 
+    /// The ring's [`RingGuard::Onset`](crate::ring::RingGuard::Onset).
+    fn is_contact_onset(&self, mode: Mode, i: usize) -> bool {
+        self.guard_of(&mode, i) == crate::ring::RingGuard::Onset
+    }
+
     fn guard_value(&self, mode: Mode, i: usize, t: f64, y: &State, cache: &Cache) -> f64 {
         let guard = self.guard_of(&mode, i);
         self.ring

@@ -33,6 +33,8 @@ pub struct LinearEvent {
         serde(deserialize_with = "crate::serde_util::label")
     )]
     pub kind: crate::StaticStr,
+    /// Whether the guard is a contact onset ([`RotorModel::is_contact_onset`]).
+    pub contact_onset: bool,
     /// Mode label before.
     pub from: u8,
     /// Mode label after.
@@ -342,6 +344,7 @@ where
         self.log.borrow_mut().push(LinearEvent {
             t,
             kind: model.guard_label(mode, guard),
+            contact_onset: model.is_contact_onset(mode, guard),
             from: model.mode_label(mode),
             to: model.mode_label(next),
             margin: s.margin(),

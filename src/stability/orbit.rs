@@ -29,7 +29,8 @@ use crate::hybrid::{
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct OrbitOptions {
-    /// Newton's options (tolerance on $\lVert P^n(z) - z\rVert_\infty$, default `1e-11`).
+    /// Newton's options (tolerance on $P^n(z) - z$ relative to the model's
+    /// [`state_scale`](crate::hybrid::RotorModel::state_scale), default `1e-11`).
     pub newton: NewtonOptions,
     /// Simulation options of every run.
     pub sim: SimOptions,
@@ -118,7 +119,8 @@ where
 }
 
 /// Newton's method on $P^n(z) - z$ from the full state `guess` (a point of a simulated orbit,
-/// at a section), then the multipliers and margins of the orbit found.
+/// at a section), then the multipliers and margins of the orbit found. Newton's tolerance is
+/// relative to the model's [`state_scale`](crate::hybrid::RotorModel::state_scale).
 ///
 /// # Errors
 /// [`StabilityError::NotConverged`] with the last iterate and its residual,
@@ -145,7 +147,8 @@ where
             extra: lin,
         })
     };
-    let fp = newton_fixed_point(&z0, eval, &opts.newton).map_err(newton_error)?;
+    let scale = map.reduce(&model.state_scale());
+    let fp = newton_fixed_point(&z0, eval, Some(&scale), &opts.newton).map_err(newton_error)?;
     let state = map.state(&template, &fp.point);
     let multipliers = multipliers(&fp.map.jacobian)?;
     let lin = fp.map.extra;
@@ -190,7 +193,8 @@ where
     Ok(period)
 }
 
-fn newton_error(e: NewtonError<StabilityError>) -> StabilityError {
+/// Newton's error as the layer's error.
+pub(crate) fn newton_error(e: NewtonError<StabilityError>) -> StabilityError {
     match e {
         NewtonError::NotConverged {
             last,
