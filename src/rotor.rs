@@ -565,9 +565,9 @@ where
         self.guard_of(&mode, i).direction()
     }
 
-    /// The ring's [`RingGuard::Onset`](crate::ring::RingGuard::Onset).
+    /// The ring's [`RingGuard::Onset`].
     fn is_contact_onset(&self, mode: RingMode, i: usize) -> bool {
-        self.guard_of(&mode, i) == crate::ring::RingGuard::Onset
+        self.guard_of(&mode, i) == RingGuard::Onset
     }
 
     fn guard_value(

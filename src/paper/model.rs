@@ -355,9 +355,9 @@ impl RotorModel for JeffcottModel {
         self.guard_of(&mode, i).direction()
     }
 
-    /// The ring's [`RingGuard::Onset`](crate::ring::RingGuard::Onset).
+    /// The ring's [`RingGuard::Onset`].
     fn is_contact_onset(&self, mode: Mode, i: usize) -> bool {
-        self.guard_of(&mode, i) == crate::ring::RingGuard::Onset
+        self.guard_of(&mode, i) == RingGuard::Onset
     }
 
     fn guard_value(&self, mode: Mode, i: usize, t: f64, y: &State, cache: &Cache) -> f64 {

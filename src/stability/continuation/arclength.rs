@@ -12,7 +12,7 @@
 //! [`ContinuationOptions::param_scale`] (so that the arclength does not mix units), in its
 //! arclength $s$ (pseudo-arclength): from a point $w_k$ with unit tangent $t_k$ (the null
 //! vector of $[F_w\ F_p]$, oriented along the last one), the predictor $w_k + \Delta s\thinspace
-//! t_k$ is corrected by the one Newton ([`newton`](crate::stability::newton), full steps) on
+//! t_k$ is corrected by the one Newton ([`crate::stability::newton`], full steps) on
 //!
 //! $$F(w) = 0,\qquad t_k\cdot(w - w_k - \Delta s\thinspace t_k) = 0,$$
 //!
@@ -32,7 +32,7 @@
 //! of a count is a fold, flip or Neimark–Sacker bifurcation, a change of the event structure a
 //! grazing, which the continuation goes on through.
 //!
-//! Each is located by the one bisection ([`super::bisect`]) along the secant between the two
+//! Each is located by the one bisection of [`super`] along the secant between the two
 //! points (a corrected point on the hyperplane through the midpoint, normal to the secant)
 //! until the bracket is narrower than [`ContinuationOptions::bracket_width`] (in the parameter,
 //! and in every component of $z$ relative to its scale); the value reported is the bracket's

@@ -12,7 +12,7 @@
 //!   an event moving across the section does not count);
 //! * no orbit is found, and none as the step is halved down to the tolerance.
 //!
-//! The bracket is then bisected by the one locator ([`super::bisect`]; Newton at each
+//! The bracket is then bisected by the one locator of [`super`] (Newton at each
 //! midpoint, warm-started from the stable end)
 //! until it is narrower than [`LossOptions::bracket_width`]; for a multiplier crossing the
 //! value reported is the linear interpolation of the spectral radius to 1 inside the final

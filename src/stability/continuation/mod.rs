@@ -14,10 +14,10 @@
 //!   until the first loss of stability, which it brackets and reports with the orbit there, or
 //!   a [`BranchFailure`] with its error. The method is in [`loss`](mod@loss).
 //!
-//! Both use the one Newton ([`newton`](super::newton)) with its relative-plus-absolute
+//! Both use the one Newton ([`super::newton`]) with its relative-plus-absolute
 //! stopping rule on the model's [`state_scale`](crate::hybrid::RotorModel::state_scale), and
 //! the one locator: a special point is bracketed between two orbits and the bracket bisected
-//! ([`bisect`]) until it is narrower than the options' `bracket_width` (a width, in the
+//! (one small function) until it is narrower than the options' `bracket_width` (a width, in the
 //! parameter's units; the residual tolerances are `atol`/`rtol`).
 //!
 //! **The special points, one definition.** The multipliers outside the unit circle are
