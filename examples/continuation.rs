@@ -72,7 +72,7 @@ fn special_json(s: &SpecialPoint, param: &str, period: u64) -> String {
     json!({
         "kind": s.kind.name(),
         "param": param,
-        "value": s.param,
+        "value": s.parameter,
         "multipliers": m,
         "period": period,
         "bracket": [s.bracket.0, s.bracket.1],
@@ -90,7 +90,7 @@ fn curves(branch: &Branch, label: &str, colour: plotters::style::RGBColor) -> Ve
     for j in 0..n {
         let mut pieces: Vec<(Vec<(f64, f64)>, bool)> = Vec::new();
         for p in &branch.points {
-            let pt = (p.param, p.cycle.get(j).map_or(f64::NAN, |y| y[0]));
+            let pt = (p.parameter, p.cycle.get(j).map_or(f64::NAN, |y| y[0]));
             match pieces.last_mut() {
                 Some((v, s)) if *s == p.stable => v.push(pt),
                 Some((v, _)) => {
@@ -122,7 +122,11 @@ fn marks(branch: &Branch) -> Vec<(f64, f64, String)> {
                 "neimark-sacker" => "NS",
                 k => k,
             };
-            (s.param, s.state[0], format!("{short} {:.4}", s.param))
+            (
+                s.parameter,
+                s.state[0],
+                format!("{short} {:.4}", s.parameter),
+            )
         })
         .collect()
 }
@@ -235,7 +239,7 @@ fn main() {
             match switch_at_flip(build, f, to, period as u64, &config) {
                 Ok(b) => all.push((
                     b,
-                    format!("period {} from the flip at {:.4}", 2 * period, f.param),
+                    format!("period {} from the flip at {:.4}", 2 * period, f.parameter),
                 )),
                 Err(e) => eprintln!("warning: {e}"),
             }
@@ -308,7 +312,7 @@ fn seeds(base: &Params, eta: f64) -> Vec<(u64, jeffcott::State)> {
 fn known(branches: &[Branch], period: u64, eta: f64, y: &jeffcott::State) -> bool {
     branches.iter().filter(|b| b.period == period).any(|b| {
         b.points.iter().any(|p| {
-            (p.param - eta).abs() < 0.03
+            (p.parameter - eta).abs() < 0.03
                 && p.cycle
                     .iter()
                     .any(|c| (0..4).all(|i| (c[i] - y[i]).abs() < 0.02))
@@ -346,7 +350,7 @@ fn run_coexistence(out: &Path, config: &ContinuationOptions) {
                             eprintln!(
                                 "{name}: period {period} from eta = {eta} towards {to}: {} points to {:.4}, {} special points",
                                 b.points.len(),
-                                b.points.last().map_or(eta, |p| p.param),
+                                b.points.last().map_or(eta, |p| p.parameter),
                                 b.specials.len()
                             );
                             branches.push(b);
@@ -360,13 +364,13 @@ fn run_coexistence(out: &Path, config: &ContinuationOptions) {
         let mut doubled = Vec::new();
         for b in branches.iter().filter(|b| b.period <= 2) {
             for f in b.specials.iter().filter(|s| s.kind.name() == "flip") {
-                let to = if b.points.last().map_or(hi, |p| p.param) > f.param {
+                let to = if b.points.last().map_or(hi, |p| p.parameter) > f.parameter {
                     hi
                 } else {
                     lo
                 };
                 match switch_at_flip(build, f, to, b.period, &cfg) {
-                    Ok(d) if !known(&doubled, d.period, f.param, &first_state(&d)) => {
+                    Ok(d) if !known(&doubled, d.period, f.parameter, &first_state(&d)) => {
                         doubled.push(d)
                     }
                     Ok(_) => {}

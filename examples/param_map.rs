@@ -336,7 +336,7 @@ fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f6
         b.specials
             .iter()
             .find(|s| s.kind == kind && s.converged)
-            .map(|s| s.param)
+            .map(|s| s.parameter)
     };
     let (y0, y1) = (grid.y[0], grid.y[grid.y.len() - 1]);
     if map == "preload" {

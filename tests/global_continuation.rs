@@ -61,37 +61,41 @@ fn the_orbit_without_contact_grazes_where_e_plus_a_is_1_then_keeps_one_contact()
         branch
             .specials
             .iter()
-            .map(|s| (s.kind, s.param))
+            .map(|s| (s.kind, s.parameter))
             .collect::<Vec<_>>()
     );
     println!(
         "grazing: continuation {:.12}, analytic {eta_g:.12}, difference {:.2e}, bracket {:?}",
-        g[0].param,
-        g[0].param - eta_g,
+        g[0].parameter,
+        g[0].parameter - eta_g,
         g[0].bracket
     );
     assert!(
-        (g[0].param - eta_g).abs() < 1e-7,
+        (g[0].parameter - eta_g).abs() < 1e-7,
         "{} vs {eta_g}",
-        g[0].param
+        g[0].parameter
     );
     assert_eq!(g[0].contacts, (0, 1));
     assert!(g[0].converged && g[0].unconverged.is_none());
     assert!((g[0].bracket.1 - g[0].bracket.0).abs() <= config.bracket_width);
     // Stable throughout, no contact before the grazing, one contact per period after it.
     for p in &branch.points {
-        assert!(p.stable, "{}", p.param);
+        assert!(p.stable, "{}", p.parameter);
         // 1e-4 past the grazing the contact is entered at a margin of about 0.02
         // (margin ~ sqrt(eta - eta_g)): only points closer than that can be flagged.
         assert_eq!(
             p.grazing,
             p.min_margin < jeffcott::stability::GRAZING_MARGIN
         );
-        assert!(!p.grazing || (p.param - eta_g).abs() < 1e-4, "{}", p.param);
-        let expected = if p.param < eta_g { 0 } else { 1 };
-        assert_eq!(p.contacts, expected, "at eta = {}", p.param);
+        assert!(
+            !p.grazing || (p.parameter - eta_g).abs() < 1e-4,
+            "{}",
+            p.parameter
+        );
+        let expected = if p.parameter < eta_g { 0 } else { 1 };
+        assert_eq!(p.contacts, expected, "at eta = {}", p.parameter);
     }
-    let after = branch.points.iter().filter(|p| p.param > eta_g).count();
+    let after = branch.points.iter().filter(|p| p.parameter > eta_g).count();
     assert!(after >= 5, "{after} points after the grazing");
 }
 
@@ -126,23 +130,27 @@ fn period_1_flips_at_the_reference_values_and_the_period_2_branch_is_found() {
         let f = flips[0];
         println!(
             "{preset}: flip at {:.10} (reference {flip_ref}), multipliers {:?}",
-            f.param, f.multipliers
+            f.parameter, f.multipliers
         );
         // Reference bracket +-1e-8; ours 1e-8 plus the parameter difference's error.
-        assert!((f.param - flip_ref).abs() < 3e-8, "{preset}: {}", f.param);
+        assert!(
+            (f.parameter - flip_ref).abs() < 3e-8,
+            "{preset}: {}",
+            f.parameter
+        );
         let m = f.multipliers[0];
         assert!((m.re + 1.0).abs() < 1e-5 && m.im.abs() < 1e-9, "{m:?}");
         // Stable before, unstable after.
         assert!(branch
             .points
             .iter()
-            .all(|p| p.stable == (p.param < f.param)));
+            .all(|p| p.stable == (p.parameter < f.parameter)));
         // The period-2 branch from the flip: supercritical, on the far side, stable there.
         let doubled =
             switch_at_flip(build, f, 2.27 + (flip_ref - 2.234843277), 1, &config).unwrap();
         assert_eq!(doubled.period, 2);
         let p2 = &doubled.points[doubled.points.len() / 2];
-        assert!(p2.param > f.param, "{preset}: {}", p2.param);
+        assert!(p2.parameter > f.parameter, "{preset}: {}", p2.parameter);
         assert!(p2.stable, "{preset}: {:?}", p2.multipliers);
         let dx = (p2.cycle[0][0] - p2.cycle[1][0]).abs();
         assert!(
@@ -176,22 +184,22 @@ fn the_period_3_orbit_is_followed_through_its_fold() {
         branch
             .specials
             .iter()
-            .map(|s| (s.kind, s.param))
+            .map(|s| (s.kind, s.parameter))
             .collect::<Vec<_>>()
     );
-    println!("fold at {:.10} (reference 2.1259324)", folds[0].param);
+    println!("fold at {:.10} (reference 2.1259324)", folds[0].parameter);
     assert!(
-        (folds[0].param - 2.1259324).abs() < 2e-7,
+        (folds[0].parameter - 2.1259324).abs() < 2e-7,
         "{}",
-        folds[0].param
+        folds[0].parameter
     );
     // Past the fold the parameter grows again and the orbit is unstable.
     let i = folds[0].after_point + 1;
     let later = &branch.points[(i + 2).min(branch.points.len() - 1)];
     assert!(
-        later.param > folds[0].param && !later.stable,
+        later.parameter > folds[0].parameter && !later.stable,
         "{} {:?}",
-        later.param,
+        later.parameter,
         later.multipliers
     );
 }
@@ -340,7 +348,7 @@ fn the_arclength_does_not_depend_on_the_parameter_units() {
         b.specials
             .iter()
             .find(|s| s.kind == SpecialKind::Flip)
-            .map(|s| s.param)
+            .map(|s| s.parameter)
     };
     let (f, fq) = (flip(&branch).unwrap(), flip(&branch_q).unwrap() / 1000.0);
     println!(
@@ -520,7 +528,7 @@ fn contacts_are_counted_by_the_models_onset_guards_whatever_their_labels() {
         .iter()
         .find(|s| s.kind == SpecialKind::Grazing)
         .expect("the grazing");
-    assert!((g.param - eta_g).abs() < 1e-7, "{}", g.param);
+    assert!((g.parameter - eta_g).abs() < 1e-7, "{}", g.parameter);
     assert_eq!(g.contacts, (0, 1));
     let last = branch.points.last().unwrap();
     assert!(

@@ -172,7 +172,7 @@ impl ContinuationOptions {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BranchPoint {
     /// The parameter.
-    pub param: f64,
+    pub parameter: f64,
     /// The periodic point $z$ at the section.
     pub point: Vec<f64>,
     /// The full state at the section.
@@ -212,12 +212,12 @@ pub struct SpecialPoint {
     pub kind: SpecialKind,
     /// The parameter (the final bracket's midpoint): where the point is only if
     /// [`converged`](Self::converged); otherwise somewhere in the bracket.
-    pub param: f64,
+    pub parameter: f64,
     /// The final bracket's parameters (near end, far end).
     pub bracket: (f64, f64),
     /// Whether the bisection narrowed the bracket to [`ContinuationOptions::bracket_width`].
     /// `false`: the point was detected between two points but not located (`unconverged`
-    /// says why); read [`bracket`](Self::bracket), not `param`.
+    /// says why); read [`bracket`](Self::bracket), not `parameter`.
     pub converged: bool,
     /// Why the bisection stopped before the bracket converged (the corrector's or the
     /// orbit's error at a midpoint, or [`StabilityError::Budget`]); `None` when it converged.
@@ -258,7 +258,7 @@ pub enum BranchEnd {
     /// non-smooth point it cannot pass, or the end of the branch).
     Stalled {
         /// The last parameter reached.
-        param: f64,
+        parameter: f64,
         /// The last corrector failure.
         reason: StabilityError,
     },
@@ -491,7 +491,7 @@ where
             cycle.push(y.iter().copied().collect());
         }
         Ok(BranchPoint {
-            param: p,
+            parameter: p,
             point: z.iter().copied().collect(),
             state: s.eval.state.iter().copied().collect(),
             cycle,
@@ -648,7 +648,9 @@ where
         let kind = SpecialKind::Grazing;
         found.push(locate(solver, kind, (a, pa), (b, pb), &same, last));
     }
-    found.sort_by(|x, y| ((x.param - pa.param).abs()).total_cmp(&(y.param - pa.param).abs()));
+    found.sort_by(|x, y| {
+        ((x.parameter - pa.parameter).abs()).total_cmp(&(y.parameter - pa.parameter).abs())
+    });
     found
 }
 
@@ -678,7 +680,7 @@ where
         end: BranchEnd::Reached,
     };
     let stalled = |w: &DVector<f64>, reason| BranchEnd::Stalled {
-        param: w[k] * solver.param_scale,
+        parameter: w[k] * solver.param_scale,
         reason,
     };
     match solver.point(&first, 0.0) {
@@ -711,7 +713,7 @@ where
         let last = branch.points.len() - 1;
         let found = specials_between(solver, (&cur, &branch.points[last]), (&next, &point), last);
         branch.specials.extend(found);
-        let p_next = point.param;
+        let p_next = point.parameter;
         t = solver.tangent(&next.eval, &t);
         if next.iterations <= 3 {
             ds = (ds * 1.5).min(opts.ds_max);
@@ -790,7 +792,7 @@ where
     let n = &near.point;
     SpecialPoint {
         kind,
-        param: 0.5 * (pn + pf),
+        parameter: 0.5 * (pn + pf),
         bracket: (pn, pf),
         converged: unconverged.is_none(),
         unconverged,
@@ -833,7 +835,7 @@ where
 ///     .state_at([0.5781, -0.0233], [0.0944, -0.3099])?;
 /// let branch = continue_orbit(build, 2.0, 2.3, &guess, 1, &ContinuationOptions::default())?;
 /// let flip = branch.specials.iter().find(|s| s.kind == SpecialKind::Flip).unwrap();
-/// assert!((flip.param - 2.2348433).abs() < 1e-6);
+/// assert!((flip.parameter - 2.2348433).abs() < 1e-6);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn continue_orbit<M, B, E>(
@@ -902,24 +904,24 @@ where
     else {
         return Err(StabilityError::InvalidOption {
             field: "flip",
-            value: flip.param,
+            value: flip.parameter,
             hint: "a special point of kind Flip, with its eigenvector",
         });
     };
     let doubled = 2 * period;
     let no_switch = |e: StabilityError| StabilityError::NoSwitch {
         period: doubled,
-        parameter: flip.param,
+        parameter: flip.parameter,
         source: Box::new(e),
     };
-    let (solver, model) = Solver::new(&build, doubled, opts, flip.param).map_err(no_switch)?;
-    let (single, _) = Solver::new(&build, period, opts, flip.param).map_err(no_switch)?;
+    let (solver, model) = Solver::new(&build, doubled, opts, flip.parameter).map_err(no_switch)?;
+    let (single, _) = Solver::new(&build, period, opts, flip.parameter).map_err(no_switch)?;
     let template = OVector::<f64, M::Dim>::from_iterator_generic(
         model.dim(),
         nalgebra::U1,
         flip.state.iter().copied(),
     );
-    let base = solver.scaled(&DVector::from_column_slice(&flip.point), flip.param);
+    let base = solver.scaled(&DVector::from_column_slice(&flip.point), flip.parameter);
     let k = flip.point.len();
     // The eigenvector in the scaled coordinates, unit, with no component in p.
     let mut normal = DVector::<f64>::zeros(k + 1);
@@ -935,9 +937,9 @@ where
                 // Not the period-n orbit again: P^n(z) differs from z.
                 let e = single.eval(&s.w, &s.eval.state).map_err(no_switch)?;
                 if e.f.amax() > 1e3 * opts.atol + 1e-8 {
-                    let dir = (to - flip.param).signum();
-                    let lo = flip.param.min(to) - opts.ds_max * solver.param_scale;
-                    let hi = flip.param.max(to) + opts.ds_max * solver.param_scale;
+                    let dir = (to - flip.parameter).signum();
+                    let lo = flip.parameter.min(to) - opts.ds_max * solver.param_scale;
+                    let hi = flip.parameter.max(to) + opts.ds_max * solver.param_scale;
                     return Ok(follow(&solver, s, dir, (lo, hi)));
                 }
                 last = Some(StabilityError::SamePeriod { period, amplitude });

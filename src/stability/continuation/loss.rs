@@ -411,11 +411,7 @@ where
         if (last.0 - to) * dir >= 0.0 {
             return Ok(c);
         }
-        let p = if (last.0 + step - to) * dir > 0.0 {
-            to
-        } else {
-            last.0 + step
-        };
+        let p = next_parameter(last.0, step, to, dir);
         let z = predict(&last, &before, p);
         let far = match stepper.solve(p, &last.1.state, &z) {
             Ok(o) if !is_lost(&o, &structure) => {
@@ -443,23 +439,24 @@ where
                 before = None;
                 last = next;
                 step = opts.step.abs() * dir;
+                continue;
             }
-            (End::Loss(loss), _) => {
-                return Ok(Continuation {
-                    loss: Some(loss),
-                    ..c
-                })
-            }
-            (End::Failure(f), _) => {
-                return Ok(Continuation {
-                    failure: Some(f),
-                    ..c
-                })
-            }
+            (End::Loss(loss), _) => c.loss = Some(loss),
+            (End::Failure(f), _) => c.failure = Some(f),
         }
+        return Ok(c);
     }
     c.failure = Some(out_of_steps(opts, last));
     Ok(c)
+}
+
+/// `last + step`, or `to` if that is beyond it (in the direction `dir`).
+fn next_parameter(last: f64, step: f64, to: f64, dir: f64) -> f64 {
+    if (last + step - to) * dir > 0.0 {
+        to
+    } else {
+        last + step
+    }
 }
 
 /// The failure when `max_steps` run out at `last`.
