@@ -6,8 +6,8 @@
 //! top-level module named by each `crate::` path (`use crate::x::...`, `crate::x::f()`, the
 //! items of `use crate::{x::..., y::...}`), each `$crate::` path, and each `super::` chain that
 //! climbs to the crate root. A file belongs to the top-level module of its first path
-//! component (`src/stability/orbit.rs` to `stability`); `src/lib.rs` is the roof and may name
-//! everything.
+//! component (`src/stability/orbit.rs` to `stability`); `src/lib.rs` and the prelude are the
+//! roof and may name everything.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -55,6 +55,10 @@ const LAYERS: &[Layer] = &[
         apart: false,
     },
 ];
+
+/// The roof: the crate root (`src/lib.rs`) and the prelude (issue 17 item 6) re-export from
+/// every floor and may name everything.
+const ROOF: &[&str] = &["lib.rs", "prelude"];
 
 /// The analyses name no concrete model in code: these floors may not use these modules even
 /// though they are below them (`rotor` holds `RingedRotor`).
@@ -282,10 +286,10 @@ fn no_import_runs_up_the_house() {
             .iter()
             .map(|p| p.to_str().expect("utf-8 path"))
             .collect();
-        if parts == ["lib.rs"] {
-            continue; // the roof
-        }
         let from = parts[0].trim_end_matches(".rs");
+        if ROOF.contains(&parts[0]) || ROOF.contains(&from) {
+            continue;
+        }
         let Some((from_floor, apart)) = floor(from) else {
             violations.push(format!(
                 "src/{}: module `{from}` is in no floor of the layer table (tests/layers.rs)",
