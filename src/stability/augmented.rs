@@ -14,10 +14,10 @@ use nalgebra::{DVector, DefaultAllocator, Dim, Dyn, OMatrix, OVector, U1};
 
 use super::error::StabilityError;
 use super::saltation::{saltation, EventLinearization};
-use super::variational::{Variational, VariationalAlloc, Workspace};
 use crate::hybrid::{
     simulate, EventRecord, ExactSegment, Flow, GuardCrossing, HybridObserver, ModelError,
-    OutputPlan, RotorModel, SimOptions, SimStats, StrobePoint, StrobeRange,
+    OutputPlan, RotorModel, SimOptions, SimStats, StrobePoint, StrobeRange, Variational,
+    VariationalAlloc, Workspace,
 };
 use crate::ode::Direction;
 
