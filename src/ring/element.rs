@@ -87,7 +87,7 @@ use std::cell::RefCell;
 use nalgebra::Vector2;
 
 use super::{Branch, Branches, Regime, Relaxation, RingContact, RingError, SnubberRing};
-use crate::ode::Direction;
+use crate::numeric::Direction;
 
 /// Relative distance inside the gap circle within which a touch still counts as a touch of the
 /// circle itself (the onset time is located to rounding): the contact branches' smooth
