@@ -1,46 +1,4 @@
 //! The bracketing root finder: the Illinois method.
-//!
-//! # The method
-//!
-//! Given $a < b$ with $g(a) \ne 0$ and $g(b)$ of the opposite sign (or zero),
-//! each iteration takes the secant (regula falsi) point
-//! $$c = b - g_b\thinspace\frac{b - a}{g_b - g_a}$$
-//! and replaces the end of the same sign as $g(c)$. When the same end is kept
-//! twice in a row, its stored function value is halved (the Illinois
-//! modification), which restores superlinear convergence (order
-//! $\approx 1.44$) where plain regula falsi stalls on one side. The iteration
-//! falls back to bisection when the secant point is not strictly inside the
-//! bracket, and (unless [`RootOptions::bisect_when_slow`] is off) on every fourth
-//! iteration in a row that did not halve the bracket, so it never needs more than
-//! about four times the iterations of bisection. A point is never taken closer
-//! than `tol / 2` to an end of the bracket: once an end sits on the root to
-//! rounding (the secant point of a nearly linear function does so at once), the
-//! next point falls half a tolerance beyond it and closes the bracket, where the
-//! far end would otherwise creep in over many iterations.
-//!
-//! # Guarantee
-//!
-//! If $g$ is continuous on $[a, b]$ the returned bracket always contains a
-//! root, with $g(\text{lo})$ of the sign of $g(a)$ and $g(\text{hi})$ of the
-//! opposite sign or zero: a sign change is never lost, whatever $g$ does
-//! (round-off included), as long as it returns numbers: a NaN from $g$ stops the
-//! search, not converged ([`Bracket::nan_at`]). The search stops when $\text{hi} - \text{lo} \le$
-//! `tol`, when $g(\text{hi}) = 0$, when the ends are adjacent floats, or after
-//! `max_evaluations` evaluations.
-//!
-//! ```
-//! use jeffcott::numeric::{illinois, RootOptions};
-//!
-//! // The root of cos on [1, 2] (pi / 2) to 4 ulp.
-//! let tol = 4.0 * f64::EPSILON * 2.0;
-//! let opts = RootOptions::default().tol(tol).max_evaluations(100);
-//! let r = illinois((1.0, 1f64.cos()), (2.0, 2f64.cos()), &opts, f64::cos)?;
-//! assert!(r.converged && r.hi - r.lo <= tol);
-//! assert!(r.g_lo > 0.0 && r.g_hi <= 0.0);
-//! assert!((r.hi - std::f64::consts::FRAC_PI_2).abs() <= tol);
-//! assert!(r.evaluations < 15);
-//! # Ok::<(), jeffcott::numeric::NumericError>(())
-//! ```
 
 use super::NumericError;
 
@@ -124,7 +82,7 @@ pub struct Bracket {
 
 /// Illinois (modified regula falsi) on the bracket $[a, b]$ given as `(a, fa)`, `(b, fb)` with
 /// `fa` $= g(a) \ne 0$ and `fb` $= g(b)$ of the opposite sign or zero; see the
-/// [module docs](self) for the method and its guarantee, [`RootOptions`] for the stopping rule.
+/// method and its guarantee below, [`RootOptions`] for the stopping rule.
 ///
 /// A NaN returned by `g` during the search stops it with `converged == false` and
 /// [`Bracket::nan_at`] set; running out of evaluations gives `converged == false`. Never
@@ -133,6 +91,48 @@ pub struct Bracket {
 /// # Errors
 /// [`NumericError::NotABracket`] when the input is not a bracket (`fa` zero or NaN, `fb` NaN or
 /// of the sign of `fa`); no evaluation of `g` is made.
+///
+/// # The method
+///
+/// Given $a < b$ with $g(a) \ne 0$ and $g(b)$ of the opposite sign (or zero),
+/// each iteration takes the secant (regula falsi) point
+/// $$c = b - g_b\thinspace\frac{b - a}{g_b - g_a}$$
+/// and replaces the end of the same sign as $g(c)$. When the same end is kept
+/// twice in a row, its stored function value is halved (the Illinois
+/// modification), which restores superlinear convergence (order
+/// $\approx 1.44$) where plain regula falsi stalls on one side. The iteration
+/// falls back to bisection when the secant point is not strictly inside the
+/// bracket, and (unless [`RootOptions::bisect_when_slow`] is off) on every fourth
+/// iteration in a row that did not halve the bracket, so it never needs more than
+/// about four times the iterations of bisection. A point is never taken closer
+/// than `tol / 2` to an end of the bracket: once an end sits on the root to
+/// rounding (the secant point of a nearly linear function does so at once), the
+/// next point falls half a tolerance beyond it and closes the bracket, where the
+/// far end would otherwise creep in over many iterations.
+///
+/// # Guarantee
+///
+/// If $g$ is continuous on $[a, b]$ the returned bracket always contains a
+/// root, with $g(\text{lo})$ of the sign of $g(a)$ and $g(\text{hi})$ of the
+/// opposite sign or zero: a sign change is never lost, whatever $g$ does
+/// (round-off included), as long as it returns numbers: a NaN from $g$ stops the
+/// search, not converged ([`Bracket::nan_at`]). The search stops when $\text{hi} - \text{lo} \le$
+/// `tol`, when $g(\text{hi}) = 0$, when the ends are adjacent floats, or after
+/// `max_evaluations` evaluations.
+///
+/// ```
+/// use jeffcott::numeric::{illinois, RootOptions};
+///
+/// // The root of cos on [1, 2] (pi / 2) to 4 ulp.
+/// let tol = 4.0 * f64::EPSILON * 2.0;
+/// let opts = RootOptions::default().tol(tol).max_evaluations(100);
+/// let r = illinois((1.0, 1f64.cos()), (2.0, 2f64.cos()), &opts, f64::cos)?;
+/// assert!(r.converged && r.hi - r.lo <= tol);
+/// assert!(r.g_lo > 0.0 && r.g_hi <= 0.0);
+/// assert!((r.hi - std::f64::consts::FRAC_PI_2).abs() <= tol);
+/// assert!(r.evaluations < 15);
+/// # Ok::<(), jeffcott::numeric::NumericError>(())
+/// ```
 pub fn illinois(
     (a, fa): (f64, f64),
     (b, fb): (f64, f64),
@@ -236,7 +236,9 @@ mod tests {
     /// Roots of functions known in closed form, to the asked width, with the sign invariant.
     #[test]
     fn roots_of_known_functions() {
-        let cases: [(fn(f64) -> f64, f64, f64, f64); 5] = [
+        // (g, a, b, the root in closed form)
+        type Case = (fn(f64) -> f64, f64, f64, f64);
+        let cases: [Case; 5] = [
             (|x| x * x - 2.0, 1.0, 2.0, 2f64.sqrt()),
             (|x| x * x * x - 2.0, 0.0, 3.0, 2f64.cbrt()),
             (|x| x.exp() - 3.0, 0.0, 2.0, 3f64.ln()),
