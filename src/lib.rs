@@ -140,6 +140,7 @@
 pub mod analysis;
 pub mod global;
 pub mod hybrid;
+pub mod numeric;
 pub mod ode;
 pub mod paper;
 pub mod params;

@@ -87,7 +87,7 @@ use nalgebra::{DefaultAllocator, Dim, OVector, Vector2, U1};
 use thiserror::Error;
 
 use crate::hybrid::{Flow, ModelError, NoExactModes, RotorModel};
-use crate::ode::Direction;
+use crate::numeric::Direction;
 use crate::ring::{Kinematics, RingCache, RingError, RingGuard, RingMode, SnubberRing};
 
 /// A rotor without the ring: smooth, of state dimension [`SmoothRotor::Dim`] (fixed, e.g.

@@ -11,7 +11,7 @@ mod rotor;
 use jeffcott::hybrid::{ModelError, RotorModel, SimOptions, Variational, VariationalAlloc};
 use jeffcott::nalgebra::DefaultAllocator;
 use jeffcott::nalgebra::{DMatrix, DVector, Dyn, OVector, SVector, Vector2, U6};
-use jeffcott::ode::Direction;
+use jeffcott::numeric::Direction;
 use jeffcott::paper::{Cache, FreeSegment, JeffcottModel, Mode, State};
 use jeffcott::params::Preset;
 use jeffcott::ring::Kinematics;

@@ -72,7 +72,7 @@ use std::fmt::Debug;
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector};
 
-use crate::ode::Direction;
+use crate::numeric::Direction;
 use crate::ring::RingError;
 
 /// How a mode is advanced in time.
@@ -210,7 +210,7 @@ where
 /// use jeffcott::analysis::{bifurcation, start_from, BifurcationConfig};
 /// use jeffcott::hybrid::{Flow, ModelError, NoExactModes, RotorModel};
 /// use jeffcott::nalgebra::{DVector, Dyn};
-/// use jeffcott::ode::Direction;
+/// use jeffcott::numeric::Direction;
 ///
 /// struct Chain {
 ///     m: usize,

@@ -19,7 +19,7 @@ use crate::hybrid::{
     OutputPlan, RotorModel, SimOptions, SimStats, StrobePoint, StrobeRange, Variational,
     VariationalAlloc, Workspace,
 };
-use crate::ode::Direction;
+use crate::numeric::Direction;
 
 /// One event crossed by a linearised trajectory, with the crossing's margin.
 #[derive(Debug, Clone, Copy, PartialEq)]
