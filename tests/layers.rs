@@ -69,11 +69,6 @@ const CONCRETE_MODELS: &[&str] = &["rotor", "paper"];
 /// must still be needed (the test fails on a stale one).
 const ALLOWED: &[(&str, &str, &str)] = &[
     (
-        "src/ring/element.rs",
-        "ode",
-        "issue 17 item 3: the ring uses ode::Direction; Direction moves to the bottom",
-    ),
-    (
         "src/global/continuation.rs",
         "paper",
         "issue 17 item 3: ContinuationConfig::default() uses paper::guard::ONSET; the \
