@@ -364,11 +364,10 @@ fn the_arclength_does_not_depend_on_the_parameter_units() {
 /// The paper's model under other guard labels (a user's model names its guards as it likes):
 /// the contacts per orbit come from the model's own `is_contact_onset`, not from a label.
 mod relabelled {
-    use jeffcott::hybrid::{Flow, ModelError, RotorModel};
+    use jeffcott::hybrid::{Flow, ModelError, RotorModel, Variational, Workspace};
     use jeffcott::nalgebra::{Dyn, OMatrix, OVector, U6};
-    use jeffcott::ode::Direction;
+    use jeffcott::numeric::Direction;
     use jeffcott::paper::{Cache, FreeSegment, JeffcottModel, Mode, State};
-    use jeffcott::stability::{Variational, Workspace};
 
     type M6 = OMatrix<f64, U6, U6>;
 

@@ -32,7 +32,7 @@
 //! of a count is a fold, flip or Neimark–Sacker bifurcation, a change of the event structure a
 //! grazing, which the continuation goes on through.
 //!
-//! Each is located by the one bisection of [`super`] along the secant between the two
+//! Each is located by the one bisection ([`crate::numeric::bisect`]) along the secant between the two
 //! points (a corrected point on the hyperplane through the midpoint, normal to the secant)
 //! until the bracket is narrower than [`ContinuationOptions::bracket_width`] (in the parameter,
 //! and in every component of $z$ relative to its scale); the value reported is the bracket's
@@ -48,14 +48,12 @@
 
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 
-use super::{bisect, canonical, crossings, SpecialKind, Verdict};
-use crate::hybrid::SimOptions;
+use super::{canonical, crossings, SpecialKind};
+use crate::hybrid::{SimOptions, Variational, VariationalAlloc};
+use crate::numeric::{bisect, Side};
 use crate::stability::newton::{self, NewtonOptions, Rule, System};
 use crate::stability::orbit::newton_error;
-use crate::stability::{
-    multipliers, Multiplier, StabilityError, StroboscopicMap, Variational, VariationalAlloc,
-    GRAZING_MARGIN,
-};
+use crate::stability::{multipliers, Multiplier, StabilityError, StroboscopicMap, GRAZING_MARGIN};
 
 /// Options of [`continue_orbit`] and [`switch_at_flip`]: `Default`, then the builder methods.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -761,34 +759,61 @@ where
         state: s.eval.state.clone(),
     };
     let width = solver.opts.bracket_width;
-    let bracket = bisect(end(a, pa), end(b, pb), 200, |near, far| {
+    let (mut near, mut far) = (end(a, pa), end(b, pb));
+    let mut stopped = None;
+    // The one bisection on the secant's fraction; the probe keeps the ends, bisects them in
+    // (z, p) and stops the search (`Err`) once they are within the width or it fails.
+    let probe = |_: f64| {
         if solver.width(&near.w, &far.w) <= width {
-            return None;
+            return Err(());
         }
         let mid = (&near.w + &far.w) * 0.5;
         let normal = &far.w - &near.w;
         let verdict = solver
             .correct(&mid, &normal, &mid, &near.state)
             .and_then(|s| solver.point(&s, 0.0).map(|p| end(&s, &p)));
-        Some(match verdict {
-            Ok(e) if same(&e.point) => Verdict::Near(e),
-            Ok(e) => Verdict::Far(e),
-            Err(error) => Verdict::Stop(error),
-        })
-    });
-    let (near, far) = (&bracket.near, &bracket.far);
+        match verdict {
+            Ok(e) if same(&e.point) => {
+                near = e;
+                Ok(Side::Near)
+            }
+            Ok(e) => {
+                far = e;
+                Ok(Side::Far)
+            }
+            Err(error) => {
+                stopped = Some(error);
+                Err(())
+            }
+        }
+    };
+    let _ = bisect(0.0, 1.0, 0.0, 200, probe);
     let k = near.w.len() - 1;
     let (pn, pf) = (
         near.w[k] * solver.param_scale,
         far.w[k] * solver.param_scale,
     );
     let unconverged = (solver.width(&near.w, &far.w) > width).then(|| {
-        bracket.stopped.unwrap_or(StabilityError::Budget {
+        stopped.unwrap_or(StabilityError::Budget {
             field: "bisections",
             limit: 200.0,
             parameter: 0.5 * (pn + pf),
         })
     });
+    special(kind, (pn, &near), (pf, &far), unconverged, after_point)
+}
+
+/// The special point of the final bracket `near` (at the parameter `pn`) to `far` (at `pf`).
+fn special<D: nalgebra::Dim>(
+    kind: SpecialKind,
+    (pn, near): (f64, &End<D>),
+    (pf, far): (f64, &End<D>),
+    unconverged: Option<StabilityError>,
+    after_point: usize,
+) -> SpecialPoint
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
     let n = &near.point;
     SpecialPoint {
         kind,

@@ -12,7 +12,7 @@
 //!   an event moving across the section does not count);
 //! * no orbit is found, and none as the step is halved down to the tolerance.
 //!
-//! The bracket is then bisected by the one locator of [`super`] (Newton at each
+//! The bracket is then bisected by the one bisection ([`crate::numeric::bisect`]; Newton at each
 //! midpoint, warm-started from the stable end)
 //! until it is narrower than [`LossOptions::bracket_width`]; for a multiplier crossing the
 //! value reported is the linear interpolation of the spectral radius to 1 inside the final
@@ -37,13 +37,14 @@
 
 use nalgebra::{DVector, DefaultAllocator, OVector};
 
-use super::{bisect, canonical, crossings, largest_real_positive, SpecialKind, Verdict};
+use super::{canonical, crossings, largest_real_positive, SpecialKind};
+use crate::hybrid::{Variational, VariationalAlloc};
+use crate::numeric::{bisect, Side};
 use crate::stability::error::StabilityError;
 use crate::stability::floquet::{CrossingKind, Multiplier};
 use crate::stability::map::StroboscopicMap;
 use crate::stability::newton::NewtonOptions;
 use crate::stability::orbit::{periodic_orbit, OrbitOptions, PeriodicOrbit};
-use crate::stability::variational::{Variational, VariationalAlloc};
 
 /// Options of [`locate_loss`]: `Default`, then the builder methods.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -531,17 +532,23 @@ where
     S: Fn(f64, &OVector<f64, D>, &DVector<f64>) -> Result<PeriodicOrbit<D>, StabilityError>,
 {
     let start_real = largest_real_positive(&a.1.multipliers);
-    let bracket = bisect::<_, _, std::convert::Infallible>(a, b, usize::MAX, |a, b| {
-        let mid = 0.5 * (a.0 + b.0);
-        if (b.0 - a.0).abs() <= tol || mid == a.0 || mid == b.0 {
-            return None;
-        }
-        Some(match solve(mid, &a.1.state, &a.1.point) {
-            Ok(o) if !is_lost(&o, structure) => Verdict::Near((mid, o)),
-            other => Verdict::Far((mid, other)),
+    let ends = (a.0, b.0);
+    let (mut a, mut b) = (a, b);
+    // The probe keeps the orbits at the ends: a solve at the midpoint, warm-started from the
+    // near end.
+    let probe = |mid: f64| {
+        Ok::<_, std::convert::Infallible>(match solve(mid, &a.1.state, &a.1.point) {
+            Ok(o) if !is_lost(&o, structure) => {
+                a = (mid, o);
+                Side::Near
+            }
+            other => {
+                b = (mid, other);
+                Side::Far
+            }
         })
-    });
-    let (a, b) = (bracket.near, bracket.far);
+    };
+    let Ok(_) = bisect(ends.0, ends.1, tol, usize::MAX, probe);
     match b.1 {
         Ok(o) => {
             let l = crossing(a, b.0, &o, structure);

@@ -17,7 +17,7 @@
 //! Both use the one Newton ([`super::newton`]) with its relative-plus-absolute
 //! stopping rule on the model's [`state_scale`](crate::hybrid::RotorModel::state_scale), and
 //! the one locator: a special point is bracketed between two orbits and the bracket bisected
-//! (one small function) until it is narrower than the options' `bracket_width` (a width, in the
+//! (by the crate's one bisection, [`crate::numeric::bisect`]) until it is narrower than the options' `bracket_width` (a width, in the
 //! parameter's units; the residual tolerances are `atol`/`rtol`).
 //!
 //! **The special points, one definition.** The multipliers outside the unit circle are
@@ -32,14 +32,12 @@
 //! ([`RotorModel::is_contact_onset`](crate::hybrid::RotorModel::is_contact_onset)).
 
 pub mod arclength;
-mod bracket;
 pub mod loss;
 
 pub use arclength::{
     continue_orbit, switch_at_flip, Branch, BranchEnd, BranchPoint, ContinuationOptions,
     SpecialPoint,
 };
-pub(crate) use bracket::{bisect, Verdict};
 pub use loss::{
     locate_loss, BranchFailure, Continuation, ContinuationPoint, LossOptions, StabilityLoss,
 };
