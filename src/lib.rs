@@ -140,7 +140,9 @@ pub mod paper;
 pub mod params;
 pub mod ring;
 pub mod rotor;
-#[cfg(feature = "serde")]
+// Always compiled: the records of `global` read `analysis::LagResiduals` through it; the label
+// readers serve the derives of the `serde` feature.
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 mod serde_util;
 
 /// `&'static str`, spelt so that serde's derive does not borrow it from the input: a field of

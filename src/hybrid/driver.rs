@@ -13,8 +13,7 @@ use crate::ode::{
 };
 
 /// Options of a hybrid run. A plain struct with `Default`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SimOptions {
     /// Integration method of integrated modes. Default [`Method::Dop853`].
     pub method: Method,
