@@ -73,6 +73,7 @@ pub const MAX_WINDOWS: usize = 4;
 
 /// The residual of one lag over consecutive windows of a record (see the
 /// [module docs](self)): in window `w`, the largest `‖x_i − x_{i−lag}‖∞ / S`.
+// serde always, not only with the feature: the sweeps of `global` record it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LagResiduals {
     /// The lag, in samples.
@@ -169,6 +170,7 @@ impl fmt::Display for LagResiduals {
 
 /// The outcome of [`detect_period`]. Displays as `period 3`, `not periodic up to 16` or
 /// `not converged: lag 8 (residual per window …) within tolerance, lag 1 (…) still shrinking`.
+// serde always, not only with the feature: the sweeps of `global` record it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[non_exhaustive]
 pub enum Periodicity {
@@ -242,6 +244,7 @@ impl fmt::Display for Periodicity {
 
 /// How a stroboscopic orbit of state vectors is tested for periodicity: [`detect_period`]
 /// with a period bound that adapts to the number of points.
+// serde always, not only with the feature: the sweeps of `global` record it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PeriodTest {
     /// Largest period tested (at least 1; the orbit needs `2 · max_period` points). Default 16.

@@ -116,12 +116,14 @@ impl std::str::FromStr for Shard {
 
 /// Written as its text `index/count`, read back through [`str::parse`] (so a shard read from a
 /// file is validated like one given on a command line).
+#[cfg(feature = "serde")]
 impl serde::Serialize for Shard {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         serializer.collect_str(self)
     }
 }
 
+#[cfg(feature = "serde")]
 impl<'de> serde::Deserialize<'de> for Shard {
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let text = <String as serde::Deserialize>::deserialize(deserializer)?;

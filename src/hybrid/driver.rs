@@ -13,6 +13,7 @@ use crate::ode::{
 };
 
 /// Options of a hybrid run. A plain struct with `Default`.
+// serde always, not only with the feature: the sweeps of `global` record it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SimOptions {
     /// Integration method of integrated modes. Default [`Method::Dop853`].

@@ -36,6 +36,9 @@ impl StartPlane {
 
 /// A plane of initial states of the paper's model at fixed parameters: the grid of a basin
 /// of attraction ([`crate::global::scan_grid`]).
+///
+/// Serialized (serde), it is the description of a basin sweep's folder: its parameters are
+/// recorded, and a resume with others is refused ([`crate::global::SweepStore::open_scan`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BasinPlane {
     /// The parameters (for [`StartPlane::PhaseX`], `phi0` is replaced at each point).
@@ -92,6 +95,9 @@ impl BasinPlane {
 
 /// A plane of two parameters of the paper's model, every run from the same start: the grid
 /// of a two-parameter map ([`crate::global::scan_grid`]).
+///
+/// Serialized (serde), it is the description of a map's folder
+/// ([`crate::global::SweepStore::open_scan`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ParamPlane {
     /// The other parameters.

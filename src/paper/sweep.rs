@@ -13,6 +13,7 @@ use crate::params::{ParamError, Params};
 use super::{JeffcottModel, State};
 
 /// A parameter of [`Params`] that a sweep varies.
+// serde always, not only with the feature: the sweeps of `global` record it.
 #[derive(
     Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
 )]
@@ -95,6 +96,7 @@ impl SweepParameter {
 /// A rotor state the ring is placed for ([`JeffcottModel::state_at`]): position $(x, y)$ and
 /// velocity $(x^\prime, y^\prime)$. The default is at rest at the origin (the paper's zero
 /// initial conditions).
+// serde always, not only with the feature: the sweeps of `global` record it.
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct RotorStart {
     /// Position $(x, y)$.
