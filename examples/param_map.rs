@@ -23,7 +23,7 @@ use common::plot::{self, Category, CategoryGrid, Figure, Grid};
 use common::ranks::Ranks;
 use common::{SweepRunFlags, Tolerances};
 use jeffcott::analysis::StderrProgress;
-use jeffcott::global::{AttractorConfig, Grid2, Json, Manifest};
+use jeffcott::global::{AttractorConfig, Grid2, Manifest};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{ParamPlane, SweepParameter};
 use jeffcott::params::Params;
@@ -179,10 +179,9 @@ fn main() {
         let grid = common::or_exit(Grid2::linspace((eta_min, eta_max, n_eta), (lo, hi, n_y)));
         let plane = ParamPlane::new(base, SweepParameter::Eta, param);
         let dir = out.join(name);
-        // The folder records the grid and every setting of `config`; the description adds
-        // the model's parameters.
-        let description = Json::object([("plane", plane.to_json())]);
-        let manifest = Manifest::scan("param_map", description, &grid, &config);
+        // The folder records the grid and every setting of `config`; the description, the
+        // plane, adds the model's parameters.
+        let manifest = common::or_exit(Manifest::scan("param_map", &plane, &grid, &config));
         let store = common::or_exit(ranks.open_store(&dir, manifest));
         let progress = StderrProgress::new(format!("map eta x {}", param.symbol()));
         let t0 = Instant::now();

@@ -105,6 +105,11 @@
 //!   `f64::INFINITY` (the default `ode::Options::h_max`) need a format that has one. It turns
 //!   on nalgebra's `serde-serialize`, so the vectors inside serialize too. Pure Rust, no
 //!   system library. Working state (integrators, caches, event state) is not serialisable.
+//!   `serde` and `serde_json` themselves are dependencies with or without the feature: the
+//!   resumable sweeps of [`global`] write their records with them, so the types a sweep
+//!   records or describes its settings with ([`global::Attractor`], [`global::PointFailure`],
+//!   [`global::AttractorConfig`] with [`hybrid::SimOptions`] and [`analysis::PeriodTest`],
+//!   [`params::Params`], [`paper::BasinPlane`], [`paper::ParamPlane`], ...) derive both always.
 //! * **`mpi`**: the module `global::distributed`: the resumable sweeps of [`global`]
 //!   (`open_store`, `run_points`, `scan_grid`) split across MPI ranks, with results bitwise
 //!   equal to one process (the examples `basins` and `param_map` use it under `mpirun`). It
@@ -146,7 +151,9 @@ pub mod paper;
 pub mod params;
 pub mod ring;
 pub mod rotor;
-#[cfg(feature = "serde")]
+// Always compiled: the records of `global` read `analysis::LagResiduals` through it; the label
+// readers serve the derives of the `serde` feature.
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 mod serde_util;
 
 /// `&'static str`, spelt so that serde's derive does not borrow it from the input: a field of

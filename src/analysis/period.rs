@@ -73,16 +73,13 @@ pub const MAX_WINDOWS: usize = 4;
 
 /// The residual of one lag over consecutive windows of a record (see the
 /// [module docs](self)): in window `w`, the largest `‖x_i − x_{i−lag}‖∞ / S`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+// serde always, not only with the feature: the sweeps of `global` record it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LagResiduals {
     /// The lag, in samples.
     pub lag: usize,
     values: [f64; MAX_WINDOWS],
-    #[cfg_attr(
-        feature = "serde",
-        serde(deserialize_with = "crate::serde_util::count_at_most::<_, MAX_WINDOWS>")
-    )]
+    #[serde(deserialize_with = "crate::serde_util::count_at_most::<_, MAX_WINDOWS>")]
     windows: usize,
     span: f64,
 }
@@ -173,8 +170,8 @@ impl fmt::Display for LagResiduals {
 
 /// The outcome of [`detect_period`]. Displays as `period 3`, `not periodic up to 16` or
 /// `not converged: lag 8 (residual per window …) within tolerance, lag 1 (…) still shrinking`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+// serde always, not only with the feature: the sweeps of `global` record it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[non_exhaustive]
 pub enum Periodicity {
     /// The orbit repeats after this many samples (the smallest such number; at least 1), and
@@ -247,8 +244,8 @@ impl fmt::Display for Periodicity {
 
 /// How a stroboscopic orbit of state vectors is tested for periodicity: [`detect_period`]
 /// with a period bound that adapts to the number of points.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+// serde always, not only with the feature: the sweeps of `global` record it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PeriodTest {
     /// Largest period tested (at least 1; the orbit needs `2 · max_period` points). Default 16.
     pub max_period: usize,

@@ -45,17 +45,14 @@
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, OVector};
 
-use super::json::{Json, JsonError};
-use super::record::{field, nest, Record};
-use crate::analysis::{LagResiduals, PeriodTest, Periodicity};
+use crate::analysis::{PeriodTest, Periodicity};
 use crate::hybrid::{
     simulate, EventRecord, HybridObserver, OutputPlan, RotorModel, SimError, SimErrorKind,
     SimOptions, SimStats, StrobePoint, StrobeRange,
 };
 
 /// Settings of [`find_attractor`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AttractorConfig {
     /// Forcing periods discarded before the first recording. Default 500.
     pub transient: u64,
@@ -87,58 +84,8 @@ impl Default for AttractorConfig {
     }
 }
 
-impl AttractorConfig {
-    /// The settings as JSON, for a sweep's manifest: every field (of [`SimOptions`] and
-    /// [`PeriodTest`] too), so that a resumed sweep with any other setting is refused.
-    pub fn to_json(&self) -> Json {
-        // Destructured without `..`: a field added to any of these structs does not compile
-        // until it is recorded here.
-        let AttractorConfig {
-            transient,
-            record,
-            max_transient,
-            opts,
-            period_test,
-            free_label,
-        } = *self;
-        let SimOptions {
-            method,
-            rtol,
-            atol,
-            steps_per_period,
-            max_step_fraction,
-            event_samples,
-            max_events_per_period,
-            max_steps,
-            screen_events,
-        } = opts;
-        let PeriodTest { max_period, tol } = period_test;
-        Json::object([
-            ("transient", Json::from(transient)),
-            ("record", Json::from(record)),
-            ("max_transient", Json::from(max_transient)),
-            ("method", Json::from(format!("{method:?}"))),
-            ("rtol", Json::from(rtol)),
-            ("atol", Json::from(atol)),
-            ("steps_per_period", Json::from(u64::from(steps_per_period))),
-            ("max_step_fraction", Json::from(max_step_fraction)),
-            ("event_samples", Json::from(event_samples)),
-            (
-                "max_events_per_period",
-                Json::from(u64::from(max_events_per_period)),
-            ),
-            ("max_steps", Json::from(max_steps)),
-            ("screen_events", Json::from(screen_events)),
-            ("max_period", Json::from(max_period)),
-            ("period_tol", Json::from(tol)),
-            ("free_label", Json::from(u64::from(free_label))),
-        ])
-    }
-}
-
 /// Statistics of the recorded window of a run (see the [module docs](self)).
-#[derive(Debug, Clone, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct OrbitStats {
     /// Forcing periods run in all, transients included.
     pub periods_run: u64,
@@ -157,8 +104,7 @@ pub struct OrbitStats {
 }
 
 /// The attractor a run settled on (see the [module docs](self)).
-#[derive(Debug, Clone, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Attractor {
     /// The detected period of the stroboscopic map.
     pub periodicity: Periodicity,
@@ -190,17 +136,6 @@ impl Default for MatchTolerance {
             contacts: 0.1,
             extent: 0.05,
         }
-    }
-}
-
-impl MatchTolerance {
-    /// The tolerances as JSON.
-    pub fn to_json(&self) -> Json {
-        Json::object([
-            ("state", Json::from(self.state)),
-            ("contacts", Json::from(self.contacts)),
-            ("extent", Json::from(self.extent)),
-        ])
     }
 }
 
@@ -528,153 +463,4 @@ fn lex_cmp(a: &[f64], b: &[f64]) -> std::cmp::Ordering {
         }
     }
     a.len().cmp(&b.len())
-}
-
-impl Record for OrbitStats {
-    fn to_json(&self) -> Json {
-        Json::object([
-            ("periods_run", Json::from(self.periods_run)),
-            ("window", Json::from(self.window)),
-            ("contacts_per_period", Json::from(self.contacts_per_period)),
-            ("contact_fraction", Json::from(self.contact_fraction)),
-            (
-                "occupancy",
-                Json::Array(
-                    self.occupancy
-                        .iter()
-                        .map(|&(l, f)| Json::Array(vec![l.to_json(), f.to_json()]))
-                        .collect(),
-                ),
-            ),
-            ("lo", self.lo.to_json()),
-            ("hi", self.hi.to_json()),
-        ])
-    }
-
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        let occ = json.field("occupancy")?;
-        let occupancy = occ
-            .as_array()
-            .ok_or_else(|| JsonError::shape("occupancy", "an array", occ))?
-            .iter()
-            .enumerate()
-            .map(|(i, pair)| {
-                let (label, frac) = <(u8, f64)>::from_pair(pair)
-                    .map_err(|e| nest(e, &format!("occupancy[{i}]")))?;
-                Ok((label, frac))
-            })
-            .collect::<Result<Vec<_>, JsonError>>()?;
-        Ok(OrbitStats {
-            periods_run: field(json, "periods_run")?,
-            window: field(json, "window")?,
-            contacts_per_period: field(json, "contacts_per_period")?,
-            contact_fraction: field(json, "contact_fraction")?,
-            occupancy,
-            lo: field(json, "lo")?,
-            hi: field(json, "hi")?,
-        })
-    }
-}
-
-impl Record for LagResiduals {
-    /// `{"lag": 8, "per_window": [...], "span": 42.0}`.
-    fn to_json(&self) -> Json {
-        Json::object([
-            ("lag", Json::from(self.lag)),
-            ("per_window", self.per_window().to_vec().to_json()),
-            ("span", Json::from(self.span())),
-        ])
-    }
-
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        lag_residuals_from_json(json)
-    }
-}
-
-fn lag_residuals_from_json(json: &Json) -> Result<LagResiduals, JsonError> {
-    let lag: usize = field(json, "lag")?;
-    let per_window: Vec<f64> = field(json, "per_window")?;
-    let span: f64 = field(json, "span")?;
-    LagResiduals::from_parts(lag, &per_window, span).ok_or_else(|| {
-        JsonError::shape(
-            "",
-            "lag >= 1, 1 to 4 finite residuals >= 0 and a finite span >= 0",
-            json,
-        )
-    })
-}
-
-trait FromPair: Sized {
-    fn from_pair(json: &Json) -> Result<Self, JsonError>;
-}
-
-impl FromPair for (u8, f64) {
-    fn from_pair(json: &Json) -> Result<Self, JsonError> {
-        match json.as_array() {
-            Some([a, b]) => Ok((
-                u8::from_json(a).map_err(|e| nest(e, "[0]"))?,
-                f64::from_json(b).map_err(|e| nest(e, "[1]"))?,
-            )),
-            _ => Err(JsonError::shape("", "a pair [label, fraction]", json)),
-        }
-    }
-}
-
-impl Record for Attractor {
-    /// `{"period": p, "cycle": [[...], ...], "stats": {...}}`,
-    /// `{"not_periodic_up_to": n, "cycle": [], "stats": {...}}`, or
-    /// `{"not_converged": {"passed": {...}, "shrinking": {...}}, "cycle": [], "stats": {...}}`
-    /// (each a [`LagResiduals`] record).
-    fn to_json(&self) -> Json {
-        let head = match self.periodicity {
-            Periodicity::Period(p) => ("period", Json::from(p)),
-            Periodicity::NotPeriodic { up_to } => ("not_periodic_up_to", Json::from(up_to)),
-            Periodicity::NotConverged { passed, shrinking } => (
-                "not_converged",
-                Json::object([
-                    ("passed", passed.to_json()),
-                    ("shrinking", shrinking.to_json()),
-                ]),
-            ),
-        };
-        Json::object([
-            head,
-            ("cycle", self.cycle.to_json()),
-            ("stats", self.stats.to_json()),
-        ])
-    }
-
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        let keys = ["period", "not_periodic_up_to", "not_converged"];
-        let present: Vec<&str> = keys.into_iter().filter(|k| json.get(k).is_some()).collect();
-        let periodicity = match present.as_slice() {
-            ["period"] => Periodicity::Period(field(json, "period")?),
-            ["not_periodic_up_to"] => Periodicity::NotPeriodic {
-                up_to: field(json, "not_periodic_up_to")?,
-            },
-            ["not_converged"] => {
-                let nc = json.field("not_converged")?;
-                let part = |key| {
-                    lag_residuals_from_json(nc.field(key)?)
-                        .map_err(|e| nest(nest(e, key), "not_converged"))
-                };
-                Periodicity::NotConverged {
-                    passed: part("passed")?,
-                    shrinking: part("shrinking")?,
-                }
-            }
-            _ => {
-                return Err(JsonError::shape(
-                    "",
-                    "one of the keys `period`, `not_periodic_up_to` and `not_converged`",
-                    json,
-                ))
-            }
-        };
-        Ok(Attractor {
-            periodicity,
-            cycle: field(json, "cycle")?,
-            stats: field(json, "stats")?,
-        })
-    }
 }
