@@ -512,7 +512,6 @@ where
                 d: if s.has_der { d.unwrap_or(0.0) } else { 0.0 },
             };
         });
-        let mut all_cleared = true;
         for (i, s) in slots.iter_mut().enumerate() {
             if !s.active {
                 continue;
@@ -533,9 +532,46 @@ where
                 };
             }
             s.cleared = clears(s, i, &self.step);
-            all_cleared &= s.cleared;
         }
-        all_cleared
+        if slots.iter().any(|s| s.cleared) {
+            self.check_premise(slots);
+        }
+        slots.iter().all(|s| !s.active || s.cleared)
+    }
+
+    /// **The screen checks its premise** on the guards that [`clears`] cleared: the cubic
+    /// Hermite interpolant $p$ of a step's ends proves nothing where the guard along the
+    /// dense output, $G$, is not within $m/2$ of it (module docs, *Screening*), and nothing
+    /// at the step's ends can tell: a step longer than the motion's time scale (loose
+    /// tolerances, a stiff contact) has a dense output that swings between ends whose values
+    /// and derivatives look quiet. The interpolation error vanishes to second order at both
+    /// ends, $G - p = s^2(1-s)^2 r(s)$ on $s \in [0, 1]$; this evaluates $G$ at the midpoint
+    /// (one dense output, every cleared guard's value) and keeps a guard cleared only when
+    /// $|G - p| \le m/4$ there, i.e. $|r(1/2)| \le 4m$, so that $|G - p| \le m/2$ on the
+    /// whole step as long as $r$ varies by less than a factor 2 over it. The others are
+    /// sampled.
+    fn check_premise(&mut self, slots: &mut [Slot]) {
+        let step = self.step;
+        let t_mid = step.start + 0.5 * step.span;
+        y_at(self.integ, self.sys, t_mid, self.tmp);
+        for s in slots.iter_mut() {
+            s.g_mid = f64::NAN;
+        }
+        let events = self.events;
+        events.values_and_derivatives(t_mid, self.tmp, self.zero, false, &mut |i, g, _| {
+            slots[i].g_mid = g;
+        });
+        for (i, s) in slots.iter_mut().enumerate() {
+            if !s.cleared {
+                continue;
+            }
+            if s.g_mid.is_nan() {
+                // Not reported by the set's batch evaluation (or no value: then not cleared).
+                s.g_mid = events.value(i, t_mid, self.tmp);
+            }
+            s.cleared =
+                hermite_mid_within((s.g_ref, s.d_ref), (s.end.g, s.end.d), step.span, s.g_mid);
+        }
     }
 
     /// Samples the guards that the screen did not clear on the `samples` interior points and
@@ -984,6 +1020,18 @@ fn clears(s: &Slot, i: usize, step: &Step) -> bool {
         && hermite_clear((s.g_ref, s.d_ref), (s.end.g, s.end.d), step.span)
 }
 
+/// Whether `g_mid`, a guard's value at the midpoint of a step of length `h` whose ends are
+/// `a` and `b` (value, derivative; cleared by [`hermite_clear`]), is on the ends' side and
+/// within $m/4$ of their cubic Hermite interpolant, $p(1/2) = (g_a + g_b)/2 + h(\dot g_a -
+/// \dot g_b)/8$, with $m = \min(|g_a|, |g_b|)$ ([`Scan::check_premise`]). NaN is not within.
+fn hermite_mid_within(a: (f64, f64), b: (f64, f64), h: f64, g_mid: f64) -> bool {
+    let (ga, da) = a;
+    let (gb, db) = b;
+    let p_mid = 0.5 * (ga + gb) + 0.125 * h * (da - db);
+    let m = ga.abs().min(gb.abs());
+    (g_mid > 0.0) == (ga > 0.0) && g_mid != 0.0 && (g_mid - p_mid).abs() <= 0.25 * m
+}
+
 /// The root in $(0, 1)$ of the cubic Hermite interpolant on $s \in [0, 1]$ with $p(0) =$
 /// `ga`, $p(1) =$ `gb` (of opposite signs) and derivatives `da`, `db` over a step of length
 /// `h`, by bisection-safeguarded Newton on the polynomial (no guard evaluations), to
@@ -1029,9 +1077,10 @@ fn hermite_root(ga: f64, (gb, da, db): (f64, f64, f64), h: f64, resolution: f64)
 /// however many. Counts the hit in `integ.stats().events` and the rhs
 /// evaluations made for event derivatives in `rhs_evals`.
 ///
-/// The rules, in order: [`Step::arm`] (the per-guard arming and start rule, from
-/// [`Scan::start_values`]), [`Scan::screen`] (the step-end screen, opt-in), [`Scan::sample`]
-/// (the location: sign changes, grazing pairs, crossings back, on the samples).
+/// The rules, in order (private functions of this module, each documented with its rule):
+/// the start values and the per-guard arming and start rule (`Step::arm`), the step-end
+/// screen (`Scan::screen`, opt-in), and the location on the samples (`Scan::sample`: sign
+/// changes, grazing pairs, crossings back).
 ///
 /// # Errors
 /// [`OdeError::InvalidOption`] if `opts` is invalid
