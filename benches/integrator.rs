@@ -9,9 +9,10 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use jeffcott::hybrid::{OutputPlan, SimOptions};
+use jeffcott::numeric::Direction;
 use jeffcott::ode::{
-    find_first_event, AnyIntegrator, Direction, EventOptions, EventSet, EventState, Integrator,
-    Method, OdeSystem, Options,
+    find_first_event, AnyIntegrator, EventOptions, EventSet, EventState, Integrator, Method,
+    OdeSystem, Options,
 };
 use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::Preset;

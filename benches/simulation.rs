@@ -33,7 +33,7 @@ use jeffcott::hybrid::{
     simulate, Flow, ModelError, OutputPlan, RotorModel, SimOptions, Trajectory,
 };
 use jeffcott::nalgebra::U6;
-use jeffcott::ode::Direction;
+use jeffcott::numeric::Direction;
 use jeffcott::paper::{Cache, FreeSegment, JeffcottModel, Mode, State};
 use jeffcott::params::{Params, Preset};
 

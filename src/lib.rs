@@ -42,12 +42,17 @@
 //! | [`params`] | non-dimensional and SI parameters, validation, the paper's presets |
 //! | [`ring`] | the snubber ring as a reusable contact element: force, energy, minimum-energy location and its Jacobian, regimes, relaxation |
 //! | [`ode`] | generic explicit Runge–Kutta integrators (DOP853, DOPRI5, RK4) with dense output and event location |
-//! | [`hybrid`] | the [`hybrid::RotorModel`] trait of piecewise-smooth rotor models (state size fixed, e.g. `U6`, or known at run time, `Dyn`) and the driver through modes and events |
-//! | [`paper`] | the paper's model implementing [`hybrid::RotorModel`], and sweeps over its parameters |
+//! | [`hybrid`] | the [`hybrid::RotorModel`] trait of piecewise-smooth rotor models (state size fixed, e.g. `U6`, or known at run time, `Dyn`), the driver through modes and events, and a model's linearisation, [`hybrid::Variational`] (finite-difference defaults) |
+//! | [`paper`] | the paper's model implementing [`hybrid::RotorModel`] and, analytically, [`hybrid::Variational`], and sweeps over its parameters |
 //! | [`analysis`] | for any [`hybrid::RotorModel`]: period detection, stroboscopic orbits, phase portraits and Poincaré sections, deterministic parallel sweeps, bifurcation diagrams and a bifurcation locator |
 //! | [`global`] | global dynamics: continuation of periodic orbits (pseudo-arclength, folds, flips, grazing, branch switching), attractors identified and matched, basins of attraction and two-parameter maps, long sweeps that write as they go and resume after a kill, on threads or MPI ranks (feature `mpi`) |
-//! | [`rotor`] | your rotor on the ring: a smooth rotor model of any size ([`rotor::SmoothRotor`]) composed with the ring's contact element into a [`hybrid::RotorModel`] ([`rotor::RingedRotor`]) |
-//! | [`stability`] | linearisation through events: saltation matrices, the stroboscopic map's Jacobian, periodic orbits and their multipliers, Lyapunov exponents, bifurcations located |
+//! | [`rotor`] | your rotor on the ring: a smooth rotor model of any size ([`rotor::SmoothRotor`]) composed with the ring's contact element into a [`hybrid::RotorModel`] and a [`hybrid::Variational`] with the ring's parts analytic ([`rotor::RingedRotor`]) |
+//! | [`stability`] | linearisation through events, for any [`hybrid::Variational`] model: saltation matrices, the stroboscopic map's Jacobian, periodic orbits and their multipliers, Lyapunov exponents, bifurcations located |
+//!
+//! Layers, bottom to top: [`ode`] and [`ring`]; [`hybrid`] and [`rotor`]; the analyses
+//! ([`analysis`], [`stability`], [`global`]), which name no concrete model; [`paper`] on top;
+//! [`params`] is used by all. No module uses a higher one (`tests/layers.rs`): a model's
+//! linearisation lives with the model, the shared ring parts of it with the ring.
 //!
 //! The most used items are re-exported here: [`JeffcottModel`], [`State`], and [`nalgebra`]
 //! itself (the version this crate is built with, so that a user need not match it).
@@ -135,6 +140,7 @@
 pub mod analysis;
 pub mod global;
 pub mod hybrid;
+pub mod numeric;
 pub mod ode;
 pub mod paper;
 pub mod params;

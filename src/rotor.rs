@@ -80,12 +80,14 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod linearization;
+
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector, Vector2, U1};
 use thiserror::Error;
 
 use crate::hybrid::{Flow, ModelError, NoExactModes, RotorModel};
-use crate::ode::Direction;
+use crate::numeric::Direction;
 use crate::ring::{Kinematics, RingCache, RingError, RingGuard, RingMode, SnubberRing};
 
 /// A rotor without the ring: smooth, of state dimension [`SmoothRotor::Dim`] (fixed, e.g.

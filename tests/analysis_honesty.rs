@@ -18,7 +18,7 @@ use jeffcott::analysis::{
 use jeffcott::analysis::{section_crossings, section_crossings_hermite};
 use jeffcott::global::{find_attractor, Attractor, AttractorConfig, Json, Record};
 use jeffcott::hybrid::SimOptions;
-use jeffcott::ode::Direction;
+use jeffcott::numeric::Direction;
 use jeffcott::params::{Params, Preset};
 use jeffcott::{JeffcottModel, State};
 

@@ -10,7 +10,7 @@ use jeffcott::analysis::{
 };
 use jeffcott::hybrid::{Flow, ModelError, NoExactModes, RotorModel, SimErrorKind, SimOptions};
 use jeffcott::nalgebra::{SVector, U2};
-use jeffcott::ode::Direction;
+use jeffcott::numeric::Direction;
 
 type S = SVector<f64, 2>;
 

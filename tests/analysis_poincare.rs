@@ -1,7 +1,7 @@
 //! Section crossings by linear and Hermite interpolation.
 
 use jeffcott::analysis::{section_crossings, section_crossings_hermite, AnalysisError};
-use jeffcott::ode::Direction;
+use jeffcott::numeric::Direction;
 use std::f64::consts::PI;
 
 /// A unit circle x = cos t, y = sin t sampled every `dt` on [0, 4π + 0.1].

@@ -13,7 +13,7 @@ use jeffcott::hybrid::{
     simulate, DenseSampling, EventRecord, ExactSegment, Flow, GuardCrossing, ModelError,
     OutputPlan, RotorModel, SimErrorKind, SimOptions, Trajectory,
 };
-use jeffcott::ode::Direction;
+use jeffcott::numeric::Direction;
 use jeffcott::paper::{guard, JeffcottModel, State};
 use jeffcott::params::{Params, Preset};
 use jeffcott::ring::{Branches, SnubberRing};

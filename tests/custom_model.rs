@@ -8,7 +8,7 @@ use jeffcott::hybrid::{
 };
 use jeffcott::nalgebra::allocator::Allocator;
 use jeffcott::nalgebra::{DVector, DefaultAllocator, Dim, Dyn, OVector, SVector, U2};
-use jeffcott::ode::Direction;
+use jeffcott::numeric::Direction;
 
 type S = SVector<f64, 2>;
 

@@ -7,7 +7,7 @@ use jeffcott::hybrid::{
     SimOptions, SimStats, StrobeRange, Trajectory,
 };
 use jeffcott::nalgebra::{DVector, Dyn, U6};
-use jeffcott::ode::Direction;
+use jeffcott::numeric::Direction;
 use jeffcott::paper::{Cache, FreeSegment, Mode};
 use jeffcott::params::{Params, Preset};
 use jeffcott::{JeffcottModel, State};

@@ -11,7 +11,8 @@ use jeffcott::hybrid::{
     SimErrorKind, SimOptions, StrobeRange, Trajectory,
 };
 use jeffcott::nalgebra::{SVector, Vector2, U1};
-use jeffcott::ode::{Direction, Method};
+use jeffcott::numeric::Direction;
+use jeffcott::ode::Method;
 use jeffcott::paper::free_flight::FreeOscillator;
 use jeffcott::paper::{guard, JeffcottModel};
 use jeffcott::params::Params;

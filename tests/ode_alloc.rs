@@ -5,9 +5,10 @@
 //! only; it counts the allocations of the current thread). With and without
 //! the step-end screen of the event detector.
 
+use jeffcott::numeric::Direction;
 use jeffcott::ode::{
-    find_first_event, AnyIntegrator, Direction, EventFns, EventOptions, EventState, Integrator,
-    Method, Options, Tolerance,
+    find_first_event, AnyIntegrator, EventFns, EventOptions, EventState, Integrator, Method,
+    Options, Tolerance,
 };
 use nalgebra::{DVector, Dyn};
 

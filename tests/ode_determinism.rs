@@ -1,8 +1,8 @@
 //! Determinism (bitwise identical reruns) and property tests.
 
+use jeffcott::numeric::Direction;
 use jeffcott::ode::{
-    solve, AnyIntegrator, Direction, EventSet, Integrator, Method, OdeSystem, Options, Recorder,
-    Stats,
+    solve, AnyIntegrator, EventSet, Integrator, Method, OdeSystem, Options, Recorder, Stats,
 };
 use nalgebra::{SVector, U2};
 use proptest::prelude::*;

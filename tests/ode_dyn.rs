@@ -2,10 +2,10 @@
 //! same problems give bitwise identical trajectories, events and counters;
 //! dimension errors are typed.
 
+use jeffcott::numeric::Direction;
 use jeffcott::ode::{
-    find_first_event, solve, AnyIntegrator, Direction, Dop853, Dopri5, EventFns, EventOptions,
-    EventSet, EventState, Integrator, Method, OdeError, OdeSystem, Options, Recorder, Rk4, Stats,
-    Tolerance,
+    find_first_event, solve, AnyIntegrator, Dop853, Dopri5, EventFns, EventOptions, EventSet,
+    EventState, Integrator, Method, OdeError, OdeSystem, Options, Recorder, Rk4, Stats, Tolerance,
 };
 use nalgebra::allocator::Allocator;
 use nalgebra::{Const, DVector, DefaultAllocator, Dim, DimName, Dyn, OVector, SVector, U1};

@@ -1,10 +1,10 @@
 //! Typed errors: step-size underflow, non-finite right-hand sides, invalid
 //! options, misuse of the stepping API.
 
+use jeffcott::numeric::Direction;
 use jeffcott::ode::{
-    find_first_event, solve, solve_with, AnyIntegrator, Direction, Dop853, Dopri5, EventOptions,
-    EventSet, EventState, Integrator, Method, NoEvents, OdeError, Options, Rk4, Tolerance,
-    MAX_SAMPLES,
+    find_first_event, solve, solve_with, AnyIntegrator, Dop853, Dopri5, EventOptions, EventSet,
+    EventState, Integrator, Method, NoEvents, OdeError, Options, Rk4, Tolerance, MAX_SAMPLES,
 };
 use nalgebra::{SVector, U2};
 

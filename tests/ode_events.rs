@@ -1,8 +1,9 @@
 //! Event detection and location.
 
+use jeffcott::numeric::Direction;
 use jeffcott::ode::{
-    find_first_event, solve, solve_with, AnyIntegrator, Direction, Dop853, EventFns, EventOptions,
-    EventSet, EventState, Integrator, Method, OdeSystem, Options, Recorder, Stopped,
+    find_first_event, solve, solve_with, AnyIntegrator, Dop853, EventFns, EventOptions, EventSet,
+    EventState, Integrator, Method, OdeSystem, Options, Recorder, Stopped,
 };
 use nalgebra::{Const, SVector, U1, U2};
 use std::f64::consts::PI;

@@ -2,16 +2,27 @@
 //! NaN says so, the driver's event screen is off by default, outputs never change the
 //! trajectory, and a guard that cannot be evaluated stops the run with a typed error.
 
-use jeffcott::ode::roots::illinois;
+use jeffcott::numeric::{illinois, NumericError, RootOptions};
 
-/// NaN at an end of the initial bracket: not a bracket, not converged (the input is returned).
+/// NaN at an end of the initial bracket: not a bracket (a typed error, no evaluation).
 #[test]
-fn illinois_nan_at_a_bracket_end_is_not_converged() {
+fn illinois_nan_at_a_bracket_end_is_not_a_bracket() {
     for (fa, fb) in [(f64::NAN, 1.0), (-1.0, f64::NAN)] {
-        let r = illinois(0.0, fa, 1.0, fb, 1e-12, 100, |t| t - 0.5);
-        assert!(!r.converged, "fa = {fa}, fb = {fb}: {r:?}");
-        assert_eq!(r.evaluations, 0);
+        let mut calls = 0;
+        let r = illinois((0.0, fa), (1.0, fb), &opts(), |t| {
+            calls += 1;
+            t - 0.5
+        });
+        assert!(
+            matches!(r, Err(NumericError::NotABracket { .. })),
+            "fa = {fa}, fb = {fb}: {r:?}"
+        );
+        assert_eq!(calls, 0);
     }
+}
+
+fn opts() -> RootOptions {
+    RootOptions::default().tol(1e-12).max_evaluations(100)
 }
 
 /// NaN in the middle of the search: $g(t) = t - 1/2$ except NaN on $(0.45, 0.55)$, bracket
@@ -28,7 +39,7 @@ fn illinois_nan_mid_iteration_is_not_converged() {
             t - 0.5
         }
     };
-    let r = illinois(0.0, g(0.0), 1.0, g(1.0), 1e-12, 100, g);
+    let r = illinois((0.0, g(0.0)), (1.0, g(1.0)), &opts(), g).unwrap();
     assert!(!r.converged, "{r:?}");
     assert_eq!(r.nan_at, Some(0.5), "{r:?}");
     assert!(!r.g_lo.is_nan() && !r.g_hi.is_nan(), "{r:?}");
@@ -38,7 +49,8 @@ fn illinois_nan_mid_iteration_is_not_converged() {
 use jeffcott::hybrid::{
     simulate, Flow, ModelError, NoExactModes, OutputPlan, RotorModel, SimOptions, Trajectory,
 };
-use jeffcott::ode::{Direction, Method};
+use jeffcott::numeric::Direction;
+use jeffcott::ode::Method;
 use nalgebra::{SVector, U1};
 
 type V1 = SVector<f64, 1>;

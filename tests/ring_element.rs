@@ -381,6 +381,68 @@ proptest! {
         }
     }
 
+    /// The batched guard evaluation (`guard_values`, one ring placement for every guard) gives
+    /// bitwise the numbers of the one-guard methods (`guard_value`, `guard_rate_with_accel`),
+    /// over random rings, rotor states (inside and outside the gap circle, so also the no
+    /// placement path), free modes (a relaxing ring, an onset margin) and contact modes on
+    /// every branch, with and without the acceleration, from a fresh or a warm cache.
+    #[test]
+    fn batched_guards_equal_single_guards_bitwise(
+        kx in 1e-2f64..1e3, ky in 1e-2f64..1e3,
+        dx in prop_oneof![Just(0.0), 1e-3f64..1.5], dy in prop_oneof![Just(0.0), 1e-3f64..1.5],
+        nu2 in prop_oneof![Just(0.0), 1e-4f64..0.1],
+        rad in 0.5f64..4.0, ang in 0.0f64..std::f64::consts::TAU,
+        vx in -5.0f64..5.0, vy in -5.0f64..5.0, acc in prop::option::of((-50.0f64..50.0, -50.0f64..50.0)),
+        free in any::<bool>(), s0 in (-2.0f64..2.0, -2.0f64..2.0), t0 in -1.0f64..1.0, dt in 0.0f64..10.0,
+        margin in prop_oneof![Just(0.0), 0.0f64..1e-6],
+        bx_seed in 0usize..3, by_seed in 0usize..3, warm in prop::option::of((1.0f64..3.0, 0.0f64..6.3)),
+    ) {
+        let ring = ring(kx, dx, ky, dy, nu2);
+        let pick = |d: f64, seed: usize| if d == 0.0 { Branch::Outer(0) } else {
+            [Branch::Inner, Branch::Outer(1), Branch::Outer(-1)][seed]
+        };
+        let mode = if free {
+            RingMode::Free {
+                relax: jeffcott::ring::Relaxation { t0, s0: Vector2::new(s0.0, s0.1) },
+                separating: false,
+                onset_margin: margin,
+            }
+        } else {
+            RingMode::Contact(Branches { x: pick(dx, bx_seed), y: pick(dy, by_seed) })
+        };
+        let t = t0 + dt;
+        let k = Kinematics::new([rad * ang.cos(), rad * ang.sin()], [vx, vy]);
+        let accel = acc.map(|(x, y)| Vector2::new(x, y));
+        let (batched_cache, single_cache) = (RingCache::default(), RingCache::default());
+        if let Some((wr, wa)) = warm {
+            // The same earlier evaluation in both caches: a warm start for the next placement.
+            let kw = Kinematics::new([wr * wa.cos(), wr * wa.sin()], [vx, vy]);
+            for cache in [&batched_cache, &single_cache] {
+                ring.guard_values(&mode, t, &kw, None, cache, &mut |_, _, _| {});
+            }
+        }
+        let mut batched = Vec::new();
+        ring.guard_values(&mode, t, &k, accel.as_ref(), &batched_cache, &mut |i, v, r| {
+            batched.push((i, v, r));
+        });
+        prop_assert_eq!(batched.len(), ring.guard_count(&mode));
+        for (n, (i, value, rate)) in batched.into_iter().enumerate() {
+            prop_assert_eq!(i, n);
+            let guard = ring.guard(&mode, i).unwrap();
+            let single = ring.guard_value(&mode, guard, t, &k, &single_cache);
+            let single_rate = accel
+                .and_then(|a| ring.guard_rate_with_accel(&mode, guard, t, &k, &a, &single_cache));
+            prop_assert_eq!(value.to_bits(), single.to_bits(), "{:?}: {} vs {}", guard, value, single);
+            prop_assert_eq!(
+                rate.map(f64::to_bits), single_rate.map(f64::to_bits),
+                "{:?}: {:?} vs {:?}", guard, rate, single_rate
+            );
+            if accel.is_none() {
+                prop_assert_eq!(rate, None);
+            }
+        }
+    }
+
     /// The chosen branches of the true minimiser are consistent with where the ring is.
     #[test]
     fn located_branches_match_the_ring_position(

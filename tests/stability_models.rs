@@ -8,18 +8,15 @@
 #[path = "../examples/custom_rotor/rotor.rs"]
 mod rotor;
 
-use jeffcott::hybrid::{ModelError, RotorModel, SimOptions};
+use jeffcott::hybrid::{ModelError, RotorModel, SimOptions, Variational, VariationalAlloc};
 use jeffcott::nalgebra::DefaultAllocator;
 use jeffcott::nalgebra::{DMatrix, DVector, Dyn, OVector, SVector, Vector2, U6};
-use jeffcott::ode::Direction;
+use jeffcott::numeric::Direction;
 use jeffcott::paper::{Cache, FreeSegment, JeffcottModel, Mode, State};
 use jeffcott::params::Preset;
 use jeffcott::ring::Kinematics;
 use jeffcott::rotor::{RingedRotor, SmoothRotor};
-use jeffcott::stability::VariationalAlloc;
-use jeffcott::stability::{
-    multipliers, periodic_orbit, OrbitOptions, StroboscopicMap, Variational,
-};
+use jeffcott::stability::{multipliers, periodic_orbit, OrbitOptions, StroboscopicMap};
 
 const CHECK: [f64; 4] = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533];
 

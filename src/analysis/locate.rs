@@ -10,6 +10,7 @@ use nalgebra::{DefaultAllocator, OVector};
 use super::bifurcation::orbit_at;
 use super::{AnalysisError, OrbitError, PeriodTest, Periodicity};
 use crate::hybrid::{ModelError, RotorModel, SimOptions};
+use crate::numeric::{bisect, Side};
 
 /// Settings of [`locate_period_change`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -79,7 +80,7 @@ impl LocatedChange {
     }
 }
 
-/// Locates by bisection where the detected period changes between `from` and `to`, for the
+/// Locates by bisection ([`numeric::bisect`](crate::numeric::bisect)) where the detected period changes between `from` and `to`, for the
 /// model family `build` started by `start` (see [`bifurcation`](super::bifurcation()) for the
 /// two closures; `start` always receives `None` here).
 ///
@@ -150,20 +151,22 @@ where
             at_to,
         })));
     }
-    let (mut a, mut b) = (from, to);
-    while (b - a).abs() > config.resolution {
-        let m = 0.5 * (a + b);
-        if m == a || m == b {
-            break;
-        }
-        let pm = classify(m)?;
-        if pm.agrees_with(&at_from) {
-            a = m;
-        } else {
-            b = m;
-            at_to = pm;
-        }
-    }
+    let found = bisect(
+        from,
+        to,
+        config.resolution,
+        usize::MAX,
+        |m| -> Result<Side, OrbitError<M::Dim, E>> {
+            let pm = classify(m)?;
+            Ok(if pm.agrees_with(&at_from) {
+                Side::Near
+            } else {
+                at_to = pm;
+                Side::Far
+            })
+        },
+    )?;
+    let (a, b) = (found.near, found.far);
     Ok(LocatedChange {
         bracket: PeriodChange {
             from: a,

@@ -39,6 +39,7 @@ pub use period::{
 };
 pub use poincare::{section_crossings, section_crossings_hermite, Crossing};
 pub use portrait::{phase_portrait, PhasePortrait};
+pub(crate) use sweep::on_pool;
 pub use sweep::{
     chunk_ranges, linspace, sweep, Progress, StderrProgress, SweepConfig, SweepMode, SweepResult,
 };

@@ -16,7 +16,7 @@
 //!   linearly (error `O(Δt²)`); or
 //! * with cubic Hermite interpolation ([`section_crossings_hermite`]), which also uses the time
 //!   derivatives `x'_k` (error `O(Δt⁴)`): `h` along the Hermite cubic is solved for `θ` by the
-//!   crate's root finder [`ode::roots::illinois`](crate::ode::roots::illinois), a fixed number
+//!   crate's root finder [`numeric::illinois`](crate::numeric::illinois), a fixed number
 //!   of steps at most, so the result is deterministic.
 //!
 //! Every [`Crossing`] carries the final bracket of its search ([`Crossing::bracket`]) and
@@ -30,13 +30,12 @@
 //! simulated run, [`PhasePortrait::crossings`](super::PhasePortrait::crossings) applies the
 //! Hermite search to the dense samples of each smooth piece.
 //!
-//! Which crossings count is an [`ode::Direction`](Direction), the type guards use:
+//! Which crossings count is a [`numeric::Direction`](Direction), the type guards use:
 //! `Rising` (`h` goes from negative to non-negative), `Falling` (from positive to
 //! non-positive) or `Either`.
 
 use super::AnalysisError;
-use crate::ode::roots::illinois;
-use crate::ode::Direction;
+use crate::numeric::{illinois, Bracket, Direction, RootOptions};
 
 /// Width of the final bracket of the Hermite search, in the interval's parameter `θ ∈ [0, 1]`.
 const THETA_TOL: f64 = 1e-14;
@@ -158,7 +157,7 @@ where
 ///
 /// ```
 /// use jeffcott::analysis::section_crossings;
-/// use jeffcott::ode::Direction;
+/// use jeffcott::numeric::Direction;
 /// let times: Vec<f64> = (0..=100).map(|k| k as f64 * 0.1).collect();
 /// let states: Vec<[f64; 1]> = times.iter().map(|t| [t.sin()]).collect();
 /// let c = section_crossings(&times, &states, |_, x| x[0], Direction::Falling).unwrap();
@@ -264,7 +263,20 @@ where
             let x = hermite(x0, x1, d0, d1, dt, theta);
             (section(t0 + theta * dt, &x), x)
         };
-        let found = illinois(0.0, a, 1.0, b, THETA_TOL, MAX_STEPS, |theta| eval(theta).0);
+        let opts = RootOptions::default()
+            .tol(THETA_TOL)
+            .max_evaluations(MAX_STEPS);
+        // `a`, `b` change sign (`sign_changes`); were they not a bracket, the interval's ends
+        // are reported, not converged.
+        let found = illinois((0.0, a), (1.0, b), &opts, |theta| eval(theta).0).unwrap_or(Bracket {
+            lo: 0.0,
+            g_lo: a,
+            hi: 1.0,
+            g_hi: b,
+            evaluations: 0,
+            converged: false,
+            nan_at: None,
+        });
         // The end to report: the one with the smaller |h| (NaN counts as infinite), `hi` (the
         // side after the crossing) on a tie.
         let size = |g: f64| if g.is_nan() { f64::INFINITY } else { g.abs() };

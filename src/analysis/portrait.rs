@@ -9,7 +9,7 @@ use crate::hybrid::{
     simulate, DenseSampling, EventRecord, OutputPlan, RotorModel, Sample, SimError, SimErrorKind,
     SimOptions, SimStats, Trajectory,
 };
-use crate::ode::Direction;
+use crate::numeric::Direction;
 
 /// Dense samples of a run and its event log: a phase portrait that knows where it jumps.
 #[derive(Debug, Clone, PartialEq)]

@@ -373,15 +373,32 @@ where
         let per_chain: Vec<Vec<Result<T, E>>> = chains.par_iter().map(run_chain).collect();
         per_chain.into_iter().flatten().collect()
     };
-    let (results, threads) = match config.threads {
-        None => (run_all(), rayon::current_num_threads()),
-        Some(0) => {
-            return Err(AnalysisError::InvalidCount {
-                name: "threads",
-                value: 0,
-                expected: "at least 1 (or None for the global pool)",
-            })
-        }
+    let (results, threads) = on_pool(config.threads, run_all)?;
+    Ok(SweepResult {
+        results,
+        chains,
+        threads,
+    })
+}
+
+/// Runs `f` on a dedicated pool of `threads` worker threads (`Some(n)`), or on rayon's global
+/// pool (`None`), and returns its result with the number of threads it ran on: the crate's one
+/// pool builder (the sweeps of [`analysis`](crate::analysis) and [`global`](crate::global)).
+///
+/// # Errors
+/// [`AnalysisError::InvalidCount`] for `Some(0)`, [`AnalysisError::ThreadPool`] if the pool
+/// cannot be built.
+pub(crate) fn on_pool<R: Send>(
+    threads: Option<usize>,
+    f: impl FnOnce() -> R + Send,
+) -> Result<(R, usize), AnalysisError> {
+    match threads {
+        None => Ok((f(), rayon::current_num_threads())),
+        Some(0) => Err(AnalysisError::InvalidCount {
+            name: "threads",
+            value: 0,
+            expected: "at least 1 (or None for the global pool)",
+        }),
         Some(n) => {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(n)
@@ -390,14 +407,9 @@ where
                     threads: n,
                     message: e.to_string(),
                 })?;
-            (pool.install(run_all), n)
+            Ok((pool.install(f), n))
         }
-    };
-    Ok(SweepResult {
-        results,
-        chains,
-        threads,
-    })
+    }
 }
 
 /// `n` evenly spaced values from `lo` to `hi` inclusive, a parameter list for [`sweep`]: value

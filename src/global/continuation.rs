@@ -51,10 +51,8 @@
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 use thiserror::Error;
 
-use crate::hybrid::SimOptions;
-use crate::stability::{
-    multipliers, Multiplier, StroboscopicMap, Variational, VariationalAlloc, GRAZING_MARGIN,
-};
+use crate::hybrid::{SimOptions, Variational, VariationalAlloc};
+use crate::stability::{multipliers, Multiplier, StroboscopicMap, GRAZING_MARGIN};
 
 /// Settings of [`continue_orbit`] and [`switch_at_flip`]. A plain struct with `Default`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -40,7 +40,7 @@ use super::record::Record;
 use super::store::{
     decode_line, encode_line, fingerprint, RecordWriter, StoreError, SweepStore, MANIFEST_FILE,
 };
-use crate::analysis::{AnalysisError, Progress};
+use crate::analysis::{on_pool, Progress};
 
 /// One part `index` of `count` of a sweep, run by its own process (e.g. the task
 /// `$SLURM_ARRAY_TASK_ID` of a job array of `count` tasks): the points at positions `index`,
@@ -370,32 +370,6 @@ fn encoding_error(index: usize, error: JsonError) -> StoreError {
         path: format!("<record of point {index} as just encoded; its Record impl does not read back its own JSON>").into(),
         line: 1,
         error,
-    }
-}
-
-/// Runs `f` on a dedicated pool of `threads` threads, or on the global pool.
-pub(crate) fn on_pool<R: Send>(
-    threads: Option<usize>,
-    f: impl FnOnce() -> R + Send,
-) -> Result<(R, usize), StoreError> {
-    match threads {
-        None => Ok((f(), rayon::current_num_threads())),
-        Some(0) => Err(AnalysisError::InvalidCount {
-            name: "threads",
-            value: 0,
-            expected: "at least 1 (or None for the global pool)",
-        }
-        .into()),
-        Some(n) => {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .map_err(|e| AnalysisError::ThreadPool {
-                    threads: n,
-                    message: e.to_string(),
-                })?;
-            Ok((pool.install(f), n))
-        }
     }
 }
 

@@ -7,9 +7,10 @@ use thiserror::Error;
 
 use super::record::{EventRecord, HybridObserver, OutputPlan, Sample, StrobePoint};
 use super::{ExactSegment, Flow, GuardCrossing, ModelError, RotorModel};
+use crate::numeric::Direction;
 use crate::ode::{
-    find_first_event, AnyIntegrator, Direction, EventOptions, EventSet, EventState, Integrator,
-    Method, OdeError, OdeSystem, Options, Tolerance, MAX_SAMPLES,
+    find_first_event, AnyIntegrator, EventOptions, EventSet, EventState, Integrator, Method,
+    OdeError, OdeSystem, Options, Tolerance, MAX_SAMPLES,
 };
 
 /// Options of a hybrid run. A plain struct with `Default`.

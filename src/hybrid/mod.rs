@@ -47,11 +47,21 @@
 //! [`crate::rotor::RingedRotor`] adds the ring's modes, guards and transitions (see
 //! `examples/custom_rotor/`). Implement [`RotorModel`] directly for other contact laws; its
 //! documentation carries a worked example of a model sized at run time.
+//!
+//! # Linearisation
+//!
+//! [`Variational`] extends [`RotorModel`] with the model's linearisation (field, guard, reset
+//! and closed-form Jacobians, algebraic rows), each with a finite-difference default. It lives
+//! here, with the models, so that each model implements it beside itself (the paper's model
+//! analytically, [`crate::rotor::RingedRotor`] with the ring's parts analytic) and the analyses
+//! of [`crate::stability`] use it without naming any model.
 
 mod driver;
+mod linearization;
 mod record;
 
 pub use driver::{simulate, SimError, SimErrorKind, SimOptions, SimStats};
+pub use linearization::{Variational, VariationalAlloc, Workspace};
 pub use record::{
     DenseSampling, EventRecord, HybridObserver, OutputPlan, Sample, StrobePoint, StrobeRange,
     Trajectory,
@@ -62,7 +72,7 @@ use std::fmt::Debug;
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector};
 
-use crate::ode::Direction;
+use crate::numeric::Direction;
 use crate::ring::RingError;
 
 /// How a mode is advanced in time.
@@ -200,7 +210,7 @@ where
 /// use jeffcott::analysis::{bifurcation, start_from, BifurcationConfig};
 /// use jeffcott::hybrid::{Flow, ModelError, NoExactModes, RotorModel};
 /// use jeffcott::nalgebra::{DVector, Dyn};
-/// use jeffcott::ode::Direction;
+/// use jeffcott::numeric::Direction;
 ///
 /// struct Chain {
 ///     m: usize,

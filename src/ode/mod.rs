@@ -12,7 +12,8 @@
 //! * [`events`] — event functions $g_i(t, y)$ (as a trait, or from closures
 //!   with [`EventFns`]) and their detection on the dense output, including
 //!   grazing pairs of roots,
-//! * [`roots`] — the crate's bracketing root finder (Illinois),
+//! * event roots located by the crate's bracketing root finder
+//!   [`numeric::illinois`](crate::numeric::illinois),
 //! * [`solve`](solve::solve) — a convenience driver with outputs and events.
 //!
 //! # Dimensions: fixed or known at run time
@@ -83,9 +84,10 @@
 //!
 //! ```
 //! use jeffcott::ode::{
-//!     find_first_event, Direction, Dop853, EventOptions, EventSet, EventState, Integrator,
+//!     find_first_event, Dop853, EventOptions, EventSet, EventState, Integrator,
 //!     Options,
 //! };
+//! use jeffcott::numeric::Direction;
 //! use nalgebra::{SVector, U2};
 //! type V2 = SVector<f64, 2>;
 //!
@@ -151,7 +153,6 @@ pub mod events;
 pub(crate) mod kernels;
 mod options;
 pub mod rk4;
-pub mod roots;
 pub mod solve;
 
 pub use any::{AnyIntegrator, Method};
@@ -159,8 +160,8 @@ pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 pub use error::OdeError;
 pub use events::{
-    find_first_event, Direction, EventDerivative, EventFns, EventHit, EventOptions, EventSet,
-    EventState, NoDerivative, NoEvents, MAX_SAMPLES,
+    find_first_event, EventDerivative, EventFns, EventHit, EventOptions, EventSet, EventState,
+    NoDerivative, NoEvents, MAX_SAMPLES,
 };
 pub use options::{Options, Tolerance};
 pub use rk4::Rk4;

@@ -3,6 +3,7 @@
 //! parameters ([`ParamSweep`]) and on the grids of [`crate::global`] ([`BasinPlane`],
 //! [`ParamPlane`]).
 pub mod free_flight;
+mod linearization;
 mod model;
 mod planes;
 mod sweep;

@@ -11,7 +11,7 @@ use crate::hybrid::{
     simulate, ExactSegment, Flow, GuardCrossing, ModelError, OutputPlan, RotorModel, SimError,
     SimOptions, SimStats, Trajectory,
 };
-use crate::ode::Direction;
+use crate::numeric::Direction;
 use crate::params::{ParamError, Params};
 use crate::ring::onset::{find_onset, Onset, OnsetStats};
 use crate::ring::{

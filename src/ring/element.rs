@@ -87,7 +87,7 @@ use std::cell::RefCell;
 use nalgebra::Vector2;
 
 use super::{Branch, Branches, Regime, Relaxation, RingContact, RingError, SnubberRing};
-use crate::ode::Direction;
+use crate::numeric::Direction;
 
 /// Relative distance inside the gap circle within which a touch still counts as a touch of the
 /// circle itself (the onset time is located to rounding): the contact branches' smooth
@@ -454,18 +454,10 @@ impl SnubberRing {
                     ..
                 },
                 RingGuard::Onset,
-            ) => {
-                let (s, _) = relax.at(self, t);
-                (k.r - s).norm_squared() - self.gap * self.gap - onset_margin
-            }
-            (RingMode::Contact(_), RingGuard::Gap) => k.r.norm_squared() - self.gap * self.gap,
-            (RingMode::Contact(b), RingGuard::Loss) => {
-                self.with_contact(*b, &k.r, cache, |c| c.loss_force(&k.v))?
-            }
-            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
-                self.with_contact(*b, &k.r, cache, |c| {
-                    self.preload_distance(b, axis, c.s[axis.index()])
-                })?
+            ) => self.onset_guard(relax, *onset_margin, t, k).0,
+            (RingMode::Contact(_), RingGuard::Gap) => self.gap_guard(k).0,
+            (RingMode::Contact(b), RingGuard::Loss | RingGuard::Preload { .. }) => {
+                self.with_contact(*b, &k.r, cache, |c| self.placed_value(b, guard, c, k))?
             }
             _ => return Err(RingError::NoPlacement { x: k.r.x, y: k.r.y }),
         })
@@ -482,24 +474,7 @@ impl SnubberRing {
         k: &Kinematics,
         cache: &RingCache,
     ) -> Option<f64> {
-        match (mode, guard) {
-            (RingMode::Free { relax, .. }, RingGuard::Onset) => {
-                let (s, s_dot) = relax.at(self, t);
-                Some(2.0 * (k.r - s).dot(&(k.v - s_dot)))
-            }
-            (RingMode::Contact(_), RingGuard::Gap) => Some(2.0 * k.r.dot(&k.v)),
-            (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => self
-                .with_contact(*b, &k.r, cache, |c| {
-                    let i = axis.index();
-                    let rate = c.ring_velocity(&k.v)[i];
-                    match branch_of(b, axis) {
-                        Branch::Inner => c.s[i].signum() * rate,
-                        Branch::Outer(sigma) => f64::from(sigma) * rate,
-                    }
-                })
-                .ok(),
-            _ => None,
-        }
+        self.rate(mode, guard, t, k, None, cache)
     }
 
     /// As [`SnubberRing::guard_rate`], and for the loss guard too, given the acceleration
@@ -513,13 +488,84 @@ impl SnubberRing {
         accel: &Vector2<f64>,
         cache: &RingCache,
     ) -> Option<f64> {
+        self.rate(mode, guard, t, k, Some(accel), cache)
+    }
+
+    /// The rate of `guard` in `mode`: [`SnubberRing::guard_rate_with_accel`] with `accel`,
+    /// [`SnubberRing::guard_rate`] without (then `None` for the loss guard).
+    fn rate(
+        &self,
+        mode: &RingMode,
+        guard: RingGuard,
+        t: f64,
+        k: &Kinematics,
+        accel: Option<&Vector2<f64>>,
+        cache: &RingCache,
+    ) -> Option<f64> {
         match (mode, guard) {
-            (RingMode::Contact(b), RingGuard::Loss) => self
-                .with_contact(*b, &k.r, cache, |c| {
-                    self.loss_force_derivative(c, &k.v, accel)
-                })
-                .ok(),
-            _ => self.guard_rate(mode, guard, t, k, cache),
+            (RingMode::Free { relax, .. }, RingGuard::Onset) => {
+                Some(self.onset_guard(relax, 0.0, t, k).1)
+            }
+            (RingMode::Contact(_), RingGuard::Gap) => Some(self.gap_guard(k).1),
+            // Without the acceleration the loss guard has no rate: no ring placement either
+            // (it would move the cache's warm start).
+            (RingMode::Contact(_), RingGuard::Loss) if accel.is_none() => None,
+            (RingMode::Contact(b), RingGuard::Loss | RingGuard::Preload { .. }) => self
+                .with_contact(*b, &k.r, cache, |c| self.placed_rate(b, guard, c, k, accel))
+                .ok()
+                .flatten(),
+            _ => None,
+        }
+    }
+
+    /// The onset guard $h - m = |q|^2 - \gamma^2 - m$, $q = r - s(t)$ with the ring relaxing
+    /// from `relax`, and its rate $h^\prime = 2\thinspace q\cdot(r^\prime - s^\prime)$: the one
+    /// place where they are written (the guard methods, [`SnubberRing::guard_values`] and
+    /// [`SnubberRing::onset_margin`] call it).
+    fn onset_guard(&self, relax: &Relaxation, margin: f64, t: f64, k: &Kinematics) -> (f64, f64) {
+        let (s, s_dot) = relax.at(self, t);
+        let q = k.r - s;
+        (
+            q.norm_squared() - self.gap * self.gap - margin,
+            2.0 * q.dot(&(k.v - s_dot)),
+        )
+    }
+
+    /// The gap guard $|r|^2 - \gamma^2$ and its rate $2\thinspace r\cdot r^\prime$.
+    fn gap_guard(&self, k: &Kinematics) -> (f64, f64) {
+        (
+            k.r.norm_squared() - self.gap * self.gap,
+            2.0 * k.r.dot(&k.v),
+        )
+    }
+
+    /// Value of a guard that needs the ring's placement `c` on the branches `b`: the loss force,
+    /// a preload distance (NaN for the other guards, which need none).
+    fn placed_value(&self, b: &Branches, guard: RingGuard, c: &RingContact, k: &Kinematics) -> f64 {
+        match guard {
+            RingGuard::Loss => c.loss_force(&k.v),
+            RingGuard::Preload { axis, .. } => self.preload_distance(b, axis, c.s[axis.index()]),
+            _ => f64::NAN,
+        }
+    }
+
+    /// Rate of a guard that needs the ring's placement `c` on the branches `b`: the loss
+    /// force's (only given `accel`), a preload distance's (`None` for the other guards).
+    fn placed_rate(
+        &self,
+        b: &Branches,
+        guard: RingGuard,
+        c: &RingContact,
+        k: &Kinematics,
+        accel: Option<&Vector2<f64>>,
+    ) -> Option<f64> {
+        match guard {
+            RingGuard::Loss => accel.map(|a| self.loss_force_derivative(c, &k.v, a)),
+            RingGuard::Preload { axis, .. } => {
+                let i = axis.index();
+                Some(preload_sign(b, axis, c.s[i]) * c.ring_velocity(&k.v)[i])
+            }
+            _ => None,
         }
     }
 
@@ -596,7 +642,8 @@ impl SnubberRing {
     /// `out(i, value, rate)` for each, with the value of [`SnubberRing::guard_value`] and, if
     /// `accel` is given ($r^{\prime\prime}$ of the station), the rate of
     /// [`SnubberRing::guard_rate_with_accel`] (`None` without it). Bitwise the same numbers as
-    /// the one-guard methods, for one ring location instead of one per guard.
+    /// the one-guard methods (both evaluate the same formulas; `tests/ring_element.rs` checks
+    /// it), for one ring location instead of one per guard.
     pub fn guard_values(
         &self,
         mode: &RingMode,
@@ -607,47 +654,34 @@ impl SnubberRing {
         out: &mut dyn FnMut(usize, f64, Option<f64>),
     ) {
         let b = match mode {
-            RingMode::Free { .. } => {
-                let rate = accel.and_then(|_| self.guard_rate(mode, RingGuard::Onset, t, k, cache));
-                out(
-                    0,
-                    self.guard_value(mode, RingGuard::Onset, t, k, cache),
-                    rate,
-                );
+            RingMode::Free {
+                relax,
+                onset_margin,
+                ..
+            } => {
+                let (value, rate) = self.onset_guard(relax, *onset_margin, t, k);
+                out(0, value, accel.map(|_| rate));
                 return;
             }
             RingMode::Contact(b) => b,
         };
-        let gap2 = self.gap * self.gap;
-        let gap = (k.r.norm_squared() - gap2, 2.0 * k.r.dot(&k.v));
+        let n = self.guard_count(mode);
+        let gap = self.gap_guard(k);
         let done = self.with_contact(*b, &k.r, cache, |c| {
-            let loss = c.loss_force(&k.v);
-            out(
-                0,
-                loss,
-                accel.map(|a| self.loss_force_derivative(c, &k.v, a)),
-            );
-            out(1, gap.0, accel.map(|_| gap.1));
-            let mut i = 2;
-            for axis in [Axis::X, Axis::Y] {
-                if self.axis(axis).preload > 0.0 {
-                    let j = axis.index();
-                    let value = self.preload_distance(b, axis, c.s[j]);
-                    let rate = accel.map(|_| {
-                        let rate = c.ring_velocity(&k.v)[j];
-                        match branch_of(b, axis) {
-                            Branch::Inner => c.s[j].signum() * rate,
-                            Branch::Outer(sigma) => f64::from(sigma) * rate,
-                        }
-                    });
-                    out(i, value, rate);
-                    i += 1;
+            for i in 0..n {
+                match self.guard(mode, i) {
+                    Some(RingGuard::Gap) => out(i, gap.0, accel.map(|_| gap.1)),
+                    Some(guard) => out(
+                        i,
+                        self.placed_value(b, guard, c, k),
+                        accel.and_then(|a| self.placed_rate(b, guard, c, k, Some(a))),
+                    ),
+                    None => {}
                 }
             }
         });
         if done.is_err() {
             // No placement: the contact guards are NaN (the gap guard needs none).
-            let n = self.guard_count(mode);
             for i in 0..n {
                 if i == 1 {
                     out(1, gap.0, accel.map(|_| gap.1));
@@ -841,11 +875,9 @@ impl SnubberRing {
     /// ($8\varepsilon\max(|t|, |t_\text{end}|)$ times the rate, for steps up to
     /// $15\max(|t|, 1)$ long) takes for the zero at the start time.
     pub fn onset_margin(&self, t: f64, k: &Kinematics, relax: &Relaxation) -> f64 {
-        let (s, s_dot) = relax.at(self, t);
-        let q = k.r - s;
-        let h0 = q.norm_squared() - self.gap * self.gap;
+        let (h0, rate) = self.onset_guard(relax, 0.0, t, k);
+        let (s, _) = relax.at(self, t);
         let rounding = 16.0 * f64::EPSILON * self.gap * (k.r.norm() + s.norm() + self.gap);
-        let rate = 2.0 * q.dot(&(k.v - s_dot));
         let a = rounding + rate.max(0.0) * 64.0 * f64::EPSILON * t.abs().max(1.0);
         if h0 >= -a {
             h0.max(0.0) + 2.0 * a
@@ -1135,6 +1167,17 @@ impl SnubberRing {
             return true;
         }
         ahead > behind
+    }
+}
+
+/// $\partial g/\partial s_i$ of the preload guard of `axis` on the branches `b` with the ring at
+/// `s` on that axis: $\operatorname{sign}(s_i)$ on the inner branch ($|s_i| - D_i$),
+/// $\sigma$ on the outer one ($\sigma s_i - D_i$). Its rate and gradient are this times
+/// $s_i^\prime$ and $\nabla_r s_i$.
+pub(super) fn preload_sign(b: &Branches, axis: Axis, s: f64) -> f64 {
+    match branch_of(b, axis) {
+        Branch::Inner => s.signum(),
+        Branch::Outer(sigma) => f64::from(sigma),
     }
 }
 

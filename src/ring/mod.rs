@@ -41,6 +41,7 @@ pub mod onset;
 pub mod regime;
 pub mod relax;
 pub mod sensitivity;
+pub(crate) mod station;
 
 pub use branch::{Branch, Branches};
 pub use element::{

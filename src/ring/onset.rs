@@ -39,7 +39,8 @@
 //!
 //! The search advances to a point a little short of the first root of either bound (the
 //! quadratic's root times $1 - 4\varepsilon$; the cubic's bracketed between its extrema and
-//! bisected to within 1/4096 below), but never past the piece's end or the window's. Near a
+//! located by [`numeric::illinois`](crate::numeric::illinois) to within 1/4096 below), but
+//! never past the piece's end or the window's. Near a
 //! transversal crossing it converges to the root from below like Newton's method; a grazing
 //! touch only slows it.
 //!
@@ -102,6 +103,7 @@
 use nalgebra::Vector2;
 
 use super::{Relaxation, SnubberRing};
+use crate::numeric::{illinois, RootOptions};
 
 /// The search's stopping tolerance relative to $\gamma^2$: it reports an onset at the first node
 /// where $h \ge -\varepsilon_h$, $\varepsilon_h = 4\varepsilon\gamma^2$.
@@ -177,54 +179,40 @@ fn first_root_cubic(c0: f64, c1: f64, c2: f64, c3: f64) -> f64 {
             let m = (c0.abs() / c3).cbrt() + (c1.abs() / c3).sqrt() + c2.abs() / c3 + 1e-300;
             left.max(2.0 * m)
         };
-        if p(right) > 0.0 {
-            return bisect_last_negative(&p, left, right);
+        let p_right = p(right);
+        if p_right > 0.0 {
+            return last_negative(&p, left, right, p_right);
         }
         left = right;
     }
     f64::INFINITY
 }
 
-/// On `[lo, hi]` with `p` monotone increasing, `p(lo) <= 0 < p(hi)`: a point with `p <= 0`
-/// within 1/4096 of the interval below the root (a step a little short of the largest
-/// certified one costs nothing in safety and saves iterations). Regula falsi with the Illinois
-/// modification, every point kept at least half of that resolution inside the bracket (so
-/// that it closes once an end sits on the root): the bracket always holds the root, as with
-/// bisection, in about a third of bisection's evaluations.
-fn bisect_last_negative(p: &impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
-    let tol = (hi - lo) / 4096.0;
-    let (mut f_lo, mut f_hi) = (p(lo), p(hi));
-    let mut side = 0i8;
-    for _ in 0..64 {
-        if hi - lo <= tol {
-            break;
-        }
-        let mut mid = hi - f_hi * (hi - lo) / (f_hi - f_lo);
-        if mid.is_nan() {
-            mid = 0.5 * (lo + hi);
-        }
-        mid = mid.max(lo + 0.5 * tol).min(hi - 0.5 * tol);
-        if mid <= lo || mid >= hi {
-            break;
-        }
-        let f = p(mid);
-        if f <= 0.0 {
-            lo = mid;
-            f_lo = f;
-            if side == -1 {
-                f_hi *= 0.5;
-            }
-            side = -1;
+/// On `[lo, hi]` with `p` monotone increasing, `p(lo) <= 0 < p(hi)` (`p_hi`): a point with
+/// `p <= 0` within 1/4096 of the interval below the root (a step a little short of the largest
+/// certified one costs nothing in safety and saves iterations), by the crate's root finder
+/// [`illinois`] with its stopping rule of 1/4096 of the interval or 64 evaluations and without
+/// its bisection of slow steps (this search's rule since it was written: the Illinois steps
+/// on these monotone cubics, each point kept at least half of that resolution inside the
+/// bracket, so that it closes once an end sits on the root). The bracket always holds the
+/// root, as with bisection, in about a third of bisection's evaluations.
+fn last_negative(p: &impl Fn(f64) -> f64, lo: f64, hi: f64, p_hi: f64) -> f64 {
+    // A point with p = 0 is on the certified side (`p <= 0`): its value is given the sign of
+    // that side (the smallest negative number), which the root finder's tie rule (a zero
+    // joins the far end) would otherwise put on the other.
+    let g = |u: f64| {
+        let v = p(u);
+        if v > 0.0 || v.is_nan() {
+            v
         } else {
-            hi = mid;
-            f_hi = f;
-            if side == 1 {
-                f_lo *= 0.5;
-            }
-            side = 1;
+            v.min(-f64::from_bits(1))
         }
-    }
-    lo
+    };
+    let opts = RootOptions::default()
+        .tol((hi - lo) / 4096.0)
+        .max_evaluations(64)
+        .bisect_when_slow(false);
+    illinois((lo, g(lo)), (hi, p_hi), &opts, g).map_or(lo, |b| b.lo)
 }
 
 /// First positive root of $c_0 + c_1 u + c_2 u^2$ with $c_2 > 0$, $c_0 \le 0$, computed

@@ -72,7 +72,7 @@
 
 use nalgebra::{Matrix2, Vector2};
 
-use super::element::{Kinematics, RingCache, RingGuard, RingMode};
+use super::element::{preload_sign, Kinematics, RingCache, RingGuard, RingMode};
 use super::{Branch, Branches, Relaxation, RingAxis, RingContact, SnubberRing};
 
 /// Second derivatives of the ring located on fixed branches (module docs).
@@ -288,11 +288,7 @@ impl SnubberRing {
             (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
                 let c = self.contact_on(*b, &k.r, cache).ok()?;
                 let i = axis.index();
-                let branch = if i == 0 { b.x } else { b.y };
-                let sign = match branch {
-                    Branch::Inner => c.s[i].signum(),
-                    Branch::Outer(sigma) => f64::from(sigma),
-                };
+                let sign = preload_sign(b, axis, c.s[i]);
                 Some(GuardGradient::rotor(
                     c.jacobian.row(i).transpose() * sign,
                     Vector2::zeros(),

@@ -14,12 +14,12 @@ use nalgebra::{DVector, DefaultAllocator, Dim, Dyn, OMatrix, OVector, U1};
 
 use super::error::StabilityError;
 use super::saltation::{saltation, EventLinearization};
-use super::variational::{Variational, VariationalAlloc, Workspace};
 use crate::hybrid::{
     simulate, EventRecord, ExactSegment, Flow, GuardCrossing, HybridObserver, ModelError,
-    OutputPlan, RotorModel, SimOptions, SimStats, StrobePoint, StrobeRange,
+    OutputPlan, RotorModel, SimOptions, SimStats, StrobePoint, StrobeRange, Variational,
+    VariationalAlloc, Workspace,
 };
-use crate::ode::Direction;
+use crate::numeric::Direction;
 
 /// One event crossed by a linearised trajectory, with the crossing's margin.
 #[derive(Debug, Clone, Copy, PartialEq)]

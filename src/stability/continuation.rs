@@ -39,7 +39,7 @@ use super::error::StabilityError;
 use super::floquet::{CrossingKind, Multiplier};
 use super::newton::NewtonOptions;
 use super::orbit::{periodic_orbit, OrbitOptions, PeriodicOrbit};
-use super::variational::{Variational, VariationalAlloc};
+use crate::hybrid::{Variational, VariationalAlloc};
 
 /// Options of [`locate_loss`]. A plain struct with `Default`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -29,8 +29,7 @@ use super::error::StabilityError;
 use super::map::StroboscopicMap;
 use super::saltation::GRAZING_MARGIN;
 use super::statistics::{qr_step, BatchEstimate, BatchMeans};
-use super::variational::{Variational, VariationalAlloc};
-use crate::hybrid::SimOptions;
+use crate::hybrid::{SimOptions, Variational, VariationalAlloc};
 
 /// Options of [`lyapunov_exponents`]. A plain struct with `Default`.
 #[derive(Debug, Clone, Copy, PartialEq)]

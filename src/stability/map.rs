@@ -17,8 +17,10 @@ use nalgebra::{DMatrix, DVector, DefaultAllocator, Dim, Dyn, OMatrix, OVector};
 
 use super::augmented::{propagate, LinearEvent};
 use super::error::StabilityError;
-use super::variational::{Variational, VariationalAlloc};
-use crate::hybrid::{simulate, HybridObserver, OutputPlan, SimOptions, SimStats, StrobePoint};
+use crate::hybrid::{
+    simulate, HybridObserver, OutputPlan, SimOptions, SimStats, StrobePoint, Variational,
+    VariationalAlloc,
+};
 
 /// The stroboscopic map $P^n$ of a model (module docs).
 #[derive(Debug, Clone, Copy)]

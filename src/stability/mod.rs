@@ -6,12 +6,18 @@
 //! in time picks up the jump of the vector field there, the **saltation matrix**
 //! ([`saltation()`]). Integrated with the state through every event, the variational
 //! equations give the Jacobian of the stroboscopic map exactly where the map is smooth, and
-//! say where it is not (grazing, with its margin). The layers, bottom up:
+//! say where it is not (grazing, with its margin).
+//!
+//! What a model supplies for its linearisation is the trait [`Variational`](crate::hybrid::Variational) of
+//! [`crate::hybrid`] (field and reset Jacobians, guard gradients, the closed form's Jacobian,
+//! its algebraic components, with finite-difference defaults), implemented with each model:
+//! analytic for [`crate::paper::JeffcottModel`], the ring's parts analytic for
+//! [`crate::rotor::RingedRotor`]. This module uses the trait only and names no model. The
+//! layers, bottom up:
 //!
 //! | item | role |
 //! |---|---|
 //! | [`saltation()`] | the saltation matrix of one event, any dimension, typed grazing flag |
-//! | [`Variational`] | what a model supplies: field and reset Jacobians, guard gradients, the closed form's Jacobian, its algebraic components; finite-difference defaults; analytic for [`crate::paper::JeffcottModel`], ring parts analytic for [`crate::rotor::RingedRotor`] |
 //! | [`StroboscopicMap`] | $P^n$ on the non-algebraic components and its Jacobian $DP^n$ (or $DP^n Q$) |
 //! | [`periodic_orbit`] | Newton on $P^n(z) - z$: point, residual, multipliers, grazing margins |
 //! | [`lyapunov_exponents`] | QR (Benettin) spectrum with batch-means errors, two-trajectory check |
@@ -31,10 +37,8 @@ pub mod lyapunov;
 pub mod map;
 pub mod newton;
 pub mod orbit;
-mod ring_models;
 pub mod saltation;
 pub mod statistics;
-pub mod variational;
 
 pub use augmented::LinearEvent;
 pub use continuation::{
@@ -49,4 +53,3 @@ pub use newton::{newton_fixed_point, FixedPoint, MapValue, NewtonError, NewtonOp
 pub use orbit::{periodic_orbit, OrbitMargins, OrbitOptions, PeriodicOrbit};
 pub use saltation::{saltation, EventLinearization, Saltation, SaltationError, GRAZING_MARGIN};
 pub use statistics::{qr_step, BatchEstimate, BatchMeans};
-pub use variational::{Variational, VariationalAlloc, Workspace};

@@ -20,9 +20,9 @@ use super::floquet::{multipliers, Multiplier};
 use super::map::{Linearization, StroboscopicMap};
 use super::newton::{newton_fixed_point, MapValue, NewtonError, NewtonOptions};
 use super::saltation::GRAZING_MARGIN;
-use super::variational::{Variational, VariationalAlloc};
 use crate::hybrid::{
     simulate, DenseSampling, EventRecord, HybridObserver, OutputPlan, Sample, SimOptions,
+    Variational, VariationalAlloc,
 };
 
 /// Options of [`periodic_orbit`]. A plain struct with `Default`.

@@ -18,7 +18,8 @@ use std::marker::PhantomData;
 /// derivative of both from the state:
 ///
 /// ```
-/// use jeffcott::ode::{solve, Direction, Dop853, EventFns, Options, Recorder, Stopped};
+/// use jeffcott::ode::{solve, Dop853, EventFns, Options, Recorder, Stopped};
+/// use jeffcott::numeric::Direction;
 /// use nalgebra::SVector;
 /// type V2 = SVector<f64, 2>;
 ///

@@ -2,7 +2,7 @@
 
 use super::state::{EndValue, Leave, Slot};
 use super::{Direction, EventHit, EventOptions, EventSet, EventState};
-use crate::ode::roots::illinois;
+use crate::numeric::{illinois, RootOptions};
 use crate::ode::{Integrator, OdeError, OdeSystem};
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector};
@@ -343,12 +343,16 @@ where
         hi: (f64, f64),
         tol: f64,
     ) -> Result<(f64, f64), OdeError> {
-        let b = illinois(lo.0, lo.1, hi.0, hi.1, tol, self.max_iter, |t| {
-            self.value(i, t)
-        });
-        match b.nan_at {
-            Some(t) => Err(OdeError::EventNotANumber { index: i, t }),
-            None => Ok((b.lo, b.hi)),
+        let opts = RootOptions::default()
+            .tol(tol)
+            .max_evaluations(self.max_iter);
+        match illinois(lo, hi, &opts, |t| self.value(i, t)) {
+            Ok(b) => match b.nan_at {
+                Some(t) => Err(OdeError::EventNotANumber { index: i, t }),
+                None => Ok((b.lo, b.hi)),
+            },
+            // The callers pass a sign change; were it none, the bracket stays as given.
+            Err(_) => Ok((lo.0, hi.0)),
         }
     }
 
@@ -814,7 +818,10 @@ where
         let mut g_nan: Option<f64> = None;
         let pos_g = g_a > 0.0;
         let mut evals = 0u64;
-        let search = illinois(t_a, d_a, t_b, d_b, tol, self.max_iter, |t| {
+        let opts = RootOptions::default()
+            .tol(tol)
+            .max_evaluations(self.max_iter);
+        let search = illinois((t_a, d_a), (t_b, d_b), &opts, |t| {
             if crossed.is_some() {
                 return 0.0; // terminate: bracket found
             }
@@ -839,9 +846,9 @@ where
             // The event has no value there.
             return Err(OdeError::EventNotANumber { index: i, t });
         }
-        if search.nan_at.is_some() {
-            // Its derivative has none: as for an event without a derivative, the pair is not
-            // searched.
+        if search.map_or(true, |b| b.nan_at.is_some()) {
+            // Its derivative has none (or no sign change, not searched): as for an event without a
+            // derivative, the pair is not searched.
             return Ok(None);
         }
         let Some((c, g_c)) = crossed else {

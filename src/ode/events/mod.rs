@@ -1,5 +1,5 @@
 //! Event functions, their detection on the dense output of the last step, and
-//! root location by the Illinois method ([`roots::illinois`](super::roots::illinois)).
+//! root location by the Illinois method ([`numeric::illinois`](crate::numeric::illinois)).
 //!
 //! An event set is either a type implementing [`EventSet`] or a list of
 //! closures wrapped in [`EventFns`]. [`find_first_event`] looks for the
@@ -173,7 +173,7 @@
 //! the pre-crossing end of that root's bracket (then it is located before it if it has crossed
 //! by then; an event undefined beyond another's crossing, such as a contact force once the
 //! contact is lost, is allowed); at the probe points of rule 3; inside a root or extremum
-//! search ([`roots::illinois`](super::roots::illinois) stops at a NaN, not converged). An event
+//! search ([`numeric::illinois`](crate::numeric::illinois) stops at a NaN, not converged). An event
 //! function must have a value wherever the integration may go before another event ends it.
 //! A NaN *derivative* inside the extremum search of a grazing pair ends that search without a
 //! result, as for an event without a derivative (a pair of roots inside one sample interval
@@ -188,40 +188,13 @@ pub use detect::find_first_event;
 pub use state::EventState;
 
 use super::OdeError;
+use crate::numeric::Direction;
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector};
 
 /// Maximum number of interior samples per step
 /// ([`EventOptions::samples_per_step`]).
 pub const MAX_SAMPLES: usize = 64;
-
-/// Allowed crossing direction of an event (the crate's one direction type).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub enum Direction {
-    /// $g$ goes from negative to non-negative.
-    Rising,
-    /// $g$ goes from positive to non-positive.
-    Falling,
-    /// Both.
-    Either,
-}
-
-impl Direction {
-    /// Whether a crossing in direction `d` (Rising or Falling) is allowed.
-    pub fn allows(self, d: Direction) -> bool {
-        matches!(self, Direction::Either) || self == d
-    }
-
-    /// The opposite direction (`Either` stays `Either`).
-    pub fn opposite(self) -> Direction {
-        match self {
-            Direction::Rising => Direction::Falling,
-            Direction::Falling => Direction::Rising,
-            Direction::Either => Direction::Either,
-        }
-    }
-}
 
 /// A set of event functions $g_i(t, y)$, $i <$ `len()` (any number: the
 /// detector's bookkeeping grows with the largest set it has seen).

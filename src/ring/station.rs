@@ -1,9 +1,10 @@
-//! The linearisation of the models built on the snubber ring: the paper's
-//! [`JeffcottModel`] (everything analytic) and any [`RingedRotor`] (the ring's parts analytic,
-//! the rotor's own field by differences).
+//! The ring at a rotor's station: the linearisation pieces every model built on the ring
+//! shares (the paper's model, `paper::linearization`; any [`crate::rotor::RingedRotor`],
+//! `rotor::linearization`).
 //!
-//! Both keep the ring's position in two state slots, set by the ring's rules, not integrated:
-//! they are the algebraic components of the linearisation.
+//! A model keeps the ring's position in two state slots, set by the ring's rules, not
+//! integrated: they are the algebraic components of its linearisation. The rotor meets the ring
+//! at a station whose displacement and velocity are an affine map of the state.
 //!
 //! * **Guards**: the ring's gradients ([`SnubberRing::guard_gradient`]) through the station's
 //!   linear map; the onset guard $|r - s|^2 - \gamma^2$ depends on the ring's slots
@@ -15,24 +16,35 @@
 //! * **Algebraic rows**: in contact $J$ times the station's position rows; in free flight the
 //!   rows at the release scaled per axis by the relaxation's sensitivity
 //!   ([`Relaxation::sensitivity`]), in closed form: the relaxation is stiff.
-//! * **The paper's model** also gives its field's Jacobian analytically
-//!   ([`SnubberRing::force_jacobian`]) and its free flight's transition matrix
-//!   ([`FreeOscillator::transition_matrix`]).
+
+use std::fmt;
 
 use nalgebra::allocator::Allocator;
-use nalgebra::{DefaultAllocator, Dim, Dyn, Matrix2, OMatrix, OVector, Vector2, U6};
+use nalgebra::{DefaultAllocator, Dim, Dyn, Matrix2, OMatrix, OVector, Vector2};
 
-use super::variational::{Variational, VariationalAlloc, Workspace};
-use crate::hybrid::ModelError;
-use crate::paper::free_flight::FreeOscillator;
-use crate::paper::{Cache, JeffcottModel, Mode};
-use crate::ring::{
+use super::{
     Branches, Kinematics, Relaxation, RingCache, RingContact, RingGuard, RingMode, SnubberRing,
 };
-use crate::rotor::{RingedRotor, SmoothRotor};
+
+/// A transition put the ring where no contact branch puts it: the reset's Jacobian is unknown.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Unplaced {
+    s: Vector2<f64>,
+}
+
+impl fmt::Display for Unplaced {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "cannot tell where the ring was placed at s = ({}, {}): no contact branch puts \
+             it there",
+            self.s.x, self.s.y
+        )
+    }
+}
 
 /// The ring at a rotor's station: the station's affine map and the ring's slots.
-struct Station<'a> {
+pub(crate) struct Station<'a> {
     ring: &'a SnubberRing,
     /// Row `a` (`r.x, r.y, v.x, v.y`) of the station map has its coefficient of `y[j]` at
     /// `(a, j)`; stored as the nonzero entries.
@@ -44,30 +56,40 @@ struct Station<'a> {
 }
 
 impl<'a> Station<'a> {
-    /// The paper's model: `r = (y0, y1)`, `v = (y2, y3)`, ring in slots 4, 5.
-    fn paper(ring: &'a SnubberRing) -> Self {
+    /// A station given by its map's nonzero entries `(a, j, c)` (row `a` of `r.x, r.y, v.x,
+    /// v.y` has coefficient `c` of `y[j]`), its constant and the ring's slots.
+    pub(crate) fn new(
+        ring: &'a SnubberRing,
+        map: Vec<(usize, usize, f64)>,
+        offset: [f64; 4],
+        slots: [usize; 2],
+    ) -> Self {
         Self {
             ring,
-            map: vec![(0, 0, 1.0), (1, 1, 1.0), (2, 2, 1.0), (3, 3, 1.0)],
-            offset: [0.0; 4],
-            slots: [4, 5],
+            map,
+            offset,
+            slots,
         }
     }
 
-    /// A smooth rotor's station, from its (affine) station map applied to the zero state and
-    /// to unit vectors.
-    fn of<R: SmoothRotor>(rotor: &R, ring: &'a SnubberRing) -> Self
+    /// A station from its (affine) map `station`, applied to the zero state of dimension `dim`
+    /// and to unit vectors.
+    pub(crate) fn sampled<D: Dim>(
+        ring: &'a SnubberRing,
+        dim: D,
+        slots: [usize; 2],
+        station: impl Fn(&OVector<f64, D>) -> Kinematics,
+    ) -> Self
     where
-        DefaultAllocator: Allocator<R::Dim>,
+        DefaultAllocator: Allocator<D>,
     {
-        let dim = rotor.dim();
-        let mut e = OVector::<f64, R::Dim>::zeros_generic(dim, nalgebra::U1);
-        let k0 = rotor.station(&e);
+        let mut e = OVector::<f64, D>::zeros_generic(dim, nalgebra::U1);
+        let k0 = station(&e);
         let offset = [k0.r.x, k0.r.y, k0.v.x, k0.v.y];
         let mut map = Vec::new();
         for j in 0..dim.value() {
             e[j] = 1.0;
-            let k = rotor.station(&e);
+            let k = station(&e);
             e[j] = 0.0;
             for (a, c) in [k.r.x, k.r.y, k.v.x, k.v.y].into_iter().enumerate() {
                 let c = c - offset[a];
@@ -76,12 +98,7 @@ impl<'a> Station<'a> {
                 }
             }
         }
-        Self {
-            ring,
-            map,
-            offset,
-            slots: rotor.ring_slots(),
-        }
+        Self::new(ring, map, offset, slots)
     }
 
     fn kinematics<D: Dim>(&self, y: &OVector<f64, D>) -> Kinematics
@@ -95,7 +112,7 @@ impl<'a> Station<'a> {
         Kinematics::new([k[0], k[1]], [k[2], k[3]])
     }
 
-    fn ring_position<D: Dim>(&self, y: &OVector<f64, D>) -> Vector2<f64>
+    pub(crate) fn ring_position<D: Dim>(&self, y: &OVector<f64, D>) -> Vector2<f64>
     where
         DefaultAllocator: Allocator<D>,
     {
@@ -106,11 +123,12 @@ impl<'a> Station<'a> {
         self.slots.contains(&i)
     }
 
-    /// The full-state gradient of a ring guard.
-    fn guard_gradient<D: Dim>(
+    /// The full-state gradient of guard `i` of `mode` (the onset guard if `mode` has no such
+    /// guard); 0, its time derivative at a fixed state (NaN where the ring has no gradient).
+    pub(crate) fn guard_gradient<D: Dim>(
         &self,
         mode: &RingMode,
-        guard: RingGuard,
+        i: usize,
         t: f64,
         y: &OVector<f64, D>,
         grad: &mut OVector<f64, D>,
@@ -118,6 +136,7 @@ impl<'a> Station<'a> {
     where
         DefaultAllocator: Allocator<D>,
     {
+        let guard = self.ring.guard(mode, i).unwrap_or(RingGuard::Onset);
         grad.fill(0.0);
         let k = self.kinematics(y);
         let Some(g) = self
@@ -161,19 +180,17 @@ impl<'a> Station<'a> {
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
     /// The reset's Jacobian: identity on the rotor; the ring's slots differentiate where the
     /// transition placed the ring (`s_plus`), found among the branches it can have used.
-    fn transition_jacobian<D: Dim>(
+    pub(crate) fn transition_jacobian<D: Dim>(
         &self,
         mode: &RingMode,
-        t: f64,
         y: &OVector<f64, D>,
         next: &RingMode,
         s_plus: Vector2<f64>,
         rx: &mut OMatrix<f64, D, D>,
         rt: &mut OVector<f64, D>,
-    ) -> Result<(), ModelError>
+    ) -> Result<(), Unplaced>
     where
         DefaultAllocator: Allocator<D> + Allocator<D, D>,
     {
@@ -203,14 +220,7 @@ impl<'a> Station<'a> {
                 .ok()
                 .filter(|c| (c.s - s_plus).abs().max() <= tol)
         });
-        let contact = placed.ok_or_else(|| ModelError::Transition {
-            t,
-            reason: format!(
-                "cannot tell where the ring was placed at s = ({}, {}): no contact branch puts \
-                 it there",
-                s_plus.x, s_plus.y
-            ),
-        })?;
+        let contact = placed.ok_or(Unplaced { s: s_plus })?;
         for (axis, slot) in [i, j].into_iter().enumerate() {
             // An axis snapped onto its preload is a constant.
             let d = if axis == 0 {
@@ -231,7 +241,7 @@ impl<'a> Station<'a> {
     }
 
     /// The algebraic (ring) rows of `m` in `mode` at `(t, y)`.
-    fn algebraic_variation<D: Dim>(
+    pub(crate) fn algebraic_variation<D: Dim>(
         &self,
         mode: &RingMode,
         t: f64,
@@ -267,7 +277,11 @@ impl<'a> Station<'a> {
     }
 
     /// The section state: rotor components from `z`, the ring placed (in contact) or kept.
-    fn section_state<D: Dim>(&self, template: &OVector<f64, D>, z: &[f64]) -> OVector<f64, D>
+    pub(crate) fn section_state<D: Dim>(
+        &self,
+        template: &OVector<f64, D>,
+        z: &[f64],
+    ) -> OVector<f64, D>
     where
         DefaultAllocator: Allocator<D>,
     {
@@ -289,7 +303,7 @@ impl<'a> Station<'a> {
         y
     }
 
-    fn openness<D: Dim>(&self, mode: &RingMode, y: &OVector<f64, D>) -> f64
+    pub(crate) fn openness<D: Dim>(&self, mode: &RingMode, y: &OVector<f64, D>) -> f64
     where
         DefaultAllocator: Allocator<D>,
     {
@@ -299,7 +313,7 @@ impl<'a> Station<'a> {
         }
     }
 
-    fn depth<D: Dim>(&self, mode: &RingMode, y: &OVector<f64, D>) -> f64
+    pub(crate) fn depth<D: Dim>(&self, mode: &RingMode, y: &OVector<f64, D>) -> f64
     where
         DefaultAllocator: Allocator<D>,
     {
@@ -322,176 +336,4 @@ fn mat_vec(j: &Matrix2<f64>, v: [f64; 2]) -> [f64; 2] {
 /// The relaxation's sensitivity at `t` (1 at its start).
 fn relaxation_factor(relax: &Relaxation, ring: &SnubberRing, t: f64) -> Vector2<f64> {
     relax.sensitivity(ring, t)
-}
-
-impl Variational for JeffcottModel {
-    fn is_algebraic_variation(&self, i: usize) -> bool {
-        i >= 4
-    }
-
-    fn rhs_jacobian(
-        &self,
-        mode: Mode,
-        _t: f64,
-        y: &OVector<f64, U6>,
-        jac: &mut OMatrix<f64, U6, U6>,
-        _cache: &Cache,
-        _work: &mut Workspace<U6>,
-    ) {
-        let nu1 = self.params().nu1;
-        jac.fill(0.0);
-        for i in 0..2 {
-            jac[(i, i + 2)] = 1.0;
-            jac[(i + 2, i)] = -1.0;
-            jac[(i + 2, i + 2)] = -2.0 * nu1;
-        }
-        if let RingMode::Contact(b) = mode {
-            let r = Vector2::new(y[0], y[1]);
-            let v = Vector2::new(y[2], y[3]);
-            match self.ring().locate_on(&r, b, f64::NAN) {
-                Ok(c) => {
-                    let f = self.ring().force_jacobian(&c, &v);
-                    for i in 0..2 {
-                        for j in 0..2 {
-                            jac[(i + 2, j)] -= f.position[(i, j)];
-                            jac[(i + 2, j + 2)] -= f.velocity[(i, j)];
-                        }
-                    }
-                }
-                Err(_) => jac.fill(f64::NAN),
-            }
-        }
-    }
-
-    fn guard_gradient(
-        &self,
-        mode: Mode,
-        i: usize,
-        t: f64,
-        y: &OVector<f64, U6>,
-        grad: &mut OVector<f64, U6>,
-        _cache: &Cache,
-        _work: &mut Workspace<U6>,
-    ) -> f64 {
-        let guard = self.ring().guard(&mode, i).unwrap_or(RingGuard::Onset);
-        Station::paper(self.ring()).guard_gradient(&mode, guard, t, y, grad)
-    }
-
-    fn transition_jacobian(
-        &self,
-        mode: Mode,
-        guard: usize,
-        t: f64,
-        y: &OVector<f64, U6>,
-        after: &OVector<f64, U6>,
-        next: Mode,
-        rx: &mut OMatrix<f64, U6, U6>,
-        rt: &mut OVector<f64, U6>,
-    ) -> Result<(), ModelError> {
-        let _ = guard;
-        let s_plus = Vector2::new(after[4], after[5]);
-        Station::paper(self.ring()).transition_jacobian(&mode, t, y, &next, s_plus, rx, rt)
-    }
-
-    fn segment_jacobian(
-        &self,
-        _mode: Mode,
-        t0: f64,
-        _y0: &OVector<f64, U6>,
-        t: f64,
-        jac: &mut OMatrix<f64, U6, U6>,
-    ) {
-        let phi = FreeOscillator::new(self.params()).transition_matrix(t - t0);
-        jac.fill(0.0);
-        jac.fixed_view_mut::<4, 4>(0, 0).copy_from(&phi);
-    }
-
-    fn algebraic_variation(
-        &self,
-        mode: Mode,
-        t: f64,
-        y: &OVector<f64, U6>,
-        start: &OMatrix<f64, U6, Dyn>,
-        m: &mut OMatrix<f64, U6, Dyn>,
-        _cache: &Cache,
-    ) {
-        Station::paper(self.ring()).algebraic_variation(&mode, t, y, start, m);
-    }
-
-    fn section_state(&self, _t: f64, template: &OVector<f64, U6>, z: &[f64]) -> OVector<f64, U6> {
-        Station::paper(self.ring()).section_state(template, z)
-    }
-
-    fn section_openness(&self, mode: Mode, _t: f64, y: &OVector<f64, U6>) -> f64 {
-        Station::paper(self.ring()).openness(&mode, y)
-    }
-
-    fn contact_depth(&self, mode: Mode, _t: f64, y: &OVector<f64, U6>) -> Option<f64> {
-        Some(Station::paper(self.ring()).depth(&mode, y))
-    }
-}
-
-impl<R: SmoothRotor> Variational for RingedRotor<R>
-where
-    DefaultAllocator: VariationalAlloc<R::Dim>,
-{
-    fn guard_gradient(
-        &self,
-        mode: RingMode,
-        i: usize,
-        t: f64,
-        y: &OVector<f64, R::Dim>,
-        grad: &mut OVector<f64, R::Dim>,
-        _cache: &RingCache,
-        _work: &mut Workspace<R::Dim>,
-    ) -> f64 {
-        let guard = self.ring().guard(&mode, i).unwrap_or(RingGuard::Onset);
-        Station::of(self.rotor(), self.ring()).guard_gradient(&mode, guard, t, y, grad)
-    }
-
-    fn transition_jacobian(
-        &self,
-        mode: RingMode,
-        guard: usize,
-        t: f64,
-        y: &OVector<f64, R::Dim>,
-        after: &OVector<f64, R::Dim>,
-        next: RingMode,
-        rx: &mut OMatrix<f64, R::Dim, R::Dim>,
-        rt: &mut OVector<f64, R::Dim>,
-    ) -> Result<(), ModelError> {
-        let _ = guard;
-        let station = Station::of(self.rotor(), self.ring());
-        let s_plus = station.ring_position(after);
-        station.transition_jacobian(&mode, t, y, &next, s_plus, rx, rt)
-    }
-
-    fn algebraic_variation(
-        &self,
-        mode: RingMode,
-        t: f64,
-        y: &OVector<f64, R::Dim>,
-        start: &OMatrix<f64, R::Dim, Dyn>,
-        m: &mut OMatrix<f64, R::Dim, Dyn>,
-        _cache: &RingCache,
-    ) {
-        Station::of(self.rotor(), self.ring()).algebraic_variation(&mode, t, y, start, m);
-    }
-
-    fn section_state(
-        &self,
-        _t: f64,
-        template: &OVector<f64, R::Dim>,
-        z: &[f64],
-    ) -> OVector<f64, R::Dim> {
-        Station::of(self.rotor(), self.ring()).section_state(template, z)
-    }
-
-    fn section_openness(&self, mode: RingMode, _t: f64, y: &OVector<f64, R::Dim>) -> f64 {
-        Station::of(self.rotor(), self.ring()).openness(&mode, y)
-    }
-
-    fn contact_depth(&self, mode: RingMode, _t: f64, y: &OVector<f64, R::Dim>) -> Option<f64> {
-        Some(Station::of(self.rotor(), self.ring()).depth(&mode, y))
-    }
 }

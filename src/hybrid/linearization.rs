@@ -6,8 +6,13 @@
 //! in exact modes, the Jacobian of the closed form. Every method of [`Variational`] has a
 //! default by **central finite differences** of the model's own [`RotorModel`] methods, so that
 //! `impl Variational for MyModel {}` is enough to start; a model overrides what it knows
-//! analytically (the paper's model overrides all of them, `stability::ring_models`), or what
-//! the differences cannot do (see each method's contract).
+//! analytically, or what the differences cannot do (see each method's contract).
+//!
+//! A model's linearisation lives with the model: the paper's model overrides every method
+//! (`paper::linearization`), [`crate::rotor::RingedRotor`] the ring's parts
+//! (`rotor::linearization`), both through the ring's station map (`ring::station`). The
+//! analyses of [`crate::stability`] use the trait only. [`Variational::rhs_jacobian`] needs no
+//! analysis type: an integrator can call it too.
 //!
 //! # Algebraic components
 //!
@@ -37,7 +42,7 @@
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, Dyn, OMatrix, OVector, U1};
 
-use crate::hybrid::{ExactSegment, ModelError, RotorModel};
+use super::{ExactSegment, ModelError, RotorModel};
 
 /// The allocations the linearisation of a model of dimension `D` needs (vectors, square
 /// matrices and `D x Dyn` variations); every nalgebra dimension has them. Write

@@ -15,7 +15,7 @@
 //! Before anything else the bench checks `ode_solvers` on a forced damped oscillator with a
 //! known solution (from t = 0 and from t = 100) and prints the errors.
 //!
-//! Run: `cargo bench --bench compare_ode_solvers` (prints the error/time table, then the
+//! Run: `cargo bench -p bench-compare` (prints the error/time table, then the
 //! criterion timings at one tolerance pair of comparable error).
 
 use std::hint::black_box;
