@@ -41,6 +41,12 @@
 //! * two non-periodic ones match when their contacts per period agree to within `contacts`
 //!   and every side of their bounding boxes to within `extent`;
 //! * a periodic attractor never matches a non-periodic one.
+//!
+//! `state` and `extent` are in units of the model's scale ([`RotorModel::state_scale`], kept
+//! in [`Attractor::scale`]): component $c$ agrees when $|a_c - b_c| \le$ `state` $\cdot
+//! \max(s^a_c, s^b_c)$. The paper's model has scale 1 (its units: the gap); a model in SI
+//! units gives its components' typical sizes, and the same tolerances mean the same there.
+//! The period test runs in the same units ([`PeriodTest::detect_scaled`]).
 
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, OVector};
@@ -112,10 +118,16 @@ pub struct Attractor {
     pub cycle: Vec<Vec<f64>>,
     /// Contact and mode statistics of the recorded window.
     pub stats: OrbitStats,
+    /// The model's [`RotorModel::state_scale`], one entry per component: the units of the
+    /// matching tolerances (see the [module docs](self)). Empty (and left out of the record)
+    /// when the scale is 1 for every component, as for the paper's model; a missing entry
+    /// counts as 1.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub scale: Vec<f64>,
 }
 
-/// Tolerances of [`Attractor::matches`] (see the [module docs](self)), in the model's
-/// units (the paper's: gap = 1).
+/// Tolerances of [`Attractor::matches`] (see the [module docs](self)), in units of the
+/// model's scale ([`Attractor::scale`]; the paper's: gap = 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct MatchTolerance {
@@ -139,11 +151,20 @@ impl Default for MatchTolerance {
     }
 }
 
-fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+/// Whether every component of `a` and `b` agrees to `tol` times its scale (1 where `scale`
+/// has no entry).
+fn within(a: &[f64], b: &[f64], scale: &[f64], tol: f64) -> bool {
     a.iter()
         .zip(b)
-        .map(|(u, v)| (u - v).abs())
-        .fold(0.0, f64::max)
+        .enumerate()
+        .all(|(c, (u, v))| (u - v).abs() <= tol * scale.get(c).copied().unwrap_or(1.0))
+}
+
+/// The larger of two attractors' scales, per component (empty if both are).
+fn joint_scale(a: &[f64], b: &[f64]) -> Vec<f64> {
+    let n = a.len().max(b.len());
+    let get = |s: &[f64], c: usize| s.get(c).copied().unwrap_or(1.0);
+    (0..n).map(|c| get(a, c).max(get(b, c))).collect()
 }
 
 impl Attractor {
@@ -157,14 +178,18 @@ impl Attractor {
         self.cycle.first().map(Vec::as_slice)
     }
 
-    /// The cycle reduced to its shortest period at tolerance `tol`: the first `q` states,
-    /// `q` the smallest divisor of the period with every state within `tol` of the one `q`
-    /// later.
+    /// The cycle reduced to its shortest period at tolerance `tol` (in units of
+    /// [`Attractor::scale`]): the first `q` states, `q` the smallest divisor of the period
+    /// with every state within `tol` of the one `q` later.
     pub fn reduced_cycle(&self, tol: f64) -> &[Vec<f64>] {
+        self.reduced_with(tol, &self.scale)
+    }
+
+    fn reduced_with(&self, tol: f64, scale: &[f64]) -> &[Vec<f64>] {
         let p = self.cycle.len();
         for q in 1..p {
             if p.is_multiple_of(q)
-                && (q..p).all(|i| max_diff(&self.cycle[i], &self.cycle[i - q]) <= tol)
+                && (q..p).all(|i| within(&self.cycle[i], &self.cycle[i - q], scale, tol))
             {
                 return &self.cycle[..q];
             }
@@ -175,19 +200,21 @@ impl Attractor {
     /// Whether `self` and `other` are the same attractor within `tol` (see the
     /// [module docs](self)).
     pub fn matches(&self, other: &Attractor, tol: &MatchTolerance) -> bool {
+        let scale = joint_scale(&self.scale, &other.scale);
         match (self.period(), other.period()) {
             (Some(_), Some(_)) => {
-                let a = self.reduced_cycle(tol.state);
-                let b = other.reduced_cycle(tol.state);
+                let a = self.reduced_with(tol.state, &scale);
+                let b = other.reduced_with(tol.state, &scale);
                 let p = a.len();
                 p == b.len()
-                    && (0..p).any(|s| (0..p).all(|i| max_diff(&a[i], &b[(i + s) % p]) <= tol.state))
+                    && (0..p)
+                        .any(|s| (0..p).all(|i| within(&a[i], &b[(i + s) % p], &scale, tol.state)))
             }
             (None, None) => {
                 let (s, o) = (&self.stats, &other.stats);
                 (s.contacts_per_period - o.contacts_per_period).abs() <= tol.contacts
-                    && max_diff(&s.lo, &o.lo) <= tol.extent
-                    && max_diff(&s.hi, &o.hi) <= tol.extent
+                    && within(&s.lo, &o.lo, &scale, tol.extent)
+                    && within(&s.hi, &o.hi, &scale, tol.extent)
                     && s.lo.len() == o.lo.len()
             }
             _ => false,
@@ -374,6 +401,7 @@ where
             "max_transient must be at least transient",
         ));
     }
+    let scale = model.state_scale();
     let mut start = y0.clone();
     let mut transient_done = 0u64;
     let mut periods_run = 0u64;
@@ -384,15 +412,30 @@ where
         periods_run += config.transient + config.record;
         // The sizes and settings are checked above: the test fails only on a non-finite
         // state, i.e. a diverged run.
-        let periodicity = test.detect(&obs.strobe).map_err(|_| SimError {
-            kind: SimErrorKind::NonFinite,
-            t: t_end,
-            y: obs.strobe.last().cloned().unwrap_or_else(|| start.clone()),
-            stats: SimStats::default(),
-        })?;
+        let periodicity = test
+            .detect_scaled(&obs.strobe, &scale)
+            .map_err(|_| SimError {
+                kind: SimErrorKind::NonFinite,
+                t: t_end,
+                y: obs.strobe.last().cloned().unwrap_or_else(|| start.clone()),
+                stats: SimStats::default(),
+            })?;
         let more = transient_done + config.transient <= config.max_transient;
         if periodicity.period().is_some() || !more || config.transient == 0 {
-            return Ok(summarise(obs, periodicity, periods_run, config.record));
+            // A scale of 1 everywhere (the paper's model) is kept empty: its records are
+            // unchanged.
+            let scale = if scale.iter().all(|&s| s == 1.0) {
+                Vec::new()
+            } else {
+                scale.iter().copied().collect()
+            };
+            return Ok(summarise(
+                obs,
+                periodicity,
+                periods_run,
+                config.record,
+                scale,
+            ));
         }
         // Slowly attracting or not periodic: go on from the last state.
         start = obs.strobe.last().cloned().unwrap_or(start);
@@ -404,6 +447,7 @@ fn summarise<D: nalgebra::Dim>(
     periodicity: Periodicity,
     periods_run: u64,
     window: u64,
+    scale: Vec<f64>,
 ) -> Attractor
 where
     DefaultAllocator: Allocator<D>,
@@ -443,6 +487,7 @@ where
     Attractor {
         periodicity,
         cycle,
+        scale,
         stats: OrbitStats {
             periods_run,
             window,

@@ -21,7 +21,8 @@ pub struct SimOptions {
     pub method: Method,
     /// Relative tolerance of adaptive methods. Default `1e-10`.
     pub rtol: f64,
-    /// Absolute tolerance of adaptive methods. Default `1e-12`.
+    /// Absolute tolerance of adaptive methods, in units of the model's
+    /// [`RotorModel::state_scale`] (component $i$'s is `atol * scale[i]`). Default `1e-12`.
     pub atol: f64,
     /// Fixed steps per forcing period for [`Method::Rk4`] (>= 1). Default 400. RK4 is stable
     /// only while $h\lambda \lesssim 2.8$ for the fastest rate $\lambda$ of the motion (in
@@ -1030,13 +1031,15 @@ where
 {
     let dim = model.dim();
     let any_algebraic = (0..dim.value()).any(|i| model.is_algebraic(i));
-    // A scalar tolerance when nothing is algebraic keeps the arithmetic of a plain run.
-    let atol = if any_algebraic {
+    let scale = model.state_scale();
+    // A scalar tolerance when nothing is algebraic or scaled keeps the arithmetic of a plain
+    // run (and `atol * 1.0` is `atol`).
+    let atol = if any_algebraic || scale.iter().any(|&s| s != 1.0) {
         Tolerance::PerComponent(OVector::from_fn_generic(dim, U1, |i, _| {
             if model.is_algebraic(i) {
                 f64::INFINITY
             } else {
-                opts.atol
+                opts.atol * scale[i]
             }
         }))
     } else {

@@ -308,6 +308,12 @@ impl RotorModel for JeffcottModel {
         U6
     }
 
+    /// 1 for every component: the model is non-dimensional, lengths in units of the gap and
+    /// velocities in units of the gap times $\omega_n$.
+    fn state_scale(&self) -> State {
+        State::repeat(1.0)
+    }
+
     fn new_cache(&self) -> Cache {
         Cache::default()
     }

@@ -164,7 +164,7 @@ where
             m: OMatrix::zeros_generic(d, kd),
             b: OMatrix::zeros_generic(d, kd),
             dm: OMatrix::zeros_generic(d, kd),
-            work: Workspace::new(d),
+            work: Workspace::new(self.model),
         }
     }
 }
@@ -181,6 +181,15 @@ where
 
     fn dim(&self) -> Dyn {
         Dyn(self.n + 2 * self.n * self.k)
+    }
+
+    /// The model's scale on its state (so that the state is integrated as in a plain run); 1
+    /// on the variations, which are algebraic for the driver.
+    fn state_scale(&self) -> DVector<f64> {
+        let inner = self.model.state_scale();
+        DVector::from_fn(self.n + 2 * self.n * self.k, |i, _| {
+            inner.get(i).copied().unwrap_or(1.0)
+        })
     }
 
     fn new_cache(&self) -> AugmentedCache<M> {
@@ -313,7 +322,7 @@ where
         let d = model.dim();
         let (y_minus, m_minus) = self.unpack(y);
         let cache = model.new_cache();
-        let mut work = Workspace::new(d);
+        let mut work = Workspace::new(model);
         let mut f_minus = OVector::zeros_generic(d, U1);
         model.rhs(mode, t, &y_minus, &mut f_minus, &cache);
         let mut grad = OVector::zeros_generic(d, U1);

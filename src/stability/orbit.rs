@@ -103,8 +103,10 @@ where
     /// [`Linearization::openness`]).
     pub openness: f64,
     /// The smallest $m$ dividing the period with $\lVert P^m(z^{\ast}) - z^{\ast}\rVert_\infty \le
-    /// 10^{-8}(1 + \lVert z^{\ast}\rVert_\infty)$: less than the period when Newton found an orbit
-    /// of a shorter period (a fixed point of $P$ is one of $P^n$ too).
+    /// 10^{-8}(1 + \lVert z^{\ast}\rVert_\infty)$, components in units of the model's
+    /// [`RotorModel::state_scale`](crate::hybrid::RotorModel::state_scale): less than the
+    /// period when Newton found an orbit of a shorter period (a fixed point of $P$ is one of
+    /// $P^n$ too).
     pub minimal_period: u64,
 }
 
@@ -170,7 +172,8 @@ where
     })
 }
 
-/// The smallest divisor $m$ of `period` with $P^m(z) = z$ to $10^{-8}(1 + |z|)$.
+/// The smallest divisor $m$ of `period` with $P^m(z) = z$ to $10^{-8}(1 + |z|)$, in units of
+/// the model's [`RotorModel::state_scale`](crate::hybrid::RotorModel::state_scale).
 fn minimal_period<M>(
     model: &M,
     state: &OVector<f64, M::Dim>,
@@ -182,11 +185,12 @@ where
     M: Variational,
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
-    let scale = 1e-8 * (1.0 + point.amax());
+    let scale = StroboscopicMap::new(model, 1, *sim)?.reduce(&model.state_scale());
+    let size = point.component_div(&scale).amax();
     for m in (1..period).filter(|&m| period.is_multiple_of(m)) {
         let map = StroboscopicMap::new(model, m, *sim)?;
         let end = map.reduce(&map.advance(state)?.y);
-        if (end - point).amax() <= scale {
+        if (end - point).component_div(&scale).amax() <= 1e-8 * (1.0 + size) {
             return Ok(m);
         }
     }
