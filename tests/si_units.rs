@@ -15,7 +15,7 @@
 //! continuation's tolerances are relative to the state's and the parameter's scales.
 
 use jeffcott::analysis::{bifurcation, start_from, strobe_orbit, BifurcationConfig, PeriodTest};
-use jeffcott::global::{find_attractor, AttractorConfig, MatchTolerance};
+use jeffcott::global::{find_attractor, Attractor, AttractorConfig, MatchTolerance};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::nalgebra::{SVector, Vector2, U6};
 use jeffcott::paper::{JeffcottModel, State};
@@ -218,6 +218,12 @@ fn attractors_agree() {
         let d = state_gap(a.canonical().unwrap(), b.canonical().unwrap());
         assert!(d < 1e-8, "eta {eta}: canonical points differ by {d:e} gap");
         assert_eq!(a.stats.contacts_per_period, b.stats.contacts_per_period);
+        // The SI attractor keeps its model's scale through its record; the paper's (scale 1)
+        // leaves it out.
+        assert!(a.scale.is_empty() && b.scale.len() == 6);
+        let back: Attractor = serde_json::from_str(&serde_json::to_string(&b).unwrap()).unwrap();
+        assert_eq!(back, b);
+        assert!(!serde_json::to_string(&a).unwrap().contains("scale"));
     }
 }
 
