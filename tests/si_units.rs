@@ -22,7 +22,9 @@ use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::{Params, Preset};
 use jeffcott::ring::{Kinematics, RingAxis, SnubberRing};
 use jeffcott::rotor::{RingedRotor, SmoothRotor};
-use jeffcott::stability::{periodic_orbit, Multiplier, OrbitOptions, StroboscopicMap};
+use jeffcott::stability::{
+    periodic_orbit, Multiplier, OrbitOptions, PeriodicOrbit, StroboscopicMap,
+};
 
 /// Rotor mass, kg.
 const MASS: f64 = 10.0;
@@ -62,6 +64,8 @@ struct SiRotor {
     spin: f64,
     /// Initial phase, rad.
     phase: f64,
+    /// The state's scale if the rotor gives it (else `RingedRotor` derives it).
+    scale: Option<SVector<f64, 6>>,
 }
 
 impl SmoothRotor for SiRotor {
@@ -90,12 +94,25 @@ impl SmoothRotor for SiRotor {
     fn forcing_period(&self) -> f64 {
         std::f64::consts::TAU / self.spin
     }
+    fn state_scale(&self) -> Option<SVector<f64, 6>> {
+        self.scale
+    }
 }
 
 /// The rig of the non-dimensional `p` in SI units: its ring's force in newtons (unit stiffness
 /// `K k_r`, a unit's damping force `c_s s'` with `c_s = 2 nu2 sqrt(k_r M)`, i.e. the ring's
 /// `damping` is `c_s / 2`), lengths in metres.
 fn si_model(p: &Params) -> RingedRotor<SiRotor> {
+    si_model_with(p, None)
+}
+
+/// [`si_model`] with the scale of the paper's units (the gap, the gap times `omega_n`) given by
+/// the rotor.
+fn si_model_in_paper_scale(p: &Params) -> RingedRotor<SiRotor> {
+    si_model_with(p, Some(to_si(&[1.0; 6])))
+}
+
+fn si_model_with(p: &Params, scale: Option<SVector<f64, 6>>) -> RingedRotor<SiRotor> {
     let crit = 2.0 * (STIFFNESS * MASS).sqrt();
     let rotor = SiRotor {
         damping: p.nu1 * crit,
@@ -103,6 +120,7 @@ fn si_model(p: &Params) -> RingedRotor<SiRotor> {
         unbalance: p.beta * GAP,
         spin: p.eta * omega_n(),
         phase: p.phi0,
+        scale,
     };
     let ring = SnubberRing::new(
         RingAxis::new(p.kx * STIFFNESS, p.dx * GAP),
@@ -167,6 +185,26 @@ fn periodic_orbits_and_multipliers_agree() {
         assert_eq!(a.minimal_period, period);
         assert_eq!(b.minimal_period, period);
         assert_eq!(a.margins.structure, b.margins.structure);
+        // The crossing margins are measured in units of the scale: with the derived scale
+        // (velocities in units of the gap times the forcing frequency, not omega_n) they are
+        // close to the paper's, with the paper's scale given by the rotor they are the same.
+        let c = periodic_orbit(
+            &si_model_in_paper_scale(&p),
+            &to_si(start.as_slice()),
+            period,
+            &opts,
+        )
+        .unwrap();
+        let margins = |o: &PeriodicOrbit<_>| o.events.iter().map(|e| e.margin).collect::<Vec<_>>();
+        let (ma, mb, mc) = (margins(&a), margins(&b), margins(&c));
+        eprintln!("eta {eta}: margins {ma:.4?} / derived scale {mb:.4?} / paper's scale {mc:.4?}");
+        assert_eq!(a.grazing, b.grazing);
+        for ((x, y), z) in ma.iter().zip(&mb).zip(&mc) {
+            assert!(
+                (x - z).abs() < 1e-6 && y / x < 2.0 && x / y < 2.0,
+                "{x} {y} {z}"
+            );
+        }
     }
 }
 

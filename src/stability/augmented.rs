@@ -334,6 +334,7 @@ where
         let mut rx = OMatrix::zeros_generic(d, d);
         let mut rt = OVector::zeros_generic(d, U1);
         model.transition_jacobian(mode, guard, t, &y_minus, &y_plus, next, &mut rx, &mut rt)?;
+        let scale = model.state_scale();
         let event = EventLinearization {
             field_before: &f_minus,
             field_after: &f_plus,
@@ -341,6 +342,7 @@ where
             guard_time_derivative: gt,
             reset_jacobian: Some(&rx),
             reset_time_derivative: Some(&rt),
+            state_scale: scale.iter().any(|&s| s != 1.0).then_some(&scale),
         };
         let s = saltation(&event, 0.0).map_err(|e| ModelError::Transition {
             t,

@@ -27,7 +27,10 @@
 //! \in [0, 1],$$
 //!
 //! $|f^-|_{\nabla g}$ the norm of $f^-$ over the components where $\nabla g$ is not zero (so that a
-//! guard on positions is not judged against accelerations): the cosine of the angle at which the
+//! guard on positions is not judged against accelerations), both norms in the coordinates
+//! $x_c/s_c$ scaled by the model's [`RotorModel::state_scale`](crate::hybrid::RotorModel::state_scale)
+//! when the event gives it ([`EventLinearization::state_scale`]; so that a guard on positions
+//! and velocities is judged alike in any units): the cosine of the angle at which the
 //! flow crosses the guard, corrected for its explicit time dependence. [`saltation`] returns
 //! [`SaltationError::Grazing`] when the margin is below the threshold it is given
 //! ([`GRAZING_MARGIN`] $= 10^{-3}$ by default), never a matrix that rounding or the
@@ -62,6 +65,10 @@ where
     pub reset_jacobian: Option<&'a OMatrix<f64, D, D>>,
     /// Explicit time derivative of the reset, $R_t$; `None` for zero.
     pub reset_time_derivative: Option<&'a OVector<f64, D>>,
+    /// The state's scale $s$ ([`RotorModel::state_scale`](crate::hybrid::RotorModel::state_scale)):
+    /// the margin is measured in the scaled coordinates $x_c/s_c$ (module docs); `None` for 1
+    /// in every component.
+    pub state_scale: Option<&'a OVector<f64, D>>,
 }
 
 /// A saltation matrix with what it was computed from.
@@ -95,6 +102,36 @@ where
     pub fn is_grazing(&self, threshold: f64) -> bool {
         self.margin() < threshold
     }
+}
+
+/// The scale of the crossing rate, $|\nabla g|\thinspace|f^-|_{\nabla g} + |g_t|$ (module
+/// docs), in the coordinates scaled by the event's `state_scale` if it has one.
+fn rate_scale<D: Dim>(event: &EventLinearization<'_, D>) -> f64
+where
+    DefaultAllocator: Allocator<D> + Allocator<D, D>,
+{
+    let (f_minus, grad) = (event.field_before, event.guard_gradient);
+    let (grad_norm, support) = match event.state_scale {
+        None => {
+            let support: f64 = grad
+                .iter()
+                .zip(f_minus.iter())
+                .filter(|(g, _)| **g != 0.0)
+                .map(|(_, f)| f * f)
+                .sum();
+            (grad.norm(), support)
+        }
+        Some(s) => {
+            let pairs = || grad.iter().zip(f_minus.iter()).zip(s.iter());
+            let grad_sq: f64 = pairs().map(|((g, _), s)| (g * s) * (g * s)).sum();
+            let support: f64 = pairs()
+                .filter(|((g, _), _)| **g != 0.0)
+                .map(|((_, f), s)| (f / s) * (f / s))
+                .sum();
+            (grad_sq.sqrt(), support)
+        }
+    };
+    grad_norm * support.sqrt() + event.guard_time_derivative.abs()
 }
 
 fn margin(denominator: f64, scale: f64) -> f64 {
@@ -139,6 +176,14 @@ pub enum SaltationError {
         expected: usize,
         /// The input's.
         found: usize,
+    },
+    /// A component of the state's scale is not finite and positive.
+    #[error("state_scale[{component}] = {value}: a scale must be finite and > 0")]
+    InvalidScale {
+        /// The component.
+        component: usize,
+        /// Its scale.
+        value: f64,
     },
     /// The threshold is not a number in $[0, 1]$.
     #[error(
@@ -207,15 +252,19 @@ where
         check("reset_time_derivative", r.nrows(), finite(r.as_slice()))?;
     }
 
+    if let Some(s) = event.state_scale {
+        check("state_scale", s.nrows(), true)?;
+        if let Some((component, &value)) = s
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+        {
+            return Err(SaltationError::InvalidScale { component, value });
+        }
+    }
     let (f_minus, grad) = (event.field_before, event.guard_gradient);
     let denominator = grad.dot(f_minus) + event.guard_time_derivative;
-    let support: f64 = grad
-        .iter()
-        .zip(f_minus.iter())
-        .filter(|(g, _)| **g != 0.0)
-        .map(|(_, f)| f * f)
-        .sum();
-    let scale = grad.norm() * support.sqrt() + event.guard_time_derivative.abs();
+    let scale = rate_scale(event);
     let m = margin(denominator, scale);
     if m < threshold || denominator == 0.0 {
         return Err(SaltationError::Grazing {
