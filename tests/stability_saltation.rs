@@ -298,4 +298,14 @@ fn invalid_inputs_are_typed_errors() {
     // Identity reset, no jump: S = I.
     let s = saltation(&event, GRAZING_MARGIN).unwrap();
     assert_eq!(s.matrix, DMatrix::identity(3, 3));
+    // A state scale must be positive in every component.
+    let bad = DVector::from_vec(vec![1.0, 0.0, 1.0]);
+    let scaled = EventLinearization {
+        state_scale: Some(&bad),
+        ..event
+    };
+    assert!(matches!(
+        saltation(&scaled, GRAZING_MARGIN),
+        Err(SaltationError::InvalidScale { component: 1, value }) if value == 0.0
+    ));
 }

@@ -104,6 +104,67 @@ where
     }
 }
 
+/// The checks of [`saltation`]'s inputs: the threshold, the dimensions, finite values and a
+/// positive scale.
+fn validate<D: Dim>(event: &EventLinearization<'_, D>, threshold: f64) -> Result<(), SaltationError>
+where
+    DefaultAllocator: Allocator<D> + Allocator<D, D>,
+{
+    if !(0.0..=1.0).contains(&threshold) {
+        return Err(SaltationError::InvalidThreshold { value: threshold });
+    }
+    let n = event.field_before.nrows();
+    let check = |field: &'static str, found: usize, finite: bool| {
+        if found != n {
+            Err(SaltationError::DimensionMismatch {
+                field,
+                expected: n,
+                found,
+            })
+        } else if !finite {
+            Err(SaltationError::NonFinite { field })
+        } else {
+            Ok(())
+        }
+    };
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    check("field_before", n, finite(event.field_before.as_slice()))?;
+    check(
+        "field_after",
+        event.field_after.nrows(),
+        finite(event.field_after.as_slice()),
+    )?;
+    check(
+        "guard_gradient",
+        event.guard_gradient.nrows(),
+        finite(event.guard_gradient.as_slice()),
+    )?;
+    if !event.guard_time_derivative.is_finite() {
+        return Err(SaltationError::NonFinite {
+            field: "guard_time_derivative",
+        });
+    }
+    if let Some(r) = event.reset_jacobian {
+        check("reset_jacobian", r.nrows(), finite(r.as_slice()))?;
+        check("reset_jacobian", r.ncols(), true)?;
+    }
+    if let Some(r) = event.reset_time_derivative {
+        check("reset_time_derivative", r.nrows(), finite(r.as_slice()))?;
+    }
+
+    if let Some(s) = event.state_scale {
+        check("state_scale", s.nrows(), true)?;
+        if let Some((component, &value)) = s
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+        {
+            return Err(SaltationError::InvalidScale { component, value });
+        }
+    }
+    Ok(())
+}
+
 /// The scale of the crossing rate, $|\nabla g|\thinspace|f^-|_{\nabla g} + |g_t|$ (module
 /// docs), in the coordinates scaled by the event's `state_scale` if it has one.
 fn rate_scale<D: Dim>(event: &EventLinearization<'_, D>) -> f64
@@ -210,58 +271,7 @@ pub fn saltation<D: Dim>(
 where
     DefaultAllocator: Allocator<D> + Allocator<D, D>,
 {
-    if !(0.0..=1.0).contains(&threshold) {
-        return Err(SaltationError::InvalidThreshold { value: threshold });
-    }
-    let n = event.field_before.nrows();
-    let check = |field: &'static str, found: usize, finite: bool| {
-        if found != n {
-            Err(SaltationError::DimensionMismatch {
-                field,
-                expected: n,
-                found,
-            })
-        } else if !finite {
-            Err(SaltationError::NonFinite { field })
-        } else {
-            Ok(())
-        }
-    };
-    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-    check("field_before", n, finite(event.field_before.as_slice()))?;
-    check(
-        "field_after",
-        event.field_after.nrows(),
-        finite(event.field_after.as_slice()),
-    )?;
-    check(
-        "guard_gradient",
-        event.guard_gradient.nrows(),
-        finite(event.guard_gradient.as_slice()),
-    )?;
-    if !event.guard_time_derivative.is_finite() {
-        return Err(SaltationError::NonFinite {
-            field: "guard_time_derivative",
-        });
-    }
-    if let Some(r) = event.reset_jacobian {
-        check("reset_jacobian", r.nrows(), finite(r.as_slice()))?;
-        check("reset_jacobian", r.ncols(), true)?;
-    }
-    if let Some(r) = event.reset_time_derivative {
-        check("reset_time_derivative", r.nrows(), finite(r.as_slice()))?;
-    }
-
-    if let Some(s) = event.state_scale {
-        check("state_scale", s.nrows(), true)?;
-        if let Some((component, &value)) = s
-            .iter()
-            .enumerate()
-            .find(|(_, v)| !(v.is_finite() && **v > 0.0))
-        {
-            return Err(SaltationError::InvalidScale { component, value });
-        }
-    }
+    validate(event, threshold)?;
     let (f_minus, grad) = (event.field_before, event.guard_gradient);
     let denominator = grad.dot(f_minus) + event.guard_time_derivative;
     let scale = rate_scale(event);
@@ -293,7 +303,7 @@ where
     };
     matrix.ger(inv, &jump, grad, 1.0);
     let time_gradient = grad * -inv;
-    if !finite(matrix.as_slice()) {
+    if !matrix.iter().all(|x| x.is_finite()) {
         return Err(SaltationError::NonFinite { field: "matrix" });
     }
     Ok(Saltation {
