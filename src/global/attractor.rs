@@ -422,13 +422,7 @@ where
             })?;
         let more = transient_done + config.transient <= config.max_transient;
         if periodicity.period().is_some() || !more || config.transient == 0 {
-            // A scale of 1 everywhere (the paper's model) is kept empty: its records are
-            // unchanged.
-            let scale = if scale.iter().all(|&s| s == 1.0) {
-                Vec::new()
-            } else {
-                scale.iter().copied().collect()
-            };
+            let scale = record_scale(scale.as_slice());
             return Ok(summarise(
                 obs,
                 periodicity,
@@ -439,6 +433,16 @@ where
         }
         // Slowly attracting or not periodic: go on from the last state.
         start = obs.strobe.last().cloned().unwrap_or(start);
+    }
+}
+
+/// [`Attractor::scale`] from the model's: empty for a scale of 1 everywhere (the paper's
+/// model), whose records are then unchanged.
+fn record_scale(scale: &[f64]) -> Vec<f64> {
+    if scale.iter().all(|&s| s == 1.0) {
+        Vec::new()
+    } else {
+        scale.to_vec()
     }
 }
 
