@@ -10,9 +10,9 @@
 //! analytic Jacobians); the SI side integrates its free flight and differences its field, so
 //! the two agree to the integration's and the differences' errors, not bitwise.
 //!
-//! TODO(issue 17, continuation helper): special points of the continuation (flip, fold,
-//! grazing: `locate_loss` or its successor) at the same parameter on both sides, once the
-//! continuation's tolerances are relative to the state's and the parameter's scales.
+//! Special points: the flip of Fig. 8b's period-1 orbit and the grazing of its period-2 orbit
+//! by `stability::locate_loss`, at the same parameter on both sides.
+//! TODO(issue 17): the pseudo-arclength continuation's special points (folds) on both sides.
 
 use jeffcott::analysis::{bifurcation, start_from, strobe_orbit, BifurcationConfig, PeriodTest};
 use jeffcott::global::{find_attractor, Attractor, AttractorConfig, MatchTolerance};
@@ -23,7 +23,8 @@ use jeffcott::params::{Params, Preset};
 use jeffcott::ring::{Kinematics, RingAxis, SnubberRing};
 use jeffcott::rotor::{RingedRotor, SmoothRotor};
 use jeffcott::stability::{
-    periodic_orbit, Multiplier, OrbitOptions, PeriodicOrbit, StroboscopicMap,
+    locate_loss, periodic_orbit, LossOptions, Multiplier, OrbitOptions, PeriodicOrbit, SpecialKind,
+    StroboscopicMap,
 };
 
 /// Rotor mass, kg.
@@ -342,5 +343,50 @@ fn a_bifurcation_slice_agrees() {
                 assert!(d < 1e-8, "eta {eta}: points differ by {d:e} gap");
             }
         }
+    }
+}
+
+#[test]
+fn special_points_agree() {
+    // The period-1 orbit of Fig. 8b flips near eta = 2.2; the period-2 orbit grazes the
+    // preload near 3.1028. eta is the family's parameter on both sides.
+    let base = Preset::Fig8b.params();
+    let opts = LossOptions::default();
+    for (from, to, period, kind) in [
+        (2.0, 2.3, 1, SpecialKind::Flip),
+        (3.0, 3.2, 2, SpecialKind::Grazing),
+    ] {
+        let start = settled(&JeffcottModel::new(base.with_eta(from)).unwrap(), 300);
+        let a = locate_loss(
+            |eta| JeffcottModel::new(base.with_eta(eta)),
+            from,
+            to,
+            &start,
+            period,
+            &opts,
+        )
+        .unwrap();
+        let b = locate_loss(
+            |eta| Ok::<_, String>(si_model(&base.with_eta(eta))),
+            from,
+            to,
+            &to_si(start.as_slice()),
+            period,
+            &opts,
+        )
+        .unwrap();
+        let (la, lb) = (a.loss.expect("a loss"), b.loss.expect("a loss"));
+        eprintln!(
+            "{kind:?}: eta* {:.10} / {:.10} ({:.1e} apart), brackets {:?} / {:?}",
+            la.parameter,
+            lb.parameter,
+            la.parameter - lb.parameter,
+            la.bracket,
+            lb.bracket
+        );
+        assert_eq!(la.kind, kind);
+        assert_eq!(lb.kind, kind);
+        // Both located to the bracket width (1e-8).
+        assert!((la.parameter - lb.parameter).abs() < 2.0 * opts.bracket_width);
     }
 }
