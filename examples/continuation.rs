@@ -262,9 +262,12 @@ fn main() {
         marks_all.extend(marks(b));
     }
     let fig = Figure::new(
-        &format!("Continuation in {param} from {from} towards {to}: stable solid, unstable dashed"),
-        &param,
-        "x at the section",
+        &format!(
+            "Continuation in {} from {from} towards {to}: stable solid, unstable dashed",
+            plot::symbol(&param)
+        ),
+        plot::symbol(&param),
+        "x at the section (rotor, units of the gap γ)",
     )
     .with_columns(&param, "x")
     .with_size(1500, 950);
@@ -333,8 +336,13 @@ fn run_coexistence(out: &Path, config: &ContinuationConfig) {
             record: 60,
             ..BifurcationConfig::default()
         };
-        let diagram =
-            or_exit(ParamSweep::new(base, SweepParameter::Eta).bifurcation(&etas, &bconf, None));
+        let progress =
+            jeffcott::analysis::StderrProgress::new(format!("{name}: diagram from rest"));
+        let diagram = or_exit(ParamSweep::new(base, SweepParameter::Eta).bifurcation(
+            &etas,
+            &bconf,
+            Some(&progress),
+        ));
         let background = diagram.points(0);
         // Branches from every distinct periodic attractor at the seed etas, both ways.
         let mut branches: Vec<Branch> = Vec::new();
@@ -344,6 +352,7 @@ fn run_coexistence(out: &Path, config: &ContinuationConfig) {
             ..*config
         };
         for &eta in &seed_etas {
+            eprintln!("{name}: periodic attractors at eta = {eta}...");
             for (period, y) in seeds(&base, eta) {
                 if known(&branches, period, eta, &y) {
                     continue;
@@ -420,8 +429,8 @@ fn run_coexistence(out: &Path, config: &ContinuationConfig) {
                 &name[4..],
                 base.dx
             ),
-            "η",
-            "x_r at the section",
+            "η = Ω/ωₙ",
+            "x at the section (rotor, units of the gap γ)",
         )
         .with_columns("eta", "x")
         .with_size(1800, 1000)
