@@ -9,7 +9,8 @@
 #
 # The runs write into target/figures/regenerate (removed first, so that the resumable sweeps of
 # basins and param_map start over; REUSE=1 keeps it, and an interrupted sweep resumes). NICE=0
-# runs without `nice`. Run from anywhere inside the repository.
+# runs without `nice`; BUILD=0 uses the example binaries already built. Run from anywhere inside
+# the repository.
 set -euo pipefail
 
 cd "$(git rev-parse --show-toplevel)"
@@ -28,7 +29,7 @@ for g in "${groups[@]}"; do
     [[ " ${all[*]} " == *" $g "* ]] || { echo "unknown group: $g (one of: ${all[*]})" >&2; exit 2; }
 done
 
-"${nice_cmd[@]}" cargo build --release --examples
+[[ "${BUILD:-1}" == 0 ]] || "${nice_cmd[@]}" cargo build --release --examples
 
 # `run NAME ARGS...`: runs an example, timed, its output in $out/NAME.log.
 run() {
