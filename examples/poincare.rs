@@ -158,7 +158,7 @@ impl Run<'_> {
         let (transient, record, tol) = (self.transient, self.record, self.test.tol);
         let started = std::time::Instant::now();
         let map = common::or_exit(poincare_map(
-            &params,
+            params,
             RotorStart::at_rest(),
             transient as u64,
             record as u64,

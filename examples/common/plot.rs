@@ -616,26 +616,47 @@ fn occupy<DB: DrawingBackend>(
     }
 }
 
-/// The vertical reference marks, each labelled at the top, right of its line, or left of it
-/// where the label would leave the plot, a row lower where it would cover another label.
-fn draw_marks<DB: DrawingBackend>(
+/// The marks of `fig` inside the x range, in plot coordinates, with their labels.
+fn marks_in_range<'f, DB: DrawingBackend>(
+    chart: &Chart<'_, DB>,
+    fig: &'f Figure,
+) -> Vec<(f64, &'f str)> {
+    let xr = chart.x_range();
+    fig.marks
+        .iter()
+        .map(|(x, label)| (fig.tx(*x), label.as_str()))
+        .filter(|(x, _)| x.is_finite() && xr.contains(x))
+        .collect()
+}
+
+const MARK_COLOUR: RGBColor = RGBColor(200, 30, 30);
+
+/// The vertical reference lines of the marks (drawn before the data, which goes over them).
+fn draw_mark_lines<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    fig: &Figure,
+) -> Result<(), String> {
+    let yr = chart.y_range();
+    for (x, _) in marks_in_range(chart, fig) {
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(x, yr.start), (x, yr.end)],
+                MARK_COLOUR.mix(0.6).stroke_width(1),
+            )))
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// The marks' labels (drawn after the data): near the top of each line, right of it or left,
+/// in the first of six rows where it covers no other label and the least data.
+fn draw_mark_labels<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     fig: &Figure,
     occ: &mut Occupancy,
 ) -> Result<(), String> {
-    let mark_colour = RGBColor(200, 30, 30);
-    let (xr, yr) = (chart.x_range(), chart.y_range());
-    for (x, label) in &fig.marks {
-        let x = fig.tx(*x);
-        if !(x.is_finite() && xr.contains(&x)) {
-            continue;
-        }
-        chart
-            .draw_series(std::iter::once(PathElement::new(
-                vec![(x, yr.start), (x, yr.end)],
-                mark_colour.mix(0.6).stroke_width(1),
-            )))
-            .map_err(|e| e.to_string())?;
+    let yr = chart.y_range();
+    for (x, label) in marks_in_range(chart, fig) {
         let (w, h) = text_size(chart, label, 16);
         let (w, h) = (w as i32, h as i32);
         let top = chart.backend_coord(&(x, yr.end));
@@ -653,9 +674,9 @@ fn draw_marks<DB: DrawingBackend>(
             .draw_series(std::iter::once(
                 EmptyElement::at((x, yr.end))
                     + Text::new(
-                        label.clone(),
+                        label.to_string(),
                         (r.0 - top.0, r.1 - top.1),
-                        ("sans-serif", 16).into_font().color(&mark_colour),
+                        ("sans-serif", 16).into_font().color(&MARK_COLOUR),
                     ),
             ))
             .map_err(|e| e.to_string())?;
@@ -776,7 +797,7 @@ fn draw_points_chart<DB: DrawingBackend>(
     let area = fit_title(&root.margin(6, 0, 0, 0), &fig.title)?;
     let mut chart = axes(&area, fig, xr, yr)?;
     let mut occ = occupancy(&chart);
-    draw_marks(&mut chart, fig, &mut occ)?;
+    draw_mark_lines(&mut chart, fig)?;
     occupy(&mut occ, &chart, &all, false);
     let side = match fig.dot {
         0 if all.len() < 20_000 => 3,
@@ -799,6 +820,7 @@ fn draw_points_chart<DB: DrawingBackend>(
                 });
         }
     }
+    draw_mark_labels(&mut chart, fig, &mut occ)?;
     if labels.iter().any(|l| !l.is_empty()) {
         draw_legend(&mut chart, fig, labels, &mut occ)?;
     }
@@ -931,7 +953,7 @@ fn draw_lines_chart<DB: DrawingBackend>(
     let area = fit_title(&root.margin(6, 0, 0, 0), &fig.title)?;
     let mut chart = axes(&area, fig, xr.clone(), yr.clone())?;
     let mut occ = occupancy(&chart);
-    draw_marks(&mut chart, fig, &mut occ)?;
+    draw_mark_lines(&mut chart, fig)?;
     for (i, (s, pts)) in series.iter().zip(&mapped).enumerate() {
         let colour = series_colour(i);
         let style = colour.stroke_width(2);
@@ -960,6 +982,7 @@ fn draw_lines_chart<DB: DrawingBackend>(
             }
         }
     }
+    draw_mark_labels(&mut chart, fig, &mut occ)?;
     if series.iter().any(|s| !s.label.is_empty()) {
         let labels: Vec<&str> = series.iter().map(|s| s.label.as_str()).collect();
         draw_legend(&mut chart, fig, &labels, &mut occ)?;
@@ -1016,7 +1039,8 @@ fn draw_heatmap_chart<DB: DrawingBackend>(
     );
     let mut chart = axes(&main, fig, xr, yr)?;
     let mut occ = occupancy(&chart);
-    draw_marks(&mut chart, fig, &mut occ)?;
+    draw_mark_lines(&mut chart, fig)?;
+    draw_mark_labels(&mut chart, fig, &mut occ)?;
     let nx = grid.xs.len();
     let colour = |v: f64| {
         if v.is_finite() {
@@ -1183,7 +1207,8 @@ fn draw_category_chart<DB: DrawingBackend>(
     );
     let mut chart = axes(&main, fig, xr, yr)?;
     let mut occ = occupancy(&chart);
-    draw_marks(&mut chart, fig, &mut occ)?;
+    draw_mark_lines(&mut chart, fig)?;
+    draw_mark_labels(&mut chart, fig, &mut occ)?;
     let nx = grid.xs.len();
     let none = RGBColor(225, 225, 225);
     let colour = |c: Option<usize>| c.and_then(|k| legend.get(k)).map_or(none, |l| l.colour);
@@ -1391,7 +1416,7 @@ fn draw_branches_chart<DB: DrawingBackend>(
     let area = fit_title(&root.margin(6, 0, 0, 0), &fig.title)?;
     let mut chart = axes(&area, fig, xr, yr)?;
     let mut occ = occupancy(&chart);
-    draw_marks(&mut chart, fig, &mut occ)?;
+    draw_mark_lines(&mut chart, fig)?;
     draw_dots(&mut chart, background, RGBColor(90, 90, 90), 2, 0.7)?;
     occupy(&mut occ, &chart, background, false);
     for c in curves {
@@ -1420,6 +1445,7 @@ fn draw_branches_chart<DB: DrawingBackend>(
         }
     }
     draw_point_labels(&mut chart, points, &mut occ)?;
+    draw_mark_labels(&mut chart, fig, &mut occ)?;
     if curves.iter().any(|c| !c.label.is_empty()) {
         let labels: Vec<&str> = curves.iter().map(|c| c.label.as_str()).collect();
         draw_legend(&mut chart, fig, &labels, &mut occ)?;
@@ -1436,8 +1462,10 @@ fn draw_point_labels<DB: DrawingBackend>(
     occ: &mut Occupancy,
 ) -> Result<(), String> {
     let mut kept: Vec<((i32, i32), &str)> = Vec::new();
+    let (xr, yr) = (chart.x_range(), chart.y_range());
     for (x, y, label) in points {
-        if !(x.is_finite() && y.is_finite()) {
+        // Points beyond the axes (a branch continued past the range) are not drawn.
+        if !(xr.contains(x) && yr.contains(y)) {
             continue;
         }
         let at = chart.backend_coord(&(*x, *y));
