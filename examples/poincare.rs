@@ -46,7 +46,7 @@ fn padded_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (mid - half, mid + half)
 }
 
-/// Poincaré maps (x_r, x_r') of the paper's Fig. 9a-d.
+/// Poincaré maps (x, x′) of the rotor: the paper's Fig. 9a-d (9a, 9b also with their η swapped).
 #[derive(Parser)]
 #[command(name = "poincare")]
 struct Flags {
