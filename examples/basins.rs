@@ -282,7 +282,7 @@ fn main() {
                 e.count
             );
             let short = match (e.attractor.period(), e.attractor.canonical()) {
-                (Some(p), Some(z)) => format!("P{p}, x = {:.4}, x' = {:.4}", z[0], z[2]),
+                (Some(p), Some(z)) => format!("P{p}, x = {:.4}, x′ = {:.4}", z[0], z[2]),
                 _ => format!(
                     "not periodic, {:.2} contacts/T",
                     e.attractor.stats.contacts_per_period
@@ -320,8 +320,8 @@ fn main() {
                 "Basins, {name} values: η = {}, D = {}, e = ({}, {}), ν₁ = {}; {transient}+{record} periods (up to {max_transient})",
                 params.eta, params.dx, params.ex, params.ey, params.nu1
             ),
-            hn,
-            vn,
+            plot::symbol(hn),
+            plot::symbol(vn),
         )
         .with_columns(hn, vn)
         .with_size(1500, 1000)

@@ -280,11 +280,11 @@ fn main() {
         let pts = result.points(0);
         let mut fig = Figure::new(
             &format!(
-                "Fig. 8{d}: x_r(2πk/η), D = {}, ν₁ = {}, ν₂ = {}, K = {}, β = {}, e_x = {}, φ₀ = {}; {transient}+{record} periods, {mode_text}",
+                "Fig. 8{d}: x(2πk/η), D = {}, ν₁ = {}, ν₂ = {}, K = {}, β = {}, eₓ = {}, φ₀ = {}; {transient}+{record} periods, {mode_text}",
                 base.dx, base.nu1, base.nu2, base.kx, base.beta, base.ex, base.phi0
             ),
             "η = Ω/ωₙ",
-            "x_r",
+            "x (rotor, units of the gap γ)",
         )
         .with_columns("eta", "x")
         .with_size(1600, 1000)

@@ -261,9 +261,12 @@ fn main() {
         marks_all.extend(marks(b));
     }
     let fig = Figure::new(
-        &format!("Continuation in {param} from {from} towards {to}: stable solid, unstable dashed"),
-        &param,
-        "x at the section",
+        &format!(
+            "Continuation in {} from {from} towards {to}: stable solid, unstable dashed",
+            plot::symbol(&param)
+        ),
+        plot::symbol(&param),
+        "x at the section (rotor, units of the gap γ)",
     )
     .with_columns(&param, "x")
     .with_size(1500, 950);
@@ -332,14 +335,20 @@ fn run_coexistence(out: &Path, config: &ContinuationOptions) {
             record: 60,
             ..BifurcationConfig::default()
         };
-        let diagram =
-            or_exit(ParamSweep::new(base, SweepParameter::Eta).bifurcation(&etas, &bconf, None));
+        let progress =
+            jeffcott::analysis::StderrProgress::new(format!("{name}: diagram from rest"));
+        let diagram = or_exit(ParamSweep::new(base, SweepParameter::Eta).bifurcation(
+            &etas,
+            &bconf,
+            Some(&progress),
+        ));
         let background = diagram.points(0);
         // Branches from every distinct periodic attractor at the seed etas, both ways.
         let mut branches: Vec<Branch> = Vec::new();
         let build = |eta: f64| JeffcottModel::new(base.with_eta(eta));
         let cfg = config.max_points(600);
         for &eta in &seed_etas {
+            eprintln!("{name}: periodic attractors at eta = {eta}...");
             for (period, y) in seeds(&base, eta) {
                 if known(&branches, period, eta, &y) {
                     continue;
@@ -416,8 +425,8 @@ fn run_coexistence(out: &Path, config: &ContinuationOptions) {
                 &name[4..],
                 base.dx
             ),
-            "η",
-            "x_r at the section",
+            "η = Ω/ωₙ",
+            "x at the section (rotor, units of the gap γ)",
         )
         .with_columns("eta", "x")
         .with_size(1800, 1000)

@@ -107,8 +107,8 @@ where
     chart
         .configure_mesh()
         .disable_mesh()
-        .x_desc("x_r")
-        .y_desc("y_r")
+        .x_desc("x (rotor, units of the gap γ)")
+        .y_desc("y (rotor, units of the gap γ)")
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 14))
         .draw()?;

@@ -272,7 +272,7 @@ fn main() {
             Vec::new()
         };
         let fig = |what: &str| {
-            let mut f = Figure::new(&title(what), "η", y_label)
+            let mut f = Figure::new(&title(what), "η = Ω/ωₙ", y_label)
                 .with_columns("eta", param.symbol())
                 .with_size(1600, 900);
             for (label, pts) in &curves {

@@ -1,11 +1,18 @@
-//! The paper's Fig. 9: stroboscopic Poincaré maps (x_r, x_r') at τ = 2πk/η.
+//! The paper's Fig. 9: stroboscopic Poincaré maps (x, x′) of the rotor at τ = 2πk/η.
 //!
 //! (a) η = 2.223, D = 0; (b) η = 2.181, D = 0.1; (c) η = 2.442, D = 0; (d) η = 2.442, D = 0.1
 //! (presets `fig9a` .. `fig9d`; the other values are those of Fig. 8). From rest, a transient
 //! is discarded, then many points are recorded and their period detected (shown in the title).
 //!
-//! `cargo run --release --example poincare` writes `fig9a.png` .. `fig9d.png` and the CSV
-//! behind them into `target/figures/poincare`. Run with `--help` for the flags.
+//! The captions of (a) and (b) appear to have their η swapped (`docs/reproduction.md`): with the
+//! captions' values both maps are period 1 (a single point), with the values swapped they show
+//! what the paper's text describes (period 3 for D = 0, a closed curve for D = 0.1). So (a) and
+//! (b) are drawn both ways: `fig9a.png` (the caption's η = 2.223) and `fig9a_eta2.181.png`,
+//! `fig9b.png` (2.181) and `fig9b_eta2.223.png`, each with a note saying which it is.
+//!
+//! `cargo run --release --example poincare` writes these six pictures and the CSV behind them
+//! into `target/figures/poincare`; `--eta` draws one panel at another η instead
+//! (`fig9<panel>_eta<η>.png`). Run with `--help` for the flags.
 
 #[path = "common/mod.rs"]
 mod common;
@@ -39,7 +46,7 @@ fn padded_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (mid - half, mid + half)
 }
 
-/// Poincaré maps (x_r, x_r') of the paper's Fig. 9a-d.
+/// Poincaré maps (x, x′) of the rotor: the paper's Fig. 9a-d (9a, 9b also with their η swapped).
 #[derive(Parser)]
 #[command(name = "poincare")]
 struct Flags {
@@ -55,7 +62,8 @@ struct Flags {
     /// Periods recorded [range: 2..=100000000]
     #[arg(long, value_name = "COUNT", default_value = "3000", value_parser = usize_in(2, 100_000_000))]
     record: usize,
-    /// Override the panel's eta (default: the paper's) [range: 0.01..=100]
+    /// Draw the panel at this η only (default: the caption's, and for a and b the swapped
+    /// one too) [range: 0.01..=100]
     #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.01, 100.0))]
     eta: Option<f64>,
     #[command(flatten)]
@@ -96,18 +104,66 @@ fn main() {
         ..SimOptions::default()
     };
     let test = PeriodTest { max_period, tol };
+    let run = Run {
+        out: &out,
+        transient,
+        record,
+        opts: &opts,
+        test: &test,
+    };
     for (name, preset) in panels {
-        let mut params = preset.params();
-        if let Some(eta) = eta {
-            params.eta = eta;
+        let params = preset.params();
+        // The η of the other panel of the swapped pair (a <-> b).
+        let swapped = match name {
+            "a" => Some(Preset::Fig9b.params().eta),
+            "b" => Some(Preset::Fig9a.params().eta),
+            _ => None,
+        };
+        match (eta, swapped) {
+            (Some(eta), _) => run.panel(name, &params.with_eta(eta), Version::Other),
+            (None, Some(other)) => {
+                run.panel(name, &params, Version::Caption);
+                run.panel(name, &params.with_eta(other), Version::Swapped);
+            }
+            (None, None) => run.panel(name, &params, Version::Plain),
         }
+    }
+}
+
+/// Which η a panel is drawn at.
+#[derive(Clone, Copy, PartialEq)]
+enum Version {
+    /// Panels c and d: the caption's η.
+    Plain,
+    /// Panels a and b at the caption's η (which looks swapped).
+    Caption,
+    /// Panels a and b at the other panel's η.
+    Swapped,
+    /// At the η of `--eta`.
+    Other,
+}
+
+/// The settings shared by the panels.
+struct Run<'a> {
+    out: &'a std::path::Path,
+    transient: usize,
+    record: usize,
+    opts: &'a SimOptions,
+    test: &'a PeriodTest,
+}
+
+impl Run<'_> {
+    /// Computes and draws one panel, and prints a line about it.
+    fn panel(&self, name: &str, params: &jeffcott::params::Params, version: Version) {
+        let (transient, record, tol) = (self.transient, self.record, self.test.tol);
+        let started = std::time::Instant::now();
         let map = common::or_exit(poincare_map(
-            &params,
+            params,
             RotorStart::at_rest(),
             transient as u64,
             record as u64,
-            &opts,
-            &test,
+            self.opts,
+            self.test,
         ));
         let (orbit, per_text) = (map.orbit, map.periodicity.to_string());
         let pts = orbit.pairs(0, 2);
@@ -115,31 +171,70 @@ fn main() {
             padded_range(pts.iter().map(|p| p.0)),
             padded_range(pts.iter().map(|p| p.1)),
         );
-        let fig = Figure::new(
+        let (note, file) = match version {
+            Version::Plain => (None, format!("fig9{name}.png")),
+            Version::Caption => (
+                Some(format!(
+                    "At the caption's η = {}. The paper's text describes this panel\n\
+                     at the other panel's η = {}: the captions of 9a and 9b look\n\
+                     swapped (docs/reproduction.md); drawn so in fig9{name}_eta{}.png",
+                    params.eta,
+                    if name == "a" { "2.181" } else { "2.223" },
+                    if name == "a" { "2.181" } else { "2.223" }
+                )),
+                format!("fig9{name}.png"),
+            ),
+            Version::Swapped => (
+                Some(format!(
+                    "Drawn at the other panel's η = {}, not the caption's:\n\
+                     the captions of 9a and 9b look swapped (docs/reproduction.md)",
+                    params.eta
+                )),
+                format!("fig9{name}_eta{}.png", params.eta),
+            ),
+            Version::Other => (None, format!("fig9{name}_eta{}.png", params.eta)),
+        };
+        let mut note = note.unwrap_or_default();
+        if per_text == "period 1" {
+            let n = pts.len();
+            note = format!("{note}\nAll {n} points fall on this one dot (period 1).")
+                .trim_start()
+                .to_string();
+        }
+        let mut fig = Figure::new(
             &format!(
-                "Fig. 9{name}: (x_r, x_r′) at τ = 2πk/η, η = {}, D = {}, φ₀ = {}; k = {}..{} from rest: {per_text}",
+                "Fig. 9{name}{}: (x, x′) at τ = 2πk/η, η = {}, D = {}, φ₀ = {}; k = {}..{} from rest: {per_text}",
+                match version {
+                    Version::Caption => " as captioned",
+                    Version::Swapped => " with the other panel's η",
+                    _ => "",
+                },
                 params.eta,
                 params.dx,
                 params.phi0,
                 transient + 1,
                 transient + record
             ),
-            "x_r",
-            "x_r′ = dx_r/dτ",
+            "x (rotor, units of the gap γ)",
+            "x′ = dx/dτ",
         )
         .with_columns("x", "vx")
         .with_size(1200, 1000)
         .with_x_range(xr.0, xr.1)
         .with_y_range(vr.0, vr.1);
-        let path = out.join(format!("fig9{name}.png"));
+        if !note.is_empty() {
+            fig = fig.with_note(&note);
+        }
+        let path = self.out.join(file);
         common::or_exit(plot::scatter(&path, &fig, &[Series::new("", pts)]));
         println!(
-            "fig9{name}: eta = {}, D = {}: {per_text} (tol {tol}; {} points, {} steps, {} transitions); wrote {}",
+            "fig9{name}: eta = {}, D = {}: {per_text} (tol {tol}; {} points, {} steps, {} transitions, {:.1} s); wrote {}",
             params.eta,
             params.dx,
             orbit.points.len(),
             orbit.stats.steps,
             orbit.stats.transitions,
+            started.elapsed().as_secs_f64(),
             path.display()
         );
     }

@@ -99,8 +99,8 @@ fn main() {
         );
         let fig = Figure::new(
             &format!("Fig. 10{name}: ring phase portrait, {params_text}"),
-            "x_s",
-            "x_s′ = dx_s/dτ",
+            "xₛ (ring, units of the gap γ)",
+            "xₛ′ = dxₛ/dτ",
         )
         .with_columns("xs", "vxs")
         .with_size(1200, 1000);
@@ -108,8 +108,8 @@ fn main() {
         common::or_exit(plot::lines(&path, &fig, &[Series::new("", ring)]));
         let fig = Figure::new(
             &format!("Fig. 10{name} (y axis): ring phase portrait, {params_text}"),
-            "y_s",
-            "y_s′ = dy_s/dτ",
+            "yₛ (ring, units of the gap γ)",
+            "yₛ′ = dyₛ/dτ",
         )
         .with_columns("ys", "vys")
         .with_size(1200, 1000);
@@ -121,8 +121,8 @@ fn main() {
         let rotor: Vec<(f64, f64)> = pp.samples.iter().map(|s| (s.y[0], s.y[2])).collect();
         let fig = Figure::new(
             &format!("Fig. 10{name} rotor: phase portrait, {params_text}"),
-            "x_r",
-            "x_r′ = dx_r/dτ",
+            "x (rotor, units of the gap γ)",
+            "x′ = dx/dτ",
         )
         .with_columns("x", "vx")
         .with_size(1200, 1000);

@@ -379,13 +379,14 @@ fn pictures(
     // 1. max |multiplier| of the period-1 orbit against eta, up to its loss of stability.
     let mut series = Vec::new();
     let mut fig = Figure::new(
-        "Period-1 orbit: largest multiplier modulus",
-        "eta",
-        "max |multiplier|",
+        "Period-1 orbit from η = 2: largest multiplier modulus up to its loss of stability",
+        "η = Ω/ωₙ",
+        "max |λ| (Floquet multipliers)",
     )
     .with_columns("eta", "max_modulus")
     .with_markers();
     for (d, label) in &presets {
+        eprintln!("{label}: continuing the period-1 orbit from η = 2...");
         let base = scene.params.with_preload(*d);
         let at = |eta: f64| JeffcottModel::new(Params { eta, ..base });
         let model = or_exit(at(2.0));
@@ -410,7 +411,10 @@ fn pictures(
             .collect();
         if let Some(loss) = &c.loss {
             points.push((loss.parameter, 1.0));
-            fig = fig.with_mark(loss.parameter, &format!("{:.6}", loss.parameter));
+            fig = fig.with_mark(
+                loss.parameter,
+                &format!("{label}: η = {:.6}", loss.parameter),
+            );
             eprintln!(
                 "{label}: period 1 loses stability at eta = {:.9} ({})",
                 loss.parameter,
@@ -460,7 +464,9 @@ fn pictures(
                 })
                 .map_err(|e| e.to_string())
         };
-        let result = or_exit(sweep(&etas, &SweepConfig::reset(), runner, None));
+        let progress =
+            jeffcott::analysis::StderrProgress::new(format!("Lyapunov exponents, {label}"));
+        let result = or_exit(sweep(&etas, &SweepConfig::reset(), runner, Some(&progress)));
         let mut lambda = Vec::new();
         let mut diagram = Vec::new();
         for (eta, r) in etas.iter().zip(&result.results) {
@@ -474,14 +480,18 @@ fn pictures(
         }
         let top = Figure::new(
             &format!("Largest Lyapunov exponent per forcing period, {label}"),
-            "eta",
-            "lambda_1",
+            "η = Ω/ωₙ",
+            "λ₁ (per period)",
         )
         .with_columns("eta", "lambda1")
         .with_size(1200, 400);
-        let bottom = Figure::new(&format!("Bifurcation diagram, {label}"), "eta", "x")
-            .with_columns("eta", "x")
-            .with_size(1200, 600);
+        let bottom = Figure::new(
+            &format!("Bifurcation diagram, {label}"),
+            "η = Ω/ωₙ",
+            "x (rotor, units of the gap γ)",
+        )
+        .with_columns("eta", "x")
+        .with_size(1200, 600);
         let name = if d == 0.0 {
             "lyapunov_fig8a.png"
         } else {

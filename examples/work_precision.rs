@@ -7,9 +7,9 @@
 //! the Fig. 8 scenes, by the committed independent references in `tests/data` (SciPy DOP853 at
 //! rtol 1e-13); the confirmation numbers are printed and written to `reference.csv`.
 //!
-//! Scenes: `fig8a` (the paper's Fig. 8 values at eta = 2.0, a period-1 orbit with contact),
+//! Scenes: `fig8a` (the paper's Fig. 8 values at η = 2.0, a period-1 orbit with contact),
 //! `fig8b` (the same with preload 0.1), `stiff` (Fig. 8a values with K = 1000), `chaos`
-//! (eta = 2.442, chaotic, over 10 periods only so that the reference is reproducible).
+//! (η = 2.442, chaotic, over 10 periods only so that the reference is reproducible).
 //!
 //! Work is the wall time (minimum over `--repeat` runs) and the number of right-hand-side
 //! evaluations (integrated contact phases; the exact free flight is not counted there but in
@@ -53,28 +53,28 @@ fn scenes() -> Vec<Scene> {
     vec![
         Scene {
             name: "fig8a",
-            title: "periodic orbit, Fig. 8 values, eta = 2.0, D = 0, 50 periods",
+            title: "periodic orbit, Fig. 8 values, η = 2.0, D = 0, 50 periods",
             params: fig8,
             periods: 50,
             data: Some("fig8a_eta2.0.csv"),
         },
         Scene {
             name: "fig8b",
-            title: "periodic orbit, Fig. 8 values, eta = 2.0, D = 0.1, 50 periods",
+            title: "periodic orbit, Fig. 8 values, η = 2.0, D = 0.1, 50 periods",
             params: fig8.with_preload(0.1),
             periods: 50,
             data: Some("fig8b_eta2.0.csv"),
         },
         Scene {
             name: "stiff",
-            title: "stiff ring K = 1000, Fig. 8 values, eta = 2.0, 50 periods",
+            title: "stiff ring K = 1000, Fig. 8 values, η = 2.0, 50 periods",
             params: fig8.with_stiffness(1000.0),
             periods: 50,
             data: None,
         },
         Scene {
             name: "chaos",
-            title: "chaotic scene, Fig. 8 values, eta = 2.442, D = 0, 10 periods",
+            title: "chaotic scene, Fig. 8 values, η = 2.442, D = 0, 10 periods",
             params: fig8.with_eta(2.442),
             periods: 10,
             data: None,

@@ -12,6 +12,7 @@
 
 pub mod cli;
 pub mod csv;
+pub mod layout;
 pub mod plot;
 pub mod ranks;
 

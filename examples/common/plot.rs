@@ -23,6 +23,7 @@ use plotters::prelude::*;
 use plotters::style::FontStyle;
 
 use super::csv::CsvWriter;
+use super::layout::{around, fit_title, Occupancy, Rect};
 
 /// Something went wrong while drawing or writing a figure.
 #[derive(Debug, Clone)]
@@ -99,8 +100,12 @@ pub struct Figure {
     /// Break a line where one step is longer than this fraction of the plot's diagonal
     /// (in axis-normalised units); `None` (default) never breaks except at NaN points.
     pub max_jump: Option<f64>,
-    /// Where the legend goes (default upper right). The legend lists the non-empty labels.
-    pub legend: LegendPosition,
+    /// Where the legend goes; `None` (default): the corner where it covers the least data. The
+    /// legend lists the non-empty labels.
+    pub legend: Option<LegendPosition>,
+    /// A note drawn in a box inside the plot, in the corner where it covers the least data
+    /// (lines separated by `\n`); e.g. why a panel looks empty.
+    pub note: Option<String>,
     /// Vertical reference lines: `(x, label)`, drawn thin and red (e.g. reported bifurcations).
     pub marks: Vec<(f64, String)>,
     /// Marked points: `(x, y, label)`, drawn as a white-ringed black cross with the label
@@ -129,7 +134,8 @@ impl Figure {
             dot_alpha: 0.8,
             markers: false,
             max_jump: None,
-            legend: LegendPosition::UpperRight,
+            legend: None,
+            note: None,
             marks: Vec::new(),
             pins: Vec::new(),
             overlays: Vec::new(),
@@ -180,7 +186,12 @@ impl Figure {
     }
     /// Places the legend.
     pub fn with_legend(mut self, position: LegendPosition) -> Self {
-        self.legend = position;
+        self.legend = Some(position);
+        self
+    }
+    /// Adds a note in a box inside the plot (lines separated by `\n`).
+    pub fn with_note(mut self, note: &str) -> Self {
+        self.note = Some(note.to_string());
         self
     }
     /// Adds a labelled curve over a category map.
@@ -516,13 +527,12 @@ impl ValueFormatter<f64> for Axis {
 
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
 
-/// Builds the axes, mesh, labels and reference marks.
+/// Builds the axes, mesh and axis labels (the title is [`fit_title`]'s).
 fn axes<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
     fig: &Figure,
     xr: Range<f64>,
     yr: Range<f64>,
-    title: bool,
 ) -> Result<Chart<'a, DB>, String> {
     let mut builder = ChartBuilder::on(area);
     builder
@@ -530,9 +540,6 @@ fn axes<'a, DB: DrawingBackend>(
         .margin_right(28)
         .x_label_area_size(62)
         .y_label_area_size(88);
-    if title {
-        builder.caption(&fig.title, ("sans-serif", 28));
-    }
     let x_axis = Axis {
         lo: xr.start,
         hi: xr.end,
@@ -574,30 +581,152 @@ fn axes<'a, DB: DrawingBackend>(
         .light_line_style(RGBColor(238, 238, 238))
         .draw()
         .map_err(|e| e.to_string())?;
-    let mark_colour = RGBColor(200, 30, 30);
-    for (x, label) in &fig.marks {
-        let x = fig.tx(*x);
-        if !(x.is_finite() && xr.contains(&x)) {
-            continue;
+    Ok(chart)
+}
+
+/// The occupancy grid of a chart's plot area (see [`Occupancy`]).
+fn occupancy<DB: DrawingBackend>(chart: &Chart<'_, DB>) -> Occupancy {
+    Occupancy::new(chart.plotting_area().get_pixel_range())
+}
+
+/// Size of `text` in `font` (pixels), or an estimate if the backend cannot tell.
+fn text_size<DB: DrawingBackend>(chart: &Chart<'_, DB>, text: &str, size: u32) -> (u32, u32) {
+    let style: TextStyle = ("sans-serif", size).into();
+    chart
+        .plotting_area()
+        .estimate_text_size(text, &style)
+        .unwrap_or((text.chars().count() as u32 * size / 2, size))
+}
+
+/// Records a series' points (`line`: and the segments between them) on the grid.
+fn occupy<DB: DrawingBackend>(
+    occ: &mut Occupancy,
+    chart: &Chart<'_, DB>,
+    pts: &[(f64, f64)],
+    line: bool,
+) {
+    let mut prev: Option<(i32, i32)> = None;
+    for p in pts {
+        let q = chart.backend_coord(p);
+        match prev {
+            Some(a) if line => occ.segment(a, q),
+            _ => occ.point(q),
         }
+        prev = Some(q);
+    }
+}
+
+/// The marks of `fig` inside the x range, in plot coordinates, with their labels.
+fn marks_in_range<'f, DB: DrawingBackend>(
+    chart: &Chart<'_, DB>,
+    fig: &'f Figure,
+) -> Vec<(f64, &'f str)> {
+    let xr = chart.x_range();
+    fig.marks
+        .iter()
+        .map(|(x, label)| (fig.tx(*x), label.as_str()))
+        .filter(|(x, _)| x.is_finite() && xr.contains(x))
+        .collect()
+}
+
+const MARK_COLOUR: RGBColor = RGBColor(200, 30, 30);
+
+/// The vertical reference lines of the marks (drawn before the data, which goes over them).
+fn draw_mark_lines<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    fig: &Figure,
+) -> Result<(), String> {
+    let yr = chart.y_range();
+    for (x, _) in marks_in_range(chart, fig) {
         chart
             .draw_series(std::iter::once(PathElement::new(
                 vec![(x, yr.start), (x, yr.end)],
-                mark_colour.mix(0.6).stroke_width(1),
+                MARK_COLOUR.mix(0.6).stroke_width(1),
             )))
             .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// The marks' labels (drawn after the data): near the top of each line, right of it or left,
+/// in the first of six rows where it covers no other label and the least data.
+fn draw_mark_labels<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    fig: &Figure,
+    occ: &mut Occupancy,
+) -> Result<(), String> {
+    let yr = chart.y_range();
+    for (x, label) in marks_in_range(chart, fig) {
+        let (w, h) = text_size(chart, label, 16);
+        let (w, h) = (w as i32, h as i32);
+        let top = chart.backend_coord(&(x, yr.end));
+        let candidates: Vec<Rect> = (0..6)
+            .flat_map(|row| {
+                let y = top.1 + 4 + row * (h + 4);
+                [
+                    (top.0 + 4, y, top.0 + 4 + w, y + h),
+                    (top.0 - 4 - w, y, top.0 - 4, y + h),
+                ]
+            })
+            .collect();
+        let r = candidates[occ.place(&candidates)];
         chart
             .draw_series(std::iter::once(
                 EmptyElement::at((x, yr.end))
                     + Text::new(
-                        label.clone(),
-                        (4, 4),
-                        ("sans-serif", 16).into_font().color(&mark_colour),
+                        label.to_string(),
+                        (r.0 - top.0, r.1 - top.1),
+                        ("sans-serif", 16).into_font().color(&MARK_COLOUR),
                     ),
             ))
             .map_err(|e| e.to_string())?;
     }
-    Ok(chart)
+    Ok(())
+}
+
+/// The figure's note, in a white box in the corner where it covers the least data.
+fn draw_note<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    fig: &Figure,
+    occ: &mut Occupancy,
+) -> Result<(), String> {
+    let Some(note) = &fig.note else {
+        return Ok(());
+    };
+    let lines: Vec<&str> = note.lines().collect();
+    let sizes: Vec<(u32, u32)> = lines.iter().map(|l| text_size(chart, l, 19)).collect();
+    let w = sizes.iter().map(|s| s.0).max().unwrap_or(0) as i32 + 20;
+    let line_h = sizes.iter().map(|s| s.1).max().unwrap_or(19) as i32 + 6;
+    let h = line_h * lines.len() as i32 + 14;
+    let corner = occ.legend_corner((w, h), 12);
+    let (px, py) = chart.plotting_area().get_pixel_range();
+    let left = match corner {
+        LegendPosition::UpperLeft | LegendPosition::LowerLeft => px.start + 12,
+        _ => px.end - 12 - w,
+    };
+    let top = match corner {
+        LegendPosition::UpperLeft | LegendPosition::UpperRight => py.start + 12,
+        _ => py.end - 12 - h,
+    };
+    let area = chart.plotting_area();
+    let (bx, by) = (left - px.start, top - py.start);
+    let root = area.strip_coord_spec();
+    root.draw(&Rectangle::new(
+        [(bx, by), (bx + w, by + h)],
+        WHITE.mix(0.92).filled(),
+    ))
+    .map_err(|e| e.to_string())?;
+    root.draw(&Rectangle::new(
+        [(bx, by), (bx + w, by + h)],
+        RGBColor(120, 120, 120),
+    ))
+    .map_err(|e| e.to_string())?;
+    for (k, l) in lines.iter().enumerate() {
+        let y = by + 8 + k as i32 * line_h;
+        root.draw(&Text::new(l.to_string(), (bx + 10, y), ("sans-serif", 19)))
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
 }
 
 fn draw_dots<DB: DrawingBackend>(
@@ -626,13 +755,27 @@ fn draw_dots<DB: DrawingBackend>(
     Ok(())
 }
 
+/// The legend of the labelled series: where `fig.legend` says, else in the corner where it
+/// covers the least data and no label.
 fn draw_legend<'a, DB: DrawingBackend + 'a>(
     chart: &mut Chart<'a, DB>,
     fig: &Figure,
+    labels: &[&str],
+    occ: &mut Occupancy,
 ) -> Result<(), String> {
+    let labels: Vec<&str> = labels.iter().copied().filter(|l| !l.is_empty()).collect();
+    let position = match &fig.legend {
+        Some(p) => p.clone(),
+        None => {
+            let sizes: Vec<(u32, u32)> = labels.iter().map(|l| text_size(chart, l, 19)).collect();
+            let w = sizes.iter().map(|s| s.0).max().unwrap_or(0) as i32 + 60;
+            let h = sizes.iter().map(|s| s.1 as i32 + 7).sum::<i32>() + 24;
+            occ.legend_corner((w, h), 12)
+        }
+    };
     chart
         .configure_series_labels()
-        .position(fig.legend.clone())
+        .position(position)
         .background_style(WHITE.mix(0.9))
         .border_style(RGBColor(150, 150, 150))
         .label_font(("sans-serif", 19))
@@ -651,7 +794,11 @@ fn draw_points_chart<DB: DrawingBackend>(
     root.fill(&WHITE).map_err(|e| e.to_string())?;
     let all: Vec<(f64, f64)> = series.iter().flatten().copied().collect();
     let (xr, yr) = ranges(fig, &all);
-    let mut chart = axes(root, fig, xr, yr, true)?;
+    let area = fit_title(&root.margin(6, 0, 0, 0), &fig.title)?;
+    let mut chart = axes(&area, fig, xr, yr)?;
+    let mut occ = occupancy(&chart);
+    draw_mark_lines(&mut chart, fig)?;
+    occupy(&mut occ, &chart, &all, false);
     let side = match fig.dot {
         0 if all.len() < 20_000 => 3,
         0 if all.len() < 300_000 => 2,
@@ -673,10 +820,11 @@ fn draw_points_chart<DB: DrawingBackend>(
                 });
         }
     }
+    draw_mark_labels(&mut chart, fig, &mut occ)?;
     if labels.iter().any(|l| !l.is_empty()) {
-        draw_legend(&mut chart, fig)?;
+        draw_legend(&mut chart, fig, labels, &mut occ)?;
     }
-    Ok(())
+    draw_note(&mut chart, fig, &mut occ)
 }
 
 /// A bifurcation diagram: `points` are `(parameter, value)` pairs, drawn as small dark dots.
@@ -802,7 +950,10 @@ fn draw_lines_chart<DB: DrawingBackend>(
         .collect();
     let all: Vec<(f64, f64)> = mapped.iter().flatten().flatten().copied().collect();
     let (xr, yr) = ranges(fig, &all);
-    let mut chart = axes(root, fig, xr.clone(), yr.clone(), true)?;
+    let area = fit_title(&root.margin(6, 0, 0, 0), &fig.title)?;
+    let mut chart = axes(&area, fig, xr.clone(), yr.clone())?;
+    let mut occ = occupancy(&chart);
+    draw_mark_lines(&mut chart, fig)?;
     for (i, (s, pts)) in series.iter().zip(&mapped).enumerate() {
         let colour = series_colour(i);
         let style = colour.stroke_width(2);
@@ -810,6 +961,7 @@ fn draw_lines_chart<DB: DrawingBackend>(
         let pieces = split_curve(pts, fig.max_jump, min_step, &xr, &yr);
         let mut labelled = s.label.is_empty();
         for piece in pieces {
+            occupy(&mut occ, &chart, &piece, true);
             let ann = chart
                 .draw_series(LineSeries::new(piece.iter().copied(), style))
                 .map_err(|e| e.to_string())?;
@@ -830,10 +982,12 @@ fn draw_lines_chart<DB: DrawingBackend>(
             }
         }
     }
+    draw_mark_labels(&mut chart, fig, &mut occ)?;
     if series.iter().any(|s| !s.label.is_empty()) {
-        draw_legend(&mut chart, fig)?;
+        let labels: Vec<&str> = series.iter().map(|s| s.label.as_str()).collect();
+        draw_legend(&mut chart, fig, &labels, &mut occ)?;
     }
-    Ok(())
+    draw_note(&mut chart, fig, &mut occ)
 }
 
 /// A line plot: each series is a polyline (a phase portrait, a time history), broken at
@@ -871,10 +1025,7 @@ fn draw_heatmap_chart<DB: DrawingBackend>(
     bar_label: &str,
 ) -> Result<(), String> {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
-    let body = root
-        .margin(8, 0, 0, 0)
-        .titled(&fig.title, ("sans-serif", 28))
-        .map_err(|e| e.to_string())?;
+    let body = fit_title(&root.margin(6, 0, 0, 0), &fig.title)?;
     let (w, _) = body.dim_in_pixel();
     let (main, bar) = body.split_horizontally(w.saturating_sub(170));
     let (ex, ey) = (edges(&grid.xs), edges(&grid.ys));
@@ -886,7 +1037,10 @@ fn draw_heatmap_chart<DB: DrawingBackend>(
         ey.iter().copied(),
         fig.y_range.or(Some((ey[0], ey[ey.len() - 1]))),
     );
-    let mut chart = axes(&main, fig, xr, yr, false)?;
+    let mut chart = axes(&main, fig, xr, yr)?;
+    let mut occ = occupancy(&chart);
+    draw_mark_lines(&mut chart, fig)?;
+    draw_mark_labels(&mut chart, fig, &mut occ)?;
     let nx = grid.xs.len();
     let colour = |v: f64| {
         if v.is_finite() {
@@ -1032,10 +1186,7 @@ fn draw_category_chart<DB: DrawingBackend>(
     legend: &[Category],
 ) -> Result<(), String> {
     root.fill(&WHITE).map_err(|e| e.to_string())?;
-    let body = root
-        .margin(8, 0, 0, 0)
-        .titled(&fig.title, ("sans-serif", 28))
-        .map_err(|e| e.to_string())?;
+    let body = fit_title(&root.margin(6, 0, 0, 0), &fig.title)?;
     let (w, _) = body.dim_in_pixel();
     // Wide enough for the longest legend line (about 10 px a character at this size).
     let longest = legend
@@ -1054,7 +1205,10 @@ fn draw_category_chart<DB: DrawingBackend>(
         ey.iter().copied(),
         fig.y_range.or(Some((ey[0], ey[ey.len() - 1]))),
     );
-    let mut chart = axes(&main, fig, xr, yr, false)?;
+    let mut chart = axes(&main, fig, xr, yr)?;
+    let mut occ = occupancy(&chart);
+    draw_mark_lines(&mut chart, fig)?;
+    draw_mark_labels(&mut chart, fig, &mut occ)?;
     let nx = grid.xs.len();
     let none = RGBColor(225, 225, 225);
     let colour = |c: Option<usize>| c.and_then(|k| legend.get(k)).map_or(none, |l| l.colour);
@@ -1259,11 +1413,16 @@ fn draw_branches_chart<DB: DrawingBackend>(
         )
         .collect();
     let (xr, yr) = ranges(fig, &all);
-    let mut chart = axes(root, fig, xr, yr, true)?;
+    let area = fit_title(&root.margin(6, 0, 0, 0), &fig.title)?;
+    let mut chart = axes(&area, fig, xr, yr)?;
+    let mut occ = occupancy(&chart);
+    draw_mark_lines(&mut chart, fig)?;
     draw_dots(&mut chart, background, RGBColor(90, 90, 90), 2, 0.7)?;
+    occupy(&mut occ, &chart, background, false);
     for c in curves {
         let colour = c.colour;
         for (piece, stable) in &c.pieces {
+            occupy(&mut occ, &chart, piece, true);
             let style = colour.stroke_width(3);
             if *stable {
                 chart
@@ -1285,26 +1444,57 @@ fn draw_branches_chart<DB: DrawingBackend>(
                 });
         }
     }
-    let mut placed: Vec<(f64, f64)> = Vec::new();
+    draw_point_labels(&mut chart, points, &mut occ)?;
+    draw_mark_labels(&mut chart, fig, &mut occ)?;
+    if curves.iter().any(|c| !c.label.is_empty()) {
+        let labels: Vec<&str> = curves.iter().map(|c| c.label.as_str()).collect();
+        draw_legend(&mut chart, fig, &labels, &mut occ)?;
+    }
+    draw_note(&mut chart, fig, &mut occ)
+}
+
+/// Special points: a ring each, and a label placed clear of the other labels and, as far as
+/// possible, of the curves. A label repeated within 24 pixels (the same point found from two
+/// branches, or twice at the bracket's two ends) is drawn once.
+fn draw_point_labels<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    points: &[(f64, f64, String)],
+    occ: &mut Occupancy,
+) -> Result<(), String> {
+    let mut kept: Vec<((i32, i32), &str)> = Vec::new();
+    let (xr, yr) = (chart.x_range(), chart.y_range());
     for (x, y, label) in points {
-        // The same point found from two branches is labelled once.
-        if placed
-            .iter()
-            .any(|(a, b)| (a - x).abs() < 1e-3 && (b - y).abs() < 1e-3)
-        {
+        // Points beyond the axes (a branch continued past the range) are not drawn.
+        if !(xr.contains(x) && yr.contains(y)) {
             continue;
         }
-        placed.push((*x, *y));
-        chart
-            .draw_series(std::iter::once(
-                EmptyElement::at((*x, *y))
-                    + Circle::new((0, 0), 6, BLACK.stroke_width(2))
-                    + Text::new(label.clone(), (8, -20), ("sans-serif", 16).into_font()),
-            ))
-            .map_err(|e| e.to_string())?;
+        let at = chart.backend_coord(&(*x, *y));
+        let near = |(p, l): &((i32, i32), &str)| {
+            l == label && (p.0 - at.0).abs() < 24 && (p.1 - at.1).abs() < 24
+        };
+        if !kept.iter().any(near) {
+            kept.push((at, label.as_str()));
+        }
     }
-    if curves.iter().any(|c| !c.label.is_empty()) {
-        draw_legend(&mut chart, fig)?;
+    // The rings first, so that no label covers one.
+    for &(at, _) in &kept {
+        occ.label((at.0 - 7, at.1 - 7, at.0 + 7, at.1 + 7));
+    }
+    let area = chart.plotting_area().strip_coord_spec();
+    let (px, py) = chart.plotting_area().get_pixel_range();
+    for &(at, label) in &kept {
+        let (bx, by) = (at.0 - px.start, at.1 - py.start);
+        area.draw(&Circle::new((bx, by), 6, BLACK.stroke_width(2)))
+            .map_err(|e| e.to_string())?;
+        let size = text_size(chart, label, 16);
+        let candidates = around(at, size, 6);
+        let r = candidates[occ.place(&candidates)];
+        area.draw(&Text::new(
+            label.to_string(),
+            (r.0 - px.start, r.1 - py.start),
+            ("sans-serif", 16),
+        ))
+        .map_err(|e| e.to_string())?;
     }
     Ok(())
 }
@@ -1348,4 +1538,25 @@ pub fn branches(
         }
     }
     w.finish().map_err(|e| perr(path, e))
+}
+
+/// The symbol of a parameter for a figure (Unicode, as `docs/model.md` writes it) from its
+/// ASCII name in flags, CSV columns and JSON (`SweepParameter::symbol`): `"eta"` → `"η"`,
+/// `"nu1"` → `"ν₁"`, `"ex"` → `"eₓ"`, ...; unknown names are returned as they are.
+pub fn symbol(ascii: &str) -> &str {
+    match ascii {
+        "eta" => "η",
+        "nu1" => "ν₁",
+        "nu2" => "ν₂",
+        "beta" => "β",
+        "phi0" => "φ₀",
+        "ex" => "eₓ",
+        // Unicode has no subscript y.
+        "ey" => "e_y",
+        "Dx" => "Dₓ",
+        "x0" => "x₀ (rotor, units of the gap γ)",
+        "y0" => "y₀ (rotor, units of the gap γ)",
+        "vx0" => "x₀′ = dx/dτ at τ = 0",
+        other => other,
+    }
 }
