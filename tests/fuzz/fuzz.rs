@@ -36,9 +36,7 @@
 //! `FUZZ_SEED=<seed> cargo test --test fuzz fuzz_short`. The counts are in
 //! docs/reliability.md.
 
-#[allow(dead_code)]
-#[path = "../examples/custom_rotor/rotor.rs"]
-mod rotor;
+use crate::rotor;
 
 use std::cell::RefCell;
 use std::collections::BTreeMap;

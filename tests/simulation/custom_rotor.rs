@@ -2,9 +2,7 @@
 //! With `q = k3 = 0` it is the paper's model with an integrated (instead of closed-form) free
 //! flight: the two must agree over 300 forcing periods with the same contacts.
 
-#[allow(dead_code)]
-#[path = "../examples/custom_rotor/rotor.rs"]
-mod rotor;
+use crate::rotor;
 
 use jeffcott::hybrid::{simulate, OutputPlan, RotorModel, SimOptions, Trajectory};
 use jeffcott::nalgebra::{SVector, U6};

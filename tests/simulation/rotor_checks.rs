@@ -7,12 +7,8 @@
 //! and a station with a constant position offset (an eccentric ring, as in the flexible
 //! shaft) is a valid station whose stability analysis now works.
 
-#[allow(dead_code)]
-#[path = "../examples/custom_rotor/rotor.rs"]
-mod custom;
-#[allow(dead_code)]
-#[path = "../examples/flexible_shaft/shaft.rs"]
-mod shaft;
+use crate::rotor as custom;
+use crate::shaft;
 
 use jeffcott::hybrid::SimOptions;
 use jeffcott::nalgebra::{DVector, SVector, Vector2, U6};

@@ -2,9 +2,7 @@
 //! defect, each from the case it found (shrunk by hand where that kept the failure). Every test
 //! failed before its fix (docs/reliability.md, "Defects found").
 
-#[allow(dead_code)]
-#[path = "../examples/custom_rotor/rotor.rs"]
-mod rotor;
+use crate::rotor;
 
 use jeffcott::hybrid::{
     simulate, DenseSampling, ExactSegment, Flow, GuardCrossing, ModelError, OutputPlan, RotorModel,

@@ -5,8 +5,7 @@
 //! `cargo test --test figures_simulate` and never uses a stale binary. If the example does not
 //! build, every test here fails.
 
-#[path = "support/examples.rs"]
-mod examples;
+use crate::support as examples;
 
 use std::f64::consts::TAU;
 use std::path::PathBuf;
