@@ -1,4 +1,4 @@
-//! Regression tests for the defects the in-process fuzzer (`tests/fuzz.rs`) found, one per
+//! Regression tests for the defects the in-process fuzzer (`tests/fuzz/fuzz.rs`) found, one per
 //! defect, each from the case it found (shrunk by hand where that kept the failure). Every test
 //! failed before its fix (docs/reliability.md, "Defects found").
 
@@ -1044,7 +1044,7 @@ fn a_touch_a_hair_inside_the_circle_moving_outward_starts_contact() {
 /// $5\times10^{-13}$. Ignored until the screen is fixed (`ode::events`, not the ring): run it
 /// with `--ignored`.
 #[test]
-#[ignore = "open: the opt-in event screen clears a crossing (ode::events); cargo test --test fuzz_findings -- --ignored"]
+#[ignore = "open: the opt-in event screen clears a crossing (ode::events); cargo test --test fuzz fuzz_findings:: -- --ignored"]
 fn the_event_screen_does_not_clear_a_crossing() {
     let p = Params {
         eta: 1.000001,

@@ -107,7 +107,7 @@ fn cross_coupling_and_cubic_bearing_change_the_orbit() {
 /// The paper's rotor (`q = k3 = 0`) on its steady circular orbit about `e`, radius
 /// $|Z| = B/|1 - \eta^2 + 2i\nu_1\eta|$, with `e` placed so that the orbit's outermost point is
 /// `depth` beyond the gap circle: a touch of that depth once per period (closed form, the same
-/// scene as `tests/simulation.rs`'s grazing scene for the paper's model).
+/// scene as `tests/simulation/simulation.rs`'s grazing scene for the paper's model).
 fn touch_scene(depth: f64) -> (jeffcott::params::Params, SVector<f64, 6>) {
     let base = Preset::Fig8a.params().with_eta(1.5);
     let b = base.forcing_amplitude();
