@@ -33,7 +33,7 @@ use common::ranks::Ranks;
 use common::{SweepRunFlags, Tolerances};
 use jeffcott::analysis::{PeriodTest, StderrProgress};
 use jeffcott::global::{
-    attractor_at, AttractorConfig, Grid2, Json, Manifest, MatchTolerance, PointLabel,
+    attractor_at, AttractorConfig, Grid2, Manifest, MatchTolerance, PointLabel,
 };
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{BasinPlane, StartPlane};
@@ -191,10 +191,9 @@ fn main() {
         let label = format!("{name}-eta{}", params.eta);
         let dir = out.join(&label);
         let basin = BasinPlane::new(params, start_plane);
-        // The folder records the grid and every setting of `config`; the description adds
-        // the model's parameters.
-        let description = Json::object([("plane", basin.to_json())]);
-        let manifest = Manifest::scan("basins", description, &grid, &config);
+        // The folder records the grid and every setting of `config`; the description, the
+        // plane, adds the model's parameters.
+        let manifest = common::or_exit(Manifest::scan("basins", &basin, &grid, &config));
         let store = common::or_exit(ranks.open_store(&dir, manifest));
         let progress = StderrProgress::new(if ranks.size > 1 {
             format!("{label} (rank 0 of {})", ranks.size)

@@ -5,7 +5,7 @@
 //!
 //! * **one branch** (default): `--param P --from A --to B --period N` finds the period-N orbit
 //!   at P = A (after `--transient` periods from the scene's initial state, then Newton), follows
-//!   it towards B by pseudo-arclength (`global::continue_orbit`) and prints **each special
+//!   it towards B by pseudo-arclength (`stability::continue_orbit`) and prints **each special
 //!   point as one JSON object a line** on standard output:
 //!
 //!   ```text
@@ -45,12 +45,12 @@ use common::or_exit;
 use common::plot::{self, BranchCurve, Figure};
 use common::scene::SceneFlags;
 use jeffcott::analysis::{linspace, BifurcationConfig};
-use jeffcott::global::{
-    continue_orbit, find_attractor, switch_at_flip, AttractorConfig, Branch, ContinuationConfig,
-    SpecialPoint,
-};
+use jeffcott::global::{find_attractor, AttractorConfig};
 use jeffcott::paper::{JeffcottModel, ParamSweep, SweepParameter};
 use jeffcott::params::{Params, Preset};
+use jeffcott::stability::{
+    continue_orbit, switch_at_flip, Branch, ContinuationOptions, SpecialPoint,
+};
 use serde_json::json;
 
 /// The parameters `--param` accepts.
@@ -72,12 +72,12 @@ fn special_json(s: &SpecialPoint, param: &str, period: u64) -> String {
     json!({
         "kind": s.kind.name(),
         "param": param,
-        "value": s.param,
+        "value": s.parameter,
         "multipliers": m,
         "period": period,
         "bracket": [s.bracket.0, s.bracket.1],
         "converged": s.converged,
-        "unconverged": s.unconverged,
+        "unconverged": s.unconverged.as_ref().map(|e| e.to_string()),
         "contacts": [s.contacts.0, s.contacts.1],
     })
     .to_string()
@@ -90,7 +90,7 @@ fn curves(branch: &Branch, label: &str, colour: plotters::style::RGBColor) -> Ve
     for j in 0..n {
         let mut pieces: Vec<(Vec<(f64, f64)>, bool)> = Vec::new();
         for p in &branch.points {
-            let pt = (p.param, p.cycle.get(j).map_or(f64::NAN, |y| y[0]));
+            let pt = (p.parameter, p.cycle.get(j).map_or(f64::NAN, |y| y[0]));
             match pieces.last_mut() {
                 Some((v, s)) if *s == p.stable => v.push(pt),
                 Some((v, _)) => {
@@ -122,7 +122,11 @@ fn marks(branch: &Branch) -> Vec<(f64, f64, String)> {
                 "neimark-sacker" => "NS",
                 k => k,
             };
-            (s.param, s.state[0], format!("{short} {:.4}", s.param))
+            (
+                s.parameter,
+                s.state[0],
+                format!("{short} {:.4}", s.parameter),
+            )
         })
         .collect()
 }
@@ -152,7 +156,7 @@ struct Flags {
     transient: usize,
     /// Largest arclength step [range: 1e-6..=1]
     #[arg(long, value_name = "NUMBER", value_parser = f64_in(1e-6, 1.0),
-          default_value = num(ContinuationConfig::default().ds_max))]
+          default_value = num(ContinuationOptions::default().ds_max))]
     ds_max: f64,
     /// Output folder
     #[arg(
@@ -184,13 +188,8 @@ fn main() {
         coexistence,
     } = parse();
     let scene = scene.scene();
-    let d = ContinuationConfig::default();
-    let config = ContinuationConfig {
-        ds: d.ds.min(ds_max),
-        ds_max,
-        sim: scene.opts,
-        ..d
-    };
+    let d = ContinuationOptions::default();
+    let config = d.ds(d.ds.min(ds_max)).ds_max(ds_max).sim(scene.opts);
     if coexistence {
         run_coexistence(&out, &config);
         return;
@@ -222,9 +221,9 @@ fn main() {
     let branch = or_exit(continue_orbit(
         build,
         from,
+        to,
         &guess,
         period as u64,
-        to,
         &config,
     ));
     let mut all = vec![(branch, format!("period {period}"))];
@@ -237,10 +236,10 @@ fn main() {
             .cloned()
             .collect();
         for f in &flips {
-            match switch_at_flip(build, f, period as u64, to, &config) {
+            match switch_at_flip(build, f, to, period as u64, &config) {
                 Ok(b) => all.push((
                     b,
-                    format!("period {} from the flip at {:.4}", 2 * period, f.param),
+                    format!("period {} from the flip at {:.4}", 2 * period, f.parameter),
                 )),
                 Err(e) => eprintln!("warning: {e}"),
             }
@@ -313,7 +312,7 @@ fn seeds(base: &Params, eta: f64) -> Vec<(u64, jeffcott::State)> {
 fn known(branches: &[Branch], period: u64, eta: f64, y: &jeffcott::State) -> bool {
     branches.iter().filter(|b| b.period == period).any(|b| {
         b.points.iter().any(|p| {
-            (p.param - eta).abs() < 0.03
+            (p.parameter - eta).abs() < 0.03
                 && p.cycle
                     .iter()
                     .any(|c| (0..4).all(|i| (c[i] - y[i]).abs() < 0.02))
@@ -321,7 +320,7 @@ fn known(branches: &[Branch], period: u64, eta: f64, y: &jeffcott::State) -> boo
     })
 }
 
-fn run_coexistence(out: &Path, config: &ContinuationConfig) {
+fn run_coexistence(out: &Path, config: &ContinuationOptions) {
     let (lo, hi) = (2.0, 5.0);
     let seed_etas = [2.0, 2.17, 2.2, 2.6, 2.75, 3.0, 3.5, 3.9, 4.3, 4.6];
     for (name, preset) in [("fig8a", Preset::Fig8a), ("fig8b", Preset::Fig8b)] {
@@ -339,22 +338,19 @@ fn run_coexistence(out: &Path, config: &ContinuationConfig) {
         // Branches from every distinct periodic attractor at the seed etas, both ways.
         let mut branches: Vec<Branch> = Vec::new();
         let build = |eta: f64| JeffcottModel::new(base.with_eta(eta));
-        let cfg = ContinuationConfig {
-            max_points: 600,
-            ..*config
-        };
+        let cfg = config.max_points(600);
         for &eta in &seed_etas {
             for (period, y) in seeds(&base, eta) {
                 if known(&branches, period, eta, &y) {
                     continue;
                 }
                 for to in [lo, hi] {
-                    match continue_orbit(build, eta, &y, period, to, &cfg) {
+                    match continue_orbit(build, eta, to, &y, period, &cfg) {
                         Ok(b) => {
                             eprintln!(
                                 "{name}: period {period} from eta = {eta} towards {to}: {} points to {:.4}, {} special points",
                                 b.points.len(),
-                                b.points.last().map_or(eta, |p| p.param),
+                                b.points.last().map_or(eta, |p| p.parameter),
                                 b.specials.len()
                             );
                             branches.push(b);
@@ -368,13 +364,13 @@ fn run_coexistence(out: &Path, config: &ContinuationConfig) {
         let mut doubled = Vec::new();
         for b in branches.iter().filter(|b| b.period <= 2) {
             for f in b.specials.iter().filter(|s| s.kind.name() == "flip") {
-                let to = if b.points.last().map_or(hi, |p| p.param) > f.param {
+                let to = if b.points.last().map_or(hi, |p| p.parameter) > f.parameter {
                     hi
                 } else {
                     lo
                 };
-                match switch_at_flip(build, f, b.period, to, &cfg) {
-                    Ok(d) if !known(&doubled, d.period, f.param, &first_state(&d)) => {
+                match switch_at_flip(build, f, to, b.period, &cfg) {
+                    Ok(d) if !known(&doubled, d.period, f.parameter, &first_state(&d)) => {
                         doubled.push(d)
                     }
                     Ok(_) => {}

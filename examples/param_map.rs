@@ -23,13 +23,12 @@ use common::plot::{self, Category, CategoryGrid, Figure, Grid};
 use common::ranks::Ranks;
 use common::{SweepRunFlags, Tolerances};
 use jeffcott::analysis::StderrProgress;
-use jeffcott::global::{
-    continue_orbit, AttractorConfig, ContinuationConfig, Grid2, Json, Manifest, SpecialKind,
-};
+use jeffcott::global::{AttractorConfig, Grid2, Manifest};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{ParamPlane, SweepParameter};
 use jeffcott::params::Params;
 use jeffcott::params::Preset;
+use jeffcott::stability::{continue_orbit, Branch, ContinuationOptions, SpecialKind};
 use jeffcott::JeffcottModel;
 use plotters::style::RGBColor;
 
@@ -180,10 +179,9 @@ fn main() {
         let grid = common::or_exit(Grid2::linspace((eta_min, eta_max, n_eta), (lo, hi, n_y)));
         let plane = ParamPlane::new(base, SweepParameter::Eta, param);
         let dir = out.join(name);
-        // The folder records the grid and every setting of `config`; the description adds
-        // the model's parameters.
-        let description = Json::object([("plane", plane.to_json())]);
-        let manifest = Manifest::scan("param_map", description, &grid, &config);
+        // The folder records the grid and every setting of `config`; the description, the
+        // plane, adds the model's parameters.
+        let manifest = common::or_exit(Manifest::scan("param_map", &plane, &grid, &config));
         let store = common::or_exit(ranks.open_store(&dir, manifest));
         let progress = StderrProgress::new(format!("map eta x {}", param.symbol()));
         let t0 = Instant::now();
@@ -331,13 +329,13 @@ fn main() {
 /// 11 preloads; for the eccentricity map the grazing of the orbit without contact (followed
 /// in eₓ from 0.5 at each of 13 η) next to its analytic curve eₓ = 1 − A(η).
 fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f64)>)> {
-    let config = ContinuationConfig::default();
-    let first = |b: &jeffcott::global::Branch, kind| {
+    let config = ContinuationOptions::default();
+    let first = |b: &Branch, kind| {
         // A located point only: an unconverged bracket is not a point of the curve.
         b.specials
             .iter()
             .find(|s| s.kind == kind && s.converged)
-            .map(|s| s.param)
+            .map(|s| s.parameter)
     };
     let (y0, y1) = (grid.y[0], grid.y[grid.y.len() - 1]);
     if map == "preload" {
@@ -358,7 +356,7 @@ fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f6
                 let Some(guess) = traj.strobe.last().map(|s| s.y) else {
                     continue;
                 };
-                if let Ok(b) = continue_orbit(build, eta0, &guess, period, to, &config) {
+                if let Ok(b) = continue_orbit(build, eta0, to, &guess, period, &config) {
                     if let Some(e) = first(&b, SpecialKind::Flip) {
                         out.push((e, d));
                     }
@@ -397,7 +395,7 @@ fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f6
             let Some(guess) = traj.strobe.last().map(|s| s.y) else {
                 continue;
             };
-            if let Ok(b) = continue_orbit(build, y0, &guess, 1, y1, &config) {
+            if let Ok(b) = continue_orbit(build, y0, y1, &guess, 1, &config) {
                 if let Some(e) = first(&b, SpecialKind::Grazing) {
                     graze.push((eta, e));
                 }

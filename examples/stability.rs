@@ -52,8 +52,8 @@ use jeffcott::analysis::{linspace, sweep, SweepConfig};
 use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::Params;
 use jeffcott::stability::{
-    locate_loss, lyapunov_exponents, periodic_orbit, ContinuationOptions, LyapunovOptions,
-    Multiplier, OrbitOptions, StroboscopicMap,
+    locate_loss, lyapunov_exponents, periodic_orbit, LossOptions, LyapunovOptions, Multiplier,
+    OrbitOptions, StroboscopicMap,
 };
 use serde_json::{json, Value};
 
@@ -234,15 +234,13 @@ fn main() {
             tolerance,
         } => {
             let scene = scene.scene();
-            let opts = ContinuationOptions {
-                step: step.step,
-                tolerance,
-                orbit: OrbitOptions {
+            let opts = LossOptions::default()
+                .step(step.step)
+                .bracket_width(tolerance)
+                .orbit(OrbitOptions {
                     sim: scene.opts,
-                    ..ContinuationOptions::default().orbit
-                },
-                ..ContinuationOptions::default()
-            };
+                    ..LossOptions::default().orbit
+                });
             locate(
                 &scene,
                 from,
@@ -325,14 +323,7 @@ fn lyapunov(scene: &Scene, transient: u64, periods: u64, batch: u64) {
     }));
 }
 
-fn locate(
-    scene: &Scene,
-    from: f64,
-    to: f64,
-    period: u64,
-    transient: u64,
-    opts: &ContinuationOptions,
-) {
+fn locate(scene: &Scene, from: f64, to: f64, period: u64, transient: u64, opts: &LossOptions) {
     let at = |eta: f64| {
         JeffcottModel::new(Params {
             eta,
@@ -348,7 +339,7 @@ fn locate(
             "kind": loss.kind.name(),
             "multipliers": multipliers_json(&loss.orbit.multipliers),
             "bracket": [loss.bracket.0, loss.bracket.1],
-            "tolerance": opts.tolerance,
+            "tolerance": opts.bracket_width,
             "period": period,
             "steps": c.path.len(),
         })),
@@ -407,14 +398,10 @@ fn pictures(
             },
             transient,
         );
-        let opts = ContinuationOptions {
-            step,
-            orbit: OrbitOptions {
-                sim: scene.opts,
-                ..ContinuationOptions::default().orbit
-            },
-            ..ContinuationOptions::default()
-        };
+        let opts = LossOptions::default().step(step).orbit(OrbitOptions {
+            sim: scene.opts,
+            ..LossOptions::default().orbit
+        });
         let c = or_exit(locate_loss(at, 2.0, 3.0, &guess, 1, &opts));
         let mut points: Vec<(f64, f64)> = c
             .path

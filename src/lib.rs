@@ -45,9 +45,9 @@
 //! | [`hybrid`] | the [`hybrid::RotorModel`] trait of piecewise-smooth rotor models (state size fixed, e.g. `U6`, or known at run time, `Dyn`), the driver through modes and events, and a model's linearisation, [`hybrid::Variational`] (finite-difference defaults) |
 //! | [`paper`] | the paper's model implementing [`hybrid::RotorModel`] and, analytically, [`hybrid::Variational`], and sweeps over its parameters |
 //! | [`analysis`] | for any [`hybrid::RotorModel`]: period detection, stroboscopic orbits, phase portraits and Poincaré sections, deterministic parallel sweeps, bifurcation diagrams and a bifurcation locator |
-//! | [`global`] | global dynamics: continuation of periodic orbits (pseudo-arclength, folds, flips, grazing, branch switching), attractors identified and matched, basins of attraction and two-parameter maps, long sweeps that write as they go and resume after a kill, on threads or MPI ranks (feature `mpi`) |
+//! | [`global`] | global dynamics: attractors identified and matched, basins of attraction and two-parameter maps, long sweeps that write as they go and resume after a kill, on threads or MPI ranks (feature `mpi`) |
 //! | [`rotor`] | your rotor on the ring: a smooth rotor model of any size ([`rotor::SmoothRotor`]) composed with the ring's contact element into a [`hybrid::RotorModel`] and a [`hybrid::Variational`] with the ring's parts analytic ([`rotor::RingedRotor`]) |
-//! | [`stability`] | linearisation through events, for any [`hybrid::Variational`] model: saltation matrices, the stroboscopic map's Jacobian, periodic orbits and their multipliers, Lyapunov exponents, bifurcations located |
+//! | [`stability`] | linearisation through events, for any [`hybrid::Variational`] model: saltation matrices, the stroboscopic map's Jacobian, periodic orbits and their multipliers, Lyapunov exponents, continuation of periodic orbits (pseudo-arclength, folds, flips, grazing, branch switching) and bifurcations located |
 //!
 //! Layers, bottom to top: [`ode`] and [`ring`]; [`hybrid`] and [`rotor`]; the analyses
 //! ([`analysis`], [`stability`], [`global`]), which name no concrete model; [`paper`] on top;
@@ -99,12 +99,17 @@
 //!   [`analysis::PeriodTest`], [`stability::OrbitOptions`], [`global::AttractorConfig`], ...),
 //!   the results ([`hybrid::Trajectory`], [`analysis::Bifurcation`], [`analysis::Periodicity`],
 //!   [`stability::PeriodicOrbit`], [`stability::Continuation`], [`stability::LyapunovSpectrum`],
-//!   [`global::Attractor`], [`global::Branch`] and its points, ...) and the errors results
+//!   [`global::Attractor`], [`stability::Branch`] and its points, ...) and the errors results
 //!   carry. Guard and event names (`&'static str`) read back are interned: each distinct name
 //!   is allocated once for the life of the process. JSON has no infinity: options holding
 //!   `f64::INFINITY` (the default `ode::Options::h_max`) need a format that has one. It turns
 //!   on nalgebra's `serde-serialize`, so the vectors inside serialize too. Pure Rust, no
 //!   system library. Working state (integrators, caches, event state) is not serialisable.
+//!   `serde` and `serde_json` themselves are dependencies with or without the feature: the
+//!   resumable sweeps of [`global`] write their records with them, so the types a sweep
+//!   records or describes its settings with ([`global::Attractor`], [`global::PointFailure`],
+//!   [`global::AttractorConfig`] with [`hybrid::SimOptions`] and [`analysis::PeriodTest`],
+//!   [`params::Params`], [`paper::BasinPlane`], [`paper::ParamPlane`], ...) derive both always.
 //! * **`mpi`**: the module `global::distributed`: the resumable sweeps of [`global`]
 //!   (`open_store`, `run_points`, `scan_grid`) split across MPI ranks, with results bitwise
 //!   equal to one process (the examples `basins` and `param_map` use it under `mpirun`). It
@@ -146,7 +151,9 @@ pub mod paper;
 pub mod params;
 pub mod ring;
 pub mod rotor;
-#[cfg(feature = "serde")]
+// Always compiled: the records of `global` read `analysis::LagResiduals` through it; the label
+// readers serve the derives of the `serde` feature.
+#[cfg_attr(not(feature = "serde"), allow(dead_code))]
 mod serde_util;
 
 /// `&'static str`, spelt so that serde's derive does not borrow it from the input: a field of

@@ -107,8 +107,8 @@ fn positive(field: &'static str, value: f64) -> Result<f64, ParamError> {
 /// with $f$ the snubber ring's force (zero out of contact).
 ///
 /// `Default` is the paper's Fig. 8a set at $\eta = 2$.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+// serde always, not only with the feature: the sweeps of `global` record it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Params {
     /// Frequency ratio $\eta = \Omega/\omega_n$ (> 0). Default 2.0.
     pub eta: f64,

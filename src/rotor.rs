@@ -137,6 +137,14 @@ where
     /// rotor gives a characteristic period, e.g. that of its first mode).
     fn forcing_period(&self) -> f64;
 
+    /// A typical magnitude of each state component ([`RotorModel::state_scale`]), if the
+    /// rotor knows one. Default `None`: [`RingedRotor`] derives it from the ring's gap and the
+    /// station map (see [`RingedRotor::state_scale`](RotorModel::state_scale)); override it
+    /// for components the station does not see (other modal coordinates) or for other units.
+    fn state_scale(&self) -> Option<OVector<f64, Self::Dim>> {
+        None
+    }
+
     /// An upper bound of the rates of the rotor's motion at `(t, y)` with a spring of
     /// stiffness `stiffness` and a damper of coefficient `damping` acting at the station (both
     /// 0 in free flight; in contact the ring's [`SnubberRing::contact_bounds`]), if known: for
@@ -505,6 +513,47 @@ where
         self.rotor.dim()
     }
 
+    /// The rotor's [`SmoothRotor::state_scale`] if it gives one; otherwise derived from the
+    /// ring's gap $\gamma$ and the station map (affine: `station(e_j) - station(0)` is the
+    /// station's motion per unit of component $j$): a component that moves the station's
+    /// position by $c$ per unit has the scale $\gamma/c$ (the rotor's displacement, in the
+    /// gap's unit, for a lumped station), one that moves only its velocity has
+    /// $\gamma\Omega/c$ with $\Omega = 2\pi/P$ the forcing frequency
+    /// ([`SmoothRotor::forcing_period`]); the ring's slots and the components the station does
+    /// not see have $\gamma$. For the paper's rotor in its units that is 1 for positions and
+    /// $\eta$ for velocities; in SI units the gap in metres and the gap times $\Omega$ in m/s.
+    fn state_scale(&self) -> OVector<f64, R::Dim> {
+        if let Some(scale) = self.rotor.state_scale() {
+            return scale;
+        }
+        let gap = self.ring.gap;
+        let omega = std::f64::consts::TAU / self.rotor.forcing_period();
+        let zero = kin4(&self.rotor.station(&self.zero_state()));
+        let slots = self.rotor.ring_slots();
+        let mut unit = self.zero_state();
+        OVector::from_fn_generic(self.rotor.dim(), U1, |j, _| {
+            if slots.contains(&j) {
+                return gap;
+            }
+            unit[j] = 1.0;
+            let d = sub4(kin4(&self.rotor.station(&unit)), zero);
+            unit[j] = 0.0;
+            let (position, velocity) = (amax(&d[..2]), amax(&d[2..]));
+            let scale = if position > 0.0 {
+                gap / position
+            } else if velocity > 0.0 {
+                gap * omega / velocity
+            } else {
+                gap
+            };
+            if scale.is_finite() && scale > 0.0 {
+                scale
+            } else {
+                gap
+            }
+        })
+    }
+
     fn new_cache(&self) -> RingCache {
         RingCache::default()
     }
@@ -565,6 +614,11 @@ where
 
     fn guard_direction(&self, mode: RingMode, i: usize) -> Direction {
         self.guard_of(&mode, i).direction()
+    }
+
+    /// The ring's [`RingGuard::Onset`].
+    fn is_contact_onset(&self, mode: RingMode, i: usize) -> bool {
+        self.guard_of(&mode, i) == RingGuard::Onset
     }
 
     fn guard_value(

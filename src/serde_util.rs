@@ -1,4 +1,5 @@
-//! Deserialisation helpers of the `serde` feature (crate-private).
+//! Deserialisation helpers of the derives (crate-private): those of the `serde` feature, and
+//! of the records of `global` (always compiled).
 //!
 //! Labels of guards, options and error fields are `&'static str` in the crate's types (the
 //! models name them with string literals). A label read back from a file is *interned*: the

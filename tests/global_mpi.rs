@@ -12,8 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use jeffcott::global::{
-    distributed, scan_grid, AttractorConfig, Grid2, GridScan, Json, Manifest, Record, RunConfig,
-    SweepStore,
+    distributed, scan_grid, AttractorConfig, Grid2, GridScan, Manifest, RunConfig, SweepStore,
 };
 use jeffcott::paper::{BasinPlane, StartPlane};
 use jeffcott::params::Preset;
@@ -39,8 +38,9 @@ fn config() -> AttractorConfig {
     }
 }
 
-fn description() -> Json {
-    Json::object([("plane", plane().to_json())])
+/// The sweep's description: the plane (its parameters).
+fn description() -> BasinPlane {
+    plane()
 }
 
 /// Every outcome as its record text (equal text is equal bits).
@@ -49,8 +49,8 @@ fn texts(scan: &GridScan) -> Vec<String> {
         .results
         .iter()
         .map(|r| match r {
-            Some(Ok(a)) => a.to_json().to_string(),
-            Some(Err(e)) => e.to_json().to_string(),
+            Some(Ok(a)) => serde_json::to_string(a).unwrap(),
+            Some(Err(e)) => serde_json::to_string(e).unwrap(),
             None => "missing".into(),
         })
         .collect()
@@ -66,7 +66,7 @@ fn mpi_worker() {
     let universe = mpi::initialize().expect("MPI initialised once");
     let world = universe.world();
     let grid = grid();
-    let manifest = Manifest::scan("basins", description(), &grid, &config());
+    let manifest = Manifest::scan("basins", &description(), &grid, &config()).unwrap();
     let store = distributed::open_store(&world, &dir, manifest).unwrap();
     let mut run = RunConfig::default().with_threads(1);
     if phase == "partial" {
@@ -186,7 +186,7 @@ fn two_ranks_equal_one_process_bitwise_across_a_restart() {
     }
 
     // One process reads the ranks' records back: nothing to run, the same outcomes.
-    let store = SweepStore::open_scan(&dir, "basins", description(), &grid, &config()).unwrap();
+    let store = SweepStore::open_scan(&dir, "basins", &description(), &grid, &config()).unwrap();
     let back = scan_grid(
         &grid,
         plane().setup(),

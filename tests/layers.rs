@@ -67,14 +67,7 @@ const CONCRETE_MODELS: &[&str] = &["rotor", "paper"];
 
 /// Known violations that other work of issue 17 removes: (file, module named, why). Each entry
 /// must still be needed (the test fails on a stale one).
-const ALLOWED: &[(&str, &str, &str)] = &[
-    (
-        "src/global/continuation.rs",
-        "paper",
-        "issue 17 item 3: ContinuationConfig::default() uses paper::guard::ONSET; the \
-         continuation will ask the model which guards are contact onsets",
-    ),
-];
+const ALLOWED: &[(&str, &str, &str)] = &[];
 
 fn floor(module: &str) -> Option<(usize, bool)> {
     LAYERS

@@ -6,15 +6,15 @@ use std::fmt::Debug;
 use jeffcott::analysis::{
     BifurcationConfig, LocatorConfig, PeriodTest, Periodicity, SweepConfig, SweepMode,
 };
-use jeffcott::global::{continue_orbit, find_attractor, AttractorConfig, ContinuationConfig};
+use jeffcott::global::{find_attractor, AttractorConfig};
 use jeffcott::hybrid::{DenseSampling, OutputPlan, SimOptions, StrobeRange};
 use jeffcott::nalgebra::U6;
 use jeffcott::ode::{EventOptions, Method, Options, Tolerance};
 use jeffcott::paper::{ParamSweep, RotorStart, SweepParameter};
 use jeffcott::params::{Params, Preset, Scales};
 use jeffcott::stability::{
-    locate_loss, periodic_orbit, ContinuationOptions, LossKind, LyapunovOptions, NewtonOptions,
-    OrbitOptions, StroboscopicMap,
+    continue_orbit, locate_loss, periodic_orbit, ContinuationOptions, LossOptions, LyapunovOptions,
+    NewtonOptions, OrbitOptions, SpecialKind, StroboscopicMap,
 };
 use jeffcott::JeffcottModel;
 use serde::{de::DeserializeOwned, Serialize};
@@ -111,19 +111,19 @@ fn options_round_trip_through_json() {
         screen: true,
         ..EventOptions::default()
     });
-    let newton = NewtonOptions {
-        tolerance: 3e-12,
-        max_iterations: 9,
-        max_halvings: 4,
-    };
+    let newton = NewtonOptions::default()
+        .atol(3e-12)
+        .rtol(1e-13)
+        .max_iterations(9)
+        .max_halvings(4);
     let orbit = OrbitOptions { newton, sim };
     round_trip(&orbit);
-    round_trip(&ContinuationOptions {
-        step: 0.003,
-        through_grazing: true,
-        orbit,
-        ..ContinuationOptions::default()
-    });
+    round_trip(
+        &LossOptions::default()
+            .step(0.003)
+            .through_grazing(true)
+            .orbit(orbit),
+    );
     round_trip(&LyapunovOptions {
         separation: None,
         exponents: Some(2),
@@ -137,18 +137,11 @@ fn options_round_trip_through_json() {
         free_label: 2,
         ..AttractorConfig::default()
     });
-    // A label that is not one of the crate's literals: read back as an interned copy.
-    let label = String::from("my onset");
-    let config = ContinuationConfig {
-        ds: 0.011,
-        onset_label: Box::leak(label.into_boxed_str()),
-        ..ContinuationConfig::default()
-    };
-    let back = round_trip(&config);
-    let again = round_trip(&config);
-    assert!(
-        std::ptr::eq(back.onset_label, again.onset_label),
-        "interned once"
+    round_trip(
+        &ContinuationOptions::default()
+            .ds(0.011)
+            .rtol(1e-12)
+            .param_scale(2.5),
     );
     round_trip(
         &ParamSweep::new(Preset::Fig8b.params(), SweepParameter::Nu2).with_start(RotorStart {
@@ -288,14 +281,14 @@ fn an_attractor_round_trips() {
 fn continuation_points_round_trip() {
     let guess = period_one_guess(2.2);
     let build = |eta: f64| JeffcottModel::new(Preset::Fig8a.params().with_eta(eta));
-    let c = locate_loss(build, 2.2, 2.25, &guess, 1, &ContinuationOptions::default()).unwrap();
+    let c = locate_loss(build, 2.2, 2.25, &guess, 1, &LossOptions::default()).unwrap();
     assert!(c.path.len() >= 2);
     let loss = c.loss.as_ref().expect("the flip");
-    assert!(matches!(loss.kind, LossKind::Multiplier(_)));
+    assert_eq!(loss.kind, SpecialKind::Flip);
     let back = round_trip(&c);
     assert_eq!(back.path, c.path);
     let branch =
-        continue_orbit(build, 2.2, &guess, 1, 2.25, &ContinuationConfig::default()).unwrap();
+        continue_orbit(build, 2.2, 2.25, &guess, 1, &ContinuationOptions::default()).unwrap();
     assert!(!branch.specials.is_empty());
     let back = round_trip(&branch);
     assert_eq!(back.points[0].structure, ["contact onset", "contact loss"]);

@@ -34,8 +34,8 @@ pub use error::{AnalysisError, OrbitError};
 pub use locate::{locate_period_change, LocatedChange, LocatorConfig, PeriodChange};
 pub use orbit::{strobe_orbit, PoincareMap, StrobeOrbit};
 pub use period::{
-    count_distinct, detect_period, detect_period_scalar, distinct_values, recurrence_residual,
-    window_residuals, LagResiduals, PeriodTest, Periodicity,
+    count_distinct, detect_period, detect_period_scalar, detect_period_scaled, distinct_values,
+    recurrence_residual, window_residuals, LagResiduals, PeriodTest, Periodicity,
 };
 pub use poincare::{section_crossings, section_crossings_hermite, Crossing};
 pub use portrait::{phase_portrait, PhasePortrait};

@@ -42,6 +42,9 @@ where
     pub last: OVector<f64, D>,
     /// Work done by the run.
     pub stats: SimStats,
+    /// The model's [`RotorModel::state_scale`]: the units in which [`StrobeOrbit::period`]
+    /// tests the points.
+    pub scale: OVector<f64, D>,
 }
 
 impl<D: Dim> StrobeOrbit<D>
@@ -63,13 +66,14 @@ where
             .collect()
     }
 
-    /// The period of the recorded states under `test`.
+    /// The period of the recorded states under `test`, in units of the model's scale
+    /// ([`StrobeOrbit::scale`], [`PeriodTest::detect_scaled`]).
     ///
     /// # Errors
-    /// As [`PeriodTest::detect`].
+    /// As [`PeriodTest::detect_scaled`].
     pub fn period(&self, test: &PeriodTest) -> Result<Periodicity, AnalysisError> {
         let slices: Vec<&[f64]> = self.points.iter().map(|p| p.y.as_slice()).collect();
-        test.detect_slices(&slices)
+        test.detect_slices_scaled(&slices, self.scale.as_slice())
     }
 
     /// The orbit with its period under `test`.
@@ -148,5 +152,6 @@ where
         points: traj.strobe,
         last,
         stats,
+        scale: model.state_scale(),
     })
 }

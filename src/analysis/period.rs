@@ -17,14 +17,29 @@
 //!
 //! So `tol` is relative to the orbit's size for large orbits and absolute for orbits smaller
 //! than 1 (in the non-dimensional units of the model the gap is 1, so a fixed point with
-//! `tol = 1e-6` is resolved to 1e-6 gap). Because every sample is checked, a single outlier
-//! (for example a transient not fully discarded) rejects the period: this is deliberate.
+//! `tol = 1e-6` is resolved to 1e-6 gap; other units: see [below](#units)). Because every
+//! sample is checked, a single outlier (for example a transient not fully discarded) rejects
+//! the period: this is deliberate.
 //! A period `p` is only tested with at least `p` comparisons, which is why at least
 //! `2 · max_period` samples are required.
 //!
 //! A multiple of the period also passes the test; the smallest passing `p` is the candidate.
 //! Quasi-periodic and chaotic orbits pass for no `p` (up to the tolerance: a quasi-periodic
 //! orbit whose rotation number is close to `q/p` may pass for `p` if `tol` is loose).
+//!
+//! # Units
+//!
+//! The test above is written for components of order 1. A model in other units (SI: metres
+//! and m/s) gives each component its typical magnitude, [`RotorModel::state_scale`]: the
+//! samples are then tested in units of their scale, `x_i[c] / scale[c]` (everything above,
+//! the extent, `S`, the threshold and the residuals, in those units), so that
+//! `|x_i[c] − x_{i−p}[c]| ≤ tol · scale[c] · max(1, E)`: absolute in units of the scale for
+//! orbits smaller than it, relative to the orbit's size for larger ones.
+//! [`PeriodTest::detect_scaled`], [`detect_period_scaled`] and
+//! [`StrobeOrbit::period`](super::StrobeOrbit::period) (which carries its model's scale) do
+//! this; with a scale of 1 (the paper's model) the result is bitwise that of [`detect_period`].
+//!
+//! [`RotorModel::state_scale`]: crate::hybrid::RotorModel::state_scale
 //!
 //! # A converging orbit is not a cycle
 //!
@@ -73,16 +88,13 @@ pub const MAX_WINDOWS: usize = 4;
 
 /// The residual of one lag over consecutive windows of a record (see the
 /// [module docs](self)): in window `w`, the largest `‖x_i − x_{i−lag}‖∞ / S`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+// serde always, not only with the feature: the sweeps of `global` record it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LagResiduals {
     /// The lag, in samples.
     pub lag: usize,
     values: [f64; MAX_WINDOWS],
-    #[cfg_attr(
-        feature = "serde",
-        serde(deserialize_with = "crate::serde_util::count_at_most::<_, MAX_WINDOWS>")
-    )]
+    #[serde(deserialize_with = "crate::serde_util::count_at_most::<_, MAX_WINDOWS>")]
     windows: usize,
     span: f64,
 }
@@ -173,8 +185,8 @@ impl fmt::Display for LagResiduals {
 
 /// The outcome of [`detect_period`]. Displays as `period 3`, `not periodic up to 16` or
 /// `not converged: lag 8 (residual per window …) within tolerance, lag 1 (…) still shrinking`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+// serde always, not only with the feature: the sweeps of `global` record it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[non_exhaustive]
 pub enum Periodicity {
     /// The orbit repeats after this many samples (the smallest such number; at least 1), and
@@ -247,8 +259,8 @@ impl fmt::Display for Periodicity {
 
 /// How a stroboscopic orbit of state vectors is tested for periodicity: [`detect_period`]
 /// with a period bound that adapts to the number of points.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+// serde always, not only with the feature: the sweeps of `global` record it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PeriodTest {
     /// Largest period tested (at least 1; the orbit needs `2 · max_period` points). Default 16.
     pub max_period: usize,
@@ -280,10 +292,90 @@ impl PeriodTest {
         self.detect_slices(&slices)
     }
 
+    /// [`PeriodTest::detect`] with the components in units of `scale` (see the
+    /// [module docs](self#units)), e.g. the model's [`RotorModel::state_scale`].
+    ///
+    /// # Errors
+    /// As [`detect_period_scaled`].
+    ///
+    /// [`RotorModel::state_scale`]: crate::hybrid::RotorModel::state_scale
+    pub fn detect_scaled<D: Dim>(
+        &self,
+        points: &[OVector<f64, D>],
+        scale: &OVector<f64, D>,
+    ) -> Result<Periodicity, AnalysisError>
+    where
+        DefaultAllocator: Allocator<D>,
+    {
+        let slices: Vec<&[f64]> = points.iter().map(|y| y.as_slice()).collect();
+        self.detect_slices_scaled(&slices, scale.as_slice())
+    }
+
     pub(super) fn detect_slices(&self, points: &[&[f64]]) -> Result<Periodicity, AnalysisError> {
         let max_period = self.max_period.min(points.len() / 2).max(1);
         detect_period(points, max_period, self.tol)
     }
+
+    pub(super) fn detect_slices_scaled(
+        &self,
+        points: &[&[f64]],
+        scale: &[f64],
+    ) -> Result<Periodicity, AnalysisError> {
+        let max_period = self.max_period.min(points.len() / 2).max(1);
+        detect_period_scaled(points, max_period, self.tol, scale)
+    }
+}
+
+/// [`detect_period`] with component `c` of every sample in units of `scale[c]` (see the
+/// [module docs](self#units)). A scale of 1 for every component gives bitwise the result
+/// of [`detect_period`].
+///
+/// # Errors
+///
+/// As [`detect_period`]; [`AnalysisError::LengthMismatch`] if `scale` does not have one entry
+/// per component, [`AnalysisError::InvalidValue`] (`"scale"`) for an entry that is not finite
+/// and `> 0`.
+pub fn detect_period_scaled<S: AsRef<[f64]>>(
+    samples: &[S],
+    max_period: usize,
+    tol: f64,
+    scale: &[f64],
+) -> Result<Periodicity, AnalysisError> {
+    match in_units(samples, scale)? {
+        Some(scaled) => detect_period(&scaled, max_period, tol),
+        None => detect_period(samples, max_period, tol),
+    }
+}
+
+/// The samples in units of `scale` (`None` when every scale is 1: the samples as they are).
+fn in_units<S: AsRef<[f64]>>(
+    samples: &[S],
+    scale: &[f64],
+) -> Result<Option<Vec<Vec<f64>>>, AnalysisError> {
+    let dim = samples.first().map_or(scale.len(), |s| s.as_ref().len());
+    if scale.len() != dim {
+        return Err(AnalysisError::LengthMismatch {
+            first: "scale",
+            first_len: scale.len(),
+            second: "a sample",
+            second_len: dim,
+        });
+    }
+    if let Some(&bad) = scale.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
+        return Err(AnalysisError::InvalidValue {
+            name: "scale",
+            value: bad,
+            expected: "a finite scale > 0 for every component",
+        });
+    }
+    if scale.iter().all(|&s| s == 1.0) {
+        return Ok(None);
+    }
+    let scaled = samples
+        .iter()
+        .map(|x| x.as_ref().iter().zip(scale).map(|(v, s)| v / s).collect())
+        .collect();
+    Ok(Some(scaled))
 }
 
 /// Checks the samples (equal lengths, all finite) and returns `(dimension, scale)`.

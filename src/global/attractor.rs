@@ -41,21 +41,24 @@
 //! * two non-periodic ones match when their contacts per period agree to within `contacts`
 //!   and every side of their bounding boxes to within `extent`;
 //! * a periodic attractor never matches a non-periodic one.
+//!
+//! `state` and `extent` are in units of the model's scale ([`RotorModel::state_scale`], kept
+//! in [`Attractor::scale`]): component $c$ agrees when $|a_c - b_c| \le$ `state` $\cdot
+//! \max(s^a_c, s^b_c)$. The paper's model has scale 1 (its units: the gap); a model in SI
+//! units gives its components' typical sizes, and the same tolerances mean the same there.
+//! The period test runs in the same units ([`PeriodTest::detect_scaled`]).
 
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, OVector};
 
-use super::json::{Json, JsonError};
-use super::record::{field, nest, Record};
-use crate::analysis::{LagResiduals, PeriodTest, Periodicity};
+use crate::analysis::{PeriodTest, Periodicity};
 use crate::hybrid::{
     simulate, EventRecord, HybridObserver, OutputPlan, RotorModel, SimError, SimErrorKind,
     SimOptions, SimStats, StrobePoint, StrobeRange,
 };
 
 /// Settings of [`find_attractor`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AttractorConfig {
     /// Forcing periods discarded before the first recording. Default 500.
     pub transient: u64,
@@ -87,58 +90,8 @@ impl Default for AttractorConfig {
     }
 }
 
-impl AttractorConfig {
-    /// The settings as JSON, for a sweep's manifest: every field (of [`SimOptions`] and
-    /// [`PeriodTest`] too), so that a resumed sweep with any other setting is refused.
-    pub fn to_json(&self) -> Json {
-        // Destructured without `..`: a field added to any of these structs does not compile
-        // until it is recorded here.
-        let AttractorConfig {
-            transient,
-            record,
-            max_transient,
-            opts,
-            period_test,
-            free_label,
-        } = *self;
-        let SimOptions {
-            method,
-            rtol,
-            atol,
-            steps_per_period,
-            max_step_fraction,
-            event_samples,
-            max_events_per_period,
-            max_steps,
-            screen_events,
-        } = opts;
-        let PeriodTest { max_period, tol } = period_test;
-        Json::object([
-            ("transient", Json::from(transient)),
-            ("record", Json::from(record)),
-            ("max_transient", Json::from(max_transient)),
-            ("method", Json::from(format!("{method:?}"))),
-            ("rtol", Json::from(rtol)),
-            ("atol", Json::from(atol)),
-            ("steps_per_period", Json::from(u64::from(steps_per_period))),
-            ("max_step_fraction", Json::from(max_step_fraction)),
-            ("event_samples", Json::from(event_samples)),
-            (
-                "max_events_per_period",
-                Json::from(u64::from(max_events_per_period)),
-            ),
-            ("max_steps", Json::from(max_steps)),
-            ("screen_events", Json::from(screen_events)),
-            ("max_period", Json::from(max_period)),
-            ("period_tol", Json::from(tol)),
-            ("free_label", Json::from(u64::from(free_label))),
-        ])
-    }
-}
-
 /// Statistics of the recorded window of a run (see the [module docs](self)).
-#[derive(Debug, Clone, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct OrbitStats {
     /// Forcing periods run in all, transients included.
     pub periods_run: u64,
@@ -157,8 +110,7 @@ pub struct OrbitStats {
 }
 
 /// The attractor a run settled on (see the [module docs](self)).
-#[derive(Debug, Clone, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Attractor {
     /// The detected period of the stroboscopic map.
     pub periodicity: Periodicity,
@@ -166,10 +118,16 @@ pub struct Attractor {
     pub cycle: Vec<Vec<f64>>,
     /// Contact and mode statistics of the recorded window.
     pub stats: OrbitStats,
+    /// The model's [`RotorModel::state_scale`], one entry per component: the units of the
+    /// matching tolerances (see the [module docs](self)). Empty (and left out of the record)
+    /// when the scale is 1 for every component, as for the paper's model; a missing entry
+    /// counts as 1.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub scale: Vec<f64>,
 }
 
-/// Tolerances of [`Attractor::matches`] (see the [module docs](self)), in the model's
-/// units (the paper's: gap = 1).
+/// Tolerances of [`Attractor::matches`] (see the [module docs](self)), in units of the
+/// model's scale ([`Attractor::scale`]; the paper's: gap = 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct MatchTolerance {
@@ -193,22 +151,20 @@ impl Default for MatchTolerance {
     }
 }
 
-impl MatchTolerance {
-    /// The tolerances as JSON.
-    pub fn to_json(&self) -> Json {
-        Json::object([
-            ("state", Json::from(self.state)),
-            ("contacts", Json::from(self.contacts)),
-            ("extent", Json::from(self.extent)),
-        ])
-    }
-}
-
-fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+/// Whether every component of `a` and `b` agrees to `tol` times its scale (1 where `scale`
+/// has no entry).
+fn within(a: &[f64], b: &[f64], scale: &[f64], tol: f64) -> bool {
     a.iter()
         .zip(b)
-        .map(|(u, v)| (u - v).abs())
-        .fold(0.0, f64::max)
+        .enumerate()
+        .all(|(c, (u, v))| (u - v).abs() <= tol * scale.get(c).copied().unwrap_or(1.0))
+}
+
+/// The larger of two attractors' scales, per component (empty if both are).
+fn joint_scale(a: &[f64], b: &[f64]) -> Vec<f64> {
+    let n = a.len().max(b.len());
+    let get = |s: &[f64], c: usize| s.get(c).copied().unwrap_or(1.0);
+    (0..n).map(|c| get(a, c).max(get(b, c))).collect()
 }
 
 impl Attractor {
@@ -222,14 +178,18 @@ impl Attractor {
         self.cycle.first().map(Vec::as_slice)
     }
 
-    /// The cycle reduced to its shortest period at tolerance `tol`: the first `q` states,
-    /// `q` the smallest divisor of the period with every state within `tol` of the one `q`
-    /// later.
+    /// The cycle reduced to its shortest period at tolerance `tol` (in units of
+    /// [`Attractor::scale`]): the first `q` states, `q` the smallest divisor of the period
+    /// with every state within `tol` of the one `q` later.
     pub fn reduced_cycle(&self, tol: f64) -> &[Vec<f64>] {
+        self.reduced_with(tol, &self.scale)
+    }
+
+    fn reduced_with(&self, tol: f64, scale: &[f64]) -> &[Vec<f64>] {
         let p = self.cycle.len();
         for q in 1..p {
             if p.is_multiple_of(q)
-                && (q..p).all(|i| max_diff(&self.cycle[i], &self.cycle[i - q]) <= tol)
+                && (q..p).all(|i| within(&self.cycle[i], &self.cycle[i - q], scale, tol))
             {
                 return &self.cycle[..q];
             }
@@ -240,19 +200,21 @@ impl Attractor {
     /// Whether `self` and `other` are the same attractor within `tol` (see the
     /// [module docs](self)).
     pub fn matches(&self, other: &Attractor, tol: &MatchTolerance) -> bool {
+        let scale = joint_scale(&self.scale, &other.scale);
         match (self.period(), other.period()) {
             (Some(_), Some(_)) => {
-                let a = self.reduced_cycle(tol.state);
-                let b = other.reduced_cycle(tol.state);
+                let a = self.reduced_with(tol.state, &scale);
+                let b = other.reduced_with(tol.state, &scale);
                 let p = a.len();
                 p == b.len()
-                    && (0..p).any(|s| (0..p).all(|i| max_diff(&a[i], &b[(i + s) % p]) <= tol.state))
+                    && (0..p)
+                        .any(|s| (0..p).all(|i| within(&a[i], &b[(i + s) % p], &scale, tol.state)))
             }
             (None, None) => {
                 let (s, o) = (&self.stats, &other.stats);
                 (s.contacts_per_period - o.contacts_per_period).abs() <= tol.contacts
-                    && max_diff(&s.lo, &o.lo) <= tol.extent
-                    && max_diff(&s.hi, &o.hi) <= tol.extent
+                    && within(&s.lo, &o.lo, &scale, tol.extent)
+                    && within(&s.hi, &o.hi, &scale, tol.extent)
                     && s.lo.len() == o.lo.len()
             }
             _ => false,
@@ -439,6 +401,7 @@ where
             "max_transient must be at least transient",
         ));
     }
+    let scale = model.state_scale();
     let mut start = y0.clone();
     let mut transient_done = 0u64;
     let mut periods_run = 0u64;
@@ -449,18 +412,37 @@ where
         periods_run += config.transient + config.record;
         // The sizes and settings are checked above: the test fails only on a non-finite
         // state, i.e. a diverged run.
-        let periodicity = test.detect(&obs.strobe).map_err(|_| SimError {
-            kind: SimErrorKind::NonFinite,
-            t: t_end,
-            y: obs.strobe.last().cloned().unwrap_or_else(|| start.clone()),
-            stats: SimStats::default(),
-        })?;
+        let periodicity = test
+            .detect_scaled(&obs.strobe, &scale)
+            .map_err(|_| SimError {
+                kind: SimErrorKind::NonFinite,
+                t: t_end,
+                y: obs.strobe.last().cloned().unwrap_or_else(|| start.clone()),
+                stats: SimStats::default(),
+            })?;
         let more = transient_done + config.transient <= config.max_transient;
         if periodicity.period().is_some() || !more || config.transient == 0 {
-            return Ok(summarise(obs, periodicity, periods_run, config.record));
+            let scale = record_scale(scale.as_slice());
+            return Ok(summarise(
+                obs,
+                periodicity,
+                periods_run,
+                config.record,
+                scale,
+            ));
         }
         // Slowly attracting or not periodic: go on from the last state.
         start = obs.strobe.last().cloned().unwrap_or(start);
+    }
+}
+
+/// [`Attractor::scale`] from the model's: empty for a scale of 1 everywhere (the paper's
+/// model), whose records are then unchanged.
+fn record_scale(scale: &[f64]) -> Vec<f64> {
+    if scale.iter().all(|&s| s == 1.0) {
+        Vec::new()
+    } else {
+        scale.to_vec()
     }
 }
 
@@ -469,6 +451,7 @@ fn summarise<D: nalgebra::Dim>(
     periodicity: Periodicity,
     periods_run: u64,
     window: u64,
+    scale: Vec<f64>,
 ) -> Attractor
 where
     DefaultAllocator: Allocator<D>,
@@ -508,6 +491,7 @@ where
     Attractor {
         periodicity,
         cycle,
+        scale,
         stats: OrbitStats {
             periods_run,
             window,
@@ -528,153 +512,4 @@ fn lex_cmp(a: &[f64], b: &[f64]) -> std::cmp::Ordering {
         }
     }
     a.len().cmp(&b.len())
-}
-
-impl Record for OrbitStats {
-    fn to_json(&self) -> Json {
-        Json::object([
-            ("periods_run", Json::from(self.periods_run)),
-            ("window", Json::from(self.window)),
-            ("contacts_per_period", Json::from(self.contacts_per_period)),
-            ("contact_fraction", Json::from(self.contact_fraction)),
-            (
-                "occupancy",
-                Json::Array(
-                    self.occupancy
-                        .iter()
-                        .map(|&(l, f)| Json::Array(vec![l.to_json(), f.to_json()]))
-                        .collect(),
-                ),
-            ),
-            ("lo", self.lo.to_json()),
-            ("hi", self.hi.to_json()),
-        ])
-    }
-
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        let occ = json.field("occupancy")?;
-        let occupancy = occ
-            .as_array()
-            .ok_or_else(|| JsonError::shape("occupancy", "an array", occ))?
-            .iter()
-            .enumerate()
-            .map(|(i, pair)| {
-                let (label, frac) = <(u8, f64)>::from_pair(pair)
-                    .map_err(|e| nest(e, &format!("occupancy[{i}]")))?;
-                Ok((label, frac))
-            })
-            .collect::<Result<Vec<_>, JsonError>>()?;
-        Ok(OrbitStats {
-            periods_run: field(json, "periods_run")?,
-            window: field(json, "window")?,
-            contacts_per_period: field(json, "contacts_per_period")?,
-            contact_fraction: field(json, "contact_fraction")?,
-            occupancy,
-            lo: field(json, "lo")?,
-            hi: field(json, "hi")?,
-        })
-    }
-}
-
-impl Record for LagResiduals {
-    /// `{"lag": 8, "per_window": [...], "span": 42.0}`.
-    fn to_json(&self) -> Json {
-        Json::object([
-            ("lag", Json::from(self.lag)),
-            ("per_window", self.per_window().to_vec().to_json()),
-            ("span", Json::from(self.span())),
-        ])
-    }
-
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        lag_residuals_from_json(json)
-    }
-}
-
-fn lag_residuals_from_json(json: &Json) -> Result<LagResiduals, JsonError> {
-    let lag: usize = field(json, "lag")?;
-    let per_window: Vec<f64> = field(json, "per_window")?;
-    let span: f64 = field(json, "span")?;
-    LagResiduals::from_parts(lag, &per_window, span).ok_or_else(|| {
-        JsonError::shape(
-            "",
-            "lag >= 1, 1 to 4 finite residuals >= 0 and a finite span >= 0",
-            json,
-        )
-    })
-}
-
-trait FromPair: Sized {
-    fn from_pair(json: &Json) -> Result<Self, JsonError>;
-}
-
-impl FromPair for (u8, f64) {
-    fn from_pair(json: &Json) -> Result<Self, JsonError> {
-        match json.as_array() {
-            Some([a, b]) => Ok((
-                u8::from_json(a).map_err(|e| nest(e, "[0]"))?,
-                f64::from_json(b).map_err(|e| nest(e, "[1]"))?,
-            )),
-            _ => Err(JsonError::shape("", "a pair [label, fraction]", json)),
-        }
-    }
-}
-
-impl Record for Attractor {
-    /// `{"period": p, "cycle": [[...], ...], "stats": {...}}`,
-    /// `{"not_periodic_up_to": n, "cycle": [], "stats": {...}}`, or
-    /// `{"not_converged": {"passed": {...}, "shrinking": {...}}, "cycle": [], "stats": {...}}`
-    /// (each a [`LagResiduals`] record).
-    fn to_json(&self) -> Json {
-        let head = match self.periodicity {
-            Periodicity::Period(p) => ("period", Json::from(p)),
-            Periodicity::NotPeriodic { up_to } => ("not_periodic_up_to", Json::from(up_to)),
-            Periodicity::NotConverged { passed, shrinking } => (
-                "not_converged",
-                Json::object([
-                    ("passed", passed.to_json()),
-                    ("shrinking", shrinking.to_json()),
-                ]),
-            ),
-        };
-        Json::object([
-            head,
-            ("cycle", self.cycle.to_json()),
-            ("stats", self.stats.to_json()),
-        ])
-    }
-
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        let keys = ["period", "not_periodic_up_to", "not_converged"];
-        let present: Vec<&str> = keys.into_iter().filter(|k| json.get(k).is_some()).collect();
-        let periodicity = match present.as_slice() {
-            ["period"] => Periodicity::Period(field(json, "period")?),
-            ["not_periodic_up_to"] => Periodicity::NotPeriodic {
-                up_to: field(json, "not_periodic_up_to")?,
-            },
-            ["not_converged"] => {
-                let nc = json.field("not_converged")?;
-                let part = |key| {
-                    lag_residuals_from_json(nc.field(key)?)
-                        .map_err(|e| nest(nest(e, key), "not_converged"))
-                };
-                Periodicity::NotConverged {
-                    passed: part("passed")?,
-                    shrinking: part("shrinking")?,
-                }
-            }
-            _ => {
-                return Err(JsonError::shape(
-                    "",
-                    "one of the keys `period`, `not_periodic_up_to` and `not_converged`",
-                    json,
-                ))
-            }
-        };
-        Ok(Attractor {
-            periodicity,
-            cycle: field(json, "cycle")?,
-            stats: field(json, "stats")?,
-        })
-    }
 }

@@ -136,7 +136,7 @@ where
     }
 
     // The same points on every rank.
-    let fingerprint = fingerprint(points);
+    let fingerprint = agree(comm, fingerprint(points), "to write its points")?;
     let mut check = vec![points.len() as u64, fingerprint];
     broadcast_u64s(comm, &mut check);
     let same = if check == [points.len() as u64, fingerprint] {
@@ -180,12 +180,12 @@ where
         .map(|s| s.writer(rank))
         .transpose()
         .and_then(|w| compute(points, &mine, w, config, &runner, progress));
-    let (lines, threads) = agree(comm, local, "while running its points")?;
+    let (records, threads) = agree(comm, local, "while running its points")?;
 
     // Gather the record lines on rank 0.
     let mut bytes = Vec::new();
-    for (_, line) in &lines {
-        bytes.extend_from_slice(line.as_bytes());
+    for r in &records {
+        bytes.extend_from_slice(r.line.as_bytes());
         bytes.push(b'\n');
     }
     // One gather carries at most `Count::MAX` bytes in all: check on every rank first.
@@ -223,10 +223,10 @@ where
         .map_err(|_| StoreError::Mpi("the gathered records are not UTF-8 text".into()))?;
     let mut computed = 0;
     for (k, line) in text.lines().enumerate() {
-        let (i, outcome) = decode_line::<T, E>(line).map_err(|error| StoreError::Corrupt {
+        let (i, outcome) = decode_line::<T, E>(line).map_err(|message| StoreError::Corrupt {
             path: "<records gathered from the ranks>".into(),
             line: k + 1,
-            error,
+            message,
         })?;
         match results.get_mut(i) {
             Some(slot @ None) => {

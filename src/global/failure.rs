@@ -7,16 +7,13 @@ use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim};
 use thiserror::Error;
 
-use super::json::{Json, JsonError};
-use super::record::{field, Record};
 use crate::analysis::AnalysisError;
 use crate::hybrid::{ModelError, SimError, SimErrorKind};
 
 /// Why one point of a scan failed. Recorded in the sweep's folder and read back on restart,
 /// so it holds text rather than the original error values; the variant and the simulation's
 /// [`SimFailureKind`] stay typed.
-#[derive(Debug, Clone, PartialEq, Error)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[derive(Debug, Clone, PartialEq, Error, serde::Serialize, serde::Deserialize)]
 #[non_exhaustive]
 pub enum PointFailure {
     /// The model could not be built at this point (e.g. invalid parameters).
@@ -50,8 +47,7 @@ pub enum PointFailure {
 }
 
 /// The variant of a [`SimErrorKind`], for a recorded [`PointFailure::Simulation`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[non_exhaustive]
 pub enum SimFailureKind {
     /// [`SimErrorKind::Model`], or [`SimErrorKind::Guard`] (a guard of the model without a
@@ -91,7 +87,7 @@ impl SimFailureKind {
         }
     }
 
-    /// Its name in records: `"model"`, `"integrator"`, `"chattering"`, `"stalled"`,
+    /// Its name (its `Display`): `"model"`, `"integrator"`, `"chattering"`, `"stalled"`,
     /// `"non-finite"` or `"invalid-option"`.
     pub fn name(self) -> &'static str {
         Self::NAMES
@@ -115,7 +111,7 @@ impl PointFailure {
         }
     }
 
-    /// The variant's name in records: `"build"`, `"initial-state"`, `"simulation"`,
+    /// The variant's name: `"build"`, `"initial-state"`, `"simulation"`,
     /// `"analysis"`.
     pub fn kind_name(&self) -> &'static str {
         match self {
@@ -156,61 +152,6 @@ impl From<AnalysisError> for PointFailure {
     }
 }
 
-impl Record for PointFailure {
-    /// `{"kind": "simulation", "sim_kind": "stalled", "t": 12.5, "message": "..."}`; the other
-    /// variants have `kind` and `message` only.
-    fn to_json(&self) -> Json {
-        let kind = ("kind", Json::from(self.kind_name()));
-        match self {
-            PointFailure::Build { message }
-            | PointFailure::InitialState { message }
-            | PointFailure::Analysis { message } => {
-                Json::object([kind, ("message", Json::from(message.as_str()))])
-            }
-            PointFailure::Simulation {
-                kind: k,
-                t,
-                message,
-            } => Json::object([
-                kind,
-                ("sim_kind", Json::from(k.name())),
-                ("t", Json::from(*t)),
-                ("message", Json::from(message.as_str())),
-            ]),
-        }
-    }
-
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        let kind: String = field(json, "kind")?;
-        let message: String = field(json, "message")?;
-        match kind.as_str() {
-            "build" => Ok(PointFailure::Build { message }),
-            "initial-state" => Ok(PointFailure::InitialState { message }),
-            "analysis" => Ok(PointFailure::Analysis { message }),
-            "simulation" => {
-                let name: String = field(json, "sim_kind")?;
-                let k = SimFailureKind::NAMES
-                    .iter()
-                    .find(|(_, n)| *n == name)
-                    .map(|(k, _)| *k)
-                    .ok_or_else(|| {
-                        JsonError::shape("sim_kind", "a simulation failure kind", &name.into())
-                    })?;
-                Ok(PointFailure::Simulation {
-                    kind: k,
-                    t: field(json, "t")?,
-                    message,
-                })
-            }
-            _ => Err(JsonError::shape(
-                "kind",
-                "build, initial-state, simulation or analysis",
-                &kind.into(),
-            )),
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -232,8 +173,8 @@ mod tests {
             },
         ];
         for f in all {
-            let text = f.to_json().to_string();
-            let back = PointFailure::from_json(&Json::parse(&text).unwrap()).unwrap();
+            let text = serde_json::to_string(&f).unwrap();
+            let back: PointFailure = serde_json::from_str(&text).unwrap();
             assert_eq!(back, f);
         }
         for (k, n) in SimFailureKind::NAMES {

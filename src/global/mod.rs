@@ -6,9 +6,8 @@
 //!   match attractors reached from different starts ([`find_attractor`], [`Attractor`],
 //!   [`MatchTolerance`]).
 //! * [`catalogue`]: the distinct attractors of a scan and the label of each point.
-//! * [`continuation`](mod@continuation): periodic orbits followed in any parameter by
-//!   pseudo-arclength, through folds and grazings, with their stability, bifurcations located
-//!   and branch switching at a flip ([`continue_orbit`], [`switch_at_flip`]).
+//! * The continuation of periodic orbits (pseudo-arclength, bifurcations, branch switching)
+//!   is in [`crate::stability`] ([`crate::stability::continue_orbit`]).
 //! * [`scan`]: attractor scans over a grid ([`scan_grid`], [`Grid2`]): basins of attraction
 //!   (a grid of initial states) and two-parameter maps (a grid of parameters). The paper's
 //!   model has ready-made planes: [`crate::paper::BasinPlane`], [`crate::paper::ParamPlane`].
@@ -19,26 +18,24 @@
 //!   of threads, across restarts, for any number of shards, and (feature `mpi`, module
 //!   `distributed`) for any number of MPI ranks.
 //! * [`store`]: the folder (a manifest and records, one JSON object a line) and its rules for
-//!   crashes ([`SweepStore`]); [`json`] and [`record`] the format ([`Json`], [`Record`]).
+//!   crashes ([`SweepStore`]); [`record`] the format ([`Record`]: serde's JSON of the values).
 //!
 //! # Example: a resumable basin scan
 //!
 //! ```no_run
 //! use jeffcott::analysis::StderrProgress;
-//! use jeffcott::global::{scan_grid, AttractorConfig, Grid2, Json, MatchTolerance, RunConfig, SweepStore};
+//! use jeffcott::global::{scan_grid, AttractorConfig, Grid2, MatchTolerance, RunConfig, SweepStore};
 //! use jeffcott::paper::{BasinPlane, StartPlane};
 //! use jeffcott::params::Preset;
-//! use jeffcott::global::record::Record;
 //!
 //! let plane = BasinPlane::new(Preset::Fig8a.params().with_eta(2.2), StartPlane::XVx);
 //! let grid = Grid2::linspace((-1.0, 1.0, 200), (-1.5, 1.5, 200))?;
 //! let config = AttractorConfig::default();
 //! // The folder records the grid, every setting of `config` and the crate's version; the
-//! // description adds what the scan cannot see: the model's parameters.
-//! let description = Json::object([("plane", plane.to_json())]);
+//! // description (any `Serialize` value) adds what the scan cannot see: the model's parameters.
 //! // Killed part-way? Run it again: the points in the folder are not run again (and a run
 //! // with another grid, other settings or another description is refused).
-//! let store = SweepStore::open_scan("out/basins-fig8a", "basins", description, &grid, &config)?;
+//! let store = SweepStore::open_scan("out/basins-fig8a", "basins", &plane, &grid, &config)?;
 //! let progress = StderrProgress::new("basins");
 //! let scan = scan_grid(&grid, plane.setup(), &config, Some(&store), &RunConfig::default(), Some(&progress))?;
 //! let catalogue = scan.catalogue(&MatchTolerance::default());
@@ -50,12 +47,10 @@
 
 pub mod attractor;
 pub mod catalogue;
-pub mod continuation;
 #[cfg(feature = "mpi")]
 #[cfg_attr(docsrs, doc(cfg(feature = "mpi")))]
 pub mod distributed;
 mod failure;
-pub mod json;
 pub mod record;
 pub mod runner;
 pub mod scan;
@@ -63,12 +58,7 @@ pub mod store;
 
 pub use attractor::{find_attractor, Attractor, AttractorConfig, MatchTolerance, OrbitStats};
 pub use catalogue::{Catalogue, CatalogueEntry, PointLabel};
-pub use continuation::{
-    continue_orbit, switch_at_flip, Branch, BranchEnd, BranchPoint, ContinuationConfig,
-    ContinuationError, SpecialKind, SpecialPoint,
-};
 pub use failure::{PointFailure, SimFailureKind};
-pub use json::{Json, JsonError};
 pub use record::Record;
 pub use runner::{run_points, PointResults, RunConfig, Shard};
 pub use scan::{attractor_at, scan_grid, Grid2, GridScan};

@@ -1,164 +1,38 @@
-//! [`Record`]: how a point, a result or an error is written to a sweep's folder and read back.
+//! [`Record`]: what a sweep writes to its folder and reads back: a point, a result, an error.
+//!
+//! A record is the value's JSON as [`serde_json`] writes it from the value's `Serialize`, and
+//! is read back through its `Deserialize`: derive both for your point and result types
+//! (`#[derive(serde::Serialize, serde::Deserialize)]`) and they are records.
+//!
+//! * **Numbers.** An `f64` is written in its shortest round-trip form (`0.1`, `1e-7`, `-0.0`)
+//!   and read back with `serde_json`'s `float_roundtrip` parser: **bit for bit** the same value
+//!   (subnormals, `-0.0` and the extremes included; a property test checks it).
+//! * **NaN and infinities.** JSON has none: `serde_json` writes a non-finite `f64` as `null`,
+//!   which does not read back as an `f64`. [`run_points`](super::run_points) reads every
+//!   outcome back before writing it, so such an outcome is never written: the run stops with
+//!   [`StoreError::RoundTrip`](super::StoreError::RoundTrip) naming the point. A result that
+//!   may be undefined holds an `Option<f64>` (`null` is `None`) or an error instead.
 
-use super::json::{Json, JsonError};
+use serde::de::DeserializeOwned;
+use serde::Serialize;
 
-/// A value that a resumable sweep writes as JSON and reads back when it restarts.
+/// A value that a resumable sweep writes as JSON and reads back when it restarts: every type
+/// that implements `Serialize` and `Deserialize` (see the [module docs](self)).
 ///
-/// `from_json(&x.to_json())` must give back `x`; the sweep runner passes every result through
-/// its record even when it is not restarted ([`run_points`](super::run_points)), so a lossy
-/// encoding cannot make a restarted run differ from an uninterrupted one, but it would lose
-/// information. Implemented here for numbers, strings, vectors, arrays and options; write
-/// your own for your result types (see [`Attractor`](super::Attractor)'s for an example).
-pub trait Record: Sized {
-    /// The value as JSON.
-    fn to_json(&self) -> Json;
-    /// The value back from its JSON.
-    ///
-    /// # Errors
-    /// [`JsonError::Shape`] if `json` is not what [`Record::to_json`] writes.
-    fn from_json(json: &Json) -> Result<Self, JsonError>;
-}
+/// Reading back the record of `x` must give back `x`; the sweep runner passes every result
+/// through its record even when it is not restarted ([`run_points`](super::run_points)), so a
+/// lossy encoding cannot make a restarted run differ from an uninterrupted one.
+pub trait Record: Serialize + DeserializeOwned {}
 
-impl Record for f64 {
-    fn to_json(&self) -> Json {
-        Json::from(*self)
-    }
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        json.as_f64()
-            .ok_or_else(|| JsonError::shape("", "a number", json))
-    }
-}
-
-impl Record for u64 {
-    fn to_json(&self) -> Json {
-        Json::from(*self)
-    }
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        json.as_u64()
-            .ok_or_else(|| JsonError::shape("", "a whole number >= 0", json))
-    }
-}
-
-impl Record for usize {
-    fn to_json(&self) -> Json {
-        Json::from(*self)
-    }
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        json.as_u64()
-            .and_then(|v| usize::try_from(v).ok())
-            .ok_or_else(|| JsonError::shape("", "a whole number >= 0", json))
-    }
-}
-
-impl Record for u8 {
-    fn to_json(&self) -> Json {
-        Json::from(u64::from(*self))
-    }
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        json.as_u64()
-            .and_then(|v| u8::try_from(v).ok())
-            .ok_or_else(|| JsonError::shape("", "a whole number in 0..=255", json))
-    }
-}
-
-impl Record for bool {
-    fn to_json(&self) -> Json {
-        Json::Bool(*self)
-    }
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        match json {
-            Json::Bool(b) => Ok(*b),
-            _ => Err(JsonError::shape("", "true or false", json)),
-        }
-    }
-}
-
-impl Record for String {
-    fn to_json(&self) -> Json {
-        Json::String(self.clone())
-    }
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        json.as_str()
-            .map(str::to_string)
-            .ok_or_else(|| JsonError::shape("", "a string", json))
-    }
-}
-
-impl<T: Record> Record for Vec<T> {
-    fn to_json(&self) -> Json {
-        Json::Array(self.iter().map(Record::to_json).collect())
-    }
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        let items = json
-            .as_array()
-            .ok_or_else(|| JsonError::shape("", "an array", json))?;
-        items
-            .iter()
-            .enumerate()
-            .map(|(i, v)| T::from_json(v).map_err(|e| nest(e, &format!("[{i}]"))))
-            .collect()
-    }
-}
-
-impl<T: Record, const N: usize> Record for [T; N] {
-    fn to_json(&self) -> Json {
-        Json::Array(self.iter().map(Record::to_json).collect())
-    }
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        let v = Vec::<T>::from_json(json)?;
-        v.try_into()
-            .map_err(|_| JsonError::shape("", "an array of the right length", json))
-    }
-}
-
-impl<T: Record> Record for Option<T> {
-    fn to_json(&self) -> Json {
-        self.as_ref().map_or(Json::Null, Record::to_json)
-    }
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        match json {
-            Json::Null => Ok(None),
-            v => T::from_json(v).map(Some),
-        }
-    }
-}
-
-/// Prefixes the path of a shape error with `prefix` (a key or `[i]`).
-pub(crate) fn nest(e: JsonError, prefix: &str) -> JsonError {
-    match e {
-        JsonError::Shape {
-            path,
-            expected,
-            found,
-        } => {
-            let path = match (prefix.is_empty(), path.is_empty()) {
-                (true, _) => path,
-                (false, true) => prefix.to_string(),
-                (false, false) if path.starts_with('[') => format!("{prefix}{path}"),
-                (false, false) => format!("{prefix}.{path}"),
-            };
-            JsonError::Shape {
-                path,
-                expected,
-                found,
-            }
-        }
-        other => other,
-    }
-}
-
-/// Reads field `key` of an object as a `T`, with the key in the error's path.
-pub(crate) fn field<T: Record>(json: &Json, key: &'static str) -> Result<T, JsonError> {
-    T::from_json(json.field(key)?).map_err(|e| nest(e, key))
-}
+impl<T: Serialize + DeserializeOwned> Record for T {}
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn round_trip<T: Record + PartialEq + std::fmt::Debug>(v: T) {
-        let text = v.to_json().to_string();
-        let back = T::from_json(&Json::parse(&text).unwrap()).unwrap();
+        let text = serde_json::to_string(&v).unwrap();
+        let back: T = serde_json::from_str(&text).unwrap();
         assert_eq!(back, v, "{text}");
     }
 
@@ -169,22 +43,22 @@ mod tests {
         round_trip(17usize);
         round_trip(200u8);
         round_trip(true);
-        round_trip("a \"b\"".to_string());
+        round_trip("a \"b\" \n é ✓".to_string());
         round_trip(vec![[1.0, 2.0], [3.0, -0.0]]);
         round_trip(Some(vec![1u8, 2]));
         round_trip(None::<f64>);
     }
 
     #[test]
-    fn shape_errors_name_the_path() {
-        let json = Json::parse(r#"[[1, 2], [3, "x"]]"#).unwrap();
-        match Vec::<[f64; 2]>::from_json(&json) {
-            Err(JsonError::Shape { path, .. }) => assert_eq!(path, "[1][1]"),
-            other => panic!("{other:?}"),
-        }
-        let json = Json::parse(r#"[1, 2, 3]"#).unwrap();
-        assert!(<[f64; 2]>::from_json(&json).is_err());
-        assert!(u8::from_json(&Json::Number(256.0)).is_err());
-        assert!(u64::from_json(&Json::Number(1.5)).is_err());
+    fn shape_errors_name_the_place() {
+        let e = serde_json::from_str::<Vec<[f64; 2]>>(r#"[[1, 2], [3, "x"]]"#).unwrap_err();
+        assert!(e.to_string().contains("column 16"), "{e}");
+        assert!(serde_json::from_str::<[f64; 2]>("[1, 2, 3]").is_err());
+        assert!(serde_json::from_str::<u8>("256").is_err());
+        assert!(serde_json::from_str::<u64>("1.5").is_err());
+        // A non-finite number is written as `null`, which is not an f64.
+        let nan = serde_json::to_string(&f64::NAN).unwrap();
+        assert_eq!(nan, "null");
+        assert!(serde_json::from_str::<f64>(&nan).is_err());
     }
 }

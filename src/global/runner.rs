@@ -12,10 +12,11 @@
 //!   outcomes are bitwise identical for any number of threads, any number of MPI ranks
 //!   (module `distributed`, feature `mpi`), and across interruptions and
 //!   restarts.
-//! * **Every outcome passes through its record.** An outcome computed now is encoded, written,
-//!   and decoded back before it is returned, exactly as one read from the folder after a
-//!   restart: a restarted run returns the same values as an uninterrupted one even if a
-//!   [`Record`] encoding were lossy.
+//! * **Every outcome passes through its record.** An outcome computed now is encoded and
+//!   decoded back before it is written and returned, exactly as one read from the folder after
+//!   a restart: a restarted run returns the same values as an uninterrupted one even if a
+//!   [`Record`] encoding were lossy. An outcome that does not read back (a NaN written as
+//!   `null`) is not written: the run stops with [`StoreError::RoundTrip`].
 //! * **Failures are results.** A runner error is recorded (`"error"` in its line) and returned
 //!   in its slot; it is not computed again on restart (delete its line to retry it). A panic
 //!   inside the runner is a bug: it propagates, the records written so far stay.
@@ -35,7 +36,6 @@ use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
-use super::json::JsonError;
 use super::record::Record;
 use super::store::{
     decode_line, encode_line, fingerprint, RecordWriter, StoreError, SweepStore, MANIFEST_FILE,
@@ -252,12 +252,12 @@ impl<T, E> PointResults<T, E> {
 /// # Example
 ///
 /// ```
-/// use jeffcott::global::{run_points, Json, RunConfig, SweepStore};
+/// use jeffcott::global::{run_points, RunConfig, SweepStore};
 ///
 /// let dir = std::env::temp_dir().join(format!("jeffcott-doc-run-points-{}", std::process::id()));
 /// # let _ = std::fs::remove_dir_all(&dir);
 /// let points: Vec<f64> = (0..20).map(|i| i as f64).collect();
-/// let store = SweepStore::open(&dir, "squares", Json::Null, &points)?;
+/// let store = SweepStore::open(&dir, "squares", &(), &points)?;
 /// let square = |x: &f64| if *x < 15.0 { Ok(x * x) } else { Err(format!("{x} too large")) };
 /// // A first run stops after 8 points; the second does the other 12.
 /// let config = RunConfig::default().with_threads(2);
@@ -300,10 +300,10 @@ where
         (Some(s), None) => Some(s.writer(0)?),
         (None, _) => None,
     };
-    let (lines, threads) = compute(points, &todo, writer, config, &runner, progress)?;
-    let computed = lines.len();
-    for (i, line) in lines {
-        results[i] = Some(decode_own(i, &line)?);
+    let (records, threads) = compute(points, &todo, writer, config, &runner, progress)?;
+    let computed = records.len();
+    for r in records {
+        results[r.index] = Some(r.outcome);
     }
     Ok(PointResults {
         results,
@@ -335,7 +335,7 @@ pub(crate) fn check_points<P: Record>(
             m.points.to_string(),
         ));
     }
-    let given = fingerprint(points);
+    let given = fingerprint(points)?;
     if m.fingerprint != given {
         return Err(mismatch(
             "fingerprint (the points)",
@@ -346,36 +346,43 @@ pub(crate) fn check_points<P: Record>(
     Ok(())
 }
 
-/// Decodes a line this process wrote; failure means a `Record` impl that does not read back
-/// its own JSON.
-pub(crate) fn decode_own<T: Record, E: Record>(
-    index: usize,
-    line: &str,
-) -> Result<Result<T, E>, StoreError> {
-    let (i, outcome) = decode_line::<T, E>(line).map_err(|error| encoding_error(index, error))?;
-    if i != index {
-        return Err(encoding_error(
-            index,
-            JsonError::Syntax {
-                at: 0,
-                what: "the index written",
-            },
-        ));
-    }
-    Ok(outcome)
+/// A point computed by this process: its record line and its outcome as read back from it.
+pub(crate) struct Computed<T, E> {
+    /// The point's index.
+    pub(crate) index: usize,
+    /// Its record line (without the line break).
+    pub(crate) line: String,
+    /// Its outcome, read back from `line`.
+    pub(crate) outcome: Result<T, E>,
 }
 
-fn encoding_error(index: usize, error: JsonError) -> StoreError {
-    StoreError::Corrupt {
-        path: format!("<record of point {index} as just encoded; its Record impl does not read back its own JSON>").into(),
-        line: 1,
-        error,
+/// The record of point `index` and its outcome read back from it.
+///
+/// # Errors
+/// [`StoreError::Encode`] if it cannot be written, [`StoreError::RoundTrip`] if it does not
+/// read back.
+fn record<P: Record, T: Record, E: Record>(
+    index: usize,
+    point: &P,
+    outcome: &Result<T, E>,
+) -> Result<Computed<T, E>, StoreError> {
+    let line = encode_line(index, point, outcome)?;
+    let round_trip = |message| StoreError::RoundTrip { index, message };
+    let (i, outcome) = decode_line::<T, E>(&line).map_err(round_trip)?;
+    if i != index {
+        return Err(round_trip(format!("index {i} read back")));
     }
+    Ok(Computed {
+        index,
+        line,
+        outcome,
+    })
 }
 
 /// Runs the points `todo` (indices into `points`) in parallel, appending each record line to
-/// `writer` as it finishes; returns the `(index, line)` of the points run, in `todo` order,
-/// and the number of threads.
+/// `writer` as it finishes (after reading it back: a record that does not read back is not
+/// written, and stops the run); returns the points run, in `todo` order, and the number of
+/// threads.
 pub(crate) fn compute<P, T, E, F>(
     points: &[P],
     todo: &[usize],
@@ -383,7 +390,7 @@ pub(crate) fn compute<P, T, E, F>(
     config: &RunConfig,
     runner: &F,
     progress: Option<&dyn Progress>,
-) -> Result<(Vec<(usize, String)>, usize), StoreError>
+) -> Result<(Vec<Computed<T, E>>, usize), StoreError>
 where
     P: Record + Sync,
     T: Record + Send,
@@ -398,8 +405,8 @@ where
     let done = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);
     let writer = writer.map(Mutex::new);
-    let write_error: Mutex<Option<StoreError>> = Mutex::new(None);
-    let run_one = |&i: &usize| -> Option<(usize, String)> {
+    let failure: Mutex<Option<StoreError>> = Mutex::new(None);
+    let run_one = |&i: &usize| -> Option<Computed<T, E>> {
         if stop.load(Ordering::Acquire) {
             return None;
         }
@@ -410,32 +417,37 @@ where
             stop.store(true, Ordering::Release);
             return None;
         }
-        let outcome = runner(&points[i]);
-        let line = encode_line(i, &points[i], &outcome);
-        if let Some(w) = &writer {
-            let mut w = w.lock().unwrap_or_else(|p| p.into_inner());
-            if let Err(e) = w.append(&line) {
+        let written = record(i, &points[i], &runner(&points[i])).and_then(|r| match &writer {
+            Some(w) => {
+                let mut w = w.lock().unwrap_or_else(|p| p.into_inner());
+                w.append(&r.line).map(|()| r)
+            }
+            None => Ok(r),
+        });
+        let r = match written {
+            Ok(r) => r,
+            Err(e) => {
                 stop.store(true, Ordering::Release);
-                write_error
+                failure
                     .lock()
                     .unwrap_or_else(|p| p.into_inner())
                     .get_or_insert(e);
                 return None;
             }
-        }
+        };
         let d = done.fetch_add(1, Ordering::AcqRel) + 1;
         if let Some(p) = progress {
             p.update(d, total);
         }
-        Some((i, line))
+        Some(r)
     };
-    let (lines, threads) = on_pool(config.threads, || {
+    let (records, threads) = on_pool(config.threads, || {
         todo.par_iter()
             .map(run_one)
-            .collect::<Vec<Option<(usize, String)>>>()
+            .collect::<Vec<Option<Computed<T, E>>>>()
     })?;
-    if let Some(e) = write_error.into_inner().unwrap_or_else(|p| p.into_inner()) {
+    if let Some(e) = failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
         return Err(e);
     }
-    Ok((lines.into_iter().flatten().collect(), threads))
+    Ok((records.into_iter().flatten().collect(), threads))
 }

@@ -20,7 +20,6 @@ use nalgebra::{DefaultAllocator, OVector};
 use super::attractor::{find_attractor, Attractor, AttractorConfig, MatchTolerance};
 use super::catalogue::Catalogue;
 use super::failure::PointFailure;
-use super::json::Json;
 use super::runner::{run_points, PointResults, RunConfig};
 use super::store::{check_same, Manifest, StoreError, SweepStore, MANIFEST_FILE};
 use crate::analysis::{linspace, AnalysisError, Progress};
@@ -145,10 +144,19 @@ impl GridScan {
 
 impl Manifest {
     /// The manifest of a scan of `kind` over `grid` with `config`: the grid's points, and
-    /// every field of `config` as the settings ([`AttractorConfig::to_json`]). `description`
-    /// is the caller's: what the scan cannot see, e.g. the parameters its `setup` uses.
-    pub fn scan(kind: &str, description: Json, grid: &Grid2, config: &AttractorConfig) -> Self {
-        Manifest::new(kind, description, &grid.points()).with_settings(config.to_json())
+    /// every field of `config` as the settings (its `Serialize`). `description` is the
+    /// caller's: what the scan cannot see, e.g. the parameters its `setup` uses (any
+    /// `Serialize` value, `&()` for none).
+    ///
+    /// # Errors
+    /// [`StoreError::Encode`] if the description cannot be written as JSON.
+    pub fn scan<D: serde::Serialize + ?Sized>(
+        kind: &str,
+        description: &D,
+        grid: &Grid2,
+        config: &AttractorConfig,
+    ) -> Result<Self, StoreError> {
+        Manifest::new(kind, description, &grid.points())?.with_settings(config)
     }
 }
 
@@ -159,15 +167,15 @@ impl SweepStore {
     /// is refused.
     ///
     /// # Errors
-    /// As [`SweepStore::open_manifest`].
-    pub fn open_scan(
+    /// As [`Manifest::scan`] and [`SweepStore::open_manifest`].
+    pub fn open_scan<D: serde::Serialize + ?Sized>(
         dir: impl AsRef<std::path::Path>,
         kind: &str,
-        description: Json,
+        description: &D,
         grid: &Grid2,
         config: &AttractorConfig,
     ) -> Result<Self, StoreError> {
-        SweepStore::open_manifest(dir, Manifest::scan(kind, description, grid, config))
+        SweepStore::open_manifest(dir, Manifest::scan(kind, description, grid, config)?)
     }
 }
 
@@ -178,13 +186,17 @@ pub(crate) fn check_settings(
 ) -> Result<(), StoreError> {
     let Some(s) = store else { return Ok(()) };
     let path = s.dir().join(MANIFEST_FILE);
-    if s.manifest().settings == Json::Null {
+    if s.manifest().settings.is_null() {
         return Err(StoreError::SettingsNotRecorded {
             path,
             needed: "AttractorConfig",
         });
     }
-    check_same(&path, "settings", &config.to_json(), &s.manifest().settings)
+    let given = serde_json::to_value(config).map_err(|e| StoreError::Encode {
+        what: "the settings".into(),
+        message: e.to_string(),
+    })?;
+    check_same(&path, "settings", &given, &s.manifest().settings)
 }
 
 /// Builds the model and initial state at `point` with `setup` and identifies the attractor.

@@ -3,9 +3,12 @@
 //!
 //! # The folder
 //!
-//! * `manifest.json`: `{"format": 2, "crate_version": "0.2.0", "results_version": 1, "kind":
+//! * `manifest.json`: `{"format": 3, "crate_version": "0.2.0", "results_version": 1, "kind":
 //!   "...", "points": N, "fingerprint": "<16 hex digits>", "settings": {...}, "description":
 //!   {...}}`, written when the folder is created and checked whenever it is opened again:
+//!   * `format` is the layout of the folder and its records ([`FORMAT_VERSION`]); a folder of
+//!     another format is refused ([`StoreError::Format`]): format 2 (jeffcott 0.2.0, the
+//!     hand-written JSON) wrote whole numbers as `17.0`, which this version does not read.
 //!   * `crate_version` and `results_version` are written by the crate ([`CRATE_VERSION`],
 //!     [`RESULTS_VERSION`]); a folder of another results version is refused
 //!     ([`StoreError::ResultsVersion`]): its records were computed by a version whose results
@@ -13,10 +16,11 @@
 //!     version is resumed.
 //!   * `fingerprint` is the 64-bit FNV-1a hash of the points' JSON, one a line (the grid).
 //!   * `settings` are the computation's settings, recorded by the crate: for
-//!     [`super::scan_grid`] every field of its [`super::AttractorConfig`]
+//!     [`super::scan_grid`] its [`super::AttractorConfig`] as serde writes it, every field
 //!     ([`SweepStore::open_scan`]); `null` for a folder opened with [`SweepStore::open`].
 //!   * `kind` and `description` are the caller's: what the sweep computes, and what the crate
-//!     cannot see, e.g. the model's parameters that the caller's `setup` closure uses.
+//!     cannot see, e.g. the model's parameters that the caller's `setup` closure uses (any
+//!     `Serialize` value; `&()` for none).
 //!
 //!   A folder whose manifest differs from the sweep being run is refused
 //!   ([`StoreError::Mismatch`], [`StoreError::SettingMismatch`] naming the setting, the
@@ -26,7 +30,8 @@
 //!   `records-shard-<i>-of-<n>.jsonl`, one per shard of a sweep split into independent
 //!   processes ([`super::Shard`], e.g. the tasks of a job array); each line one point:
 //!   `{"index": i, "point": <the point>, "ok": <the result>}` or
-//!   `{"index": i, "point": <the point>, "error": <the error>}`. `index` is the point's position
+//!   `{"index": i, "point": <the point>, "error": <the error>}`, each value as serde writes it
+//!   ([`Record`], with the rules for numbers, NaN and infinities). `index` is the point's position
 //!   in the sweep's list, so the order of the lines never matters. Reading the folder merges
 //!   every records file: no file is written by two processes at once, so no file locking is
 //!   needed, on a shared file system neither.
@@ -49,15 +54,16 @@ use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
 use thiserror::Error;
 
-use super::json::{Json, JsonError};
-use super::record::{field, Record};
+use super::record::Record;
 use crate::analysis::AnalysisError;
 
-/// Version of the folder layout and record format written in the manifest (2: the manifest
-/// records the crate's version, its results version and the computation's settings).
-pub const FORMAT_VERSION: u64 = 2;
+/// Version of the folder layout and record format written in the manifest (3: the records are
+/// serde's JSON of the values; 2, of jeffcott 0.2.0, wrote its own).
+pub const FORMAT_VERSION: u64 = 3;
 
 /// Version of the crate's *results*, written in every manifest: bumped by every release
 /// whose changes move the outcome of a sweep's point (integrators, event location, the ring's
@@ -82,6 +88,18 @@ pub enum StoreError {
         path: PathBuf,
         /// The system's message.
         message: String,
+    },
+    /// The folder was written in another layout or record format ([`FORMAT_VERSION`]).
+    #[error("{}: written in the folder format {found}; this is jeffcott {crate_version}, which reads format {expected} only: finish the sweep with the version that started it, or use a new folder", path.display())]
+    Format {
+        /// The manifest.
+        path: PathBuf,
+        /// The folder's format.
+        found: u64,
+        /// This crate's format ([`FORMAT_VERSION`]).
+        expected: u64,
+        /// This crate's version ([`CRATE_VERSION`]).
+        crate_version: &'static str,
     },
     /// The folder holds another sweep (or another version of this one).
     #[error("{}: the folder holds another sweep: {field} is {found}, this sweep has {expected}; use a new folder (or delete this one to start over)", path.display())]
@@ -133,14 +151,34 @@ pub enum StoreError {
         needed: &'static str,
     },
     /// A complete line of a records file (or the manifest) is not a valid record.
-    #[error("{}, line {line}: not a valid record ({error}); the file was changed by hand or written by another program: move it away and restart", path.display())]
+    #[error("{}, line {line}: not a valid record ({message}); the file was changed by hand or written by another program: move it away and restart", path.display())]
     Corrupt {
         /// The file.
         path: PathBuf,
         /// Line number (from 1).
         line: usize,
-        /// What is wrong with it.
-        error: JsonError,
+        /// What is wrong with it (serde_json's message, with the column).
+        message: String,
+    },
+    /// A value could not be written as JSON (its `Serialize` failed, e.g. a map whose keys
+    /// are not strings).
+    #[error("{what} cannot be written as JSON: {message}")]
+    Encode {
+        /// Which value: `point 17`, `the outcome of point 17`, `the description`, `the
+        /// settings`.
+        what: String,
+        /// serde_json's message.
+        message: String,
+    },
+    /// The outcome of a point does not read back from its record (not written: the run
+    /// stops). Typically a NaN or an infinity, which JSON writes as `null` (see
+    /// [`Record`]).
+    #[error("the outcome of point {index} does not read back from its record ({message}); JSON has no NaN or infinity (written as null): hold such a value in an Option<f64>, or return an error for the point")]
+    RoundTrip {
+        /// The point.
+        index: usize,
+        /// serde_json's message.
+        message: String,
     },
     /// A record's index is not a point of this sweep.
     #[error("{}, line {line}: index {index} but the sweep has {points} points", path.display())]
@@ -209,60 +247,98 @@ pub struct Manifest {
     /// FNV-1a hash of the points' JSON (one a line).
     pub fingerprint: u64,
     /// The computation's settings, recorded by the crate (`null` if it records none).
-    pub settings: Json,
+    pub settings: Value,
     /// The caller's description: every setting that changes the results and that the crate
     /// does not record itself (e.g. the model's parameters).
-    pub description: Json,
+    pub description: Value,
     /// The crate version that wrote the folder ([`CRATE_VERSION`] for a new one).
     pub crate_version: String,
     /// The results version of that crate ([`RESULTS_VERSION`] for a new one).
     pub results_version: u64,
 }
 
+/// The manifest as written, in this order.
+#[derive(Serialize, Deserialize)]
+struct ManifestFile {
+    format: u64,
+    crate_version: String,
+    results_version: u64,
+    kind: String,
+    points: usize,
+    fingerprint: String,
+    settings: Value,
+    description: Value,
+}
+
 /// FNV-1a hash of the points' JSON, one a line.
-pub(crate) fn fingerprint<P: Record>(points: &[P]) -> u64 {
+///
+/// # Errors
+/// [`StoreError::Encode`] for a point that cannot be written.
+pub(crate) fn fingerprint<P: Record>(points: &[P]) -> Result<u64, StoreError> {
     let mut hash = Fnv::new();
-    for p in points {
-        hash.write(p.to_json().to_string().as_bytes());
-        hash.write(b"\n");
+    for (i, p) in points.iter().enumerate() {
+        serde_json::to_writer(&mut hash, p).map_err(|e| encode_err(format!("point {i}"), &e))?;
+        hash.update(b"\n");
     }
-    hash.0
+    Ok(hash.0)
+}
+
+/// `value` as JSON, or [`StoreError::Encode`] naming it `what`.
+fn to_value<V: Serialize + ?Sized>(value: &V, what: &str) -> Result<Value, StoreError> {
+    serde_json::to_value(value).map_err(|e| encode_err(what.to_string(), &e))
+}
+
+fn encode_err(what: String, e: &serde_json::Error) -> StoreError {
+    StoreError::Encode {
+        what,
+        message: e.to_string(),
+    }
 }
 
 impl Manifest {
     /// The manifest of a sweep of `kind` over `points`, without settings, by this crate
-    /// version.
-    pub fn new<P: Record>(kind: &str, description: Json, points: &[P]) -> Self {
-        Manifest {
+    /// version; `description` is any `Serialize` value (`&()` for none, written `null`).
+    ///
+    /// # Errors
+    /// [`StoreError::Encode`] if a point or the description cannot be written as JSON.
+    pub fn new<P: Record, D: Serialize + ?Sized>(
+        kind: &str,
+        description: &D,
+        points: &[P],
+    ) -> Result<Self, StoreError> {
+        Ok(Manifest {
             kind: kind.to_string(),
             points: points.len(),
-            fingerprint: fingerprint(points),
-            settings: Json::Null,
-            description,
+            fingerprint: fingerprint(points)?,
+            settings: Value::Null,
+            description: to_value(description, "the description")?,
             crate_version: CRATE_VERSION.to_string(),
             results_version: RESULTS_VERSION,
-        }
+        })
     }
 
     /// The same manifest recording the computation's `settings`.
-    pub fn with_settings(self, settings: Json) -> Self {
-        Manifest { settings, ..self }
+    ///
+    /// # Errors
+    /// [`StoreError::Encode`] if the settings cannot be written as JSON.
+    pub fn with_settings<S: Serialize + ?Sized>(self, settings: &S) -> Result<Self, StoreError> {
+        Ok(Manifest {
+            settings: to_value(settings, "the settings")?,
+            ..self
+        })
     }
 
-    fn to_json(&self) -> Json {
-        Json::object([
-            ("format", Json::from(FORMAT_VERSION)),
-            ("crate_version", Json::from(self.crate_version.as_str())),
-            ("results_version", Json::from(self.results_version)),
-            ("kind", Json::from(self.kind.as_str())),
-            ("points", Json::from(self.points)),
-            (
-                "fingerprint",
-                Json::from(format!("{:016x}", self.fingerprint)),
-            ),
-            ("settings", self.settings.clone()),
-            ("description", self.description.clone()),
-        ])
+    fn to_file(&self) -> ManifestFile {
+        ManifestFile {
+            format: FORMAT_VERSION,
+            crate_version: self.crate_version.clone(),
+            results_version: self.results_version,
+            kind: self.kind.clone(),
+            points: self.points,
+            fingerprint: format!("{:016x}", self.fingerprint),
+            settings: self.settings.clone(),
+            description: self.description.clone(),
+        }
     }
 }
 
@@ -273,11 +349,22 @@ impl Fnv {
     fn new() -> Self {
         Fnv(0xcbf2_9ce4_8422_2325)
     }
-    fn write(&mut self, bytes: &[u8]) {
+    fn update(&mut self, bytes: &[u8]) {
         for &b in bytes {
             self.0 ^= u64::from(b);
             self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
         }
+    }
+}
+
+/// The points' JSON is hashed as it is written.
+impl Write for Fnv {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        self.update(bytes);
+        Ok(bytes.len())
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
     }
 }
 
@@ -313,14 +400,14 @@ impl SweepStore {
     /// its folder with [`SweepStore::open_scan`].
     ///
     /// # Errors
-    /// As [`SweepStore::open_manifest`].
-    pub fn open<P: Record>(
+    /// As [`Manifest::new`] and [`SweepStore::open_manifest`].
+    pub fn open<P: Record, D: Serialize + ?Sized>(
         dir: impl AsRef<Path>,
         kind: &str,
-        description: Json,
+        description: &D,
         points: &[P],
     ) -> Result<Self, StoreError> {
-        Self::open_manifest(dir, Manifest::new(kind, description, points))
+        Self::open_manifest(dir, Manifest::new(kind, description, points)?)
     }
 
     /// Opens the folder `dir` for the sweep of `manifest`: creates it with its manifest if it
@@ -329,6 +416,7 @@ impl SweepStore {
     ///
     /// # Errors
     /// [`StoreError::Io`] if the folder or manifest cannot be created or read;
+    /// [`StoreError::Format`] if it was written in another folder format;
     /// [`StoreError::ResultsVersion`] if it was written by a version of other results;
     /// [`StoreError::Mismatch`] if it holds another sweep (kind, points);
     /// [`StoreError::SettingMismatch`] if it was run with other settings or description;
@@ -422,17 +510,13 @@ impl SweepStore {
                     loaded.partial_lines += 1;
                     break;
                 }
-                let corrupt = |error| StoreError::Corrupt {
+                let corrupt = |message| StoreError::Corrupt {
                     path: path.clone(),
                     line: k + 1,
-                    error,
+                    message,
                 };
-                let line = std::str::from_utf8(&buf).map_err(|_| {
-                    corrupt(JsonError::Syntax {
-                        at: 0,
-                        what: "UTF-8 text",
-                    })
-                })?;
+                let line = std::str::from_utf8(&buf)
+                    .map_err(|e| corrupt(format!("not UTF-8 text: {e}")))?;
                 if line.trim().is_empty() {
                     continue;
                 }
@@ -502,7 +586,8 @@ fn create_manifest(dir: &Path, path: &Path, manifest: &Manifest) -> Result<(), S
         COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
     );
     let tmp = dir.join(format!("{MANIFEST_FILE}.{unique}.tmp"));
-    let mut text = manifest.to_json().to_string();
+    let mut text = serde_json::to_string(&manifest.to_file())
+        .map_err(|e| encode_err("the manifest".into(), &e))?;
     text.push('\n');
     fs::write(&tmp, text).map_err(|e| io_err(&tmp, e))?;
     let linked = match fs::hard_link(&tmp, path) {
@@ -537,64 +622,66 @@ fn complete_length(file: &mut File, len: u64) -> io::Result<u64> {
 /// Checks the folder's manifest `text` against this sweep's; returns the crate version that
 /// wrote it.
 fn check_manifest(path: &Path, text: &str, expected: &Manifest) -> Result<String, StoreError> {
-    let corrupt = |error| StoreError::Corrupt {
+    let corrupt = |e: serde_json::Error| StoreError::Corrupt {
         path: path.to_path_buf(),
-        line: 1,
-        error,
+        line: e.line().max(1),
+        message: e.to_string(),
     };
-    let json = Json::parse(text.trim()).map_err(corrupt)?;
+    let json: Value = serde_json::from_str(text).map_err(corrupt)?;
+    // The format first, read leniently: format 2 wrote it as `2.0`.
+    let format = json.get("format").and_then(Value::as_f64);
+    if format != Some(FORMAT_VERSION as f64) {
+        if let Some(found) = format.filter(|f| f.fract() == 0.0 && *f >= 0.0) {
+            return Err(StoreError::Format {
+                path: path.to_path_buf(),
+                found: found as u64,
+                expected: FORMAT_VERSION,
+                crate_version: CRATE_VERSION,
+            });
+        }
+    }
+    let found: ManifestFile = serde_json::from_value(json).map_err(corrupt)?;
     let mismatch = |field, expected: String, found: String| StoreError::Mismatch {
         path: path.to_path_buf(),
         field,
         expected,
         found,
     };
-    let format: u64 = field(&json, "format").map_err(corrupt)?;
-    if format != FORMAT_VERSION {
-        return Err(mismatch(
-            "format",
-            FORMAT_VERSION.to_string(),
-            format.to_string(),
-        ));
-    }
-    let found_crate: String = field(&json, "crate_version").map_err(corrupt)?;
-    let results_version: u64 = field(&json, "results_version").map_err(corrupt)?;
-    if results_version != expected.results_version {
+    if found.results_version != expected.results_version {
         return Err(StoreError::ResultsVersion {
             path: path.to_path_buf(),
-            found: results_version,
-            found_crate,
+            found: found.results_version,
+            found_crate: found.crate_version,
             expected: expected.results_version,
             crate_version: CRATE_VERSION,
         });
     }
-    let kind: String = field(&json, "kind").map_err(corrupt)?;
-    if kind != expected.kind {
-        return Err(mismatch("kind", expected.kind.clone(), kind));
+    if found.kind != expected.kind {
+        return Err(mismatch("kind", expected.kind.clone(), found.kind));
     }
-    let points: usize = field(&json, "points").map_err(corrupt)?;
-    if points != expected.points {
+    if found.points != expected.points {
         return Err(mismatch(
             "points",
             expected.points.to_string(),
-            points.to_string(),
+            found.points.to_string(),
         ));
     }
-    let fp: String = field(&json, "fingerprint").map_err(corrupt)?;
     let want = format!("{:016x}", expected.fingerprint);
-    if fp != want {
-        return Err(mismatch("fingerprint (the points)", want, fp));
+    if found.fingerprint != want {
+        return Err(mismatch(
+            "fingerprint (the points)",
+            want,
+            found.fingerprint,
+        ));
     }
-    for key in ["settings", "description"] {
-        let found = json.field(key).map_err(corrupt)?;
-        let given = if key == "settings" {
-            &expected.settings
-        } else {
-            &expected.description
-        };
-        check_same(path, key, given, found)?;
-    }
-    Ok(found_crate)
+    check_same(path, "settings", &expected.settings, &found.settings)?;
+    check_same(
+        path,
+        "description",
+        &expected.description,
+        &found.description,
+    )?;
+    Ok(found.crate_version)
 }
 
 /// [`StoreError::SettingMismatch`] naming the first key where `found` (the folder's) differs
@@ -602,8 +689,8 @@ fn check_manifest(path: &Path, text: &str, expected: &Manifest) -> Result<String
 pub(crate) fn check_same(
     path: &Path,
     name: &str,
-    given: &Json,
-    found: &Json,
+    given: &Value,
+    found: &Value,
 ) -> Result<(), StoreError> {
     match first_difference(name.to_string(), given, found) {
         None => Ok(()),
@@ -617,16 +704,16 @@ pub(crate) fn check_same(
 }
 
 /// The path and both values of the first difference of two JSON values, descending into
-/// objects key by key (`given`'s keys first, then keys only `found` has).
-fn first_difference(at: String, given: &Json, found: &Json) -> Option<(String, String, String)> {
+/// objects key by key (`given`'s keys first, then keys only `found` has; each in key order).
+fn first_difference(at: String, given: &Value, found: &Value) -> Option<(String, String, String)> {
     const ABSENT: &str = "absent";
     if given == found {
         return None;
     }
-    if let (Json::Object(g), Json::Object(f)) = (given, found) {
+    if let (Value::Object(g), Value::Object(f)) = (given, found) {
         for (k, gv) in g {
             let at = format!("{at}.{k}");
-            match found.get(k) {
+            match f.get(k) {
                 Some(fv) => {
                     if let Some(d) = first_difference(at, gv, fv) {
                         return Some(d);
@@ -635,11 +722,11 @@ fn first_difference(at: String, given: &Json, found: &Json) -> Option<(String, S
                 None => return Some((at, gv.to_string(), ABSENT.into())),
             }
         }
-        if let Some((k, fv)) = f.iter().find(|(k, _)| given.get(k).is_none()) {
+        if let Some((k, fv)) = f.iter().find(|(k, _)| !g.contains_key(*k)) {
             return Some((format!("{at}.{k}"), ABSENT.into(), fv.to_string()));
         }
     }
-    // Same keys and values in another order, or values of other shapes.
+    // Values of other shapes.
     Some((at, given.to_string(), found.to_string()))
 }
 
@@ -660,42 +747,69 @@ impl RecordWriter {
     }
 }
 
+/// A record line as written.
+#[derive(Serialize)]
+struct LineOut<'a, P, T, E> {
+    index: usize,
+    point: &'a P,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    ok: Option<&'a T>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    error: Option<&'a E>,
+}
+
+/// A record line as read: the point is not read back (the sweep's list has it).
+#[derive(Deserialize)]
+#[serde(
+    deny_unknown_fields,
+    bound(deserialize = "T: Deserialize<'de>, E: Deserialize<'de>")
+)]
+struct LineIn<T, E> {
+    index: usize,
+    #[allow(dead_code)]
+    point: serde::de::IgnoredAny,
+    #[serde(default, deserialize_with = "present")]
+    ok: Option<T>,
+    #[serde(default, deserialize_with = "present")]
+    error: Option<E>,
+}
+
+/// A key that is present: `Some` even if its value is `null` (an `ok` of type `Option<_>`).
+fn present<'de, D: serde::Deserializer<'de>, T: Deserialize<'de>>(
+    d: D,
+) -> Result<Option<T>, D::Error> {
+    T::deserialize(d).map(Some)
+}
+
 /// The record line of point `index` (without its line break).
+///
+/// # Errors
+/// [`StoreError::Encode`] if the point or its outcome cannot be written.
 pub(crate) fn encode_line<P: Record, T: Record, E: Record>(
     index: usize,
     point: &P,
     outcome: &Result<T, E>,
-) -> String {
-    let (key, value) = match outcome {
-        Ok(t) => ("ok", t.to_json()),
-        Err(e) => ("error", e.to_json()),
+) -> Result<String, StoreError> {
+    let line = LineOut {
+        index,
+        point,
+        ok: outcome.as_ref().ok(),
+        error: outcome.as_ref().err(),
     };
-    Json::object([
-        ("index", Json::from(index)),
-        ("point", point.to_json()),
-        (key, value),
-    ])
-    .to_string()
+    serde_json::to_string(&line)
+        .map_err(|e| encode_err(format!("the outcome of point {index}"), &e))
 }
 
-/// The index and outcome of a record line.
+/// The index and outcome of a record line, or what is wrong with it.
 pub(crate) fn decode_line<T: Record, E: Record>(
     line: &str,
-) -> Result<(usize, Result<T, E>), JsonError> {
-    let json = Json::parse(line)?;
-    let index: usize = field(&json, "index")?;
-    let outcome = match (json.get("ok"), json.get("error")) {
-        (Some(_), None) => Ok(field::<T>(&json, "ok")?),
-        (None, Some(_)) => Err(field::<E>(&json, "error")?),
-        _ => {
-            return Err(JsonError::shape(
-                "",
-                "exactly one of the keys `ok` and `error`",
-                &json,
-            ))
-        }
-    };
-    Ok((index, outcome))
+) -> Result<(usize, Result<T, E>), String> {
+    let read: LineIn<T, E> = serde_json::from_str(line).map_err(|e| e.to_string())?;
+    match (read.ok, read.error) {
+        (Some(t), None) => Ok((read.index, Ok(t))),
+        (None, Some(e)) => Ok((read.index, Err(e))),
+        _ => Err("not exactly one of the keys `ok` and `error`".into()),
+    }
 }
 
 #[cfg(test)]
@@ -713,15 +827,15 @@ mod tests {
     fn a_folder_of_another_sweep_is_refused() {
         let dir = temp_dir("mismatch");
         let points = [1.0, 2.0];
-        let desc = Json::object([("eta", Json::from(2.2))]);
-        SweepStore::open(&dir, "test", desc.clone(), &points).unwrap();
-        SweepStore::open(&dir, "test", desc.clone(), &points).unwrap();
-        let err = SweepStore::open(&dir, "test", desc.clone(), &[1.0, 2.5]).unwrap_err();
+        let desc = serde_json::json!({"eta": 2.2});
+        SweepStore::open(&dir, "test", &desc, &points).unwrap();
+        SweepStore::open(&dir, "test", &desc, &points).unwrap();
+        let err = SweepStore::open(&dir, "test", &desc, &[1.0, 2.5]).unwrap_err();
         assert!(
             matches!(err, StoreError::Mismatch { field, .. } if field.starts_with("fingerprint"))
         );
-        let other = Json::object([("eta", Json::from(2.3))]);
-        let err = SweepStore::open(&dir, "test", other, &points).unwrap_err();
+        let other = serde_json::json!({"eta": 2.3});
+        let err = SweepStore::open(&dir, "test", &other, &points).unwrap_err();
         match err {
             StoreError::SettingMismatch {
                 setting,
@@ -734,7 +848,7 @@ mod tests {
             ),
             other => panic!("{other:?}"),
         }
-        let err = SweepStore::open(&dir, "other", desc, &points).unwrap_err();
+        let err = SweepStore::open(&dir, "other", &desc, &points).unwrap_err();
         assert!(matches!(err, StoreError::Mismatch { field: "kind", .. }));
         fs::remove_dir_all(&dir).unwrap();
     }
@@ -743,9 +857,9 @@ mod tests {
     fn a_partial_last_line_is_ignored_then_cut_off() {
         let dir = temp_dir("partial");
         let points = [10.0, 20.0, 30.0];
-        let store = SweepStore::open(&dir, "test", Json::Null, &points).unwrap();
-        let full = encode_line::<f64, f64, String>(0, &10.0, &Ok(0.5));
-        let half = encode_line::<f64, f64, String>(2, &30.0, &Err("bad".into()));
+        let store = SweepStore::open(&dir, "test", &(), &points).unwrap();
+        let full = encode_line::<f64, f64, String>(0, &10.0, &Ok(0.5)).unwrap();
+        let half = encode_line::<f64, f64, String>(2, &30.0, &Err("bad".into())).unwrap();
         fs::write(store.records_path(0), format!("{full}\n{}", &half[..10])).unwrap();
         let loaded = store.load::<f64, String>().unwrap();
         assert_eq!(loaded.partial_lines, 1);
@@ -759,10 +873,19 @@ mod tests {
             vec![Some(Ok(0.5)), None, Some(Err("bad".to_string()))]
         );
         // A complete line that is not a record is an error, with its line number.
-        fs::write(store.records_path(1), "{\"index\": 1}\n").unwrap();
-        match store.load::<f64, String>() {
-            Err(StoreError::Corrupt { line: 1, .. }) => {}
-            other => panic!("{other:?}"),
+        for bad in [
+            r#"{"index": 1}"#,
+            r#"{"index": 1, "point": 20.0}"#,
+            r#"{"index": 1, "point": 20.0, "ok": 1.0, "error": "x"}"#,
+            r#"{"index": 1, "point": 20.0, "ok": "x"}"#,
+            r#"{"index": 1.0, "point": 20.0, "ok": 1.0}"#,
+            r#"{"index": 1, "point": 20.0, "ok": 1.0, "more": 1}"#,
+        ] {
+            fs::write(store.records_path(1), format!("{bad}\n")).unwrap();
+            match store.load::<f64, String>() {
+                Err(StoreError::Corrupt { line: 1, .. }) => {}
+                other => panic!("{bad}: {other:?}"),
+            }
         }
         fs::write(
             store.records_path(1),

@@ -14,14 +14,15 @@ use crate::ode::{
 };
 
 /// Options of a hybrid run. A plain struct with `Default`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+// serde always, not only with the feature: the sweeps of `global` record it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SimOptions {
     /// Integration method of integrated modes. Default [`Method::Dop853`].
     pub method: Method,
     /// Relative tolerance of adaptive methods. Default `1e-10`.
     pub rtol: f64,
-    /// Absolute tolerance of adaptive methods. Default `1e-12`.
+    /// Absolute tolerance of adaptive methods, in units of the model's
+    /// [`RotorModel::state_scale`] (component $i$'s is `atol * scale[i]`). Default `1e-12`.
     pub atol: f64,
     /// Fixed steps per forcing period for [`Method::Rk4`] (>= 1). Default 400. RK4 is stable
     /// only while $h\lambda \lesssim 2.8$ for the fastest rate $\lambda$ of the motion (in
@@ -612,19 +613,63 @@ where
     O: HybridObserver<M::Dim>,
     DefaultAllocator: Allocator<M::Dim>,
 {
-    let mut stats = SimStats::default();
-    let fail = |kind: SimErrorKind, t: f64, y: &OVector<f64, M::Dim>, stats: SimStats| SimError {
+    check_start(model, t0, y0, plan, opts)?;
+    // Outputs use their own scratch so that asking for them never changes the trajectory
+    // (warm starts and the like would otherwise differ at the rounding level).
+    let (trajectory, outputs) = (model.new_cache(), model.new_cache());
+    let caches = Caches {
+        trajectory: &trajectory,
+        outputs: &outputs,
+    };
+    let mut run = Run::new(model, (t0, y0), plan, opts, obs, caches)?;
+    loop {
+        let found = match model.flow(run.mode) {
+            Flow::Exact => run.exact_phase()?,
+            Flow::Integrated => run.integrated_phase()?,
+        };
+        let Some((guard, t_event)) = found else {
+            break;
+        };
+        if run.transition(guard, t_event)? {
+            break;
+        }
+    }
+    match run.chattering {
+        Some(e) => Err(e),
+        None => Ok(run.stats),
+    }
+}
+
+/// A run's error at `(t, y)`, with the work done so far.
+fn fail<D: Dim>(kind: SimErrorKind, t: f64, y: &OVector<f64, D>, stats: SimStats) -> SimError<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    SimError {
         kind,
         t,
         y: y.clone(),
         stats,
-    };
-    let period = model.forcing_period();
-    if let Err(k) = check_options(opts, plan, t0, period) {
+    }
+}
+
+/// Checks a run's options, output plan and start before anything is built: the options
+/// ([`check_options`]), `y0`'s length (the model's dimension) and that the start is finite.
+fn check_start<M: RotorModel>(
+    model: &M,
+    t0: f64,
+    y0: &OVector<f64, M::Dim>,
+    plan: &OutputPlan,
+    opts: &SimOptions,
+) -> Result<(), SimError<M::Dim>>
+where
+    DefaultAllocator: Allocator<M::Dim>,
+{
+    let stats = SimStats::default();
+    if let Err(k) = check_options(opts, plan, t0, model.forcing_period()) {
         return Err(fail(k, t0, y0, stats));
     }
-    let dim = model.dim();
-    if y0.len() != dim.value() {
+    if y0.len() != model.dim().value() {
         let kind = SimErrorKind::InvalidOption {
             field: "y0",
             value: y0.len() as f64,
@@ -635,229 +680,332 @@ where
     if !(t0.is_finite() && y0.iter().all(|v| v.is_finite())) {
         return Err(fail(SimErrorKind::NonFinite, t0, y0, stats));
     }
-    let cache = model.new_cache();
-    // Outputs use their own scratch so that asking for them never changes the trajectory
-    // (warm starts and the like would otherwise differ at the rounding level).
-    let out_cache = model.new_cache();
-    let mut mode = model
-        .initial_mode(t0, y0)
-        .map_err(|e| fail(e.into(), t0, y0, stats))?;
-    let mut integ = build_integrator(model, opts, period).map_err(|e| fail(e, t0, y0, stats))?;
-    let mut ev_state = EventState::with_dim(dim);
-    let mut w = Scratch::new(dim);
-    let fixed_step = opts.method == Method::Rk4;
-    let ev_opts = EventOptions {
-        samples_per_step: opts.event_samples,
-        screen: opts.screen_events,
-        ..EventOptions::default()
-    };
-    let mut sched = Schedule::new(plan, period, t0);
-    let mut chatter = ChatterGuard {
-        window_start: t0,
-        count: 0,
-        bound: opts.max_events_per_period,
-        period,
-    };
-    let mut stall = StallGuard {
-        last_t: t0,
-        count: 0,
-        bound: STALL_TRANSITIONS,
-        period,
-    };
-    let mut t = t0;
-    let mut y = y0.clone();
-    model.project(mode, t, &mut y, &cache);
-    let mut keep_step = false;
-    // A chattering error waiting for time to advance (after each transition, below).
-    let mut chattering: Option<SimError<M::Dim>> = None;
+    Ok(())
+}
 
-    'modes: loop {
-        let (guard, t_event) = match model.flow(mode) {
-            Flow::Exact => {
-                let mut seg = model.start_segment(mode, t, &y);
-                let label = model.mode_label(mode);
-                let found = loop {
-                    let target = sched.next_time().min(plan.t_end);
-                    let hit = seg.next_guard(t, target);
-                    let t_stop = hit.map_or(target, |h| h.t);
-                    while let Some((to, due)) = sched.pop_due(t_stop) {
-                        seg.eval(to, &mut y, &mut w.dy);
-                        w.out.emit(obs, due, to, &y, &w.dy, label);
-                    }
-                    if let Some(GuardCrossing { guard, t: tg }) = hit {
-                        seg.eval(tg, &mut y, &mut w.dy);
-                        if !y.iter().all(|v| v.is_finite()) {
-                            return Err(fail(SimErrorKind::NonFinite, t, &y, stats));
-                        }
-                        break Some((guard, tg));
-                    }
-                    t = target;
-                    if t >= plan.t_end {
-                        break None;
-                    }
-                };
-                stats.exact_evals += seg.evaluations();
-                match found {
-                    Some((g, tg)) => (g, tg),
-                    None => {
-                        seg.eval(t, &mut y, &mut w.dy);
-                        break 'modes;
-                    }
-                }
+/// The model's two per-run caches: one for the trajectory (stepping, guards, transitions),
+/// one for outputs, so that asking for outputs never changes the trajectory.
+struct Caches<'a, C> {
+    trajectory: &'a C,
+    outputs: &'a C,
+}
+
+impl<C> Clone for Caches<'_, C> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<C> Copy for Caches<'_, C> {}
+
+/// A run in progress: the model, what it reports to, and the state of the hybrid driver
+/// (mode, time, state, integrator, detector, output schedule, transition counters, work).
+struct Run<'a, M: RotorModel, O>
+where
+    DefaultAllocator: Allocator<M::Dim>,
+{
+    model: &'a M,
+    plan: &'a OutputPlan,
+    obs: &'a mut O,
+    caches: Caches<'a, M::Cache>,
+    /// RK4: each step's resolution is checked ([`SimStats::unresolved_steps`]).
+    fixed_step: bool,
+    ev_opts: EventOptions,
+    integ: AnyIntegrator<M::Dim>,
+    ev_state: EventState<M::Dim>,
+    w: Scratch<M::Dim>,
+    sched: Schedule,
+    chatter: ChatterGuard,
+    stall: StallGuard,
+    stats: SimStats,
+    mode: M::Mode,
+    t: f64,
+    y: OVector<f64, M::Dim>,
+    /// Whether the integrator keeps its step size across the next reset (after a transition).
+    keep_step: bool,
+    /// A chattering error waiting for time to advance (see [`Run::transition`]).
+    chattering: Option<SimError<M::Dim>>,
+}
+
+impl<'a, M, O> Run<'a, M, O>
+where
+    M: RotorModel,
+    O: HybridObserver<M::Dim>,
+    DefaultAllocator: Allocator<M::Dim>,
+{
+    /// Builds a run from the checked start `(t0, y0)`: the initial mode, the integrator, the
+    /// work vectors (all allocated now), the output schedule, and the start projected onto
+    /// its mode.
+    fn new(
+        model: &'a M,
+        (t0, y0): (f64, &OVector<f64, M::Dim>),
+        plan: &'a OutputPlan,
+        opts: &SimOptions,
+        obs: &'a mut O,
+        caches: Caches<'a, M::Cache>,
+    ) -> Result<Self, SimError<M::Dim>> {
+        let stats = SimStats::default();
+        let period = model.forcing_period();
+        let dim = model.dim();
+        let mode = model
+            .initial_mode(t0, y0)
+            .map_err(|e| fail(e.into(), t0, y0, stats))?;
+        let integ = build_integrator(model, opts, period).map_err(|e| fail(e, t0, y0, stats))?;
+        let mut run = Run {
+            model,
+            plan,
+            obs,
+            caches,
+            fixed_step: opts.method == Method::Rk4,
+            ev_opts: EventOptions {
+                samples_per_step: opts.event_samples,
+                screen: opts.screen_events,
+                ..EventOptions::default()
+            },
+            integ,
+            ev_state: EventState::with_dim(dim),
+            w: Scratch::new(dim),
+            sched: Schedule::new(plan, period, t0),
+            chatter: ChatterGuard {
+                window_start: t0,
+                count: 0,
+                bound: opts.max_events_per_period,
+                period,
+            },
+            stall: StallGuard {
+                last_t: t0,
+                count: 0,
+                bound: STALL_TRANSITIONS,
+                period,
+            },
+            stats,
+            mode,
+            t: t0,
+            y: y0.clone(),
+            keep_step: false,
+            chattering: None,
+        };
+        model.project(mode, t0, &mut run.y, caches.trajectory);
+        Ok(run)
+    }
+
+    /// The model in the current mode, as the integrator's system and the detector's event set.
+    fn system(&self) -> ModeSystem<'a, M> {
+        ModeSystem {
+            model: self.model,
+            mode: self.mode,
+            cache: self.caches.trajectory,
+        }
+    }
+
+    /// The integrator's error at the end of its last step (`at_end`) or at its start (the
+    /// last good point), with the work done so far.
+    fn fail_on_step(&mut self, kind: SimErrorKind, at_end: bool) -> SimError<M::Dim> {
+        collect(&mut self.stats, &self.integ);
+        if at_end {
+            fail(kind, self.integ.t(), self.integ.y(), self.stats)
+        } else {
+            fail(kind, self.integ.t_prev(), self.integ.y_prev(), self.stats)
+        }
+    }
+
+    /// A mode with a closed form: from `t` to its first guard crossing, with the outputs due
+    /// before it. `Some((guard, t))` with `y` at the crossing, or `None` at `plan.t_end`
+    /// (`y` there).
+    fn exact_phase(&mut self) -> Result<Option<(usize, f64)>, SimError<M::Dim>> {
+        let (model, t_end) = (self.model, self.plan.t_end);
+        let mut seg = model.start_segment(self.mode, self.t, &self.y);
+        let label = model.mode_label(self.mode);
+        let found = loop {
+            let target = self.sched.next_time().min(t_end);
+            let hit = seg.next_guard(self.t, target);
+            let t_stop = hit.map_or(target, |h| h.t);
+            while let Some((to, due)) = self.sched.pop_due(t_stop) {
+                seg.eval(to, &mut self.y, &mut self.w.dy);
+                self.w
+                    .out
+                    .emit(self.obs, due, to, &self.y, &self.w.dy, label);
             }
-            Flow::Integrated => {
-                let sys = ModeSystem {
-                    model,
-                    mode,
-                    cache: &cache,
-                };
-                integ
-                    .reset(&sys, t, &y, keep_step)
-                    .map_err(|e| fail(e.into(), t, &y, stats))?;
-                ev_state.reset();
-                let label = model.mode_label(mode);
-                loop {
-                    // Outputs never bound a step (they come from the dense output).
-                    if let Err(e) = integ.step(&sys, plan.t_end) {
-                        collect(&mut stats, &integ);
-                        return Err(fail(e.into(), integ.t(), integ.y(), stats));
-                    }
-                    if fixed_step {
-                        let h = integ.t() - integ.t_prev();
-                        let rate = model.max_rate(mode, integ.t_prev(), integ.y_prev());
-                        stats.unresolved_steps += u64::from(rate.is_some_and(|l| h * l > 1.0));
-                    }
-                    if !integ.y().iter().all(|v| v.is_finite()) {
-                        collect(&mut stats, &integ);
-                        return Err(fail(
-                            SimErrorKind::NonFinite,
-                            integ.t_prev(),
-                            integ.y_prev(),
-                            stats,
-                        ));
-                    }
-                    let hit =
-                        match find_first_event(&mut integ, &sys, &sys, &ev_opts, &mut ev_state) {
-                            Ok(hit) => hit.map(|h| (h.index, h.t)),
-                            Err(OdeError::EventNotANumber { index, t: t_nan }) => {
-                                // The last good point is the step's start, where every guard
-                                // had a value.
-                                collect(&mut stats, &integ);
-                                integ.dense(&sys, t_nan, &mut w.yo);
-                                let kind = if w.yo.iter().all(|v| v.is_finite()) {
-                                    SimErrorKind::Guard {
-                                        guard: model.guard_label(mode, index),
-                                        t: t_nan,
-                                        // The detector's cache (a warm start may matter).
-                                        source: model
-                                            .guard_error(mode, index, t_nan, &w.yo, &cache),
-                                    }
-                                } else {
-                                    // The dense output itself is not finite there.
-                                    SimErrorKind::NonFinite
-                                };
-                                return Err(fail(kind, integ.t_prev(), integ.y_prev(), stats));
-                            }
-                            Err(e) => {
-                                collect(&mut stats, &integ);
-                                return Err(fail(e.into(), integ.t(), integ.y(), stats));
-                            }
-                        };
-                    let t_stop = hit.map_or(integ.t(), |h| h.1);
-                    while let Some((to, due)) = sched.pop_due(t_stop) {
-                        if to == integ.t() {
-                            w.yo.copy_from(integ.y());
-                        } else {
-                            integ.dense(&sys, to, &mut w.yo);
-                        }
-                        if !w.yo.iter().all(|v| v.is_finite()) {
-                            // The dense output inside an accepted step can overflow where the
-                            // step's ends did not (DOP853's extra stages): the last good state
-                            // is the step's start.
-                            collect(&mut stats, &integ);
-                            return Err(fail(
-                                SimErrorKind::NonFinite,
-                                integ.t_prev(),
-                                integ.y_prev(),
-                                stats,
-                            ));
-                        }
-                        model.project(mode, to, &mut w.yo, &out_cache);
-                        // Only dense samples carry the derivative.
-                        if matches!(due, Due::Dense) {
-                            model.rhs(mode, to, &w.yo, &mut w.dy, &out_cache);
-                        }
-                        w.out.emit(obs, due, to, &w.yo, &w.dy, label);
-                    }
-                    if let Some(h) = hit {
-                        y.copy_from(&ev_state.hit().y);
-                        collect(&mut stats, &integ);
-                        if !y.iter().all(|v| v.is_finite()) {
-                            // As for outputs: the event was located on a dense output that is
-                            // not finite.
-                            return Err(fail(
-                                SimErrorKind::NonFinite,
-                                integ.t_prev(),
-                                integ.y_prev(),
-                                stats,
-                            ));
-                        }
-                        break h;
-                    }
-                    t = integ.t();
-                    y.copy_from(integ.y());
-                    if t >= plan.t_end {
-                        collect(&mut stats, &integ);
-                        model.project(mode, t, &mut y, &cache);
-                        break 'modes;
-                    }
+            if let Some(GuardCrossing { guard, t: tg }) = hit {
+                seg.eval(tg, &mut self.y, &mut self.w.dy);
+                if !self.y.iter().all(|v| v.is_finite()) {
+                    return Err(fail(SimErrorKind::NonFinite, self.t, &self.y, self.stats));
                 }
+                break Some((guard, tg));
+            }
+            self.t = target;
+            if self.t >= t_end {
+                break None;
             }
         };
-        // Transition.
-        t = t_event;
-        model.project(mode, t, &mut y, &cache);
-        w.event.before.copy_from(&y);
+        self.stats.exact_evals += seg.evaluations();
+        if found.is_none() {
+            seg.eval(self.t, &mut self.y, &mut self.w.dy);
+        }
+        Ok(found)
+    }
+
+    /// An integrated mode: steps from `t` (the step size kept across a transition), each
+    /// step scanned for the first guard crossing, the outputs due before it read from the
+    /// step's dense output. `Some((guard, t))` with `y` at the crossing, or `None` at
+    /// `plan.t_end` (`y` there, projected).
+    fn integrated_phase(&mut self) -> Result<Option<(usize, f64)>, SimError<M::Dim>> {
+        let sys = self.system();
+        self.integ
+            .reset(&sys, self.t, &self.y, self.keep_step)
+            .map_err(|e| fail(e.into(), self.t, &self.y, self.stats))?;
+        self.ev_state.reset();
+        let label = self.model.mode_label(self.mode);
+        loop {
+            self.step(&sys)?;
+            let hit = self.detect(&sys)?;
+            self.emit_outputs(&sys, hit.map_or(self.integ.t(), |h| h.1), label)?;
+            if let Some(h) = hit {
+                self.y.copy_from(&self.ev_state.hit().y);
+                if !self.y.iter().all(|v| v.is_finite()) {
+                    // As for outputs: the event was located on a dense output that is not
+                    // finite.
+                    return Err(self.fail_on_step(SimErrorKind::NonFinite, false));
+                }
+                collect(&mut self.stats, &self.integ);
+                return Ok(Some(h));
+            }
+            self.t = self.integ.t();
+            self.y.copy_from(self.integ.y());
+            if self.t >= self.plan.t_end {
+                collect(&mut self.stats, &self.integ);
+                let cache = self.caches.trajectory;
+                self.model.project(self.mode, self.t, &mut self.y, cache);
+                return Ok(None);
+            }
+        }
+    }
+
+    /// One accepted step (outputs never bound a step: they come from the dense output); RK4
+    /// steps are checked against the model's fastest rate.
+    fn step(&mut self, sys: &ModeSystem<'a, M>) -> Result<(), SimError<M::Dim>> {
+        if let Err(e) = self.integ.step(sys, self.plan.t_end) {
+            return Err(self.fail_on_step(e.into(), true));
+        }
+        if self.fixed_step {
+            let h = self.integ.t() - self.integ.t_prev();
+            let rate = self
+                .model
+                .max_rate(self.mode, self.integ.t_prev(), self.integ.y_prev());
+            self.stats.unresolved_steps += u64::from(rate.is_some_and(|l| h * l > 1.0));
+        }
+        if !self.integ.y().iter().all(|v| v.is_finite()) {
+            return Err(self.fail_on_step(SimErrorKind::NonFinite, false));
+        }
+        Ok(())
+    }
+
+    /// The first guard crossing on the last step, `(guard, t)`. A guard without a value is
+    /// the model's typed error for it ([`RotorModel::guard_error`]), at the step's start
+    /// (where every guard had one).
+    fn detect(
+        &mut self,
+        sys: &ModeSystem<'a, M>,
+    ) -> Result<Option<(usize, f64)>, SimError<M::Dim>> {
+        match find_first_event(&mut self.integ, sys, sys, &self.ev_opts, &mut self.ev_state) {
+            Ok(hit) => Ok(hit.map(|h| (h.index, h.t))),
+            Err(OdeError::EventNotANumber { index, t: t_nan }) => {
+                collect(&mut self.stats, &self.integ);
+                self.integ.dense(sys, t_nan, &mut self.w.yo);
+                let kind = if self.w.yo.iter().all(|v| v.is_finite()) {
+                    let (model, mode) = (self.model, self.mode);
+                    SimErrorKind::Guard {
+                        guard: model.guard_label(mode, index),
+                        t: t_nan,
+                        // The detector's cache (a warm start may matter).
+                        source: model.guard_error(mode, index, t_nan, &self.w.yo, sys.cache),
+                    }
+                } else {
+                    // The dense output itself is not finite there.
+                    SimErrorKind::NonFinite
+                };
+                Err(self.fail_on_step(kind, false))
+            }
+            Err(e) => Err(self.fail_on_step(e.into(), true)),
+        }
+    }
+
+    /// The outputs due up to `t_stop` on the last step, from its dense output (projected,
+    /// with their own cache; dense samples with their derivative).
+    fn emit_outputs(
+        &mut self,
+        sys: &ModeSystem<'a, M>,
+        t_stop: f64,
+        label: u8,
+    ) -> Result<(), SimError<M::Dim>> {
+        let (model, mode, cache) = (self.model, self.mode, self.caches.outputs);
+        while let Some((to, due)) = self.sched.pop_due(t_stop) {
+            if to == self.integ.t() {
+                self.w.yo.copy_from(self.integ.y());
+            } else {
+                self.integ.dense(sys, to, &mut self.w.yo);
+            }
+            if !self.w.yo.iter().all(|v| v.is_finite()) {
+                // The dense output inside an accepted step can overflow where the step's
+                // ends did not (DOP853's extra stages): the last good state is the step's
+                // start.
+                return Err(self.fail_on_step(SimErrorKind::NonFinite, false));
+            }
+            model.project(mode, to, &mut self.w.yo, cache);
+            // Only dense samples carry the derivative.
+            if matches!(due, Due::Dense) {
+                model.rhs(mode, to, &self.w.yo, &mut self.w.dy, cache);
+            }
+            self.w
+                .out
+                .emit(self.obs, due, to, &self.w.yo, &self.w.dy, label);
+        }
+        Ok(())
+    }
+
+    /// The transition of `guard` at `t_event` (from `y` there, projected), counted against
+    /// the stall and chattering guards and reported to the observer. Returns whether the
+    /// run has reached `plan.t_end`.
+    ///
+    /// Stalling is checked first: the chattering error's advice holds only when time
+    /// advances. Chattering is reported once time is seen to advance past the transition
+    /// that exceeded the bound (or at the end of the run): while transitions pile up at one
+    /// instant the stall guard decides, so that raising the bound always lets the run go
+    /// further in time.
+    fn transition(&mut self, guard: usize, t_event: f64) -> Result<bool, SimError<M::Dim>> {
+        let (model, mode, t) = (self.model, self.mode, t_event);
+        self.t = t;
+        model.project(mode, t, &mut self.y, self.caches.trajectory);
+        self.w.event.before.copy_from(&self.y);
         let from = model.mode_label(mode);
         let kind = model.guard_label(mode, guard);
-        let next = match model.transition(mode, guard, t, &mut y) {
+        let next = match model.transition(mode, guard, t, &mut self.y) {
             Ok(next) => next,
-            Err(e) => return Err(fail(e.into(), t, &w.event.before, stats)),
+            Err(e) => return Err(fail(e.into(), t, &self.w.event.before, self.stats)),
         };
-        stats.transitions += 1;
-        // Stalling first: the chattering error's advice holds only when time advances.
-        if let Err(k) = stall.record(t, kind) {
-            return Err(fail(k, t, &y, stats));
+        self.stats.transitions += 1;
+        if let Err(k) = self.stall.record(t, kind) {
+            return Err(fail(k, t, &self.y, self.stats));
         }
-        // Chattering is reported once time is seen to advance past the transition that
-        // exceeded the bound (or at the end of the run): while transitions pile up at one
-        // instant the stall guard decides, so that raising the bound always lets the run go
-        // further in time.
-        if stall.count == 0 {
-            if let Some(e) = chattering.take() {
+        if self.stall.count == 0 {
+            if let Some(e) = self.chattering.take() {
                 return Err(e);
             }
         }
-        if let Err(k) = chatter.record(t) {
-            if chattering.is_none() {
-                chattering = Some(fail(k, t, &y, stats));
+        if let Err(k) = self.chatter.record(t) {
+            if self.chattering.is_none() {
+                self.chattering = Some(fail(k, t, &self.y, self.stats));
             }
         }
-        if plan.events {
-            let e = &mut w.event;
+        if self.plan.events {
+            let e = &mut self.w.event;
             (e.t, e.kind, e.from, e.to) = (t, kind, from, model.mode_label(next));
-            e.after.copy_from(&y);
-            obs.on_event(e);
+            e.after.copy_from(&self.y);
+            self.obs.on_event(e);
         }
-        keep_step = true;
-        mode = next;
-        if t >= plan.t_end {
-            break;
-        }
-    }
-    match chattering {
-        Some(e) => Err(e),
-        None => Ok(stats),
+        self.keep_step = true;
+        self.mode = next;
+        Ok(t >= self.plan.t_end)
     }
 }
 
@@ -883,13 +1031,15 @@ where
 {
     let dim = model.dim();
     let any_algebraic = (0..dim.value()).any(|i| model.is_algebraic(i));
-    // A scalar tolerance when nothing is algebraic keeps the arithmetic of a plain run.
-    let atol = if any_algebraic {
+    let scale = model.state_scale();
+    // A scalar tolerance when nothing is algebraic or scaled keeps the arithmetic of a plain
+    // run (and `atol * 1.0` is `atol`).
+    let atol = if any_algebraic || scale.iter().any(|&s| s != 1.0) {
         Tolerance::PerComponent(OVector::from_fn_generic(dim, U1, |i, _| {
             if model.is_algebraic(i) {
                 f64::INFINITY
             } else {
-                opts.atol
+                opts.atol * scale[i]
             }
         }))
     } else {

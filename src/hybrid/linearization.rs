@@ -53,7 +53,8 @@ impl<D: Dim, A> VariationalAlloc<D> for A where A: Allocator<D> + Allocator<D, D
 {}
 
 /// Scratch vectors for the finite-difference defaults, sized once per run (no allocation in
-/// the stepping loop, for `Dyn` too).
+/// the stepping loop, for `Dyn` too), with the model's [`RotorModel::state_scale`] that sets
+/// their increments.
 #[derive(Debug, Clone)]
 pub struct Workspace<D: Dim>
 where
@@ -62,18 +63,21 @@ where
     y: OVector<f64, D>,
     plus: OVector<f64, D>,
     minus: OVector<f64, D>,
+    scale: OVector<f64, D>,
 }
 
 impl<D: Dim> Workspace<D>
 where
     DefaultAllocator: Allocator<D>,
 {
-    /// Scratch for states of dimension `dim`.
-    pub fn new(dim: D) -> Self {
+    /// Scratch for the states of `model`, with its scale.
+    pub fn new<M: RotorModel<Dim = D>>(model: &M) -> Self {
+        let dim = model.dim();
         Self {
             y: OVector::zeros_generic(dim, U1),
             plus: OVector::zeros_generic(dim, U1),
             minus: OVector::zeros_generic(dim, U1),
+            scale: model.state_scale(),
         }
     }
 }
@@ -85,9 +89,11 @@ where
     DefaultAllocator: VariationalAlloc<Self::Dim>,
 {
     /// Relative step $h$ of the central differences of the defaults: component $j$ moves by
-    /// $h\thinspace(1 + |y_j|)$, time by $h\thinspace(1 + |t|)$. Default $10^{-5}$: for a smooth
-    /// field with derivatives of order 1 to 100 the truncation ($h^2$) and the rounding
-    /// ($\varepsilon/h$) errors are then both about $10^{-10}$ relative.
+    /// $h\thinspace(s_j + |y_j|)$, $s_j$ its [`RotorModel::state_scale`], and time by
+    /// $h P$, $P$ the [`RotorModel::forcing_period`] (not by a step that grows with $|t|$).
+    /// Default $10^{-5}$: for a smooth field with derivatives of order 1 to 100 (in units
+    /// of the scale) the truncation ($h^2$) and the rounding ($\varepsilon/h$) errors are then
+    /// both about $10^{-10}$ relative.
     fn difference_step(&self) -> f64 {
         1e-5
     }
@@ -114,7 +120,7 @@ where
         let h = self.difference_step();
         work.y.copy_from(y);
         for j in 0..y.len() {
-            let step = h * (1.0 + y[j].abs());
+            let step = h * (work.scale[j] + y[j].abs());
             work.y[j] = y[j] + step;
             self.rhs(mode, t, &work.y, &mut work.plus, cache);
             work.y[j] = y[j] - step;
@@ -149,7 +155,7 @@ where
         let h = self.difference_step();
         work.y.copy_from(y);
         for j in 0..y.len() {
-            let step = h * (1.0 + y[j].abs());
+            let step = h * (work.scale[j] + y[j].abs());
             work.y[j] = y[j] + step;
             let p = self.guard_value(mode, i, t, &work.y, cache);
             work.y[j] = y[j] - step;
@@ -157,7 +163,7 @@ where
             work.y[j] = y[j];
             grad[j] = (p - m) * (0.5 / step);
         }
-        let step = h * (1.0 + t.abs());
+        let step = h * self.forcing_period();
         let p = self.guard_value(mode, i, t + step, y, cache);
         let m = self.guard_value(mode, i, t - step, y, cache);
         (p - m) * (0.5 / step)
@@ -215,9 +221,10 @@ where
                 }),
             }
         };
+        let scale = self.state_scale();
         let mut yp = y.clone_owned();
         for j in 0..y.len() {
-            let step = h * (1.0 + y[j].abs());
+            let step = h * (scale[j] + y[j].abs());
             yp[j] = y[j] + step;
             let plus = apply(t, &yp);
             yp[j] = y[j] - step;
@@ -226,7 +233,7 @@ where
             let col = difference(plus, minus, step, "a state component")?;
             rx.set_column(j, &col);
         }
-        let step = h * (1.0 + t.abs());
+        let step = h * self.forcing_period();
         let col = difference(apply(t + step, y), apply(t - step, y), step, "the time")?;
         rt.copy_from(&col);
         Ok(())
@@ -250,8 +257,9 @@ where
         let mut plus = OVector::zeros_generic(dim, U1);
         let mut minus = OVector::zeros_generic(dim, U1);
         let mut dy = OVector::zeros_generic(dim, U1);
+        let scale = self.state_scale();
         for j in 0..y0.len() {
-            let step = h * (1.0 + y0[j].abs());
+            let step = h * (scale[j] + y0[j].abs());
             start[j] = y0[j] + step;
             self.start_segment(mode, t0, &start)
                 .eval(t, &mut plus, &mut dy);
@@ -289,8 +297,9 @@ where
         let mut yp = y.clone_owned();
         let mut ym = y.clone_owned();
         let mut rows = OMatrix::<f64, Dyn, Dyn>::zeros(algebraic.len(), m.ncols());
+        let scale = self.state_scale();
         for j in 0..n {
-            let step = h * (1.0 + y[j].abs());
+            let step = h * (scale[j] + y[j].abs());
             yp.copy_from(y);
             ym.copy_from(y);
             yp[j] += step;

@@ -330,6 +330,14 @@ where
     /// constant). Every state the driver passes has this dimension.
     fn dim(&self) -> Self::Dim;
 
+    /// A typical magnitude of each state component, in the model's units: the scale of the
+    /// analyses' relative-plus-absolute tests, `|e_i| <= atol * scale_i + rtol * |y_i|`
+    /// (Newton's and the period test's stopping rules, attractor matching, finite-difference
+    /// increments). The default is 1 for every component (a non-dimensional model).
+    fn state_scale(&self) -> OVector<f64, Self::Dim> {
+        OVector::from_element_generic(self.dim(), nalgebra::Const::<1>, 1.0)
+    }
+
     /// A fresh per-run scratch. Called when a run starts (never while stepping), so it may
     /// allocate.
     fn new_cache(&self) -> Self::Cache;
@@ -397,6 +405,13 @@ where
     /// starts touching the ring). A guard that starts off zero is never dropped, however close
     /// to the start its crossing is.
     fn guard_direction(&self, mode: Self::Mode, i: usize) -> Direction;
+
+    /// Whether guard `i` of `mode` is a contact onset (free flight reaching the ring): the
+    /// analyses report its margin as the distance to a grazing. The default: no guard is.
+    fn is_contact_onset(&self, mode: Self::Mode, i: usize) -> bool {
+        let _ = (mode, i);
+        false
+    }
 
     /// Value $g_i(t, y)$ of guard `i` of an integrated mode (smooth along the mode's flow).
     fn guard_value(

@@ -308,6 +308,12 @@ impl RotorModel for JeffcottModel {
         U6
     }
 
+    /// 1 for every component: the model is non-dimensional, lengths in units of the gap and
+    /// velocities in units of the gap times $\omega_n$.
+    fn state_scale(&self) -> State {
+        State::repeat(1.0)
+    }
+
     fn new_cache(&self) -> Cache {
         Cache::default()
     }
@@ -353,6 +359,11 @@ impl RotorModel for JeffcottModel {
 
     fn guard_direction(&self, mode: Mode, i: usize) -> Direction {
         self.guard_of(&mode, i).direction()
+    }
+
+    /// The ring's [`RingGuard::Onset`].
+    fn is_contact_onset(&self, mode: Mode, i: usize) -> bool {
+        self.guard_of(&mode, i) == RingGuard::Onset
     }
 
     fn guard_value(&self, mode: Mode, i: usize, t: f64, y: &State, cache: &Cache) -> f64 {

@@ -2,15 +2,14 @@
 //! attraction ([`BasinPlane`]) and planes of two parameters for maps ([`ParamPlane`]).
 
 use super::{JeffcottModel, RotorStart, State, SweepParameter};
-use crate::global::json::{Json, JsonError};
-use crate::global::record::{field, Record};
 use crate::global::PointFailure;
 use crate::params::Params;
 
 /// Which two coordinates of the start a basin grid varies (horizontal, vertical); the other
 /// coordinates are those of [`BasinPlane::rest`] (by default zero).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
+)]
 #[non_exhaustive]
 pub enum StartPlane {
     /// $x_0$ against $x_0^\prime$ (the default).
@@ -37,8 +36,10 @@ impl StartPlane {
 
 /// A plane of initial states of the paper's model at fixed parameters: the grid of a basin
 /// of attraction ([`crate::global::scan_grid`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+///
+/// Serialized (serde), it is the description of a basin sweep's folder: its parameters are
+/// recorded, and a resume with others is refused ([`crate::global::SweepStore::open_scan`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BasinPlane {
     /// The parameters (for [`StartPlane::PhaseX`], `phi0` is replaced at each point).
     pub params: Params,
@@ -90,21 +91,14 @@ impl BasinPlane {
             Ok((model, y0))
         }
     }
-
-    /// The plane as JSON, for a sweep's manifest.
-    pub fn to_json(&self) -> Json {
-        Json::object([
-            ("params", self.params.to_json()),
-            ("plane", Json::from(format!("{:?}", self.plane))),
-            ("rest", start_json(&self.rest)),
-        ])
-    }
 }
 
 /// A plane of two parameters of the paper's model, every run from the same start: the grid
 /// of a two-parameter map ([`crate::global::scan_grid`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+///
+/// Serialized (serde), it is the description of a map's folder
+/// ([`crate::global::SweepStore::open_scan`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ParamPlane {
     /// The other parameters.
     pub base: Params,
@@ -145,58 +139,6 @@ impl ParamPlane {
             Ok((model, y0))
         }
     }
-
-    /// The plane as JSON, for a sweep's manifest.
-    pub fn to_json(&self) -> Json {
-        Json::object([
-            ("base", self.base.to_json()),
-            ("x", Json::from(self.x.symbol())),
-            ("y", Json::from(self.y.symbol())),
-            ("start", start_json(&self.start)),
-        ])
-    }
-}
-
-fn start_json(s: &RotorStart) -> Json {
-    Json::object([
-        ("position", s.position.to_json()),
-        ("velocity", s.velocity.to_json()),
-    ])
-}
-
-impl Record for Params {
-    /// Every field by name: `{"eta": 2.2, "nu1": 0.125, ...}`.
-    fn to_json(&self) -> Json {
-        Json::object([
-            ("eta", Json::from(self.eta)),
-            ("nu1", Json::from(self.nu1)),
-            ("nu2", Json::from(self.nu2)),
-            ("kx", Json::from(self.kx)),
-            ("ky", Json::from(self.ky)),
-            ("beta", Json::from(self.beta)),
-            ("dx", Json::from(self.dx)),
-            ("dy", Json::from(self.dy)),
-            ("ex", Json::from(self.ex)),
-            ("ey", Json::from(self.ey)),
-            ("phi0", Json::from(self.phi0)),
-        ])
-    }
-
-    fn from_json(json: &Json) -> Result<Self, JsonError> {
-        Ok(Params {
-            eta: field(json, "eta")?,
-            nu1: field(json, "nu1")?,
-            nu2: field(json, "nu2")?,
-            kx: field(json, "kx")?,
-            ky: field(json, "ky")?,
-            beta: field(json, "beta")?,
-            dx: field(json, "dx")?,
-            dy: field(json, "dy")?,
-            ex: field(json, "ex")?,
-            ey: field(json, "ey")?,
-            phi0: field(json, "phi0")?,
-        })
-    }
 }
 
 #[cfg(test)]
@@ -216,8 +158,8 @@ mod tests {
         let m = ParamPlane::new(p, SweepParameter::Eta, SweepParameter::Preload);
         let q = m.params([3.0, 0.05]);
         assert_eq!((q.eta, q.dx, q.dy, q.ex), (3.0, 0.05, 0.05, p.ex));
-        let back = Params::from_json(&Json::parse(&p.to_json().to_string()).unwrap()).unwrap();
-        assert_eq!(back, p);
+        let text = serde_json::to_string(&p).unwrap();
+        assert_eq!(serde_json::from_str::<Params>(&text).unwrap(), p);
         // A start beyond the ring is placed in contact; invalid parameters are a build failure.
         let (model, y0) = BasinPlane::new(p, StartPlane::XY).setup()(&[1.05, 0.0]).unwrap();
         assert!(model.params().eta == 2.2 && y0[4] > 0.0);

@@ -13,8 +13,10 @@ use crate::params::{ParamError, Params};
 use super::{JeffcottModel, State};
 
 /// A parameter of [`Params`] that a sweep varies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+// serde always, not only with the feature: the sweeps of `global` record it.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
+)]
 #[non_exhaustive]
 pub enum SweepParameter {
     /// Frequency ratio $\eta$ (the default).
@@ -94,8 +96,8 @@ impl SweepParameter {
 /// A rotor state the ring is placed for ([`JeffcottModel::state_at`]): position $(x, y)$ and
 /// velocity $(x^\prime, y^\prime)$. The default is at rest at the origin (the paper's zero
 /// initial conditions).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+// serde always, not only with the feature: the sweeps of `global` record it.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct RotorStart {
     /// Position $(x, y)$.
     pub position: [f64; 2],

@@ -33,6 +33,8 @@ pub struct LinearEvent {
         serde(deserialize_with = "crate::serde_util::label")
     )]
     pub kind: crate::StaticStr,
+    /// Whether the guard is a contact onset ([`RotorModel::is_contact_onset`]).
+    pub contact_onset: bool,
     /// Mode label before.
     pub from: u8,
     /// Mode label after.
@@ -162,7 +164,7 @@ where
             m: OMatrix::zeros_generic(d, kd),
             b: OMatrix::zeros_generic(d, kd),
             dm: OMatrix::zeros_generic(d, kd),
-            work: Workspace::new(d),
+            work: Workspace::new(self.model),
         }
     }
 }
@@ -179,6 +181,15 @@ where
 
     fn dim(&self) -> Dyn {
         Dyn(self.n + 2 * self.n * self.k)
+    }
+
+    /// The model's scale on its state (so that the state is integrated as in a plain run); 1
+    /// on the variations, which are algebraic for the driver.
+    fn state_scale(&self) -> DVector<f64> {
+        let inner = self.model.state_scale();
+        DVector::from_fn(self.n + 2 * self.n * self.k, |i, _| {
+            inner.get(i).copied().unwrap_or(1.0)
+        })
     }
 
     fn new_cache(&self) -> AugmentedCache<M> {
@@ -311,7 +322,7 @@ where
         let d = model.dim();
         let (y_minus, m_minus) = self.unpack(y);
         let cache = model.new_cache();
-        let mut work = Workspace::new(d);
+        let mut work = Workspace::new(model);
         let mut f_minus = OVector::zeros_generic(d, U1);
         model.rhs(mode, t, &y_minus, &mut f_minus, &cache);
         let mut grad = OVector::zeros_generic(d, U1);
@@ -323,6 +334,7 @@ where
         let mut rx = OMatrix::zeros_generic(d, d);
         let mut rt = OVector::zeros_generic(d, U1);
         model.transition_jacobian(mode, guard, t, &y_minus, &y_plus, next, &mut rx, &mut rt)?;
+        let scale = model.state_scale();
         let event = EventLinearization {
             field_before: &f_minus,
             field_after: &f_plus,
@@ -330,6 +342,7 @@ where
             guard_time_derivative: gt,
             reset_jacobian: Some(&rx),
             reset_time_derivative: Some(&rt),
+            state_scale: scale.iter().any(|&s| s != 1.0).then_some(&scale),
         };
         let s = saltation(&event, 0.0).map_err(|e| ModelError::Transition {
             t,
@@ -342,6 +355,7 @@ where
         self.log.borrow_mut().push(LinearEvent {
             t,
             kind: model.guard_label(mode, guard),
+            contact_onset: model.is_contact_onset(mode, guard),
             from: model.mode_label(mode),
             to: model.mode_label(next),
             margin: s.margin(),

@@ -94,6 +94,36 @@ pub enum StabilityError {
         /// Where the computation stopped.
         parameter: f64,
     },
+    /// No orbit of the period near the guess at the start of a continuation: the corrector
+    /// failed there with `source`.
+    #[error("no period-{period} orbit near the guess at parameter {parameter}: {source}; try a longer transient, another period or a better guess")]
+    NoStart {
+        /// The period.
+        period: u64,
+        /// The parameter.
+        parameter: f64,
+        /// Why.
+        source: Box<StabilityError>,
+    },
+    /// Branch switching found no orbit of the doubled period next to a flip: `source` is the
+    /// failure at the largest amplitude tried.
+    #[error("no period-{period} orbit branches off the flip at {parameter}: {source}")]
+    NoSwitch {
+        /// The doubled period.
+        period: u64,
+        /// The flip's parameter.
+        parameter: f64,
+        /// Why, at the last amplitude tried.
+        source: Box<StabilityError>,
+    },
+    /// Branch switching converged back to the orbit of the flip's own period.
+    #[error("at amplitude {amplitude} the corrector found the period-{period} orbit again")]
+    SamePeriod {
+        /// The flip's period.
+        period: u64,
+        /// The amplitude along the flip's eigenvector.
+        amplitude: f64,
+    },
     /// The multipliers could not be computed.
     #[error(transparent)]
     Floquet(#[from] FloquetError),

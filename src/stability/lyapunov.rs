@@ -11,7 +11,9 @@
 //! * **Largest exponent, two-trajectory method** (independent of the variational equations):
 //!   a second trajectory $d_0$ away along $u_k$ is run one period with the model's own
 //!   simulation, its distance $d_{k+1}$ recorded as $\ln(d_{k+1}/d_0)$, and it is renormalised
-//!   back to $d_0$ along the new separation.
+//!   back to $d_0$ along the new separation (distances in units of the model's
+//!   [`RotorModel::state_scale`](crate::hybrid::RotorModel::state_scale), so that they mean
+//!   the same in any units).
 //! * **Sum of the exponents.** With the whole spectrum, $\sum_i\lambda_i$ is the mean of
 //!   $\ln|\det DP(z_k)|$ by construction (the product of the QR's diagonal), so it is no check
 //!   of $DP$. The check is Liouville's formula along the trajectory, independent of the
@@ -46,7 +48,9 @@ pub struct LyapunovOptions {
     pub periods: u64,
     /// Batch length of the batch means (periods). Default 100; use at least 20 batches.
     pub batch: u64,
-    /// Initial separation of the two-trajectory method; `None` skips it. Default
+    /// Initial separation of the two-trajectory method, in units of the model's
+    /// [`RotorModel::state_scale`](crate::hybrid::RotorModel::state_scale) (the distance is
+    /// the Euclidean norm of the scaled non-algebraic components); `None` skips it. Default
     /// `Some(1e-8)`.
     pub separation: Option<f64>,
     /// How many exponents, the largest first: `None` (default) for all; fewer carry fewer
@@ -166,6 +170,8 @@ where
     let mut sections = std::collections::VecDeque::with_capacity(opts.keep);
     let mut two_stats = BatchMeans::new(1, opts.batch as usize);
     let mut u = unit(d);
+    // The second trajectory's separation is measured in units of the model's scale.
+    let scale = map.reduce(&model.state_scale());
     let (mut grazing_events, mut min_margin, mut open_sections) = (0, 1.0f64, 0);
     for k in 0..opts.align + opts.periods {
         let record = k >= opts.align;
@@ -173,10 +179,10 @@ where
         // Second trajectory from the same section, d0 along u.
         if let Some(d0) = opts.separation {
             let z = map.reduce(&y);
-            let zp = &z + &u * d0;
+            let zp = &z + (&u * d0).component_mul(&scale);
             let yp = map.state(&y, &zp);
             let end = map.advance(&yp)?;
-            let diff = map.reduce(&end.y) - &lin.value;
+            let diff = (map.reduce(&end.y) - &lin.value).component_div(&scale);
             let dist = diff.norm();
             if record {
                 two_stats.push(&[(dist / d0).ln()]);

@@ -21,7 +21,8 @@
 //! | [`StroboscopicMap`] | $P^n$ on the non-algebraic components and its Jacobian $DP^n$ (or $DP^n Q$) |
 //! | [`periodic_orbit`] | Newton on $P^n(z) - z$: point, residual, multipliers, grazing margins |
 //! | [`lyapunov_exponents`] | QR (Benettin) spectrum with batch-means errors, two-trajectory check |
-//! | [`locate_loss`] | continuation along a parameter (a closure builds the model): flip, fold, Neimark–Sacker, grazing, or a failure with its error |
+//! | [`continue_orbit`], [`switch_at_flip`] | the continuation core: pseudo-arclength along a parameter (a closure builds the model) through folds, with fold, flip, Neimark–Sacker and grazing located, and branch switching at a flip |
+//! | [`locate_loss`] | its natural-parameter case: where a stable orbit loses stability (flip, fold, Neimark–Sacker, grazing), or a failure with its error |
 //! | [`floquet`], [`newton`], [`statistics`] | the numerics underneath, on plain matrices and closures |
 //!
 //! The ring's own derivatives are in [`crate::ring::sensitivity`], the paper's free flight's
@@ -42,7 +43,8 @@ pub mod statistics;
 
 pub use augmented::LinearEvent;
 pub use continuation::{
-    locate_loss, BranchFailure, Continuation, ContinuationOptions, ContinuationPoint, LossKind,
+    continue_orbit, locate_loss, switch_at_flip, Branch, BranchEnd, BranchFailure, BranchPoint,
+    Continuation, ContinuationOptions, ContinuationPoint, LossOptions, SpecialKind, SpecialPoint,
     StabilityLoss,
 };
 pub use error::StabilityError;

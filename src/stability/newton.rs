@@ -1,24 +1,33 @@
-//! Newton's method for a fixed point of a map with a known Jacobian, $F(z) = P(z) - z = 0$.
+//! Newton's method: the one Newton of the crate, for a fixed point of a map with a known
+//! Jacobian, $F(z) = P(z) - z = 0$ ([`newton_fixed_point`]), and for the bordered systems of
+//! the continuation (`stability::continuation`).
 //!
-//! Each iteration solves $(DP(z_k) - I)\thinspace\delta = -(P(z_k) - z_k)$ by LU with partial
-//! pivoting and takes the full step if it lowers the residual $\lVert F\rVert_\infty$; otherwise
-//! it halves the step (up to [`NewtonOptions::max_halvings`] times), which keeps an iterate that
-//! would leave the basin of the orbit from jumping to another one. It stops when
-//! $\lVert F(z)\rVert_\infty \le$ [`NewtonOptions::tolerance`], and returns the point with the
-//! map's value and Jacobian there (the monodromy matrix). A run that does not converge returns
-//! its last iterate and residual inside the error.
+//! Each iteration solves $J\thinspace\delta = -G(u_k)$ by LU with partial pivoting ($J = DP -
+//! I$ for a fixed point) and takes the full step if it lowers the residual; otherwise it halves
+//! the step (up to [`NewtonOptions::max_halvings`] times), which keeps an iterate that would
+//! leave the basin of the orbit from jumping to another one. It stops when every component of
+//! the residual is within its tolerance, **relative plus absolute**:
+//! $|G_i| \le$ [`atol`](NewtonOptions::atol)$\cdot s_i +$ [`rtol`](NewtonOptions::rtol)$\cdot
+//! |u_i|$, $s_i$ the scale of component $i$ (the model's
+//! [`state_scale`](crate::hybrid::RotorModel::state_scale); 1 by default), and returns the
+//! point with the map's value and Jacobian there (the monodromy matrix). A run that does not
+//! converge returns its last iterate and residual inside the error.
 
 use nalgebra::{DMatrix, DVector};
 use thiserror::Error;
 
-/// Options of [`newton_fixed_point`]. A plain struct with `Default`.
+/// Options of [`newton_fixed_point`]: `Default`, then the builder methods.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub struct NewtonOptions {
-    /// Convergence: $\lVert P(z) - z\rVert_\infty$ at most this. Default `1e-11`; it must be
-    /// above the noise of the map's evaluation (a few `1e-15` for the paper's stroboscopic
-    /// map), or no step can reach it.
-    pub tolerance: f64,
+    /// Absolute residual tolerance, in units of each component's scale (module docs). Default
+    /// `1e-11`; it must be above the noise of the map's evaluation (a few `1e-15` for the
+    /// paper's stroboscopic map), or no step can reach it.
+    pub atol: f64,
+    /// Relative residual tolerance (module docs). Default 0: the absolute test alone, as the
+    /// map's noise on the paper's orbits (of size 1) is far below `atol`.
+    pub rtol: f64,
     /// Largest number of Newton iterations (evaluations of the Jacobian). Default 30.
     pub max_iterations: u32,
     /// Largest number of step halvings per iteration. Default 12.
@@ -28,10 +37,34 @@ pub struct NewtonOptions {
 impl Default for NewtonOptions {
     fn default() -> Self {
         Self {
-            tolerance: 1e-11,
+            atol: 1e-11,
+            rtol: 0.0,
             max_iterations: 30,
             max_halvings: 12,
         }
+    }
+}
+
+impl NewtonOptions {
+    /// With the absolute residual tolerance [`atol`](Self::atol).
+    pub fn atol(mut self, atol: f64) -> Self {
+        self.atol = atol;
+        self
+    }
+    /// With the relative residual tolerance [`rtol`](Self::rtol).
+    pub fn rtol(mut self, rtol: f64) -> Self {
+        self.rtol = rtol;
+        self
+    }
+    /// With at most `n` iterations.
+    pub fn max_iterations(mut self, n: u32) -> Self {
+        self.max_iterations = n;
+        self
+    }
+    /// With at most `n` halvings per iteration.
+    pub fn max_halvings(mut self, n: u32) -> Self {
+        self.max_halvings = n;
+        self
     }
 }
 
@@ -66,24 +99,24 @@ pub struct FixedPoint<X> {
 #[non_exhaustive]
 pub enum NewtonError<E> {
     /// No convergence within the iteration limit, or no step lowered the residual: `last` is
-    /// the best iterate found and `residual` its $\lVert P(z) - z\rVert_\infty$. Try a better
-    /// guess (a point of a longer transient), a larger tolerance (above the map's noise), or
-    /// check that the orbit has this period.
+    /// the best iterate found and `residual` its $\lVert G\rVert_\infty$. Try a better guess
+    /// (a point of a longer transient), a larger tolerance (above the map's noise), or check
+    /// that the orbit has this period.
     #[error("Newton did not converge after {iterations} iterations: residual {residual:e} (tolerance {tolerance:e}); {reason}")]
     NotConverged {
         /// The best iterate.
         last: DVector<f64>,
         /// Its residual.
         residual: f64,
-        /// The tolerance asked for.
+        /// The absolute tolerance asked for.
         tolerance: f64,
         /// Iterations made.
         iterations: u32,
         /// Why it stopped.
         reason: &'static str,
     },
-    /// $DP - I$ is singular to working precision at `at` (a multiplier at 1: a fold, or a
-    /// degenerate map).
+    /// The Newton matrix ($DP - I$ for a fixed point) is singular to working precision at
+    /// `at` (a multiplier at 1: a fold, or a degenerate map).
     #[error("DP - I is singular (a multiplier is 1 to working precision)")]
     Singular {
         /// The iterate.
@@ -111,96 +144,212 @@ pub enum NewtonError<E> {
     },
 }
 
-fn sup_norm(v: &DVector<f64>) -> f64 {
-    v.iter().fold(0.0, |m, x| m.max(x.abs()))
+/// A system $G(u) = 0$ evaluated at a point: $G$, the Newton matrix $\partial G/\partial u$,
+/// and what else the evaluation reports.
+pub(crate) struct System<X> {
+    /// $G(u)$.
+    pub(crate) residual: DVector<f64>,
+    /// $\partial G/\partial u$.
+    pub(crate) matrix: DMatrix<f64>,
+    /// The rest.
+    pub(crate) extra: X,
+}
+
+/// A converged zero of a [`System`].
+pub(crate) struct Zero<X> {
+    pub(crate) u: DVector<f64>,
+    pub(crate) system: System<X>,
+    pub(crate) residual: f64,
+    pub(crate) iterations: u32,
+    pub(crate) evaluations: u32,
+}
+
+/// How [`solve`] steps and stops.
+pub(crate) struct Rule<'a> {
+    pub(crate) opts: &'a NewtonOptions,
+    /// The scale $s_i$ of each component of $G$ (module docs).
+    pub(crate) scale: &'a DVector<f64>,
+    /// `Some(factor)`: the last component is a constraint row, converged at `factor * atol`
+    /// (its scale 1, no relative part); `None`: no constraint.
+    pub(crate) constraint: Option<f64>,
+    /// Halve a step that does not lower the residual (`false`: always take the full step,
+    /// as a pseudo-arclength corrector does, whose constraint may need the residual to grow).
+    pub(crate) line_search: bool,
+}
+
+impl Rule<'_> {
+    /// The scaled residual: the largest $|G_i|/(\text{atol}\,s_i + \text{rtol}|u_i|)$, below 1
+    /// when converged.
+    fn scaled(&self, g: &DVector<f64>, u: &DVector<f64>) -> f64 {
+        let n = g.len();
+        g.iter()
+            .enumerate()
+            .map(|(i, gi)| {
+                let tol = match self.constraint {
+                    Some(factor) if i + 1 == n => factor * self.opts.atol,
+                    _ => {
+                        let s = self.scale.get(i).copied().unwrap_or(1.0);
+                        self.opts.atol * s + self.opts.rtol * u.get(i).map_or(0.0, |v| v.abs())
+                    }
+                };
+                if gi.is_nan() {
+                    f64::INFINITY
+                } else {
+                    gi.abs() / tol
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+}
+
+fn check<E>(opts: &NewtonOptions) -> Result<(), NewtonError<E>> {
+    let bad = |field, value: f64| NewtonError::InvalidOption {
+        field,
+        value,
+        hint: "use a finite tolerance >= 0 above the map's noise (atol > 0, e.g. 1e-11)",
+    };
+    if !(opts.atol.is_finite() && opts.atol > 0.0) {
+        return Err(bad("atol", opts.atol));
+    }
+    if !(opts.rtol.is_finite() && opts.rtol >= 0.0) {
+        return Err(bad("rtol", opts.rtol));
+    }
+    Ok(())
+}
+
+/// The one Newton: $G(u) = 0$ from `u0` (module docs); `eval(u)` returns the [`System`] at
+/// `u`. Used by [`newton_fixed_point`] and the continuation's corrector.
+pub(crate) fn solve<X, E>(
+    u0: &DVector<f64>,
+    mut eval: impl FnMut(&DVector<f64>) -> Result<System<X>, E>,
+    rule: &Rule<'_>,
+) -> Result<Zero<X>, NewtonError<E>> {
+    check(rule.opts)?;
+    let opts = rule.opts;
+    let mut evaluations = 0u32;
+    let mut eval = |u: &DVector<f64>, evaluations: &mut u32| {
+        *evaluations += 1;
+        eval(u).map_err(|error| NewtonError::Map {
+            at: u.clone(),
+            error,
+        })
+    };
+    let not_converged = |last, residual, iterations, reason| NewtonError::NotConverged {
+        last,
+        residual,
+        tolerance: opts.atol,
+        iterations,
+        reason,
+    };
+    let mut u = u0.clone();
+    let mut current = eval(&u, &mut evaluations)?;
+    let mut scaled = rule.scaled(&current.residual, &u);
+    let mut iterations = 1u32;
+    loop {
+        let residual = current.residual.amax();
+        if scaled <= 1.0 {
+            return Ok(Zero {
+                u,
+                system: current,
+                residual,
+                iterations,
+                evaluations,
+            });
+        }
+        if !residual.is_finite() {
+            return Err(not_converged(
+                u,
+                residual,
+                iterations,
+                "non-finite residual",
+            ));
+        }
+        if iterations >= opts.max_iterations {
+            return Err(not_converged(
+                u,
+                residual,
+                iterations,
+                "iteration limit reached",
+            ));
+        }
+        let step = current.matrix.clone().lu().solve(&(-&current.residual));
+        let Some(step) = step.filter(|s| !rule.line_search || s.iter().all(|v| v.is_finite()))
+        else {
+            return Err(NewtonError::Singular { at: u, residual });
+        };
+        let trial = |factor: f64| {
+            let trial = &u + &step * factor;
+            let value = eval(&trial, &mut evaluations)?;
+            let st = rule.scaled(&value.residual, &trial);
+            Ok((trial, value, st))
+        };
+        let Some((ut, value, st)) = halve(trial, rule, scaled)? else {
+            let reason =
+                "no step lowers the residual (it is at the map's noise, or the guess is poor)";
+            return Err(not_converged(u, residual, iterations, reason));
+        };
+        u = ut;
+        current = value;
+        scaled = st;
+        iterations += 1;
+    }
+}
+
+/// A trial step of [`solve`]: the point, the system there and its scaled residual.
+type Trial<X> = (DVector<f64>, System<X>, f64);
+
+/// The full step, halved (with the line search) until it lowers the scaled residual
+/// `scaled`; `None` if no halving does.
+fn halve<X, E>(
+    mut trial: impl FnMut(f64) -> Result<Trial<X>, NewtonError<E>>,
+    rule: &Rule<'_>,
+    scaled: f64,
+) -> Result<Option<Trial<X>>, NewtonError<E>> {
+    let mut factor = 1.0;
+    for _ in 0..=rule.opts.max_halvings {
+        let t = trial(factor)?;
+        if !rule.line_search || t.2 < scaled {
+            return Ok(Some(t));
+        }
+        factor *= 0.5;
+    }
+    Ok(None)
 }
 
 /// Newton's method for $P(z) = z$ from `guess` (module docs); `map(z)` returns $P(z)$ and
-/// $DP(z)$.
+/// $DP(z)$; `scale` is the scale of each component of $z$ (`None`: 1 for every one).
 ///
 /// # Errors
 /// [`NewtonError`], carrying the last iterate and its residual when it did not converge.
 pub fn newton_fixed_point<X, E>(
     guess: &DVector<f64>,
     mut map: impl FnMut(&DVector<f64>) -> Result<MapValue<X>, E>,
+    scale: Option<&DVector<f64>>,
     opts: &NewtonOptions,
 ) -> Result<FixedPoint<X>, NewtonError<E>> {
-    if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) {
-        return Err(NewtonError::InvalidOption {
-            field: "tolerance",
-            value: opts.tolerance,
-            hint: "use a finite tolerance > 0 above the map's noise, e.g. 1e-11",
-        });
-    }
-    let mut evaluations = 0u32;
-    let mut eval = |z: &DVector<f64>, evaluations: &mut u32| {
-        *evaluations += 1;
-        map(z).map_err(|error| NewtonError::Map {
-            at: z.clone(),
-            error,
+    let ones = DVector::from_element(guess.len(), 1.0);
+    let rule = Rule {
+        opts,
+        scale: scale.unwrap_or(&ones),
+        constraint: None,
+        line_search: true,
+    };
+    let n = guess.len();
+    let eval = |z: &DVector<f64>| {
+        map(z).map(|m| System {
+            residual: &m.value - z,
+            matrix: &m.jacobian - DMatrix::identity(n, n),
+            extra: m,
         })
     };
-    let mut z = guess.clone();
-    let mut current = eval(&z, &mut evaluations)?;
-    let mut f = &current.value - &z;
-    let mut residual = sup_norm(&f);
-    let mut iterations = 1u32;
-    loop {
-        if residual <= opts.tolerance {
-            return Ok(FixedPoint {
-                point: z,
-                map: current,
-                residual,
-                iterations,
-                evaluations,
-            });
-        }
-        if iterations >= opts.max_iterations {
-            return Err(NewtonError::NotConverged {
-                last: z,
-                residual,
-                tolerance: opts.tolerance,
-                iterations,
-                reason: "iteration limit reached",
-            });
-        }
-        let n = z.len();
-        let a = &current.jacobian - DMatrix::identity(n, n);
-        let Some(step) = a.lu().solve(&(-&f)) else {
-            return Err(NewtonError::Singular { at: z, residual });
-        };
-        if !step.iter().all(|s| s.is_finite()) {
-            return Err(NewtonError::Singular { at: z, residual });
-        }
-        let mut scale = 1.0;
-        let mut accepted = None;
-        for _ in 0..=opts.max_halvings {
-            let trial = &z + &step * scale;
-            let value = eval(&trial, &mut evaluations)?;
-            let ft = &value.value - &trial;
-            let rt = sup_norm(&ft);
-            if rt < residual {
-                accepted = Some((trial, value, ft, rt));
-                break;
-            }
-            scale *= 0.5;
-        }
-        let Some((zt, value, ft, rt)) = accepted else {
-            return Err(NewtonError::NotConverged {
-                last: z,
-                residual,
-                tolerance: opts.tolerance,
-                iterations,
-                reason:
-                    "no step lowers the residual (it is at the map's noise, or the guess is poor)",
-            });
-        };
-        z = zt;
-        current = value;
-        f = ft;
-        residual = rt;
-        iterations += 1;
-    }
+    let zero = solve(guess, eval, &rule)?;
+    Ok(FixedPoint {
+        point: zero.u,
+        map: zero.system.extra,
+        residual: zero.residual,
+        iterations: zero.iterations,
+        evaluations: zero.evaluations,
+    })
 }
 
 #[cfg(test)]
@@ -222,7 +371,7 @@ mod tests {
     #[test]
     fn converges_quadratically_to_the_fixed_point() {
         let guess = DVector::from_vec(vec![1.1, 1.9]);
-        let fp = newton_fixed_point(&guess, map, &NewtonOptions::default()).unwrap();
+        let fp = newton_fixed_point(&guess, map, None, &NewtonOptions::default()).unwrap();
         assert!((fp.point[0] - 1.0).abs() < 1e-12 && (fp.point[1] - 2.0).abs() < 1e-12);
         assert!(fp.residual <= 1e-11);
         assert!(fp.iterations <= 7, "{}", fp.iterations);
@@ -240,19 +389,15 @@ mod tests {
             })
         };
         let guess = DVector::from_vec(vec![0.0, 0.0]);
-        match newton_fixed_point(&guess, shift, &NewtonOptions::default()) {
+        match newton_fixed_point(&guess, shift, None, &NewtonOptions::default()) {
             Err(NewtonError::Singular { at, residual }) => {
                 assert_eq!(at, guess);
                 assert_eq!(residual, 1.0);
             }
             other => panic!("{other:?}"),
         }
-        let opts = NewtonOptions {
-            max_iterations: 2,
-            tolerance: 1e-30,
-            ..NewtonOptions::default()
-        };
-        match newton_fixed_point(&DVector::from_vec(vec![1.1, 1.9]), map, &opts) {
+        let opts = NewtonOptions::default().max_iterations(2).atol(1e-30);
+        match newton_fixed_point(&DVector::from_vec(vec![1.1, 1.9]), map, None, &opts) {
             Err(NewtonError::NotConverged {
                 last,
                 residual,
@@ -264,6 +409,32 @@ mod tests {
                 assert!((last[0] - 1.0).abs() < 0.1);
             }
             other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn the_stopping_rule_follows_the_scale_of_the_state() {
+        // The same map in units 1e-5 times smaller (an SI rotor in metres): with the scale
+        // 1e-5 Newton takes the same iterations to the same relative accuracy; an absolute
+        // test at 1e-11 would stop at a relative error near 1e-6.
+        let unit = 1e-5;
+        let si = |z: &DVector<f64>| -> Result<MapValue<()>, ()> {
+            let m = map(&(z / unit))?;
+            Ok(MapValue {
+                value: m.value * unit,
+                jacobian: m.jacobian,
+                extra: (),
+            })
+        };
+        let opts = NewtonOptions::default();
+        let guess = DVector::from_vec(vec![1.1, 1.9]);
+        let reference = newton_fixed_point(&guess, map, None, &opts).unwrap();
+        let scale = DVector::from_element(2, unit);
+        let scaled = newton_fixed_point(&(&guess * unit), si, Some(&scale), &opts).unwrap();
+        assert_eq!(scaled.iterations, reference.iterations);
+        for i in 0..2 {
+            let relative = (scaled.point[i] / unit - reference.point[i]).abs();
+            assert!(relative < 1e-12, "component {i}: {relative:e}");
         }
     }
 }

@@ -29,7 +29,8 @@ use crate::hybrid::{
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct OrbitOptions {
-    /// Newton's options (tolerance on $\lVert P^n(z) - z\rVert_\infty$, default `1e-11`).
+    /// Newton's options (tolerance on $P^n(z) - z$ relative to the model's
+    /// [`state_scale`](crate::hybrid::RotorModel::state_scale), default `1e-11`).
     pub newton: NewtonOptions,
     /// Simulation options of every run.
     pub sim: SimOptions,
@@ -102,8 +103,10 @@ where
     /// [`Linearization::openness`]).
     pub openness: f64,
     /// The smallest $m$ dividing the period with $\lVert P^m(z^{\ast}) - z^{\ast}\rVert_\infty \le
-    /// 10^{-8}(1 + \lVert z^{\ast}\rVert_\infty)$: less than the period when Newton found an orbit
-    /// of a shorter period (a fixed point of $P$ is one of $P^n$ too).
+    /// 10^{-8}(1 + \lVert z^{\ast}\rVert_\infty)$, components in units of the model's
+    /// [`RotorModel::state_scale`](crate::hybrid::RotorModel::state_scale): less than the
+    /// period when Newton found an orbit of a shorter period (a fixed point of $P$ is one of
+    /// $P^n$ too).
     pub minimal_period: u64,
 }
 
@@ -118,7 +121,8 @@ where
 }
 
 /// Newton's method on $P^n(z) - z$ from the full state `guess` (a point of a simulated orbit,
-/// at a section), then the multipliers and margins of the orbit found.
+/// at a section), then the multipliers and margins of the orbit found. Newton's tolerance is
+/// relative to the model's [`state_scale`](crate::hybrid::RotorModel::state_scale).
 ///
 /// # Errors
 /// [`StabilityError::NotConverged`] with the last iterate and its residual,
@@ -145,7 +149,8 @@ where
             extra: lin,
         })
     };
-    let fp = newton_fixed_point(&z0, eval, &opts.newton).map_err(newton_error)?;
+    let scale = map.reduce(&model.state_scale());
+    let fp = newton_fixed_point(&z0, eval, Some(&scale), &opts.newton).map_err(newton_error)?;
     let state = map.state(&template, &fp.point);
     let multipliers = multipliers(&fp.map.jacobian)?;
     let lin = fp.map.extra;
@@ -167,7 +172,8 @@ where
     })
 }
 
-/// The smallest divisor $m$ of `period` with $P^m(z) = z$ to $10^{-8}(1 + |z|)$.
+/// The smallest divisor $m$ of `period` with $P^m(z) = z$ to $10^{-8}(1 + |z|)$, in units of
+/// the model's [`RotorModel::state_scale`](crate::hybrid::RotorModel::state_scale).
 fn minimal_period<M>(
     model: &M,
     state: &OVector<f64, M::Dim>,
@@ -179,18 +185,20 @@ where
     M: Variational,
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
-    let scale = 1e-8 * (1.0 + point.amax());
+    let scale = StroboscopicMap::new(model, 1, *sim)?.reduce(&model.state_scale());
+    let size = point.component_div(&scale).amax();
     for m in (1..period).filter(|&m| period.is_multiple_of(m)) {
         let map = StroboscopicMap::new(model, m, *sim)?;
         let end = map.reduce(&map.advance(state)?.y);
-        if (end - point).amax() <= scale {
+        if (end - point).component_div(&scale).amax() <= 1e-8 * (1.0 + size) {
             return Ok(m);
         }
     }
     Ok(period)
 }
 
-fn newton_error(e: NewtonError<StabilityError>) -> StabilityError {
+/// Newton's error as the layer's error.
+pub(crate) fn newton_error(e: NewtonError<StabilityError>) -> StabilityError {
     match e {
         NewtonError::NotConverged {
             last,

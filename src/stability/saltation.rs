@@ -27,7 +27,10 @@
 //! \in [0, 1],$$
 //!
 //! $|f^-|_{\nabla g}$ the norm of $f^-$ over the components where $\nabla g$ is not zero (so that a
-//! guard on positions is not judged against accelerations): the cosine of the angle at which the
+//! guard on positions is not judged against accelerations), both norms in the coordinates
+//! $x_c/s_c$ scaled by the model's [`RotorModel::state_scale`](crate::hybrid::RotorModel::state_scale)
+//! when the event gives it ([`EventLinearization::state_scale`]; so that a guard on positions
+//! and velocities is judged alike in any units): the cosine of the angle at which the
 //! flow crosses the guard, corrected for its explicit time dependence. [`saltation`] returns
 //! [`SaltationError::Grazing`] when the margin is below the threshold it is given
 //! ([`GRAZING_MARGIN`] $= 10^{-3}$ by default), never a matrix that rounding or the
@@ -62,6 +65,10 @@ where
     pub reset_jacobian: Option<&'a OMatrix<f64, D, D>>,
     /// Explicit time derivative of the reset, $R_t$; `None` for zero.
     pub reset_time_derivative: Option<&'a OVector<f64, D>>,
+    /// The state's scale $s$ ([`RotorModel::state_scale`](crate::hybrid::RotorModel::state_scale)):
+    /// the margin is measured in the scaled coordinates $x_c/s_c$ (module docs); `None` for 1
+    /// in every component.
+    pub state_scale: Option<&'a OVector<f64, D>>,
 }
 
 /// A saltation matrix with what it was computed from.
@@ -97,71 +104,9 @@ where
     }
 }
 
-fn margin(denominator: f64, scale: f64) -> f64 {
-    if scale > 0.0 {
-        (denominator.abs() / scale).min(1.0)
-    } else {
-        0.0
-    }
-}
-
-/// Why [`saltation`] gave no matrix.
-#[derive(Debug, Clone, Copy, PartialEq, Error)]
-#[non_exhaustive]
-pub enum SaltationError {
-    /// The trajectory crosses the guard at a margin below the threshold: the event is grazing
-    /// and the linearisation through it is not to be trusted. Find out whether the model's
-    /// saltation stays bounded there (then pass a smaller threshold), or move away from the
-    /// grazing (another parameter, another orbit).
-    #[error("grazing event: crossing margin {margin:e} below the threshold {threshold:e} (guard rate {denominator:e}, scale {scale:e})")]
-    Grazing {
-        /// The margin $|\text{denominator}|/\text{scale}$.
-        margin: f64,
-        /// The threshold it fell below.
-        threshold: f64,
-        /// The guard's crossing rate $\nabla g\cdot f^- + g_t$.
-        denominator: f64,
-        /// Its scale.
-        scale: f64,
-    },
-    /// An input holds NaN or infinity.
-    #[error("{field} is not finite")]
-    NonFinite {
-        /// The input (`"field_before"`, `"guard_gradient"`, ...).
-        field: &'static str,
-    },
-    /// An input's dimension differs from the state's (that of `field_before`).
-    #[error("{field} has dimension {found}, the state has {expected}")]
-    DimensionMismatch {
-        /// The input.
-        field: &'static str,
-        /// The state's dimension.
-        expected: usize,
-        /// The input's.
-        found: usize,
-    },
-    /// The threshold is not a number in $[0, 1]$.
-    #[error(
-        "grazing threshold {value} must be in [0, 1] (the margin's range); the default is 1e-3"
-    )]
-    InvalidThreshold {
-        /// The offending value.
-        value: f64,
-    },
-}
-
-/// The saltation matrix of an event (module docs), or [`SaltationError::Grazing`] when the
-/// event is crossed at a margin below `threshold` (use [`GRAZING_MARGIN`] unless the model's
-/// saltation is known to stay bounded; with `threshold = 0` only an exactly zero or non-finite
-/// ratio is refused).
-///
-/// # Errors
-/// [`SaltationError::Grazing`] (with the margin), [`SaltationError::NonFinite`],
-/// [`SaltationError::DimensionMismatch`], [`SaltationError::InvalidThreshold`].
-pub fn saltation<D: Dim>(
-    event: &EventLinearization<'_, D>,
-    threshold: f64,
-) -> Result<Saltation<D>, SaltationError>
+/// The checks of [`saltation`]'s inputs: the threshold, the dimensions, finite values and a
+/// positive scale.
+fn validate<D: Dim>(event: &EventLinearization<'_, D>, threshold: f64) -> Result<(), SaltationError>
 where
     DefaultAllocator: Allocator<D> + Allocator<D, D>,
 {
@@ -207,15 +152,129 @@ where
         check("reset_time_derivative", r.nrows(), finite(r.as_slice()))?;
     }
 
+    if let Some(s) = event.state_scale {
+        check("state_scale", s.nrows(), true)?;
+        if let Some((component, &value)) = s
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+        {
+            return Err(SaltationError::InvalidScale { component, value });
+        }
+    }
+    Ok(())
+}
+
+/// The scale of the crossing rate, $|\nabla g|\thinspace|f^-|_{\nabla g} + |g_t|$ (module
+/// docs), in the coordinates scaled by the event's `state_scale` if it has one.
+fn rate_scale<D: Dim>(event: &EventLinearization<'_, D>) -> f64
+where
+    DefaultAllocator: Allocator<D> + Allocator<D, D>,
+{
+    let (f_minus, grad) = (event.field_before, event.guard_gradient);
+    let (grad_norm, support) = match event.state_scale {
+        None => {
+            let support: f64 = grad
+                .iter()
+                .zip(f_minus.iter())
+                .filter(|(g, _)| **g != 0.0)
+                .map(|(_, f)| f * f)
+                .sum();
+            (grad.norm(), support)
+        }
+        Some(s) => {
+            let pairs = || grad.iter().zip(f_minus.iter()).zip(s.iter());
+            let grad_sq: f64 = pairs().map(|((g, _), s)| (g * s) * (g * s)).sum();
+            let support: f64 = pairs()
+                .filter(|((g, _), _)| **g != 0.0)
+                .map(|((_, f), s)| (f / s) * (f / s))
+                .sum();
+            (grad_sq.sqrt(), support)
+        }
+    };
+    grad_norm * support.sqrt() + event.guard_time_derivative.abs()
+}
+
+fn margin(denominator: f64, scale: f64) -> f64 {
+    if scale > 0.0 {
+        (denominator.abs() / scale).min(1.0)
+    } else {
+        0.0
+    }
+}
+
+/// Why [`saltation`] gave no matrix.
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[non_exhaustive]
+pub enum SaltationError {
+    /// The trajectory crosses the guard at a margin below the threshold: the event is grazing
+    /// and the linearisation through it is not to be trusted. Find out whether the model's
+    /// saltation stays bounded there (then pass a smaller threshold), or move away from the
+    /// grazing (another parameter, another orbit).
+    #[error("grazing event: crossing margin {margin:e} below the threshold {threshold:e} (guard rate {denominator:e}, scale {scale:e})")]
+    Grazing {
+        /// The margin $|\text{denominator}|/\text{scale}$.
+        margin: f64,
+        /// The threshold it fell below.
+        threshold: f64,
+        /// The guard's crossing rate $\nabla g\cdot f^- + g_t$.
+        denominator: f64,
+        /// Its scale.
+        scale: f64,
+    },
+    /// An input holds NaN or infinity.
+    #[error("{field} is not finite")]
+    NonFinite {
+        /// The input (`"field_before"`, `"guard_gradient"`, ...).
+        field: &'static str,
+    },
+    /// An input's dimension differs from the state's (that of `field_before`).
+    #[error("{field} has dimension {found}, the state has {expected}")]
+    DimensionMismatch {
+        /// The input.
+        field: &'static str,
+        /// The state's dimension.
+        expected: usize,
+        /// The input's.
+        found: usize,
+    },
+    /// A component of the state's scale is not finite and positive.
+    #[error("state_scale[{component}] = {value}: a scale must be finite and > 0")]
+    InvalidScale {
+        /// The component.
+        component: usize,
+        /// Its scale.
+        value: f64,
+    },
+    /// The threshold is not a number in $[0, 1]$.
+    #[error(
+        "grazing threshold {value} must be in [0, 1] (the margin's range); the default is 1e-3"
+    )]
+    InvalidThreshold {
+        /// The offending value.
+        value: f64,
+    },
+}
+
+/// The saltation matrix of an event (module docs), or [`SaltationError::Grazing`] when the
+/// event is crossed at a margin below `threshold` (use [`GRAZING_MARGIN`] unless the model's
+/// saltation is known to stay bounded; with `threshold = 0` only an exactly zero or non-finite
+/// ratio is refused).
+///
+/// # Errors
+/// [`SaltationError::Grazing`] (with the margin), [`SaltationError::NonFinite`],
+/// [`SaltationError::DimensionMismatch`], [`SaltationError::InvalidThreshold`].
+pub fn saltation<D: Dim>(
+    event: &EventLinearization<'_, D>,
+    threshold: f64,
+) -> Result<Saltation<D>, SaltationError>
+where
+    DefaultAllocator: Allocator<D> + Allocator<D, D>,
+{
+    validate(event, threshold)?;
     let (f_minus, grad) = (event.field_before, event.guard_gradient);
     let denominator = grad.dot(f_minus) + event.guard_time_derivative;
-    let support: f64 = grad
-        .iter()
-        .zip(f_minus.iter())
-        .filter(|(g, _)| **g != 0.0)
-        .map(|(_, f)| f * f)
-        .sum();
-    let scale = grad.norm() * support.sqrt() + event.guard_time_derivative.abs();
+    let scale = rate_scale(event);
     let m = margin(denominator, scale);
     if m < threshold || denominator == 0.0 {
         return Err(SaltationError::Grazing {
@@ -244,7 +303,7 @@ where
     };
     matrix.ger(inv, &jump, grad, 1.0);
     let time_gradient = grad * -inv;
-    if !finite(matrix.as_slice()) {
+    if !matrix.iter().all(|x| x.is_finite()) {
         return Err(SaltationError::NonFinite { field: "matrix" });
     }
     Ok(Saltation {

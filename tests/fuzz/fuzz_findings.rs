@@ -201,13 +201,15 @@ fn event_on_a_non_finite_dense_output_is_non_finite_with_a_good_last_state() {
             [speed * dir.cos(), speed * dir.sin()],
         )
         .unwrap();
-    // The finding's options (the screen was the default then; without it the run chatters
-    // before it reaches the overflow).
+    // The finding's options, but one sample per step: with 24 the run chatters before it
+    // reaches the overflow, without the screen and, since the screen checks its premise
+    // (issue 17), with it (the screen, the default when this was found, cleared the steps
+    // whose samples find the chattering).
     let opts = SimOptions {
         rtol: 1.0,
         atol: 8.572388403695387e-7,
         max_step_fraction: 0.17217850026456383,
-        event_samples: 24,
+        event_samples: 1,
         screen_events: true,
         ..SimOptions::default()
     };
@@ -1035,16 +1037,18 @@ fn a_touch_a_hair_inside_the_circle_moving_outward_starts_contact() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Open (issue 16): the event screen clears a crossing.
+// 11. The event screen clears a crossing (issue 16's class S; fixed in issue 17).
 
 /// A fuzz case (seed 777, found by checking every event record): with the event screen on
-/// (`SimOptions::screen_events`, opt-in since issue 16), the paper model's gap guard was cleared over a
-/// step on which it crossed (the screen's Hermite bound does not hold there), and the next
-/// onset found the rotor $1.7\times10^{-5}$ beyond the ring; without the screen
-/// $5\times10^{-13}$. Ignored until the screen is fixed (`ode::events`, not the ring): run it
-/// with `--ignored`.
+/// (`SimOptions::screen_events`, opt-in since issue 16), the paper model's contact guard was
+/// cleared over steps on which it crossed: a stiff contact (K = 303) under a loose `atol`
+/// (9e-4) takes steps of 0.8 of its oscillation period, whose dense output swings through
+/// zero (0.32 and 0.25 at the ends, -0.10 at mid-step) while the ends' values and
+/// derivatives look quiet, so the cubic Hermite interpolant of the ends is far from the
+/// guard and its bound proves nothing. The next onset found the rotor $1.7\times10^{-5}$
+/// beyond the ring; without the screen $5\times10^{-13}$. The screen now checks its premise
+/// at mid-step (`ode::events`, *Screening*) and samples such steps.
 #[test]
-#[ignore = "open: the opt-in event screen clears a crossing (ode::events); cargo test --test fuzz fuzz_findings:: -- --ignored"]
 fn the_event_screen_does_not_clear_a_crossing() {
     let p = Params {
         eta: 1.000001,

@@ -7,8 +7,8 @@ use std::fs;
 use std::path::PathBuf;
 
 use jeffcott::global::{
-    find_attractor, run_points, scan_grid, Attractor, AttractorConfig, Grid2, GridScan, Json,
-    MatchTolerance, PointFailure, PointLabel, Record, RunConfig, Shard, SimFailureKind, StoreError,
+    find_attractor, run_points, scan_grid, Attractor, AttractorConfig, Grid2, GridScan,
+    MatchTolerance, PointFailure, PointLabel, RunConfig, Shard, SimFailureKind, StoreError,
     SweepStore,
 };
 use jeffcott::hybrid::{OutputPlan, SimOptions};
@@ -30,8 +30,8 @@ fn texts(scan: &GridScan) -> Vec<String> {
         .results
         .iter()
         .map(|r| match r {
-            Some(Ok(a)) => a.to_json().to_string(),
-            Some(Err(e)) => e.to_json().to_string(),
+            Some(Ok(a)) => serde_json::to_string(a).unwrap(),
+            Some(Err(e)) => serde_json::to_string(e).unwrap(),
             None => "missing".into(),
         })
         .collect()
@@ -209,7 +209,7 @@ fn an_interrupted_scan_restarted_equals_an_uninterrupted_one_bitwise() {
     let grid = Grid2::linspace((-1.0, 1.0, 6), (-1.5, 1.5, 5)).unwrap();
     let plane = BasinPlane::new(Preset::Fig8b.params().with_eta(2.2), StartPlane::XVx);
     let config = quick();
-    let description = Json::object([("plane", plane.to_json())]);
+    let description = plane;
 
     // Uninterrupted, one thread, in memory.
     let whole = scan_grid(
@@ -226,7 +226,7 @@ fn an_interrupted_scan_restarted_equals_an_uninterrupted_one_bitwise() {
 
     // Interrupted after 7 points (2 threads), then after 9 more (1 thread), then finished (2).
     let dir = temp_dir("restart");
-    let store = SweepStore::open_scan(&dir, "basins", description.clone(), &grid, &config).unwrap();
+    let store = SweepStore::open_scan(&dir, "basins", &description, &grid, &config).unwrap();
     let two = RunConfig::default().with_threads(2);
     let first = scan_grid(
         &grid,
@@ -250,7 +250,7 @@ fn an_interrupted_scan_restarted_equals_an_uninterrupted_one_bitwise() {
         format!("{text}{}", &last_line[..last_line.len() / 2]),
     )
     .unwrap();
-    let store = SweepStore::open_scan(&dir, "basins", description.clone(), &grid, &config).unwrap();
+    let store = SweepStore::open_scan(&dir, "basins", &description, &grid, &config).unwrap();
     let second = scan_grid(
         &grid,
         plane.setup(),
@@ -283,8 +283,8 @@ fn an_interrupted_scan_restarted_equals_an_uninterrupted_one_bitwise() {
     assert_eq!(lines.lines().count(), grid.len());
 
     // A different sweep in the same folder is refused.
-    let other = Json::object([("plane", plane.to_json()), ("x", Json::Null)]);
-    assert!(SweepStore::open_scan(&dir, "basins", other, &grid, &config).is_err());
+    let other = serde_json::json!({"plane": plane, "x": null});
+    assert!(SweepStore::open_scan(&dir, "basins", &other, &grid, &config).is_err());
     fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -324,7 +324,7 @@ fn failed_points_are_recorded_with_their_kind_and_not_rerun() {
     let dir = temp_dir("failures");
     let mut config = quick();
     config.opts.max_steps = 2;
-    let store = SweepStore::open_scan(&dir, "failures", Json::Null, &grid, &config).unwrap();
+    let store = SweepStore::open_scan(&dir, "failures", &(), &grid, &config).unwrap();
     let scan = scan_grid(
         &grid,
         plane.setup(),
@@ -423,12 +423,12 @@ fn shards_run_separately_then_merged_equal_one_run_bitwise() {
     let grid = Grid2::linspace((-1.0, 1.0, 4), (-1.5, 1.5, 3)).unwrap();
     let plane = BasinPlane::new(Preset::Fig8b.params().with_eta(2.2), StartPlane::XVx);
     let config = quick();
-    let description = Json::object([("plane", plane.to_json())]);
+    let description = plane;
     let one = RunConfig::default().with_threads(1);
 
     // One run, one process, its own folder.
     let dir = temp_dir("shard-whole");
-    let store = SweepStore::open_scan(&dir, "basins", description.clone(), &grid, &config).unwrap();
+    let store = SweepStore::open_scan(&dir, "basins", &description, &grid, &config).unwrap();
     let whole = scan_grid(&grid, plane.setup(), &config, Some(&store), &one, None).unwrap();
     assert!(whole.results.is_complete());
 
@@ -438,8 +438,7 @@ fn shards_run_separately_then_merged_equal_one_run_bitwise() {
     let mut done = Vec::new();
     for i in 0..3 {
         let shard = Shard::new(i, 3).unwrap();
-        let store =
-            SweepStore::open_scan(&dir, "basins", description.clone(), &grid, &config).unwrap();
+        let store = SweepStore::open_scan(&dir, "basins", &description, &grid, &config).unwrap();
         let part = scan_grid(
             &grid,
             plane.setup(),
@@ -461,7 +460,7 @@ fn shards_run_separately_then_merged_equal_one_run_bitwise() {
         assert!(!store.records_path(0).exists());
     }
     // The merge: a run without a shard reads every point from the three files, runs none.
-    let store = SweepStore::open_scan(&dir, "basins", description.clone(), &grid, &config).unwrap();
+    let store = SweepStore::open_scan(&dir, "basins", &description, &grid, &config).unwrap();
     let merged = scan_grid(&grid, plane.setup(), &config, Some(&store), &one, None).unwrap();
     assert_eq!(
         (merged.results.reused, merged.results.computed),
@@ -489,7 +488,9 @@ fn shards_run_separately_then_merged_equal_one_run_bitwise() {
                     .collect::<Vec<_>>()
             })
             .collect();
-        lines.sort_by_key(|l| Json::parse(l).unwrap().get("index").unwrap().as_u64());
+        lines.sort_by_key(|l| {
+            serde_json::from_str::<serde_json::Value>(l).unwrap()["index"].as_u64()
+        });
         lines
     };
     assert_eq!(records(&dir), records(&temp_dir_kept("shard-whole")));
@@ -514,7 +515,7 @@ fn a_shard_resumed_runs_only_its_points_not_yet_done() {
     let plane = BasinPlane::new(Preset::Fig8a.params().with_eta(2.2), StartPlane::XVx);
     let config = quick();
     let dir = temp_dir("shard-resume");
-    let store = SweepStore::open_scan(&dir, "basins", Json::Null, &grid, &config).unwrap();
+    let store = SweepStore::open_scan(&dir, "basins", &(), &grid, &config).unwrap();
     let shard = "1/2".parse::<Shard>().unwrap();
     let run = RunConfig::default().with_threads(1).with_shard(shard);
     // Shard 1 of 2 owns the points 1, 3, 5, 7: killed after 2 of them.
@@ -594,9 +595,9 @@ fn shards_creating_one_folder_at_once_agree_on_one_manifest() {
                 .map(|t| {
                     let (dir, grid, config, barrier) = (&dir, &grid, &config, &barrier);
                     s.spawn(move || {
-                        let desc = Json::object([("sweep", Json::from(t % 2))]);
+                        let desc = serde_json::json!({"sweep": t % 2});
                         barrier.wait();
-                        let ok = SweepStore::open_scan(dir, "basins", desc, grid, config).is_ok();
+                        let ok = SweepStore::open_scan(dir, "basins", &desc, grid, config).is_ok();
                         (t % 2, ok)
                     })
                 })

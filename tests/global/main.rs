@@ -8,5 +8,6 @@
 mod support;
 
 mod global_continuation;
+mod global_records;
 mod global_resume;
 mod global_scan;

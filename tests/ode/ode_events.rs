@@ -1011,43 +1011,54 @@ fn quartic_first_root(b: f64, a: f64) -> f64 {
 }
 
 /// The screen's threshold: a step whose cubic Hermite interpolant stays at least half the
-/// smaller end value ($m = 1$) away from zero costs the two end evaluations only; one whose
-/// interpolant comes closer is sampled (4 interior samples), here just on either side of
-/// $m/2$.
+/// smaller end value ($m = 1$) away from zero, and whose guard at mid-step is where the
+/// interpolant puts it, costs the two end evaluations and the midpoint; one whose
+/// interpolant comes closer is sampled (4 interior samples, the midpoint not evaluated),
+/// here just on either side of $m/2$.
 #[test]
 fn screen_samples_a_step_only_when_the_interpolant_comes_within_half_the_end_value() {
     for (b, sampled) in [(2.0 * (1.0 - 1e-6), false), (2.0 * (1.0 + 1e-6), true)] {
         let (hit, calls) = quartic_step(b, 0.0, true);
         assert_eq!(hit, None, "b = {b}");
-        assert_eq!(calls, if sampled { 6 } else { 2 }, "b = {b}");
+        assert_eq!(calls, if sampled { 6 } else { 3 }, "b = {b}");
         let (hit, calls) = quartic_step(b, 0.0, false);
         assert_eq!((hit, calls), (None, 6), "b = {b} without the screen");
     }
 }
 
-/// The screen's guarantee and its boundary: no crossing is missed while the interpolant's
-/// error stays below half the smaller end value ($a/16 < 1/2$). The interpolant here sits just
-/// beyond the threshold ($b = 2(1 - 10^{-6})$, minimum $1/2 + 5\cdot10^{-7}$), so the screen
-/// clears the step whatever $a$ is. Just inside the guarantee ($a/16 = 0.999/2$) the guard
-/// indeed stays positive (minimum $5\cdot10^{-4}$): nothing to find. Just outside
-/// ($a/16 = 1.001/2$) it dips $5\cdot10^{-4}$ below zero and the screen misses the pair of
-/// roots, which the sampling finds (grazing pair, with the derivative) to $10^{-12}$.
+/// The screen checks its premise (issue 17; issue 16's class S): the interpolant here sits
+/// just beyond the ends' threshold ($b = 2(1 - 10^{-6})$, minimum $1/2 + 5\cdot10^{-7}$), so
+/// the ends alone clear the step whatever $a$ is; the part they cannot see, $a u^2$, is
+/// $a/16$ at mid-step. The screen keeps the step cleared only while that is within $m/4$
+/// ($a \le 4$, the guard staying above $1/4$), samples it beyond, and so finds the dip of
+/// $a/16 = 1.001/2$ ($5\cdot10^{-4}$ below zero) that it cleared before (returning `None`
+/// after 2 evaluations) to $10^{-12}$, as the sampling does without the screen.
 #[test]
-fn screen_guarantee_holds_just_inside_and_can_fail_just_outside() {
+fn the_screen_checks_its_premise_at_mid_step() {
     let b = 2.0 * (1.0 - 1e-6);
-    let inside = 8.0 * (1.0 - 1e-3);
-    assert!(1.0 - b / 4.0 - inside / 16.0 > 4e-4);
-    assert_eq!(quartic_step(b, inside, true), (None, 2));
+    let inside = 4.0 * (1.0 - 1e-3);
+    assert!(1.0 - b / 4.0 - inside / 16.0 > 0.2);
+    assert_eq!(quartic_step(b, inside, true), (None, 3));
     assert_eq!(quartic_step(b, inside, false).0, None);
+
+    let beyond = 4.0 * (1.0 + 1e-3);
+    let (hit, calls) = quartic_step(b, beyond, true);
+    assert!(
+        hit.is_none() && calls > 6,
+        "{hit:?} after {calls}: sampled, nothing to find"
+    );
 
     let outside = 8.0 * (1.0 + 1e-3);
     assert!(1.0 - b / 4.0 - outside / 16.0 < -4e-4);
-    let (missed, calls) = quartic_step(b, outside, true);
-    assert_eq!((missed, calls), (None, 2), "cleared beyond the guarantee");
-    let (found, _) = quartic_step(b, outside, false);
     let exact = quartic_first_root(b, outside);
-    let found = found.expect("the sampled step finds the dip");
-    assert!((found - exact).abs() < 1e-12, "{found} vs {exact}");
+    for screen in [true, false] {
+        let (found, _) = quartic_step(b, outside, screen);
+        let found = found.unwrap_or_else(|| panic!("screen {screen}: the dip is missed"));
+        assert!(
+            (found - exact).abs() < 1e-12,
+            "screen {screen}: {found} vs {exact}"
+        );
+    }
 }
 
 /// A guard on zero at the start, moving away from its crossing direction, that comes back

@@ -148,9 +148,10 @@ fn quartic_events(b: f64, a: f64, base: SimOptions) -> Vec<f64> {
 /// is sound only while the cubic Hermite interpolant of the step's ends is within half the
 /// smaller end value of the guard; here (one step, $b = 2(1 - 10^{-6})$, $a/16 = 1.001/2$) the
 /// guard dips $5\cdot10^{-4}$ below zero between the ends, the interpolant stays at
-/// $1/2 + 5\cdot10^{-7}$: the screen clears the step and misses both crossings. With the
-/// default options the first crossing is found at its closed-form time. (Before the fix the
-/// default had the screen on and the run reported no event.)
+/// $1/2 + 5\cdot10^{-7}$: the ends' test clears the step. With the default options the first
+/// crossing is found at its closed-form time. (Before the fix the default had the screen on
+/// and the run reported no event.) The screen now checks its premise at mid-step and finds it
+/// too.
 #[test]
 fn the_driver_default_finds_a_dip_the_step_end_screen_misses() {
     let b = 2.0 * (1.0 - 1e-6);
@@ -165,7 +166,8 @@ fn the_driver_default_finds_a_dip_the_step_end_screen_misses() {
     assert!(!found.is_empty(), "default options missed the dip");
     assert!((found[0] - exact).abs() < 1e-12, "{} vs {exact}", found[0]);
 
-    // The screen, asked for explicitly, keeps its documented failure mode.
+    // The screen, asked for explicitly, checks its premise at mid-step since issue 17 and
+    // samples this step (before, it cleared it and reported no event).
     let screened = quartic_events(
         b,
         a,
@@ -174,7 +176,10 @@ fn the_driver_default_finds_a_dip_the_step_end_screen_misses() {
             ..SimOptions::default()
         },
     );
-    assert!(screened.is_empty(), "screen found {screened:?}");
+    assert!(
+        screened.first().is_some_and(|t| (t - exact).abs() < 1e-12),
+        "screen found {screened:?}, not {exact}"
+    );
 }
 
 use jeffcott::hybrid::{DenseSampling, StrobeRange};

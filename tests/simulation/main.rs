@@ -23,4 +23,5 @@ mod flexible_shaft;
 mod hard_cases;
 mod reference;
 mod rotor_checks;
+mod si_units;
 mod simulation;

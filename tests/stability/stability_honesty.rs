@@ -6,8 +6,7 @@ use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::JeffcottModel;
 use jeffcott::params::Preset;
 use jeffcott::stability::{
-    locate_loss, ContinuationOptions, CrossingKind, LossKind, StabilityError, StroboscopicMap,
-    GRAZING_MARGIN,
+    locate_loss, LossOptions, SpecialKind, StabilityError, StroboscopicMap, GRAZING_MARGIN,
 };
 
 const CHECK: [f64; 4] = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533];
@@ -37,7 +36,7 @@ fn a_builder_that_fails_is_a_failure_not_a_grazing_or_a_fold() {
         2.3,
         &guess(&model, CHECK),
         1,
-        &ContinuationOptions::default(),
+        &LossOptions::default(),
     )
     .unwrap();
     assert!(
@@ -77,10 +76,7 @@ fn a_builder_that_fails_is_a_failure_not_a_grazing_or_a_fold() {
 fn an_exhausted_step_budget_returns_the_path_with_the_error() {
     let p = Preset::Fig8a.params();
     let model = JeffcottModel::new(p.with_eta(2.0)).unwrap();
-    let opts = ContinuationOptions {
-        max_steps: 3,
-        ..ContinuationOptions::default()
-    };
+    let opts = LossOptions::default().max_steps(3);
     let c = locate_loss(
         |eta| JeffcottModel::new(p.with_eta(eta)),
         2.0,
@@ -206,9 +202,9 @@ fn located_points_say_whether_their_orbits_graze() {
         .unwrap()
         .y;
     let build = |eta: f64| JeffcottModel::new(p.with_eta(eta));
-    let c = locate_loss(build, 3.0, 3.2, &start, 2, &ContinuationOptions::default()).unwrap();
+    let c = locate_loss(build, 3.0, 3.2, &start, 2, &LossOptions::default()).unwrap();
     let loss = c.loss.expect("the grazing");
-    assert_eq!(loss.kind, LossKind::Grazing);
+    assert_eq!(loss.kind, SpecialKind::Grazing);
     assert!(!loss.orbit.grazing, "{:?}", loss.orbit.events);
     assert!(loss.beyond_grazing, "the preload crossings just appeared");
     assert!(c.path.iter().all(|q| !q.grazing));
@@ -221,10 +217,10 @@ fn located_points_say_whether_their_orbits_graze() {
         2.24,
         &guess(&model, CHECK),
         1,
-        &ContinuationOptions::default(),
+        &LossOptions::default(),
     )
     .unwrap();
     let loss = c.loss.expect("the flip");
-    assert_eq!(loss.kind, LossKind::Multiplier(CrossingKind::Flip));
+    assert_eq!(loss.kind, SpecialKind::Flip);
     assert!(!loss.orbit.grazing && !loss.beyond_grazing);
 }

@@ -16,8 +16,8 @@ use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::JeffcottModel;
 use jeffcott::params::Preset;
 use jeffcott::stability::{
-    locate_loss, periodic_orbit, ContinuationOptions, CrossingKind, LossKind, Multiplier,
-    OrbitOptions, StabilityError, StroboscopicMap,
+    locate_loss, periodic_orbit, LossOptions, Multiplier, OrbitOptions, SpecialKind,
+    StabilityError, StroboscopicMap,
 };
 
 const CHECK: [f64; 4] = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533];
@@ -180,7 +180,7 @@ fn period_one_loses_stability_by_a_flip_at_the_reference_eta() {
     for (preset, case) in [(Preset::Fig8a, "fig8a_flip"), (Preset::Fig8b, "fig8b_flip")] {
         let (eta_ref, eta_err) = reference(case, "flip_eta");
         let model = JeffcottModel::new(preset.params().with_eta(2.0)).unwrap();
-        let opts = ContinuationOptions::default();
+        let opts = LossOptions::default();
         let c = locate_loss(
             |eta| JeffcottModel::new(preset.params().with_eta(eta)),
             2.0,
@@ -209,8 +209,8 @@ fn period_one_loses_stability_by_a_flip_at_the_reference_eta() {
             loss.parameter - eta_ref,
             (loss.bracket.0 - eta_ref).abs()
         );
-        assert_eq!(loss.kind, LossKind::Multiplier(CrossingKind::Flip));
-        assert!(loss.bracket.1 - loss.bracket.0 <= opts.tolerance);
+        assert_eq!(loss.kind, SpecialKind::Flip);
+        assert!(loss.bracket.1 - loss.bracket.0 <= opts.bracket_width);
         // The reference's eta* (error 2e-11 / 2.2e-10) inside our bracket (1e-8), and our
         // interpolated eta* within twice the reference's error of it (measured 4.2e-12 /
         // 1.8e-11).
@@ -277,7 +277,7 @@ fn the_coexisting_period_three_orbit_is_born_in_a_fold() {
         2.0,
         &guess(&model, z),
         3,
-        &ContinuationOptions::default(),
+        &LossOptions::default(),
     )
     .unwrap();
     let loss = c.loss.expect("the fold below 2.17");
@@ -285,7 +285,7 @@ fn the_coexisting_period_three_orbit_is_born_in_a_fold() {
         "fold: {:.9} {:?} {:?}",
         loss.parameter, loss.bracket, loss.kind
     );
-    assert_eq!(loss.kind, LossKind::Multiplier(CrossingKind::Fold));
+    assert_eq!(loss.kind, SpecialKind::Fold);
     assert!(
         (loss.parameter - 2.1259324).abs() < 2e-7,
         "{}",
@@ -298,10 +298,7 @@ fn newton_failure_returns_the_last_iterate_and_its_residual() {
     // A period-1 guess on the chaotic attractor with two iterations: no convergence.
     let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.442)).unwrap();
     let opts = OrbitOptions {
-        newton: jeffcott::stability::NewtonOptions {
-            max_iterations: 2,
-            ..Default::default()
-        },
+        newton: jeffcott::stability::NewtonOptions::default().max_iterations(2),
         ..Default::default()
     };
     let start = guess(&model, [0.2, 0.1, 0.0, 0.0]);
@@ -333,13 +330,13 @@ fn the_period_two_orbit_grazes_the_preload_near_the_papers_3_107() {
         .unwrap()
         .y;
     let build = |eta: f64| JeffcottModel::new(p.with_eta(eta));
-    let c = locate_loss(build, 3.0, 3.2, &start, 2, &ContinuationOptions::default()).unwrap();
+    let c = locate_loss(build, 3.0, 3.2, &start, 2, &LossOptions::default()).unwrap();
     let loss = c.loss.expect("the grazing");
     eprintln!(
         "{:.9} {:?} {:?}",
         loss.parameter, loss.bracket, loss.beyond_structure
     );
-    assert_eq!(loss.kind, LossKind::Grazing);
+    assert_eq!(loss.kind, SpecialKind::Grazing);
     // Self-regression: measured 3.1028052 (bracket 1e-8) with this crate, no independent
     // value; the event structure gains the preload crossings.
     assert!((loss.parameter - 3.1028052).abs() < 1e-7);
@@ -351,10 +348,7 @@ fn the_period_two_orbit_grazes_the_preload_near_the_papers_3_107() {
         "still stable beyond"
     );
     // The same continuation through the grazing goes on to 3.2 without a loss.
-    let opts = ContinuationOptions {
-        through_grazing: true,
-        ..ContinuationOptions::default()
-    };
+    let opts = LossOptions::default().through_grazing(true);
     let c = locate_loss(build, 3.0, 3.2, &start, 2, &opts).unwrap();
     assert!(c.loss.is_none());
     assert_eq!(c.grazings.len(), 1);

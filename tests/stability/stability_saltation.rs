@@ -62,6 +62,7 @@ fn bouncing_ball_saltation_matches_finite_differences_and_the_classical_form() {
             guard_time_derivative: 0.0,
             reset_jacobian: Some(&reset),
             reset_time_derivative: None,
+            state_scale: None,
         },
         GRAZING_MARGIN,
     )
@@ -149,6 +150,7 @@ where
             guard_time_derivative: gt,
             reset_jacobian: Some(reset),
             reset_time_derivative: Some(rt),
+            state_scale: None,
         },
         GRAZING_MARGIN,
     )
@@ -210,6 +212,7 @@ fn grazing_events_are_refused_with_their_margin() {
         guard_time_derivative: 0.0,
         reset_jacobian: None,
         reset_time_derivative: None,
+        state_scale: None,
     };
     // The gradient's support is the position: the scale is |v| = 1e-7 and the margin 1 (a
     // guard on positions crossed along its normal, however slowly).
@@ -262,6 +265,7 @@ fn invalid_inputs_are_typed_errors() {
         guard_time_derivative: 0.0,
         reset_jacobian: None,
         reset_time_derivative: None,
+        state_scale: None,
     };
     assert!(matches!(
         saltation(&event, GRAZING_MARGIN),
@@ -294,4 +298,14 @@ fn invalid_inputs_are_typed_errors() {
     // Identity reset, no jump: S = I.
     let s = saltation(&event, GRAZING_MARGIN).unwrap();
     assert_eq!(s.matrix, DMatrix::identity(3, 3));
+    // A state scale must be positive in every component.
+    let bad = DVector::from_vec(vec![1.0, 0.0, 1.0]);
+    let scaled = EventLinearization {
+        state_scale: Some(&bad),
+        ..event
+    };
+    assert!(matches!(
+        saltation(&scaled, GRAZING_MARGIN),
+        Err(SaltationError::InvalidScale { component: 1, value }) if value == 0.0
+    ));
 }

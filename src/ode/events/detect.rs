@@ -1,6 +1,6 @@
 //! The detector: [`find_first_event`].
 
-use super::state::{EndValue, Leave, Scratch, Slot};
+use super::state::{EndValue, Leave, Slot};
 use super::{Direction, EventHit, EventOptions, EventSet, EventState};
 use crate::numeric::{illinois, RootOptions};
 use crate::ode::{Integrator, OdeError, OdeSystem};
@@ -141,363 +141,367 @@ fn hermite_clear(a: (f64, f64), b: (f64, f64), h: f64) -> bool {
     ok
 }
 
-/// Locates the root of event `i` in the bracket `lo`..`hi` (values of
-/// opposite sign, or zero at `hi`); returns the final bracket `(lo, hi)`, `hi` the
-/// post-crossing end. A NaN of the event inside the bracket is
-/// [`OdeError::EventNotANumber`].
-#[allow(clippy::too_many_arguments)]
-fn locate<D, S, I, E>(
-    integ: &mut I,
-    sys: &S,
-    events: &E,
-    i: usize,
-    lo: (f64, f64),
-    hi: (f64, f64),
-    tol: f64,
-    max_iter: usize,
-    tmp: &mut OVector<f64, D>,
-) -> Result<(f64, f64), OdeError>
-where
-    D: Dim,
-    DefaultAllocator: Allocator<D>,
-    S: OdeSystem<D>,
-    I: Integrator<D>,
-    E: EventSet<D> + ?Sized,
-{
-    let opts = RootOptions::default().tol(tol).max_evaluations(max_iter);
-    let found = illinois(lo, hi, &opts, |t| {
-        y_at(integ, sys, t, tmp);
-        events.value(i, t, tmp)
-    });
-    match found {
-        Ok(b) => match b.nan_at {
-            Some(t) => Err(OdeError::EventNotANumber { index: i, t }),
-            None => Ok((b.lo, b.hi)),
-        },
-        // The callers pass a sign change; were it none, the bracket stays as given.
-        Err(_) => Ok((lo.0, hi.0)),
-    }
+/// The time tolerance of a root near `t`: $\max(\text{root\\_tol}, 4\varepsilon|t|)$.
+fn tol_at(root_tol: f64, t: f64) -> f64 {
+    root_tol.max(4.0 * f64::EPSILON * t.abs())
 }
 
-/// Narrows the bracket `lo`..`hi` (values of opposite sign, as for [`locate`]) of event `i`
-/// before the root search, when the derivatives at both ends are known (finite): the root
-/// of the cubic Hermite interpolant of the two ends, $t^*$, is usually within a tiny fraction
-/// of the bracket of the root, so $g$ is evaluated at $t^* \pm \delta$ with
-/// $\delta = 2^{-16}$ of the bracket (at least `tol`) and the narrowest sub-bracket with a
-/// verified sign change is returned (the given one when the estimate misses). Two evaluations
-/// that save about half of the root finder's.
-#[allow(clippy::too_many_arguments)]
-fn narrow_bracket<D, S, I, E>(
-    integ: &mut I,
-    sys: &S,
-    events: &E,
-    i: usize,
-    lo: (f64, f64, f64),
-    hi: (f64, f64, f64),
-    tol: f64,
-    tmp: &mut OVector<f64, D>,
-) -> ((f64, f64), (f64, f64))
-where
-    D: Dim,
-    DefaultAllocator: Allocator<D>,
-    S: OdeSystem<D>,
-    I: Integrator<D>,
-    E: EventSet<D> + ?Sized,
-{
-    let (ta, ga, da) = lo;
-    let (tb, gb, db) = hi;
-    let plain = ((ta, ga), (tb, gb));
-    let h = tb - ta;
-    let delta = (h * 2f64.powi(-16)).max(tol);
-    if gb == 0.0 || !(da.is_finite() && db.is_finite()) || 4.0 * delta >= h {
-        return plain;
-    }
-    // Hermite cubic on s in [0, 1], p(0) = ga, p(1) = gb of opposite signs: its root by
-    // bisection safeguarded Newton on the polynomial (no guard evaluations).
-    let c1 = h * da;
-    let c2 = 3.0 * (gb - ga) - h * (2.0 * da + db);
-    let c3 = 2.0 * (ga - gb) + h * (da + db);
-    let p = |u: f64| ga + u * (c1 + u * (c2 + u * c3));
-    let dp = |u: f64| c1 + u * (2.0 * c2 + u * 3.0 * c3);
-    let (mut a, mut b) = (0.0f64, 1.0f64);
-    let mut u = ga / (ga - gb);
-    let resolution = 1e-3 * delta / h;
-    for _ in 0..60 {
-        let v = p(u);
-        if v == 0.0 {
-            break;
-        }
-        if (v > 0.0) == (ga > 0.0) {
-            a = u;
-        } else {
-            b = u;
-        }
-        let next = u - v / dp(u);
-        let newton = next > a && next < b;
-        let step = if newton { next - u } else { 0.5 * (a + b) - u };
-        u += step;
-        if (newton && step.abs() < resolution) || b - a < resolution {
-            break;
-        }
-    }
-    let est = ta + u * h;
-    let (l, r) = (est - delta, est + delta);
-    if !(l > ta && r < tb) {
-        return plain;
-    }
-    let mut g_at = |t: f64| {
-        y_at(integ, sys, t, tmp);
-        events.value(i, t, tmp)
-    };
-    let crossed = |g: f64| g == 0.0 || (g > 0.0) != (ga > 0.0);
-    let gl = g_at(l);
-    if gl.is_nan() {
-        return plain;
-    }
-    if crossed(gl) {
-        return ((ta, ga), (l, gl));
-    }
-    let gr = g_at(r);
-    if gr.is_nan() {
-        return ((l, gl), (tb, gb));
-    }
-    if crossed(gr) {
-        ((l, gl), (r, gr))
-    } else {
-        ((r, gr), (tb, gb))
-    }
+/// A located root of one guard: `(t, direction, pre-crossing end of its bracket)`.
+type Candidate = (f64, Direction, f64);
+
+/// The earliest located root of a sample interval: `(t, event, direction, pre-crossing end of
+/// its bracket)`.
+type Best = (f64, usize, Direction, f64);
+
+/// The scanned part of a step and the constants of its rules (fixed for one call of
+/// [`find_first_event`]).
+#[derive(Debug, Clone, Copy)]
+struct Step {
+    /// Where the scan starts: `t_prev`, or the last hit on this step.
+    start: f64,
+    /// The step's end.
+    t_end: f64,
+    /// `t_end - start`.
+    span: f64,
+    /// Interior samples (`samples_per_step`).
+    samples: usize,
+    /// Whether the step-end screen runs ([`EventOptions::screen`]).
+    screen: bool,
+    /// Whether `start` is the segment origin (start-of-segment rules).
+    at_origin: bool,
+    /// The event whose hit defined the origin (rule 2), if `at_origin`.
+    fired: Option<usize>,
+    /// The last hit returned, with its direction.
+    last_hit: Option<(usize, Direction)>,
+    /// [`EventOptions::value_tol`].
+    vtol: f64,
+    /// [`EventOptions::root_tol`].
+    root_tol: f64,
+    /// The re-arm window $w$.
+    window: f64,
+    /// The probe time $t_p$ of guards that may have left zero at the origin.
+    t_probe: f64,
 }
 
-/// Look for the earliest event on the last step of `integ` using its dense
-/// output; returns the earliest hit with the root located to near machine
-/// precision by the Illinois method (ties: smallest index). See the [module
-/// docs](super) for the detection algorithm, its guarantee and the
-/// start-of-segment and re-arming rules.
-///
-/// The hit is held by `state` (a reference is returned, nothing is
-/// allocated); clone it to keep it past the next call (`.copied()` on the
-/// result for fixed dimensions). Every event of the set is considered,
-/// however many. Counts the hit in `integ.stats().events` and the rhs
-/// evaluations made for event derivatives in `rhs_evals`.
-///
-/// # Errors
-/// [`OdeError::InvalidOption`] if `opts` is invalid
-/// ([`EventOptions::validate`]); nothing is evaluated then.
-pub fn find_first_event<'s, D, S, I, E>(
-    integ: &mut I,
-    sys: &S,
-    events: &E,
-    opts: &EventOptions,
-    state: &'s mut EventState<D>,
-) -> Result<Option<&'s EventHit<D>>, OdeError>
-where
-    D: Dim,
-    DefaultAllocator: Allocator<D>,
-    S: OdeSystem<D>,
-    I: Integrator<D>,
-    E: EventSet<D> + ?Sized,
-{
-    opts.validate()?;
-    let t_prev = integ.t_prev();
-    let t_end = integ.t();
-    let ne = events.len();
-    if ne == 0 || t_end.partial_cmp(&t_prev) != Some(std::cmp::Ordering::Greater) {
-        return Ok(None);
-    }
-    // Where to start: after the last hit on this same step, else t_prev.
-    let mut start = t_prev;
-    if let Some((tp, th)) = state.resume {
-        if tp == t_prev && th > t_prev {
-            if th >= t_end {
-                return Ok(None);
-            }
-            start = th;
-        }
-    }
-    state.prepare(integ.dim(), ne);
-    let EventState {
-        origin: st_origin,
-        resume,
-        last_hit,
-        slots,
-        end_at,
-        end_len,
-        scratch,
-        hit,
-    } = state;
-    let Scratch {
-        y_a,
-        f_a,
-        y_b,
-        f_b,
-        y_p,
-        y_e,
-        tmp,
-        f_c,
-        zero,
-    } = scratch;
-    let slots = &mut slots[..ne];
-
-    let origin = match *st_origin {
-        None => {
-            *st_origin = Some(start);
-            start
-        }
-        Some(o) => o,
-    };
-    let at_origin = origin == start;
-
-    let m = opts.samples_per_step;
-    let max_iter = opts.max_iter;
-    let vtol = opts.value_tol;
-    let tol_at = |t: f64| opts.root_tol.max(4.0 * f64::EPSILON * t.abs());
-    // Twice the root tolerance of any interval of this step (the zero left by
-    // a hit located on an earlier, similar step is within it).
-    let window = opts
-        .rearm_time
-        .max(2.0 * tol_at(start.abs().max(t_end.abs())));
-    let span = t_end - start;
-    // Probe point of guards that may have left zero at the origin.
-    let t_probe = start
-        + (4.0 * window)
-            .max(span * 2f64.powi(-20))
-            .min(span / (2 * (m + 1)) as f64);
-    let mut probed = false;
-
-    y_at(integ, sys, start, y_a);
-    // f at the start, when the integrator keeps it there.
-    let f_a_known = start == t_prev
-        && match integ.dy_prev() {
-            Some(f) => {
-                f_a.copy_from(f);
-                true
-            }
-            None => false,
-        };
-    // The end values of the last screened step, if this step starts there with the same state.
-    let reuse = opts.screen
-        && start == t_prev
-        && *end_at == Some(start)
-        && *end_len == ne
-        && same_bits(y_a, y_e);
-
-    let mut fresh = false;
-    for (i, s) in slots.iter_mut().enumerate() {
-        let e = s.end;
-        *s = Slot {
-            active: events.active(i),
-            end: e,
-            ..Slot::default()
-        };
-        if !s.active {
-            continue;
-        }
-        if reuse && e.known {
-            s.has_der = e.has_der;
-            s.needs_rhs = e.needs_rhs;
-            s.g_ref = e.g;
-            s.d_ref = e.d;
-        } else {
-            s.needs_rhs = events.derivative_needs_rhs_of(i);
-            fresh = true;
-        }
-    }
-    if fresh {
-        // All events at once, the derivatives with the true f if known, else with zeros:
-        // exact unless the event reads f, which is then evaluated.
-        let dy: &OVector<f64, D> = if f_a_known { f_a } else { zero };
-        let mut start_rhs = false;
-        events.values_and_derivatives(start, y_a, dy, true, &mut |i, g, d| {
-            let s = &mut slots[i];
-            if reuse && s.end.known {
-                return;
-            }
-            s.g_ref = g;
-            if let Some(d) = d {
-                s.has_der = true;
-                if f_a_known || !s.needs_rhs {
-                    s.d_ref = d;
-                } else {
-                    start_rhs = true;
-                }
-            }
-        });
-        if start_rhs {
-            sys.rhs(start, y_a, f_a);
-            integ.stats_mut().rhs_evals += 1;
-            for (i, s) in slots.iter_mut().enumerate() {
-                if s.active && s.has_der && s.needs_rhs && !(reuse && s.end.known) {
-                    s.d_ref = events.derivative(i, start, y_a, f_a).unwrap_or(0.0);
-                }
-            }
-        }
-    }
-    // No sign at the start: nothing can be said about this step.
-    if let Some(i) = slots.iter().position(|s| s.active && s.g_ref.is_nan()) {
-        return Err(OdeError::EventNotANumber { index: i, t: start });
-    }
-    // The event that defined the origin (start-of-segment rule 2).
-    let fired = if at_origin {
-        last_hit.map(|(j, _)| j)
-    } else {
-        None
-    };
-    for (i, s) in slots.iter_mut().enumerate() {
-        if !s.active {
-            continue;
-        }
-        let g = s.g_ref;
-        s.g_origin = g;
-        s.armed = if at_origin {
-            g.abs() > vtol
-        } else {
-            g != 0.0 && !g.is_nan()
-        };
-        if at_origin && !s.armed {
-            if let Some((j, d)) = *last_hit {
-                if j == i {
-                    // The event that just fired keeps its post-crossing sign.
-                    s.armed = true;
-                    s.g_ref = if d == Direction::Falling {
-                        -f64::MIN_POSITIVE
-                    } else {
-                        f64::MIN_POSITIVE
-                    };
-                }
-            }
-        }
-        if at_origin && fired != Some(i) && !g.is_nan() {
-            // How this guard may leave zero (start-of-segment rule).
-            s.leave = if s.d_ref != 0.0 && !s.d_ref.is_nan() {
-                let on_zero =
-                    g.abs() <= vtol || (g * s.d_ref < 0.0 && g.abs() <= s.d_ref.abs() * window);
-                if on_zero {
-                    Leave::Towards(s.d_ref.signum())
-                } else {
-                    Leave::No
-                }
+impl Step {
+    /// The constants of a scan of `start..t_end` whose segment origin is `origin`.
+    fn new(
+        opts: &EventOptions,
+        (start, t_end): (f64, f64),
+        origin: f64,
+        last_hit: Option<(usize, Direction)>,
+    ) -> Self {
+        let at_origin = origin == start;
+        let m = opts.samples_per_step;
+        // Twice the root tolerance of any interval of this step (the zero left by
+        // a hit located on an earlier, similar step is within it).
+        let window = opts
+            .rearm_time
+            .max(2.0 * tol_at(opts.root_tol, start.abs().max(t_end.abs())));
+        let span = t_end - start;
+        let t_probe = start
+            + (4.0 * window)
+                .max(span * 2f64.powi(-20))
+                .min(span / (2 * (m + 1)) as f64);
+        Step {
+            start,
+            t_end,
+            span,
+            samples: m,
+            screen: opts.screen,
+            at_origin,
+            fired: if at_origin {
+                last_hit.map(|(j, _)| j)
             } else {
-                Leave::Probe
-            };
+                None
+            },
+            last_hit,
+            vtol: opts.value_tol,
+            root_tol: opts.root_tol,
+            window,
+            t_probe,
         }
     }
 
-    // Screening: every guard at the step's end, then the cubic Hermite test of each.
-    if opts.screen {
-        y_b.copy_from(integ.y());
-        let f_b_known = match integ.dy() {
-            Some(f) => {
-                f_b.copy_from(f);
-                true
+    /// Whether a root at `r` of a guard that sits on zero at the start (`zero_at_start`) is
+    /// that zero, left within the window of the origin: not an event.
+    fn ignorable(&self, r: f64, zero_at_start: bool) -> bool {
+        self.at_origin && r - self.start <= self.window && zero_at_start
+    }
+
+    /// **The per-guard arming rule** (module docs, *Start of a segment and re-arming*), from
+    /// each guard's value and derivative at the start (`g_ref`, `d_ref`). Away from the
+    /// origin a guard is armed with its sign. At the origin (rule 1) one beyond `value_tol` is
+    /// armed, one on zero waits for the first sample beyond it; the event that just fired
+    /// keeps its post-crossing sign (rule 2), so that the second root of a grazing pair in
+    /// the same sample interval is still found; any other guard on zero, or reaching it
+    /// within the window, records how it leaves zero (rule 3: towards the sign of its
+    /// derivative, or unknown without one: the probe decides), because leaving zero is the
+    /// start, not an event, while crossing back is.
+    fn arm(&self, slots: &mut [Slot]) {
+        let (vtol, window) = (self.vtol, self.window);
+        for (i, s) in slots.iter_mut().enumerate() {
+            if !s.active {
+                continue;
             }
-            None => false,
-        };
+            let g = s.g_ref;
+            s.g_origin = g;
+            s.armed = if self.at_origin {
+                g.abs() > vtol
+            } else {
+                g != 0.0 && !g.is_nan()
+            };
+            if self.at_origin && !s.armed {
+                if let Some((j, d)) = self.last_hit {
+                    if j == i {
+                        // The event that just fired keeps its post-crossing sign.
+                        s.armed = true;
+                        s.g_ref = if d == Direction::Falling {
+                            -f64::MIN_POSITIVE
+                        } else {
+                            f64::MIN_POSITIVE
+                        };
+                    }
+                }
+            }
+            if self.at_origin && self.fired != Some(i) && !g.is_nan() {
+                // How this guard may leave zero (start-of-segment rule).
+                s.leave = if s.d_ref != 0.0 && !s.d_ref.is_nan() {
+                    let on_zero =
+                        g.abs() <= vtol || (g * s.d_ref < 0.0 && g.abs() <= s.d_ref.abs() * window);
+                    if on_zero {
+                        Leave::Towards(s.d_ref.signum())
+                    } else {
+                        Leave::No
+                    }
+                } else {
+                    Leave::Probe
+                };
+            }
+        }
+    }
+}
+
+/// One sample interval `t_a..t_b` of the scan (the `k`-th, from 1), its time tolerance, and
+/// the earliest root located in it so far.
+#[derive(Debug, Clone, Copy)]
+struct Interval {
+    k: usize,
+    t_a: f64,
+    t_b: f64,
+    tol: f64,
+    best: Option<Best>,
+}
+
+/// The scan of one step: what the rules evaluate (the step's dense output in `integ`, the
+/// system for the `dy` of derivatives that read it, the event set), the work vectors of
+/// evaluations inside the step, and the step's constants. Every rule below is a method.
+struct Scan<'a, D, S, I, E: ?Sized>
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+{
+    integ: &'a mut I,
+    sys: &'a S,
+    events: &'a E,
+    /// The state at the last point evaluated inside the step.
+    tmp: &'a mut OVector<f64, D>,
+    /// `dy` there, for derivatives that read it.
+    f_c: &'a mut OVector<f64, D>,
+    /// Always zero: the `dy` of derivatives that do not read it.
+    zero: &'a OVector<f64, D>,
+    /// The dense output at the probe time (evaluated once, when first needed: `probed`).
+    y_p: &'a mut OVector<f64, D>,
+    probed: bool,
+    /// [`EventOptions::max_iter`].
+    max_iter: usize,
+    step: Step,
+}
+
+impl<D, S, I, E> Scan<'_, D, S, I, E>
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    /// Event `i` at time `t` of the step (the state in `tmp`).
+    fn value(&mut self, i: usize, t: f64) -> f64 {
+        y_at(self.integ, self.sys, t, self.tmp);
+        self.events.value(i, t, self.tmp)
+    }
+
+    /// Locates the root of event `i` in the bracket `lo`..`hi` (values of
+    /// opposite sign, or zero at `hi`); returns the final bracket `(lo, hi)`, `hi` the
+    /// post-crossing end. A NaN of the event inside the bracket is
+    /// [`OdeError::EventNotANumber`].
+    fn locate(
+        &mut self,
+        i: usize,
+        lo: (f64, f64),
+        hi: (f64, f64),
+        tol: f64,
+    ) -> Result<(f64, f64), OdeError> {
+        let opts = RootOptions::default()
+            .tol(tol)
+            .max_evaluations(self.max_iter);
+        match illinois(lo, hi, &opts, |t| self.value(i, t)) {
+            Ok(b) => match b.nan_at {
+                Some(t) => Err(OdeError::EventNotANumber { index: i, t }),
+                None => Ok((b.lo, b.hi)),
+            },
+            // The callers pass a sign change; were it none, the bracket stays as given.
+            Err(_) => Ok((lo.0, hi.0)),
+        }
+    }
+
+    /// Narrows the bracket `lo`..`hi` (values of opposite sign, as for [`Scan::locate`]) of
+    /// event `i` before the root search, when the derivatives at both ends are known
+    /// (finite): the root of the cubic Hermite interpolant of the two ends, $t^*$, is
+    /// usually within a tiny fraction of the bracket of the root, so $g$ is evaluated at
+    /// $t^* \pm \delta$ with $\delta = 2^{-16}$ of the bracket (at least `tol`) and the
+    /// narrowest sub-bracket with a verified sign change is returned (the given one when
+    /// the estimate misses). Two evaluations that save about half of the root finder's.
+    fn narrow_bracket(
+        &mut self,
+        i: usize,
+        lo: (f64, f64, f64),
+        hi: (f64, f64, f64),
+        tol: f64,
+    ) -> ((f64, f64), (f64, f64)) {
+        let (ta, ga, da) = lo;
+        let (tb, gb, db) = hi;
+        let plain = ((ta, ga), (tb, gb));
+        let h = tb - ta;
+        let delta = (h * 2f64.powi(-16)).max(tol);
+        if gb == 0.0 || !(da.is_finite() && db.is_finite()) || 4.0 * delta >= h {
+            return plain;
+        }
+        let est = ta + hermite_root(ga, (gb, da, db), h, 1e-3 * delta / h) * h;
+        let (l, r) = (est - delta, est + delta);
+        if !(l > ta && r < tb) {
+            return plain;
+        }
+        let crossed = |g: f64| g == 0.0 || (g > 0.0) != (ga > 0.0);
+        let gl = self.value(i, l);
+        if gl.is_nan() {
+            return plain;
+        }
+        if crossed(gl) {
+            return ((ta, ga), (l, gl));
+        }
+        let gr = self.value(i, r);
+        if gr.is_nan() {
+            return ((l, gl), (tb, gb));
+        }
+        if crossed(gr) {
+            ((l, gl), (r, gr))
+        } else {
+            ((r, gr), (tb, gb))
+        }
+    }
+
+    /// **The start values**: every active guard's value and derivative at the start of the
+    /// scan (`y_a`), into `g_ref` and `d_ref`. The end values of the last screened step are
+    /// reused when this step starts there with bitwise the same state (`reuse`); the others
+    /// are evaluated all at once, derivatives with the integrator's `f` at the start if
+    /// known (`f_a`, `f_a_known`), else with zeros, which is exact unless the guard reads
+    /// `dy`, which is then evaluated once. A guard with no value at the start is
+    /// [`OdeError::EventNotANumber`]: nothing can be said about the step.
+    fn start_values(
+        &mut self,
+        slots: &mut [Slot],
+        y_a: &OVector<f64, D>,
+        f_a: &mut OVector<f64, D>,
+        f_a_known: bool,
+        reuse: bool,
+    ) -> Result<(), OdeError> {
+        let (events, start) = (self.events, self.step.start);
+        let mut fresh = false;
+        for (i, s) in slots.iter_mut().enumerate() {
+            let e = s.end;
+            *s = Slot {
+                active: events.active(i),
+                end: e,
+                ..Slot::default()
+            };
+            if !s.active {
+                continue;
+            }
+            if reuse && e.known {
+                s.has_der = e.has_der;
+                s.needs_rhs = e.needs_rhs;
+                s.g_ref = e.g;
+                s.d_ref = e.d;
+            } else {
+                s.needs_rhs = events.derivative_needs_rhs_of(i);
+                fresh = true;
+            }
+        }
+        if fresh {
+            let dy: &OVector<f64, D> = if f_a_known { f_a } else { self.zero };
+            let mut start_rhs = false;
+            events.values_and_derivatives(start, y_a, dy, true, &mut |i, g, d| {
+                let s = &mut slots[i];
+                if reuse && s.end.known {
+                    return;
+                }
+                s.g_ref = g;
+                if let Some(d) = d {
+                    s.has_der = true;
+                    if f_a_known || !s.needs_rhs {
+                        s.d_ref = d;
+                    } else {
+                        start_rhs = true;
+                    }
+                }
+            });
+            if start_rhs {
+                self.sys.rhs(start, y_a, f_a);
+                self.integ.stats_mut().rhs_evals += 1;
+                for (i, s) in slots.iter_mut().enumerate() {
+                    if s.active && s.has_der && s.needs_rhs && !(reuse && s.end.known) {
+                        s.d_ref = events.derivative(i, start, y_a, f_a).unwrap_or(0.0);
+                    }
+                }
+            }
+        }
+        match slots.iter().position(|s| s.active && s.g_ref.is_nan()) {
+            Some(i) => Err(OdeError::EventNotANumber { index: i, t: start }),
+            None => Ok(()),
+        }
+    }
+}
+
+impl<D, S, I, E> Scan<'_, D, S, I, E>
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    /// **The step-end screen** (module docs, *Screening*): every active guard's value and
+    /// derivative at the step's end (`y_b`, with the integrator's own `f` there in `f_b`
+    /// when it keeps it), kept in `end`; then each guard that [`clears`] is not sampled on
+    /// this step. Returns whether every active guard is cleared: the step is then done,
+    /// without dense output.
+    fn screen(
+        &mut self,
+        slots: &mut [Slot],
+        y_b: &mut OVector<f64, D>,
+        f_b: &mut OVector<f64, D>,
+    ) -> bool {
+        let (events, t_end) = (self.events, self.step.t_end);
+        y_b.copy_from(self.integ.y());
+        let f_b_known = copy_known(self.integ.dy(), f_b);
         let need_f = !f_b_known && slots.iter().any(|s| s.active && s.has_der && s.needs_rhs);
         if need_f {
-            sys.rhs(t_end, y_b, f_b);
-            integ.stats_mut().rhs_evals += 1;
+            self.sys.rhs(t_end, y_b, f_b);
+            self.integ.stats_mut().rhs_evals += 1;
         }
-        let dy: &OVector<f64, D> = if f_b_known || need_f { f_b } else { zero };
+        let dy: &OVector<f64, D> = if f_b_known || need_f { f_b } else { self.zero };
         let any_der = slots.iter().any(|s| s.active && s.has_der);
         for s in slots.iter_mut() {
             s.end.known = false;
@@ -512,7 +516,6 @@ where
                 d: if s.has_der { d.unwrap_or(0.0) } else { 0.0 },
             };
         });
-        let mut all_cleared = true;
         for (i, s) in slots.iter_mut().enumerate() {
             if !s.active {
                 continue;
@@ -532,443 +535,657 @@ where
                     d,
                 };
             }
-            // Only a guard armed as usual, with a derivative, can be cleared (a guard on zero
-            // at the origin follows the start-of-segment rule on the samples).
-            s.cleared = s.has_der
-                && s.armed
-                && s.leave == Leave::No
-                && fired != Some(i)
-                && hermite_clear((s.g_ref, s.d_ref), (s.end.g, s.end.d), span);
-            all_cleared &= s.cleared;
+            s.cleared = clears(s, i, &self.step);
         }
-        *end_at = Some(t_end);
-        *end_len = ne;
-        y_e.copy_from(y_b);
-        if all_cleared {
-            return Ok(None);
+        if slots.iter().any(|s| s.cleared) {
+            self.check_premise(slots);
         }
-    } else {
-        *end_at = None;
+        slots.iter().all(|s| !s.active || s.cleared)
     }
-    let need_rhs = slots
-        .iter()
-        .any(|s| s.active && !s.cleared && s.has_der && s.needs_rhs);
 
-    let mut t_a = start;
-    for k in 1..=m + 1 {
-        let t_b = if k == m + 1 {
-            t_end
-        } else {
-            start + span * (k as f64 / (m + 1) as f64)
-        };
-        // The step's end was evaluated by the screen.
-        let screened_end = opts.screen && k == m + 1;
-        if !screened_end {
-            y_at(integ, sys, t_b, y_b);
-            if need_rhs {
-                sys.rhs(t_b, y_b, f_b);
-                integ.stats_mut().rhs_evals += 1;
-            }
+    /// **The screen checks its premise** on the guards that [`clears`] cleared: the cubic
+    /// Hermite interpolant $p$ of a step's ends proves nothing where the guard along the
+    /// dense output, $G$, is not within $m/2$ of it (module docs, *Screening*), and nothing
+    /// at the step's ends can tell: a step longer than the motion's time scale (loose
+    /// tolerances, a stiff contact) has a dense output that swings between ends whose values
+    /// and derivatives look quiet. The interpolation error vanishes to second order at both
+    /// ends, $G - p = s^2(1-s)^2 r(s)$ on $s \in [0, 1]$; this evaluates $G$ at the midpoint
+    /// (one dense output, every cleared guard's value) and keeps a guard cleared only when
+    /// $|G - p| \le m/4$ there, i.e. $|r(1/2)| \le 4m$, so that $|G - p| \le m/2$ on the
+    /// whole step as long as $r$ varies by less than a factor 2 over it. The others are
+    /// sampled.
+    fn check_premise(&mut self, slots: &mut [Slot]) {
+        let step = self.step;
+        let t_mid = step.start + 0.5 * step.span;
+        y_at(self.integ, self.sys, t_mid, self.tmp);
+        for s in slots.iter_mut() {
+            s.g_mid = f64::NAN;
         }
-        // Best candidate of this interval: (t, index, direction, pre-crossing end of its bracket).
-        let mut best: Option<(f64, usize, Direction, f64)> = None;
-        let mut any_nan = false;
+        let events = self.events;
+        events.values_and_derivatives(t_mid, self.tmp, self.zero, false, &mut |i, g, _| {
+            slots[i].g_mid = g;
+        });
         for (i, s) in slots.iter_mut().enumerate() {
-            s.nan = false;
-            if !s.active || s.cleared {
+            if !s.cleared {
                 continue;
             }
-            let (g_b, d_b) = if screened_end {
-                (s.end.g, s.end.d)
+            if s.g_mid.is_nan() {
+                // Not reported by the set's batch evaluation (or no value: then not cleared).
+                s.g_mid = events.value(i, t_mid, self.tmp);
+            }
+            s.cleared =
+                hermite_mid_within((s.g_ref, s.d_ref), (s.end.g, s.end.d), step.span, s.g_mid);
+        }
+    }
+
+    /// Samples the guards that the screen did not clear on the `samples` interior points and
+    /// the step's end, interval by interval in time order ([`Scan::guard_interval`] for each
+    /// guard); the first interval with a located root ends the scan with its earliest root
+    /// (ties: smallest index). Guards without a value at an interval's end are decided after
+    /// the interval's others ([`Scan::nan_in_interval`]).
+    fn sample(
+        &mut self,
+        slots: &mut [Slot],
+        y_b: &mut OVector<f64, D>,
+        f_b: &mut OVector<f64, D>,
+    ) -> Result<Option<Best>, OdeError> {
+        let step = self.step;
+        let need_rhs = slots
+            .iter()
+            .any(|s| s.active && !s.cleared && s.has_der && s.needs_rhs);
+        let m = step.samples;
+        let mut t_a = step.start;
+        for k in 1..=m + 1 {
+            let t_b = if k == m + 1 {
+                step.t_end
             } else {
-                let dy_b: &OVector<f64, D> = if s.needs_rhs { f_b } else { zero };
-                let d_b = if s.has_der {
-                    events.derivative(i, t_b, y_b, dy_b).unwrap_or(0.0)
-                } else {
-                    0.0
-                };
-                (events.value(i, t_b, y_b), d_b)
+                step.start + step.span * (k as f64 / (m + 1) as f64)
             };
-            if g_b.is_nan() {
-                // No sign at this sample: decided after the interval's other events.
-                s.nan = true;
-                any_nan = true;
-                continue;
-            }
-            let allowed = events.direction(i);
-            let tol = tol_at(t_a.abs().max(t_b.abs()));
-            // Only the event that fired and guards on zero at the origin have a zero at the
-            // start time; any other guard's root, however close, is a crossing.
-            let zero_at_start =
-                fired == Some(i) || matches!(s.leave, Leave::Towards(_) | Leave::Probe);
-            let ignorable = |r: f64| at_origin && r - start <= window && zero_at_start;
-            // (t, direction, pre-crossing end of the bracket)
-            let mut candidate: Option<(f64, Direction, f64)> = None;
-            // A guard on zero at the origin that left it on the other side of
-            // g_b and came back is only visible at the probe point.
-            let mut check_return = false;
-            if !s.armed {
-                if g_b.abs() > vtol && g_b != 0.0 {
-                    s.armed = true;
-                    s.g_ref = g_b;
-                    check_return = s.leave != Leave::No;
+            // The step's end was evaluated by the screen.
+            let screened_end = step.screen && k == m + 1;
+            if !screened_end {
+                y_at(self.integ, self.sys, t_b, y_b);
+                if need_rhs {
+                    self.sys.rhs(t_b, y_b, f_b);
+                    self.integ.stats_mut().rhs_evals += 1;
                 }
-                s.d_ref = d_b;
-                if !check_return {
+            }
+            let tol = tol_at(step.root_tol, t_a.abs().max(t_b.abs()));
+            let mut iv = Interval {
+                k,
+                t_a,
+                t_b,
+                tol,
+                best: None,
+            };
+            let mut any_nan = false;
+            for (i, s) in slots.iter_mut().enumerate() {
+                s.nan = false;
+                if !s.active || s.cleared {
                     continue;
                 }
-            } else {
-                let g_a = s.g_ref;
-                let dir_first = if g_a < 0.0 {
-                    Direction::Rising
+                let (g_b, d_b) = if screened_end {
+                    (s.end.g, s.end.d)
                 } else {
-                    Direction::Falling
+                    let dy_b: &OVector<f64, D> = if s.needs_rhs { f_b } else { self.zero };
+                    let d_b = if s.has_der {
+                        self.events.derivative(i, t_b, y_b, dy_b).unwrap_or(0.0)
+                    } else {
+                        0.0
+                    };
+                    (self.events.value(i, t_b, y_b), d_b)
                 };
-                if g_b == 0.0 || (g_b > 0.0) != (g_a > 0.0) {
-                    if allowed.allows(dir_first) {
-                        // A root already found earlier in this interval: this guard's root
-                        // can only win if it has crossed by then (one root per interval).
-                        // (If this event has no value at that root, it must have one at the
-                        // pre-crossing end of the root's bracket.)
-                        let mut hi = (t_b, g_b, d_b);
-                        if let Some((mut rb, _, _, rb_lo)) = best {
-                            y_at(integ, sys, rb, tmp);
-                            let mut g_r = events.value(i, rb, tmp);
-                            if g_r.is_nan() {
-                                rb = rb_lo;
-                                y_at(integ, sys, rb, tmp);
-                                g_r = events.value(i, rb, tmp);
-                            }
-                            if g_r.is_nan() {
-                                return Err(OdeError::EventNotANumber { index: i, t: rb });
-                            }
-                            if g_r == 0.0 || (g_r > 0.0) != (g_a > 0.0) {
-                                hi = (rb, g_r, f64::NAN);
-                            } else {
-                                hi.0 = f64::NAN;
-                            }
-                        }
-                        if !hi.0.is_nan() {
-                            let lo = (t_a, g_a, if s.has_der { s.d_ref } else { f64::NAN });
-                            let (lo, hi) = narrow_bracket(integ, sys, events, i, lo, hi, tol, tmp);
-                            let (l, r) = locate(integ, sys, events, i, lo, hi, tol, max_iter, tmp)?;
-                            if !ignorable(r) {
-                                candidate = Some((r, dir_first, l));
-                            }
-                        }
-                    }
-                } else {
-                    if s.has_der
-                        && s.d_ref != 0.0
-                        && d_b != 0.0
-                        && (s.d_ref > 0.0) != (d_b > 0.0)
-                        && hermite_extremum_near_zero((t_a, g_a, s.d_ref), (t_b, g_b, d_b))
-                    {
-                        candidate = grazing_pair(
-                            integ,
-                            sys,
-                            events,
-                            i,
-                            (t_a, g_a, s.d_ref),
-                            (t_b, g_b, d_b),
-                            (tol, max_iter, s.needs_rhs),
-                            tmp,
-                            f_c,
-                            zero,
-                            ignorable,
-                        )?;
-                    }
-                    // No sign change over the first interval: it may hide a
-                    // departure from zero and the crossing back.
-                    check_return = k == 1
-                        && candidate.is_none()
-                        && match s.leave {
-                            Leave::No => false,
-                            Leave::Towards(_) => true,
-                            Leave::Probe => s.g_origin.abs() <= g_b.abs(),
-                        };
+                if g_b.is_nan() {
+                    // No sign at this sample: decided after the interval's other events.
+                    s.nan = true;
+                    any_nan = true;
+                    continue;
                 }
-                if g_b == 0.0 {
-                    s.armed = false;
+                if let Some((r, d, l)) = self.guard_interval(s, i, &iv, (g_b, d_b))? {
+                    if iv.best.is_none_or(|(tb, _, _, _)| r < tb) {
+                        iv.best = Some((r, i, d, l));
+                    }
                 }
+            }
+            if any_nan {
+                iv.best = self.nan_in_interval(slots, iv.best, (t_a, t_b), tol)?;
+            }
+            if iv.best.is_some() {
+                return Ok(iv.best);
+            }
+            t_a = t_b;
+        }
+        Ok(None)
+    }
+
+    /// The rules of one guard over one sample interval, given its value and derivative at
+    /// the interval's end (`end`, not NaN); updates the guard's reference to them. A
+    /// disarmed guard is armed by the first sample beyond `value_tol` (rule 1); an armed one
+    /// has a **sign change** ([`Scan::sign_change`]) or maybe a **grazing pair**
+    /// ([`Scan::grazing`]); a guard that may have left zero at the origin is checked for
+    /// **the crossing back** ([`Scan::crossing_back`]) at the first sample that shows it on
+    /// the side it must cross back into. Returns its located root, if any and not the zero
+    /// left at the start.
+    fn guard_interval(
+        &mut self,
+        s: &mut Slot,
+        i: usize,
+        iv: &Interval,
+        end: (f64, f64),
+    ) -> Result<Option<Candidate>, OdeError> {
+        let (g_b, d_b) = end;
+        // Only the event that fired and guards on zero at the origin have a zero at the
+        // start time; any other guard's root, however close, is a crossing.
+        let zero_at_start =
+            self.step.fired == Some(i) || matches!(s.leave, Leave::Towards(_) | Leave::Probe);
+        let mut candidate = None;
+        // A guard on zero at the origin that left it on the other side of
+        // g_b and came back is only visible at the probe point.
+        let check_return;
+        if !s.armed {
+            let mut check = false;
+            if g_b.abs() > self.step.vtol && g_b != 0.0 {
+                s.armed = true;
                 s.g_ref = g_b;
-                s.d_ref = d_b;
+                check = s.leave != Leave::No;
             }
-            if check_return && g_b != 0.0 {
-                // The crossing back ends on the side of g_b.
-                let dir_back = if g_b > 0.0 {
-                    Direction::Rising
-                } else {
-                    Direction::Falling
-                };
-                let left_to_other_side = match s.leave {
-                    Leave::Towards(sign) => (sign > 0.0) != (g_b > 0.0),
-                    _ => true,
-                };
-                if allowed.allows(dir_back) && left_to_other_side {
-                    if !probed {
-                        y_at(integ, sys, t_probe, y_p);
-                        probed = true;
-                    }
-                    let g_p = events.value(i, t_probe, y_p);
-                    if g_p.is_nan() {
-                        return Err(OdeError::EventNotANumber {
-                            index: i,
-                            t: t_probe,
-                        });
-                    }
-                    let g_o = s.g_origin;
-                    // The probe must be beyond value_tol on the other side,
-                    // and, without a derivative, the guard must have reached
-                    // zero within the window (secant from the origin).
-                    let left = g_p.abs() > vtol
-                        && (g_p > 0.0) != (g_b > 0.0)
-                        && (s.leave != Leave::Probe
-                            || g_o.abs() <= vtol
-                            || g_o.abs() * (t_probe - start) <= (g_p - g_o).abs() * window);
-                    // The derivative says the guard left zero and the probe is already back
-                    // on the side of g_b: the excursion is shorter than the probe offset.
-                    // Halve the offset (own state in `tmp`) until a point lies on the
-                    // departure side, no closer to the origin than the window.
-                    let mut bracket = left.then_some((t_probe, g_p, t_b, g_b));
-                    if !left && matches!(s.leave, Leave::Towards(_)) && (g_p > 0.0) == (g_b > 0.0) {
-                        let mut dt = (t_probe - start) * 0.5;
-                        while dt > window {
-                            let t_h = start + dt;
-                            y_at(integ, sys, t_h, tmp);
-                            let g_h = events.value(i, t_h, tmp);
-                            if g_h.is_nan() {
-                                return Err(OdeError::EventNotANumber { index: i, t: t_h });
-                            }
-                            if g_h.abs() > vtol && (g_h > 0.0) != (g_b > 0.0) {
-                                bracket = Some((t_h, g_h, t_probe, g_p));
-                                break;
-                            }
-                            dt *= 0.5;
-                        }
-                    }
-                    if let Some((t_l, g_l, t_r, g_r)) = bracket {
-                        let (l, r) = locate(
-                            integ,
-                            sys,
-                            events,
-                            i,
-                            (t_l, g_l),
-                            (t_r, g_r),
-                            tol,
-                            max_iter,
-                            tmp,
-                        )?;
-                        if !ignorable(r) {
-                            candidate = Some((r, dir_back, l));
-                        }
-                    }
-                }
+            s.d_ref = d_b;
+            check_return = check;
+        } else {
+            let g_a = s.g_ref;
+            if g_b == 0.0 || (g_b > 0.0) != (g_a > 0.0) {
+                candidate = self.sign_change(s, i, iv, end, zero_at_start)?;
+                check_return = false;
+            } else {
+                candidate = self.grazing(s, i, iv, end, zero_at_start)?;
+                // No sign change over the first interval: it may hide a
+                // departure from zero and the crossing back.
+                check_return = iv.k == 1
+                    && candidate.is_none()
+                    && match s.leave {
+                        Leave::No => false,
+                        Leave::Towards(_) => true,
+                        Leave::Probe => s.g_origin.abs() <= g_b.abs(),
+                    };
             }
-            if let Some((r, d, l)) = candidate {
-                if best.is_none_or(|(tb, _, _, _)| r < tb) {
-                    best = Some((r, i, d, l));
-                }
+            if g_b == 0.0 {
+                s.armed = false;
             }
+            s.g_ref = g_b;
+            s.d_ref = d_b;
         }
-        if any_nan {
-            best = nan_in_interval(
-                integ,
-                sys,
-                events,
-                slots,
-                best,
-                (t_a, t_b),
-                (tol_at(t_a.abs().max(t_b.abs())), max_iter),
-                tmp,
-            )?;
+        if check_return && g_b != 0.0 {
+            candidate = self.crossing_back(s, i, iv, g_b, zero_at_start)?;
         }
-        if let Some((r, i, d, _)) = best {
-            y_at(integ, sys, r, &mut hit.y);
-            hit.index = i;
-            hit.t = r;
-            hit.direction = d;
-            *st_origin = Some(r);
-            *resume = Some((t_prev, r));
-            *last_hit = Some((i, d));
-            integ.stats_mut().events += 1;
-            return Ok(Some(hit));
-        }
-        t_a = t_b;
+        Ok(candidate)
     }
-    Ok(None)
-}
 
-/// Searches a possible grazing pair of event `i` in the sample interval
-/// `a`..`b` (values of the same sign, derivatives of opposite signs): moves
-/// towards the extremum by the Illinois method on $\dot g$ and stops as soon
-/// as $g$ changes sign; then locates the first root in an allowed direction.
-#[allow(clippy::too_many_arguments)]
-fn grazing_pair<D, S, I, E>(
-    integ: &mut I,
-    sys: &S,
-    events: &E,
-    i: usize,
-    a: (f64, f64, f64),
-    b: (f64, f64, f64),
-    (tol, max_iter, need_rhs): (f64, usize, bool),
-    tmp: &mut OVector<f64, D>,
-    f_c: &mut OVector<f64, D>,
-    zero: &OVector<f64, D>,
-    ignorable: impl Fn(f64) -> bool,
-) -> Result<Option<(f64, Direction, f64)>, OdeError>
-where
-    D: Dim,
-    DefaultAllocator: Allocator<D>,
-    S: OdeSystem<D>,
-    I: Integrator<D>,
-    E: EventSet<D> + ?Sized,
-{
-    let (t_a, g_a, d_a) = a;
-    let (t_b, g_b, d_b) = b;
-    let dir_first = if g_a < 0.0 {
-        Direction::Rising
-    } else {
-        Direction::Falling
-    };
-    let allowed = events.direction(i);
-    let mut crossed: Option<(f64, f64)> = None;
-    let mut g_nan: Option<f64> = None;
-    let pos_g = g_a > 0.0;
-    let mut evals = 0u64;
-    let opts = RootOptions::default().tol(tol).max_evaluations(max_iter);
-    let search = illinois((t_a, d_a), (t_b, d_b), &opts, |t| {
-        if crossed.is_some() {
-            return 0.0; // terminate: bracket found
-        }
-        y_at(integ, sys, t, tmp);
-        let g = events.value(i, t, tmp);
-        if g.is_nan() {
-            g_nan = Some(t);
-            return f64::NAN; // stops the search (below)
-        }
-        if g == 0.0 || (g > 0.0) != pos_g {
-            crossed = Some((t, g));
-            return 0.0;
-        }
-        if need_rhs {
-            sys.rhs(t, tmp, f_c);
-            evals += 1;
-        }
-        let dy: &OVector<f64, D> = if need_rhs { f_c } else { zero };
-        events.derivative(i, t, tmp, dy).unwrap_or(0.0)
-    });
-    integ.stats_mut().rhs_evals += evals;
-    if let Some(t) = g_nan {
-        // The event has no value there.
-        return Err(OdeError::EventNotANumber { index: i, t });
-    }
-    if search.map_or(true, |b| b.nan_at.is_some()) {
-        // Its derivative has none (or no sign change, not searched): as for an event without a
-        // derivative, the pair is not searched.
-        return Ok(None);
-    }
-    let Some((c, g_c)) = crossed else {
-        return Ok(None);
-    };
-    if allowed.allows(dir_first) {
-        let (l, r) = locate(
-            integ,
-            sys,
-            events,
-            i,
-            (t_a, g_a),
-            (c, g_c),
-            tol,
-            max_iter,
-            tmp,
-        )?;
-        if !ignorable(r) {
-            return Ok(Some((r, dir_first, l)));
-        }
-    }
-    if allowed.allows(dir_first.opposite()) && g_c != 0.0 {
-        let (l, r) = locate(
-            integ,
-            sys,
-            events,
-            i,
-            (c, g_c),
-            (t_b, g_b),
-            tol,
-            max_iter,
-            tmp,
-        )?;
-        if !ignorable(r) {
-            return Ok(Some((r, dir_first.opposite(), l)));
-        }
-    }
-    Ok(None)
-}
-
-/// Events that were NaN at the right end of the sample interval `t_a`..`t_b` (flagged
-/// `nan`): without a hit earlier in the interval nothing can be said about their crossing,
-/// [`OdeError::EventNotANumber`] at `t_b`. With a hit, each must have a value at the
-/// pre-crossing end of the hit's bracket (else the same error there); one that has crossed by
-/// then in an allowed direction is located in `t_a`.. that point and wins if earlier. (An event
-/// that is undefined beyond another's crossing, e.g. a contact force once the contact is
-/// lost, is so allowed to be NaN after it.)
-#[allow(clippy::too_many_arguments)]
-fn nan_in_interval<D, S, I, E>(
-    integ: &mut I,
-    sys: &S,
-    events: &E,
-    slots: &[Slot],
-    best: Option<(f64, usize, Direction, f64)>,
-    (t_a, t_b): (f64, f64),
-    (tol, max_iter): (f64, usize),
-    tmp: &mut OVector<f64, D>,
-) -> Result<Option<(f64, usize, Direction, f64)>, OdeError>
-where
-    D: Dim,
-    DefaultAllocator: Allocator<D>,
-    S: OdeSystem<D>,
-    I: Integrator<D>,
-    E: EventSet<D> + ?Sized,
-{
-    let mut out = best;
-    for (j, s) in slots.iter().enumerate() {
-        if !s.nan {
-            continue;
-        }
-        let Some((_, _, _, r_lo)) = best else {
-            return Err(OdeError::EventNotANumber { index: j, t: t_b });
-        };
-        y_at(integ, sys, r_lo, tmp);
-        let g = events.value(j, r_lo, tmp);
-        if g.is_nan() {
-            return Err(OdeError::EventNotANumber { index: j, t: r_lo });
-        }
-        if !s.armed || !(g == 0.0 || (g > 0.0) != (s.g_ref > 0.0)) {
-            continue;
-        }
-        let dir = if s.g_ref < 0.0 {
+    /// **Sign change**: the armed guard `s` (reference not yet updated) changes sign or
+    /// reaches zero at the interval's end. In an allowed direction, its root is located
+    /// (bracket narrowed by [`Scan::narrow_bracket`]). A root already found earlier in the
+    /// interval (`iv.best`) bounds the search: this guard's root can only win if it has
+    /// crossed by then (one root per interval); if it has no value at that root, it must
+    /// have one at the pre-crossing end of the root's bracket.
+    fn sign_change(
+        &mut self,
+        s: &Slot,
+        i: usize,
+        iv: &Interval,
+        (g_b, d_b): (f64, f64),
+        zero_at_start: bool,
+    ) -> Result<Option<Candidate>, OdeError> {
+        let g_a = s.g_ref;
+        let dir_first = if g_a < 0.0 {
             Direction::Rising
         } else {
             Direction::Falling
         };
-        if !events.direction(j).allows(dir) || r_lo <= t_a {
-            continue;
+        if !self.events.direction(i).allows(dir_first) {
+            return Ok(None);
         }
-        let (l, r) = locate(
-            integ,
-            sys,
-            events,
-            j,
-            (t_a, s.g_ref),
-            (r_lo, g),
-            tol,
-            max_iter,
-            tmp,
-        )?;
-        if out.is_none_or(|(tb, _, _, _)| r < tb) {
-            out = Some((r, j, dir, l));
+        let mut hi = (iv.t_b, g_b, d_b);
+        if let Some((mut rb, _, _, rb_lo)) = iv.best {
+            let mut g_r = self.value(i, rb);
+            if g_r.is_nan() {
+                rb = rb_lo;
+                g_r = self.value(i, rb);
+            }
+            if g_r.is_nan() {
+                return Err(OdeError::EventNotANumber { index: i, t: rb });
+            }
+            if g_r == 0.0 || (g_r > 0.0) != (g_a > 0.0) {
+                hi = (rb, g_r, f64::NAN);
+            } else {
+                hi.0 = f64::NAN;
+            }
+        }
+        if hi.0.is_nan() {
+            return Ok(None);
+        }
+        let lo = (iv.t_a, g_a, if s.has_der { s.d_ref } else { f64::NAN });
+        let (lo, hi) = self.narrow_bracket(i, lo, hi, iv.tol);
+        let (l, r) = self.locate(i, lo, hi, iv.tol)?;
+        Ok((!self.step.ignorable(r, zero_at_start)).then_some((r, dir_first, l)))
+    }
+
+    /// **Grazing pair**: no sign change over the interval, but the guard's derivative
+    /// changes sign (one interior extremum), and the cubic Hermite interpolant of the ends
+    /// puts that extremum at least halfway to zero (an extremum far from zero costs
+    /// nothing): the extremum is searched by [`Scan::grazing_pair`].
+    fn grazing(
+        &mut self,
+        s: &Slot,
+        i: usize,
+        iv: &Interval,
+        (g_b, d_b): (f64, f64),
+        zero_at_start: bool,
+    ) -> Result<Option<Candidate>, OdeError> {
+        let a = (iv.t_a, s.g_ref, s.d_ref);
+        let b = (iv.t_b, g_b, d_b);
+        if s.has_der
+            && s.d_ref != 0.0
+            && d_b != 0.0
+            && (s.d_ref > 0.0) != (d_b > 0.0)
+            && hermite_extremum_near_zero(a, b)
+        {
+            self.grazing_pair(i, (a, b), iv.tol, s.needs_rhs, zero_at_start)
+        } else {
+            Ok(None)
         }
     }
-    Ok(out)
+
+    /// Searches a possible grazing pair of event `i` in the sample interval
+    /// `a`..`b` (values of the same sign, derivatives of opposite signs): moves
+    /// towards the extremum by the Illinois method on $\dot g$ and stops as soon
+    /// as $g$ changes sign; then locates the first root in an allowed direction.
+    fn grazing_pair(
+        &mut self,
+        i: usize,
+        (a, b): ((f64, f64, f64), (f64, f64, f64)),
+        tol: f64,
+        need_rhs: bool,
+        zero_at_start: bool,
+    ) -> Result<Option<Candidate>, OdeError> {
+        let (t_a, g_a, d_a) = a;
+        let (t_b, g_b, d_b) = b;
+        let dir_first = if g_a < 0.0 {
+            Direction::Rising
+        } else {
+            Direction::Falling
+        };
+        let allowed = self.events.direction(i);
+        let mut crossed: Option<(f64, f64)> = None;
+        let mut g_nan: Option<f64> = None;
+        let pos_g = g_a > 0.0;
+        let mut evals = 0u64;
+        let opts = RootOptions::default()
+            .tol(tol)
+            .max_evaluations(self.max_iter);
+        let search = illinois((t_a, d_a), (t_b, d_b), &opts, |t| {
+            if crossed.is_some() {
+                return 0.0; // terminate: bracket found
+            }
+            let g = self.value(i, t);
+            if g.is_nan() {
+                g_nan = Some(t);
+                return f64::NAN; // stops the search (below)
+            }
+            if g == 0.0 || (g > 0.0) != pos_g {
+                crossed = Some((t, g));
+                return 0.0;
+            }
+            if need_rhs {
+                self.sys.rhs(t, self.tmp, self.f_c);
+                evals += 1;
+            }
+            let dy: &OVector<f64, D> = if need_rhs { self.f_c } else { self.zero };
+            self.events.derivative(i, t, self.tmp, dy).unwrap_or(0.0)
+        });
+        self.integ.stats_mut().rhs_evals += evals;
+        if let Some(t) = g_nan {
+            // The event has no value there.
+            return Err(OdeError::EventNotANumber { index: i, t });
+        }
+        if search.map_or(true, |b| b.nan_at.is_some()) {
+            // Its derivative has none (or no sign change, not searched): as for an event without a
+            // derivative, the pair is not searched.
+            return Ok(None);
+        }
+        let Some((c, g_c)) = crossed else {
+            return Ok(None);
+        };
+        if allowed.allows(dir_first) {
+            let (l, r) = self.locate(i, (t_a, g_a), (c, g_c), tol)?;
+            if !self.step.ignorable(r, zero_at_start) {
+                return Ok(Some((r, dir_first, l)));
+            }
+        }
+        if allowed.allows(dir_first.opposite()) && g_c != 0.0 {
+            let (l, r) = self.locate(i, (c, g_c), (t_b, g_b), tol)?;
+            if !self.step.ignorable(r, zero_at_start) {
+                return Ok(Some((r, dir_first.opposite(), l)));
+            }
+        }
+        Ok(None)
+    }
+}
+
+impl<D, S, I, E> Scan<'_, D, S, I, E>
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    /// **The crossing back** (start-of-segment rule 3): the guard `s`, on zero at the origin,
+    /// is now (`g_b`, at the end of the first sample beyond `value_tol`) on the side it
+    /// must cross back into in an allowed direction, and its motion at the origin pointed
+    /// the other way (or is unknown). The probe at $t_p$ decides whether it left zero to the
+    /// other side (without a derivative, also that it reached zero within the window: the
+    /// secant from the origin); if the probe is already back while the derivative pointed
+    /// away, [`Scan::departure_point`] looks closer to the origin. The crossing back is
+    /// located between the departure-side point and the interval's end.
+    fn crossing_back(
+        &mut self,
+        s: &Slot,
+        i: usize,
+        iv: &Interval,
+        g_b: f64,
+        zero_at_start: bool,
+    ) -> Result<Option<Candidate>, OdeError> {
+        let step = self.step;
+        let t_b = iv.t_b;
+        // The crossing back ends on the side of g_b.
+        let dir_back = if g_b > 0.0 {
+            Direction::Rising
+        } else {
+            Direction::Falling
+        };
+        let left_to_other_side = match s.leave {
+            Leave::Towards(sign) => (sign > 0.0) != (g_b > 0.0),
+            _ => true,
+        };
+        if !(self.events.direction(i).allows(dir_back) && left_to_other_side) {
+            return Ok(None);
+        }
+        let t_probe = step.t_probe;
+        if !self.probed {
+            y_at(self.integ, self.sys, t_probe, self.y_p);
+            self.probed = true;
+        }
+        let g_p = self.events.value(i, t_probe, self.y_p);
+        if g_p.is_nan() {
+            return Err(OdeError::EventNotANumber {
+                index: i,
+                t: t_probe,
+            });
+        }
+        let g_o = s.g_origin;
+        // The probe must be beyond value_tol on the other side,
+        // and, without a derivative, the guard must have reached
+        // zero within the window (secant from the origin).
+        let left = g_p.abs() > step.vtol
+            && (g_p > 0.0) != (g_b > 0.0)
+            && (s.leave != Leave::Probe
+                || g_o.abs() <= step.vtol
+                || g_o.abs() * (t_probe - step.start) <= (g_p - g_o).abs() * step.window);
+        let mut bracket = left.then_some((t_probe, g_p, t_b, g_b));
+        if !left && matches!(s.leave, Leave::Towards(_)) && (g_p > 0.0) == (g_b > 0.0) {
+            bracket = self.departure_point(i, g_p, g_b)?;
+        }
+        let Some((t_l, g_l, t_r, g_r)) = bracket else {
+            return Ok(None);
+        };
+        let (l, r) = self.locate(i, (t_l, g_l), (t_r, g_r), iv.tol)?;
+        Ok((!step.ignorable(r, zero_at_start)).then_some((r, dir_back, l)))
+    }
+
+    /// The derivative says the guard left zero and the probe (`g_p`) is already back on the
+    /// side of `g_b`: the excursion is shorter than the probe offset. Halves the offset
+    /// (state in `tmp`) until a point lies on the departure side beyond `value_tol`, no
+    /// closer to the origin than the window; returns the bracket of the crossing back,
+    /// from that point to the probe.
+    fn departure_point(
+        &mut self,
+        i: usize,
+        g_p: f64,
+        g_b: f64,
+    ) -> Result<Option<(f64, f64, f64, f64)>, OdeError> {
+        let step = self.step;
+        let mut dt = (step.t_probe - step.start) * 0.5;
+        while dt > step.window {
+            let t_h = step.start + dt;
+            let g_h = self.value(i, t_h);
+            if g_h.is_nan() {
+                return Err(OdeError::EventNotANumber { index: i, t: t_h });
+            }
+            if g_h.abs() > step.vtol && (g_h > 0.0) != (g_b > 0.0) {
+                return Ok(Some((t_h, g_h, step.t_probe, g_p)));
+            }
+            dt *= 0.5;
+        }
+        Ok(None)
+    }
+
+    /// Events that were NaN at the right end of the sample interval `t_a`..`t_b` (flagged
+    /// `nan`): without a hit earlier in the interval nothing can be said about their crossing,
+    /// [`OdeError::EventNotANumber`] at `t_b`. With a hit, each must have a value at the
+    /// pre-crossing end of the hit's bracket (else the same error there); one that has crossed by
+    /// then in an allowed direction is located in `t_a`.. that point and wins if earlier. (An event
+    /// that is undefined beyond another's crossing, e.g. a contact force once the contact is
+    /// lost, is so allowed to be NaN after it.)
+    fn nan_in_interval(
+        &mut self,
+        slots: &[Slot],
+        best: Option<Best>,
+        (t_a, t_b): (f64, f64),
+        tol: f64,
+    ) -> Result<Option<Best>, OdeError> {
+        let mut out = best;
+        for (j, s) in slots.iter().enumerate() {
+            if !s.nan {
+                continue;
+            }
+            let Some((_, _, _, r_lo)) = best else {
+                return Err(OdeError::EventNotANumber { index: j, t: t_b });
+            };
+            let g = self.value(j, r_lo);
+            if g.is_nan() {
+                return Err(OdeError::EventNotANumber { index: j, t: r_lo });
+            }
+            if !s.armed || !(g == 0.0 || (g > 0.0) != (s.g_ref > 0.0)) {
+                continue;
+            }
+            let dir = if s.g_ref < 0.0 {
+                Direction::Rising
+            } else {
+                Direction::Falling
+            };
+            if !self.events.direction(j).allows(dir) || r_lo <= t_a {
+                continue;
+            }
+            let (l, r) = self.locate(j, (t_a, s.g_ref), (r_lo, g), tol)?;
+            if out.is_none_or(|(tb, _, _, _)| r < tb) {
+                out = Some((r, j, dir, l));
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// **The screen's clearing rule** for guard `s` (index `i`), its values and derivatives at
+/// both ends known: only a guard armed as usual (not on zero at the origin, which follows the
+/// start-of-segment rule on the samples; not the event that just fired), with a derivative,
+/// can be cleared, and only when [`hermite_clear`] shows the cubic Hermite interpolant of its
+/// ends staying away from zero.
+fn clears(s: &Slot, i: usize, step: &Step) -> bool {
+    s.has_der
+        && s.armed
+        && s.leave == Leave::No
+        && step.fired != Some(i)
+        && hermite_clear((s.g_ref, s.d_ref), (s.end.g, s.end.d), step.span)
+}
+
+/// Whether `g_mid`, a guard's value at the midpoint of a step of length `h` whose ends are
+/// `a` and `b` (value, derivative; cleared by [`hermite_clear`]), is on the ends' side and
+/// within $m/4$ of their cubic Hermite interpolant, $p(1/2) = (g_a + g_b)/2 + h(\dot g_a -
+/// \dot g_b)/8$, with $m = \min(|g_a|, |g_b|)$ ([`Scan::check_premise`]). NaN is not within.
+fn hermite_mid_within(a: (f64, f64), b: (f64, f64), h: f64, g_mid: f64) -> bool {
+    let (ga, da) = a;
+    let (gb, db) = b;
+    let p_mid = 0.5 * (ga + gb) + 0.125 * h * (da - db);
+    let m = ga.abs().min(gb.abs());
+    (g_mid > 0.0) == (ga > 0.0) && g_mid != 0.0 && (g_mid - p_mid).abs() <= 0.25 * m
+}
+
+/// The root in $(0, 1)$ of the cubic Hermite interpolant on $s \in [0, 1]$ with $p(0) =$
+/// `ga`, $p(1) =$ `gb` (of opposite signs) and derivatives `da`, `db` over a step of length
+/// `h`, by bisection-safeguarded Newton on the polynomial (no guard evaluations), to
+/// `resolution`.
+fn hermite_root(ga: f64, (gb, da, db): (f64, f64, f64), h: f64, resolution: f64) -> f64 {
+    let c1 = h * da;
+    let c2 = 3.0 * (gb - ga) - h * (2.0 * da + db);
+    let c3 = 2.0 * (ga - gb) + h * (da + db);
+    let p = |u: f64| ga + u * (c1 + u * (c2 + u * c3));
+    let dp = |u: f64| c1 + u * (2.0 * c2 + u * 3.0 * c3);
+    let (mut a, mut b) = (0.0f64, 1.0f64);
+    let mut u = ga / (ga - gb);
+    for _ in 0..60 {
+        let v = p(u);
+        if v == 0.0 {
+            break;
+        }
+        if (v > 0.0) == (ga > 0.0) {
+            a = u;
+        } else {
+            b = u;
+        }
+        let next = u - v / dp(u);
+        let newton = next > a && next < b;
+        let step = if newton { next - u } else { 0.5 * (a + b) - u };
+        u += step;
+        if (newton && step.abs() < resolution) || b - a < resolution {
+            break;
+        }
+    }
+    u
+}
+
+/// Look for the earliest event on the last step of `integ` using its dense
+/// output; returns the earliest hit with the root located to near machine
+/// precision by the Illinois method (ties: smallest index). See the [module
+/// docs](super) for the detection algorithm, its guarantee and the
+/// start-of-segment and re-arming rules.
+///
+/// The hit is held by `state` (a reference is returned, nothing is
+/// allocated); clone it to keep it past the next call (`.copied()` on the
+/// result for fixed dimensions). Every event of the set is considered,
+/// however many. Counts the hit in `integ.stats().events` and the rhs
+/// evaluations made for event derivatives in `rhs_evals`.
+///
+/// The rules, in order (private functions of this module, each documented with its rule):
+/// the start values and the per-guard arming and start rule (`Step::arm`), the step-end
+/// screen (`Scan::screen`, opt-in), and the location on the samples (`Scan::sample`: sign
+/// changes, grazing pairs, crossings back).
+///
+/// # Errors
+/// [`OdeError::InvalidOption`] if `opts` is invalid
+/// ([`EventOptions::validate`]); nothing is evaluated then.
+pub fn find_first_event<'s, D, S, I, E>(
+    integ: &mut I,
+    sys: &S,
+    events: &E,
+    opts: &EventOptions,
+    state: &'s mut EventState<D>,
+) -> Result<Option<&'s EventHit<D>>, OdeError>
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    opts.validate()?;
+    let (t_prev, t_end) = (integ.t_prev(), integ.t());
+    let ne = events.len();
+    if ne == 0 || t_end.partial_cmp(&t_prev) != Some(std::cmp::Ordering::Greater) {
+        return Ok(None);
+    }
+    let Some(start) = scan_start(state.resume, t_prev, t_end) else {
+        return Ok(None);
+    };
+    state.prepare(integ.dim(), ne);
+    let origin = *state.origin.get_or_insert(start);
+    let step = Step::new(opts, (start, t_end), origin, state.last_hit);
+    let sc = &mut state.scratch;
+    y_at(integ, sys, start, &mut sc.y_a);
+    // f at the start, when the integrator keeps it there.
+    let f_a_known = start == t_prev && copy_known(integ.dy_prev(), &mut sc.f_a);
+    // The end values of the last screened step, if this step starts there with the same state.
+    let reuse = opts.screen
+        && start == t_prev
+        && state.end_at == Some(start)
+        && state.end_len == ne
+        && same_bits(&sc.y_a, &sc.y_e);
+    let slots = &mut state.slots[..ne];
+    let mut scan = Scan {
+        integ,
+        sys,
+        events,
+        tmp: &mut sc.tmp,
+        f_c: &mut sc.f_c,
+        zero: &sc.zero,
+        y_p: &mut sc.y_p,
+        probed: false,
+        max_iter: opts.max_iter,
+        step,
+    };
+    scan.start_values(slots, &sc.y_a, &mut sc.f_a, f_a_known, reuse)?;
+    step.arm(slots);
+    if opts.screen {
+        let all_cleared = scan.screen(slots, &mut sc.y_b, &mut sc.f_b);
+        state.end_at = Some(t_end);
+        state.end_len = ne;
+        sc.y_e.copy_from(&sc.y_b);
+        if all_cleared {
+            return Ok(None);
+        }
+    } else {
+        state.end_at = None;
+    }
+    let Some((r, i, d, _)) = scan.sample(slots, &mut sc.y_b, &mut sc.f_b)? else {
+        return Ok(None);
+    };
+    let hit = &mut state.hit;
+    y_at(scan.integ, sys, r, &mut hit.y);
+    (hit.index, hit.t, hit.direction) = (i, r, d);
+    state.origin = Some(r);
+    state.resume = Some((t_prev, r));
+    state.last_hit = Some((i, d));
+    scan.integ.stats_mut().events += 1;
+    Ok(Some(&state.hit))
+}
+
+/// Where the scan of the step `t_prev..t_end` starts: just after the last hit on this same
+/// step (`resume`), else at `t_prev`; `None` if that hit is at the step's end.
+fn scan_start(resume: Option<(f64, f64)>, t_prev: f64, t_end: f64) -> Option<f64> {
+    match resume {
+        Some((tp, th)) if tp == t_prev && th > t_prev => (th < t_end).then_some(th),
+        _ => Some(t_prev),
+    }
+}
+
+/// Copies `src` into `dst` if there is one; whether there was.
+fn copy_known<D: Dim>(src: Option<&OVector<f64, D>>, dst: &mut OVector<f64, D>) -> bool
+where
+    DefaultAllocator: Allocator<D>,
+{
+    match src {
+        Some(f) => {
+            dst.copy_from(f);
+            true
+        }
+        None => false,
+    }
 }

@@ -29,6 +29,9 @@ pub(super) struct Slot {
     pub end: EndValue,
     /// NaN at the right end of the current sample interval.
     pub nan: bool,
+    /// Value at the step's midpoint, for the screen's check of its premise (NaN: not
+    /// evaluated).
+    pub g_mid: f64,
 }
 
 /// A guard's value and derivative at the end of the last screened step (reused as the start
@@ -67,6 +70,7 @@ impl Default for Slot {
             needs_rhs: false,
             end: EndValue::default(),
             nan: false,
+            g_mid: f64::NAN,
         }
     }
 }

@@ -12,11 +12,13 @@
 //!   an event moving across the section does not count);
 //! * no orbit is found, and none as the step is halved down to the tolerance.
 //!
-//! The bracket is then bisected (Newton at each midpoint, warm-started from the stable end)
-//! until it is narrower than [`ContinuationOptions::tolerance`]; for a multiplier crossing the
+//! The bracket is then bisected by the one bisection ([`crate::numeric::bisect`]; Newton at each
+//! midpoint, warm-started from the stable end)
+//! until it is narrower than [`LossOptions::bracket_width`]; for a multiplier crossing the
 //! value reported is the linear interpolation of the spectral radius to 1 inside the final
 //! bracket, for the others its midpoint. The bisection has no other exit: a located
-//! [`StabilityLoss`] always has a bracket of at most the tolerance (or two adjacent floats).
+//! [`StabilityLoss`] always has a bracket of at most the width (or two adjacent floats). The
+//! kinds are the one definition of [`super`] ([`SpecialKind`]).
 //!
 //! **A failure is not a bifurcation.** Where no orbit is found at the far end of the final
 //! bracket, the branch ends there; that is called a bifurcation only on positive evidence at
@@ -35,26 +37,30 @@
 
 use nalgebra::{DVector, DefaultAllocator, OVector};
 
-use super::error::StabilityError;
-use super::floquet::{CrossingKind, Multiplier};
-use super::newton::NewtonOptions;
-use super::orbit::{periodic_orbit, OrbitOptions, PeriodicOrbit};
+use super::{canonical, crossings, largest_real_positive, SpecialKind};
 use crate::hybrid::{Variational, VariationalAlloc};
+use crate::numeric::{bisect, Side};
+use crate::stability::error::StabilityError;
+use crate::stability::floquet::{CrossingKind, Multiplier};
+use crate::stability::map::StroboscopicMap;
+use crate::stability::newton::NewtonOptions;
+use crate::stability::orbit::{periodic_orbit, OrbitOptions, PeriodicOrbit};
 
-/// Options of [`locate_loss`]. A plain struct with `Default`.
+/// Options of [`locate_loss`]: `Default`, then the builder methods.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct ContinuationOptions {
+#[non_exhaustive]
+pub struct LossOptions {
     /// The continuation step (its sign is taken from the direction `from -> to`). Default
     /// 0.005.
     pub step: f64,
-    /// Width of the final bracket. Default `1e-8`.
-    pub tolerance: f64,
+    /// Width of the final bracket, in the parameter's units. Default `1e-8`.
+    pub bracket_width: f64,
     /// Largest number of continuation steps. Default 10 000.
     pub max_steps: usize,
-    /// Largest Newton correction $\lVert z^{\ast} - z_{\rm predicted}\rVert_\infty$ accepted in a
-    /// step (a larger one halves the step: Newton may have jumped to another orbit). Default
-    /// 0.05.
+    /// Largest Newton correction $\max_i |z^{\ast}_i - z_{{\rm predicted}, i}|/s_i$ accepted in
+    /// a step, $s_i$ the model's [`state_scale`](crate::hybrid::RotorModel::state_scale) (a
+    /// larger one halves the step: Newton may have jumped to another orbit). Default 0.05.
     pub max_correction: f64,
     /// Go on through grazing bifurcations after which the orbit is still stable (a contact or a
     /// regime boundary appears or disappears, the multipliers stay inside the unit circle),
@@ -68,44 +74,52 @@ pub struct ContinuationOptions {
     pub orbit: OrbitOptions,
 }
 
-impl Default for ContinuationOptions {
+impl Default for LossOptions {
     fn default() -> Self {
         Self {
             step: 0.005,
-            tolerance: 1e-8,
+            bracket_width: 1e-8,
             max_steps: 10_000,
             max_correction: 0.05,
             through_grazing: false,
             orbit: OrbitOptions {
-                newton: NewtonOptions {
-                    max_iterations: 10,
-                    max_halvings: 6,
-                    ..NewtonOptions::default()
-                },
+                newton: NewtonOptions::default().max_iterations(10).max_halvings(6),
                 ..OrbitOptions::default()
             },
         }
     }
 }
 
-/// How an orbit loses stability.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[non_exhaustive]
-pub enum LossKind {
-    /// A multiplier crossing the unit circle.
-    Multiplier(CrossingKind),
-    /// The event structure changes: a contact appears or disappears.
-    Grazing,
-}
-
-impl LossKind {
-    /// `"flip"`, `"fold"`, `"neimark-sacker"` or `"grazing"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            LossKind::Multiplier(k) => k.name(),
-            LossKind::Grazing => "grazing",
-        }
+impl LossOptions {
+    /// With the continuation step [`step`](Self::step).
+    pub fn step(mut self, step: f64) -> Self {
+        self.step = step;
+        self
+    }
+    /// With the final bracket's width [`bracket_width`](Self::bracket_width).
+    pub fn bracket_width(mut self, width: f64) -> Self {
+        self.bracket_width = width;
+        self
+    }
+    /// With at most `n` continuation steps.
+    pub fn max_steps(mut self, n: usize) -> Self {
+        self.max_steps = n;
+        self
+    }
+    /// With the largest accepted correction [`max_correction`](Self::max_correction).
+    pub fn max_correction(mut self, c: f64) -> Self {
+        self.max_correction = c;
+        self
+    }
+    /// Going on through grazings ([`through_grazing`](Self::through_grazing)).
+    pub fn through_grazing(mut self, on: bool) -> Self {
+        self.through_grazing = on;
+        self
+    }
+    /// With the periodic-orbit options [`orbit`](Self::orbit).
+    pub fn orbit(mut self, orbit: OrbitOptions) -> Self {
+        self.orbit = orbit;
+        self
     }
 }
 
@@ -119,9 +133,9 @@ pub struct ContinuationPoint {
     pub multipliers: Vec<Multiplier>,
     /// Contact phases per orbit.
     pub contacts: usize,
-    /// The smallest contact depth ([`super::OrbitMargins::min_depth`]).
+    /// The smallest contact depth ([`crate::stability::OrbitMargins::min_depth`]).
     pub min_depth: Option<f64>,
-    /// The closest free-flight approach ([`super::OrbitMargins::clearance`]).
+    /// The closest free-flight approach ([`crate::stability::OrbitMargins::clearance`]).
     pub clearance: Option<f64>,
     /// Whether the orbit has a grazing event ([`PeriodicOrbit::grazing`]): its multipliers
     /// are then those of one side of a map that is not differentiable there.
@@ -146,8 +160,8 @@ where
     pub parameter: f64,
     /// The final bracket: the orbit is stable with its structure at `.0`, not at `.1`.
     pub bracket: (f64, f64),
-    /// How.
-    pub kind: LossKind,
+    /// How: a fold, flip or Neimark–Sacker bifurcation, or a grazing.
+    pub kind: SpecialKind,
     /// The orbit at the stable end of the bracket (its multipliers are those at the loss, to
     /// the bracket's width times their slope).
     pub orbit: PeriodicOrbit<D>,
@@ -215,20 +229,8 @@ where
     pub failure: Option<BranchFailure<D>>,
     /// The converged points of the continuation, in order (bisection points excluded).
     pub path: Vec<ContinuationPoint>,
-    /// The grazing bifurcations passed with [`ContinuationOptions::through_grazing`], in order.
+    /// The grazing bifurcations passed with [`LossOptions::through_grazing`], in order.
     pub grazings: Vec<StabilityLoss<D>>,
-}
-
-/// The event structure up to a rotation: the rotation that is least in lexical order.
-fn canonical(structure: &[&'static str]) -> Vec<&'static str> {
-    (0..structure.len().max(1))
-        .map(|r| {
-            let mut v = structure.to_vec();
-            v.rotate_left(r.min(structure.len()));
-            v
-        })
-        .min()
-        .unwrap_or_default()
 }
 
 fn point<D: nalgebra::Dim>(p: f64, o: &PeriodicOrbit<D>) -> ContinuationPoint
@@ -243,6 +245,130 @@ where
         clearance: o.margins.clearance,
         grazing: o.grazing,
     }
+}
+
+/// A parameter and the orbit there.
+type Solved<D> = (f64, PeriodicOrbit<D>);
+
+/// The orbits of the branch: the model builder, the period, the options, the scale of $z$.
+struct Stepper<'a, F> {
+    build: &'a F,
+    period: u64,
+    opts: &'a LossOptions,
+    scale: DVector<f64>,
+    /// The minimal period of the orbit followed.
+    minimal: u64,
+}
+
+impl<F, M, E> Stepper<'_, F>
+where
+    M: Variational,
+    F: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    /// The orbit at `p` from a template state and a guess of its point; another orbit (one
+    /// of another minimal period, or far from the prediction) is not this branch.
+    fn solve(
+        &self,
+        p: f64,
+        template: &OVector<f64, M::Dim>,
+        z: &DVector<f64>,
+    ) -> Result<PeriodicOrbit<M::Dim>, StabilityError> {
+        let model = (self.build)(p).map_err(|e| StabilityError::Model {
+            parameter: p,
+            reason: e.to_string(),
+        })?;
+        let guess = model.section_state(0.0, template, z.as_slice());
+        let o = periodic_orbit(&model, &guess, self.period, &self.opts.orbit)?;
+        let correction = (&o.point - z).component_div(&self.scale).amax();
+        if o.minimal_period != self.minimal || correction > self.opts.max_correction {
+            return Err(StabilityError::LeftBranch {
+                parameter: p,
+                correction,
+                max_correction: self.opts.max_correction,
+                minimal_period: o.minimal_period,
+                expected_period: self.minimal,
+            });
+        }
+        Ok(o)
+    }
+}
+
+/// Secant prediction of the point at `p` from the last two.
+fn predict<D: nalgebra::Dim>(
+    last: &Solved<D>,
+    before: &Option<(f64, DVector<f64>)>,
+    p: f64,
+) -> DVector<f64>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    match before {
+        Some((pb, zb)) if *pb != last.0 => {
+            let w = (p - last.0) / (last.0 - pb);
+            &last.1.point + (&last.1.point - zb) * w
+        }
+        _ => last.1.point.clone(),
+    }
+}
+
+fn check(from: f64, to: f64, opts: &LossOptions) -> Result<(), StabilityError> {
+    let bad = |field, value, hint| Err(StabilityError::InvalidOption { field, value, hint });
+    if !(opts.step.is_finite() && opts.step != 0.0) {
+        return bad(
+            "step",
+            opts.step,
+            "a finite nonzero continuation step, e.g. 0.005",
+        );
+    }
+    if !(opts.bracket_width.is_finite() && opts.bracket_width > 0.0) {
+        return bad(
+            "bracket_width",
+            opts.bracket_width,
+            "a finite bracket width > 0, e.g. 1e-8",
+        );
+    }
+    if !(from.is_finite() && to.is_finite()) {
+        return bad("to", to, "finite parameter bounds");
+    }
+    Ok(())
+}
+
+/// The stable orbit at `from` and the stepper of its branch.
+fn start<'a, M, F, E>(
+    build: &'a F,
+    from: f64,
+    guess: &OVector<f64, M::Dim>,
+    period: u64,
+    opts: &'a LossOptions,
+) -> Result<(Stepper<'a, F>, PeriodicOrbit<M::Dim>), StabilityError>
+where
+    M: Variational,
+    F: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    let model = build(from).map_err(|e| StabilityError::Model {
+        parameter: from,
+        reason: e.to_string(),
+    })?;
+    let first = periodic_orbit(&model, guess, period, &opts.orbit)?;
+    if first.spectral_radius() >= 1.0 {
+        return Err(StabilityError::Unstable {
+            parameter: from,
+            spectral_radius: first.spectral_radius(),
+        });
+    }
+    let scale = StroboscopicMap::new(&model, period, opts.orbit.sim)?.reduce(&model.state_scale());
+    let stepper = Stepper {
+        build,
+        period,
+        opts,
+        scale,
+        minimal: first.minimal_period,
+    };
+    Ok((stepper, first))
 }
 
 /// Continues the period-`period` orbit through the full state `guess` at parameter `from`
@@ -261,7 +387,7 @@ pub fn locate_loss<M, F, E>(
     to: f64,
     guess: &OVector<f64, M::Dim>,
     period: u64,
-    opts: &ContinuationOptions,
+    opts: &LossOptions,
 ) -> Result<Continuation<M::Dim>, StabilityError>
 where
     M: Variational,
@@ -269,156 +395,87 @@ where
     E: std::fmt::Display,
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
-    if !(opts.step.is_finite() && opts.step != 0.0) {
-        return Err(StabilityError::InvalidOption {
-            field: "step",
-            value: opts.step,
-            hint: "a finite nonzero continuation step, e.g. 0.005",
-        });
-    }
-    if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) {
-        return Err(StabilityError::InvalidOption {
-            field: "tolerance",
-            value: opts.tolerance,
-            hint: "a finite bracket width > 0, e.g. 1e-8",
-        });
-    }
-    if !(from.is_finite() && to.is_finite()) {
-        return Err(StabilityError::InvalidOption {
-            field: "to",
-            value: to,
-            hint: "finite parameter bounds",
-        });
-    }
-    // The orbit at p from a template state and a guess of its point.
-    let solve = |p: f64,
-                 template: &OVector<f64, M::Dim>,
-                 z: &DVector<f64>|
-     -> Result<PeriodicOrbit<M::Dim>, StabilityError> {
-        let model = build(p).map_err(|e| StabilityError::Model {
-            parameter: p,
-            reason: e.to_string(),
-        })?;
-        let guess = model.section_state(0.0, template, z.as_slice());
-        periodic_orbit(&model, &guess, period, &opts.orbit)
+    check(from, to, opts)?;
+    let (stepper, first) = start(&build, from, guess, period, opts)?;
+    let mut c = Continuation {
+        loss: None,
+        failure: None,
+        path: vec![point(from, &first)],
+        grazings: Vec::new(),
     };
-    let first = {
-        let model = build(from).map_err(|e| StabilityError::Model {
-            parameter: from,
-            reason: e.to_string(),
-        })?;
-        periodic_orbit(&model, guess, period, &opts.orbit)?
-    };
-    if first.spectral_radius() >= 1.0 {
-        return Err(StabilityError::Unstable {
-            parameter: from,
-            spectral_radius: first.spectral_radius(),
-        });
-    }
     let mut structure = canonical(&first.margins.structure);
-    let mut grazings = Vec::new();
-    let minimal = first.minimal_period;
     let dir = (to - from).signum();
     let mut step = opts.step.abs() * dir;
-    let mut path = vec![point(from, &first)];
-    let mut last: (f64, PeriodicOrbit<M::Dim>) = (from, first);
+    let mut last: Solved<M::Dim> = (from, first);
     let mut before: Option<(f64, DVector<f64>)> = None;
-    // An orbit of another minimal period, or far from the prediction, is not this branch.
-    let solve_on_branch = |p: f64, template: &OVector<f64, M::Dim>, z: &DVector<f64>| {
-        solve(p, template, z).and_then(|o| {
-            let correction = (&o.point - z).amax();
-            if o.minimal_period != minimal || correction > opts.max_correction {
-                Err(StabilityError::LeftBranch {
-                    parameter: p,
-                    correction,
-                    max_correction: opts.max_correction,
-                    minimal_period: o.minimal_period,
-                    expected_period: minimal,
-                })
-            } else {
-                Ok(o)
-            }
-        })
-    };
-    // Secant prediction of the point at p from the last two.
-    let predict =
-        |last: &(f64, PeriodicOrbit<M::Dim>), before: &Option<(f64, DVector<f64>)>, p: f64| {
-            match before {
-                Some((pb, zb)) if *pb != last.0 => {
-                    let w = (p - last.0) / (last.0 - pb);
-                    &last.1.point + (&last.1.point - zb) * w
-                }
-                _ => last.1.point.clone(),
-            }
-        };
-    let done = |path, grazings, end: Option<End<M::Dim>>| {
-        let (loss, failure) = match end {
-            None => (None, None),
-            Some(End::Loss(l)) => (Some(l), None),
-            Some(End::Failure(f)) => (None, Some(f)),
-        };
-        Continuation {
-            loss,
-            failure,
-            path,
-            grazings,
-        }
-    };
     for _ in 0..opts.max_steps {
         if (last.0 - to) * dir >= 0.0 {
-            return Ok(done(path, grazings, None));
+            return Ok(c);
         }
-        let p = if (last.0 + step - to) * dir > 0.0 {
-            to
-        } else {
-            last.0 + step
-        };
+        let p = next_parameter(last.0, step, to, dir);
         let z = predict(&last, &before, p);
-        // Another orbit (a jump, or one of a shorter period) is a failed step.
-        let solved = solve_on_branch(p, &last.1.state, &z);
-        let far = match solved {
+        let far = match stepper.solve(p, &last.1.state, &z) {
             Ok(o) if !is_lost(&o, &structure) => {
-                path.push(point(p, &o));
+                c.path.push(point(p, &o));
                 before = Some((last.0, last.1.point.clone()));
                 last = (p, o);
                 step = opts.step.abs() * dir;
                 continue;
             }
-            Err(_) if step.abs() > opts.tolerance => {
+            Err(_) if step.abs() > opts.bracket_width => {
                 step *= 0.5;
                 continue;
             }
             far => far,
         };
-        let (end, beyond) = bisect(&solve_on_branch, last, (p, far), &structure, opts.tolerance);
-        match (end, beyond) {
+        match bisect_loss(&stepper, last, (p, far), &structure) {
             (End::Loss(loss), Some(next))
                 if opts.through_grazing
-                    && loss.kind == LossKind::Grazing
+                    && loss.kind == SpecialKind::Grazing
                     && next.1.spectral_radius() < 1.0 =>
             {
                 structure = canonical(&next.1.margins.structure);
-                path.push(point(next.0, &next.1));
-                grazings.push(loss);
+                c.path.push(point(next.0, &next.1));
+                c.grazings.push(loss);
                 before = None;
                 last = next;
                 step = opts.step.abs() * dir;
+                continue;
             }
-            (end, _) => return Ok(done(path, grazings, Some(end))),
+            (End::Loss(loss), _) => c.loss = Some(loss),
+            (End::Failure(f), _) => c.failure = Some(f),
         }
+        return Ok(c);
     }
+    c.failure = Some(out_of_steps(opts, last));
+    Ok(c)
+}
+
+/// `last + step`, or `to` if that is beyond it (in the direction `dir`).
+fn next_parameter(last: f64, step: f64, to: f64, dir: f64) -> f64 {
+    if (last + step - to) * dir > 0.0 {
+        to
+    } else {
+        last + step
+    }
+}
+
+/// The failure when `max_steps` run out at `last`.
+fn out_of_steps<D: nalgebra::Dim>(opts: &LossOptions, last: Solved<D>) -> BranchFailure<D>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
     let error = StabilityError::Budget {
         field: "max_steps",
         limit: opts.max_steps as f64,
         parameter: last.0,
     };
-    let failure = BranchFailure {
+    BranchFailure {
         parameter: last.0,
         error,
         last_parameter: last.0,
         last_orbit: last.1,
-    };
-    Ok(done(path, grazings, Some(End::Failure(failure))))
+    }
 }
 
 /// How a bracket ends: a located loss or a failure.
@@ -435,101 +492,153 @@ where
 /// multiplier moves like $1 - c\sqrt{\eta^{\ast} - \eta}$ with $c$ up to $10^2$).
 const FOLD_MULTIPLIER: f64 = 0.95;
 
-/// The largest real positive multiplier (0 if none).
-fn largest_real_positive<D: nalgebra::Dim>(o: &PeriodicOrbit<D>) -> f64
+/// The far end of a bracket: a parameter and the orbit there, or why there is none.
+type Far<D> = (f64, Result<PeriodicOrbit<D>, StabilityError>);
+
+/// Bisects `[a, b]` (stable with the reference structure at `a`, not at `b`) to the bracket
+/// width, by the one locator.
+fn bisect_loss<F, M, E>(
+    stepper: &Stepper<'_, F>,
+    a: Solved<M::Dim>,
+    b: Far<M::Dim>,
+    structure: &[&'static str],
+) -> (End<M::Dim>, Option<Solved<M::Dim>>)
 where
-    DefaultAllocator: VariationalAlloc<D>,
+    M: Variational,
+    F: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
 {
-    o.multipliers
-        .iter()
-        .filter(|m| m.is_real(1e-6) && m.re > 0.0)
-        .map(|m| m.re)
-        .fold(0.0, f64::max)
+    bisect_with(
+        &|p, t, z| stepper.solve(p, t, z),
+        a,
+        b,
+        structure,
+        stepper.opts.bracket_width,
+    )
 }
 
-/// Bisects `[a, b]` (stable with the reference structure at `a`, not at `b`) to `tol`.
-#[allow(clippy::type_complexity)]
-fn bisect<D, S>(
+/// [`bisect_loss`] with the orbit solver `solve` and the width `tol`.
+fn bisect_with<D, S>(
     solve: &S,
-    mut a: (f64, PeriodicOrbit<D>),
-    mut b: (f64, Result<PeriodicOrbit<D>, StabilityError>),
+    a: Solved<D>,
+    b: Far<D>,
     structure: &[&'static str],
     tol: f64,
-) -> (End<D>, Option<(f64, PeriodicOrbit<D>)>)
+) -> (End<D>, Option<Solved<D>>)
 where
     D: nalgebra::Dim,
     DefaultAllocator: VariationalAlloc<D>,
     S: Fn(f64, &OVector<f64, D>, &DVector<f64>) -> Result<PeriodicOrbit<D>, StabilityError>,
 {
-    let lost = |o: &PeriodicOrbit<D>| is_lost(o, structure);
-    let start_real = largest_real_positive(&a.1);
-    while (b.0 - a.0).abs() > tol {
-        let mid = 0.5 * (a.0 + b.0);
-        if mid == a.0 || mid == b.0 {
-            break;
+    let start_real = largest_real_positive(&a.1.multipliers);
+    let ends = (a.0, b.0);
+    let (mut a, mut b) = (a, b);
+    // The probe keeps the orbits at the ends: a solve at the midpoint, warm-started from the
+    // near end.
+    let probe = |mid: f64| {
+        Ok::<_, std::convert::Infallible>(match solve(mid, &a.1.state, &a.1.point) {
+            Ok(o) if !is_lost(&o, structure) => {
+                a = (mid, o);
+                Side::Near
+            }
+            other => {
+                b = (mid, other);
+                Side::Far
+            }
+        })
+    };
+    let Ok(_) = bisect(ends.0, ends.1, tol, usize::MAX, probe);
+    match b.1 {
+        Ok(o) => {
+            let l = crossing(a, b.0, &o, structure);
+            (End::Loss(l), Some((b.0, o)))
         }
-        match solve(mid, &a.1.state, &a.1.point) {
-            Ok(o) if !lost(&o) => a = (mid, o),
-            other => b = (mid, other),
-        }
+        Err(error) => (branch_end(a, b.0, error, start_real), None),
     }
-    let loss = |kind, parameter, beyond: Option<&PeriodicOrbit<D>>, a: (f64, PeriodicOrbit<D>)| {
-        StabilityLoss {
-            parameter,
-            bracket: (a.0, b.0),
-            kind,
-            beyond_structure: beyond.map(|o| o.margins.structure.clone()),
-            beyond: beyond.map(|o| o.multipliers.clone()),
-            beyond_grazing: beyond.is_some_and(|o| o.grazing),
-            orbit: a.1,
-        }
-    };
-    let o = match b.1 {
-        Ok(o) => o,
-        Err(error) => {
-            // The branch ends: a bifurcation only on positive evidence, and only when Newton
-            // itself is what failed (module docs).
-            let newton = matches!(
-                error,
-                StabilityError::NotConverged { .. }
-                    | StabilityError::Singular { .. }
-                    | StabilityError::LeftBranch { .. }
-            );
-            let real = largest_real_positive(&a.1);
-            let kind = if newton && real > FOLD_MULTIPLIER && real >= start_real {
-                LossKind::Multiplier(CrossingKind::Fold)
-            } else if newton && a.1.grazing {
-                LossKind::Grazing
-            } else {
-                let failure = BranchFailure {
-                    parameter: b.0,
-                    error,
-                    last_parameter: a.0,
-                    last_orbit: a.1,
-                };
-                return (End::Failure(failure), None);
-            };
-            return (End::Loss(loss(kind, 0.5 * (a.0 + b.0), None, a)), None);
-        }
-    };
+}
+
+/// The loss between the stable `a` and the orbit `o` at `pb`, lost by a multiplier crossing or
+/// a change of structure.
+fn crossing<D: nalgebra::Dim>(
+    a: Solved<D>,
+    pb: f64,
+    o: &PeriodicOrbit<D>,
+    structure: &[&'static str],
+) -> StabilityLoss<D>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
     let (kind, parameter) = if canonical(&o.margins.structure) != structure {
-        (LossKind::Grazing, 0.5 * (a.0 + b.0))
+        (SpecialKind::Grazing, 0.5 * (a.0 + pb))
     } else {
         let critical = o
             .multipliers
             .first()
             .copied()
             .unwrap_or(Multiplier { re: 1.0, im: 0.0 });
+        let kind = crossings(&a.1.multipliers, &o.multipliers)
+            .first()
+            .copied()
+            .unwrap_or_else(|| CrossingKind::of(&critical, super::REAL).into());
         let (ra, rb) = (a.1.spectral_radius(), o.spectral_radius());
         let p = if rb > ra {
-            a.0 + (1.0 - ra) / (rb - ra) * (b.0 - a.0)
+            a.0 + (1.0 - ra) / (rb - ra) * (pb - a.0)
         } else {
-            0.5 * (a.0 + b.0)
+            0.5 * (a.0 + pb)
         };
-        (LossKind::Multiplier(CrossingKind::of(&critical, 1e-6)), p)
+        (kind, p)
     };
-    let l = loss(kind, parameter, Some(&o), a);
-    (End::Loss(l), Some((b.0, o)))
+    StabilityLoss {
+        parameter,
+        bracket: (a.0, pb),
+        kind,
+        beyond_structure: Some(o.margins.structure.clone()),
+        beyond: Some(o.multipliers.clone()),
+        beyond_grazing: o.grazing,
+        orbit: a.1,
+    }
+}
+
+/// The branch ends between `a` and `pb`, where no orbit was found (`error`): a fold or a
+/// grazing only on evidence, and only when Newton itself is what failed (module docs).
+fn branch_end<D: nalgebra::Dim>(
+    a: Solved<D>,
+    pb: f64,
+    error: StabilityError,
+    start_real: f64,
+) -> End<D>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    let newton = matches!(
+        error,
+        StabilityError::NotConverged { .. }
+            | StabilityError::Singular { .. }
+            | StabilityError::LeftBranch { .. }
+    );
+    let real = largest_real_positive(&a.1.multipliers);
+    let kind = if newton && real > FOLD_MULTIPLIER && real >= start_real {
+        SpecialKind::Fold
+    } else if newton && a.1.grazing {
+        SpecialKind::Grazing
+    } else {
+        return End::Failure(BranchFailure {
+            parameter: pb,
+            error,
+            last_parameter: a.0,
+            last_orbit: a.1,
+        });
+    };
+    End::Loss(StabilityLoss {
+        parameter: 0.5 * (a.0 + pb),
+        bracket: (a.0, pb),
+        kind,
+        beyond_structure: None,
+        beyond: None,
+        beyond_grazing: false,
+        orbit: a.1,
+    })
 }
 
 /// Whether an orbit is unstable or has another event structure than `structure`.
@@ -582,7 +691,7 @@ mod tests {
                 Err(bad(p))
             }
         };
-        let (end, _) = bisect(&solve, (0.0, good(0.0)), (1.0, Err(bad(1.0))), &["e"], 1e-8);
+        let (end, _) = bisect_with(&solve, (0.0, good(0.0)), (1.0, Err(bad(1.0))), &["e"], 1e-8);
         end
     }
 
@@ -608,7 +717,7 @@ mod tests {
         let fold = |p: f64| orbit(1.0 - (0.5 - p).max(0.0).sqrt(), 0.5);
         match run(fold, newton) {
             End::Loss(l) => {
-                assert_eq!(l.kind, LossKind::Multiplier(CrossingKind::Fold));
+                assert_eq!(l.kind, SpecialKind::Fold);
                 assert!((l.parameter - 0.5).abs() < 1e-8);
             }
             End::Failure(f) => panic!("{:?}", f.error),
@@ -616,7 +725,7 @@ mod tests {
         // An event's margin going to 0 at 0.5.
         let graze = |p: f64| orbit(0.6, (0.5 - p).max(0.0).sqrt());
         match run(graze, newton) {
-            End::Loss(l) => assert_eq!(l.kind, LossKind::Grazing),
+            End::Loss(l) => assert_eq!(l.kind, SpecialKind::Grazing),
             End::Failure(f) => panic!("{:?}", f.error),
         }
         // Neither: Newton's failure is reported.

@@ -1,0 +1,979 @@
+//! Continuation of periodic orbits in any scalar parameter: pseudo-arclength through folds,
+//! stability along the branch, bifurcations located, branch switching at a flip, and grazing
+//! (a contact gained or lost) detected, located and passed.
+//!
+//! # The method
+//!
+//! A period-$n$ orbit is a zero of $F(z, p) = P^n_p(z) - z$, $z$ the non-algebraic components at
+//! the section $\tau = 0$ (the rotor's $(x, y, x^\prime, y^\prime)$ for the paper's model) and
+//! $p$ the parameter, the model being built at each $p$ by a closure. The branch is followed in
+//! the **scaled** coordinates $w = (z_i/s_i,\ p/s_p)$, $s_i$ the model's
+//! [`state_scale`](crate::hybrid::RotorModel::state_scale) and $s_p$
+//! [`ContinuationOptions::param_scale`] (so that the arclength does not mix units), in its
+//! arclength $s$ (pseudo-arclength): from a point $w_k$ with unit tangent $t_k$ (the null
+//! vector of $[F_w\ F_p]$, oriented along the last one), the predictor $w_k + \Delta s\thinspace
+//! t_k$ is corrected by the one Newton ([`crate::stability::newton`], full steps) on
+//!
+//! $$F(w) = 0,\qquad t_k\cdot(w - w_k - \Delta s\thinspace t_k) = 0,$$
+//!
+//! which stays regular at a fold, where $p$ turns back. $F_z = DP^n - I$ is the Jacobian of the
+//! variational equations through every event ([`StroboscopicMap`]); $F_p$ is a central
+//! difference in $p$ (step $h = $ [`ContinuationOptions::param_step`] $\cdot(1 + |p|)$). The
+//! corrector stops when $|F_i| \le$ `atol`$\cdot s_i +$ `rtol`$\cdot|z_i|$ (and the constraint
+//! is within $10^3$ `atol`). The step grows by 1.5 after an easy correction (at most 3
+//! iterations) up to [`ContinuationOptions::ds_max`] and halves after a failed one (a
+//! correction that does not converge, or one larger than the step: Newton jumped to another
+//! branch); the branch ends if it falls below [`ContinuationOptions::ds_min`].
+//!
+//! # Special points
+//!
+//! At every point the multipliers (eigenvalues of $DP^n$) are counted outside the unit circle
+//! and the event structure recorded ([`super`]'s one definition). Between two points a change
+//! of a count is a fold, flip or Neimark–Sacker bifurcation, a change of the event structure a
+//! grazing, which the continuation goes on through.
+//!
+//! Each is located by the one bisection ([`crate::numeric::bisect`]) along the secant between the two
+//! points (a corrected point on the hyperplane through the midpoint, normal to the secant)
+//! until the bracket is narrower than [`ContinuationOptions::bracket_width`] (in the parameter,
+//! and in every component of $z$ relative to its scale); the value reported is the bracket's
+//! midpoint, with the multipliers at its near end. If the bisection stops short (no corrected
+//! point or no orbit at a midpoint), the point is returned as detected but not located:
+//! [`SpecialPoint::converged`] is `false`, with the error and the bracket reached.
+//!
+//! **Branch switching** ([`switch_at_flip`]): at a flip of the period-$n$ orbit the period-$2n$
+//! orbit branches off along the eigenvector $v$ of the multiplier $-1$. Its first point is
+//! corrected on the hyperplane $v\cdot(w - w^{\ast}) = a$ (with $p$ free, $v$ in the scaled
+//! coordinates) for amplitudes $a$ from $10^{-3}$ up, until a point of minimal period $2n$ is
+//! found; its branch is then continued as any other.
+
+use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
+
+use super::{canonical, crossings, SpecialKind};
+use crate::hybrid::{SimOptions, Variational, VariationalAlloc};
+use crate::numeric::{bisect, Side};
+use crate::stability::newton::{self, NewtonOptions, Rule, System};
+use crate::stability::orbit::newton_error;
+use crate::stability::{multipliers, Multiplier, StabilityError, StroboscopicMap, GRAZING_MARGIN};
+
+/// Options of [`continue_orbit`] and [`switch_at_flip`]: `Default`, then the builder methods.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
+pub struct ContinuationOptions {
+    /// First arclength step (in the max norm of the scaled coordinates, module docs). Default
+    /// 0.01.
+    pub ds: f64,
+    /// Smallest step: below it the branch ends ([`BranchEnd::Stalled`]). Default `1e-7`.
+    pub ds_min: f64,
+    /// Largest step. Default 0.02.
+    pub ds_max: f64,
+    /// Largest number of points on a branch. Default 5000.
+    pub max_points: usize,
+    /// Corrector convergence, absolute part: $|F_i| \le$ `atol`$\cdot s_i +$ `rtol`$\cdot
+    /// |z_i|$. Default `1e-10` (above the map's noise, a few `1e-15`, and the parameter
+    /// difference's rounding).
+    pub atol: f64,
+    /// Corrector convergence, relative part. Default 0.
+    pub rtol: f64,
+    /// Largest number of corrector iterations per point. Default 8.
+    pub max_iterations: u32,
+    /// Width of the bracket of a located special point, in the parameter's units (and in
+    /// every component of $z$ relative to its scale). Default `1e-8`.
+    pub bracket_width: f64,
+    /// Relative step of the central difference $F_p$. Default `1e-6`.
+    pub param_step: f64,
+    /// The parameter's scale $s_p$ in the arclength (module docs); `None`: the magnitude of
+    /// the parameter where the branch starts, or 1 where that is 0.
+    pub param_scale: Option<f64>,
+    /// Simulation options of every run. Default: [`SimOptions::default`].
+    pub sim: SimOptions,
+}
+
+impl Default for ContinuationOptions {
+    fn default() -> Self {
+        ContinuationOptions {
+            ds: 0.01,
+            ds_min: 1e-7,
+            ds_max: 0.02,
+            max_points: 5000,
+            atol: 1e-10,
+            rtol: 0.0,
+            max_iterations: 8,
+            bracket_width: 1e-8,
+            param_step: 1e-6,
+            param_scale: None,
+            sim: SimOptions::default(),
+        }
+    }
+}
+
+impl ContinuationOptions {
+    /// With the first step [`ds`](Self::ds).
+    pub fn ds(mut self, ds: f64) -> Self {
+        self.ds = ds;
+        self
+    }
+    /// With the smallest step [`ds_min`](Self::ds_min).
+    pub fn ds_min(mut self, ds_min: f64) -> Self {
+        self.ds_min = ds_min;
+        self
+    }
+    /// With the largest step [`ds_max`](Self::ds_max).
+    pub fn ds_max(mut self, ds_max: f64) -> Self {
+        self.ds_max = ds_max;
+        self
+    }
+    /// With at most `n` points per branch.
+    pub fn max_points(mut self, n: usize) -> Self {
+        self.max_points = n;
+        self
+    }
+    /// With the corrector's absolute tolerance [`atol`](Self::atol).
+    pub fn atol(mut self, atol: f64) -> Self {
+        self.atol = atol;
+        self
+    }
+    /// With the corrector's relative tolerance [`rtol`](Self::rtol).
+    pub fn rtol(mut self, rtol: f64) -> Self {
+        self.rtol = rtol;
+        self
+    }
+    /// With at most `n` corrector iterations per point.
+    pub fn max_iterations(mut self, n: u32) -> Self {
+        self.max_iterations = n;
+        self
+    }
+    /// With the located brackets' width [`bracket_width`](Self::bracket_width).
+    pub fn bracket_width(mut self, width: f64) -> Self {
+        self.bracket_width = width;
+        self
+    }
+    /// With the relative step [`param_step`](Self::param_step) of $F_p$.
+    pub fn param_step(mut self, step: f64) -> Self {
+        self.param_step = step;
+        self
+    }
+    /// With the parameter's scale [`param_scale`](Self::param_scale).
+    pub fn param_scale(mut self, scale: f64) -> Self {
+        self.param_scale = Some(scale);
+        self
+    }
+    /// With the simulation options [`sim`](Self::sim).
+    pub fn sim(mut self, sim: SimOptions) -> Self {
+        self.sim = sim;
+        self
+    }
+}
+
+/// One point of a branch.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct BranchPoint {
+    /// The parameter.
+    pub parameter: f64,
+    /// The periodic point $z$ at the section.
+    pub point: Vec<f64>,
+    /// The full state at the section.
+    pub state: Vec<f64>,
+    /// The orbit's $n$ points at the sections $\tau = 0, T, \dots$: $z, P(z), \dots$ (full
+    /// states), for drawing.
+    pub cycle: Vec<Vec<f64>>,
+    /// The multipliers, largest modulus first.
+    pub multipliers: Vec<Multiplier>,
+    /// Whether every multiplier is inside the unit circle.
+    pub stable: bool,
+    /// The smallest crossing margin of the orbit's events (1 without events:
+    /// [`crate::stability::LinearEvent::margin`]).
+    pub min_margin: f64,
+    /// Whether an event is crossed at a margin below [`GRAZING_MARGIN`]: the map is not
+    /// differentiable at the orbit, and its multipliers are those of one side of it
+    /// ([`crate::stability::PeriodicOrbit::grazing`]).
+    pub grazing: bool,
+    /// Contact onsets per orbit
+    /// ([`RotorModel::is_contact_onset`](crate::hybrid::RotorModel::is_contact_onset)).
+    pub contacts: usize,
+    /// The guards crossed over one orbit, in order from the section.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::serde_util::labels")
+    )]
+    pub structure: Vec<&'static str>,
+    /// Arclength from the branch's first point, in the scaled coordinates (module docs).
+    pub arclength: f64,
+}
+
+/// A special point of a branch, located when its bracket converged.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct SpecialPoint {
+    /// What it is.
+    pub kind: SpecialKind,
+    /// The parameter (the final bracket's midpoint): where the point is only if
+    /// [`converged`](Self::converged); otherwise somewhere in the bracket.
+    pub parameter: f64,
+    /// The final bracket's parameters (near end, far end).
+    pub bracket: (f64, f64),
+    /// Whether the bisection narrowed the bracket to [`ContinuationOptions::bracket_width`].
+    /// `false`: the point was detected between two points but not located (`unconverged`
+    /// says why); read [`bracket`](Self::bracket), not `parameter`.
+    pub converged: bool,
+    /// Why the bisection stopped before the bracket converged (the corrector's or the
+    /// orbit's error at a midpoint, or [`StabilityError::Budget`]); `None` when it converged.
+    pub unconverged: Option<StabilityError>,
+    /// The periodic point at the near end.
+    pub point: Vec<f64>,
+    /// The full state at the near end.
+    pub state: Vec<f64>,
+    /// The multipliers at the near end.
+    pub multipliers: Vec<Multiplier>,
+    /// Whether the orbit at the near end has a grazing event ([`BranchPoint::grazing`]): at a
+    /// grazing it usually has, and its multipliers are those of one side.
+    pub grazing: bool,
+    /// Contacts per orbit before and after.
+    pub contacts: (usize, usize),
+    /// Event structure before and after.
+    #[cfg_attr(
+        feature = "serde",
+        serde(deserialize_with = "crate::serde_util::label_pair")
+    )]
+    pub structure: (Vec<&'static str>, Vec<&'static str>),
+    /// For a flip: the eigenvector of the multiplier $-1$ (unit, on $z$).
+    pub eigenvector: Option<Vec<f64>>,
+    /// Index in [`Branch::points`] of the point before it.
+    pub after_point: usize,
+}
+
+/// How a branch ended.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
+pub enum BranchEnd {
+    /// The parameter left the range asked for.
+    Reached,
+    /// [`ContinuationOptions::max_points`] points.
+    MaxPoints,
+    /// The step fell below [`ContinuationOptions::ds_min`]: the corrector cannot go on (a
+    /// non-smooth point it cannot pass, or the end of the branch).
+    Stalled {
+        /// The last parameter reached.
+        parameter: f64,
+        /// The last corrector failure.
+        reason: StabilityError,
+    },
+}
+
+/// A continued branch of period-`period` orbits.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Branch {
+    /// The period in forcing periods.
+    pub period: u64,
+    /// The points, in order of arclength.
+    pub points: Vec<BranchPoint>,
+    /// The special points, in order of arclength.
+    pub specials: Vec<SpecialPoint>,
+    /// How it ended.
+    pub end: BranchEnd,
+}
+
+/// $F$ and its derivatives at one scaled point $w$.
+struct Eval<D: nalgebra::Dim>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    /// $F_i/s_i$.
+    f: DVector<f64>,
+    /// $DP^n$ on $z$, unscaled (for the multipliers and the flip's eigenvector).
+    jac: DMatrix<f64>,
+    /// $[F_w\ F_p]$ in the scaled coordinates: $k \times (k + 1)$.
+    top: DMatrix<f64>,
+    state: OVector<f64, D>,
+    structure: Vec<&'static str>,
+    contacts: usize,
+    min_margin: f64,
+}
+
+/// The bordered Jacobian of the continuation at `e`: $[F_w\ F_p]$ over `row`, the
+/// constraint's normal (corrector) or the previous tangent (tangent).
+fn bordered<D: nalgebra::Dim>(e: &Eval<D>, row: &DVector<f64>) -> DMatrix<f64>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    let k = e.f.len();
+    let mut a = e.top.clone().insert_row(k, 0.0);
+    for j in 0..=k {
+        a[(k, j)] = row[j];
+    }
+    a
+}
+
+/// A corrected point.
+struct Solved<D: nalgebra::Dim>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    w: DVector<f64>,
+    eval: Eval<D>,
+    iterations: u32,
+}
+
+/// The branch's model builder, period, options and scales.
+struct Solver<'a, B> {
+    build: &'a B,
+    period: u64,
+    opts: &'a ContinuationOptions,
+    /// $s_i$ of $z$'s components.
+    scale: DVector<f64>,
+    /// $s_p$.
+    param_scale: f64,
+}
+
+impl<'a, B, M, E> Solver<'a, B>
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    /// The solver of period `period` from the model at `p0`.
+    fn new(
+        build: &'a B,
+        period: u64,
+        opts: &'a ContinuationOptions,
+        p0: f64,
+    ) -> Result<(Self, M), StabilityError> {
+        let model = model(build, p0)?;
+        let map = StroboscopicMap::new(&model, period, opts.sim)?;
+        let scale = map.reduce(&model.state_scale());
+        let param_scale = opts
+            .param_scale
+            .unwrap_or(if p0 == 0.0 { 1.0 } else { p0.abs() });
+        let solver = Solver {
+            build,
+            period,
+            opts,
+            scale,
+            param_scale,
+        };
+        Ok((solver, model))
+    }
+
+    /// The scaled coordinates of $(z, p)$.
+    fn scaled(&self, z: &DVector<f64>, p: f64) -> DVector<f64> {
+        let k = z.len();
+        DVector::from_iterator(
+            k + 1,
+            z.iter()
+                .zip(self.scale.iter())
+                .map(|(zi, si)| zi / si)
+                .chain([p / self.param_scale]),
+        )
+    }
+
+    /// $(z, p)$ of scaled coordinates.
+    fn unscaled(&self, w: &DVector<f64>) -> (DVector<f64>, f64) {
+        let k = w.len() - 1;
+        let z = w.rows(0, k).component_mul(&self.scale);
+        (z, w[k] * self.param_scale)
+    }
+
+    /// $F$, $DP^n$, $F_p$ at the scaled point `w`, the algebraic components placed from
+    /// `template`.
+    fn eval(
+        &self,
+        w: &DVector<f64>,
+        template: &OVector<f64, M::Dim>,
+    ) -> Result<Eval<M::Dim>, StabilityError> {
+        let (z, p) = self.unscaled(w);
+        let k = z.len();
+        let at_p = model(self.build, p)?;
+        let map = StroboscopicMap::new(&at_p, self.period, self.opts.sim)?;
+        let state = map.state(template, &z);
+        let lin = map.linearize(&state)?;
+        let h = self.opts.param_step * (1.0 + p.abs());
+        let mut ends = Vec::with_capacity(2);
+        for q in [p + h, p - h] {
+            let m = model(self.build, q)?;
+            let mq = StroboscopicMap::new(&m, self.period, self.opts.sim)?;
+            let y = mq.state(template, &z);
+            ends.push(mq.reduce(&mq.advance(&y)?.y));
+        }
+        let fp = (&ends[0] - &ends[1]) / (2.0 * h);
+        let s = &self.scale;
+        let top = DMatrix::from_fn(k, k + 1, |i, j| {
+            if j == k {
+                fp[i] * self.param_scale / s[i]
+            } else {
+                let d = lin.jacobian[(i, j)] - if i == j { 1.0 } else { 0.0 };
+                d * s[j] / s[i]
+            }
+        });
+        Ok(Eval {
+            f: (&lin.value - &z).component_div(s),
+            top,
+            state,
+            structure: lin.events.iter().map(|e| e.kind).collect(),
+            contacts: lin.events.iter().filter(|e| e.contact_onset).count(),
+            min_margin: lin.min_margin(),
+            jac: lin.jacobian,
+        })
+    }
+
+    /// The one Newton (full steps) on $F(w) = 0$, $n\cdot(w - c) = 0$ from `start`.
+    fn correct(
+        &self,
+        start: &DVector<f64>,
+        normal: &DVector<f64>,
+        c: &DVector<f64>,
+        template: &OVector<f64, M::Dim>,
+    ) -> Result<Solved<M::Dim>, StabilityError> {
+        let newton = NewtonOptions::default()
+            .atol(self.opts.atol)
+            .rtol(self.opts.rtol)
+            .max_iterations(self.opts.max_iterations + 1);
+        // The residual is F_i / s_i: its scale is 1, and its relative part rtol |z_i| / s_i.
+        let ones = DVector::from_element(start.len(), 1.0);
+        let rule = Rule {
+            opts: &newton,
+            scale: &ones,
+            constraint: Some(1e3),
+            line_search: false,
+        };
+        let eval = |w: &DVector<f64>| {
+            self.eval(w, template).map(|e| {
+                let residual = e.f.clone().push(normal.dot(&(w - c)));
+                System {
+                    residual,
+                    matrix: bordered(&e, normal),
+                    extra: e,
+                }
+            })
+        };
+        let zero = newton::solve(start, eval, &rule).map_err(newton_error)?;
+        Ok(Solved {
+            w: zero.u,
+            eval: zero.system.extra,
+            iterations: zero.iterations - 1,
+        })
+    }
+
+    /// The unit tangent at a solved point, oriented along `prev`.
+    fn tangent(&self, e: &Eval<M::Dim>, prev: &DVector<f64>) -> DVector<f64> {
+        let k = e.f.len();
+        let a = bordered(e, prev);
+        let mut rhs = DVector::<f64>::zeros(k + 1);
+        rhs[k] = 1.0;
+        match a.lu().solve(&rhs) {
+            Some(t) if t.norm() > 0.0 && t.iter().all(|v| v.is_finite()) => {
+                let t = t.normalize();
+                if t.dot(prev) < 0.0 {
+                    -t
+                } else {
+                    t
+                }
+            }
+            _ => prev.clone(),
+        }
+    }
+
+    /// The branch point of a solved point.
+    fn point(&self, s: &Solved<M::Dim>, arclength: f64) -> Result<BranchPoint, StabilityError> {
+        let (z, p) = self.unscaled(&s.w);
+        let m = multipliers(&s.eval.jac)?;
+        let at_p = model(self.build, p)?;
+        let one = StroboscopicMap::new(&at_p, 1, self.opts.sim)?;
+        let mut cycle = vec![s.eval.state.iter().copied().collect::<Vec<f64>>()];
+        let mut y = s.eval.state.clone();
+        for _ in 1..self.period {
+            y = one.advance(&y)?.y;
+            cycle.push(y.iter().copied().collect());
+        }
+        Ok(BranchPoint {
+            parameter: p,
+            point: z.iter().copied().collect(),
+            state: s.eval.state.iter().copied().collect(),
+            cycle,
+            stable: m.iter().all(|x| x.modulus() < 1.0),
+            min_margin: s.eval.min_margin,
+            grazing: s.eval.min_margin < GRAZING_MARGIN,
+            contacts: s.eval.contacts,
+            structure: s.eval.structure.clone(),
+            multipliers: m,
+            arclength,
+        })
+    }
+
+    /// The bracket's width: in the parameter's units, and in $z$ relative to its scale.
+    fn width(&self, a: &DVector<f64>, b: &DVector<f64>) -> f64 {
+        let k = a.len() - 1;
+        let state = (a.rows(0, k) - b.rows(0, k)).amax();
+        state.max((a[k] - b[k]).abs() * self.param_scale)
+    }
+}
+
+/// The model at `p`.
+fn model<B, M, E>(build: &B, p: f64) -> Result<M, StabilityError>
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+{
+    build(p).map_err(|e| StabilityError::Model {
+        parameter: p,
+        reason: e.to_string(),
+    })
+}
+
+/// The unit eigenvector of `jac` for its eigenvalue closest to $-1$ (the right singular
+/// vector of $J + I$ with the smallest singular value).
+fn flip_vector(jac: &DMatrix<f64>) -> Option<Vec<f64>> {
+    let k = jac.nrows();
+    let a = jac + DMatrix::<f64>::identity(k, k);
+    let svd = a.svd(false, true);
+    let v_t = svd.v_t?;
+    let (i, _) = svd
+        .singular_values
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))?;
+    let v: Vec<f64> = v_t.row(i).iter().copied().collect();
+    Some(v)
+}
+
+fn check(opts: &ContinuationOptions) -> Result<(), StabilityError> {
+    let positive = |field, v: f64, hint| {
+        if v.is_finite() && v > 0.0 {
+            Ok(())
+        } else {
+            Err(StabilityError::InvalidOption {
+                field,
+                value: v,
+                hint,
+            })
+        }
+    };
+    positive("ds", opts.ds, "a finite step > 0, e.g. 0.01")?;
+    positive("ds_min", opts.ds_min, "a finite step > 0, e.g. 1e-7")?;
+    positive("ds_max", opts.ds_max, "a finite step > 0, e.g. 0.02")?;
+    positive("atol", opts.atol, "above the map's noise, e.g. 1e-10")?;
+    positive(
+        "bracket_width",
+        opts.bracket_width,
+        "a bracket width > 0, e.g. 1e-8",
+    )?;
+    positive(
+        "param_step",
+        opts.param_step,
+        "a relative step > 0, e.g. 1e-6",
+    )?;
+    if let Some(s) = opts.param_scale {
+        positive(
+            "param_scale",
+            s,
+            "a finite scale > 0, e.g. the parameter's size",
+        )?;
+    }
+    if !(opts.rtol.is_finite() && opts.rtol >= 0.0) {
+        return Err(StabilityError::InvalidOption {
+            field: "rtol",
+            value: opts.rtol,
+            hint: "a finite relative tolerance >= 0, e.g. 0",
+        });
+    }
+    if opts.ds_min > opts.ds_max || opts.ds > opts.ds_max {
+        return Err(StabilityError::InvalidOption {
+            field: "ds_max",
+            value: opts.ds_max,
+            hint: "ds_min <= ds <= ds_max",
+        });
+    }
+    Ok(())
+}
+
+/// One predictor-corrector step from `cur` along `t` by `ds`: the corrected point, or why not
+/// (a correction larger than the step is another branch).
+fn step<B, M, E>(
+    solver: &Solver<'_, B>,
+    cur: &Solved<M::Dim>,
+    t: &DVector<f64>,
+    ds: f64,
+) -> Result<Solved<M::Dim>, StabilityError>
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    let pred = &cur.w + t * ds;
+    let s = solver.correct(&pred, t, &pred, &cur.eval.state)?;
+    let jump = (&s.w - &pred).amax();
+    let largest = ds.max(10.0 * solver.opts.atol);
+    if jump > largest {
+        let k = s.w.len() - 1;
+        return Err(StabilityError::LeftBranch {
+            parameter: s.w[k] * solver.param_scale,
+            correction: jump,
+            max_correction: largest,
+            minimal_period: solver.period,
+            expected_period: solver.period,
+        });
+    }
+    Ok(s)
+}
+
+/// The special points between the consecutive points `a` (branch point `pa`, index `last`)
+/// and `b` (`pb`), located, nearest `pa` first.
+fn specials_between<B, M, E>(
+    solver: &Solver<'_, B>,
+    (a, pa): (&Solved<M::Dim>, &BranchPoint),
+    (b, pb): (&Solved<M::Dim>, &BranchPoint),
+    last: usize,
+) -> Vec<SpecialPoint>
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    let mut found = Vec::new();
+    for kind in crossings(&pa.multipliers, &pb.multipliers) {
+        let reference = pa.multipliers.clone();
+        let same = move |bp: &BranchPoint| !crossings(&reference, &bp.multipliers).contains(&kind);
+        found.push(locate(solver, kind, (a, pa), (b, pb), &same, last));
+    }
+    if canonical(&pa.structure) != canonical(&pb.structure) {
+        let reference = canonical(&pa.structure);
+        let same = move |bp: &BranchPoint| canonical(&bp.structure) == reference;
+        let kind = SpecialKind::Grazing;
+        found.push(locate(solver, kind, (a, pa), (b, pb), &same, last));
+    }
+    found.sort_by(|x, y| {
+        ((x.parameter - pa.parameter).abs()).total_cmp(&(y.parameter - pa.parameter).abs())
+    });
+    found
+}
+
+/// Follows the branch from the solved point `first` (tangent initialised along `dir` in $p$),
+/// while the parameter stays in `range`.
+fn follow<B, M, E>(
+    solver: &Solver<'_, B>,
+    first: Solved<M::Dim>,
+    dir: f64,
+    range: (f64, f64),
+) -> Branch
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    let opts = solver.opts;
+    let k = first.w.len() - 1;
+    let mut prev_t = DVector::<f64>::zeros(k + 1);
+    prev_t[k] = dir;
+    let mut t = solver.tangent(&first.eval, &prev_t);
+    let mut branch = Branch {
+        period: solver.period,
+        points: Vec::new(),
+        specials: Vec::new(),
+        end: BranchEnd::Reached,
+    };
+    let stalled = |w: &DVector<f64>, reason| BranchEnd::Stalled {
+        parameter: w[k] * solver.param_scale,
+        reason,
+    };
+    match solver.point(&first, 0.0) {
+        Ok(p) => branch.points.push(p),
+        Err(reason) => {
+            branch.end = stalled(&first.w, reason);
+            return branch;
+        }
+    }
+    let (mut cur, mut arclength, mut ds) = (first, 0.0, opts.ds);
+    branch.end = loop {
+        if branch.points.len() >= opts.max_points {
+            break BranchEnd::MaxPoints;
+        }
+        let next = match step(solver, &cur, &t, ds) {
+            Ok(s) => s,
+            Err(reason) => {
+                ds *= 0.5;
+                if ds < opts.ds_min {
+                    break stalled(&cur.w, reason);
+                }
+                continue;
+            }
+        };
+        arclength += (&next.w - &cur.w).norm();
+        let point = match solver.point(&next, arclength) {
+            Ok(p) => p,
+            Err(reason) => break stalled(&next.w, reason),
+        };
+        let last = branch.points.len() - 1;
+        let found = specials_between(solver, (&cur, &branch.points[last]), (&next, &point), last);
+        branch.specials.extend(found);
+        let p_next = point.parameter;
+        t = solver.tangent(&next.eval, &t);
+        if next.iterations <= 3 {
+            ds = (ds * 1.5).min(opts.ds_max);
+        }
+        branch.points.push(point);
+        cur = next;
+        if p_next < range.0 || p_next > range.1 {
+            break BranchEnd::Reached;
+        }
+    };
+    branch
+}
+
+/// One end of a locator's bracket: the corrected point, its branch point and its $DP^n$.
+struct End<D: nalgebra::Dim>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    w: DVector<f64>,
+    point: BranchPoint,
+    jac: DMatrix<f64>,
+    state: OVector<f64, D>,
+}
+
+/// Locates the special point `kind` between the solved points `a` and `b` (branch points
+/// `pa`, `pb`) by the one bisection; `same` says whether a point is still like `pa`.
+fn locate<B, M, E>(
+    solver: &Solver<'_, B>,
+    kind: SpecialKind,
+    (a, pa): (&Solved<M::Dim>, &BranchPoint),
+    (b, pb): (&Solved<M::Dim>, &BranchPoint),
+    same: &dyn Fn(&BranchPoint) -> bool,
+    after_point: usize,
+) -> SpecialPoint
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    let end = |s: &Solved<M::Dim>, point: &BranchPoint| End {
+        w: s.w.clone(),
+        point: point.clone(),
+        jac: s.eval.jac.clone(),
+        state: s.eval.state.clone(),
+    };
+    let width = solver.opts.bracket_width;
+    let (mut near, mut far) = (end(a, pa), end(b, pb));
+    let mut stopped = None;
+    // The one bisection on the secant's fraction; the probe keeps the ends, bisects them in
+    // (z, p) and stops the search (`Err`) once they are within the width or it fails.
+    let probe = |_: f64| {
+        if solver.width(&near.w, &far.w) <= width {
+            return Err(());
+        }
+        let mid = (&near.w + &far.w) * 0.5;
+        let normal = &far.w - &near.w;
+        let verdict = solver
+            .correct(&mid, &normal, &mid, &near.state)
+            .and_then(|s| solver.point(&s, 0.0).map(|p| end(&s, &p)));
+        match verdict {
+            Ok(e) if same(&e.point) => {
+                near = e;
+                Ok(Side::Near)
+            }
+            Ok(e) => {
+                far = e;
+                Ok(Side::Far)
+            }
+            Err(error) => {
+                stopped = Some(error);
+                Err(())
+            }
+        }
+    };
+    let _ = bisect(0.0, 1.0, 0.0, 200, probe);
+    let k = near.w.len() - 1;
+    let (pn, pf) = (
+        near.w[k] * solver.param_scale,
+        far.w[k] * solver.param_scale,
+    );
+    let unconverged = (solver.width(&near.w, &far.w) > width).then(|| {
+        stopped.unwrap_or(StabilityError::Budget {
+            field: "bisections",
+            limit: 200.0,
+            parameter: 0.5 * (pn + pf),
+        })
+    });
+    special(kind, (pn, &near), (pf, &far), unconverged, after_point)
+}
+
+/// The special point of the final bracket `near` (at the parameter `pn`) to `far` (at `pf`).
+fn special<D: nalgebra::Dim>(
+    kind: SpecialKind,
+    (pn, near): (f64, &End<D>),
+    (pf, far): (f64, &End<D>),
+    unconverged: Option<StabilityError>,
+    after_point: usize,
+) -> SpecialPoint
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    let n = &near.point;
+    SpecialPoint {
+        kind,
+        parameter: 0.5 * (pn + pf),
+        bracket: (pn, pf),
+        converged: unconverged.is_none(),
+        unconverged,
+        point: n.point.clone(),
+        state: n.state.clone(),
+        multipliers: n.multipliers.clone(),
+        grazing: n.grazing,
+        contacts: (n.contacts, far.point.contacts),
+        structure: (n.structure.clone(), far.point.structure.clone()),
+        eigenvector: (kind == SpecialKind::Flip)
+            .then(|| flip_vector(&near.jac))
+            .flatten(),
+        after_point,
+    }
+}
+
+/// Continues the period-`period` orbit through the full state `guess` (at the section, e.g. a
+/// point of a simulated orbit) at parameter `from`, towards `to` (see the
+/// [module docs](self); the arguments in the order of [`locate_loss`](super::locate_loss)). `build(p)` makes the model at `p`. The branch ends when its
+/// parameter leaves the interval between `from` and `to`; after a fold it may come back
+/// through it.
+///
+/// # Errors
+/// [`StabilityError::InvalidOption`] for bad options; [`StabilityError::NoStart`] when no
+/// orbit is found near the guess at `from`. A branch that cannot go on is not an error: it
+/// ends with [`BranchEnd::Stalled`].
+///
+/// # Example
+///
+/// The period-1 orbit of Fig. 8a from η = 2 up to its flip:
+///
+/// ```no_run
+/// use jeffcott::stability::{continue_orbit, ContinuationOptions, SpecialKind};
+/// use jeffcott::params::Preset;
+/// use jeffcott::JeffcottModel;
+///
+/// let base = Preset::Fig8a.params();
+/// let build = |eta: f64| JeffcottModel::new(base.with_eta(eta));
+/// let guess = JeffcottModel::new(base.with_eta(2.0))?
+///     .state_at([0.5781, -0.0233], [0.0944, -0.3099])?;
+/// let branch = continue_orbit(build, 2.0, 2.3, &guess, 1, &ContinuationOptions::default())?;
+/// let flip = branch.specials.iter().find(|s| s.kind == SpecialKind::Flip).unwrap();
+/// assert!((flip.parameter - 2.2348433).abs() < 1e-6);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn continue_orbit<M, B, E>(
+    build: B,
+    from: f64,
+    to: f64,
+    guess: &OVector<f64, M::Dim>,
+    period: u64,
+    opts: &ContinuationOptions,
+) -> Result<Branch, StabilityError>
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    check(opts)?;
+    if !(from.is_finite() && to.is_finite() && from != to) || period == 0 {
+        return Err(StabilityError::InvalidOption {
+            field: "to",
+            value: to,
+            hint: "finite, distinct ends and a period of at least 1",
+        });
+    }
+    let no_start = |e: StabilityError| StabilityError::NoStart {
+        period,
+        parameter: from,
+        source: Box::new(e),
+    };
+    let (solver, model) = Solver::new(&build, period, opts, from).map_err(no_start)?;
+    let map = StroboscopicMap::new(&model, period, opts.sim).map_err(no_start)?;
+    let w = solver.scaled(&map.reduce(guess), from);
+    let k = w.len() - 1;
+    // The start at fixed p: the constraint row is e_p.
+    let mut normal = DVector::<f64>::zeros(k + 1);
+    normal[k] = 1.0;
+    let first = solver.correct(&w, &normal, &w, guess).map_err(no_start)?;
+    let dir = (to - from).signum();
+    Ok(follow(&solver, first, dir, (from.min(to), from.max(to))))
+}
+
+/// Switches at the flip `flip` of a period-`period` branch onto the period-`2 period` branch
+/// and continues it from there towards `to` (see the [module docs](self)).
+///
+/// # Errors
+/// [`StabilityError::InvalidOption`] if `flip` is not a flip with an eigenvector;
+/// [`StabilityError::NoSwitch`] if no orbit of the doubled period is found next to it.
+pub fn switch_at_flip<M, B, E>(
+    build: B,
+    flip: &SpecialPoint,
+    to: f64,
+    period: u64,
+    opts: &ContinuationOptions,
+) -> Result<Branch, StabilityError>
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    check(opts)?;
+    let Some(v) = flip
+        .eigenvector
+        .as_ref()
+        .filter(|_| flip.kind == SpecialKind::Flip)
+    else {
+        return Err(StabilityError::InvalidOption {
+            field: "flip",
+            value: flip.parameter,
+            hint: "a special point of kind Flip, with its eigenvector",
+        });
+    };
+    let doubled = 2 * period;
+    let no_switch = |e: StabilityError| StabilityError::NoSwitch {
+        period: doubled,
+        parameter: flip.parameter,
+        source: Box::new(e),
+    };
+    let (solver, model) = Solver::new(&build, doubled, opts, flip.parameter).map_err(no_switch)?;
+    let (single, _) = Solver::new(&build, period, opts, flip.parameter).map_err(no_switch)?;
+    let template = OVector::<f64, M::Dim>::from_iterator_generic(
+        model.dim(),
+        nalgebra::U1,
+        flip.state.iter().copied(),
+    );
+    let base = solver.scaled(&DVector::from_column_slice(&flip.point), flip.parameter);
+    let k = flip.point.len();
+    // The eigenvector in the scaled coordinates, unit, with no component in p.
+    let mut normal = DVector::<f64>::zeros(k + 1);
+    for i in 0..k {
+        normal[i] = v[i] / solver.scale[i];
+    }
+    let normal = normal.normalize();
+    let mut last = None;
+    for amplitude in [1e-3, 3e-3, 1e-2, 3e-2, 0.1] {
+        let start = &base + &normal * amplitude;
+        match solver.correct(&start, &normal, &start, &template) {
+            Ok(s) => {
+                // Not the period-n orbit again: P^n(z) differs from z.
+                let e = single.eval(&s.w, &s.eval.state).map_err(no_switch)?;
+                if e.f.amax() > 1e3 * opts.atol + 1e-8 {
+                    let dir = (to - flip.parameter).signum();
+                    let lo = flip.parameter.min(to) - opts.ds_max * solver.param_scale;
+                    let hi = flip.parameter.max(to) + opts.ds_max * solver.param_scale;
+                    return Ok(follow(&solver, s, dir, (lo, hi)));
+                }
+                last = Some(StabilityError::SamePeriod { period, amplitude });
+            }
+            Err(e) => last = Some(e),
+        }
+    }
+    Err(no_switch(last.unwrap_or(StabilityError::SamePeriod {
+        period,
+        amplitude: 0.0,
+    })))
+}
