@@ -21,7 +21,8 @@
 
 #[path = "../common/mod.rs"]
 mod common;
-// `Layout::jeffcott` and `FlexibleShaft::energy` serve the tests (tests/flexible_shaft.rs).
+// `Layout::jeffcott` and `FlexibleShaft::energy` serve the tests
+// (tests/simulation/flexible_shaft.rs).
 #[allow(dead_code)]
 mod shaft;
 

@@ -642,7 +642,7 @@ impl SnubberRing {
     /// `out(i, value, rate)` for each, with the value of [`SnubberRing::guard_value`] and, if
     /// `accel` is given ($r^{\prime\prime}$ of the station), the rate of
     /// [`SnubberRing::guard_rate_with_accel`] (`None` without it). Bitwise the same numbers as
-    /// the one-guard methods (both evaluate the same formulas; `tests/ring_element.rs` checks
+    /// the one-guard methods (both evaluate the same formulas; `tests/ring/ring_element.rs` checks
     /// it), for one ring location instead of one per guard.
     pub fn guard_values(
         &self,

@@ -18,7 +18,8 @@
 //!   $\ln|\det DP(z_k)|$ by construction (the product of the QR's diagonal), so it is no check
 //!   of $DP$. The check is Liouville's formula along the trajectory, independent of the
 //!   variational code: $\ln|\det DP| = \int\operatorname{tr}(\partial f/\partial y)\thinspace d\tau +
-//!   \sum_e\ln|\det S_e|$ over the period (`tests/stability_lyapunov.rs`, docs/stability.md).
+//!   \sum_e\ln|\det S_e|$ over the period (`tests/stability/stability_lyapunov.rs`,
+//!   docs/stability.md).
 //!
 //! Every event of the fiducial trajectory is crossed through its saltation matrix; the result
 //! counts those crossed at a margin below [`GRAZING_MARGIN`] (the exponents stay meaningful:

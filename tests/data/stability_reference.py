@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Independent reference for the stability tests (tests/stability_orbits.rs, stability_lyapunov.rs).
+"""Independent reference for the stability tests (tests/stability/stability_orbits.rs,
+stability_lyapunov.rs).
 
 Computes, for the paper's model (shared/MODEL.md) with the Fig. 8 values, WITHOUT the crate:
 

@@ -1,8 +1,7 @@
 //! The examples' command line (clap, through `examples/common/cli.rs`): the exit status and the
 //! one-line message of a real example on bad input.
 
-#[path = "support/examples.rs"]
-mod examples;
+use crate::support as examples;
 
 /// Runs the built `common_demo` example (built by the test if needed; a build failure fails
 /// the test): every bad command line exits with status 2 and one `error: ...` line naming the

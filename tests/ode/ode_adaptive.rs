@@ -10,7 +10,7 @@ use jeffcott::ode::{
 };
 use nalgebra::{Const, SVector, U4};
 
-mod common;
+use crate::common;
 use common::{slope, Kepler, V4};
 
 /// Restricted three-body problem (Arenstorf orbit), period known to 30

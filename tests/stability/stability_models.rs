@@ -4,9 +4,7 @@
 //! model with every finite-difference default of the trait, and a slow ring that has not
 //! relaxed when the rotor meets it again (its sensitivity carried in closed form).
 
-#[allow(dead_code)]
-#[path = "../examples/custom_rotor/rotor.rs"]
-mod rotor;
+use crate::rotor;
 
 use jeffcott::hybrid::{ModelError, RotorModel, SimOptions, Variational, VariationalAlloc};
 use jeffcott::nalgebra::DefaultAllocator;

@@ -1,10 +1,8 @@
-//! Regression tests for the defects the in-process fuzzer (`tests/fuzz.rs`) found, one per
+//! Regression tests for the defects the in-process fuzzer (`tests/fuzz/fuzz.rs`) found, one per
 //! defect, each from the case it found (shrunk by hand where that kept the failure). Every test
 //! failed before its fix (docs/reliability.md, "Defects found").
 
-#[allow(dead_code)]
-#[path = "../examples/custom_rotor/rotor.rs"]
-mod rotor;
+use crate::rotor;
 
 use jeffcott::hybrid::{
     simulate, DenseSampling, ExactSegment, Flow, GuardCrossing, ModelError, OutputPlan, RotorModel,

@@ -1,8 +1,7 @@
 //! The examples' CSV and figure helpers (`examples/common/`): files appear, numbers round-trip,
 //! awkward data (empty, NaN, constant, non-positive on log axes) draws without panicking.
 
-#[path = "../examples/common/mod.rs"]
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

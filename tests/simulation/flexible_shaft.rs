@@ -4,11 +4,8 @@
 //! paper's model (one mode at midspan), an energy balance with contact, and its own
 //! convergence with the tolerance.
 
-#[path = "support/examples.rs"]
-mod examples;
-#[allow(dead_code)]
-#[path = "../examples/flexible_shaft/shaft.rs"]
-mod shaft;
+use crate::shaft;
+use crate::support as examples;
 
 use std::f64::consts::PI;
 use std::process::Command;

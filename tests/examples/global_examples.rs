@@ -2,8 +2,7 @@
 //! a `basins` run killed part-way (SIGKILL) and started again with the same folder finishes
 //! with exactly the files of an uninterrupted run.
 
-#[path = "support/examples.rs"]
-mod support;
+use crate::support;
 
 use std::fs;
 use std::path::{Path, PathBuf};

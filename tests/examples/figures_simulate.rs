@@ -2,11 +2,10 @@
 //!
 //! The example binary is built by `cargo build --example simulate` from this test (a no-op
 //! when `cargo test` has already built it), so the test also runs under
-//! `cargo test --test figures_simulate` and never uses a stale binary. If the example does not
-//! build, every test here fails.
+//! `cargo test --test examples figures_simulate::` and never uses a stale binary. If the
+//! example does not build, every test here fails.
 
-#[path = "support/examples.rs"]
-mod examples;
+use crate::support as examples;
 
 use std::f64::consts::TAU;
 use std::path::PathBuf;

@@ -3,8 +3,7 @@
 //! flag the example's own documentation mentions is in it, and every advertised range
 //! `[range: lo..=hi]` is the one the parser enforces.
 
-#[path = "support/examples.rs"]
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

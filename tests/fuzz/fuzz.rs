@@ -21,24 +21,22 @@
 //! Every failure fails the test; its class is named when its mechanism is recognised: A and D
 //! (docs/reliability.md, fixed 7 and 8), S (consistent without the event screen).
 //!
-//! **Runs.** `cargo test --test fuzz` runs a short version (a few seconds; failures shrink and
-//! are saved in `proptest-regressions/fuzz.txt`, replayed first on every run). The long run
-//! counts outcomes over many cases without stopping at the first failure:
+//! **Runs.** `cargo test --test fuzz fuzz::` runs a short version (a few seconds; failures
+//! shrink and are saved in `proptest-regressions/fuzz.txt`, replayed first on every run). The
+//! long run counts outcomes over many cases without stopping at the first failure:
 //!
 //! ```text
-//! FUZZ_CASES=100000 nice cargo test --test fuzz -- --ignored --nocapture
+//! FUZZ_CASES=100000 nice cargo test --test fuzz fuzz:: -- --ignored --nocapture
 //! ```
 //!
 //! (`FUZZ_SEEDS=a,b,c` sets the seeds, decimal or `0x` hex, default the three of
 //! docs/reliability.md; each seed's counts are printed as it finishes; `FUZZ_RING_CASES` sets
 //! the number of ring-element cases.) The short run takes its seed from `FUZZ_SEED`, or from
 //! the clock when that is unset, and prints it: a failure is reproduced with
-//! `FUZZ_SEED=<seed> cargo test --test fuzz fuzz_short`. The counts are in
+//! `FUZZ_SEED=<seed> cargo test --test fuzz fuzz::fuzz_short`. The counts are in
 //! docs/reliability.md.
 
-#[allow(dead_code)]
-#[path = "../examples/custom_rotor/rotor.rs"]
-mod rotor;
+use crate::rotor;
 
 use std::cell::RefCell;
 use std::collections::BTreeMap;
@@ -1548,7 +1546,8 @@ fn short_seed() -> u64 {
 #[test]
 fn fuzz_short() {
     let seed = short_seed();
-    let again = format!("FUZZ_SEED={seed:#x} cargo test --test fuzz fuzz_short -- --nocapture");
+    let again =
+        format!("FUZZ_SEED={seed:#x} cargo test --test fuzz fuzz::fuzz_short -- --nocapture");
     println!("fuzz_short: seed {seed:#x} (to run it again: {again})");
     let runs = fuzz(run_case(), 300, seed, true, check_run)
         .unwrap_or_else(|e| panic!("seed {seed:#x} ({again}): {e}"));
@@ -1582,7 +1581,7 @@ fn fuzz_short() {
 /// ring-element cases (default 1e5, seed + 1), without stopping at a defect; prints each
 /// seed's counts as it finishes, and fails at the end if any seed had a defect.
 #[test]
-#[ignore = "long run (three seeds, minutes each): FUZZ_CASES=100000 nice cargo test --test fuzz -- --ignored --nocapture"]
+#[ignore = "long run (three seeds, minutes each): FUZZ_CASES=100000 nice cargo test --test fuzz fuzz:: -- --ignored --nocapture"]
 fn fuzz_long() {
     let mut summary = Vec::new();
     for seed in long_seeds() {

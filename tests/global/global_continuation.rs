@@ -204,8 +204,7 @@ fn the_period_3_orbit_is_followed_through_its_fold() {
     );
 }
 
-#[path = "support/examples.rs"]
-mod support;
+use crate::support;
 
 #[test]
 fn the_example_prints_one_json_object_per_special_point() {

@@ -2,9 +2,7 @@
 //! With `q = k3 = 0` it is the paper's model with an integrated (instead of closed-form) free
 //! flight: the two must agree over 300 forcing periods with the same contacts.
 
-#[allow(dead_code)]
-#[path = "../examples/custom_rotor/rotor.rs"]
-mod rotor;
+use crate::rotor;
 
 use jeffcott::hybrid::{simulate, OutputPlan, RotorModel, SimOptions, Trajectory};
 use jeffcott::nalgebra::{SVector, U6};
@@ -109,7 +107,7 @@ fn cross_coupling_and_cubic_bearing_change_the_orbit() {
 /// The paper's rotor (`q = k3 = 0`) on its steady circular orbit about `e`, radius
 /// $|Z| = B/|1 - \eta^2 + 2i\nu_1\eta|$, with `e` placed so that the orbit's outermost point is
 /// `depth` beyond the gap circle: a touch of that depth once per period (closed form, the same
-/// scene as `tests/simulation.rs`'s grazing scene for the paper's model).
+/// scene as `tests/simulation/simulation.rs`'s grazing scene for the paper's model).
 fn touch_scene(depth: f64) -> (jeffcott::params::Params, SVector<f64, 6>) {
     let base = Preset::Fig8a.params().with_eta(1.5);
     let b = base.forcing_amplitude();

@@ -865,7 +865,8 @@ fn onset_search_agrees_with_brute_force_on_1e4_near_grazing_cases() {
     check(10_000, 0x5EED_0001);
 }
 
-/// The full 1e5 cases (about ten times as long): `cargo test --test onset_bruteforce -- --ignored`.
+/// The full 1e5 cases (about ten times as long):
+/// `cargo test --test ring onset_bruteforce:: -- --ignored`.
 #[test]
 #[ignore]
 fn onset_search_agrees_with_brute_force_on_1e5_near_grazing_cases() {

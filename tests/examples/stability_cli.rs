@@ -2,8 +2,7 @@
 //! mode (`orbit`, `lyapunov`, `locate-loss`, `pictures`); status 2 with one line on standard
 //! error for bad input.
 
-#[path = "support/examples.rs"]
-mod support;
+use crate::support;
 
 use std::process::{Command, Output};
 

@@ -4,7 +4,7 @@
 //! advance is [`SimErrorKind::Stalled`], not a false chattering.
 //!
 //! The survey behind the numbers in docs/model.md is `survey` below:
-//! `cargo test --test contact_loss survey -- --ignored --nocapture` (sizes from the
+//! `cargo test --test simulation contact_loss::survey -- --ignored --nocapture` (sizes from the
 //! environment: `PER_ISO`, `PER_ANISO`, `PERIODS`).
 
 use std::collections::BTreeMap;

@@ -7,12 +7,8 @@
 //! and a station with a constant position offset (an eccentric ring, as in the flexible
 //! shaft) is a valid station whose stability analysis now works.
 
-#[allow(dead_code)]
-#[path = "../examples/custom_rotor/rotor.rs"]
-mod custom;
-#[allow(dead_code)]
-#[path = "../examples/flexible_shaft/shaft.rs"]
-mod shaft;
+use crate::rotor as custom;
+use crate::shaft;
 
 use jeffcott::hybrid::SimOptions;
 use jeffcott::nalgebra::{DVector, SVector, Vector2, U6};
@@ -202,10 +198,10 @@ fn sound_rotors_are_accepted() {
 #[test]
 fn an_eccentric_station_has_the_paper_models_multipliers() {
     // The flexible shaft in one mode is the paper's model, its station offset by the
-    // eccentricity (tests/flexible_shaft.rs). Before, the stability tools took the station
-    // map for linear and misplaced the ring: `periodic_orbit` failed with "cannot tell where
+    // eccentricity (tests/simulation/flexible_shaft.rs). Before, the stability tools took the
+    // station map for linear and misplaced the ring: `periodic_orbit` failed with "cannot tell where
     // the ring was placed at s = (1e-16, -3e-17): no contact branch puts it there".
-    // The reference: the paper model's multipliers (tests/stability_models.rs, from the
+    // The reference: the paper model's multipliers (tests/stability/stability_models.rs, from the
     // closed-form model).
     let p = Preset::Fig8a.params().with_eta(2.0);
     assert!(p.ex != 0.0);

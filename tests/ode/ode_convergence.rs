@@ -7,7 +7,7 @@
 use jeffcott::ode::{AnyIntegrator, Integrator, Method, OdeSystem, Options};
 use nalgebra::{Const, SVector};
 
-mod common;
+use crate::common;
 use common::{slope, Kepler, V4};
 
 /// Forced oscillator $x'' = -x + \cos 2t$ written as a first-order system

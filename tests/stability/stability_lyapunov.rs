@@ -170,8 +170,8 @@ fn bad_options_are_typed_errors() {
 
 /// The reference's ensemble: 8 runs of 100 000 periods from x0 = 0.1 k, batches of 5000.
 /// 8 x 2 x 100 600 periods: about 4 minutes of one core (16 on a loaded two-core machine):
-/// `cargo test --test stability_lyapunov -- --ignored`. Measured: 0.19583 +- 0.00042 (D = 0),
-/// 0.23606 +- 0.00058 (D = 0.1).
+/// `cargo test --test stability stability_lyapunov:: -- --ignored`. Measured: 0.19583 +- 0.00042
+/// (D = 0), 0.23606 +- 0.00058 (D = 0.1).
 #[test]
 #[ignore]
 fn long_ensemble_at_eta_2_442() {

@@ -1,0 +1,15 @@
+//! Integration tests of the ODE layer (`jeffcott::ode`), one module per file:
+//! `cargo test --test ode`, or one module: `cargo test --test ode ode_events::`.
+//! The allocation counts are apart, in `tests/ode_alloc.rs` (a counting global allocator).
+
+/// Test models with known solutions (shared by the integrator tests).
+#[path = "../common/mod.rs"]
+mod common;
+
+mod ode_adaptive;
+mod ode_convergence;
+mod ode_determinism;
+mod ode_dyn;
+mod ode_errors;
+mod ode_events;
+mod ode_honesty;
