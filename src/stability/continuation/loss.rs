@@ -58,9 +58,10 @@ pub struct LossOptions {
     pub bracket_width: f64,
     /// Largest number of continuation steps. Default 10 000.
     pub max_steps: usize,
-    /// Largest Newton correction $\max_i |z^{\ast}_i - z_{{\rm predicted}, i}|/s_i$ accepted in
-    /// a step, $s_i$ the model's [`state_scale`](crate::hybrid::RotorModel::state_scale) (a
-    /// larger one halves the step: Newton may have jumped to another orbit). Default 0.05.
+    /// Largest Newton correction $\max_i |z_i^{\ast} - z_i^{\rm pred}|/s_i$ accepted in a step
+    /// (from the predicted $z^{\rm pred}$), $s_i$ the model's
+    /// [`state_scale`](crate::hybrid::RotorModel::state_scale) (a larger one halves the step:
+    /// Newton may have jumped to another orbit). Default 0.05.
     pub max_correction: f64,
     /// Go on through grazing bifurcations after which the orbit is still stable (a contact or a
     /// regime boundary appears or disappears, the multipliers stay inside the unit circle),
