@@ -5,7 +5,7 @@
 
 use jeffcott::params::{Params, Preset};
 use jeffcott::stability::{
-    continue_orbit, switch_at_flip, BranchEnd, ContinuationOptions, SpecialKind,
+    continue_orbit, switch_at_flip, BranchEnd, ContinuationOptions, SpecialKind, StabilityError,
 };
 use jeffcott::JeffcottModel;
 
@@ -156,6 +156,16 @@ fn period_1_flips_at_the_reference_values_and_the_period_2_branch_is_found() {
         assert!(
             dx > 1e-3,
             "{preset}: the two points of period 2 differ by {dx}"
+        );
+        // A flip detected but not located (its bracket did not converge) is no place to
+        // switch: its point and eigenvector belong to the bracket's near end, not the flip.
+        let mut unlocated = f.clone();
+        unlocated.converged = false;
+        let refused = switch_at_flip(build, &unlocated, 2.3, 1, &config);
+        assert!(
+            matches!(refused, Err(StabilityError::NoSwitch { .. })),
+            "{preset}: switched at an unconverged flip: {:?}",
+            refused.map(|b| b.points.len())
         );
     }
 }

@@ -907,7 +907,8 @@ where
 ///
 /// # Errors
 /// [`StabilityError::InvalidOption`] if `flip` is not a flip with an eigenvector;
-/// [`StabilityError::NoSwitch`] if no orbit of the doubled period is found next to it.
+/// [`StabilityError::NoSwitch`] if no orbit of the doubled period is found next to it, or if
+/// the flip was detected but not located (`converged` false; the source is its `unconverged`).
 pub fn switch_at_flip<M, B, E>(
     build: B,
     flip: &SpecialPoint,
@@ -939,6 +940,17 @@ where
         parameter: flip.parameter,
         source: Box::new(e),
     };
+    // A flip detected but not located: its point and eigenvector are the bracket's near end,
+    // possibly far from the flip, where the doubled branch need not start.
+    if !flip.converged {
+        return Err(no_switch(flip.unconverged.clone().unwrap_or(
+            StabilityError::InvalidOption {
+                field: "flip.converged",
+                value: flip.parameter,
+                hint: "a flip whose bracket converged",
+            },
+        )));
+    }
     let (solver, model) = Solver::new(&build, doubled, opts, flip.parameter).map_err(no_switch)?;
     let (single, _) = Solver::new(&build, period, opts, flip.parameter).map_err(no_switch)?;
     let template = OVector::<f64, M::Dim>::from_iterator_generic(
