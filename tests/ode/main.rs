@@ -13,3 +13,5 @@ mod ode_dyn;
 mod ode_errors;
 mod ode_events;
 mod ode_honesty;
+mod ode_stiff_jumps;
+mod ode_stiff_set;
