@@ -9,6 +9,9 @@
 //! $$c(t) = e^{-t} + \sum_{k:\thinspace t_k \le t} e^{-(t - t_k)}.$$
 //! The fast mode is never excited, but an explicit method's step is still bounded by its
 //! stability limit ($h \lesssim 6/1000$ for DOP853).
+//!
+//! `bench-compare/examples/stiff_jumps.rs` includes this file to put diffsol's solvers on the
+//! same problem (hence the `pub` items).
 
 use jeffcott::numeric::Direction;
 use jeffcott::ode::{
@@ -26,14 +29,16 @@ type V2 = SVector<f64, 2>;
 /// 2.9e-12 at 1e-13 / 1e-15).
 const JUMP_METHODS: &[(Method, f64, f64)] = &[(Method::Dop853, 1e-13, 1e-15)];
 
-/// Number of jumps and their spacing.
-const JUMPS: usize = 100;
-const SPACING: f64 = 0.05;
+/// Number of jumps.
+pub const JUMPS: usize = 100;
+/// Time between jumps.
+pub const SPACING: f64 = 0.05;
 
 /// The largest error allowed at the last jump, $t = 5$ (issue 19).
 const MAX_ERROR: f64 = 1e-10;
 
-fn jump_time(k: usize) -> f64 {
+/// The time of jump `k`.
+pub fn jump_time(k: usize) -> f64 {
     SPACING * k as f64
 }
 
@@ -62,7 +67,7 @@ impl EventSet<U2> for NextJump {
 }
 
 /// The closed form $c(t)$ just after the jumps at $t_k \le t$ ($k \le$ `jumps_done`).
-fn closed_form(t: f64, jumps_done: usize) -> f64 {
+pub fn closed_form(t: f64, jumps_done: usize) -> f64 {
     (-t).exp()
         + (1..=jumps_done)
             .map(|k| (-(t - jump_time(k))).exp())
@@ -70,16 +75,21 @@ fn closed_form(t: f64, jumps_done: usize) -> f64 {
 }
 
 /// What a run gives: the jumps found, the time and state just after the last one, the work.
-struct JumpRun {
-    jumps: usize,
-    t: f64,
-    y: V2,
-    steps: u64,
-    rejected: u64,
+pub struct JumpRun {
+    /// Jumps found.
+    pub jumps: usize,
+    /// Time of the last jump.
+    pub t: f64,
+    /// State just after it.
+    pub y: V2,
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected steps.
+    pub rejected: u64,
 }
 
 /// Integrates from 0 through the last jump (stopping just after it).
-fn run_jumps(method: Method, rtol: f64, atol: f64) -> Result<JumpRun, OdeError> {
+pub fn run_jumps(method: Method, rtol: f64, atol: f64) -> Result<JumpRun, OdeError> {
     let sys = stiff_pair;
     let mut integ = AnyIntegrator::<U2>::new(method, Options::with_tol(rtol, atol))?;
     integ.reset(&sys, 0.0, &V2::new(1.0, 1.0), false)?;
