@@ -34,7 +34,12 @@ type C = <M as MatrixCommon>::C;
 type T = <M as MatrixCommon>::T;
 
 /// The tolerance pairs: diffsol's book's, then tighter ones.
-const TOLERANCES: [(f64, f64); 4] = [(1e-8, 1e-10), (1e-10, 1e-12), (1e-12, 1e-14), (1e-13, 1e-15)];
+const TOLERANCES: [(f64, f64); 4] = [
+    (1e-8, 1e-10),
+    (1e-10, 1e-12),
+    (1e-12, 1e-14),
+    (1e-13, 1e-15),
+];
 
 /// A run's outcome: steps, rejected steps, the largest component error at t = 5.
 struct Outcome {

@@ -30,9 +30,17 @@ mod problems;
 
 use clap::Parser;
 use common::cli::{f64_in, num, parse, usize_in};
-use common::scene::MethodFlag;
 use jeffcott::ode::Method;
 use problems::{run, Problem, Run};
+
+/// The adaptive methods (a fixed-step method has no place on a stiff problem's long interval).
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+enum MethodFlag {
+    /// Dormand-Prince 8(5,3), explicit
+    Dop853,
+    /// Dormand-Prince 5(4), explicit
+    Dopri5,
+}
 
 /// The stiff test set: one JSON line per problem.
 #[derive(Parser, Debug)]
@@ -68,7 +76,6 @@ fn method_of(flag: MethodFlag) -> Method {
     match flag {
         MethodFlag::Dop853 => Method::Dop853,
         MethodFlag::Dopri5 => Method::Dopri5,
-        MethodFlag::Rk4 => Method::Rk4,
     }
 }
 

@@ -116,7 +116,10 @@ fn scd_follows_the_test_set_convention() {
     let y = [2.0 * (1.0 + 1e-9), -4.0e-3 * (1.0 - 1e-7), 5.0, 7.0];
     assert!((scd(&y, &reference) - 7.0).abs() < 1e-6);
     assert_eq!(scd(&reference, &reference), 16.0);
-    assert_eq!(scd(&[f64::NAN, 0.0, 0.0, 0.0], &reference), f64::NEG_INFINITY);
+    assert_eq!(
+        scd(&[f64::NAN, 0.0, 0.0, 0.0], &reference),
+        f64::NEG_INFINITY
+    );
     // Mixed error with atol/rtol = 1e-2: every component counts, the worst is 7 / 1e-2.
     assert!((mescd(&y, &reference, 1e-8, 1e-10) + 700f64.log10()).abs() < 1e-9);
 }
