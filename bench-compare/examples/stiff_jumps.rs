@@ -9,8 +9,8 @@
 //! atol 1e-10; issue 19 asks for an error of at most 1e-10 at t = 5, so tighter pairs are run
 //! as well.
 //!
-//! Run: `cargo run -p bench-compare --release --example stiff_jumps`. Measured (diffsol 0.16.2,
-//! 2026-11): diffsol reproduces its book's counts at its tolerances (ESDIRK34 559 steps, 74
+//! Run: `cargo run -p bench-compare --features diffsol --release --example stiff_jumps`.
+//! Measured (diffsol 0.16.2, 2026-11): diffsol reproduces its book's counts at its tolerances (ESDIRK34 559 steps, 74
 //! rejected; BDF 2512 and 592) with errors at t = 5 of 1.2e-6 and 3.3e-6; at rtol 1e-13,
 //! atol 1e-15 ESDIRK34 takes 5822 steps for 4.6e-10, BDF 6007 for 2.4e-11, TR-BDF2 54935 for
 //! 6.9e-9; DOP853 takes 832 to 895 steps at every pair (its stability limit, h ~ 0.006, sets

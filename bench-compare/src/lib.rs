@@ -5,4 +5,4 @@
 //!   crate; run it with `cargo bench -p bench-compare`; docs/performance.md gives its tables;
 //! * `examples/stiff_jumps.rs`: the stiff problem with 100 jumps (issue 19) with diffsol's
 //!   ESDIRK34, TR-BDF2 and BDF; run it with
-//!   `cargo run -p bench-compare --release --example stiff_jumps`.
+//!   `cargo run -p bench-compare --features diffsol --release --example stiff_jumps`.
