@@ -37,7 +37,7 @@
 
 use nalgebra::{DVector, DefaultAllocator, OVector};
 
-use super::{canonical, crossings, largest_real_positive, SpecialKind};
+use super::{canonical, crossings, largest_real_positive, model, SpecialKind};
 use crate::hybrid::{Variational, VariationalAlloc};
 use crate::numeric::{bisect, Side};
 use crate::stability::error::StabilityError;
@@ -276,10 +276,7 @@ where
         template: &OVector<f64, M::Dim>,
         z: &DVector<f64>,
     ) -> Result<PeriodicOrbit<M::Dim>, StabilityError> {
-        let model = (self.build)(p).map_err(|e| StabilityError::Model {
-            parameter: p,
-            reason: e.to_string(),
-        })?;
+        let model = model(self.build, p)?;
         let guess = model.section_state(0.0, template, z.as_slice());
         let o = periodic_orbit(&model, &guess, self.period, &self.opts.orbit)?;
         let correction = (&o.point - z).component_div(&self.scale).amax();
@@ -350,10 +347,7 @@ where
     E: std::fmt::Display,
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
-    let model = build(from).map_err(|e| StabilityError::Model {
-        parameter: from,
-        reason: e.to_string(),
-    })?;
+    let model = model(build, from)?;
     let first = periodic_orbit(&model, guess, period, &opts.orbit)?;
     if first.spectral_radius() >= 1.0 {
         return Err(StabilityError::Unstable {
