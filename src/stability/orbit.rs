@@ -299,6 +299,9 @@ where
     Ok(summarise(pieces, min_event_margin, structure))
 }
 
+/// A smooth piece's start: its time and state.
+type PieceStart<D> = (f64, OVector<f64, D>);
+
 /// The starts of the orbit's smooth pieces over `[0, t_end]`: the orbit's start and the state
 /// after each event of a plain run.
 fn piece_starts<M>(
@@ -306,7 +309,7 @@ fn piece_starts<M>(
     state: &OVector<f64, M::Dim>,
     t_end: f64,
     sim: &SimOptions,
-) -> Result<Vec<(f64, OVector<f64, M::Dim>)>, StabilityError>
+) -> Result<Vec<PieceStart<M::Dim>>, StabilityError>
 where
     M: Variational,
     DefaultAllocator: VariationalAlloc<M::Dim>,
@@ -326,7 +329,7 @@ where
         t: e.t,
     };
     simulate(model, 0.0, state, &plan, sim, &mut rec).map_err(fail)?;
-    let mut starts: Vec<(f64, OVector<f64, M::Dim>)> = vec![(0.0, state.clone_owned())];
+    let mut starts: Vec<PieceStart<M::Dim>> = vec![(0.0, state.clone_owned())];
     for e in &rec.events {
         starts.push((e.t, e.after.clone()));
     }
