@@ -20,6 +20,14 @@
 //! [`StabilityLoss`] always has a bracket of at most the width (or two adjacent floats). The
 //! kinds are the one definition of [`super`] ([`SpecialKind`]).
 //!
+//! Why this loop and not [`continue_orbit`](super::continue_orbit)'s: with the parameter held
+//! fixed (the constraint row $e_p$) the core's bordered corrector is Newton on $P^n(z) - z$,
+//! which is what [`periodic_orbit`] runs (the one Newton, with its step halvings), so the steps
+//! here call that directly. Through the core each solve would also evaluate $F_p$ (two more
+//! runs of the map per iteration, unused at a fixed parameter) and return a branch point
+//! without what this question needs at every step: the orbit's margins, minimal period and
+//! monodromy.
+//!
 //! **A failure is not a bifurcation.** Where no orbit is found at the far end of the final
 //! bracket, the branch ends there; that is called a bifurcation only on positive evidence at
 //! the last orbit found, and only when what failed is Newton itself (no convergence, a
