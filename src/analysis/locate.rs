@@ -110,22 +110,7 @@ where
     S: Fn(&M, Option<&OVector<f64, M::Dim>>) -> Result<OVector<f64, M::Dim>, ModelError>,
     DefaultAllocator: Allocator<M::Dim>,
 {
-    if !(from.is_finite() && to.is_finite() && from != to) {
-        return Err(AnalysisError::InvalidValue {
-            name: "to",
-            value: to,
-            expected: "finite and different from a finite `from`",
-        }
-        .into());
-    }
-    if !(config.resolution.is_finite() && config.resolution > 0.0) {
-        return Err(AnalysisError::InvalidValue {
-            name: "resolution",
-            value: config.resolution,
-            expected: "a finite number > 0",
-        }
-        .into());
-    }
+    check_ends(from, to, config)?;
     let mut evaluations = 0;
     let mut classify = |v: f64| -> Result<Periodicity, OrbitError<M::Dim, E>> {
         evaluations += 1;
@@ -176,4 +161,23 @@ where
         },
         evaluations,
     })
+}
+
+/// The ends of [`locate_period_change`] finite and distinct, its resolution finite and > 0.
+fn check_ends(from: f64, to: f64, config: &LocatorConfig) -> Result<(), AnalysisError> {
+    if !(from.is_finite() && to.is_finite() && from != to) {
+        return Err(AnalysisError::InvalidValue {
+            name: "to",
+            value: to,
+            expected: "finite and different from a finite `from`",
+        });
+    }
+    if !(config.resolution.is_finite() && config.resolution > 0.0) {
+        return Err(AnalysisError::InvalidValue {
+            name: "resolution",
+            value: config.resolution,
+            expected: "a finite number > 0",
+        });
+    }
+    Ok(())
 }

@@ -365,42 +365,15 @@ pub fn find_attractor<M: RotorModel>(
 where
     DefaultAllocator: Allocator<M::Dim>,
 {
-    let invalid = |field, value: f64, hint| SimError {
-        kind: SimErrorKind::InvalidOption { field, value, hint },
-        t: 0.0,
-        y: y0.clone(),
-        stats: SimStats::default(),
-    };
+    if let Some((field, value, hint)) = invalid_setting(config) {
+        return Err(SimError {
+            kind: SimErrorKind::InvalidOption { field, value, hint },
+            t: 0.0,
+            y: y0.clone(),
+            stats: SimStats::default(),
+        });
+    }
     let test = config.period_test;
-    if test.max_period == 0 {
-        return Err(invalid(
-            "period_test.max_period",
-            0.0,
-            "test periods up to at least 1",
-        ));
-    }
-    if !(test.tol.is_finite() && test.tol >= 0.0) {
-        return Err(invalid(
-            "period_test.tol",
-            test.tol,
-            "a finite tolerance >= 0",
-        ));
-    }
-    let needed = 2 * test.max_period as u64;
-    if config.record < needed {
-        return Err(invalid(
-            "record",
-            config.record as f64,
-            "record at least 2 * period_test.max_period points",
-        ));
-    }
-    if config.max_transient < config.transient {
-        return Err(invalid(
-            "max_transient",
-            config.max_transient as f64,
-            "max_transient must be at least transient",
-        ));
-    }
     let scale = model.state_scale();
     let mut start = y0.clone();
     let mut transient_done = 0u64;
@@ -434,6 +407,36 @@ where
         // Slowly attracting or not periodic: go on from the last state.
         start = obs.strobe.last().cloned().unwrap_or(start);
     }
+}
+
+/// The first invalid setting of [`find_attractor`] (field, value, hint), if any.
+fn invalid_setting(config: &AttractorConfig) -> Option<(&'static str, f64, &'static str)> {
+    let test = config.period_test;
+    if test.max_period == 0 {
+        return Some((
+            "period_test.max_period",
+            0.0,
+            "test periods up to at least 1",
+        ));
+    }
+    if !(test.tol.is_finite() && test.tol >= 0.0) {
+        return Some(("period_test.tol", test.tol, "a finite tolerance >= 0"));
+    }
+    if config.record < 2 * test.max_period as u64 {
+        return Some((
+            "record",
+            config.record as f64,
+            "record at least 2 * period_test.max_period points",
+        ));
+    }
+    if config.max_transient < config.transient {
+        return Some((
+            "max_transient",
+            config.max_transient as f64,
+            "max_transient must be at least transient",
+        ));
+    }
+    None
 }
 
 /// [`Attractor::scale`] from the model's: empty for a scale of 1 everywhere (the paper's

@@ -45,7 +45,7 @@ use nalgebra::{DefaultAllocator, OVector};
 use super::attractor::AttractorConfig;
 use super::failure::PointFailure;
 use super::record::Record;
-use super::runner::{check_points, compute, PointResults, RunConfig, Shard};
+use super::runner::{check_points, compute, Computed, PointResults, RunConfig, Shard};
 use super::scan::{attractor_at, check_settings, Grid2, GridScan};
 use super::store::{decode_line, fingerprint, Manifest, StoreError, SweepStore};
 use crate::analysis::Progress;
@@ -128,46 +128,13 @@ where
 {
     let rank = comm.rank() as usize;
     let size = comm.size() as usize;
-    let root = rank == 0;
     if let Some(shard) = config.shard {
         return Err(StoreError::Mpi(format!(
             "shard {shard} given to an MPI run: the ranks split the whole sweep; run one shard per process without MPI, or the whole sweep with MPI"
         )));
     }
-
-    // The same points on every rank.
-    let fingerprint = agree(comm, fingerprint(points), "to write its points")?;
-    let mut check = vec![points.len() as u64, fingerprint];
-    broadcast_u64s(comm, &mut check);
-    let same = if check == [points.len() as u64, fingerprint] {
-        check_points(points, store)
-    } else {
-        Err(StoreError::Mpi(format!(
-            "rank {rank} was given other points than rank 0 ({} points, fingerprint {fingerprint:016x}; rank 0: {} points, {:016x})",
-            points.len(), check[0], check.get(1).copied().unwrap_or(0)
-        )))
-    };
-    agree(comm, same, "the check of the points")?;
-
-    // Rank 0 reads the folder and says what is left to do.
-    let loaded = match (root, store) {
-        (true, Some(s)) => s.load::<T, E>().map(Some),
-        _ => Ok(None),
-    };
-    let loaded = agree(comm, loaded, "to read the folder")?;
-    let (mut results, duplicates) = match loaded {
-        Some(l) => (l.results, l.duplicates),
-        None => ((0..points.len()).map(|_| None).collect(), 0),
-    };
-    let mut todo: Vec<u64> = if root {
-        (0..points.len())
-            .filter(|&i| results[i].is_none())
-            .map(|i| i as u64)
-            .collect()
-    } else {
-        Vec::new()
-    };
-    broadcast_u64s(comm, &mut todo);
+    check_same_points(comm, points, store)?;
+    let (mut results, duplicates, todo) = what_is_left::<C, T, E>(comm, points.len(), store)?;
     // The shard rule: rank r of n takes positions r, r + n, … of the list.
     let mine: Vec<usize> = Shard::new(rank, size)?
         .take(&todo)
@@ -182,9 +149,86 @@ where
         .and_then(|w| compute(points, &mine, w, config, &runner, progress));
     let (records, threads) = agree(comm, local, "while running its points")?;
 
-    // Gather the record lines on rank 0.
+    let Some(text) = gather_records(comm, &records)? else {
+        return Ok(None);
+    };
+    let computed = fill_from_records(&text, &mut results)?;
+    Ok(Some(PointResults {
+        results,
+        reused,
+        computed,
+        duplicates,
+        threads,
+    }))
+}
+
+/// Checks (collectively) that every rank was given the points of rank 0 and that they fit
+/// the store.
+fn check_same_points<C: Communicator, P: Record>(
+    comm: &C,
+    points: &[P],
+    store: Option<&SweepStore>,
+) -> Result<(), StoreError> {
+    let rank = comm.rank();
+    let fingerprint = agree(comm, fingerprint(points), "to write its points")?;
+    let mut check = vec![points.len() as u64, fingerprint];
+    broadcast_u64s(comm, &mut check);
+    let same = if check == [points.len() as u64, fingerprint] {
+        check_points(points, store)
+    } else {
+        Err(StoreError::Mpi(format!(
+            "rank {rank} was given other points than rank 0 ({} points, fingerprint {fingerprint:016x}; rank 0: {} points, {:016x})",
+            points.len(), check[0], check.get(1).copied().unwrap_or(0)
+        )))
+    };
+    agree(comm, same, "the check of the points")
+}
+
+/// The outcomes recorded in the folder and the duplicates found there (as rank 0 reads them;
+/// none on the other ranks), and the indices still to run (broadcast from rank 0).
+type Left<T, E> = (Vec<Option<Result<T, E>>>, usize, Vec<u64>);
+
+/// Rank 0 reads the folder and says what is left to do (collective).
+fn what_is_left<C, T, E>(
+    comm: &C,
+    n: usize,
+    store: Option<&SweepStore>,
+) -> Result<Left<T, E>, StoreError>
+where
+    C: Communicator,
+    T: Record,
+    E: Record,
+{
+    let root = comm.rank() == 0;
+    let loaded = match (root, store) {
+        (true, Some(s)) => s.load::<T, E>().map(Some),
+        _ => Ok(None),
+    };
+    let loaded = agree(comm, loaded, "to read the folder")?;
+    let (results, duplicates) = match loaded {
+        Some(l) => (l.results, l.duplicates),
+        None => ((0..n).map(|_| None).collect(), 0),
+    };
+    let mut todo: Vec<u64> = if root {
+        (0..n)
+            .filter(|&i| results[i].is_none())
+            .map(|i| i as u64)
+            .collect()
+    } else {
+        Vec::new()
+    };
+    broadcast_u64s(comm, &mut todo);
+    Ok((results, duplicates, todo))
+}
+
+/// Gathers the record lines of every rank on rank 0 (collective): their text there, `None`
+/// on the other ranks.
+fn gather_records<C: Communicator, T, E>(
+    comm: &C,
+    records: &[Computed<T, E>],
+) -> Result<Option<String>, StoreError> {
     let mut bytes = Vec::new();
-    for r in &records {
+    for r in records {
         bytes.extend_from_slice(r.line.as_bytes());
         bytes.push(b'\n');
     }
@@ -201,14 +245,14 @@ where
         )));
     };
     let root_process = comm.process_at_rank(0);
-    if !root {
+    if comm.rank() != 0 {
         root_process.gather_into(&count);
         root_process.gather_varcount_into(&bytes[..]);
         return Ok(None);
     }
-    let mut counts: Vec<Count> = vec![0; size];
+    let mut counts: Vec<Count> = vec![0; comm.size() as usize];
     root_process.gather_into_root(&count, &mut counts[..]);
-    let mut displs: Vec<Count> = Vec::with_capacity(size);
+    let mut displs: Vec<Count> = Vec::with_capacity(counts.len());
     let mut acc: Count = 0;
     for &c in &counts {
         displs.push(acc);
@@ -219,8 +263,16 @@ where
         let mut partition = PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
         root_process.gather_varcount_into_root(&bytes[..], &mut partition);
     }
-    let text = String::from_utf8(all)
-        .map_err(|_| StoreError::Mpi("the gathered records are not UTF-8 text".into()))?;
+    String::from_utf8(all)
+        .map(Some)
+        .map_err(|_| StoreError::Mpi("the gathered records are not UTF-8 text".into()))
+}
+
+/// Puts each gathered record line's outcome in its empty slot of `results`; returns how many.
+fn fill_from_records<T: Record, E: Record>(
+    text: &str,
+    results: &mut [Option<Result<T, E>>],
+) -> Result<usize, StoreError> {
     let mut computed = 0;
     for (k, line) in text.lines().enumerate() {
         let (i, outcome) = decode_line::<T, E>(line).map_err(|message| StoreError::Corrupt {
@@ -240,13 +292,7 @@ where
             }
         }
     }
-    Ok(Some(PointResults {
-        results,
-        reused,
-        computed,
-        duplicates,
-        threads,
-    }))
+    Ok(computed)
 }
 
 /// [`super::scan_grid`] split across the ranks of `comm`. Collective; the scan is returned on

@@ -139,7 +139,6 @@ pub fn illinois(
     opts: &RootOptions,
     mut g: impl FnMut(f64) -> f64,
 ) -> Result<Bracket, NumericError> {
-    let (tol, max_iter) = (opts.tol, opts.max_evaluations);
     let mut out = Bracket {
         lo: a,
         g_lo: fa,
@@ -149,46 +148,24 @@ pub fn illinois(
         converged: false,
         nan_at: None,
     };
-    let pos_a = fa > 0.0;
     let is_bracket =
-        fa != 0.0 && !fa.is_nan() && !fb.is_nan() && (fb == 0.0 || (fb > 0.0) != pos_a);
+        fa != 0.0 && !fa.is_nan() && !fb.is_nan() && (fb == 0.0 || (fb > 0.0) != (fa > 0.0));
     if !is_bracket {
         return Err(NumericError::NotABracket { a, fa, b, fb });
     }
-    // The working values fa, fb are the Illinois-scaled ones.
-    let (mut a, mut fa, mut b, mut fb) = (a, fa, b, fb);
-    let mut side = 0i8;
-    let mut width = b - a;
-    let mut slow = 0u32;
+    let mut search = Search::new((a, fa), (b, fb));
     loop {
-        if fb == 0.0 || b - a <= tol {
+        if search.fb == 0.0 || search.b - search.a <= opts.tol {
             out.converged = true;
             break;
         }
-        if out.evaluations >= max_iter {
+        if out.evaluations >= opts.max_evaluations {
             break;
         }
-        let mut c = if opts.bisect_when_slow && slow >= 3 {
-            slow = 0;
-            0.5 * (a + b)
-        } else {
-            b - fb * (b - a) / (fb - fa)
+        let Some(c) = search.next_point(opts) else {
+            out.converged = true; // adjacent floats
+            break;
         };
-        // Never closer than half the tolerance to an end (b - a > tol here): once an end sits
-        // on the root to rounding (the secant point may then round onto it), the next point
-        // lands half a tolerance beyond it and closes the bracket, instead of bisecting from
-        // the far end.
-        let half = 0.5 * tol;
-        if !c.is_nan() && b - a > 2.0 * half {
-            c = c.max(a + half).min(b - half);
-        }
-        if !(c > a && c < b) {
-            c = 0.5 * (a + b);
-            if !(c > a && c < b) {
-                out.converged = true; // adjacent floats
-                break;
-            }
-        }
         let fc = g(c);
         out.evaluations += 1;
         if fc.is_nan() {
@@ -196,33 +173,100 @@ pub fn illinois(
             out.nan_at = Some(c);
             break;
         }
-        if fc == 0.0 || (fc > 0.0) != pos_a {
-            b = c;
-            fb = fc;
-            out.hi = c;
-            out.g_hi = fc;
-            if side == 1 {
-                fa *= 0.5;
-            }
-            side = 1;
-        } else {
-            a = c;
-            fa = fc;
-            out.lo = c;
-            out.g_lo = fc;
-            if side == -1 {
-                fb *= 0.5;
-            }
-            side = -1;
-        }
-        if b - a > 0.5 * width {
-            slow += 1;
-        } else {
-            slow = 0;
-        }
-        width = b - a;
+        search.take(c, fc, &mut out);
     }
     Ok(out)
+}
+
+/// The working state of [`illinois`]: the bracket with its Illinois-scaled values.
+struct Search {
+    a: f64,
+    /// $g(a)$, halved each time `a` is kept twice in a row.
+    fa: f64,
+    b: f64,
+    /// $g(b)$, halved each time `b` is kept twice in a row.
+    fb: f64,
+    /// Whether the initial $g(a)$ is positive: the side of `a`.
+    pos_a: bool,
+    /// The end replaced last: 1 for `b`, -1 for `a`, 0 before the first.
+    side: i8,
+    /// The bracket's width before the last step.
+    width: f64,
+    /// Steps in a row that did not halve the bracket.
+    slow: u32,
+}
+
+impl Search {
+    fn new((a, fa): (f64, f64), (b, fb): (f64, f64)) -> Self {
+        Search {
+            a,
+            fa,
+            b,
+            fb,
+            pos_a: fa > 0.0,
+            side: 0,
+            width: b - a,
+            slow: 0,
+        }
+    }
+
+    /// The next point strictly inside the bracket (`b - a > tol` here): the secant point, or
+    /// the midpoint after slow steps or when the secant leaves the bracket; `None` when the
+    /// ends are adjacent floats.
+    fn next_point(&mut self, opts: &RootOptions) -> Option<f64> {
+        let (a, b) = (self.a, self.b);
+        let mut c = if opts.bisect_when_slow && self.slow >= 3 {
+            self.slow = 0;
+            0.5 * (a + b)
+        } else {
+            b - self.fb * (b - a) / (self.fb - self.fa)
+        };
+        // Never closer than half the tolerance to an end (b - a > tol here): once an end sits
+        // on the root to rounding (the secant point may then round onto it), the next point
+        // lands half a tolerance beyond it and closes the bracket, instead of bisecting from
+        // the far end.
+        let half = 0.5 * opts.tol;
+        if !c.is_nan() && b - a > 2.0 * half {
+            c = c.max(a + half).min(b - half);
+        }
+        if !(c > a && c < b) {
+            c = 0.5 * (a + b);
+            if !(c > a && c < b) {
+                return None;
+            }
+        }
+        Some(c)
+    }
+
+    /// Replaces the end of the sign of `fc` by `c` (recorded in `out`), halving the value
+    /// kept twice in a row (the Illinois modification), and counts the slow steps.
+    fn take(&mut self, c: f64, fc: f64, out: &mut Bracket) {
+        if fc == 0.0 || (fc > 0.0) != self.pos_a {
+            self.b = c;
+            self.fb = fc;
+            out.hi = c;
+            out.g_hi = fc;
+            if self.side == 1 {
+                self.fa *= 0.5;
+            }
+            self.side = 1;
+        } else {
+            self.a = c;
+            self.fa = fc;
+            out.lo = c;
+            out.g_lo = fc;
+            if self.side == -1 {
+                self.fb *= 0.5;
+            }
+            self.side = -1;
+        }
+        if self.b - self.a > 0.5 * self.width {
+            self.slow += 1;
+        } else {
+            self.slow = 0;
+        }
+        self.width = self.b - self.a;
+    }
 }
 
 #[cfg(test)]

@@ -210,108 +210,166 @@ fn solve_mu(
     hint: f64,
 ) -> Result<Root, RingError> {
     // Callers check that |alpha| is positive and finite.
-    let bmin = bx.min(by);
-    let (ox, oy) = (bx - bmin, by - bmin);
-    let delta = ox.max(oy);
-    let norm = (ax * ax + ay * ay).sqrt();
-    // |alpha| of the soft axis (pole at u = 0) and of the stiff one (pole at u = -delta); with
-    // equal betas both axes are soft.
-    let (a_soft, a_stiff) = if delta <= 0.0 {
-        (norm, 0.0)
-    } else if bx <= by {
-        (ax.abs(), ay.abs())
-    } else {
-        (ay.abs(), ax.abs())
-    };
-    // The bracket: |d_soft| <= gamma, and |alpha|/(delta + u) <= |d| = gamma <= |alpha|/u.
-    let mut left = (lo + bmin)
-        .max(a_soft / gap)
-        .max(norm / gap - delta)
-        .max(0.0);
-    let mut right = (hi + bmin).min(norm / gap);
-    // If the stiff axis alone stays inside the ring up to the pole (d_t0 < gamma there), the
-    // soft axis takes at least the rest of the length: u <= |alpha_soft|/sqrt(gamma^2 - d_t0^2).
-    // (Zero when alpha_soft vanishes: the root is the pole's limit.)
-    if delta > 0.0 {
-        let dt0 = a_stiff / delta;
-        if dt0 < gap {
-            right = right.min(a_soft / ((gap - dt0) * (gap + dt0)).sqrt());
-        }
-    }
-    let (cx, cy) = ((ax, ox), (ay, oy));
-    let root = |u: f64, iterations: u32| Root {
-        mu: u - bmin,
-        shift: (ox + u, oy + u),
-        d: distances(cx, cy, gap, u),
-        iterations,
-    };
+    let eq = Equation::new((ax, bx), (ay, by), gap);
+    let (left, right) = eq.bracket(lo, hi);
     if left >= right {
         // A closed form (equal betas: u = |alpha|/gamma; the pole's limit), or the piece and
         // the bracket touch through rounding: the root is at their meeting.
-        return Ok(root(0.5 * (left + right), 0));
+        return Ok(eq.root(0.5 * (left + right), 0));
     }
-    let (a2x, a2y) = (ax * ax, ay * ay);
-    // Inside the bracket and off the pole at u = 0.
-    let valid = |u: f64, left: f64, right: f64| u >= left && u <= right && u > 0.0;
-    let mut u = if valid(hint + bmin, left, right) {
-        hint + bmin
-    } else {
-        // First-order guess: for u >> delta, |d|^2 ~ |alpha|^2/(u + o_bar)^2 with the
-        // alpha^2-weighted mean offset o_bar.
+    let u = eq.first_guess(hint, left, right);
+    eq.refine(u, left, right)
+}
+
+/// $|d(u)| = \gamma$ on fixed branch coefficients, in $u = \beta_{\min} + \mu$: each axis'
+/// $(\alpha_i, o_i)$ with the offset $o_i = \beta_i - \beta_{\min}$.
+struct Equation {
+    cx: (f64, f64),
+    cy: (f64, f64),
+    gap: f64,
+    bmin: f64,
+    /// $|\alpha|$.
+    norm: f64,
+    /// Whether the x axis is the soft one ($\beta_x \le \beta_y$).
+    soft_x: bool,
+}
+
+/// Inside the bracket and off the pole at u = 0.
+#[inline(always)]
+fn valid(u: f64, left: f64, right: f64) -> bool {
+    u >= left && u <= right && u > 0.0
+}
+
+impl Equation {
+    #[inline(always)]
+    fn new((ax, bx): (f64, f64), (ay, by): (f64, f64), gap: f64) -> Self {
+        let bmin = bx.min(by);
+        Equation {
+            cx: (ax, bx - bmin),
+            cy: (ay, by - bmin),
+            gap,
+            bmin,
+            norm: (ax * ax + ay * ay).sqrt(),
+            soft_x: bx <= by,
+        }
+    }
+
+    /// The root record at `u`.
+    #[inline(always)]
+    fn root(&self, u: f64, iterations: u32) -> Root {
+        Root {
+            mu: u - self.bmin,
+            shift: (self.cx.1 + u, self.cy.1 + u),
+            d: distances(self.cx, self.cy, self.gap, u),
+            iterations,
+        }
+    }
+
+    /// The bracket of the root in $u$ on the piece `[lo, hi]` of $\mu$ (empty when the root is
+    /// at the bracket's meeting point).
+    #[inline(always)]
+    fn bracket(&self, lo: f64, hi: f64) -> (f64, f64) {
+        let ((ax, ox), (ay, oy), gap, norm) = (self.cx, self.cy, self.gap, self.norm);
+        let delta = ox.max(oy);
+        // |alpha| of the soft axis (pole at u = 0) and of the stiff one (pole at u = -delta);
+        // with equal betas both axes are soft.
+        let (a_soft, a_stiff) = if delta <= 0.0 {
+            (norm, 0.0)
+        } else if self.soft_x {
+            (ax.abs(), ay.abs())
+        } else {
+            (ay.abs(), ax.abs())
+        };
+        // The bracket: |d_soft| <= gamma, and |alpha|/(delta + u) <= |d| = gamma <= |alpha|/u.
+        let left = (lo + self.bmin)
+            .max(a_soft / gap)
+            .max(norm / gap - delta)
+            .max(0.0);
+        let mut right = (hi + self.bmin).min(norm / gap);
+        // If the stiff axis alone stays inside the ring up to the pole (d_t0 < gamma there),
+        // the soft axis takes at least the rest of the length:
+        // u <= |alpha_soft|/sqrt(gamma^2 - d_t0^2). (Zero when alpha_soft vanishes: the root
+        // is the pole's limit.)
+        if delta > 0.0 {
+            let dt0 = a_stiff / delta;
+            if dt0 < gap {
+                right = right.min(a_soft / ((gap - dt0) * (gap + dt0)).sqrt());
+            }
+        }
+        (left, right)
+    }
+
+    /// The start: the hint if it is inside the bracket, else a first-order guess, else the
+    /// bracket's midpoint.
+    #[inline(always)]
+    fn first_guess(&self, hint: f64, left: f64, right: f64) -> f64 {
+        if valid(hint + self.bmin, left, right) {
+            return hint + self.bmin;
+        }
+        let ((ax, ox), (ay, oy)) = (self.cx, self.cy);
+        let (a2x, a2y) = (ax * ax, ay * ay);
+        // For u >> delta, |d|^2 ~ |alpha|^2/(u + o_bar)^2 with the alpha^2-weighted mean
+        // offset o_bar.
         let o_bar = (a2x * ox + a2y * oy) / (a2x + a2y);
-        let guess = (norm / gap - o_bar).max(left).min(right);
+        let guess = (self.norm / self.gap - o_bar).max(left).min(right);
         if valid(guess, left, right) {
             guess
         } else {
             0.5 * (left + right)
         }
-    };
-    let mut iterations = 0;
-    while iterations < MAX_ITERATIONS {
-        iterations += 1;
-        let (dx, dy) = distances(cx, cy, gap, u);
-        let (px, py) = (ox + u, oy + u);
-        let f = dx * dx + dy * dy;
-        // -f'(u)/2, and |d'(u)|: how far the ring moves per unit of u.
-        let s3 = dx * dx / px + dy * dy / py;
-        let speed = ((dx / px).powi(2) + (dy / py).powi(2)).sqrt();
-        let residual = f.sqrt() / gap - 1.0; // > 0 left of the root
-        if residual > 0.0 {
-            left = u;
-        } else if residual < 0.0 {
-            right = u;
-        } else {
-            return Ok(root(u, iterations));
-        }
-        let step = f * residual / s3;
-        let mut next = u + step;
-        // Newton while it converges (a handful of steps); a step that leaves the bracket, and
-        // every step after the first 8 (Newton lost in the rounding of the residual), bisects:
-        // geometrically while the bracket spans orders of magnitude (next to the pole).
-        let newton = iterations <= 8 && valid(next, left, right);
-        if !newton {
-            next = if left > 0.0 && right > 4.0 * left {
-                (left * right).sqrt()
-            } else {
-                0.5 * (left + right)
-            };
-        }
-        // Resolved once a Newton step is below 1e-10 of u (the soft axis' scale: the error left
-        // is ~ step^2/u, below rounding) or moves the ring by less than its rounding, or the
-        // bracket is at adjacent floats or moves the ring by less than its rounding.
-        let rounding = 4.0 * f64::EPSILON * gap;
-        let done = (newton && (step.abs() <= 1e-10 * u || step.abs() * speed <= rounding))
-            || right <= left.next_up()
-            || (right - left) * speed <= rounding;
-        u = next;
-        if done {
-            return Ok(root(u, iterations));
-        }
     }
-    Err(RingError::NotConverged {
-        iterations,
-        bracket: right - left,
-    })
+
+    /// Safeguarded Newton from `u` in the bracket `[left, right]`, to the ring's rounding.
+    fn refine(&self, mut u: f64, mut left: f64, mut right: f64) -> Result<Root, RingError> {
+        let (ox, oy, gap) = (self.cx.1, self.cy.1, self.gap);
+        let mut iterations = 0;
+        while iterations < MAX_ITERATIONS {
+            iterations += 1;
+            let (dx, dy) = distances(self.cx, self.cy, gap, u);
+            let (px, py) = (ox + u, oy + u);
+            let f = dx * dx + dy * dy;
+            // -f'(u)/2, and |d'(u)|: how far the ring moves per unit of u.
+            let s3 = dx * dx / px + dy * dy / py;
+            let speed = ((dx / px).powi(2) + (dy / py).powi(2)).sqrt();
+            let residual = f.sqrt() / gap - 1.0; // > 0 left of the root
+            if residual > 0.0 {
+                left = u;
+            } else if residual < 0.0 {
+                right = u;
+            } else {
+                return Ok(self.root(u, iterations));
+            }
+            let step = f * residual / s3;
+            let mut next = u + step;
+            // Newton while it converges (a handful of steps); a step that leaves the bracket,
+            // and every step after the first 8 (Newton lost in the rounding of the residual),
+            // bisects: geometrically while the bracket spans orders of magnitude (next to the
+            // pole).
+            let newton = iterations <= 8 && valid(next, left, right);
+            if !newton {
+                next = if left > 0.0 && right > 4.0 * left {
+                    (left * right).sqrt()
+                } else {
+                    0.5 * (left + right)
+                };
+            }
+            // Resolved once a Newton step is below 1e-10 of u (the soft axis' scale: the error
+            // left is ~ step^2/u, below rounding) or moves the ring by less than its rounding,
+            // or the bracket is at adjacent floats or moves the ring by less than its rounding.
+            let rounding = 4.0 * f64::EPSILON * gap;
+            let done = (newton && (step.abs() <= 1e-10 * u || step.abs() * speed <= rounding))
+                || right <= left.next_up()
+                || (right - left) * speed <= rounding;
+            u = next;
+            if done {
+                return Ok(self.root(u, iterations));
+            }
+        }
+        Err(RingError::NotConverged {
+            iterations,
+            bracket: right - left,
+        })
+    }
 }
 
 impl SnubberRing {

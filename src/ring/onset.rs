@@ -249,59 +249,26 @@ pub fn find_onset(
     separating: bool,
     stats: &mut OnsetStats,
 ) -> Onset {
-    let gap2 = ring.gap * ring.gap;
-    let eps_h = H_TOLERANCE * gap2;
-    let tc = ring.relaxation_time();
-    let inv_t = Vector2::new(inv_or_zero(tc.x), inv_or_zero(tc.y));
-    let crossings = ring_state.preload_crossings(ring);
-    let rb = rotor.bounds();
-    let r_bound = rb.position;
+    let search = OnsetSearch::new(rotor, ring_state, ring, separating);
     let mut t = t0;
     // Only a segment's start can be touching (right after contact loss, or a touch without
     // load); a later window start is a node like any other.
     let mut first = t0 == rotor.start();
     loop {
-        let (r, v, acc) = rotor.kinematics(t);
-        let (s, sd) = ring_state.right_state(ring, &crossings, t);
+        let mut node = search.node(t);
         stats.evaluations += 1;
-        let sdd = -sd.component_mul(&inv_t);
-        let q = Vector2::new(r.x - s.x, r.y - s.y);
-        let q1 = Vector2::new(v.x - sd.x, v.y - sd.y);
-        let q2 = Vector2::new(acc.x - sdd.x, acc.y - sdd.y);
-        let mut h = q.norm_squared() - gap2;
-        let mut h1 = 2.0 * q.dot(&q1);
-        let h2 = 2.0 * q1.norm_squared() + 2.0 * q.dot(&q2);
-        if !(h.is_finite() && h1.is_finite() && h2.is_finite()) {
+        if !(node.h.is_finite() && node.h1.is_finite() && node.h2.is_finite()) {
             // No bound holds on a closed form that is not finite: stop here rather than
             // certify anything; the caller meets the non-finite state at t.
             return Onset::At(t);
         }
-        if first {
-            // An onset that holds at the start (right after contact loss) does not fire again
-            // unless h is moving into contact.
+        let fires = if first {
             first = false;
-            // |r - s|^2 is rounded relative to the size of the terms of r and s: the closed
-            // form's terms can be far larger than r itself (a rest position many gaps out), and
-            // the rotor's position bound covers them.
-            let eps_start = eps_h
-                .max(16.0 * f64::EPSILON * ring.gap * (r.x.hypot(r.y).max(r_bound) + s.norm()));
-            if h.abs() <= eps_start {
-                // Touching at the start: right after contact loss (where h' = 2 gamma N / c
-                // is zero up to the rounding of the loss time) or a start on the ring. Only a
-                // clear move into contact fires: h' above its rounding level (relative 1e-9
-                // of its scale), or h' at that level with h'' > 0.
-                let scale = 2.0 * q.norm() * (v.x.hypot(v.y) + sd.norm() + 1e-300);
-                if h1.abs() <= 1e-9 * scale || separating {
-                    h1 = h1.min(0.0);
-                }
-                if !separating && (h1 > 0.0 || (h1 == 0.0 && h2 > 0.0)) {
-                    return Onset::At(t);
-                }
-                h = h.min(0.0);
-            } else if h > 0.0 {
-                return Onset::At(t);
-            }
-        } else if h >= -eps_h {
+            search.fires_at_start(&mut node)
+        } else {
+            node.h >= -search.eps_h
+        };
+        if fires {
             return Onset::At(t);
         }
         if t >= t_end {
@@ -309,14 +276,155 @@ pub fn find_onset(
         }
         // The closed form is smooth up to the next preload crossing: the Taylor bounds are
         // applied on [t, piece_end] only, from the derivatives of the piece after t.
-        let piece_end = next_after(&crossings, t).min(t_end);
-        // Bounds on the derivatives of q on [t, piece_end]: the rotor's from the segment start
+        let piece_end = next_after(&search.crossings, t).min(t_end);
+        let mut t_next = t + search.certified_step(&node, piece_end - t);
+        if t_next <= t && separating && t == t0 {
+            // Parting by assumption: make progress even when no bound certifies any.
+            t_next = t.next_up();
+        }
+        if t_next <= t {
+            // The certified step is below the time resolution ulp(t): the crossing is within
+            // one ulp. Report the first representable time after t when h is rising (so the
+            // onset lies on the contact side), t itself otherwise (a touch).
+            return Onset::At(if node.h1 > 0.0 {
+                t.next_up().min(t_end)
+            } else {
+                t
+            });
+        }
+        if t_next >= t_end && piece_end >= t_end {
+            // The certified step covers the rest of the window: no onset up to t_end, without
+            // an evaluation at t_end (the next window starts there with one).
+            return Onset::None;
+        }
+        t = t_next.min(piece_end);
+    }
+}
+
+/// What [`find_onset`] holds fixed over one window: the motions, the ring's relaxation times
+/// and preload crossings, the rotor's bounds and the tolerance on $h$.
+struct OnsetSearch<'a, R> {
+    rotor: &'a R,
+    ring_state: &'a Relaxation,
+    ring: &'a SnubberRing,
+    separating: bool,
+    gap2: f64,
+    /// $\varepsilon_h$: an onset is reported at the first node where $h \ge -\varepsilon_h$.
+    eps_h: f64,
+    /// $1/T_i$ of each axis (0 for an axis that does not relax).
+    inv_t: Vector2<f64>,
+    /// The ring's preload crossing times.
+    crossings: Vector2<f64>,
+    bounds: MotionBounds,
+}
+
+/// The closed form at one node: the rotor $r$, $r^\prime$ and the ring $s$, $s^\prime$, their
+/// difference $q = r - s$, and $h = |q|^2 - \gamma^2$ with its first two derivatives.
+struct Node {
+    r: Vector2<f64>,
+    v: Vector2<f64>,
+    s: Vector2<f64>,
+    sd: Vector2<f64>,
+    q: Vector2<f64>,
+    h: f64,
+    h1: f64,
+    h2: f64,
+}
+
+impl<'a, R: RotorMotion> OnsetSearch<'a, R> {
+    fn new(
+        rotor: &'a R,
+        ring_state: &'a Relaxation,
+        ring: &'a SnubberRing,
+        separating: bool,
+    ) -> Self {
+        let gap2 = ring.gap * ring.gap;
+        let tc = ring.relaxation_time();
+        OnsetSearch {
+            rotor,
+            ring_state,
+            ring,
+            separating,
+            gap2,
+            eps_h: H_TOLERANCE * gap2,
+            inv_t: Vector2::new(inv_or_zero(tc.x), inv_or_zero(tc.y)),
+            crossings: ring_state.preload_crossings(ring),
+            bounds: rotor.bounds(),
+        }
+    }
+
+    /// The closed form at `t` (one evaluation).
+    #[inline]
+    fn node(&self, t: f64) -> Node {
+        let (r, v, acc) = self.rotor.kinematics(t);
+        let (s, sd) = self.ring_state.right_state(self.ring, &self.crossings, t);
+        let sdd = -sd.component_mul(&self.inv_t);
+        let q = Vector2::new(r.x - s.x, r.y - s.y);
+        let q1 = Vector2::new(v.x - sd.x, v.y - sd.y);
+        let q2 = Vector2::new(acc.x - sdd.x, acc.y - sdd.y);
+        Node {
+            r,
+            v,
+            s,
+            sd,
+            q,
+            h: q.norm_squared() - self.gap2,
+            h1: 2.0 * q.dot(&q1),
+            h2: 2.0 * q1.norm_squared() + 2.0 * q.dot(&q2),
+        }
+    }
+
+    /// Whether an onset fires at the segment's start: one that holds there (right after contact
+    /// loss) fires only if $h$ is moving into contact. When it does not, a touching start's
+    /// $h$ and $h^\prime$ are set to the safe side for the bounds.
+    #[inline]
+    fn fires_at_start(&self, node: &mut Node) -> bool {
+        let Node { r, v, s, sd, q, .. } = *node;
+        // |r - s|^2 is rounded relative to the size of the terms of r and s: the closed
+        // form's terms can be far larger than r itself (a rest position many gaps out), and
+        // the rotor's position bound covers them.
+        let eps_start = self.eps_h.max(
+            16.0 * f64::EPSILON
+                * self.ring.gap
+                * (r.x.hypot(r.y).max(self.bounds.position) + s.norm()),
+        );
+        if node.h.abs() > eps_start {
+            return node.h > 0.0;
+        }
+        // Touching at the start: right after contact loss (where h' = 2 gamma N / c is zero up
+        // to the rounding of the loss time) or a start on the ring. Only a clear move into
+        // contact fires: h' above its rounding level (relative 1e-9 of its scale), or h' at
+        // that level with h'' > 0.
+        let scale = 2.0 * q.norm() * (v.x.hypot(v.y) + sd.norm() + 1e-300);
+        if node.h1.abs() <= 1e-9 * scale || self.separating {
+            node.h1 = node.h1.min(0.0);
+        }
+        if !self.separating && (node.h1 > 0.0 || (node.h1 == 0.0 && node.h2 > 0.0)) {
+            return true;
+        }
+        node.h = node.h.min(0.0);
+        false
+    }
+
+    /// The largest step from the node over which $h$ certainly stays below 0, within the
+    /// smooth piece ahead of length `piece`: the first root of the quadratic (or, when that is
+    /// short, cubic) Taylor bound on $h$.
+    #[inline]
+    fn certified_step(&self, node: &Node, piece: f64) -> f64 {
+        let Node {
+            s, sd, h, h1, h2, ..
+        } = *node;
+        let rb = &self.bounds;
+        // Bounds on the derivatives of q on the piece: the rotor's from the segment start
         // (valid for all later times), the ring's from t (each coordinate and its velocity
         // decay monotonically on a piece, with s_i'' = -s_i'/T_i).
         let sd_abs = Vector2::new(sd.x.abs(), sd.y.abs());
-        let ring_acc = sd_abs.component_mul(&inv_t).norm();
-        let ring_jerk = sd_abs.component_mul(&inv_t).component_mul(&inv_t).norm();
-        let q0 = r_bound + s.norm();
+        let ring_acc = sd_abs.component_mul(&self.inv_t).norm();
+        let ring_jerk = sd_abs
+            .component_mul(&self.inv_t)
+            .component_mul(&self.inv_t)
+            .norm();
+        let q0 = rb.position + s.norm();
         let q1m = rb.velocity + sd.norm();
         let q2m = rb.acceleration + ring_acc;
         let q3m = rb.jerk + ring_jerk;
@@ -326,30 +434,14 @@ pub fn find_onset(
         } else {
             0.0
         };
-        if du < 1e-3 * (piece_end - t).max(1e-300) {
+        if du < 1e-3 * piece.max(1e-300) {
             let m3 = (6.0 * q1m * q2m + 2.0 * q0 * q3m) * BOUND_MARGIN;
             if m3 > 0.0 && (h < 0.0 || h1 < 0.0 || (h1 == 0.0 && h2 < 0.0)) {
                 du = du
                     .max(first_root_cubic(h, h1, 0.5 * h2, m3 / 6.0) * (1.0 - 4.0 * f64::EPSILON));
             }
         }
-        let mut t_next = t + du;
-        if t_next <= t && separating && t == t0 {
-            // Parting by assumption: make progress even when no bound certifies any.
-            t_next = t.next_up();
-        }
-        if t_next <= t {
-            // The certified step is below the time resolution ulp(t): the crossing is within
-            // one ulp. Report the first representable time after t when h is rising (so the
-            // onset lies on the contact side), t itself otherwise (a touch).
-            return Onset::At(if h1 > 0.0 { t.next_up().min(t_end) } else { t });
-        }
-        if t_next >= t_end && piece_end >= t_end {
-            // The certified step covers the rest of the window: no onset up to t_end, without
-            // an evaluation at t_end (the next window starts there with one).
-            return Onset::None;
-        }
-        t = t_next.min(piece_end);
+        du
     }
 }
 

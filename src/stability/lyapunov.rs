@@ -26,8 +26,11 @@
 //! the saltations of the ring's onset and preload crossings are bounded at grazing), and the
 //! sections at which the map on $z$ was not closed (a ring that has not relaxed in free flight).
 
+use std::collections::VecDeque;
+
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 
+use super::augmented::LinearEvent;
 use super::error::StabilityError;
 use super::map::StroboscopicMap;
 use super::saltation::GRAZING_MARGIN;
@@ -140,6 +143,44 @@ where
     M: Variational,
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
+    check(opts)?;
+    let mut y = y0.clone_owned();
+    if opts.transient > 0 {
+        y = StroboscopicMap::new(model, opts.transient, opts.sim)?
+            .advance(&y)?
+            .y;
+    }
+    let map = StroboscopicMap::new(model, 1, opts.sim)?;
+    let d = map.components().len();
+    let p = opts.exponents.unwrap_or(d).clamp(1, d);
+    let mut q = DMatrix::identity(d, p);
+    let mut record = Record::new(p, opts);
+    let mut second = opts.separation.map(|d0| SecondTrajectory {
+        d0,
+        u: unit(d),
+        // The second trajectory's separation is measured in units of the model's scale.
+        scale: map.reduce(&model.state_scale()),
+    });
+    for k in 0..opts.align + opts.periods {
+        let recording = k >= opts.align;
+        let lin = map.linearize_along(&y, &q)?;
+        if let Some(second) = second.as_mut() {
+            let log = second.step(&map, &y, &lin.value)?;
+            if recording {
+                record.two_stats.push(&[log]);
+            }
+        }
+        let (qn, logs) = qr_step(lin.jacobian);
+        if recording {
+            record.period(&lin.events, lin.openness[0], logs.as_slice(), &lin.value);
+        }
+        q = qn;
+        y = lin.y;
+    }
+    Ok(record.spectrum(model.forcing_period(), opts.separation, &y))
+}
+
+fn check(opts: &LyapunovOptions) -> Result<(), StabilityError> {
     if opts.periods == 0 || opts.batch == 0 || opts.batch > opts.periods {
         return Err(StabilityError::InvalidOption {
             field: "batch",
@@ -156,85 +197,121 @@ where
             });
         }
     }
-    let mut y = y0.clone_owned();
-    if opts.transient > 0 {
-        y = StroboscopicMap::new(model, opts.transient, opts.sim)?
-            .advance(&y)?
-            .y;
+    Ok(())
+}
+
+/// The second trajectory of the two-trajectory method: its separation $d_0$ along the unit
+/// direction `u`, in units of `scale`.
+struct SecondTrajectory {
+    d0: f64,
+    u: DVector<f64>,
+    scale: DVector<f64>,
+}
+
+impl SecondTrajectory {
+    /// Runs the second trajectory one period from the section `y`, $d_0$ along `u`, against the
+    /// fiducial end `end` ($z$): returns $\ln(d_1/d_0)$ and renormalises `u` along the new
+    /// separation.
+    fn step<M>(
+        &mut self,
+        map: &StroboscopicMap<'_, M>,
+        y: &OVector<f64, M::Dim>,
+        end: &DVector<f64>,
+    ) -> Result<f64, StabilityError>
+    where
+        M: Variational,
+        DefaultAllocator: VariationalAlloc<M::Dim>,
+    {
+        let z = map.reduce(y);
+        let zp = &z + (&self.u * self.d0).component_mul(&self.scale);
+        let yp = map.state(y, &zp);
+        let after = map.advance(&yp)?;
+        let diff = (map.reduce(&after.y) - end).component_div(&self.scale);
+        let dist = diff.norm();
+        if dist > 0.0 && dist.is_finite() {
+            self.u = diff / dist;
+        }
+        Ok((dist / self.d0).ln())
     }
-    let map = StroboscopicMap::new(model, 1, opts.sim)?;
-    let d = map.components().len();
-    let p = opts.exponents.unwrap_or(d).clamp(1, d);
-    let mut q = DMatrix::identity(d, p);
-    let mut qr_stats = BatchMeans::new(p, opts.batch as usize);
-    let mut sections = std::collections::VecDeque::with_capacity(opts.keep);
-    let mut two_stats = BatchMeans::new(1, opts.batch as usize);
-    let mut u = unit(d);
-    // The second trajectory's separation is measured in units of the model's scale.
-    let scale = map.reduce(&model.state_scale());
-    let (mut grazing_events, mut min_margin, mut open_sections) = (0, 1.0f64, 0);
-    for k in 0..opts.align + opts.periods {
-        let record = k >= opts.align;
-        let lin = map.linearize_along(&y, &q)?;
-        // Second trajectory from the same section, d0 along u.
-        if let Some(d0) = opts.separation {
-            let z = map.reduce(&y);
-            let zp = &z + (&u * d0).component_mul(&scale);
-            let yp = map.state(&y, &zp);
-            let end = map.advance(&yp)?;
-            let diff = (map.reduce(&end.y) - &lin.value).component_div(&scale);
-            let dist = diff.norm();
-            if record {
-                two_stats.push(&[(dist / d0).ln()]);
-            }
-            if dist > 0.0 && dist.is_finite() {
-                u = diff / dist;
-            }
+}
+
+/// What the recorded periods accumulate.
+struct Record {
+    qr_stats: BatchMeans,
+    two_stats: BatchMeans,
+    sections: VecDeque<Vec<f64>>,
+    keep: usize,
+    grazing_events: usize,
+    min_margin: f64,
+    open_sections: usize,
+}
+
+impl Record {
+    fn new(p: usize, opts: &LyapunovOptions) -> Self {
+        Record {
+            qr_stats: BatchMeans::new(p, opts.batch as usize),
+            two_stats: BatchMeans::new(1, opts.batch as usize),
+            sections: VecDeque::with_capacity(opts.keep),
+            keep: opts.keep,
+            grazing_events: 0,
+            min_margin: 1.0,
+            open_sections: 0,
         }
-        let (qn, logs) = qr_step(lin.jacobian);
-        if record {
-            qr_stats.push(logs.as_slice());
-            for e in &lin.events {
-                min_margin = min_margin.min(e.margin);
-                if e.margin < GRAZING_MARGIN {
-                    grazing_events += 1;
-                }
-            }
-            if lin.openness[0] > 0.0 {
-                open_sections += 1;
-            }
-            if opts.keep > 0 {
-                if sections.len() == opts.keep {
-                    sections.pop_front();
-                }
-                sections.push_back(lin.value.iter().copied().collect::<Vec<f64>>());
-            }
-        }
-        q = qn;
-        y = lin.y;
     }
-    let per_period = qr_stats.estimate();
-    let period = model.forcing_period();
-    let two_trajectory = opts.separation.map(|d0| {
-        let e = two_stats.estimate();
-        TwoTrajectory {
-            lambda: e.mean[0],
-            stderr: e.stderr[0],
-            separation: d0,
+
+    /// One recorded period: the QR's logarithms, its events, its openness, its section `z`.
+    fn period(&mut self, events: &[LinearEvent], openness: f64, logs: &[f64], z: &DVector<f64>) {
+        self.qr_stats.push(logs);
+        for e in events {
+            self.min_margin = self.min_margin.min(e.margin);
+            if e.margin < GRAZING_MARGIN {
+                self.grazing_events += 1;
+            }
         }
-    });
-    Ok(LyapunovSpectrum {
-        per_time: per_period.mean.iter().map(|l| l / period).collect(),
-        per_time_stderr: per_period.stderr.iter().map(|s| s / period).collect(),
-        per_period,
-        forcing_period: period,
-        two_trajectory,
-        grazing_events,
-        min_margin,
-        open_sections,
-        end: y.iter().copied().collect(),
-        sections: sections.into(),
-    })
+        if openness > 0.0 {
+            self.open_sections += 1;
+        }
+        if self.keep > 0 {
+            if self.sections.len() == self.keep {
+                self.sections.pop_front();
+            }
+            self.sections
+                .push_back(z.iter().copied().collect::<Vec<f64>>());
+        }
+    }
+
+    /// The spectrum from the records, the forcing `period` and the end state `y`.
+    fn spectrum<D: nalgebra::Dim>(
+        self,
+        period: f64,
+        separation: Option<f64>,
+        y: &OVector<f64, D>,
+    ) -> LyapunovSpectrum
+    where
+        DefaultAllocator: VariationalAlloc<D>,
+    {
+        let per_period = self.qr_stats.estimate();
+        let two_trajectory = separation.map(|d0| {
+            let e = self.two_stats.estimate();
+            TwoTrajectory {
+                lambda: e.mean[0],
+                stderr: e.stderr[0],
+                separation: d0,
+            }
+        });
+        LyapunovSpectrum {
+            per_time: per_period.mean.iter().map(|l| l / period).collect(),
+            per_time_stderr: per_period.stderr.iter().map(|s| s / period).collect(),
+            per_period,
+            forcing_period: period,
+            two_trajectory,
+            grazing_events: self.grazing_events,
+            min_margin: self.min_margin,
+            open_sections: self.open_sections,
+            end: y.iter().copied().collect(),
+            sections: self.sections.into(),
+        }
+    }
 }
 
 /// $(1, 1, \dots)/\sqrt d$: the first direction of the second trajectory.

@@ -267,8 +267,53 @@ where
 {
     let min_event_margin = events.iter().map(|e| e.margin).fold(1.0, f64::min);
     let structure = events.iter().map(|e| e.kind).collect();
+    let has_depth = model
+        .initial_mode(0.0, state)
+        .ok()
+        .and_then(|m| model.contact_depth(m, 0.0, state))
+        .is_some();
     let t_end = model.forcing_period() * period as f64;
     // The events of a plain run, then each piece between them sampled on its own.
+    let starts = piece_starts(model, state, t_end, sim)?;
+    if !has_depth {
+        return Ok(OrbitMargins {
+            contacts: 0,
+            min_depth: None,
+            clearance: None,
+            min_event_margin,
+            structure,
+        });
+    }
+    let mut samples: Vec<Vec<f64>> = Vec::with_capacity(starts.len());
+    for (i, (ta, ya)) in starts.iter().enumerate() {
+        let tb = starts.get(i + 1).map_or(t_end, |s| s.0);
+        if tb <= *ta {
+            continue;
+        }
+        if let Some(depth) = piece_samples(model, (*ta, ya), tb, sim) {
+            samples.push(depth);
+        }
+    }
+    join_at_section(&mut samples);
+    let pieces = samples.iter().map(|d| piece_depth(d)).collect();
+    Ok(summarise(pieces, min_event_margin, structure))
+}
+
+/// A smooth piece's start: its time and state.
+type PieceStart<D> = (f64, OVector<f64, D>);
+
+/// The starts of the orbit's smooth pieces over `[0, t_end]`: the orbit's start and the state
+/// after each event of a plain run.
+fn piece_starts<M>(
+    model: &M,
+    state: &OVector<f64, M::Dim>,
+    t_end: f64,
+    sim: &SimOptions,
+) -> Result<Vec<PieceStart<M::Dim>>, StabilityError>
+where
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
     let plan = OutputPlan {
         t_end,
         strobe: None,
@@ -284,62 +329,56 @@ where
         t: e.t,
     };
     simulate(model, 0.0, state, &plan, sim, &mut rec).map_err(fail)?;
-    let mut starts: Vec<(f64, OVector<f64, M::Dim>)> = vec![(0.0, state.clone_owned())];
+    let mut starts: Vec<PieceStart<M::Dim>> = vec![(0.0, state.clone_owned())];
     for e in &rec.events {
         starts.push((e.t, e.after.clone()));
     }
-    let mut samples: Vec<Vec<f64>> = Vec::with_capacity(starts.len());
-    let has_depth = model
-        .initial_mode(0.0, state)
-        .ok()
-        .and_then(|m| model.contact_depth(m, 0.0, state))
-        .is_some();
-    if !has_depth {
-        return Ok(OrbitMargins {
-            contacts: 0,
-            min_depth: None,
-            clearance: None,
-            min_event_margin,
-            structure,
-        });
-    }
-    for (i, (ta, ya)) in starts.iter().enumerate() {
-        let tb = starts.get(i + 1).map_or(t_end, |s| s.0);
-        if tb <= *ta {
-            continue;
-        }
-        let dt = (tb - ta) / PIECE_SAMPLES as f64;
-        let plan = OutputPlan {
-            t_end: tb,
-            strobe: None,
-            dense: Some(DenseSampling { t_start: *ta, dt }),
-            events: false,
-        };
-        let mut piece = Pieces {
-            events: Vec::new(),
-            samples: Vec::new(),
-        };
-        // The piece is cut where the full run found its end; a restarted run may meet the
-        // event a rounding earlier: what it records up to a failure is kept.
-        let _ = simulate(model, *ta, ya, &plan, sim, &mut piece);
-        let depth: Vec<f64> = piece
-            .samples
-            .iter()
-            .filter(|s| s.t <= tb)
-            .filter_map(|s| {
-                // The mode of each sample from the sample itself: the piece's start may sit on
-                // the boundary between two modes.
-                let mode = model.initial_mode(s.t, &s.y).ok()?;
-                model.contact_depth(mode, s.t, &s.y)
-            })
-            .collect();
-        if depth.len() < 3 {
-            continue;
-        }
-        samples.push(depth);
-    }
-    // The section cuts one piece in two (the first and the last, when they are of the same
-    // kind): join them, so that an extremum at the section is interior.
+    Ok(starts)
+}
+
+/// The contact depth at [`PIECE_SAMPLES`] points of the piece from `(ta, ya)` to `tb`, `None`
+/// when fewer than 3 have a depth.
+fn piece_samples<M>(
+    model: &M,
+    (ta, ya): (f64, &OVector<f64, M::Dim>),
+    tb: f64,
+    sim: &SimOptions,
+) -> Option<Vec<f64>>
+where
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    let dt = (tb - ta) / PIECE_SAMPLES as f64;
+    let plan = OutputPlan {
+        t_end: tb,
+        strobe: None,
+        dense: Some(DenseSampling { t_start: ta, dt }),
+        events: false,
+    };
+    let mut piece = Pieces {
+        events: Vec::new(),
+        samples: Vec::new(),
+    };
+    // The piece is cut where the full run found its end; a restarted run may meet the event a
+    // rounding earlier: what it records up to a failure is kept.
+    let _ = simulate(model, ta, ya, &plan, sim, &mut piece);
+    let depth: Vec<f64> = piece
+        .samples
+        .iter()
+        .filter(|s| s.t <= tb)
+        .filter_map(|s| {
+            // The mode of each sample from the sample itself: the piece's start may sit on
+            // the boundary between two modes.
+            let mode = model.initial_mode(s.t, &s.y).ok()?;
+            model.contact_depth(mode, s.t, &s.y)
+        })
+        .collect();
+    (depth.len() >= 3).then_some(depth)
+}
+
+/// The section cuts one piece in two (the first and the last, when they are of the same
+/// kind): joins them, so that an extremum at the section is interior.
+fn join_at_section(samples: &mut Vec<Vec<f64>>) {
     if samples.len() > 1 {
         let (first, last) = (&samples[0], &samples[samples.len() - 1]);
         if (first[first.len() / 2] > 0.0) == (last[last.len() / 2] > 0.0) {
@@ -348,8 +387,6 @@ where
             samples[0] = joined;
         }
     }
-    let pieces = samples.iter().map(|d| piece_depth(d)).collect();
-    Ok(summarise(pieces, min_event_margin, structure))
 }
 
 /// The depth statistics of one piece's samples.

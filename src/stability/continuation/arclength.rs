@@ -48,7 +48,7 @@
 
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 
-use super::{canonical, crossings, SpecialKind};
+use super::{canonical, crossings, model, SpecialKind};
 use crate::hybrid::{SimOptions, Variational, VariationalAlloc};
 use crate::numeric::{bisect, Side};
 use crate::stability::newton::{self, NewtonOptions, Rule, System};
@@ -511,18 +511,6 @@ where
     }
 }
 
-/// The model at `p`.
-fn model<B, M, E>(build: &B, p: f64) -> Result<M, StabilityError>
-where
-    B: Fn(f64) -> Result<M, E>,
-    E: std::fmt::Display,
-{
-    build(p).map_err(|e| StabilityError::Model {
-        parameter: p,
-        reason: e.to_string(),
-    })
-}
-
 /// The unit eigenvector of `jac` for its eigenvalue closest to $-1$ (the right singular
 /// vector of $J + I$ with the smallest singular value).
 fn flip_vector(jac: &DMatrix<f64>) -> Option<Vec<f64>> {
@@ -966,26 +954,46 @@ where
         normal[i] = v[i] / solver.scale[i];
     }
     let normal = normal.normalize();
+    let s = doubled_start(&solver, &single, (&base, &normal), &template).map_err(no_switch)?;
+    let dir = (to - flip.parameter).signum();
+    let lo = flip.parameter.min(to) - opts.ds_max * solver.param_scale;
+    let hi = flip.parameter.max(to) + opts.ds_max * solver.param_scale;
+    Ok(follow(&solver, s, dir, (lo, hi)))
+}
+
+/// The first point of the doubled branch: corrected on the hyperplane through
+/// `base + a normal`, normal to `normal`, for growing amplitudes $a$, the first that is not
+/// the period-$n$ orbit of `single` again; or the last error.
+fn doubled_start<B, M, E>(
+    solver: &Solver<'_, B>,
+    single: &Solver<'_, B>,
+    (base, normal): (&DVector<f64>, &DVector<f64>),
+    template: &OVector<f64, M::Dim>,
+) -> Result<Solved<M::Dim>, StabilityError>
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    let period = single.period;
     let mut last = None;
     for amplitude in [1e-3, 3e-3, 1e-2, 3e-2, 0.1] {
-        let start = &base + &normal * amplitude;
-        match solver.correct(&start, &normal, &start, &template) {
+        let start = base + normal * amplitude;
+        match solver.correct(&start, normal, &start, template) {
             Ok(s) => {
                 // Not the period-n orbit again: P^n(z) differs from z.
-                let e = single.eval(&s.w, &s.eval.state).map_err(no_switch)?;
-                if e.f.amax() > 1e3 * opts.atol + 1e-8 {
-                    let dir = (to - flip.parameter).signum();
-                    let lo = flip.parameter.min(to) - opts.ds_max * solver.param_scale;
-                    let hi = flip.parameter.max(to) + opts.ds_max * solver.param_scale;
-                    return Ok(follow(&solver, s, dir, (lo, hi)));
+                let e = single.eval(&s.w, &s.eval.state)?;
+                if e.f.amax() > 1e3 * solver.opts.atol + 1e-8 {
+                    return Ok(s);
                 }
                 last = Some(StabilityError::SamePeriod { period, amplitude });
             }
             Err(e) => last = Some(e),
         }
     }
-    Err(no_switch(last.unwrap_or(StabilityError::SamePeriod {
+    Err(last.unwrap_or(StabilityError::SamePeriod {
         period,
         amplitude: 0.0,
-    })))
+    }))
 }

@@ -20,6 +20,14 @@
 //! [`StabilityLoss`] always has a bracket of at most the width (or two adjacent floats). The
 //! kinds are the one definition of [`super`] ([`SpecialKind`]).
 //!
+//! Why this loop and not [`continue_orbit`](super::continue_orbit)'s: with the parameter held
+//! fixed (the constraint row $e_p$) the core's bordered corrector is Newton on $P^n(z) - z$,
+//! which is what [`periodic_orbit`] runs (the one Newton, with its step halvings), so the steps
+//! here call that directly. Through the core each solve would also evaluate $F_p$ (two more
+//! runs of the map per iteration, unused at a fixed parameter) and return a branch point
+//! without what this question needs at every step: the orbit's margins, minimal period and
+//! monodromy.
+//!
 //! **A failure is not a bifurcation.** Where no orbit is found at the far end of the final
 //! bracket, the branch ends there; that is called a bifurcation only on positive evidence at
 //! the last orbit found, and only when what failed is Newton itself (no convergence, a
@@ -37,7 +45,7 @@
 
 use nalgebra::{DVector, DefaultAllocator, OVector};
 
-use super::{canonical, crossings, largest_real_positive, SpecialKind};
+use super::{canonical, crossings, largest_real_positive, model, SpecialKind};
 use crate::hybrid::{Variational, VariationalAlloc};
 use crate::numeric::{bisect, Side};
 use crate::stability::error::StabilityError;
@@ -276,10 +284,7 @@ where
         template: &OVector<f64, M::Dim>,
         z: &DVector<f64>,
     ) -> Result<PeriodicOrbit<M::Dim>, StabilityError> {
-        let model = (self.build)(p).map_err(|e| StabilityError::Model {
-            parameter: p,
-            reason: e.to_string(),
-        })?;
+        let model = model(self.build, p)?;
         let guess = model.section_state(0.0, template, z.as_slice());
         let o = periodic_orbit(&model, &guess, self.period, &self.opts.orbit)?;
         let correction = (&o.point - z).component_div(&self.scale).amax();
@@ -350,10 +355,7 @@ where
     E: std::fmt::Display,
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
-    let model = build(from).map_err(|e| StabilityError::Model {
-        parameter: from,
-        reason: e.to_string(),
-    })?;
+    let model = model(build, from)?;
     let first = periodic_orbit(&model, guess, period, &opts.orbit)?;
     if first.spectral_radius() >= 1.0 {
         return Err(StabilityError::Unstable {

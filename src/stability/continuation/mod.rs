@@ -43,6 +43,7 @@ pub use loss::{
 };
 
 use super::floquet::{CrossingKind, Multiplier};
+use super::StabilityError;
 
 /// What a special point is (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -134,4 +135,16 @@ pub(crate) fn canonical(structure: &[&'static str]) -> Vec<&'static str> {
         })
         .min()
         .unwrap_or_default()
+}
+
+/// The model at `p`, or why the builder could not make it.
+fn model<B, M, E>(build: &B, p: f64) -> Result<M, StabilityError>
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+{
+    build(p).map_err(|e| StabilityError::Model {
+        parameter: p,
+        reason: e.to_string(),
+    })
 }
