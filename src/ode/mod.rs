@@ -152,6 +152,7 @@ mod error;
 pub mod events;
 pub(crate) mod kernels;
 mod options;
+mod radau5;
 pub mod rk4;
 pub mod solve;
 
@@ -164,6 +165,7 @@ pub use events::{
     NoDerivative, NoEvents, MAX_SAMPLES,
 };
 pub use options::{Options, Tolerance};
+pub use radau5::Radau5;
 pub use rk4::Rk4;
 pub use solve::{solve, solve_with, Observer, Recorder, SolveError, SolveReport, Stopped};
 
@@ -180,7 +182,49 @@ where
     /// Writes $f(t, y)$ into `dy` (every component must be written; `dy` has
     /// the length of `y`).
     fn rhs(&self, t: f64, y: &OVector<f64, D>, dy: &mut OVector<f64, D>);
+
+    /// Writes the Jacobian $J_{ij} = \partial f_i / \partial y_j$ at $(t, y)$ into `jac` and
+    /// returns `true`, or returns `false` (the default) when the system does not provide one.
+    ///
+    /// Only the implicit method [`Radau5`] uses it; without it Radau5 approximates $J$ by
+    /// forward differences, one evaluation of $f$ per column with RADAU5's increment
+    /// $\delta_j = \sqrt{\varepsilon \max(10^{-5}, |y_j|)}$. An analytic Jacobian saves those
+    /// $N$ evaluations per Jacobian and is exact; it need not be: the simplified Newton
+    /// iteration only needs an approximation, and a poor one shows as slow convergence
+    /// (more iterations, smaller steps), never as a wrong step. Every entry must be written
+    /// (`jac` holds the previous Jacobian on entry).
+    ///
+    /// ```
+    /// use jeffcott::ode::{JacobianMut, OdeSystem};
+    /// use nalgebra::{SVector, U2};
+    ///
+    /// /// Van der Pol's oscillator, $\varepsilon y_2' = (1 - y_1^2) y_2 - y_1$.
+    /// struct VdP(f64);
+    /// impl OdeSystem<U2> for VdP {
+    ///     fn rhs(&self, _t: f64, y: &SVector<f64, 2>, dy: &mut SVector<f64, 2>) {
+    ///         dy[0] = y[1];
+    ///         dy[1] = ((1.0 - y[0] * y[0]) * y[1] - y[0]) / self.0;
+    ///     }
+    ///     fn jacobian(&self, _t: f64, y: &SVector<f64, 2>, jac: &mut JacobianMut<'_, U2>) -> bool {
+    ///         jac[(0, 0)] = 0.0;
+    ///         jac[(0, 1)] = 1.0;
+    ///         jac[(1, 0)] = (-2.0 * y[0] * y[1] - 1.0) / self.0;
+    ///         jac[(1, 1)] = (1.0 - y[0] * y[0]) / self.0;
+    ///         true
+    ///     }
+    /// }
+    /// # let _ = VdP(1e-3);
+    /// ```
+    fn jacobian(&self, t: f64, y: &OVector<f64, D>, jac: &mut JacobianMut<'_, D>) -> bool {
+        let _ = (t, y, jac);
+        false
+    }
 }
+
+/// A mutable view of an $N\times N$ Jacobian (column-major, over storage the integrator
+/// owns, so that no allocator bound on $N\times N$ matrices is needed): index it as
+/// `jac[(i, j)]` for $\partial f_i/\partial y_j$. See [`OdeSystem::jacobian`].
+pub type JacobianMut<'a, D> = nalgebra::MatrixViewMut<'a, f64, D, D>;
 
 impl<D: Dim, F> OdeSystem<D> for F
 where
@@ -206,6 +250,15 @@ pub struct Stats {
     pub rhs_evals: u64,
     /// Events reported by [`find_first_event`].
     pub events: u64,
+    /// Jacobians of $f$ computed (analytic or by finite differences; the $N$ evaluations of
+    /// $f$ of a finite-difference Jacobian are counted in `rhs_evals` too). 0 for the
+    /// explicit methods.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub jacobians: u64,
+    /// LU decompositions of the Newton matrices (Radau5 counts its real and its complex
+    /// decomposition as one). 0 for the explicit methods.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub lu_decompositions: u64,
 }
 
 /// An explicit one-step integrator with dense output.

@@ -13,3 +13,4 @@ mod ode_dyn;
 mod ode_errors;
 mod ode_events;
 mod ode_honesty;
+mod ode_radau;
