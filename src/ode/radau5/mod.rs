@@ -55,7 +55,7 @@ mod newton;
 mod tableau;
 
 use self::newton::{error_estimate, iterate, Linear, Newton, Rate, StepInput, NIT};
-use self::tableau::{C1, C1M1, C1MC2, C2, C2M1};
+use self::tableau::{C1, C2};
 use super::core::{core_accessors, fit, zeros, Core};
 use super::kernels::all_finite;
 use super::{Integrator, OdeError, OdeSystem, Options, Stats};
@@ -203,7 +203,8 @@ where
     /// Evaluates the collocation polynomial of the last step at `t`.
     fn eval_dense(&self, t: f64, out: &mut [f64]) {
         let c = &self.core;
-        eval_poly(&self.cont, self.t_end, c.h_dense, &c.y_end, (c.t_prev, &c.y_prev), t, out);
+        let ends = [(c.t_prev, &c.y_prev), (self.t_end, &c.y_end)];
+        eval_poly(&self.cont, c.h_dense, ends, t, out);
     }
 
     /// Newton starting values for a step of size `h` from the current point: zero after a
@@ -217,13 +218,13 @@ where
             return;
         }
         let c = &self.core;
-        let [k1, k2, k3] = &self.cont;
         for (s_i, ci) in [C1, C2, 1.0].into_iter().enumerate() {
-            let s = (c.t + ci * h - self.t_end) / c.h_dense;
-            let zi = &mut self.z[s_i];
+            // Beyond the last step: the polynomial itself (its right end never matches).
+            let ends = [(c.t_prev, &c.y_prev), (f64::NAN, &c.y_end)];
+            let zi = self.z[s_i].as_mut_slice();
+            eval_poly(&self.cont, c.h_dense, ends, c.t + ci * h, zi);
             for i in 0..n {
-                let u = c.y_end[i] + s * (k1[i] + (s - C2M1) * (k2[i] + (s - C1M1) * k3[i]));
-                zi[i] = u - c.y[i];
+                zi[i] -= c.y[i];
             }
         }
         let [z0, z1, z2] = &self.z;
@@ -236,18 +237,21 @@ where
         }
     }
 
-    /// The dense-output coefficients of the step just accepted (RADAU5's divided differences
-    /// through $y_{\text{new}}$ and the stages).
+    /// The dense-output coefficients of the step just accepted: the divided differences
+    /// of the stage increments over the nodes $0, c_1, c_2, 1$ (in units of the step).
     fn update_dense(&mut self) {
         let n = self.core.dim.value();
         let [z1, z2, z3] = &self.z;
-        let [k1, k2, k3] = &mut self.cont;
+        let [d1, d2, d3] = &mut self.cont;
         for i in 0..n {
-            k1[i] = (z2[i] - z3[i]) / C2M1;
-            let ak = (z1[i] - z2[i]) / C1MC2;
-            let acont3 = (ak - z1[i] / C1) / C2;
-            k2[i] = (ak - k1[i]) / C1M1;
-            k3[i] = k2[i] - acont3;
+            let a = z1[i] / C1;
+            let b = (z2[i] - z1[i]) / (C2 - C1);
+            let c = (z3[i] - z2[i]) / (1.0 - C2);
+            let ab = (b - a) / C2;
+            let bc = (c - b) / (1.0 - C1);
+            d1[i] = a;
+            d2[i] = ab;
+            d3[i] = bc - ab;
         }
     }
 
@@ -281,28 +285,29 @@ where
     }
 }
 
-/// $u(t) = y_{\text{end}} + s\big(k_1 + (s - c_2 + 1)(k_2 + (s - c_1 + 1)k_3)\big)$,
-/// $s = (t - t_{\text{end}})/h$, except that $u(t_{\text{prev}})$ is the stored $y_{\text{prev}}$.
+/// $u(t) = y_{\text{prev}} + \theta\big(d_1 + (\theta - c_1)(d_2 + (\theta - c_2) d_3)\big)$,
+/// $\theta = (t - t_{\text{prev}})/h$ (Newton's form about the left end, where events
+/// restart: no cancellation against the values at the far end of a long step), except that
+/// the ends return their stored states exactly. `ends` = the step's two ends `(t, y)`.
 fn eval_poly<D: Dim>(
     cont: &[OVector<f64, D>; 3],
-    t_end: f64,
     h: f64,
-    y_end: &OVector<f64, D>,
-    (t_prev, y_prev): (f64, &OVector<f64, D>),
+    ends: [(f64, &OVector<f64, D>); 2],
     t: f64,
     out: &mut [f64],
 ) where
     DefaultAllocator: Allocator<D>,
 {
-    if t == t_prev {
-        out.copy_from_slice(y_prev.as_slice());
+    let [(t0, y0), (t1, y1)] = ends;
+    if t == t0 || t == t1 {
+        out.copy_from_slice(if t == t0 { y0 } else { y1 }.as_slice());
         return;
     }
-    let s = (t - t_end) / h;
-    let [k1, k2, k3] = cont;
-    let y1 = y_end.as_slice();
+    let th = (t - t0) / h;
+    let [d1, d2, d3] = cont;
+    let y0 = y0.as_slice();
     for i in 0..out.len() {
-        out[i] = y1[i] + s * (k1[i] + (s - C2M1) * (k2[i] + (s - C1M1) * k3[i]));
+        out[i] = y0[i] + th * (d1[i] + (th - C1) * (d2[i] + (th - C2) * d3[i]));
     }
 }
 
@@ -347,6 +352,7 @@ where
             scal: &self.scal,
             n_ctrl: *n_ctrl,
             fnewt: self.fnewt,
+            patient: opts.fixed_step.is_some(),
         };
         let it = iterate(
             sys,
@@ -588,8 +594,8 @@ where
             return Ok(());
         }
         let c = &mut self.core;
-        let prev = (c.t_prev, &c.y_prev);
-        eval_poly(&self.cont, self.t_end, c.h_dense, &c.y_end, prev, t_new, c.y_new.as_mut_slice());
+        let ends = [(c.t_prev, &c.y_prev), (self.t_end, &c.y_end)];
+        eval_poly(&self.cont, c.h_dense, ends, t_new, c.y_new.as_mut_slice());
         c.apply_truncate(sys, t_new)
     }
 

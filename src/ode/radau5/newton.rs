@@ -143,7 +143,13 @@ where
     pub scal: &'a OVector<f64, D>,
     pub n_ctrl: f64,
     pub fnewt: f64,
+    /// Fixed steps: no step to reduce, so iterate up to [`NIT_FIXED`] times while the
+    /// iteration contracts instead of giving up early on a slow prediction.
+    pub patient: bool,
 }
+
+/// Newton iterations allowed with fixed steps.
+pub(super) const NIT_FIXED: usize = 30;
 
 /// Newton state carried across steps (RADAU5's `THETA`, `FACCON`).
 #[derive(Debug, Clone, Copy)]
@@ -178,7 +184,8 @@ where
     rate.theta = super::THETA_JAC;
     let (mut dynold, mut thqold) = (0.0f64, 0.0f64);
     let c = [C1, C2, 1.0];
-    for newt in 1..=NIT {
+    let nit = if inp.patient { NIT_FIXED } else { NIT };
+    for newt in 1..=nit {
         // F(y + Z_s) overwrites Z_s (Z is rebuilt from W below).
         for s in 0..3 {
             for i in 0..n {
@@ -218,15 +225,15 @@ where
             };
         }
         // Contraction rate; predicted error after the remaining iterations.
-        if newt > 1 && newt < NIT {
+        if newt > 1 && newt < nit {
             let thq = dyno / dynold;
             rate.theta = if newt == 2 { thq } else { (thq * thqold).sqrt() };
             thqold = thq;
             if rate.theta < 0.99 {
                 rate.faccon = rate.theta / (1.0 - rate.theta);
-                let left = (NIT - 1 - newt) as i32;
+                let left = (NIT.max(newt + 1) - 1 - newt) as i32;
                 let dyth = rate.faccon * dyno * rate.theta.powi(left) / inp.fnewt;
-                if dyth >= 1.0 {
+                if dyth >= 1.0 && !inp.patient {
                     let qnewt = dyth.clamp(1e-4, 20.0);
                     return Newton::Failed {
                         factor: 0.8 * qnewt.powf(-1.0 / (4.0 + left as f64)),

@@ -20,9 +20,6 @@ const SQ6: f64 = 2.449489742783178098197284074705891;
 /// Nodes $c_1, c_2$ ($c_3 = 1$).
 pub(super) const C1: f64 = (4.0 - SQ6) / 10.0;
 pub(super) const C2: f64 = (4.0 + SQ6) / 10.0;
-pub(super) const C1M1: f64 = C1 - 1.0;
-pub(super) const C2M1: f64 = C2 - 1.0;
-pub(super) const C1MC2: f64 = C1 - C2;
 
 /// The real eigenvalue $\gamma$ of $A^{-1}$: $1/\gamma = (6 + 81^{1/3} - 9^{1/3})/30$.
 pub(super) fn gamma() -> f64 {
