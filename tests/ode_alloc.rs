@@ -113,7 +113,10 @@ fn thousand_steps_with_events_of_a_dyn_system_allocate_nothing() {
             // The implicit method's linear algebra ran inside the measured loop: finite-
             // difference Jacobians (one per reset at least) and LU decompositions.
             let s = integ.stats();
-            assert!(s.jacobians > impacts && s.lu_decompositions >= s.jacobians, "{s:?}");
+            assert!(
+                s.jacobians > impacts && s.lu_decompositions >= s.jacobians,
+                "{s:?}"
+            );
         }
         assert_eq!(
             info.count_total,

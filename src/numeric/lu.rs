@@ -20,7 +20,11 @@ impl<T: ComplexField<RealField = f64> + Copy> LuScalar for T {}
 /// the largest $|\mathrm{re}| + |\mathrm{im}|$ of the column). `piv[k]` is the row swapped
 /// with row `k` at elimination step `k`. Returns `Err(k)` when the pivot of column `k` is
 /// zero or not finite (the matrix is singular to working precision; `a` is then unusable).
-pub(crate) fn lu_factor<T: LuScalar>(a: &mut [T], n: usize, piv: &mut [usize]) -> Result<(), usize> {
+pub(crate) fn lu_factor<T: LuScalar>(
+    a: &mut [T],
+    n: usize,
+    piv: &mut [usize],
+) -> Result<(), usize> {
     debug_assert!(a.len() >= n * n && piv.len() >= n);
     for k in 0..n {
         let col = k * n;
@@ -113,7 +117,12 @@ mod tests {
         let mut x = b.as_slice().to_vec();
         lu_solve(&a, n, &piv, &mut x);
         for i in 0..n {
-            assert!((x[i] - want[i]).abs() < 1e-12 * want.amax(), "{i}: {} {}", x[i], want[i]);
+            assert!(
+                (x[i] - want[i]).abs() < 1e-12 * want.amax(),
+                "{i}: {} {}",
+                x[i],
+                want[i]
+            );
         }
     }
 
@@ -122,7 +131,10 @@ mod tests {
     fn complex_residual_is_small() {
         let n = 4;
         let m = DMatrix::from_fn(n, n, |i, j| {
-            Complex::new((i + 2 * j) as f64 % 3.0 - 1.0, if i == j { 2.0 } else { 0.5 })
+            Complex::new(
+                (i + 2 * j) as f64 % 3.0 - 1.0,
+                if i == j { 2.0 } else { 0.5 },
+            )
         });
         let b = DVector::from_fn(n, |i, _| Complex::new(1.0, i as f64));
         let mut a = m.as_slice().to_vec();

@@ -56,8 +56,8 @@ where
     Dopri5(Dopri5<D>),
     /// RK4.
     Rk4(Rk4<D>),
-    /// RADAU5.
-    Radau5(Radau5<D>),
+    /// RADAU5 (boxed: its state is several times larger than the explicit methods').
+    Radau5(Box<Radau5<D>>),
 }
 
 impl<D: DimName> AnyIntegrator<D>
@@ -82,7 +82,7 @@ where
             Method::Dop853 => AnyIntegrator::Dop853(Dop853::with_dim(dim, options)?),
             Method::Dopri5 => AnyIntegrator::Dopri5(Dopri5::with_dim(dim, options)?),
             Method::Rk4 => AnyIntegrator::Rk4(Rk4::with_dim(dim, options)?),
-            Method::Radau5 => AnyIntegrator::Radau5(Radau5::with_dim(dim, options)?),
+            Method::Radau5 => AnyIntegrator::Radau5(Box::new(Radau5::with_dim(dim, options)?)),
         })
     }
 

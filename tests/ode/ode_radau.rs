@@ -61,7 +61,12 @@ fn stiff_linear_problem_meets_its_tolerance_in_few_steps() {
         analytic: true,
     };
     for tol in [1e-6, 1e-7, 1e-8, 1e-9, 1e-10] {
-        let integ = run(&sys, V2::new(1.0, 2.0), 10.0, Options::with_tol(tol, tol * 1e-3));
+        let integ = run(
+            &sys,
+            V2::new(1.0, 2.0),
+            10.0,
+            Options::with_tol(tol, tol * 1e-3),
+        );
         let exact = sys.exact(10.0);
         let rel = ((integ.y() - exact).component_div(&exact)).amax();
         let s = integ.stats();
@@ -128,7 +133,10 @@ fn order_five_on_a_smooth_problem() {
             integ.step(&sys, t_end).unwrap();
         }
         let err = (integ.y() - sys.exact(t_end)).amax();
-        println!("tol {tol:.0e}: steps {}, error {err:.2e}", integ.stats().steps);
+        println!(
+            "tol {tol:.0e}: steps {}, error {err:.2e}",
+            integ.stats().steps
+        );
         steps.push(integ.stats().steps as f64);
         errs.push(err);
     }
@@ -218,8 +226,7 @@ fn bouncing_ball_of_the_module_example() {
     let mut impacts = Vec::new();
     while impacts.len() < 10 {
         integ.step(&ball, 20.0).unwrap();
-        if let Some(hit) = find_first_event(&mut integ, &ball, &floor, &opts, &mut state).unwrap()
-        {
+        if let Some(hit) = find_first_event(&mut integ, &ball, &floor, &opts, &mut state).unwrap() {
             let (t_hit, y_hit) = (hit.t, hit.y);
             integ.truncate(&ball, t_hit).unwrap();
             integ
@@ -243,7 +250,9 @@ fn bouncing_ball_of_the_module_example() {
 fn blow_up_is_a_typed_error() {
     let sys = |_t: f64, y: &SVector<f64, 1>, dy: &mut SVector<f64, 1>| dy[0] = y[0] * y[0];
     let mut integ = Radau5::new(Options::with_tol(1e-8, 1e-8)).unwrap();
-    integ.reset(&sys, 0.0, &SVector::<f64, 1>::new(1.0), false).unwrap();
+    integ
+        .reset(&sys, 0.0, &SVector::<f64, 1>::new(1.0), false)
+        .unwrap();
     let mut worst: f64 = 0.0;
     let err = loop {
         match integ.step(&sys, 2.0) {
@@ -252,12 +261,18 @@ fn blow_up_is_a_typed_error() {
                 // The exact solution with the blow-up time shifted to t + 1/y.
                 let tau = (t + 1.0 / y - 1.0).abs();
                 worst = worst.max(tau);
-                assert!(tau <= 1e-7, "t {t}: y {y:e}, blow-up time shifted by {tau:e}");
+                assert!(
+                    tau <= 1e-7,
+                    "t {t}: y {y:e}, blow-up time shifted by {tau:e}"
+                );
             }
             Err(e) => break e,
         }
     };
-    println!("{err}; {:?}; blow-up time within {worst:.2e}", integ.stats());
+    println!(
+        "{err}; {:?}; blow-up time within {worst:.2e}",
+        integ.stats()
+    );
     assert!((integ.t() - 1.0).abs() < 1e-7, "stopped at {}", integ.t());
     assert!(matches!(
         err,

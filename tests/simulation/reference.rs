@@ -109,7 +109,10 @@ fn radau5_matches_independent_reference_trajectories() {
     for name in ["fig8a_eta2.0.csv", "fig8b_eta2.0.csv", "fig8b_eta3.0.csv"] {
         let (worst, flags) = compare(name, &opts);
         println!("RADAU5 {name}: max |deviation| = {worst:.3e}, contact-flag mismatches = {flags}");
-        assert!(worst <= ALLOWED_RADAU5, "{name}: {worst:e} > {ALLOWED_RADAU5:e}");
+        assert!(
+            worst <= ALLOWED_RADAU5,
+            "{name}: {worst:e} > {ALLOWED_RADAU5:e}"
+        );
         assert_eq!(flags, 0, "{name}");
     }
 }

@@ -268,8 +268,15 @@ where
     fn prepare_linear<S: OdeSystem<D>>(&mut self, sys: &S, h: f64) -> bool {
         if !self.jac_ok {
             let c = &mut self.core;
-            self.lin
-                .jacobian(sys, c.t, &c.y, &c.f, &mut self.yt, &mut self.ft, &mut c.stats);
+            self.lin.jacobian(
+                sys,
+                c.t,
+                &c.y,
+                &c.f,
+                &mut self.yt,
+                &mut self.ft,
+                &mut c.stats,
+            );
             self.jac_ok = true;
             self.jac_fresh = true;
             self.lu_h = 0.0;
@@ -473,7 +480,10 @@ where
                     self.accept(h_try, h, t_new, ratio, err, reject_before, clipped);
                     return Ok(());
                 }
-                Attempt::Rejected { factor, non_finite: nf } => {
+                Attempt::Rejected {
+                    factor,
+                    non_finite: nf,
+                } => {
                     let t = self.core.t;
                     if fixed.is_some() {
                         return Err(if nf {

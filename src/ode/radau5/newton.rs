@@ -227,7 +227,11 @@ where
         // Contraction rate; predicted error after the remaining iterations.
         if newt > 1 && newt < nit {
             let thq = dyno / dynold;
-            rate.theta = if newt == 2 { thq } else { (thq * thqold).sqrt() };
+            rate.theta = if newt == 2 {
+                thq
+            } else {
+                (thq * thqold).sqrt()
+            };
             thqold = thq;
             if rate.theta < 0.99 {
                 rate.faccon = rate.theta / (1.0 - rate.theta);
