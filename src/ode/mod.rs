@@ -1,5 +1,5 @@
-//! Generic explicit Runge–Kutta integrators with error control, dense output
-//! and event detection.
+//! Generic Runge–Kutta integrators (explicit, and one implicit for stiff problems) with
+//! error control, dense output and event detection.
 //!
 //! This layer knows nothing about rotors. It provides
 //!
@@ -7,7 +7,10 @@
 //! * [`Dopri5`] — Dormand–Prince 5(4) with Shampine's 4th-order dense output,
 //! * [`Rk4`] — the classical fixed-step 4th-order method with cubic Hermite
 //!   dense output,
-//! * [`AnyIntegrator`] — enum dispatch over the three, selected at run time by
+//! * [`Radau5`] — the implicit three-stage Radau IIA method of order 5 (Hairer and
+//!   Wanner's RADAU5) for stiff problems, with its collocation polynomial as dense output
+//!   and the system's Jacobian ([`OdeSystem::jacobian`]) or finite differences,
+//! * [`AnyIntegrator`] — enum dispatch over the four, selected at run time by
 //!   [`Method`],
 //! * [`events`] — event functions $g_i(t, y)$ (as a trait, or from closures
 //!   with [`EventFns`]) and their detection on the dense output, including
@@ -261,7 +264,7 @@ pub struct Stats {
     pub lu_decompositions: u64,
 }
 
-/// An explicit one-step integrator with dense output.
+/// A one-step integrator with dense output (the explicit methods and [`Radau5`]).
 ///
 /// Typical use: `reset` once, then `step` repeatedly towards a bound; after
 /// each step, `dense` interpolates on $[t_{\text{prev}}, t]$ and
@@ -300,7 +303,7 @@ where
     fn y_prev(&self) -> &OVector<f64, D>;
     /// Dense output on the last accepted step $[t_{\text{prev}}, t]$ at full
     /// order (DOP853: 7th order, 3 extra rhs evaluations computed lazily once
-    /// per step; DOPRI5: 4th order; RK4: cubic Hermite). Times outside the
+    /// per step; DOPRI5: 4th order; RK4: cubic Hermite; RADAU5: the collocation cubic). Times outside the
     /// step extrapolate the same polynomial (no panic). Before the first
     /// step, returns `y()`. An `out` of the wrong length (possible for `Dyn`
     /// only) is replaced by a vector of the right one.
@@ -319,7 +322,7 @@ where
     fn options(&self) -> &Options<D>;
     /// The current step-size suggestion for the next step (0 before reset).
     fn h_next(&self) -> f64;
-    /// Name for reports: `"DOP853"`, `"DOPRI5"`, `"RK4"`.
+    /// Name for reports: `"DOP853"`, `"DOPRI5"`, `"RK4"`, `"RADAU5"`.
     fn name(&self) -> &'static str;
     /// The dimension of the state.
     fn dim(&self) -> D {

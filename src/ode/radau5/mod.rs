@@ -1,55 +1,6 @@
-//! RADAU5: the three-stage Radau IIA collocation method of order 5 (L-stable, stiffly
-//! accurate), after Hairer and Wanner's `radau5.f` (*Solving ODEs II*, §IV.8).
-//!
-//! # The method
-//!
-//! A step of size $h$ from $(t, y)$ solves the stage system for $Z_i = Y_i - y$,
-//! $$Z_i = h\sum_{j=1}^3 a_{ij}\thinspace f(t + c_j h, y + Z_j),\qquad i = 1, 2, 3,$$
-//! with the Radau IIA tableau (see the `tableau` module: $c = ((4-\sqrt6)/10, (4+\sqrt6)/10, 1)$)
-//! and takes $y_{\text{new}} = y + Z_3$ (stiffly accurate: the last stage is the new point).
-//!
-//! **Simplified Newton, transformed.** With $J \approx \partial f/\partial y$ at the start of
-//! the step and $W = (T^{-1}\otimes I) Z$, where $T^{-1}A^{-1}T = \Lambda =
-//! \mathrm{diag}\big(\gamma, \begin{pmatrix}\alpha & -\beta\\\\ \beta & \alpha\end{pmatrix}\big)$,
-//! each iteration solves one real system with $(\gamma/h) I - J$ and one complex system with
-//! $((\alpha + i\beta)/h) I - J$ ($3N$ real unknowns for the price of $N$ real plus $N$
-//! complex ones). The contraction rate $\theta_k = \Vert\Delta W_k\Vert / \Vert\Delta W_{k-1}\Vert$
-//! is monitored: the iteration stops when $\frac{\theta}{1-\theta}\Vert\Delta W_k\Vert \le
-//! \kappa$ ($\kappa = \max(10\varepsilon/\mathrm{rtol}', \min(0.03, \sqrt{\mathrm{rtol}'}))$),
-//! and the step is rejected with a smaller $h$ when $\theta \ge 0.99$, when the error
-//! predicted after the remaining iterations exceeds $\kappa$, or after 7 iterations. Newton
-//! failure is always a rejection (counted in [`Stats::rejected`](super::Stats)), never an
-//! accepted step; when $h$ underflows it is [`OdeError::StepSizeUnderflow`].
-//!
-//! **Reuse.** $J$ is computed at the start of a step only when the last step converged
-//! slowly ($\theta > 10^{-3}$) or after a reset; after a rejection it is recomputed unless it
-//! is already fresh at this point. The two LU decompositions are redone only when $h$
-//! changes; a step-size increase by a factor in $[1, 1.2]$ is not taken, to keep them.
-//!
-//! **Error estimate.** $e = (\tfrac{\gamma}{h} I - J)^{-1}\big(f(t, y) + \tfrac1h(d_1Z_1 + d_2Z_2 + d_3Z_3)\big)$
-//! with $d = (-(13 + 7\sqrt6)/3, (-13 + 7\sqrt6)/3, -1/3)$, a third-order estimate filtered by
-//! the resolvent so that it stays bounded for stiff components; on the first step after a
-//! reset and after a rejection, if $\Vert e\Vert > 1$, it is refined once with
-//! $f(t, y + e)$ in place of $f(t, y)$. The norm is the crate's RMS norm with the scale
-//! $s_i = \mathrm{atol}'_i + \mathrm{rtol}'_i|y_i|$ at the start of the step, where RADAU5's
-//! tolerance transformation $\mathrm{rtol}' = 0.1\thinspace\mathrm{rtol}^{2/3}$,
-//! $\mathrm{atol}' = \mathrm{atol}\cdot\mathrm{rtol}'/\mathrm{rtol}$ maps the requested
-//! tolerance of the order-5 solution to the order-3 estimate.
-//!
-//! **Step size.** $h_{\text{new}} = h/\mathrm{clamp}(\Vert e\Vert^{1/4}/\mathrm{fac},
-//! 1/\mathrm{fac\\_max}, 1/\mathrm{fac\\_min})$ with $\mathrm{fac} = \min(\mathrm{safety},
-//! \mathrm{safety}\thinspace(1 + 2\cdot7)/(k + 2\cdot 7))$ for $k$ Newton iterations, and on
-//! acceptance Gustafsson's predictive controller may lower it:
-//! $h_{\text{new}} \le h\thinspace\mathrm{safety}\thinspace\frac{h}{h_{\text{acc}}}
-//! \big(\mathrm{err}_{\text{acc}}/\mathrm{err}^2\big)^{1/4}$ (the previous accepted step
-//! $h_{\text{acc}}$ and its error). [`Options::beta`] is not used.
-//!
-//! **Dense output** is the collocation polynomial: the cubic $u$ with $u(t_{\text{prev}}) =
-//! y_{\text{prev}}$, $u(t_{\text{prev}} + c_i h) = y_{\text{prev}} + Z_i$, in RADAU5's Newton
-//! form about the step's end, $u(t) = y_{\text{new}} + s\big(k_1 + (s - c_2 + 1)(k_2 + (s -
-//! c_1 + 1) k_3)\big)$, $s = (t - t_{\text{new}})/h$. It is exact at both ends
-//! ($y_{\text{prev}}$ and $y_{\text{new}}$ are returned as stored), costs no evaluation of
-//! $f$, and also gives the Newton starting values of the next step by extrapolation.
+//! RADAU5, the three-stage Radau IIA method of order 5: the type [`Radau5`] (its docs give
+//! the method), the tableau and transformation (`tableau`), the Newton iteration and error
+//! estimate (`newton`).
 
 mod newton;
 mod tableau;
@@ -67,8 +18,66 @@ const THETA_JAC: f64 = 1e-3;
 /// A step-size increase by at most this factor is not taken, to keep the LU decompositions.
 const KEEP_H_UP_TO: f64 = 1.2;
 
-/// The three-stage Radau IIA integrator of order 5 for stiff problems (see the
-/// [module docs](self) for the method).
+/// RADAU5: the three-stage Radau IIA collocation method of order 5 (L-stable, stiffly
+/// accurate), after Hairer and Wanner's `radau5.f` (*Solving ODEs II*, §IV.8).
+///
+/// # The method
+///
+/// A step of size $h$ from $(t, y)$ solves the stage system for $Z_i = Y_i - y$,
+/// $$Z_i = h\sum_{j=1}^3 a_{ij}\thinspace f(t + c_j h, y + Z_j),\qquad i = 1, 2, 3,$$
+/// with the Radau IIA tableau
+/// $$\begin{array}{c|ccc}
+/// \frac{4-\sqrt6}{10} & \frac{88-7\sqrt6}{360} & \frac{296-169\sqrt6}{1800} & \frac{-2+3\sqrt6}{225}\\\\
+/// \frac{4+\sqrt6}{10} & \frac{296+169\sqrt6}{1800} & \frac{88+7\sqrt6}{360} & \frac{-2-3\sqrt6}{225}\\\\
+/// 1 & \frac{16-\sqrt6}{36} & \frac{16+\sqrt6}{36} & \frac19
+/// \end{array}$$
+/// and takes $y_{\text{new}} = y + Z_3$ (stiffly accurate: the last stage is the new point).
+///
+/// **Simplified Newton, transformed.** With $J \approx \partial f/\partial y$ at the start of
+/// the step and $W = (T^{-1}\otimes I) Z$, where $T^{-1}A^{-1}T = \Lambda =
+/// \mathrm{diag}\big(\gamma, \begin{pmatrix}\alpha & -\beta\\\\ \beta & \alpha\end{pmatrix}\big)$,
+/// each iteration solves one real system with $(\gamma/h) I - J$ and one complex system with
+/// $((\alpha + i\beta)/h) I - J$ ($3N$ real unknowns for the price of $N$ real plus $N$
+/// complex ones). The contraction rate $\theta_k = \Vert\Delta W_k\Vert / \Vert\Delta W_{k-1}\Vert$
+/// is monitored: the iteration stops when $\frac{\theta}{1-\theta}\Vert\Delta W_k\Vert \le
+/// \kappa$ ($\kappa = \max(10\varepsilon/\mathrm{rtol}', \min(0.03, \sqrt{\mathrm{rtol}'}))$),
+/// and the step is rejected with a smaller $h$ when $\theta \ge 0.99$, when the error
+/// predicted after the remaining iterations exceeds $\kappa$, or after 7 iterations. Newton
+/// failure is always a rejection (counted in [`Stats::rejected`](super::Stats)), never an
+/// accepted step; when $h$ underflows it is [`OdeError::StepSizeUnderflow`].
+///
+/// **Reuse.** $J$ is computed at the start of a step only when the last step converged
+/// slowly ($\theta > 10^{-3}$) or after a reset; after a rejection it is recomputed unless it
+/// is already fresh at this point. The two LU decompositions are redone only when $h$
+/// changes; a step-size increase by a factor in $[1, 1.2]$ is not taken, to keep them.
+///
+/// **Error estimate.** $e = (\tfrac{\gamma}{h} I - J)^{-1}\big(f(t, y) + \tfrac1h(d_1Z_1 + d_2Z_2 + d_3Z_3)\big)$
+/// with $d = (-(13 + 7\sqrt6)/3, (-13 + 7\sqrt6)/3, -1/3)$, a third-order estimate filtered by
+/// the resolvent so that it stays bounded for stiff components; on the first step after a
+/// reset and after a rejection, if $\Vert e\Vert > 1$, it is refined once with
+/// $f(t, y + e)$ in place of $f(t, y)$. The norm is the crate's RMS norm with the scale
+/// $s_i = \mathrm{atol}'_i + \mathrm{rtol}'_i|y_i|$ at the start of the step, where RADAU5's
+/// tolerance transformation $\mathrm{rtol}' = 0.1\thinspace\mathrm{rtol}^{2/3}$,
+/// $\mathrm{atol}' = \mathrm{atol}\cdot\mathrm{rtol}'/\mathrm{rtol}$ maps the requested
+/// tolerance of the order-5 solution to the order-3 estimate.
+///
+/// **Step size.** $h_{\text{new}} = h/\mathrm{clamp}(\Vert e\Vert^{1/4}/\mathrm{fac},
+/// 1/\mathrm{fac\\_max}, 1/\mathrm{fac\\_min})$ with $\mathrm{fac} = \min(\mathrm{safety},
+/// \mathrm{safety}\thinspace(1 + 2\cdot7)/(k + 2\cdot 7))$ for $k$ Newton iterations, and on
+/// acceptance Gustafsson's predictive controller may lower it:
+/// $h_{\text{new}} \le h\thinspace\mathrm{safety}\thinspace\frac{h}{h_{\text{acc}}}
+/// \big(\mathrm{err}_{\text{acc}}/\mathrm{err}^2\big)^{1/4}$ (the previous accepted step
+/// $h_{\text{acc}}$ and its error). [`Options::beta`] is not used.
+///
+/// **Dense output** is the collocation polynomial: the cubic $u$ with $u(t_{\text{prev}}) =
+/// y_{\text{prev}}$, $u(t_{\text{prev}} + c_i h) = y_{\text{prev}} + Z_i$, in Newton's form
+/// about the step's left end, $u = y_{\text{prev}} + \theta\big(d_1 + (\theta - c_1)(d_2 +
+/// (\theta - c_2) d_3)\big)$, $\theta = (t - t_{\text{prev}})/h$, with the divided differences
+/// $d_k$ of the $Z_i$ (about the left end, where events restart, so that no value there
+/// cancels against the far end of a long step). It is exact at both ends ($y_{\text{prev}}$
+/// and $y_{\text{new}}$ are returned as stored), costs no evaluation of $f$, and gives the
+/// Newton starting values of the next step by extrapolation. Inside the step it is of order
+/// 3 (local error $O(h^4)$, as the error estimate), below the order 5 of the step's ends.
 ///
 /// Every vector, the Jacobian and both LU factorisations are allocated by the constructor
 /// ($N^2$ reals and $N^2$ complex numbers): `reset`, `step`, `dense` and `truncate` never
