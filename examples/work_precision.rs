@@ -1,4 +1,4 @@
-//! Work-precision diagrams of the hybrid simulation: DOP853, DOPRI5 and RK4 on four fixed scenes.
+//! Work-precision diagrams of the hybrid simulation: DOP853, DOPRI5, RADAU5 and RK4 on four fixed scenes.
 //!
 //! For each scene the run goes from rest (all states 0) to the end of the horizon; the error is
 //! the largest component of the state error at the end against a reference, and the largest
@@ -171,7 +171,7 @@ fn opts_for(method: Method, tol: f64, steps: u32) -> SimOptions {
 }
 
 /// Work-precision diagrams (error against wall time and right-hand-side evaluations) of
-/// DOP853, DOPRI5 and RK4 on four fixed scenes of the Jeffcott rotor with snubber ring.
+/// DOP853, DOPRI5, RADAU5 and RK4 on four fixed scenes of the Jeffcott rotor with snubber ring.
 #[derive(Parser)]
 #[command(name = "work_precision")]
 struct Flags {
@@ -188,7 +188,7 @@ struct Flags {
     /// One scene or all
     #[arg(long = "scene", default_value = "all", value_parser = ["fig8a", "fig8b", "stiff", "chaos", "all"])]
     only: String,
-    /// Run once with METHOD:SETTING (dop853:1e-10, dopri5:1e-8, rk4:400) and print the work
+    /// Run once with METHOD:SETTING (dop853:1e-10, dopri5:1e-8, radau5:1e-8, rk4:400) and print the work
     /// done; no reference, no files (for instruction counts under valgrind)
     #[arg(long, value_name = "METHOD:SETTING")]
     single: Option<String>,
@@ -383,6 +383,7 @@ fn run_single(only: &str, spec: &str) {
     let opts = match m {
         "dop853" => opts_for(Method::Dop853, v, 1),
         "dopri5" => opts_for(Method::Dopri5, v, 1),
+        "radau5" => opts_for(Method::Radau5, v, 1),
         "rk4" if (1.0..=1e7).contains(&v) => opts_for(Method::Rk4, 1e-6, v as u32),
         _ => common::cli::fail(format!("--single {spec}: unknown method or bad setting")),
     };

@@ -28,6 +28,20 @@ pub enum MethodFlag {
     Dopri5,
     /// Classical Runge-Kutta, fixed steps (--steps-per-period)
     Rk4,
+    /// Radau IIA of order 5, implicit, adaptive: for stiff models (many modes, stiff contacts)
+    Radau5,
+}
+
+impl MethodFlag {
+    /// The crate's method.
+    pub fn method(self) -> Method {
+        match self {
+            MethodFlag::Dop853 => Method::Dop853,
+            MethodFlag::Dopri5 => Method::Dopri5,
+            MethodFlag::Rk4 => Method::Rk4,
+            MethodFlag::Radau5 => Method::Radau5,
+        }
+    }
 }
 
 /// The scene flags of `simulate` (`#[command(flatten)]`); [`SceneFlags::scene`] checks and
@@ -117,11 +131,7 @@ impl SceneFlags {
         }
         let (rtol, atol) = self.tol.get();
         let opts = SimOptions {
-            method: match self.method {
-                MethodFlag::Dop853 => Method::Dop853,
-                MethodFlag::Dopri5 => Method::Dopri5,
-                MethodFlag::Rk4 => Method::Rk4,
-            },
+            method: self.method.method(),
             rtol,
             atol,
             steps_per_period: u32::try_from(self.steps_per_period).unwrap_or(u32::MAX),

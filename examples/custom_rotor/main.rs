@@ -16,6 +16,7 @@ use clap::Parser;
 use common::cli::{f64_in, finite, parse, usize_in};
 use common::csv::fmt_f64;
 use common::plot::{self, Figure, Series};
+use common::scene::MethodFlag;
 use common::{or_exit, Tolerances};
 use jeffcott::analysis::orbit::strobe_orbit;
 use jeffcott::analysis::portrait::phase_portrait;
@@ -47,6 +48,9 @@ struct Flags {
     periods: usize,
     #[command(flatten)]
     tol: Tolerances,
+    /// Integration method (rk4 takes 400 fixed steps per forcing period)
+    #[arg(long, value_enum, default_value = "dop853")]
+    method: MethodFlag,
 }
 
 fn main() {
@@ -58,6 +62,7 @@ fn main() {
         transient,
         periods,
         tol,
+        method,
     } = parse();
     let (rtol, atol) = tol.get();
 
@@ -70,6 +75,7 @@ fn main() {
     let model = or_exit(rotor::on_ring(params.with_eta(eta), q, k3));
     let y0 = jeffcott::State::zeros();
     let opts = SimOptions {
+        method: method.method(),
         rtol,
         atol,
         ..SimOptions::default()

@@ -33,6 +33,7 @@ use std::time::Instant;
 use clap::Parser;
 use common::cli::{f64_in, fail, parse, usize_in};
 use common::plot::{self, Figure, Series};
+use common::scene::MethodFlag;
 use common::{or_exit, Tolerances};
 use jeffcott::analysis::{
     bifurcation, linspace, phase_portrait, start_from, strobe_orbit, BifurcationConfig, PeriodTest,
@@ -99,6 +100,9 @@ struct Flags {
     record: usize,
     #[command(flatten)]
     tol: Tolerances,
+    /// Integration method (rk4 takes 400 fixed steps per forcing period)
+    #[arg(long, value_enum, default_value = "dop853")]
+    method: MethodFlag,
 }
 
 fn main() {
@@ -119,6 +123,7 @@ fn main() {
         bif_transient,
         record,
         tol,
+        method,
     } = parse();
     let (rtol, atol) = tol.get();
     if eta_max < eta_min {
@@ -142,6 +147,7 @@ fn main() {
         ring,
     };
     let opts = SimOptions {
+        method: method.method(),
         rtol,
         atol,
         ..SimOptions::default()
@@ -218,9 +224,11 @@ fn main() {
         .fold(0.0, f64::max);
     let periodicity = or_exit(orbit.period(&PeriodTest::default()));
     println!(
-        "orbit: {}, {contacts} contact onsets in {periods} periods, largest |r| at the ring {reach:.4}, {} steps, {:.2} s",
+        "orbit: {}, {contacts} contact onsets in {periods} periods, largest |r| at the ring {reach:.4}, {} steps ({} rejected, {} rhs evaluations), {:.2} s",
         describe(&periodicity),
         orbit.stats.steps + portrait.stats.steps,
+        orbit.stats.rejected + portrait.stats.rejected,
+        orbit.stats.rhs_evals + portrait.stats.rhs_evals,
         clock.elapsed().as_secs_f64()
     );
 

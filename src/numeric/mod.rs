@@ -36,6 +36,7 @@
 //! ```
 
 mod bisect;
+pub(crate) mod lu;
 mod roots;
 
 pub use bisect::{bisect, Bisection, Side};

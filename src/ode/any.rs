@@ -1,6 +1,6 @@
 //! Run-time choice of the integration method.
 
-use super::{Dop853, Dopri5, Integrator, OdeError, OdeSystem, Options, Rk4, Stats};
+use super::{Dop853, Dopri5, Integrator, OdeError, OdeSystem, Options, Radau5, Rk4, Stats};
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, DimName, OVector};
 
@@ -14,11 +14,13 @@ pub enum Method {
     Dopri5,
     /// [`Rk4`] (needs [`Options::fixed_step`]).
     Rk4,
+    /// [`Radau5`], implicit, for stiff problems (refuses [`Options::fixed_step`]).
+    Radau5,
 }
 
 impl Method {
     /// All methods.
-    pub const ALL: [Method; 3] = [Method::Dop853, Method::Dopri5, Method::Rk4];
+    pub const ALL: [Method; 4] = [Method::Dop853, Method::Dopri5, Method::Rk4, Method::Radau5];
 
     /// Name for reports.
     pub fn name(self) -> &'static str {
@@ -26,15 +28,17 @@ impl Method {
             Method::Dop853 => "DOP853",
             Method::Dopri5 => "DOPRI5",
             Method::Rk4 => "RK4",
+            Method::Radau5 => "RADAU5",
         }
     }
 
-    /// Classical order of the propagating formula (8, 5, 4).
+    /// Classical order of the propagating formula (8, 5, 4, 5).
     pub fn order(self) -> u32 {
         match self {
             Method::Dop853 => 8,
             Method::Dopri5 => 5,
             Method::Rk4 => 4,
+            Method::Radau5 => 5,
         }
     }
 }
@@ -52,6 +56,8 @@ where
     Dopri5(Dopri5<D>),
     /// RK4.
     Rk4(Rk4<D>),
+    /// RADAU5 (boxed: its state is several times larger than the explicit methods').
+    Radau5(Box<Radau5<D>>),
 }
 
 impl<D: DimName> AnyIntegrator<D>
@@ -76,6 +82,7 @@ where
             Method::Dop853 => AnyIntegrator::Dop853(Dop853::with_dim(dim, options)?),
             Method::Dopri5 => AnyIntegrator::Dopri5(Dopri5::with_dim(dim, options)?),
             Method::Rk4 => AnyIntegrator::Rk4(Rk4::with_dim(dim, options)?),
+            Method::Radau5 => AnyIntegrator::Radau5(Box::new(Radau5::with_dim(dim, options)?)),
         })
     }
 
@@ -85,6 +92,7 @@ where
             AnyIntegrator::Dop853(_) => Method::Dop853,
             AnyIntegrator::Dopri5(_) => Method::Dopri5,
             AnyIntegrator::Rk4(_) => Method::Rk4,
+            AnyIntegrator::Radau5(_) => Method::Radau5,
         }
     }
 }
@@ -95,6 +103,7 @@ macro_rules! dispatch {
             AnyIntegrator::Dop853($i) => $e,
             AnyIntegrator::Dopri5($i) => $e,
             AnyIntegrator::Rk4($i) => $e,
+            AnyIntegrator::Radau5($i) => $e,
         }
     };
 }

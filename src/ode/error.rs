@@ -56,6 +56,16 @@ pub enum OdeError {
         /// Effective minimum step (max of `h_min` and $10\varepsilon|t|$).
         h_min: f64,
     },
+    /// The Newton iteration of the implicit method ([`Radau5`](super::Radau5)) did not
+    /// converge with the fixed step of [`Options::fixed_step`](super::Options::fixed_step)
+    /// (adaptive steps would have been reduced instead).
+    #[error("the Newton iteration did not converge at t = {t} with the fixed step h = {h}; use a smaller fixed step, or adaptive steps (fixed_step: None)")]
+    NewtonFailure {
+        /// Last accepted time.
+        t: f64,
+        /// The fixed step size.
+        h: f64,
+    },
     /// More than `max_steps` attempts since the last reset.
     #[error("too many steps: {max_steps} attempts since the last reset, reached t = {t} with h = {h}; raise Options::max_steps or loosen the tolerances")]
     TooManySteps {

@@ -1,5 +1,5 @@
-//! Generic explicit Runge–Kutta integrators with error control, dense output
-//! and event detection.
+//! Generic Runge–Kutta integrators (explicit, and one implicit for stiff problems) with
+//! error control, dense output and event detection.
 //!
 //! This layer knows nothing about rotors. It provides
 //!
@@ -7,7 +7,10 @@
 //! * [`Dopri5`] — Dormand–Prince 5(4) with Shampine's 4th-order dense output,
 //! * [`Rk4`] — the classical fixed-step 4th-order method with cubic Hermite
 //!   dense output,
-//! * [`AnyIntegrator`] — enum dispatch over the three, selected at run time by
+//! * [`Radau5`] — the implicit three-stage Radau IIA method of order 5 (Hairer and
+//!   Wanner's RADAU5) for stiff problems, with its collocation polynomial as dense output
+//!   and the system's Jacobian ([`OdeSystem::jacobian`]) or finite differences,
+//! * [`AnyIntegrator`] — enum dispatch over the four, selected at run time by
 //!   [`Method`],
 //! * [`events`] — event functions $g_i(t, y)$ (as a trait, or from closures
 //!   with [`EventFns`]) and their detection on the dense output, including
@@ -152,6 +155,7 @@ mod error;
 pub mod events;
 pub(crate) mod kernels;
 mod options;
+mod radau5;
 pub mod rk4;
 pub mod solve;
 
@@ -164,6 +168,7 @@ pub use events::{
     NoDerivative, NoEvents, MAX_SAMPLES,
 };
 pub use options::{Options, Tolerance};
+pub use radau5::Radau5;
 pub use rk4::Rk4;
 pub use solve::{solve, solve_with, Observer, Recorder, SolveError, SolveReport, Stopped};
 
@@ -180,7 +185,49 @@ where
     /// Writes $f(t, y)$ into `dy` (every component must be written; `dy` has
     /// the length of `y`).
     fn rhs(&self, t: f64, y: &OVector<f64, D>, dy: &mut OVector<f64, D>);
+
+    /// Writes the Jacobian $J_{ij} = \partial f_i / \partial y_j$ at $(t, y)$ into `jac` and
+    /// returns `true`, or returns `false` (the default) when the system does not provide one.
+    ///
+    /// Only the implicit method [`Radau5`] uses it; without it Radau5 approximates $J$ by
+    /// forward differences, one evaluation of $f$ per column with RADAU5's increment
+    /// $\delta_j = \sqrt{\varepsilon \max(10^{-5}, |y_j|)}$. An analytic Jacobian saves those
+    /// $N$ evaluations per Jacobian and is exact; it need not be: the simplified Newton
+    /// iteration only needs an approximation, and a poor one shows as slow convergence
+    /// (more iterations, smaller steps), never as a wrong step. Every entry must be written
+    /// (`jac` holds the previous Jacobian on entry).
+    ///
+    /// ```
+    /// use jeffcott::ode::{JacobianMut, OdeSystem};
+    /// use nalgebra::{SVector, U2};
+    ///
+    /// /// Van der Pol's oscillator, $\varepsilon y_2' = (1 - y_1^2) y_2 - y_1$.
+    /// struct VdP(f64);
+    /// impl OdeSystem<U2> for VdP {
+    ///     fn rhs(&self, _t: f64, y: &SVector<f64, 2>, dy: &mut SVector<f64, 2>) {
+    ///         dy[0] = y[1];
+    ///         dy[1] = ((1.0 - y[0] * y[0]) * y[1] - y[0]) / self.0;
+    ///     }
+    ///     fn jacobian(&self, _t: f64, y: &SVector<f64, 2>, jac: &mut JacobianMut<'_, U2>) -> bool {
+    ///         jac[(0, 0)] = 0.0;
+    ///         jac[(0, 1)] = 1.0;
+    ///         jac[(1, 0)] = (-2.0 * y[0] * y[1] - 1.0) / self.0;
+    ///         jac[(1, 1)] = (1.0 - y[0] * y[0]) / self.0;
+    ///         true
+    ///     }
+    /// }
+    /// # let _ = VdP(1e-3);
+    /// ```
+    fn jacobian(&self, t: f64, y: &OVector<f64, D>, jac: &mut JacobianMut<'_, D>) -> bool {
+        let _ = (t, y, jac);
+        false
+    }
 }
+
+/// A mutable view of an $N\times N$ Jacobian (column-major, over storage the integrator
+/// owns, so that no allocator bound on $N\times N$ matrices is needed): index it as
+/// `jac[(i, j)]` for $\partial f_i/\partial y_j$. See [`OdeSystem::jacobian`].
+pub type JacobianMut<'a, D> = nalgebra::MatrixViewMut<'a, f64, D, D>;
 
 impl<D: Dim, F> OdeSystem<D> for F
 where
@@ -206,9 +253,18 @@ pub struct Stats {
     pub rhs_evals: u64,
     /// Events reported by [`find_first_event`].
     pub events: u64,
+    /// Jacobians of $f$ computed (analytic or by finite differences; the $N$ evaluations of
+    /// $f$ of a finite-difference Jacobian are counted in `rhs_evals` too). 0 for the
+    /// explicit methods.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub jacobians: u64,
+    /// LU decompositions of the Newton matrices (Radau5 counts its real and its complex
+    /// decomposition as one). 0 for the explicit methods.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub lu_decompositions: u64,
 }
 
-/// An explicit one-step integrator with dense output.
+/// A one-step integrator with dense output (the explicit methods and [`Radau5`]).
 ///
 /// Typical use: `reset` once, then `step` repeatedly towards a bound; after
 /// each step, `dense` interpolates on $[t_{\text{prev}}, t]$ and
@@ -247,7 +303,7 @@ where
     fn y_prev(&self) -> &OVector<f64, D>;
     /// Dense output on the last accepted step $[t_{\text{prev}}, t]$ at full
     /// order (DOP853: 7th order, 3 extra rhs evaluations computed lazily once
-    /// per step; DOPRI5: 4th order; RK4: cubic Hermite). Times outside the
+    /// per step; DOPRI5: 4th order; RK4: cubic Hermite; RADAU5: the collocation cubic). Times outside the
     /// step extrapolate the same polynomial (no panic). Before the first
     /// step, returns `y()`. An `out` of the wrong length (possible for `Dyn`
     /// only) is replaced by a vector of the right one.
@@ -266,7 +322,7 @@ where
     fn options(&self) -> &Options<D>;
     /// The current step-size suggestion for the next step (0 before reset).
     fn h_next(&self) -> f64;
-    /// Name for reports: `"DOP853"`, `"DOPRI5"`, `"RK4"`.
+    /// Name for reports: `"DOP853"`, `"DOPRI5"`, `"RK4"`, `"RADAU5"`.
     fn name(&self) -> &'static str;
     /// The dimension of the state.
     fn dim(&self) -> D {

@@ -13,5 +13,6 @@ mod ode_dyn;
 mod ode_errors;
 mod ode_events;
 mod ode_honesty;
+mod ode_radau;
 mod ode_stiff_jumps;
 mod ode_stiff_set;

@@ -54,6 +54,7 @@ fn step_counts(method: Method) -> Vec<usize> {
         Method::Rk4 => vec![100, 141, 200, 283, 400],
         Method::Dopri5 => vec![50, 71, 100, 141, 200],
         Method::Dop853 => vec![44, 52, 64, 76, 90, 108],
+        Method::Radau5 => vec![20, 28, 40, 57, 80],
     }
 }
 
@@ -100,6 +101,7 @@ fn global_order_forced_oscillator_all_methods() {
             Method::Rk4 => vec![100, 141, 200, 283, 400],
             Method::Dopri5 => vec![50, 71, 100, 141, 200],
             Method::Dop853 => vec![20, 24, 28, 34, 40],
+            Method::Radau5 => vec![20, 28, 40, 57, 80],
         };
         let hs: Vec<f64> = ns.iter().map(|&n| t_end / n as f64).collect();
         let errs: Vec<f64> = ns
@@ -134,6 +136,8 @@ fn dense_output_order_all_methods() {
             Method::Dop853 => (vec![0.1, 0.14, 0.2, 0.28, 0.4], 8.0),
             Method::Dopri5 => (vec![0.05, 0.07, 0.1, 0.14, 0.2], 5.0),
             Method::Rk4 => (vec![0.01, 0.014, 0.02, 0.028, 0.04], 4.0),
+            // The collocation cubic: local error O(h^4) inside the step.
+            Method::Radau5 => (vec![0.05, 0.07, 0.1, 0.14, 0.2], 4.0),
         };
         let errs: Vec<f64> = hs
             .iter()

@@ -689,6 +689,8 @@ fn bouncing_ball_forty_impacts_with_steps_spanning_flights() {
         (Method::Dop853, big, "h_init 10"),
         (Method::Dopri5, big, "h_init 10"),
         (Method::Rk4, Options::fixed(0.37), "fixed 0.37"),
+        (Method::Radau5, tol, "default steps"),
+        (Method::Radau5, big, "h_init 10"),
     ];
     for (method, opts, label) in cases {
         for dir in [Direction::Falling, Direction::Either] {

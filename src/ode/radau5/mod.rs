@@ -1,0 +1,626 @@
+//! RADAU5, the three-stage Radau IIA method of order 5: the type [`Radau5`] (its docs give
+//! the method), the tableau and transformation (`tableau`), the Newton iteration and error
+//! estimate (`newton`).
+
+mod newton;
+mod tableau;
+
+use self::newton::{error_estimate, iterate, Linear, Newton, Rate, StepInput, NIT};
+use self::tableau::{C1, C2};
+use super::core::{core_accessors, fit, zeros, Core};
+use super::kernels::all_finite;
+use super::{Integrator, OdeError, OdeSystem, Options, Stats};
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Dim, DimName, OVector};
+
+/// Convergence rate below which the Jacobian is kept for the next step (RADAU5's `THET`).
+const THETA_JAC: f64 = 1e-3;
+/// A step-size increase by at most this factor is not taken, to keep the LU decompositions.
+const KEEP_H_UP_TO: f64 = 1.2;
+
+/// RADAU5: the three-stage Radau IIA collocation method of order 5 (L-stable, stiffly
+/// accurate), after Hairer and Wanner's `radau5.f` (*Solving ODEs II*, §IV.8).
+///
+/// # The method
+///
+/// A step of size $h$ from $(t, y)$ solves the stage system for $Z_i = Y_i - y$,
+/// $$Z_i = h\sum_{j=1}^3 a_{ij}\thinspace f(t + c_j h, y + Z_j),\qquad i = 1, 2, 3,$$
+/// with the Radau IIA tableau
+/// $$\begin{array}{c|ccc}
+/// \frac{4-\sqrt6}{10} & \frac{88-7\sqrt6}{360} & \frac{296-169\sqrt6}{1800} & \frac{-2+3\sqrt6}{225}\\\\
+/// \frac{4+\sqrt6}{10} & \frac{296+169\sqrt6}{1800} & \frac{88+7\sqrt6}{360} & \frac{-2-3\sqrt6}{225}\\\\
+/// 1 & \frac{16-\sqrt6}{36} & \frac{16+\sqrt6}{36} & \frac19
+/// \end{array}$$
+/// and takes $y_{\text{new}} = y + Z_3$ (stiffly accurate: the last stage is the new point).
+///
+/// **Simplified Newton, transformed.** With $J \approx \partial f/\partial y$ at the start of
+/// the step and $W = (T^{-1}\otimes I) Z$, where $T^{-1}A^{-1}T = \Lambda =
+/// \mathrm{diag}\big(\gamma, \begin{pmatrix}\alpha & -\beta\\\\ \beta & \alpha\end{pmatrix}\big)$,
+/// each iteration solves one real system with $(\gamma/h) I - J$ and one complex system with
+/// $((\alpha + i\beta)/h) I - J$ ($3N$ real unknowns for the price of $N$ real plus $N$
+/// complex ones). The contraction rate $\theta_k = \Vert\Delta W_k\Vert / \Vert\Delta W_{k-1}\Vert$
+/// is monitored: the iteration stops when $\frac{\theta}{1-\theta}\Vert\Delta W_k\Vert \le
+/// \kappa$ ($\kappa = \max(10\varepsilon/\mathrm{rtol}', \min(0.03, \sqrt{\mathrm{rtol}'}))$),
+/// and the step is rejected with a smaller $h$ when $\theta \ge 0.99$, when the error
+/// predicted after the remaining iterations exceeds $\kappa$, or after 7 iterations. Newton
+/// failure is always a rejection (counted in [`Stats::rejected`](super::Stats)), never an
+/// accepted step; when $h$ underflows it is [`OdeError::StepSizeUnderflow`].
+///
+/// **Reuse.** $J$ is computed at the start of a step only when the last step converged
+/// slowly ($\theta > 10^{-3}$) or after a reset; after a rejection it is recomputed unless it
+/// is already fresh at this point. The two LU decompositions are redone only when $h$
+/// changes; a step-size increase by a factor in $[1, 1.2]$ is not taken, to keep them.
+///
+/// **Error estimate.** $e = (\tfrac{\gamma}{h} I - J)^{-1}\big(f(t, y) + \tfrac1h(d_1Z_1 + d_2Z_2 + d_3Z_3)\big)$
+/// with $d = (-(13 + 7\sqrt6)/3, (-13 + 7\sqrt6)/3, -1/3)$, a third-order estimate filtered by
+/// the resolvent so that it stays bounded for stiff components; on the first step after a
+/// reset and after a rejection, if $\Vert e\Vert > 1$, it is refined once with
+/// $f(t, y + e)$ in place of $f(t, y)$. The norm is the crate's RMS norm with the scale
+/// $s_i = \mathrm{atol}'_i + \mathrm{rtol}'_i|y_i|$ at the start of the step, where RADAU5's
+/// tolerance transformation $\mathrm{rtol}' = 0.1\thinspace\mathrm{rtol}^{2/3}$,
+/// $\mathrm{atol}' = \mathrm{atol}\cdot\mathrm{rtol}'/\mathrm{rtol}$ maps the requested
+/// tolerance of the order-5 solution to the order-3 estimate.
+///
+/// **Step size.** $h_{\text{new}} = h/\mathrm{clamp}(\Vert e\Vert^{1/4}/\mathrm{fac},
+/// 1/\mathrm{fac\\_max}, 1/\mathrm{fac\\_min})$ with $\mathrm{fac} = \min(\mathrm{safety},
+/// \mathrm{safety}\thinspace(1 + 2\cdot7)/(k + 2\cdot 7))$ for $k$ Newton iterations, and on
+/// acceptance Gustafsson's predictive controller may lower it:
+/// $h_{\text{new}} \le h\thinspace\mathrm{safety}\thinspace\frac{h}{h_{\text{acc}}}
+/// \big(\mathrm{err}_{\text{acc}}/\mathrm{err}^2\big)^{1/4}$ (the previous accepted step
+/// $h_{\text{acc}}$ and its error). [`Options::beta`] is not used.
+///
+/// **Dense output** is the collocation polynomial: the cubic $u$ with $u(t_{\text{prev}}) =
+/// y_{\text{prev}}$, $u(t_{\text{prev}} + c_i h) = y_{\text{prev}} + Z_i$, in Newton's form
+/// about the step's left end, $u = y_{\text{prev}} + \theta\big(d_1 + (\theta - c_1)(d_2 +
+/// (\theta - c_2) d_3)\big)$, $\theta = (t - t_{\text{prev}})/h$, with the divided differences
+/// $d_k$ of the $Z_i$ (about the left end, where events restart, so that no value there
+/// cancels against the far end of a long step). It is exact at both ends ($y_{\text{prev}}$
+/// and $y_{\text{new}}$ are returned as stored), costs no evaluation of $f$, and gives the
+/// Newton starting values of the next step by extrapolation. Inside the step it is of order
+/// 3 (local error $O(h^4)$, as the error estimate), below the order 5 of the step's ends.
+///
+/// Every vector, the Jacobian and both LU factorisations are allocated by the constructor
+/// ($N^2$ reals and $N^2$ complex numbers): `reset`, `step`, `dense` and `truncate` never
+/// allocate, also for [`Dyn`](nalgebra::Dyn). With [`Options::fixed_step`] (for convergence
+/// studies) there is no error control and a Newton failure is [`OdeError::NewtonFailure`];
+/// the Newton tolerance still comes from `rtol` and `atol`.
+///
+/// ```
+/// use jeffcott::ode::{Integrator, Options, Radau5};
+/// use nalgebra::SVector;
+///
+/// // Robertson's chemical kinetics, stiff up to t = 1e5; the finite-difference Jacobian.
+/// let rober = |_t: f64, y: &SVector<f64, 3>, dy: &mut SVector<f64, 3>| {
+///     dy[0] = -0.04 * y[0] + 1e4 * y[1] * y[2];
+///     dy[2] = 3e7 * y[1] * y[1];
+///     dy[1] = -dy[0] - dy[2];
+/// };
+/// let mut integ = Radau5::new(Options::with_tol(1e-8, 1e-12))?;
+/// integ.reset(&rober, 0.0, &SVector::<f64, 3>::new(1.0, 0.0, 0.0), false)?;
+/// while integ.t() < 40.0 {
+///     integ.step(&rober, 40.0)?;
+/// }
+/// // Hairer and Wanner's reference solution at t = 40.
+/// let y = integ.y();
+/// assert!((y[0] - 0.7158270687193e0).abs() < 1e-6);
+/// assert!((y[1] - 0.9185534764557e-5).abs() < 1e-10);
+/// // A few hundred steps, where an explicit method needs ~1e5 on this interval.
+/// assert!(integ.stats().steps < 500);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct Radau5<D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    core: Core<D>,
+    /// RADAU5's transformed tolerances (see the module docs).
+    rtol: OVector<f64, D>,
+    atol: OVector<f64, D>,
+    /// Newton stopping tolerance $\kappa$.
+    fnewt: f64,
+    scal: OVector<f64, D>,
+    /// Stage increments $Z_i$ (scratch during the Newton iteration).
+    z: [OVector<f64, D>; 3],
+    /// Transformed increments $W = T^{-1} Z$.
+    w: [OVector<f64, D>; 3],
+    /// Dense-output coefficients $k_1, k_2, k_3$ of the last accepted step.
+    cont: [OVector<f64, D>; 3],
+    /// Right end of the last accepted (untruncated) step.
+    t_end: f64,
+    yt: OVector<f64, D>,
+    ft: OVector<f64, D>,
+    lin: Linear,
+    /// A Jacobian exists and may be used.
+    jac_ok: bool,
+    /// The Jacobian was computed at the current point.
+    jac_fresh: bool,
+    /// The step size the LU decompositions are for (0 = none).
+    lu_h: f64,
+    rate: Rate,
+    /// No step accepted since the last reset.
+    first: bool,
+    /// Gustafsson's memory: last accepted step and its error (`h_acc` 0 = none).
+    h_acc: f64,
+    err_acc: f64,
+}
+
+impl<D: DimName> Radau5<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Creates the integrator for a fixed dimension (`U3`, `Const<3>`), validating `options`.
+    /// Call [`Integrator::reset`] before stepping.
+    pub fn new(options: Options<D>) -> Result<Self, OdeError> {
+        Self::with_dim(D::name(), options)
+    }
+}
+
+impl<D: Dim> Radau5<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Creates the integrator for dimension `dim` (e.g. `Dyn(n)`), validating `options`.
+    /// Allocates everything it will use, including the $N\times N$ Jacobian and the two
+    /// factorisations.
+    pub fn with_dim(dim: D, options: Options<D>) -> Result<Self, OdeError> {
+        let core = Core::new(dim, options, 4.0, 0.0, 5.0)?;
+        let n = dim.value();
+        let z = zeros(dim);
+        let (mut rtol, mut atol) = (z.clone(), z.clone());
+        let mut rmin = f64::INFINITY;
+        for i in 0..n {
+            let (r, a) = (core.opts.rtol.get(i), core.opts.atol.get(i));
+            let r2 = 0.1 * r.powf(2.0 / 3.0);
+            rtol[i] = r2;
+            atol[i] = if r > 0.0 { a * (r2 / r) } else { a };
+            if r2 > 0.0 {
+                rmin = rmin.min(r2);
+            }
+        }
+        let fnewt = if rmin.is_finite() {
+            (10.0 * f64::EPSILON / rmin).max(0.03f64.min(rmin.sqrt()))
+        } else {
+            0.03
+        };
+        Ok(Radau5 {
+            core,
+            rtol,
+            atol,
+            fnewt,
+            scal: z.clone(),
+            z: std::array::from_fn(|_| z.clone()),
+            w: std::array::from_fn(|_| z.clone()),
+            cont: std::array::from_fn(|_| z.clone()),
+            t_end: 0.0,
+            yt: z.clone(),
+            ft: z,
+            lin: Linear::new(n),
+            jac_ok: false,
+            jac_fresh: false,
+            lu_h: 0.0,
+            rate: Rate {
+                theta: THETA_JAC,
+                faccon: 1.0,
+            },
+            first: true,
+            h_acc: 0.0,
+            err_acc: 1e-2,
+        })
+    }
+
+    /// Evaluates the collocation polynomial of the last step at `t`.
+    fn eval_dense(&self, t: f64, out: &mut [f64]) {
+        let c = &self.core;
+        let ends = [(c.t_prev, &c.y_prev), (self.t_end, &c.y_end)];
+        eval_poly(&self.cont, c.h_dense, ends, t, out);
+    }
+
+    /// Newton starting values for a step of size `h` from the current point: zero after a
+    /// reset, else the last collocation polynomial extrapolated to $t + c_i h$.
+    fn starting_values(&mut self, h: f64) {
+        let n = self.core.dim.value();
+        if self.first {
+            for v in self.z.iter_mut().chain(self.w.iter_mut()) {
+                v.fill(0.0);
+            }
+            return;
+        }
+        let c = &self.core;
+        for (s_i, ci) in [C1, C2, 1.0].into_iter().enumerate() {
+            // Beyond the last step: the polynomial itself (its right end never matches).
+            let ends = [(c.t_prev, &c.y_prev), (f64::NAN, &c.y_end)];
+            let zi = self.z[s_i].as_mut_slice();
+            eval_poly(&self.cont, c.h_dense, ends, c.t + ci * h, zi);
+            for i in 0..n {
+                zi[i] -= c.y[i];
+            }
+        }
+        let [z0, z1, z2] = &self.z;
+        let [w0, w1, w2] = &mut self.w;
+        let ti = tableau::TI;
+        for i in 0..n {
+            w0[i] = ti[0][0] * z0[i] + ti[0][1] * z1[i] + ti[0][2] * z2[i];
+            w1[i] = ti[1][0] * z0[i] + ti[1][1] * z1[i] + ti[1][2] * z2[i];
+            w2[i] = ti[2][0] * z0[i] + ti[2][1] * z1[i] + ti[2][2] * z2[i];
+        }
+    }
+
+    /// The dense-output coefficients of the step just accepted: the divided differences
+    /// of the stage increments over the nodes $0, c_1, c_2, 1$ (in units of the step).
+    fn update_dense(&mut self) {
+        let n = self.core.dim.value();
+        let [z1, z2, z3] = &self.z;
+        let [d1, d2, d3] = &mut self.cont;
+        for i in 0..n {
+            let a = z1[i] / C1;
+            let b = (z2[i] - z1[i]) / (C2 - C1);
+            let c = (z3[i] - z2[i]) / (1.0 - C2);
+            let ab = (b - a) / C2;
+            let bc = (c - b) / (1.0 - C1);
+            d1[i] = a;
+            d2[i] = ab;
+            d3[i] = bc - ab;
+        }
+    }
+
+    /// The error scale $s_i = \mathrm{atol}'_i + \mathrm{rtol}'_i |y_i|$ at the current point.
+    fn update_scale(&mut self) {
+        let c = &self.core;
+        for i in 0..self.scal.len() {
+            self.scal[i] = self.atol[i] + self.rtol[i] * c.y[i].abs();
+        }
+    }
+
+    /// Makes the Jacobian and the LU decompositions ready for a step of size `h`; `false`
+    /// if a Newton matrix is singular.
+    fn prepare_linear<S: OdeSystem<D>>(&mut self, sys: &S, h: f64) -> bool {
+        if !self.jac_ok {
+            let c = &mut self.core;
+            self.lin.jacobian(
+                sys,
+                c.t,
+                &c.y,
+                &c.f,
+                &mut self.yt,
+                &mut self.ft,
+                &mut c.stats,
+            );
+            self.jac_ok = true;
+            self.jac_fresh = true;
+            self.lu_h = 0.0;
+        }
+        if self.lu_h != h {
+            self.lu_h = h;
+            if !self.lin.decompose(h, &mut self.core.stats) {
+                self.lu_h = 0.0;
+                return false;
+            }
+        }
+        true
+    }
+}
+
+/// $u(t) = y_{\text{prev}} + \theta\big(d_1 + (\theta - c_1)(d_2 + (\theta - c_2) d_3)\big)$,
+/// $\theta = (t - t_{\text{prev}})/h$ (Newton's form about the left end, where events
+/// restart: no cancellation against the values at the far end of a long step), except that
+/// the ends return their stored states exactly. `ends` = the step's two ends `(t, y)`.
+fn eval_poly<D: Dim>(
+    cont: &[OVector<f64, D>; 3],
+    h: f64,
+    ends: [(f64, &OVector<f64, D>); 2],
+    t: f64,
+    out: &mut [f64],
+) where
+    DefaultAllocator: Allocator<D>,
+{
+    let [(t0, y0), (t1, y1)] = ends;
+    if t == t0 || t == t1 {
+        out.copy_from_slice(if t == t0 { y0 } else { y1 }.as_slice());
+        return;
+    }
+    let th = (t - t0) / h;
+    let [d1, d2, d3] = cont;
+    let y0 = y0.as_slice();
+    for i in 0..out.len() {
+        out[i] = y0[i] + th * (d1[i] + (th - C1) * (d2[i] + (th - C2) * d3[i]));
+    }
+}
+
+/// What one attempt gave.
+enum Attempt {
+    /// Accepted with this step-size ratio suggestion $h_{\text{new}}/h$ and error.
+    Accepted { ratio: f64, err: f64 },
+    /// Rejected; retry with `h * factor`.
+    Rejected { factor: f64, non_finite: bool },
+}
+
+impl<D: Dim> Radau5<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// One attempt of a step of size `h` (the new point is left in `core.y_new`).
+    fn attempt<S: OdeSystem<D>>(&mut self, sys: &S, h: f64, reject_before: bool) -> Attempt {
+        if !self.prepare_linear(sys, h) {
+            return Attempt::Rejected {
+                factor: 0.5,
+                non_finite: false,
+            };
+        }
+        self.update_scale();
+        self.starting_values(h);
+        let Core {
+            opts,
+            n_ctrl,
+            stats,
+            t,
+            y,
+            f,
+            y_new,
+            f_new,
+            ..
+        } = &mut self.core;
+        let (safety, fac_min, fac_max) = (opts.safety, opts.fac_min, opts.fac_max);
+        let inp = StepInput {
+            t: *t,
+            h,
+            y,
+            scal: &self.scal,
+            n_ctrl: *n_ctrl,
+            fnewt: self.fnewt,
+            patient: opts.fixed_step.is_some(),
+        };
+        let it = iterate(
+            sys,
+            &inp,
+            &mut self.lin,
+            &mut self.z,
+            &mut self.w,
+            &mut self.yt,
+            &mut self.rate,
+            stats,
+        );
+        let iters = match it {
+            Newton::Converged { iterations } => iterations,
+            Newton::Failed { factor, non_finite } => {
+                return Attempt::Rejected { factor, non_finite }
+            }
+        };
+        if opts.fixed_step.is_some() {
+            for i in 0..y.len() {
+                y_new[i] = y[i] + self.z[2][i];
+            }
+            return Attempt::Accepted {
+                ratio: 1.0,
+                err: 0.0,
+            };
+        }
+        // f_new is scratch here; the new point's f is computed after acceptance.
+        let err = error_estimate(
+            sys,
+            &inp,
+            f,
+            &self.lin,
+            &self.z,
+            self.first || reject_before,
+            &mut self.ft,
+            f_new,
+            &mut self.yt,
+            stats,
+        );
+        if !err.is_finite() {
+            return Attempt::Rejected {
+                factor: fac_min,
+                non_finite: true,
+            };
+        }
+        let fac = safety.min(safety * (1 + 2 * NIT) as f64 / (iters + 2 * NIT) as f64);
+        let quot = (err.powf(0.25) / fac).clamp(1.0 / fac_max, 1.0 / fac_min);
+        if err >= 1.0 {
+            return Attempt::Rejected {
+                factor: if self.first { 0.1 } else { 1.0 / quot },
+                non_finite: false,
+            };
+        }
+        // Gustafsson's predictive controller (needs a previous accepted step).
+        let mut quot = quot;
+        if self.h_acc > 0.0 {
+            let gus = (self.h_acc / h) * (err * err / self.err_acc).powf(0.25) / safety;
+            quot = quot.max(gus.clamp(1.0 / fac_max, 1.0 / fac_min));
+        }
+        for i in 0..y.len() {
+            y_new[i] = y[i] + self.z[2][i];
+        }
+        Attempt::Accepted {
+            ratio: 1.0 / quot,
+            err,
+        }
+    }
+
+    /// Retries until a step is accepted (see [`Integrator::step`]).
+    fn step_loop<S: OdeSystem<D>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError> {
+        let fixed = self.core.opts.fixed_step;
+        let mut h = fixed.unwrap_or(self.core.h.min(self.core.opts.h_max));
+        let mut reject_before = false;
+        let mut non_finite = false;
+        loop {
+            let c = &mut self.core;
+            if c.attempts >= c.opts.max_steps {
+                return Err(OdeError::TooManySteps {
+                    t: c.t,
+                    h,
+                    max_steps: c.opts.max_steps,
+                });
+            }
+            let h_floor = c.opts.h_min.max(10.0 * f64::EPSILON * c.t.abs());
+            if fixed.is_none() && (h < h_floor || h.is_nan()) {
+                return Err(if non_finite {
+                    OdeError::NonFiniteRhs { t: c.t, h }
+                } else {
+                    OdeError::StepSizeUnderflow {
+                        t: c.t,
+                        h,
+                        h_min: h_floor,
+                    }
+                });
+            }
+            // Land exactly on the bound when it is within 1% beyond one step.
+            let (h_try, t_new, clipped) = if c.t + 1.01 * h >= t_bound {
+                (t_bound - c.t, t_bound, true)
+            } else {
+                (h, c.t + h, false)
+            };
+            c.attempts += 1;
+            let mut outcome = self.attempt(sys, h_try, reject_before);
+            if let Attempt::Accepted { .. } = outcome {
+                let c = &mut self.core;
+                sys.rhs(t_new, &c.y_new, &mut c.f_new);
+                c.stats.rhs_evals += 1;
+                if !all_finite(c.f_new.as_slice()) {
+                    outcome = Attempt::Rejected {
+                        factor: c.opts.fac_min,
+                        non_finite: true,
+                    };
+                }
+            }
+            match outcome {
+                Attempt::Accepted { ratio, err } => {
+                    let ratio = if fixed.is_some() { 1.0 } else { ratio };
+                    self.accept(h_try, h, t_new, ratio, err, reject_before, clipped);
+                    return Ok(());
+                }
+                Attempt::Rejected {
+                    factor,
+                    non_finite: nf,
+                } => {
+                    let t = self.core.t;
+                    if fixed.is_some() {
+                        return Err(if nf {
+                            OdeError::NonFiniteRhs { t, h: h_try }
+                        } else {
+                            OdeError::NewtonFailure { t, h: h_try }
+                        });
+                    }
+                    self.reject();
+                    (reject_before, non_finite) = (true, nf);
+                    h = h_try * factor;
+                }
+            }
+        }
+    }
+
+    /// Bookkeeping of a rejected attempt: a Jacobian not computed at this point is redone.
+    fn reject(&mut self) {
+        self.core.stats.rejected += 1;
+        if !self.jac_fresh {
+            self.jac_ok = false;
+        }
+    }
+
+    /// Moves to the accepted point `(t_new, core.y_new)` and sets the next step size.
+    #[allow(clippy::too_many_arguments)]
+    fn accept(
+        &mut self,
+        h_try: f64,
+        h: f64,
+        t_new: f64,
+        ratio: f64,
+        err: f64,
+        no_growth: bool,
+        clipped: bool,
+    ) {
+        self.h_acc = h_try;
+        self.err_acc = err.max(1e-2);
+        let keep_jac = self.rate.theta <= THETA_JAC;
+        let mut h_next = if no_growth {
+            h_try * ratio.min(1.0)
+        } else if keep_jac && (1.0..=KEEP_H_UP_TO).contains(&ratio) {
+            h_try
+        } else {
+            h_try * ratio
+        };
+        if clipped {
+            h_next = h_next.max(h);
+        }
+        if let Some(hf) = self.core.opts.fixed_step {
+            h_next = hf;
+        }
+        self.jac_ok = keep_jac;
+        self.jac_fresh = false;
+        self.first = false;
+        self.t_end = t_new;
+        self.update_dense();
+        let c = &mut self.core;
+        c.h = h_next.min(c.opts.h_max);
+        c.t_prev = c.t;
+        c.y_prev.copy_from(&c.y);
+        c.f_prev.copy_from(&c.f);
+        c.t = t_new;
+        c.y.copy_from(&c.y_new);
+        c.f.copy_from(&c.f_new);
+        c.h_dense = h_try;
+        c.y_end.copy_from(&c.y_new);
+        c.f_end.copy_from(&c.f_new);
+        c.has_step = true;
+        c.stats.steps += 1;
+    }
+}
+
+impl<D: Dim> Integrator<D> for Radau5<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    fn reset<S: OdeSystem<D>>(
+        &mut self,
+        sys: &S,
+        t: f64,
+        y: &OVector<f64, D>,
+        keep_step: bool,
+    ) -> Result<(), OdeError> {
+        self.core.reset(sys, t, y, keep_step)?;
+        // A reset marks a discontinuity: a new Jacobian, zero starting values.
+        self.first = true;
+        self.jac_ok = false;
+        self.jac_fresh = false;
+        self.lu_h = 0.0;
+        self.h_acc = 0.0;
+        self.rate = Rate {
+            theta: THETA_JAC,
+            faccon: 1.0,
+        };
+        Ok(())
+    }
+
+    fn step<S: OdeSystem<D>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError> {
+        if self.core.check_bound(t_bound)? {
+            return Ok(());
+        }
+        self.step_loop(sys, t_bound)
+    }
+
+    fn dense<S: OdeSystem<D>>(&mut self, _sys: &S, t: f64, out: &mut OVector<f64, D>) {
+        if !self.core.has_step {
+            self.core.copy_state(out);
+            return;
+        }
+        fit(out, self.core.dim);
+        self.eval_dense(t, out.as_mut_slice());
+    }
+
+    fn truncate<S: OdeSystem<D>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError> {
+        self.core.check_truncate(t_new)?;
+        if t_new == self.core.t {
+            return Ok(());
+        }
+        let c = &mut self.core;
+        let ends = [(c.t_prev, &c.y_prev), (self.t_end, &c.y_end)];
+        eval_poly(&self.cont, c.h_dense, ends, t_new, c.y_new.as_mut_slice());
+        c.apply_truncate(sys, t_new)
+    }
+
+    core_accessors!();
+
+    fn name(&self) -> &'static str {
+        "RADAU5"
+    }
+}

@@ -1,0 +1,333 @@
+//! The linear algebra of a Radau5 step: the Jacobian, the two LU decompositions, the
+//! simplified Newton iteration on the transformed stage system, and the error estimate.
+
+use super::tableau::{C1, C2, DD1, DD2, DD3, T, TI};
+use crate::numeric::lu::{lu_factor, lu_solve};
+use crate::ode::{JacobianMut, OdeSystem, Stats};
+use nalgebra::allocator::Allocator;
+use nalgebra::{Complex, DefaultAllocator, Dim, OVector};
+
+/// Newton iterations per step before the step is rejected (RADAU5's `NIT`).
+pub(super) const NIT: usize = 7;
+
+/// The Jacobian and the factored Newton matrices, all preallocated.
+#[derive(Debug, Clone)]
+pub(super) struct Linear {
+    pub n: usize,
+    /// $J$, column-major.
+    pub jac: Vec<f64>,
+    /// LU of $(\gamma/h) I - J$.
+    pub e1: Vec<f64>,
+    pub piv1: Vec<usize>,
+    /// LU of $((\alpha + i\beta)/h) I - J$.
+    pub e2: Vec<Complex<f64>>,
+    pub piv2: Vec<usize>,
+    /// Right-hand side of the complex solve.
+    pub rc: Vec<Complex<f64>>,
+    pub gamma: f64,
+    pub alpha: f64,
+    pub beta: f64,
+}
+
+impl Linear {
+    pub(super) fn new(n: usize) -> Self {
+        let (alpha, beta) = super::tableau::alpha_beta();
+        Linear {
+            n,
+            jac: vec![0.0; n * n],
+            e1: vec![0.0; n * n],
+            piv1: vec![0; n],
+            e2: vec![Complex::new(0.0, 0.0); n * n],
+            piv2: vec![0; n],
+            rc: vec![Complex::new(0.0, 0.0); n],
+            gamma: super::tableau::gamma(),
+            alpha,
+            beta,
+        }
+    }
+
+    /// $J$ at $(t, y)$ with $f_0 = f(t, y)$: the system's own, or forward differences with
+    /// RADAU5's increments $\delta_j = \sqrt{\varepsilon\max(10^{-5}, |y_j|)}$ (`yt`, `ft`
+    /// are scratch).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn jacobian<D: Dim, S: OdeSystem<D>>(
+        &mut self,
+        sys: &S,
+        t: f64,
+        y: &OVector<f64, D>,
+        f0: &OVector<f64, D>,
+        yt: &mut OVector<f64, D>,
+        ft: &mut OVector<f64, D>,
+        stats: &mut Stats,
+    ) where
+        DefaultAllocator: Allocator<D>,
+    {
+        let dim = y.shape_generic().0;
+        let n = self.n;
+        stats.jacobians += 1;
+        let mut view = JacobianMut::from_slice_generic(&mut self.jac, dim, dim);
+        if sys.jacobian(t, y, &mut view) {
+            return;
+        }
+        yt.copy_from(y);
+        for j in 0..n {
+            let yj = y[j];
+            let delta = (f64::EPSILON * yj.abs().max(1e-5)).sqrt();
+            yt[j] = yj + delta;
+            sys.rhs(t, yt, ft);
+            yt[j] = yj;
+            let col = &mut self.jac[j * n..(j + 1) * n];
+            for (c, (a, b)) in col.iter_mut().zip(ft.iter().zip(f0.iter())) {
+                *c = (a - b) / delta;
+            }
+        }
+        stats.rhs_evals += n as u64;
+    }
+
+    /// Factors $(\gamma/h) I - J$ and $((\alpha + i\beta)/h) I - J$; `false` if either is
+    /// singular to working precision.
+    pub(super) fn decompose(&mut self, h: f64, stats: &mut Stats) -> bool {
+        let n = self.n;
+        let (g, ar, ai) = (self.gamma / h, self.alpha / h, self.beta / h);
+        for (k, (e1, e2)) in self.e1.iter_mut().zip(self.e2.iter_mut()).enumerate() {
+            let j = -self.jac[k];
+            *e1 = j;
+            *e2 = Complex::new(j, 0.0);
+        }
+        for i in 0..n {
+            self.e1[i * n + i] += g;
+            self.e2[i * n + i] += Complex::new(ar, ai);
+        }
+        stats.lu_decompositions += 1;
+        lu_factor(&mut self.e1, n, &mut self.piv1).is_ok()
+            && lu_factor(&mut self.e2, n, &mut self.piv2).is_ok()
+    }
+
+    /// Solves the transformed linear systems in place: on entry `z` holds
+    /// $(T^{-1}\otimes I) F(y + Z)$ and `w` the current iterate $W$; on exit `z` holds the
+    /// Newton correction $\Delta W$.
+    pub(super) fn solve(&mut self, h: f64, z: &mut [&mut [f64]; 3], w: &[&[f64]; 3]) {
+        let (g, ar, ai) = (self.gamma / h, self.alpha / h, self.beta / h);
+        let n = self.n;
+        for i in 0..n {
+            z[0][i] -= w[0][i] * g;
+            let re = z[1][i] - w[1][i] * ar + w[2][i] * ai;
+            let im = z[2][i] - w[1][i] * ai - w[2][i] * ar;
+            self.rc[i] = Complex::new(re, im);
+        }
+        lu_solve(&self.e1, n, &self.piv1, z[0]);
+        lu_solve(&self.e2, n, &self.piv2, &mut self.rc);
+        for i in 0..n {
+            z[1][i] = self.rc[i].re;
+            z[2][i] = self.rc[i].im;
+        }
+    }
+}
+
+/// Outcome of the Newton iteration.
+pub(super) enum Newton {
+    /// Converged after `iterations` (the contraction rate is left in [`Rate`]).
+    Converged { iterations: usize },
+    /// Diverging or too slow: reject and multiply the step by `factor`.
+    Failed { factor: f64, non_finite: bool },
+}
+
+/// The Newton iteration's inputs that do not change during a step.
+pub(super) struct StepInput<'a, D: Dim>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    pub t: f64,
+    pub h: f64,
+    pub y: &'a OVector<f64, D>,
+    pub scal: &'a OVector<f64, D>,
+    pub n_ctrl: f64,
+    pub fnewt: f64,
+    /// Fixed steps: no step to reduce, so iterate up to [`NIT_FIXED`] times while the
+    /// iteration contracts instead of giving up early on a slow prediction.
+    pub patient: bool,
+}
+
+/// Newton iterations allowed with fixed steps.
+pub(super) const NIT_FIXED: usize = 30;
+
+/// Newton state carried across steps (RADAU5's `THETA`, `FACCON`).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Rate {
+    pub theta: f64,
+    pub faccon: f64,
+}
+
+/// Simplified Newton on the transformed stage system $W = T^{-1} Z$:
+/// $\big(h^{-1}\Lambda \otimes I - I\otimes J\big)\Delta W = (T^{-1}\otimes I) F(y + Z) - h^{-1}(\Lambda\otimes I) W$,
+/// $\Lambda = T^{-1}A^{-1}T$, until the contraction-corrected increment
+/// $\frac{\theta}{1-\theta}\Vert\Delta W\Vert \le \kappa$ (`fnewt`). `z` holds the starting
+/// values on entry, the stage increments $Z_i = Y_i - y$ on success; `w` their transform;
+/// `yt` is scratch. Fails when $\theta \ge 0.99$, when the predicted error after the
+/// remaining iterations exceeds $\kappa$, after [`NIT`] iterations, or on non-finite stages.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn iterate<D: Dim, S: OdeSystem<D>>(
+    sys: &S,
+    inp: &StepInput<'_, D>,
+    lin: &mut Linear,
+    z: &mut [OVector<f64, D>; 3],
+    w: &mut [OVector<f64, D>; 3],
+    yt: &mut OVector<f64, D>,
+    rate: &mut Rate,
+    stats: &mut Stats,
+) -> Newton
+where
+    DefaultAllocator: Allocator<D>,
+{
+    let n = lin.n;
+    rate.faccon = rate.faccon.max(f64::EPSILON).powf(0.8);
+    rate.theta = super::THETA_JAC;
+    let (mut dynold, mut thqold) = (0.0f64, 0.0f64);
+    let c = [C1, C2, 1.0];
+    let nit = if inp.patient { NIT_FIXED } else { NIT };
+    for newt in 1..=nit {
+        // F(y + Z_s) overwrites Z_s (Z is rebuilt from W below).
+        for s in 0..3 {
+            for i in 0..n {
+                yt[i] = inp.y[i] + z[s][i];
+            }
+            sys.rhs(inp.t + c[s] * inp.h, yt, &mut z[s]);
+        }
+        stats.rhs_evals += 3;
+        if !z.iter().all(|v| v.iter().all(|x| x.is_finite())) {
+            return Newton::Failed {
+                factor: 0.5,
+                non_finite: true,
+            };
+        }
+        let [z0, z1, z2] = z;
+        let (z0, z1, z2) = (z0.as_mut_slice(), z1.as_mut_slice(), z2.as_mut_slice());
+        for i in 0..n {
+            let (a1, a2, a3) = (z0[i], z1[i], z2[i]);
+            z0[i] = TI[0][0] * a1 + TI[0][1] * a2 + TI[0][2] * a3;
+            z1[i] = TI[1][0] * a1 + TI[1][1] * a2 + TI[1][2] * a3;
+            z2[i] = TI[2][0] * a1 + TI[2][1] * a2 + TI[2][2] * a3;
+        }
+        {
+            let ws = [w[0].as_slice(), w[1].as_slice(), w[2].as_slice()];
+            lin.solve(inp.h, &mut [&mut *z0, &mut *z1, &mut *z2], &ws);
+        }
+        let sc = inp.scal.as_slice();
+        let mut sum = 0.0;
+        for i in 0..n {
+            sum += (z0[i] / sc[i]).powi(2) + (z1[i] / sc[i]).powi(2) + (z2[i] / sc[i]).powi(2);
+        }
+        let dyno = (sum / (3.0 * inp.n_ctrl)).sqrt();
+        if !dyno.is_finite() {
+            return Newton::Failed {
+                factor: 0.5,
+                non_finite: true,
+            };
+        }
+        // Contraction rate; predicted error after the remaining iterations.
+        if newt > 1 && newt < nit {
+            let thq = dyno / dynold;
+            rate.theta = if newt == 2 {
+                thq
+            } else {
+                (thq * thqold).sqrt()
+            };
+            thqold = thq;
+            if rate.theta < 0.99 {
+                rate.faccon = rate.theta / (1.0 - rate.theta);
+                let left = (NIT.max(newt + 1) - 1 - newt) as i32;
+                let dyth = rate.faccon * dyno * rate.theta.powi(left) / inp.fnewt;
+                if dyth >= 1.0 && !inp.patient {
+                    let qnewt = dyth.clamp(1e-4, 20.0);
+                    return Newton::Failed {
+                        factor: 0.8 * qnewt.powf(-1.0 / (4.0 + left as f64)),
+                        non_finite: false,
+                    };
+                }
+            } else {
+                return Newton::Failed {
+                    factor: 0.5,
+                    non_finite: false,
+                };
+            }
+        }
+        dynold = dyno.max(f64::EPSILON);
+        let [w0, w1, w2] = w;
+        let (w0, w1, w2) = (w0.as_mut_slice(), w1.as_mut_slice(), w2.as_mut_slice());
+        for i in 0..n {
+            w0[i] += z0[i];
+            w1[i] += z1[i];
+            w2[i] += z2[i];
+            z0[i] = T[0][0] * w0[i] + T[0][1] * w1[i] + T[0][2] * w2[i];
+            z1[i] = T[1][0] * w0[i] + T[1][1] * w1[i] + T[1][2] * w2[i];
+            z2[i] = T[2][0] * w0[i] + w1[i];
+        }
+        if rate.faccon * dyno <= inp.fnewt {
+            return Newton::Converged { iterations: newt };
+        }
+    }
+    Newton::Failed {
+        factor: 0.5,
+        non_finite: false,
+    }
+}
+
+/// RADAU5's error estimate: $e = (\tfrac{\gamma}{h} I - J)^{-1}\big(f(t, y) + \tfrac1h\sum_i d_i Z_i\big)$,
+/// and, when its norm exceeds 1 on a first or a rejected step (where stiff components can
+/// make it too pessimistic), the filtered one with $f(t, y + e)$ in place of $f(t, y)$.
+/// Returns $\max(\Vert e\Vert, 10^{-10})$ (RMS norm scaled by `scal`).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn error_estimate<D: Dim, S: OdeSystem<D>>(
+    sys: &S,
+    inp: &StepInput<'_, D>,
+    f0: &OVector<f64, D>,
+    lin: &Linear,
+    z: &[OVector<f64, D>; 3],
+    refine: bool,
+    e: &mut OVector<f64, D>,
+    f2: &mut OVector<f64, D>,
+    yt: &mut OVector<f64, D>,
+    stats: &mut Stats,
+) -> f64
+where
+    DefaultAllocator: Allocator<D>,
+{
+    let n = lin.n;
+    let (h1, h2, h3) = (DD1 / inp.h, DD2 / inp.h, DD3 / inp.h);
+    for i in 0..n {
+        f2[i] = h1 * z[0][i] + h2 * z[1][i] + h3 * z[2][i];
+        e[i] = f2[i] + f0[i];
+    }
+    lu_solve(&lin.e1, n, &lin.piv1, e.as_mut_slice());
+    let mut err = rms(e, inp.scal, inp.n_ctrl);
+    if err >= 1.0 && refine {
+        for i in 0..n {
+            yt[i] = inp.y[i] + e[i];
+        }
+        sys.rhs(inp.t, yt, e);
+        stats.rhs_evals += 1;
+        for i in 0..n {
+            e[i] += f2[i];
+        }
+        lu_solve(&lin.e1, n, &lin.piv1, e.as_mut_slice());
+        err = rms(e, inp.scal, inp.n_ctrl);
+    }
+    // NaN stays NaN (a rejection), tiny errors are floored as RADAU5 does.
+    if err.is_nan() {
+        err
+    } else {
+        err.max(1e-10)
+    }
+}
+
+/// $\sqrt{\frac{1}{n_c}\sum_i (e_i/s_i)^2}$.
+fn rms<D: Dim>(e: &OVector<f64, D>, scal: &OVector<f64, D>, n_ctrl: f64) -> f64
+where
+    DefaultAllocator: Allocator<D>,
+{
+    let mut s = 0.0;
+    for (a, b) in e.iter().zip(scal.iter()) {
+        s += (a / b) * (a / b);
+    }
+    (s / n_ctrl).sqrt()
+}
