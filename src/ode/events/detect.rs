@@ -24,11 +24,11 @@ where
     }
 }
 
-/// Whether the cubic Hermite interpolant through `(t, g, g')` at both ends of
-/// a sample interval (derivatives of opposite signs: one interior extremum)
-/// reaches zero, or at least half of the way from the nearer end value to
-/// zero, at its interior extremum.
-fn hermite_extremum_near_zero(a: (f64, f64, f64), b: (f64, f64, f64)) -> bool {
+/// The interior extremum of the cubic Hermite interpolant through `(t, g, g')` at both ends
+/// of a sample interval (derivatives of opposite signs: one interior extremum) that comes
+/// nearest to zero, as its time and value; `None` when the interpolant has none inside (the
+/// derivatives' signs then come from terms it cannot hold).
+fn hermite_extremum(a: (f64, f64, f64), b: (f64, f64, f64)) -> Option<(f64, f64)> {
     let (ta, ga, da) = a;
     let (tb, gb, db) = b;
     let h = tb - ta;
@@ -54,20 +54,19 @@ fn hermite_extremum_near_zero(a: (f64, f64, f64), b: (f64, f64, f64)) -> bool {
             }
         }
     }
-    let nearer = ga.abs().min(gb.abs());
-    let mut any = false;
-    for s in roots {
-        if s > 0.0 && s < 1.0 {
-            any = true;
-            let v = p(s);
-            if v == 0.0 || (v > 0.0) != (ga > 0.0) || v.abs() <= 0.5 * nearer {
-                return true;
-            }
-        }
-    }
-    // No interior extremum of the interpolant despite the derivative signs:
-    // be safe and search.
-    !any
+    // Signed distance to zero on the ends' side (negative across it).
+    let side = |v: f64| v * ga.signum();
+    roots
+        .into_iter()
+        .filter(|s| *s > 0.0 && *s < 1.0)
+        .map(|s| (ta + s * h, p(s)))
+        .min_by(|x, y| side(x.1).total_cmp(&side(y.1)))
+}
+
+/// Whether a value `v` on a sample interval whose ends have the values `ga`, `gb` (same sign)
+/// reaches zero, or at least half of the way from the nearer end value to zero.
+fn halfway_to_zero(v: f64, ga: f64, gb: f64) -> bool {
+    v == 0.0 || (v > 0.0) != (ga > 0.0) || v.abs() <= 0.5 * ga.abs().min(gb.abs())
 }
 
 /// Whether two vectors hold the same bits.
@@ -148,6 +147,10 @@ fn tol_at(root_tol: f64, t: f64) -> f64 {
 
 /// A located root of one guard: `(t, direction, pre-crossing end of its bracket)`.
 type Candidate = (f64, Direction, f64);
+
+/// A sample interval searched for a grazing pair: its ends `(t, g, g')` and, when known, a
+/// point inside where the guard has crossed.
+type GrazingInterval = ((f64, f64, f64), (f64, f64, f64), Option<(f64, f64)>);
 
 /// The earliest located root of a sample interval: `(t, event, direction, pre-crossing end of
 /// its bracket)`.
@@ -770,8 +773,13 @@ where
 
     /// **Grazing pair**: no sign change over the interval, but the guard's derivative
     /// changes sign (one interior extremum), and the cubic Hermite interpolant of the ends
-    /// puts that extremum at least halfway to zero (an extremum far from zero costs
-    /// nothing): the extremum is searched by [`Scan::grazing_pair`].
+    /// puts that extremum at least halfway to zero: the extremum is searched by
+    /// [`Scan::grazing_pair`]. An extremum of the interpolant far from zero (the usual case)
+    /// is checked against the guard itself there (one dense-output value): the interpolant is
+    /// trusted only if the guard is within a quarter of the nearer end value of it and not
+    /// halfway to zero either (a step longer than the guard's time scale swings through zero
+    /// between quiet ends); otherwise the pair is searched, from the crossing if the value
+    /// already shows one.
     fn grazing(
         &mut self,
         s: &Slot,
@@ -782,38 +790,100 @@ where
     ) -> Result<Option<Candidate>, OdeError> {
         let a = (iv.t_a, s.g_ref, s.d_ref);
         let b = (iv.t_b, g_b, d_b);
-        if s.has_der
-            && s.d_ref != 0.0
-            && d_b != 0.0
-            && (s.d_ref > 0.0) != (d_b > 0.0)
-            && hermite_extremum_near_zero(a, b)
-        {
-            self.grazing_pair(i, (a, b), iv.tol, s.needs_rhs, zero_at_start)
-        } else {
-            Ok(None)
+        if !(s.has_der && s.d_ref != 0.0 && d_b != 0.0 && (s.d_ref > 0.0) != (d_b > 0.0)) {
+            return Ok(None);
         }
+        let search = |known| (a, b, known);
+        let pair = match hermite_extremum(a, b) {
+            // No interior extremum of the interpolant despite the derivative signs: search.
+            None => search(None),
+            Some((_, p)) if halfway_to_zero(p, a.1, g_b) => search(None),
+            Some((t, p)) => {
+                let g = self.value(i, t);
+                if g.is_nan() {
+                    // No value to check against: the interpolant decides, as before.
+                    return Ok(None);
+                }
+                let crossed = g == 0.0 || (g > 0.0) != (a.1 > 0.0);
+                let near = a.1.abs().min(g_b.abs());
+                if crossed {
+                    search(Some((t, g)))
+                } else if halfway_to_zero(g, a.1, g_b) || (g - p).abs() > 0.25 * near {
+                    search(None)
+                } else {
+                    return Ok(None);
+                }
+            }
+        };
+        self.grazing_pair(i, pair, iv.tol, s.needs_rhs, zero_at_start)
     }
 
     /// Searches a possible grazing pair of event `i` in the sample interval
     /// `a`..`b` (values of the same sign, derivatives of opposite signs): moves
     /// towards the extremum by the Illinois method on $\dot g$ and stops as soon
-    /// as $g$ changes sign; then locates the first root in an allowed direction.
+    /// as $g$ changes sign (or starts from `known`, a point where it has); then locates the
+    /// first root in an allowed direction.
     fn grazing_pair(
         &mut self,
         i: usize,
-        (a, b): ((f64, f64, f64), (f64, f64, f64)),
+        (a, b, known): GrazingInterval,
         tol: f64,
         need_rhs: bool,
         zero_at_start: bool,
     ) -> Result<Option<Candidate>, OdeError> {
-        let (t_a, g_a, d_a) = a;
-        let (t_b, g_b, d_b) = b;
+        let (t_a, g_a, _) = a;
+        let (t_b, g_b, _) = b;
         let dir_first = if g_a < 0.0 {
             Direction::Rising
         } else {
             Direction::Falling
         };
         let allowed = self.events.direction(i);
+        let crossed = match known {
+            Some(c) => Some(c),
+            None => self.extremum_search(i, (a, b), tol, need_rhs)?,
+        };
+        let Some((c, g_c)) = crossed else {
+            return Ok(None);
+        };
+        if allowed.allows(dir_first) {
+            let (l, r) = self.locate(i, (t_a, g_a), (c, g_c), tol)?;
+            if !self.step.ignorable(r, zero_at_start) {
+                return Ok(Some((r, dir_first, l)));
+            }
+        }
+        if allowed.allows(dir_first.opposite()) && g_c != 0.0 {
+            let (l, r) = self.locate(i, (c, g_c), (t_b, g_b), tol)?;
+            if !self.step.ignorable(r, zero_at_start) {
+                return Ok(Some((r, dir_first.opposite(), l)));
+            }
+        }
+        Ok(None)
+    }
+}
+
+impl<D, S, I, E> Scan<'_, D, S, I, E>
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    /// The extremum search of a grazing pair of event `i` on the sample interval `a`..`b`
+    /// (values of the same sign, derivatives of opposite signs): the Illinois method on
+    /// $\dot g$, stopped at the first probe where $g$ changes sign (or is zero), which it
+    /// returns; `None` when the extremum is reached without one, or the derivative has no
+    /// value (then, as for an event without a derivative, the pair is not searched).
+    fn extremum_search(
+        &mut self,
+        i: usize,
+        (a, b): ((f64, f64, f64), (f64, f64, f64)),
+        tol: f64,
+        need_rhs: bool,
+    ) -> Result<Option<(f64, f64)>, OdeError> {
+        let (t_a, g_a, d_a) = a;
+        let (t_b, _, d_b) = b;
         let mut crossed: Option<(f64, f64)> = None;
         let mut g_nan: Option<f64> = None;
         let pos_g = g_a > 0.0;
@@ -847,37 +917,11 @@ where
             return Err(OdeError::EventNotANumber { index: i, t });
         }
         if search.map_or(true, |b| b.nan_at.is_some()) {
-            // Its derivative has none (or no sign change, not searched): as for an event without a
-            // derivative, the pair is not searched.
             return Ok(None);
         }
-        let Some((c, g_c)) = crossed else {
-            return Ok(None);
-        };
-        if allowed.allows(dir_first) {
-            let (l, r) = self.locate(i, (t_a, g_a), (c, g_c), tol)?;
-            if !self.step.ignorable(r, zero_at_start) {
-                return Ok(Some((r, dir_first, l)));
-            }
-        }
-        if allowed.allows(dir_first.opposite()) && g_c != 0.0 {
-            let (l, r) = self.locate(i, (c, g_c), (t_b, g_b), tol)?;
-            if !self.step.ignorable(r, zero_at_start) {
-                return Ok(Some((r, dir_first.opposite(), l)));
-            }
-        }
-        Ok(None)
+        Ok(crossed)
     }
-}
 
-impl<D, S, I, E> Scan<'_, D, S, I, E>
-where
-    D: Dim,
-    DefaultAllocator: Allocator<D>,
-    S: OdeSystem<D>,
-    I: Integrator<D>,
-    E: EventSet<D> + ?Sized,
-{
     /// **The crossing back** (start-of-segment rule 3): the guard `s`, on zero at the origin,
     /// is now (`g_b`, at the end of the first sample beyond `value_tol`) on the side it
     /// must cross back into in an allowed direction, and its motion at the origin pointed
