@@ -1134,3 +1134,47 @@ fn a_crossing_pair_the_interpolant_cannot_see_is_found() {
     );
     assert_eq!(hit.direction, Direction::Falling);
 }
+
+/// The same with end derivatives of the same sign: on the first sample interval ($s = 2t$)
+/// the guard $g = 1 - s/10 + s(1 - s)(1 - 2s) - \beta s^2(1 - s)^2$ has $g^\prime = 0.9$ per
+/// unit $s$ at both ends while its value falls from 1 to 0.9, so its interpolant (the cubic
+/// part) has two interior extrema, the lower $0.82$ at $s = 0.82$, where the quartic part
+/// takes the guard to $-0.98$ ($\beta = 80$). Before, an interval without a derivative sign
+/// change was never searched, and the first root reported was one in $[1/2, 1]$. The truth
+/// is the polynomial itself: zero at the hit, positive on a fine grid before it.
+#[test]
+fn a_crossing_pair_between_slopes_of_the_same_sign_is_found() {
+    let beta = 80.0f64;
+    let g = move |t: f64| {
+        let s = 2.0 * t;
+        let u = s * (1.0 - s);
+        1.0 - 0.1 * s + u * (1.0 - 2.0 * s) - beta * u * u
+    };
+    let sys = move |t: f64, _y: &V1, dy: &mut V1| {
+        let s = 2.0 * t;
+        let u = s * (1.0 - s);
+        let du = 1.0 - 2.0 * s;
+        // d/ds, times ds/dt = 2.
+        dy[0] = 2.0 * (-0.1 + du * (1.0 - 2.0 * s) - 2.0 * u - 2.0 * beta * u * du);
+    };
+    let mut integ = Dop853::new(Options::fixed(1.0)).unwrap();
+    integ.reset(&sys, 0.0, &V1::new(1.0), false).unwrap();
+    integ.step(&sys, 1.0).unwrap();
+    let ev = CountedLevel {
+        calls: std::cell::Cell::new(0),
+    };
+    let opts = EventOptions {
+        samples_per_step: 1,
+        ..EventOptions::default()
+    };
+    let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
+        .unwrap()
+        .copied()
+        .expect("a crossing");
+    assert!(g(hit.t).abs() <= 1e-12, "g = {:e} at {}", g(hit.t), hit.t);
+    let first = (0..10_000)
+        .map(|k| f64::from(k) * 0.5e-4)
+        .find(|&t| g(t) <= 0.0)
+        .unwrap();
+    assert!((hit.t - first).abs() <= 0.5e-4, "{} against {first}", hit.t);
+}

@@ -69,6 +69,27 @@ fn halfway_to_zero(v: f64, ga: f64, gb: f64) -> bool {
     v == 0.0 || (v > 0.0) != (ga > 0.0) || v.abs() <= 0.5 * ga.abs().min(gb.abs())
 }
 
+/// The midpoint of a sample interval with ends `(t, g, g')` and the value there of their
+/// cubic Hermite interpolant, $p(1/2) = (g_a + g_b)/2 + h(\dot g_a - \dot g_b)/8$.
+fn hermite_midpoint(a: (f64, f64, f64), b: (f64, f64, f64)) -> (f64, f64) {
+    let h = b.0 - a.0;
+    (a.0 + 0.5 * h, 0.5 * (a.1 + b.1) + 0.125 * h * (a.2 - b.2))
+}
+
+/// How many times [`Scan::confirm`] may split a sample interval whose interpolant the
+/// guard contradicts (at most $2^4 - 1$ more guard values, and derivatives, per interval).
+const CONFIRM_DEPTH: u32 = 4;
+
+/// What the guard says of its interpolant on a sample interval ([`Scan::confirm`]).
+enum Confirmed {
+    /// It holds: no pair of roots to look for.
+    Yes,
+    /// The guard crossed at this point `(t, g)`.
+    Crossed((f64, f64)),
+    /// The guard comes halfway to zero, or stays unresolved: search the extremum.
+    Search,
+}
+
 /// Whether two vectors hold the same bits.
 fn same_bits<D: Dim>(a: &OVector<f64, D>, b: &OVector<f64, D>) -> bool
 where
@@ -774,12 +795,12 @@ where
     /// **Grazing pair**: no sign change over the interval, but the guard's derivative
     /// changes sign (one interior extremum), and the cubic Hermite interpolant of the ends
     /// puts that extremum at least halfway to zero: the extremum is searched by
-    /// [`Scan::grazing_pair`]. An extremum of the interpolant far from zero (the usual case)
-    /// is checked against the guard itself there (one dense-output value): the interpolant is
-    /// trusted only if the guard is within a quarter of the nearer end value of it and not
-    /// halfway to zero either (a step longer than the guard's time scale swings through zero
-    /// between quiet ends); otherwise the pair is searched, from the crossing if the value
-    /// already shows one.
+    /// [`Scan::grazing_pair`]. An interior extremum of the interpolant that does not (the
+    /// usual case), or that derivatives of the same sign imply (ends whose values move
+    /// against their slopes: two extrema), is checked against the guard itself there
+    /// ([`Scan::confirm`]): a step longer than the guard's time scale can swing through
+    /// zero between quiet ends. A crossing seen there is located; a guard found halfway to
+    /// zero, or unresolved, has its extremum searched (derivatives of opposite signs only).
     fn grazing(
         &mut self,
         s: &Slot,
@@ -790,32 +811,76 @@ where
     ) -> Result<Option<Candidate>, OdeError> {
         let a = (iv.t_a, s.g_ref, s.d_ref);
         let b = (iv.t_b, g_b, d_b);
-        if !(s.has_der && s.d_ref != 0.0 && d_b != 0.0 && (s.d_ref > 0.0) != (d_b > 0.0)) {
+        if !s.has_der {
             return Ok(None);
         }
-        let search = |known| (a, b, known);
-        let pair = match hermite_extremum(a, b) {
-            // No interior extremum of the interpolant despite the derivative signs: search.
-            None => search(None),
-            Some((_, p)) if halfway_to_zero(p, a.1, g_b) => search(None),
-            Some((t, p)) => {
-                let g = self.value(i, t);
-                if g.is_nan() {
-                    // No value to check against: the interpolant decides, as before.
-                    return Ok(None);
-                }
-                let crossed = g == 0.0 || (g > 0.0) != (a.1 > 0.0);
-                let near = a.1.abs().min(g_b.abs());
-                if crossed {
-                    search(Some((t, g)))
-                } else if halfway_to_zero(g, a.1, g_b) || (g - p).abs() > 0.25 * near {
-                    search(None)
-                } else {
-                    return Ok(None);
-                }
+        let turns = s.d_ref != 0.0 && d_b != 0.0 && (s.d_ref > 0.0) != (d_b > 0.0);
+        let extremum = hermite_extremum(a, b);
+        let pair = if turns && extremum.is_none_or(|(_, p)| halfway_to_zero(p, a.1, g_b)) {
+            (a, b, None)
+        } else if let Some(at) = extremum {
+            match self.confirm(i, (a, b), at, s.needs_rhs, CONFIRM_DEPTH)? {
+                Confirmed::Crossed(c) => (a, b, Some(c)),
+                Confirmed::Search if turns => (a, b, None),
+                _ => return Ok(None),
             }
+        } else {
+            return Ok(None);
         };
         self.grazing_pair(i, pair, iv.tol, s.needs_rhs, zero_at_start)
+    }
+
+    /// Checks the cubic Hermite interpolant of guard `i` on the interval `a`..`b` (values of
+    /// the same sign, and derivatives) at one point `at = (t, p)` against the guard's value
+    /// $G$ there. A crossing ($G$ zero or across) is returned. The interpolant is confirmed
+    /// when $G$ is within a quarter of the nearer end value $m$ of $p$ and not halfway to
+    /// zero; halfway to zero asks for the extremum search. Otherwise the interval is
+    /// unresolved by its ends: it is split at $t$ (the guard's derivative there) and each
+    /// half checked the same way, in time order, at its interpolant's extremum nearest zero
+    /// (its midpoint if it has none), `depth` more times at most. A guard without a value at
+    /// `t` leaves the interpolant to decide.
+    fn confirm(
+        &mut self,
+        i: usize,
+        (a, b): ((f64, f64, f64), (f64, f64, f64)),
+        (t, p): (f64, f64),
+        need_rhs: bool,
+        depth: u32,
+    ) -> Result<Confirmed, OdeError> {
+        let g = self.value(i, t);
+        if g.is_nan() {
+            return Ok(Confirmed::Yes);
+        }
+        if g == 0.0 || (g > 0.0) != (a.1 > 0.0) {
+            return Ok(Confirmed::Crossed((t, g)));
+        }
+        if (g - p).abs() <= 0.25 * a.1.abs().min(b.1.abs()) {
+            return Ok(if halfway_to_zero(g, a.1, b.1) {
+                Confirmed::Search
+            } else {
+                Confirmed::Yes
+            });
+        }
+        if depth == 0 {
+            return Ok(Confirmed::Search);
+        }
+        if need_rhs {
+            self.sys.rhs(t, self.tmp, self.f_c);
+            self.integ.stats_mut().rhs_evals += 1;
+        }
+        let dy: &OVector<f64, D> = if need_rhs { self.f_c } else { self.zero };
+        let d = self.events.derivative(i, t, self.tmp, dy).unwrap_or(0.0);
+        let mid = (t, g, d);
+        let mut verdict = Confirmed::Yes;
+        for (x, y) in [(a, mid), (mid, b)] {
+            let at = hermite_extremum(x, y).unwrap_or_else(|| hermite_midpoint(x, y));
+            match self.confirm(i, (x, y), at, need_rhs, depth - 1)? {
+                Confirmed::Crossed(c) => return Ok(Confirmed::Crossed(c)),
+                Confirmed::Search => verdict = Confirmed::Search,
+                Confirmed::Yes => {}
+            }
+        }
+        Ok(verdict)
     }
 
     /// Searches a possible grazing pair of event `i` in the sample interval
