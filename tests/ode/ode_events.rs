@@ -1178,3 +1178,45 @@ fn a_crossing_pair_between_slopes_of_the_same_sign_is_found() {
         .unwrap();
     assert!((hit.t - first).abs() <= 0.5e-4, "{} against {first}", hit.t);
 }
+
+/// The interpolant confirmed in value but not in slope: on the first sample interval
+/// ($s = 2t$) the guard $g = 1 + u - \beta u^2 (s - 1/2)$, $u = s(1 - s)$, has ends $g = 1$,
+/// $g^\prime = \pm 2$, and at the interpolant's maximum ($s = 1/2$) exactly its value $1.25$;
+/// but its slope there is $-\beta/8$ per unit $t$, and on the second half it dips to
+/// $1.19 - 1.76\beta/200$ ($\beta = 200$). The check compares the slope too and splits the
+/// interval, whose second half holds the crossing. Truth: the polynomial, as above.
+#[test]
+fn a_crossing_pair_off_the_interpolant_in_slope_only_is_found() {
+    let beta = 200.0f64;
+    let g = move |t: f64| {
+        let s = 2.0 * t;
+        let u = s * (1.0 - s);
+        1.0 + u - beta * u * u * (s - 0.5)
+    };
+    let sys = move |t: f64, _y: &V1, dy: &mut V1| {
+        let s = 2.0 * t;
+        let u = s * (1.0 - s);
+        let du = 1.0 - 2.0 * s;
+        dy[0] = 2.0 * (du - beta * (2.0 * u * du * (s - 0.5) + u * u));
+    };
+    let mut integ = Dop853::new(Options::fixed(1.0)).unwrap();
+    integ.reset(&sys, 0.0, &V1::new(1.0), false).unwrap();
+    integ.step(&sys, 1.0).unwrap();
+    let ev = CountedLevel {
+        calls: std::cell::Cell::new(0),
+    };
+    let opts = EventOptions {
+        samples_per_step: 1,
+        ..EventOptions::default()
+    };
+    let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
+        .unwrap()
+        .copied()
+        .expect("a crossing");
+    assert!(g(hit.t).abs() <= 1e-12, "g = {:e} at {}", g(hit.t), hit.t);
+    let first = (0..10_000)
+        .map(|k| f64::from(k) * 0.5e-4)
+        .find(|&t| g(t) <= 0.0)
+        .unwrap();
+    assert!((hit.t - first).abs() <= 0.5e-4, "{} against {first}", hit.t);
+}

@@ -69,15 +69,20 @@ fn halfway_to_zero(v: f64, ga: f64, gb: f64) -> bool {
     v == 0.0 || (v > 0.0) != (ga > 0.0) || v.abs() <= 0.5 * ga.abs().min(gb.abs())
 }
 
-/// The midpoint of a sample interval with ends `(t, g, g')` and the value there of their
-/// cubic Hermite interpolant, $p(1/2) = (g_a + g_b)/2 + h(\dot g_a - \dot g_b)/8$.
-fn hermite_midpoint(a: (f64, f64, f64), b: (f64, f64, f64)) -> (f64, f64) {
+/// The midpoint of a sample interval with ends `(t, g, g')` and the value and slope there of
+/// their cubic Hermite interpolant, $p(1/2) = (g_a + g_b)/2 + h(\dot g_a - \dot g_b)/8$ and
+/// $p^\prime(1/2) = 3(g_b - g_a)/(2h) - (\dot g_a + \dot g_b)/4$.
+fn hermite_midpoint(a: (f64, f64, f64), b: (f64, f64, f64)) -> (f64, f64, f64) {
     let h = b.0 - a.0;
-    (a.0 + 0.5 * h, 0.5 * (a.1 + b.1) + 0.125 * h * (a.2 - b.2))
+    (
+        a.0 + 0.5 * h,
+        0.5 * (a.1 + b.1) + 0.125 * h * (a.2 - b.2),
+        1.5 * (b.1 - a.1) / h - 0.25 * (a.2 + b.2),
+    )
 }
 
 /// How many times [`Scan::confirm`] may split a sample interval whose interpolant the
-/// guard contradicts (at most $2^4 - 1$ more guard values, and derivatives, per interval).
+/// guard contradicts (at most $2^5 - 2$ more guard values and derivatives per interval).
 const CONFIRM_DEPTH: u32 = 4;
 
 /// What the guard says of its interpolant on a sample interval ([`Scan::confirm`]).
@@ -819,7 +824,7 @@ where
         let pair = if turns && extremum.is_none_or(|(_, p)| halfway_to_zero(p, a.1, g_b)) {
             (a, b, None)
         } else if let Some(at) = extremum {
-            match self.confirm(i, (a, b), at, s.needs_rhs, CONFIRM_DEPTH)? {
+            match self.confirm(i, (a, b), (at.0, at.1, 0.0), s.needs_rhs, CONFIRM_DEPTH)? {
                 Confirmed::Crossed(c) => (a, b, Some(c)),
                 Confirmed::Search if turns => (a, b, None),
                 _ => return Ok(None),
@@ -831,11 +836,13 @@ where
     }
 
     /// Checks the cubic Hermite interpolant of guard `i` on the interval `a`..`b` (values of
-    /// the same sign, and derivatives) at one point `at = (t, p)` against the guard's value
-    /// $G$ there. A crossing ($G$ zero or across) is returned. The interpolant is confirmed
-    /// when $G$ is within a quarter of the nearer end value $m$ of $p$ and not halfway to
-    /// zero; halfway to zero asks for the extremum search. Otherwise the interval is
-    /// unresolved by its ends: it is split at $t$ (the guard's derivative there) and each
+    /// the same sign, and derivatives) at one point `(t, p, p')` (the interpolant's value and
+    /// slope there) against the guard's value $G$ and derivative $\dot G$ there. A crossing
+    /// ($G$ zero or across) is returned. The interpolant is confirmed when $G$ is within a
+    /// quarter of the nearer end value $m$ of $p$, $\dot G$ within $m/h$ of $p^\prime$ ($h$ the
+    /// interval's length: the guard cannot move by $m$ on the interval faster than the
+    /// interpolant does), and $G$ is not halfway to zero; halfway to zero asks for the
+    /// extremum search. Otherwise the interval is unresolved by its ends: it is split at $t$ and each
     /// half checked the same way, in time order, at its interpolant's extremum nearest zero
     /// (its midpoint if it has none), `depth` more times at most. A guard without a value at
     /// `t` leaves the interpolant to decide.
@@ -843,7 +850,7 @@ where
         &mut self,
         i: usize,
         (a, b): ((f64, f64, f64), (f64, f64, f64)),
-        (t, p): (f64, f64),
+        (t, p, dp): (f64, f64, f64),
         need_rhs: bool,
         depth: u32,
     ) -> Result<Confirmed, OdeError> {
@@ -854,7 +861,15 @@ where
         if g == 0.0 || (g > 0.0) != (a.1 > 0.0) {
             return Ok(Confirmed::Crossed((t, g)));
         }
-        if (g - p).abs() <= 0.25 * a.1.abs().min(b.1.abs()) {
+        if need_rhs {
+            self.sys.rhs(t, self.tmp, self.f_c);
+            self.integ.stats_mut().rhs_evals += 1;
+        }
+        let dy: &OVector<f64, D> = if need_rhs { self.f_c } else { self.zero };
+        let d = self.events.derivative(i, t, self.tmp, dy).unwrap_or(0.0);
+        let near = a.1.abs().min(b.1.abs());
+        let h = b.0 - a.0;
+        if (g - p).abs() <= 0.25 * near && (d - dp).abs() * h <= near {
             return Ok(if halfway_to_zero(g, a.1, b.1) {
                 Confirmed::Search
             } else {
@@ -864,16 +879,12 @@ where
         if depth == 0 {
             return Ok(Confirmed::Search);
         }
-        if need_rhs {
-            self.sys.rhs(t, self.tmp, self.f_c);
-            self.integ.stats_mut().rhs_evals += 1;
-        }
-        let dy: &OVector<f64, D> = if need_rhs { self.f_c } else { self.zero };
-        let d = self.events.derivative(i, t, self.tmp, dy).unwrap_or(0.0);
         let mid = (t, g, d);
         let mut verdict = Confirmed::Yes;
         for (x, y) in [(a, mid), (mid, b)] {
-            let at = hermite_extremum(x, y).unwrap_or_else(|| hermite_midpoint(x, y));
+            let at = hermite_extremum(x, y)
+                .map(|(t, p)| (t, p, 0.0))
+                .unwrap_or_else(|| hermite_midpoint(x, y));
             match self.confirm(i, (x, y), at, need_rhs, depth - 1)? {
                 Confirmed::Crossed(c) => return Ok(Confirmed::Crossed(c)),
                 Confirmed::Search => verdict = Confirmed::Search,

@@ -39,10 +39,11 @@
 //!   $g_i$ through the two samples (values and derivatives) gets at least
 //!   halfway from the nearer end value towards zero, or across it. An
 //!   extremum of the interpolant far from zero (the usual case, e.g. a ring
-//!   coordinate turning back well inside its preload) costs one value of
-//!   $g_i$ there, which must confirm it: on the same side, within a quarter of
-//!   the nearer end value of the interpolant, and not halfway to zero either
-//!   (else the extremum is searched); so do the two extrema that derivatives
+//!   coordinate turning back well inside its preload) costs one value and
+//!   derivative of $g_i$ there, which must confirm it: on the same side, within
+//!   a quarter of the nearer end value $m$ of the interpolant, its slope within
+//!   $m/h$ of the interpolant's over an interval of length $h$, and not halfway
+//!   to zero either (else the extremum is searched); so do the two extrema that derivatives
 //!   of the same sign imply when the end values move against them. A crossing
 //!   seen there is located; a guard that contradicts its interpolant splits the
 //!   interval there, each half checked the same way up to 4 levels, then the
