@@ -25,9 +25,9 @@ where
 }
 
 /// The interior extremum of the cubic Hermite interpolant through `(t, g, g')` at both ends
-/// of a sample interval (derivatives of opposite signs: one interior extremum) that comes
-/// nearest to zero, as its time and value; `None` when the interpolant has none inside (the
-/// derivatives' signs then come from terms it cannot hold).
+/// of a sample interval that comes nearest to zero, as its time and value (derivatives of
+/// opposite signs: one interior extremum; of the same sign: none, or two); `None` when the
+/// interpolant has none inside.
 fn hermite_extremum(a: (f64, f64, f64), b: (f64, f64, f64)) -> Option<(f64, f64)> {
     let (ta, ga, da) = a;
     let (tb, gb, db) = b;
