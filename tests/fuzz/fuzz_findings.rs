@@ -201,15 +201,17 @@ fn event_on_a_non_finite_dense_output_is_non_finite_with_a_good_last_state() {
             [speed * dir.cos(), speed * dir.sin()],
         )
         .unwrap();
-    // The finding's options, but one sample per step: with 24 the run chatters before it
+    // The finding's options, but 8 samples per step: with 24 the run chatters before it
     // reaches the overflow, without the screen and, since the screen checks its premise
     // (issue 17), with it (the screen, the default when this was found, cleared the steps
-    // whose samples find the chattering).
+    // whose samples find the chattering). With 1 (this test until issue 16) the grazing
+    // check of the samples' interpolant now finds a preload crossing first, at a state
+    // already blown up: the typed error of a preload below its resolution.
     let opts = SimOptions {
         rtol: 1.0,
         atol: 8.572388403695387e-7,
         max_step_fraction: 0.17217850026456383,
-        event_samples: 1,
+        event_samples: 8,
         screen_events: true,
         ..SimOptions::default()
     };
@@ -1165,4 +1167,76 @@ fn a_start_on_the_circle_accelerated_outward_touches_the_ring() {
         worst <= 1e-6,
         "rotor or ring {worst:e} off where the mode puts it"
     );
+}
+
+// ---------------------------------------------------------------------------------------------
+// 14. A crossing pair inside one sample interval that the interpolant of its ends cannot see.
+
+/// A fuzz case (seed 1057, one of the "contacts on the wrong branch at loose tolerances"):
+/// the custom rotor at about $10^5$ gaps per time unit 430 gaps out, DOPRI5 with `rtol`
+/// $2.6\times10^{-4}$ and one event sample per step. A contact on the regime-III branches
+/// runs over one step of $9.5\times10^{-5}$ in which the ring's $y$ crosses its preload
+/// ($|s_y| - D_y$ from $-0.13$ to $+0.33$) and the contact is lost; at the step's sample the
+/// preload guard is back at $-0.12$. Its end values and derivatives ($\pm 2\times10^3$) put
+/// the cubic Hermite interpolant's maximum at $-0.085$, not halfway to zero, so the pair was
+/// not searched: the loss fired first, with the ring on the inner branch $2.6\times10^{-2}$
+/// from $s^*(r)$ (truth: the minimiser of the ring's energy, `SnubberRing::locate`, checked
+/// against a brute-force minimiser in `tests/ring/ring_locate.rs`). The detector now checks
+/// the interpolant against the guard at its extremum before trusting it (`ode::events`,
+/// "Detection").
+#[test]
+fn a_preload_crossing_pair_the_interpolant_misses_is_found() {
+    let p = Params {
+        eta: 1.000001,
+        nu1: 0.13408203064971536,
+        nu2: 0.02532400775668012,
+        kx: 0.11064957794414593,
+        ky: 1022.8236261192671,
+        beta: 0.49788820075718315,
+        dx: 0.14598729331926286,
+        dy: 0.14598729331926286,
+        ex: -267.4707833288685,
+        ey: -780.0807561075859,
+        phi0: 0.6877062603999753,
+    };
+    let m = rotor::on_ring(p, 0.06737487464393964, 1.5571924493194058).unwrap();
+    // A start inside contact, 1e-12 beyond the gap circle (the fuzzer's `Contact` start).
+    let (ang, speed, dir) = (
+        4.3319386480187f64,
+        0.003904002048656303f64,
+        1.819857677603437f64,
+    );
+    let r0 = (1.0 + 1e-12) * Vector2::new(ang.cos(), ang.sin());
+    let s0 = m.ring().locate(&r0).unwrap().s;
+    let y0 = SVector::from([r0.x, r0.y, speed * dir.cos(), speed * dir.sin(), s0.x, s0.y]);
+    let t0 = 29.118319541029813;
+    let period = p.forcing_period();
+    let t_end = t0 + 2.0 * period;
+    let plan = OutputPlan {
+        t_end,
+        strobe: Some(StrobeRange {
+            first: (t0 / period).ceil() as u64,
+            last: (t_end / period).floor() as u64,
+        }),
+        dense: None,
+        events: true,
+    };
+    let opts = SimOptions {
+        method: Method::Dopri5,
+        rtol: 0.0002586272338551919,
+        atol: 1.219811436710111e-8,
+        steps_per_period: 2,
+        max_step_fraction: 0.13858953303811822,
+        event_samples: 1,
+        max_events_per_period: 1000,
+        max_steps: 61668,
+        screen_events: false,
+    };
+    let mut traj = Trajectory::default();
+    if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
+        panic!("{}", e.kind);
+    }
+    let worst = worst_inconsistency(m.ring(), &traj);
+    // The rotor moves 1e5 gaps per time unit: its event resolution there is ~1e-6 gaps.
+    assert!(worst <= 1e-6, "ring {worst:e} off where the mode puts it");
 }

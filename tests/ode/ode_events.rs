@@ -949,8 +949,9 @@ fn extrema_far_from_zero_are_not_searched_near_ones_are() {
         (hit.is_some(), ev.calls.get())
     };
     let samples = EventOptions::default().samples_per_step as u32 + 2;
-    // Minimum 0.5 above zero: only the samples are evaluated.
-    assert_eq!(calls_for(0.5), (false, samples));
+    // Minimum 0.5 above zero: the samples are evaluated, and the guard once at the extremum
+    // of the interpolant of the interval that holds it, which confirms the interpolant.
+    assert_eq!(calls_for(0.5), (false, samples + 1));
     // Minimum 1e-3 above zero: the extremum is searched, nothing found.
     let (hit, calls) = calls_for(1e-3);
     assert!(!hit && calls > samples, "{calls}");
@@ -1015,16 +1016,17 @@ fn quartic_first_root(b: f64, a: f64) -> f64 {
 /// The screen's threshold: a step whose cubic Hermite interpolant stays at least half the
 /// smaller end value ($m = 1$) away from zero, and whose guard at mid-step is where the
 /// interpolant puts it, costs the two end evaluations and the midpoint; one whose
-/// interpolant comes closer is sampled (4 interior samples, the midpoint not evaluated),
-/// here just on either side of $m/2$.
+/// interpolant comes closer is sampled (4 interior samples, the midpoint not evaluated, and
+/// the guard at the interpolant's extremum in the sample interval that holds it), here just on
+/// either side of $m/2$.
 #[test]
 fn screen_samples_a_step_only_when_the_interpolant_comes_within_half_the_end_value() {
     for (b, sampled) in [(2.0 * (1.0 - 1e-6), false), (2.0 * (1.0 + 1e-6), true)] {
         let (hit, calls) = quartic_step(b, 0.0, true);
         assert_eq!(hit, None, "b = {b}");
-        assert_eq!(calls, if sampled { 6 } else { 3 }, "b = {b}");
+        assert_eq!(calls, if sampled { 7 } else { 3 }, "b = {b}");
         let (hit, calls) = quartic_step(b, 0.0, false);
-        assert_eq!((hit, calls), (None, 6), "b = {b} without the screen");
+        assert_eq!((hit, calls), (None, 7), "b = {b} without the screen");
     }
 }
 
@@ -1091,4 +1093,132 @@ fn a_return_through_zero_inside_the_probe_offset_is_found() {
     assert_eq!(hit.direction, Direction::Rising);
     let exact = a / b;
     assert!((hit.t - exact).abs() <= 1e-9 * exact, "t = {:e}", hit.t);
+}
+
+/// A crossing pair that the cubic Hermite interpolant of its sample interval cannot see
+/// (issue 16: a preload crossing inside one long step of a loose tolerance, the fuzzer's
+/// "contacts on the wrong branch"): one DOP853 step $[0, 1]$, one interior sample, and the
+/// guard $g = 1 + \alpha u - \beta u^2$, $u = s(1 - s)$, $s = 2t$, exact on the dense output
+/// (a polynomial of degree 4). On the first sample interval $[0, 1/2]$ its ends are $g = 1$
+/// with $g^\prime = \pm 2\alpha$, so the interpolant is $1 + \alpha u$ (maximum $1.25$, far
+/// from zero), while the guard falls to $1 + \alpha/4 - \beta/16 = -1.25$ in between. The
+/// detector checks the interpolant against the guard at its extremum and finds the first
+/// root, $u = (\alpha + \sqrt{\alpha^2 + 4\beta})/(2\beta)$ (closed form); before, the pair
+/// was skipped and the first root reported was the one in $[1/2, 1]$ ($t = 0.77$).
+#[test]
+fn a_crossing_pair_the_interpolant_cannot_see_is_found() {
+    let (alpha, beta) = (1.0f64, 40.0f64);
+    let sys = move |t: f64, _y: &V1, dy: &mut V1| {
+        let s = 2.0 * t;
+        let u = s * (1.0 - s);
+        dy[0] = (alpha - 2.0 * beta * u) * 2.0 * (1.0 - 2.0 * s);
+    };
+    let mut integ = Dop853::new(Options::fixed(1.0)).unwrap();
+    integ.reset(&sys, 0.0, &V1::new(1.0), false).unwrap();
+    integ.step(&sys, 1.0).unwrap();
+    let ev = CountedLevel {
+        calls: std::cell::Cell::new(0),
+    };
+    let opts = EventOptions {
+        samples_per_step: 1,
+        ..EventOptions::default()
+    };
+    let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
+        .unwrap()
+        .copied()
+        .expect("a crossing");
+    let u = (alpha + (alpha * alpha + 4.0 * beta).sqrt()) / (2.0 * beta);
+    let t_root = 0.25 * (1.0 - (1.0 - 4.0 * u).sqrt());
+    assert!(
+        (hit.t - t_root).abs() <= 1e-12,
+        "{} against {t_root}",
+        hit.t
+    );
+    assert_eq!(hit.direction, Direction::Falling);
+}
+
+/// The same with end derivatives of the same sign: on the first sample interval ($s = 2t$)
+/// the guard $g = 1 - s/10 + s(1 - s)(1 - 2s) - \beta s^2(1 - s)^2$ has $g^\prime = 0.9$ per
+/// unit $s$ at both ends while its value falls from 1 to 0.9, so its interpolant (the cubic
+/// part) has two interior extrema, the lower $0.82$ at $s = 0.82$, where the quartic part
+/// takes the guard to $-0.98$ ($\beta = 80$). Before, an interval without a derivative sign
+/// change was never searched, and the first root reported was one in $[1/2, 1]$. The truth
+/// is the polynomial itself: zero at the hit, positive on a fine grid before it.
+#[test]
+fn a_crossing_pair_between_slopes_of_the_same_sign_is_found() {
+    let beta = 80.0f64;
+    let g = move |t: f64| {
+        let s = 2.0 * t;
+        let u = s * (1.0 - s);
+        1.0 - 0.1 * s + u * (1.0 - 2.0 * s) - beta * u * u
+    };
+    let sys = move |t: f64, _y: &V1, dy: &mut V1| {
+        let s = 2.0 * t;
+        let u = s * (1.0 - s);
+        let du = 1.0 - 2.0 * s;
+        // d/ds, times ds/dt = 2.
+        dy[0] = 2.0 * (-0.1 + du * (1.0 - 2.0 * s) - 2.0 * u - 2.0 * beta * u * du);
+    };
+    let mut integ = Dop853::new(Options::fixed(1.0)).unwrap();
+    integ.reset(&sys, 0.0, &V1::new(1.0), false).unwrap();
+    integ.step(&sys, 1.0).unwrap();
+    let ev = CountedLevel {
+        calls: std::cell::Cell::new(0),
+    };
+    let opts = EventOptions {
+        samples_per_step: 1,
+        ..EventOptions::default()
+    };
+    let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
+        .unwrap()
+        .copied()
+        .expect("a crossing");
+    assert!(g(hit.t).abs() <= 1e-12, "g = {:e} at {}", g(hit.t), hit.t);
+    let first = (0..10_000)
+        .map(|k| f64::from(k) * 0.5e-4)
+        .find(|&t| g(t) <= 0.0)
+        .unwrap();
+    assert!((hit.t - first).abs() <= 0.5e-4, "{} against {first}", hit.t);
+}
+
+/// The interpolant confirmed in value but not in slope: on the first sample interval
+/// ($s = 2t$) the guard $g = 1 + u - \beta u^2 (s - 1/2)$, $u = s(1 - s)$, has ends $g = 1$,
+/// $g^\prime = \pm 2$, and at the interpolant's maximum ($s = 1/2$) exactly its value $1.25$;
+/// but its slope there is $-\beta/8$ per unit $t$, and on the second half it dips to
+/// $1.19 - 1.76\beta/200$ ($\beta = 200$). The check compares the slope too and splits the
+/// interval, whose second half holds the crossing. Truth: the polynomial, as above.
+#[test]
+fn a_crossing_pair_off_the_interpolant_in_slope_only_is_found() {
+    let beta = 200.0f64;
+    let g = move |t: f64| {
+        let s = 2.0 * t;
+        let u = s * (1.0 - s);
+        1.0 + u - beta * u * u * (s - 0.5)
+    };
+    let sys = move |t: f64, _y: &V1, dy: &mut V1| {
+        let s = 2.0 * t;
+        let u = s * (1.0 - s);
+        let du = 1.0 - 2.0 * s;
+        dy[0] = 2.0 * (du - beta * (2.0 * u * du * (s - 0.5) + u * u));
+    };
+    let mut integ = Dop853::new(Options::fixed(1.0)).unwrap();
+    integ.reset(&sys, 0.0, &V1::new(1.0), false).unwrap();
+    integ.step(&sys, 1.0).unwrap();
+    let ev = CountedLevel {
+        calls: std::cell::Cell::new(0),
+    };
+    let opts = EventOptions {
+        samples_per_step: 1,
+        ..EventOptions::default()
+    };
+    let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
+        .unwrap()
+        .copied()
+        .expect("a crossing");
+    assert!(g(hit.t).abs() <= 1e-12, "g = {:e} at {}", g(hit.t), hit.t);
+    let first = (0..10_000)
+        .map(|k| f64::from(k) * 0.5e-4)
+        .find(|&t| g(t) <= 0.0)
+        .unwrap();
+    assert!((hit.t - first).abs() <= 0.5e-4, "{} against {first}", hit.t);
 }

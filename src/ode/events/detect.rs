@@ -24,11 +24,11 @@ where
     }
 }
 
-/// Whether the cubic Hermite interpolant through `(t, g, g')` at both ends of
-/// a sample interval (derivatives of opposite signs: one interior extremum)
-/// reaches zero, or at least half of the way from the nearer end value to
-/// zero, at its interior extremum.
-fn hermite_extremum_near_zero(a: (f64, f64, f64), b: (f64, f64, f64)) -> bool {
+/// The interior extremum of the cubic Hermite interpolant through `(t, g, g')` at both ends
+/// of a sample interval that comes nearest to zero, as its time and value (derivatives of
+/// opposite signs: one interior extremum; of the same sign: none, or two); `None` when the
+/// interpolant has none inside.
+fn hermite_extremum(a: (f64, f64, f64), b: (f64, f64, f64)) -> Option<(f64, f64)> {
     let (ta, ga, da) = a;
     let (tb, gb, db) = b;
     let h = tb - ta;
@@ -54,20 +54,45 @@ fn hermite_extremum_near_zero(a: (f64, f64, f64), b: (f64, f64, f64)) -> bool {
             }
         }
     }
-    let nearer = ga.abs().min(gb.abs());
-    let mut any = false;
-    for s in roots {
-        if s > 0.0 && s < 1.0 {
-            any = true;
-            let v = p(s);
-            if v == 0.0 || (v > 0.0) != (ga > 0.0) || v.abs() <= 0.5 * nearer {
-                return true;
-            }
-        }
-    }
-    // No interior extremum of the interpolant despite the derivative signs:
-    // be safe and search.
-    !any
+    // Signed distance to zero on the ends' side (negative across it).
+    let side = |v: f64| v * ga.signum();
+    roots
+        .into_iter()
+        .filter(|s| *s > 0.0 && *s < 1.0)
+        .map(|s| (ta + s * h, p(s)))
+        .min_by(|x, y| side(x.1).total_cmp(&side(y.1)))
+}
+
+/// Whether a value `v` on a sample interval whose ends have the values `ga`, `gb` (same sign)
+/// reaches zero, or at least half of the way from the nearer end value to zero.
+fn halfway_to_zero(v: f64, ga: f64, gb: f64) -> bool {
+    v == 0.0 || (v > 0.0) != (ga > 0.0) || v.abs() <= 0.5 * ga.abs().min(gb.abs())
+}
+
+/// The midpoint of a sample interval with ends `(t, g, g')` and the value and slope there of
+/// their cubic Hermite interpolant, $p(1/2) = (g_a + g_b)/2 + h(\dot g_a - \dot g_b)/8$ and
+/// $p^\prime(1/2) = 3(g_b - g_a)/(2h) - (\dot g_a + \dot g_b)/4$.
+fn hermite_midpoint(a: (f64, f64, f64), b: (f64, f64, f64)) -> (f64, f64, f64) {
+    let h = b.0 - a.0;
+    (
+        a.0 + 0.5 * h,
+        0.5 * (a.1 + b.1) + 0.125 * h * (a.2 - b.2),
+        1.5 * (b.1 - a.1) / h - 0.25 * (a.2 + b.2),
+    )
+}
+
+/// How many times [`Scan::confirm`] may split a sample interval whose interpolant the
+/// guard contradicts (at most $2^5 - 2$ more guard values and derivatives per interval).
+const CONFIRM_DEPTH: u32 = 4;
+
+/// What the guard says of its interpolant on a sample interval ([`Scan::confirm`]).
+enum Confirmed {
+    /// It holds: no pair of roots to look for.
+    Yes,
+    /// The guard crossed at this point `(t, g)`.
+    Crossed((f64, f64)),
+    /// The guard comes halfway to zero, or stays unresolved: search the extremum.
+    Search,
 }
 
 /// Whether two vectors hold the same bits.
@@ -148,6 +173,10 @@ fn tol_at(root_tol: f64, t: f64) -> f64 {
 
 /// A located root of one guard: `(t, direction, pre-crossing end of its bracket)`.
 type Candidate = (f64, Direction, f64);
+
+/// A sample interval searched for a grazing pair: its ends `(t, g, g')` and, when known, a
+/// point inside where the guard has crossed.
+type GrazingInterval = ((f64, f64, f64), (f64, f64, f64), Option<(f64, f64)>);
 
 /// The earliest located root of a sample interval: `(t, event, direction, pre-crossing end of
 /// its bracket)`.
@@ -770,8 +799,13 @@ where
 
     /// **Grazing pair**: no sign change over the interval, but the guard's derivative
     /// changes sign (one interior extremum), and the cubic Hermite interpolant of the ends
-    /// puts that extremum at least halfway to zero (an extremum far from zero costs
-    /// nothing): the extremum is searched by [`Scan::grazing_pair`].
+    /// puts that extremum at least halfway to zero: the extremum is searched by
+    /// [`Scan::grazing_pair`]. An interior extremum of the interpolant that does not (the
+    /// usual case), or that derivatives of the same sign imply (ends whose values move
+    /// against their slopes: two extrema), is checked against the guard itself there
+    /// ([`Scan::confirm`]): a step longer than the guard's time scale can swing through
+    /// zero between quiet ends. A crossing seen there is located; a guard found halfway to
+    /// zero, or unresolved, has its extremum searched (derivatives of opposite signs only).
     fn grazing(
         &mut self,
         s: &Slot,
@@ -782,38 +816,150 @@ where
     ) -> Result<Option<Candidate>, OdeError> {
         let a = (iv.t_a, s.g_ref, s.d_ref);
         let b = (iv.t_b, g_b, d_b);
-        if s.has_der
-            && s.d_ref != 0.0
-            && d_b != 0.0
-            && (s.d_ref > 0.0) != (d_b > 0.0)
-            && hermite_extremum_near_zero(a, b)
-        {
-            self.grazing_pair(i, (a, b), iv.tol, s.needs_rhs, zero_at_start)
-        } else {
-            Ok(None)
+        if !s.has_der {
+            return Ok(None);
         }
+        let turns = s.d_ref != 0.0 && d_b != 0.0 && (s.d_ref > 0.0) != (d_b > 0.0);
+        let extremum = hermite_extremum(a, b);
+        let pair = if turns && extremum.is_none_or(|(_, p)| halfway_to_zero(p, a.1, g_b)) {
+            (a, b, None)
+        } else if let Some(at) = extremum {
+            match self.confirm(i, (a, b), (at.0, at.1, 0.0), s.needs_rhs, CONFIRM_DEPTH)? {
+                Confirmed::Crossed(c) => (a, b, Some(c)),
+                Confirmed::Search if turns => (a, b, None),
+                _ => return Ok(None),
+            }
+        } else {
+            return Ok(None);
+        };
+        self.grazing_pair(i, pair, iv.tol, s.needs_rhs, zero_at_start)
+    }
+
+    /// Checks the cubic Hermite interpolant of guard `i` on the interval `a`..`b` (values of
+    /// the same sign, and derivatives) at one point `(t, p, p')` (the interpolant's value and
+    /// slope there) against the guard's value $G$ and derivative $\dot G$ there. A crossing
+    /// ($G$ zero or across) is returned. The interpolant is confirmed when $G$ is within a
+    /// quarter of the nearer end value $m$ of $p$, $\dot G$ within $m/h$ of $p^\prime$ ($h$ the
+    /// interval's length: the guard cannot move by $m$ on the interval faster than the
+    /// interpolant does), and $G$ is not halfway to zero; halfway to zero asks for the
+    /// extremum search. Otherwise the interval is unresolved by its ends: it is split at $t$ and each
+    /// half checked the same way, in time order, at its interpolant's extremum nearest zero
+    /// (its midpoint if it has none), `depth` more times at most. A guard without a value at
+    /// `t` leaves the interpolant to decide.
+    fn confirm(
+        &mut self,
+        i: usize,
+        (a, b): ((f64, f64, f64), (f64, f64, f64)),
+        (t, p, dp): (f64, f64, f64),
+        need_rhs: bool,
+        depth: u32,
+    ) -> Result<Confirmed, OdeError> {
+        let g = self.value(i, t);
+        if g.is_nan() {
+            return Ok(Confirmed::Yes);
+        }
+        if g == 0.0 || (g > 0.0) != (a.1 > 0.0) {
+            return Ok(Confirmed::Crossed((t, g)));
+        }
+        if need_rhs {
+            self.sys.rhs(t, self.tmp, self.f_c);
+            self.integ.stats_mut().rhs_evals += 1;
+        }
+        let dy: &OVector<f64, D> = if need_rhs { self.f_c } else { self.zero };
+        let d = self.events.derivative(i, t, self.tmp, dy).unwrap_or(0.0);
+        let near = a.1.abs().min(b.1.abs());
+        let h = b.0 - a.0;
+        if (g - p).abs() <= 0.25 * near && (d - dp).abs() * h <= near {
+            return Ok(if halfway_to_zero(g, a.1, b.1) {
+                Confirmed::Search
+            } else {
+                Confirmed::Yes
+            });
+        }
+        if depth == 0 {
+            return Ok(Confirmed::Search);
+        }
+        let mid = (t, g, d);
+        let mut verdict = Confirmed::Yes;
+        for (x, y) in [(a, mid), (mid, b)] {
+            let at = hermite_extremum(x, y)
+                .map(|(t, p)| (t, p, 0.0))
+                .unwrap_or_else(|| hermite_midpoint(x, y));
+            match self.confirm(i, (x, y), at, need_rhs, depth - 1)? {
+                Confirmed::Crossed(c) => return Ok(Confirmed::Crossed(c)),
+                Confirmed::Search => verdict = Confirmed::Search,
+                Confirmed::Yes => {}
+            }
+        }
+        Ok(verdict)
     }
 
     /// Searches a possible grazing pair of event `i` in the sample interval
     /// `a`..`b` (values of the same sign, derivatives of opposite signs): moves
     /// towards the extremum by the Illinois method on $\dot g$ and stops as soon
-    /// as $g$ changes sign; then locates the first root in an allowed direction.
+    /// as $g$ changes sign (or starts from `known`, a point where it has); then locates the
+    /// first root in an allowed direction.
     fn grazing_pair(
         &mut self,
         i: usize,
-        (a, b): ((f64, f64, f64), (f64, f64, f64)),
+        (a, b, known): GrazingInterval,
         tol: f64,
         need_rhs: bool,
         zero_at_start: bool,
     ) -> Result<Option<Candidate>, OdeError> {
-        let (t_a, g_a, d_a) = a;
-        let (t_b, g_b, d_b) = b;
+        let (t_a, g_a, _) = a;
+        let (t_b, g_b, _) = b;
         let dir_first = if g_a < 0.0 {
             Direction::Rising
         } else {
             Direction::Falling
         };
         let allowed = self.events.direction(i);
+        let crossed = match known {
+            Some(c) => Some(c),
+            None => self.extremum_search(i, (a, b), tol, need_rhs)?,
+        };
+        let Some((c, g_c)) = crossed else {
+            return Ok(None);
+        };
+        if allowed.allows(dir_first) {
+            let (l, r) = self.locate(i, (t_a, g_a), (c, g_c), tol)?;
+            if !self.step.ignorable(r, zero_at_start) {
+                return Ok(Some((r, dir_first, l)));
+            }
+        }
+        if allowed.allows(dir_first.opposite()) && g_c != 0.0 {
+            let (l, r) = self.locate(i, (c, g_c), (t_b, g_b), tol)?;
+            if !self.step.ignorable(r, zero_at_start) {
+                return Ok(Some((r, dir_first.opposite(), l)));
+            }
+        }
+        Ok(None)
+    }
+}
+
+impl<D, S, I, E> Scan<'_, D, S, I, E>
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    /// The extremum search of a grazing pair of event `i` on the sample interval `a`..`b`
+    /// (values of the same sign, derivatives of opposite signs): the Illinois method on
+    /// $\dot g$, stopped at the first probe where $g$ changes sign (or is zero), which it
+    /// returns; `None` when the extremum is reached without one, or the derivative has no
+    /// value (then, as for an event without a derivative, the pair is not searched).
+    fn extremum_search(
+        &mut self,
+        i: usize,
+        (a, b): ((f64, f64, f64), (f64, f64, f64)),
+        tol: f64,
+        need_rhs: bool,
+    ) -> Result<Option<(f64, f64)>, OdeError> {
+        let (t_a, g_a, d_a) = a;
+        let (t_b, _, d_b) = b;
         let mut crossed: Option<(f64, f64)> = None;
         let mut g_nan: Option<f64> = None;
         let pos_g = g_a > 0.0;
@@ -847,37 +993,11 @@ where
             return Err(OdeError::EventNotANumber { index: i, t });
         }
         if search.map_or(true, |b| b.nan_at.is_some()) {
-            // Its derivative has none (or no sign change, not searched): as for an event without a
-            // derivative, the pair is not searched.
             return Ok(None);
         }
-        let Some((c, g_c)) = crossed else {
-            return Ok(None);
-        };
-        if allowed.allows(dir_first) {
-            let (l, r) = self.locate(i, (t_a, g_a), (c, g_c), tol)?;
-            if !self.step.ignorable(r, zero_at_start) {
-                return Ok(Some((r, dir_first, l)));
-            }
-        }
-        if allowed.allows(dir_first.opposite()) && g_c != 0.0 {
-            let (l, r) = self.locate(i, (c, g_c), (t_b, g_b), tol)?;
-            if !self.step.ignorable(r, zero_at_start) {
-                return Ok(Some((r, dir_first.opposite(), l)));
-            }
-        }
-        Ok(None)
+        Ok(crossed)
     }
-}
 
-impl<D, S, I, E> Scan<'_, D, S, I, E>
-where
-    D: Dim,
-    DefaultAllocator: Allocator<D>,
-    S: OdeSystem<D>,
-    I: Integrator<D>,
-    E: EventSet<D> + ?Sized,
-{
     /// **The crossing back** (start-of-segment rule 3): the guard `s`, on zero at the origin,
     /// is now (`g_b`, at the end of the first sample beyond `value_tol`) on the side it
     /// must cross back into in an allowed direction, and its motion at the origin pointed

@@ -35,19 +35,29 @@
 //! and the bracket is narrower than the time tolerance
 //! $\max(\text{root\\_tol}, 4\varepsilon|t|)$.
 //!
-//!   The extremum is searched only when the cubic Hermite interpolant of
+//!   The extremum is searched when the cubic Hermite interpolant of
 //!   $g_i$ through the two samples (values and derivatives) gets at least
-//!   halfway from the nearer end value towards zero, or across it: an
-//!   extremum far from zero (the usual case, e.g. a ring coordinate turning
-//!   back well inside its preload) costs nothing.
+//!   halfway from the nearer end value towards zero, or across it. An
+//!   extremum of the interpolant far from zero (the usual case, e.g. a ring
+//!   coordinate turning back well inside its preload) costs one value and
+//!   derivative of $g_i$ there, which must confirm it: on the same side, within
+//!   a quarter of the nearer end value $m$ of the interpolant, its slope within
+//!   $m/h$ of the interpolant's over an interval of length $h$, and not halfway
+//!   to zero either (else the extremum is searched); so do the two extrema that derivatives
+//!   of the same sign imply when the end values move against them. A crossing
+//!   seen there is located; a guard that contradicts its interpolant splits the
+//!   interval there, each half checked the same way up to 4 levels, then the
+//!   extremum is searched. A sample interval longer than the guard's time scale
+//!   can have quiet ends while $g_i$ swings through zero between them.
 //!
 //! **Guarantee.** Relative to the dense-output interpolant $u(t)$, every
 //! crossing of an allowed direction is found, provided that between two
 //! consecutive samples $g_i(t, u(t))$ has at most one root, or has two roots
 //! and at most one extremum, the event supplies its derivative, and the
 //! cubic Hermite interpolant of the samples places that extremum at least
-//! halfway to zero (true whenever the Hermite interpolant's error is below
-//! half the end values: a dip missed by it is unresolved by the sampling).
+//! halfway to zero or is contradicted by $g_i$ at a point checked (true
+//! whenever the Hermite interpolant's error is below half the end values; a
+//! dip narrower than the checks, about 1/16 of the interval, can be missed).
 //! Pairs of roots inside one sample interval are invisible without the
 //! derivative (see the tests: a $10^{-6}$-deep dip inside one large step is
 //! found with the derivative and missed by the plain sign check). At the
