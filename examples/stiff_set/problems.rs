@@ -24,8 +24,10 @@
 
 use std::time::Instant;
 
-use jeffcott::ode::{AnyIntegrator, Integrator, Method, OdeError, OdeSystem, Options, Stats};
-use nalgebra::{DMatrix, DVector, Dyn};
+use jeffcott::ode::{
+    AnyIntegrator, Integrator, JacobianMut, Method, OdeError, OdeSystem, Options, Stats,
+};
+use nalgebra::{DVector, Dyn};
 
 /// One problem of the set.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -208,7 +210,7 @@ impl Problem {
 
     /// Writes the Jacobian $\partial f / \partial y$ at $(t, y)$ into `jac` (the test set's
     /// `jeval`; the problems are autonomous). `jac` must be `dim x dim`.
-    pub fn jacobian_into(&self, _t: f64, y: &DVector<f64>, jac: &mut DMatrix<f64>) {
+    pub fn jacobian_into(&self, _t: f64, y: &DVector<f64>, jac: &mut JacobianMut<'_, Dyn>) {
         jac.fill(0.0);
         match self {
             Problem::Vdpol => {
@@ -257,6 +259,10 @@ impl OdeSystem<Dyn> for Problem {
     fn rhs(&self, _t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
         self.rhs_into(y.as_slice(), dy.as_mut_slice());
     }
+    fn jacobian(&self, t: f64, y: &DVector<f64>, jac: &mut JacobianMut<'_, Dyn>) -> bool {
+        self.jacobian_into(t, y, jac);
+        true
+    }
 }
 
 /// HIRES's right-hand side (hires.f, `feval`, the rate constants written out).
@@ -272,7 +278,7 @@ fn hires_rhs(y: &[f64], dy: &mut [f64]) {
 }
 
 /// HIRES's Jacobian (hires.f, `jeval`).
-fn hires_jacobian(y: &DVector<f64>, jac: &mut DMatrix<f64>) {
+fn hires_jacobian(y: &DVector<f64>, jac: &mut JacobianMut<'_, Dyn>) {
     let entries = [
         (0, 0, -1.71),
         (0, 1, 0.43),

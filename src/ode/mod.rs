@@ -308,10 +308,12 @@ where
     /// step, returns `y()`. An `out` of the wrong length (possible for `Dyn`
     /// only) is replaced by a vector of the right one.
     fn dense<S: OdeSystem<D>>(&mut self, sys: &S, t: f64, out: &mut OVector<f64, D>);
-    /// Truncate the last step at `t_new` in $(t_{\text{prev}}, t]$: the
-    /// current point becomes `(t_new, dense(t_new))` and $f$ is re-evaluated
-    /// there; the step-size suggestion is kept, and `dense` stays valid on
-    /// $[t_{\text{prev}}, t_{\text{new}}]$.
+    /// Truncate the last step at `t_new` in $(t_{\text{prev}}, t]$: the current point becomes
+    /// `(t_new, y_new)` and $f$ is re-evaluated there; the step-size suggestion is kept, and
+    /// `dense` stays valid on $[t_{\text{prev}}, t_{\text{new}}]$. The explicit methods take
+    /// `y_new = dense(t_new)`; [`Radau5`] takes the step again to `t_new` (its dense output
+    /// is of order 3, its steps of order 5), so after an event restart from [`Integrator::y`],
+    /// which is at least as accurate as the dense output ([`EventHit::y`]).
     fn truncate<S: OdeSystem<D>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError>;
     /// Work counters.
     fn stats(&self) -> &Stats;

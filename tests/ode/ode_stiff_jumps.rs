@@ -27,7 +27,10 @@ type V2 = SVector<f64, 2>;
 /// the error of the fast component is only loosely controlled (measured error at t = 5:
 /// 1.4e-8 at rtol 1e-10 / atol 1e-12, 9.3e-11 at 1e-12 / 1e-12, 1.4e-9 at 1e-12 / 1e-14,
 /// 2.9e-12 at 1e-13 / 1e-15).
-const JUMP_METHODS: &[(Method, f64, f64)] = &[(Method::Dop853, 1e-13, 1e-15)];
+const JUMP_METHODS: &[(Method, f64, f64)] = &[
+    (Method::Radau5, 1e-12, 1e-14),
+    (Method::Dop853, 1e-13, 1e-15),
+];
 
 /// Number of jumps.
 pub const JUMPS: usize = 100;
@@ -103,8 +106,11 @@ pub fn run_jumps(method: Method, rtol: f64, atol: f64) -> Result<JumpRun, OdeErr
             t_k: jump_time(jumps + 1),
         };
         if let Some(hit) = find_first_event(&mut integ, &sys, &guard, &opts, &mut state)? {
-            let (t_hit, y_hit) = (hit.t, hit.y);
+            // The state to restart from is the integrator's after `truncate` (Radau5 steps
+            // again to the event: its dense output, `hit.y`, is of lower order).
+            let t_hit = hit.t;
             integ.truncate(&sys, t_hit)?;
+            let y_hit = *integ.y();
             integ.reset(&sys, t_hit, &(y_hit + V2::new(1.0, 1.0)), true)?;
             state.reset();
             jumps += 1;
@@ -146,5 +152,10 @@ fn hundred_jumps_match_the_closed_form() {
             "{method:?}: y(5) = {:?}, closed form {c}, error {err:e}",
             r.y.as_slice()
         );
+        if method == Method::Radau5 {
+            // Issue 19: fewer steps than diffsol's ESDIRK34 (559 in its book and measured by
+            // bench-compare's stiff_jumps, for an error of 1.2e-6). Each jump's re-step counts.
+            assert!(r.steps < 559, "Radau5: {} steps", r.steps);
+        }
     }
 }

@@ -509,6 +509,30 @@ where
         }
     }
 
+    /// The last step taken again from its left end to `t_new` (see [`Integrator::truncate`]);
+    /// `false`, with the last step's polynomial and ends untouched, if that step fails.
+    fn step_again<S: OdeSystem<D>>(&mut self, sys: &S, t_new: f64) -> bool {
+        let c = &mut self.core;
+        let h_keep = c.h;
+        c.t = c.t_prev;
+        c.y.copy_from(&c.y_prev);
+        c.f.copy_from(&c.f_prev);
+        let h = t_new - c.t;
+        let (ratio, err) = match self.attempt(sys, h, false) {
+            Attempt::Accepted { ratio, err } => (ratio, err),
+            Attempt::Rejected { .. } => return false,
+        };
+        let c = &mut self.core;
+        sys.rhs(t_new, &c.y_new, &mut c.f_new);
+        c.stats.rhs_evals += 1;
+        if !all_finite(c.f_new.as_slice()) {
+            return false;
+        }
+        self.accept(h, h, t_new, ratio, err, false, false);
+        self.core.h = h_keep;
+        true
+    }
+
     /// Bookkeeping of a rejected attempt: a Jacobian not computed at this point is redone.
     fn reject(&mut self) {
         self.core.stats.rejected += 1;
@@ -607,9 +631,21 @@ where
         self.eval_dense(t, out.as_mut_slice());
     }
 
+    /// Truncates by taking the step again, from $t_{\text{prev}}$ to exactly `t_new`: the
+    /// collocation polynomial is only of order 3 inside a step (its error is that of the
+    /// transformed tolerance $0.1\,\mathrm{rtol}^{2/3}$), while a step's end has the method's
+    /// order 5. A hybrid run truncates at every event, so the placed state must have the
+    /// step's accuracy (100 jumps placed on the polynomial: 7.0e-7 off at rtol 1e-10;
+    /// stepped again: 2.8e-10). Costs one Newton solve and two LU decompositions. Should that
+    /// step fail (Newton diverges at the shorter step, non-finite values), the point is
+    /// placed on the polynomial, as the explicit methods place it on their dense output.
+    /// The step-size suggestion is kept; `dense` is then the new step's polynomial.
     fn truncate<S: OdeSystem<D>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError> {
         self.core.check_truncate(t_new)?;
         if t_new == self.core.t {
+            return Ok(());
+        }
+        if self.step_again(sys, t_new) {
             return Ok(());
         }
         let c = &mut self.core;
