@@ -30,7 +30,7 @@
 //! **Switching.** Contact starts when $|r - s|$ reaches 1; it ends when the normal contact
 //! force $n\cdot f$ turns negative (or $|r|$ falls to 1). Out of contact the rotor is a damped
 //! linear oscillator and the ring relaxes exponentially with time constant $2\nu_2/K$: both
-//! are solved **in closed form** ([`paper::free_flight`]), and contact onset is found on the
+//! are solved **in closed form** ([`paper::FreeFlight`]), and contact onset is found on the
 //! closed form by a **certified** search that cannot step over a contact
 //! ([`ring::onset`]). Contact phases are integrated (DOP853 by default, [`ode`]); regime
 //! boundaries inside contact are events, so no step straddles a kink.

@@ -17,8 +17,8 @@ use common::cli::{f64_in, finite, parse, usize_in};
 use common::csv::fmt_f64;
 use common::plot::{self, Figure, Series};
 use common::{or_exit, Tolerances};
-use jeffcott::analysis::orbit::strobe_orbit;
-use jeffcott::analysis::portrait::phase_portrait;
+use jeffcott::analysis::phase_portrait;
+use jeffcott::analysis::strobe_orbit;
 use jeffcott::hybrid::SimOptions;
 use jeffcott::params::Preset;
 

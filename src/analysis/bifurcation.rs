@@ -1,24 +1,3 @@
-//! Bifurcation diagrams of any one-parameter family of [`RotorModel`]s.
-//!
-//! A family is given by two closures:
-//!
-//! * `build: Fn(f64) -> Result<M, E>` makes the model at a parameter value (`E` is the
-//!   builder's own error, e.g. invalid parameters);
-//! * `start: Fn(&M, Option<&OVector<f64, M::Dim>>) -> Result<OVector<f64, M::Dim>, ModelError>`
-//!   gives
-//!   the initial state of the run at that value. It receives `None` for a run from the reset
-//!   state (every value in [`SweepMode::Reset`](super::SweepMode::Reset), each chunk start and
-//!   the value after a failure in carry-over mode, every evaluation of the locator) and
-//!   `Some(y)`, the previous value's final state, when the state is carried over. A model with
-//!   algebraic components (e.g. a massless ring placed by its contact law) re-places them here
-//!   if the parameter moves them. [`start_from`] is the common rule "reset runs start from a
-//!   fixed state, carried states are used as they are".
-//!
-//! Each value's run discards `transient` forcing periods, records `record` stroboscopic points
-//! ([`strobe_orbit`]) and detects their period ([`PeriodTest`]); the conventions are those of
-//! [`orbit`](super::orbit). The paper's model has ready-made families over its parameters:
-//! [`crate::paper::ParamSweep`].
-
 use std::ops::Range;
 
 use nalgebra::allocator::Allocator;
@@ -173,7 +152,7 @@ where
 }
 
 /// The start rule "reset runs start from `y0`, carried states are used as they are" (see the
-/// [module docs](self)).
+/// [module docs](super)).
 #[allow(clippy::type_complexity)] // the closure's signature, spelled out for the reader
 pub fn start_from<D: Dim, M>(
     y0: OVector<f64, D>,
@@ -210,7 +189,7 @@ where
 }
 
 /// A bifurcation diagram: for each of `values`, build the model (`build`), start it (`start`,
-/// see the [module docs](self)), discard `config.transient` periods, record `config.record`
+/// see the [module docs](super)), discard `config.transient` periods, record `config.record`
 /// stroboscopic points and detect their period.
 ///
 /// Runs on [`sweep()`]: in reset mode every value starts from the reset state; in carry-over

@@ -1,9 +1,3 @@
-//! Locating a change of the detected period (a bifurcation) along a parameter, by bisection.
-//!
-//! Near a bifurcation the transient decays slowly, so a periodic orbit may still be reported as
-//! "not periodic" after a short transient: the locator therefore takes its own, longer
-//! transient ([`LocatorConfig::transient`]).
-
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, OVector};
 

@@ -1,49 +1,3 @@
-//! A parallel, deterministic parameter sweep.
-//!
-//! [`sweep`] runs a user-supplied *runner* once per parameter value and returns the results in
-//! parameter order. The runner has the signature
-//!
-//! ```text
-//! Fn(&P, Option<S>) -> Result<(T, S), E>
-//! ```
-//!
-//! It receives the parameter value and, optionally, the state `S` left by the previous value;
-//! it returns what to record (`T`) and the state to hand on, or an error `E`. `None` means
-//! "start from your reset state" (for the rotor: zero initial conditions); a runner that needs
-//! a longer transient after a reset can tell from the `None`.
-//!
-//! # Modes
-//!
-//! * [`SweepMode::Reset`]: every value starts from the reset state (the runner always gets
-//!   `None`). The values are independent and run in parallel, one task per value.
-//! * [`SweepMode::CarryOver`]: the state at the end of value `k` seeds value `k + 1`, as when a
-//!   physical experiment turns the speed up slowly. A chain is sequential by nature, so the list
-//!   is split into `chunks` contiguous chunks ([`chunk_ranges`]); each chunk starts from the
-//!   reset state and the chunks run in parallel. With `chunks = 1` the whole sweep is one chain
-//!   (serial); more chunks use more cores at the price of a fresh transient at each chunk start.
-//!
-//! # Determinism
-//!
-//! The chunk boundaries depend only on the number of values and on `chunks`, which the caller
-//! fixes; they never depend on the number of threads. Each value is computed by exactly one call
-//! of the runner, with inputs (the parameter and the carried state) that are themselves fixed by
-//! the parameter list and the mode. So if the runner is a deterministic function of its inputs,
-//! the results are **bitwise identical for any number of threads** (1, 2 or the whole machine),
-//! and they are returned in parameter order whatever order the threads finish in.
-//!
-//! # Failures
-//!
-//! A runner error at one value is recorded in that value's slot (`Err(e)`) and the sweep goes
-//! on. In carry-over mode there is no state to carry past a failure, so the **next value starts
-//! from the reset state** (the runner gets `None`), exactly as at a chunk start. A panic inside
-//! the runner is not caught: it propagates out of [`sweep`] (a panic is a bug, not a result).
-//!
-//! # Progress
-//!
-//! After each value a [`Progress`] observer, if given, is called with `(done, total)`. Calls come
-//! from the worker threads; each `done` in `1..=total` is reported exactly once, but not
-//! necessarily in increasing order. [`StderrProgress`] prints a throttled progress line.
-
 use std::io::{IsTerminal, Write};
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
@@ -53,7 +7,7 @@ use rayon::prelude::*;
 
 use super::AnalysisError;
 
-/// How successive parameter values are linked. See the [module docs](self).
+/// How successive parameter values are linked. See the [module docs](super).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
@@ -308,7 +262,7 @@ pub fn chunk_ranges(len: usize, chunks: usize) -> Result<Vec<Range<usize>>, Anal
 
 /// Runs `runner` over `params` and returns the results in parameter order.
 ///
-/// See the [module docs](self) for the runner's contract, the two modes, the determinism
+/// See the [module docs](super) for the runner's contract, the two modes, the determinism
 /// guarantee and what happens on failure.
 ///
 /// # Errors

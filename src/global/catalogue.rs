@@ -1,5 +1,3 @@
-//! The distinct attractors found over a scan, and which one each point reached.
-
 use super::attractor::{Attractor, MatchTolerance};
 
 /// What a point of a scan is labelled with.

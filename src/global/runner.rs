@@ -1,35 +1,3 @@
-//! Running a computation over a list of points, in parallel, resumably.
-//!
-//! [`run_points`] calls `runner(&point)` once for each point not yet recorded in the sweep's
-//! folder ([`SweepStore`]), on a pool of threads, writes each outcome to the folder as soon as
-//! it is known, and returns every point's outcome (recorded earlier or computed now) in point
-//! order.
-//!
-//! # Guarantees
-//!
-//! * **Deterministic.** The points are independent: each outcome is `runner(&point)` and
-//!   nothing else, so for a runner that is a deterministic function of its point, the
-//!   outcomes are bitwise identical for any number of threads, any number of MPI ranks
-//!   (module `distributed`, feature `mpi`), and across interruptions and
-//!   restarts.
-//! * **Every outcome passes through its record.** An outcome computed now is encoded and
-//!   decoded back before it is written and returned, exactly as one read from the folder after
-//!   a restart: a restarted run returns the same values as an uninterrupted one even if a
-//!   [`Record`] encoding were lossy. An outcome that does not read back (a NaN written as
-//!   `null`) is not written: the run stops with [`StoreError::RoundTrip`].
-//! * **Failures are results.** A runner error is recorded (`"error"` in its line) and returned
-//!   in its slot; it is not computed again on restart (delete its line to retry it). A panic
-//!   inside the runner is a bug: it propagates, the records written so far stay.
-//! * **Shards.** [`RunConfig::shard`] runs only the points of one [`Shard`] `i/n` (the points
-//!   `i, i + n, i + 2n, …`) and writes them to the shard's own file in the folder: `n`
-//!   independent processes (the tasks of a scheduler's job array) together run the whole
-//!   sweep, without MPI and without file locking; a run without a shard then reads every
-//!   point from the folder (and runs any a shard left undone). The outcomes are those of one
-//!   run, bit for bit.
-//! * **Partial runs.** [`RunConfig::max_new_points`] and [`RunConfig::time_budget`] stop
-//!   starting new points (for a batch queue's time limit); the points not run are `None` and
-//!   a later run with the same folder does them.
-
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -235,7 +203,7 @@ impl<T, E> PointResults<T, E> {
 }
 
 /// Runs `runner` on every point of `points` not yet recorded in `store`, and returns all
-/// outcomes in point order (see the [module docs](self) for the guarantees). Without a
+/// outcomes in point order (see the [module docs](super) for the guarantees). Without a
 /// store nothing is written and every point is run. With [`RunConfig::shard`], only the
 /// shard's points are run (written to the shard's file); the other points are those the
 /// folder holds, `None` if it holds none.

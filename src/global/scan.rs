@@ -1,19 +1,3 @@
-//! Attractor scans over a grid: basins of attraction (a grid of initial states) and
-//! two-parameter maps (a grid of parameters).
-//!
-//! Both are the same computation: at each grid point a *setup* closure builds the model and
-//! its initial state, [`find_attractor`] runs it, and the outcome is recorded
-//! ([`run_points`]: parallel, resumable, deterministic). They differ in what the grid means
-//! and how the outcomes are drawn:
-//!
-//! * **basins**: fixed parameters, the grid varies the initial state; the attractors are
-//!   matched across points ([`GridScan::catalogue`]) and each point coloured by the one it
-//!   reached;
-//! * **parameter maps**: the grid varies two parameters, each run from the same initial state;
-//!   each point coloured by its period ([`GridScan::periods`]) or its contacts per period
-//!   ([`GridScan::contacts_per_period`]). Where attractors coexist, the map shows the one
-//!   reached from that initial state.
-
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, OVector};
 
@@ -215,7 +199,7 @@ where
 }
 
 /// Runs [`find_attractor`] at every point of `grid`, the model and initial state built by
-/// `setup` (see the [module docs](self)), in parallel, writing each outcome to `store` as it
+/// `setup` (see the [module docs](super)), in parallel, writing each outcome to `store` as it
 /// finishes and skipping the points it already holds ([`run_points`]).
 ///
 /// A folder must be opened for this scan with [`SweepStore::open_scan`]: it records the grid

@@ -1,16 +1,3 @@
-//! Floquet multipliers: the eigenvalues of a monodromy matrix, sorted, and how a multiplier
-//! leaves the unit circle.
-//!
-//! For a periodic point $z^{\ast} = P^n(z^{\ast})$ of a stroboscopic map the multipliers are the
-//! eigenvalues of the monodromy matrix $DP^n(z^{\ast})$. The point is asymptotically stable when
-//! every multiplier has modulus below 1; it loses stability when one crosses the unit circle:
-//! a real multiplier through $-1$ (**flip**, period doubling), through $+1$ (**fold**, saddle
-//! node), or a complex pair (**Neimark–Sacker**, a torus).
-//!
-//! Eigenvalues come from nalgebra's real Schur decomposition (pure Rust, backward stable:
-//! their error is about $\varepsilon\thinspace\lVert A\rVert$ times the eigenvalue's condition
-//! number).
-
 use nalgebra::DMatrix;
 use thiserror::Error;
 

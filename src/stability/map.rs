@@ -1,18 +1,3 @@
-//! The stroboscopic map and its Jacobian.
-//!
-//! $P^n$ maps the state at $\tau = 0$ to the state $n$ forcing periods later
-//! ($\tau_k = 2\pi k/\eta$ for the paper's model). It acts on the model's **non-algebraic**
-//! components $z$ (the rotor's four states $(x, y, x^\prime, y^\prime)$ for the paper's model):
-//! the algebraic ones are placed by the model from $z$ at the section
-//! ([`Variational::section_state`]). For the ring this is exact when the section falls in
-//! contact ($s = s^*(r)$) or in free flight with the ring relaxed to its centre (exactly 0 in
-//! double precision on the paper's orbits); otherwise the map on $z$ is not closed, and
-//! [`Linearization::openness`] says by how much (the ring's distance from its centre).
-//!
-//! Its Jacobian comes from the variational equations integrated with the state through every
-//! event (`stability::augmented`), not from differences: the run that gives $P^n(z)$ gives
-//! $DP^n(z)$, on the same steps.
-
 use nalgebra::{DMatrix, DVector, DefaultAllocator, Dim, Dyn, OMatrix, OVector};
 
 use super::augmented::{propagate, LinearEvent};

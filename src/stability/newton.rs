@@ -1,18 +1,3 @@
-//! Newton's method: the one Newton of the crate, for a fixed point of a map with a known
-//! Jacobian, $F(z) = P(z) - z = 0$ ([`newton_fixed_point`]), and for the bordered systems of
-//! the continuation (`stability::continuation`).
-//!
-//! Each iteration solves $J\thinspace\delta = -G(u_k)$ by LU with partial pivoting ($J = DP -
-//! I$ for a fixed point) and takes the full step if it lowers the residual; otherwise it halves
-//! the step (up to [`NewtonOptions::max_halvings`] times), which keeps an iterate that would
-//! leave the basin of the orbit from jumping to another one. It stops when every component of
-//! the residual is within its tolerance, **relative plus absolute**:
-//! $|G_i| \le$ [`atol`](NewtonOptions::atol)$\cdot s_i +$ [`rtol`](NewtonOptions::rtol)$\cdot
-//! |u_i|$, $s_i$ the scale of component $i$ (the model's
-//! [`state_scale`](crate::hybrid::RotorModel::state_scale); 1 by default), and returns the
-//! point with the map's value and Jacobian there (the monodromy matrix). A run that does not
-//! converge returns its last iterate and residual inside the error.
-
 use nalgebra::{DMatrix, DVector};
 use thiserror::Error;
 

@@ -1,17 +1,3 @@
-//! Periodic orbits by shooting: Newton's method on $P^n(z) - z$ with the Jacobian of the
-//! variational equations, the Floquet multipliers, and the orbit's grazing margins.
-//!
-//! **Margins.** A periodic orbit of a contact model can lose or gain a contact without any
-//! multiplier reaching the unit circle (a grazing bifurcation), and near one the map is not
-//! smooth. [`OrbitMargins`] measures how far the orbit is from that: the number of contact
-//! phases per orbit, the smallest penetration depth of a contact, the closest approach to
-//! contact in free flight (both from the model's [`Variational::contact_depth`], sampled 64
-//! times on each smooth piece between events and refined by a parabola through the largest
-//! sample and its neighbours), and the smallest crossing margin of the events' saltation
-//! matrices. An orbit with an event crossed at a margin below [`GRAZING_MARGIN`] is flagged
-//! ([`PeriodicOrbit::grazing`]): its multipliers are those of a map that is not
-//! differentiable there.
-
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 
 use super::augmented::LinearEvent;

@@ -1,28 +1,3 @@
-//! Time averages with a statistical error: batch means, and the QR (Benettin) bookkeeping of
-//! Lyapunov exponents.
-//!
-//! # Batch means
-//!
-//! A time average $\bar x = \frac1n\sum_k x_k$ of a correlated series (one value per forcing
-//! period) has a standard error that the sample variance underestimates. Split the series into
-//! $m$ consecutive batches of length $b$; when $b$ is long against the correlation time the
-//! batch means $\bar x_j$ are nearly independent, and
-//!
-//! $$\operatorname{se}(\bar x) \approx \frac{s_b}{\sqrt m},\qquad
-//! s_b^2 = \frac{1}{m - 1}\sum_j (\bar x_j - \bar x_b)^2 .$$
-//!
-//! The estimate is honest only if $b$ exceeds the correlation time: check it by doubling $b$
-//! (the error must not grow). [`BatchMeans`] keeps the batch means and the running estimate
-//! (the mean after each complete batch).
-//!
-//! # QR re-orthonormalisation
-//!
-//! With $Q_k$ orthonormal ($d\times p$) and $Y = DP(z_k)\thinspace Q_k = Q_{k+1}R_k$ (thin QR, $R_k$
-//! upper triangular with a positive diagonal), the $i$-th Lyapunov exponent per iteration of
-//! the map is the time average of $\ln R_{k,ii}$ ([`qr_step`]). Summed over $i = 1..d$ the
-//! samples are $\ln|\det DP(z_k)|$ by construction (an identity of the factorisation, not a
-//! check of $DP$; the check of the exponents' sum is Liouville's formula, `lyapunov`).
-
 use nalgebra::{DMatrix, DVector};
 
 /// Batch-means accumulator of a vector-valued series (one sample per iteration).

@@ -10,7 +10,7 @@
 //! is a spiral that turns 3 times in 8 periods, so the lag-8 difference of the stroboscopic
 //! points is about (1 - 0.98^8) / |0.98 e^{3i pi/4} - 1| ~ 1/12 of the lag-1 difference.
 
-use jeffcott::analysis::period::MAX_WINDOWS;
+use jeffcott::analysis::MAX_WINDOWS;
 use jeffcott::analysis::{
     bifurcation, detect_period, start_from, strobe_orbit, window_residuals, BifurcationConfig,
     PeriodTest, Periodicity,

@@ -51,7 +51,7 @@ use jeffcott::hybrid::{
 };
 use jeffcott::nalgebra::{Vector2, U6};
 use jeffcott::ode::{Method, OdeError};
-use jeffcott::paper::free_flight::FreeOscillator;
+use jeffcott::paper::FreeOscillator;
 use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::Params;
 use jeffcott::ring::boundaries::{Boundary, RegionBoundaries};

@@ -11,7 +11,7 @@ use jeffcott::hybrid::{
 use jeffcott::nalgebra::{SVector, Vector2, U1};
 use jeffcott::numeric::Direction;
 use jeffcott::ode::Method;
-use jeffcott::paper::free_flight::FreeOscillator;
+use jeffcott::paper::FreeOscillator;
 use jeffcott::paper::{guard, JeffcottModel};
 use jeffcott::params::Params;
 use jeffcott::ring::onset::{find_onset, Onset, OnsetStats};
