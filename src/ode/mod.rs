@@ -146,14 +146,14 @@ use nalgebra::{DefaultAllocator, Dim, OVector};
 mod any;
 mod controller;
 mod core;
-pub mod dop853;
-pub mod dopri5;
+mod dop853;
+mod dopri5;
 mod error;
 pub mod events;
 pub(crate) mod kernels;
 mod options;
-pub mod rk4;
-pub mod solve;
+mod rk4;
+mod solve;
 
 pub use any::{AnyIntegrator, Method};
 pub use dop853::Dop853;

@@ -290,7 +290,7 @@ fn invalid_options_are_typed_errors() {
 #[test]
 fn event_samples_out_of_range_is_a_typed_error_not_a_clamp() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
-    for n in [0, jeffcott::ode::events::MAX_SAMPLES + 1] {
+    for n in [0, jeffcott::ode::MAX_SAMPLES + 1] {
         let o = SimOptions {
             event_samples: n,
             ..SimOptions::default()
@@ -306,7 +306,7 @@ fn event_samples_out_of_range_is_a_typed_error_not_a_clamp() {
         assert!(err.partial.strobe.is_empty());
     }
     // The ends of the range run.
-    for n in [1, jeffcott::ode::events::MAX_SAMPLES] {
+    for n in [1, jeffcott::ode::MAX_SAMPLES] {
         let o = SimOptions {
             event_samples: n,
             ..SimOptions::default()
