@@ -23,7 +23,7 @@ pub const RESULTS_VERSION: u64 = 1;
 pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
 
 /// File name of the manifest.
-pub const MANIFEST_FILE: &str = "manifest.json";
+pub(crate) const MANIFEST_FILE: &str = "manifest.json";
 
 /// What went wrong with a sweep's folder or its configuration.
 #[derive(Debug, Clone, PartialEq, Error)]

@@ -9,7 +9,7 @@ use super::{
 /// Largest number of safeguarded Newton/bisection steps of the multiplier solver (1 to 4 are
 /// typical; up to about 60 with a stiffness ratio of $10^7$ between the axes or a root next to
 /// a branch's pole, and a poor warm start).
-pub const MAX_ITERATIONS: u32 = 100;
+pub(crate) const MAX_ITERATIONS: u32 = 100;
 
 /// The ring located in contact with the rotor at `r`, on given force-law branches.
 ///

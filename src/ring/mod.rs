@@ -166,7 +166,7 @@
 //! relative to $\gamma + |r|$ over $10^6$ random placements with one coordinate of $r$ at or
 //! near 0, $K$ from $10^{-3}$ to $10^4$ per axis, any branches and hints). About 1.6
 //! iterations on average there, at most 60; it never returns an unconverged iterate: after
-//! [`MAX_ITERATIONS`] steps it returns [`RingError::NotConverged`] (the bisection reaches
+//! 100 steps it returns [`RingError::NotConverged`] (the bisection reaches
 //! adjacent floats well before, so this cannot happen for finite input; the error keeps the
 //! promise checkable).
 //!
@@ -310,7 +310,7 @@ pub use branch::{Branch, Branches};
 pub use element::{
     Axis, Kinematics, RingCache, RingGuard, RingMode, RingState, RingTransition, ONSET_TOUCH,
 };
-pub use locate::{regime_ii_position, regime_v_position, RingContact, MAX_ITERATIONS};
+pub use locate::{regime_ii_position, regime_v_position, RingContact};
 pub use regime::{boundaries, Regime};
 pub use relax::Relaxation;
 pub use sensitivity::{ContactHessian, ForceJacobian, GuardGradient};

@@ -131,7 +131,7 @@ pub fn multipliers(monodromy: &DMatrix<f64>) -> Result<Vec<Multiplier>, FloquetE
 }
 
 /// Sorts multipliers by modulus, largest first (ties as in [`multipliers`]).
-pub fn sort_by_modulus(m: &mut [Multiplier]) {
+pub(crate) fn sort_by_modulus(m: &mut [Multiplier]) {
     m.sort_by(|a, b| {
         b.modulus()
             .total_cmp(&a.modulus())
@@ -141,7 +141,7 @@ pub fn sort_by_modulus(m: &mut [Multiplier]) {
 }
 
 /// The largest modulus of a set of multipliers (0 for none): the spectral radius.
-pub fn spectral_radius(m: &[Multiplier]) -> f64 {
+pub(crate) fn spectral_radius(m: &[Multiplier]) -> f64 {
     m.iter().map(Multiplier::modulus).fold(0.0, f64::max)
 }
 

@@ -23,7 +23,7 @@
 //! | [`lyapunov_exponents`] | QR (Benettin) spectrum with batch-means errors, two-trajectory check |
 //! | [`continue_orbit`], [`switch_at_flip`] | the continuation core: pseudo-arclength along a parameter (a closure builds the model) through folds, with fold, flip, Neimark–Sacker and grazing located, and branch switching at a flip |
 //! | [`locate_loss`] | its natural-parameter case: where a stable orbit loses stability (flip, fold, Neimark–Sacker, grazing), or a failure with its error |
-//! | [`multipliers`], [`newton_fixed_point`], [`BatchMeans`] | the numerics underneath, on plain matrices and closures ([Floquet multipliers](#floquet-multipliers), [Newton](#newton), [batch means and QR](#batch-means-and-qr)) |
+//! | [`multipliers`], [`newton_fixed_point`], [`BatchEstimate`] | the numerics underneath, on plain matrices and closures ([Floquet multipliers](#floquet-multipliers), [Newton](#newton), [batch means and QR](#batch-means-and-qr)) |
 //!
 //! The ring's own derivatives are in [the ring's module](crate::ring#derivatives-of-the-element), the paper's free flight's
 //! transition matrix in [`crate::paper::FreeOscillator::transition_matrix`]. The
@@ -167,14 +167,14 @@
 //! s_b^2 = \frac{1}{m - 1}\sum_j (\bar x_j - \bar x_b)^2 .$$
 //!
 //! The estimate is honest only if $b$ exceeds the correlation time: check it by doubling $b$
-//! (the error must not grow). [`BatchMeans`] keeps the batch means and the running estimate
+//! (the error must not grow). The batch means are kept with the running estimate
 //! (the mean after each complete batch).
 //!
 //! ## QR re-orthonormalisation
 //!
 //! With $Q_k$ orthonormal ($d\times p$) and $Y = DP(z_k)\thinspace Q_k = Q_{k+1}R_k$ (thin QR, $R_k$
 //! upper triangular with a positive diagonal), the $i$-th Lyapunov exponent per iteration of
-//! the map is the time average of $\ln R_{k,ii}$ ([`qr_step`]). Summed over $i = 1..d$ the
+//! the map is the time average of $\ln R_{k,ii}$. Summed over $i = 1..d$ the
 //! samples are $\ln|\det DP(z_k)|$ by construction (an identity of the factorisation, not a
 //! check of $DP$; the check of the exponents' sum is Liouville's formula, `lyapunov`).
 //!
@@ -343,4 +343,5 @@ pub use map::{Advanced, Linearization, StroboscopicMap};
 pub use newton::{newton_fixed_point, FixedPoint, MapValue, NewtonError, NewtonOptions};
 pub use orbit::{periodic_orbit, OrbitMargins, OrbitOptions, PeriodicOrbit};
 pub use saltation::{saltation, EventLinearization, Saltation, SaltationError, GRAZING_MARGIN};
-pub use statistics::{qr_step, BatchEstimate, BatchMeans};
+
+pub use statistics::BatchEstimate;

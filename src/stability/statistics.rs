@@ -2,7 +2,7 @@ use nalgebra::{DMatrix, DVector};
 
 /// Batch-means accumulator of a vector-valued series (one sample per iteration).
 #[derive(Debug, Clone, PartialEq)]
-pub struct BatchMeans {
+pub(crate) struct BatchMeans {
     batch_length: usize,
     dim: usize,
     /// Sum over the current (incomplete) batch.
@@ -15,7 +15,7 @@ pub struct BatchMeans {
     count: usize,
 }
 
-/// The estimate of a [`BatchMeans`].
+/// A batch-means estimate of a time average and its standard error (see [batch means](crate::stability#batch-means)).
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BatchEstimate {
@@ -64,11 +64,6 @@ impl BatchMeans {
         }
     }
 
-    /// Samples so far.
-    pub fn count(&self) -> usize {
-        self.count
-    }
-
     /// The current estimate.
     pub fn estimate(&self) -> BatchEstimate {
         let n = self.count.max(1) as f64;
@@ -112,7 +107,7 @@ impl BatchMeans {
 /// factored as $Q^\prime R$ with $R_{ii} > 0$; returns $Q^\prime$ and $\ln R_{ii}$. A zero or
 /// non-finite diagonal (a direction collapsed to rounding, or a non-finite Jacobian) gives
 /// $-\infty$ or NaN in that slot, for the caller to report.
-pub fn qr_step(y: DMatrix<f64>) -> (DMatrix<f64>, DVector<f64>) {
+pub(crate) fn qr_step(y: DMatrix<f64>) -> (DMatrix<f64>, DVector<f64>) {
     let p = y.ncols();
     let qr = y.qr();
     let (mut q, r) = (qr.q(), qr.r());
