@@ -28,7 +28,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use jeffcott::analysis::{sweep, SweepConfig};
+use jeffcott::analysis::{sweep, SweepOptions};
 use jeffcott::hybrid::{
     simulate, Flow, ModelError, OutputPlan, RotorModel, SimOptions, Trajectory,
 };
@@ -239,7 +239,7 @@ fn run_sweep(values: usize, periods: u64, threads: usize) -> usize {
     };
     let r = sweep(
         &etas,
-        &SweepConfig::reset().with_threads(threads),
+        &SweepOptions::reset().with_threads(threads),
         runner,
         None,
     )

@@ -23,7 +23,7 @@ use common::plot::{self, Category, CategoryGrid, Figure, Grid};
 use common::ranks::Ranks;
 use common::{SweepRunFlags, Tolerances};
 use jeffcott::analysis::StderrProgress;
-use jeffcott::global::{AttractorConfig, Grid2, Manifest};
+use jeffcott::global::{AttractorOptions, Grid2, Manifest};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{ParamPlane, SweepParameter};
 use jeffcott::params::Params;
@@ -147,17 +147,11 @@ fn main() {
     if max_transient < transient {
         fail("--max-transient must be at least --transient");
     }
-    let config = AttractorConfig {
-        transient: transient as u64,
-        record: record as u64,
-        max_transient: max_transient as u64,
-        opts: SimOptions {
-            rtol,
-            atol,
-            ..SimOptions::default()
-        },
-        ..AttractorConfig::default()
-    };
+    let config = AttractorOptions::default()
+        .with_transient(transient as u64)
+        .with_record(record as u64)
+        .with_max_transient(max_transient as u64)
+        .with_opts(SimOptions::default().with_rtol(rtol).with_atol(atol));
     let base = Preset::Fig8a.params();
     let maps = [
         (

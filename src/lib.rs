@@ -95,8 +95,8 @@
 //! * **`serde`**: `Serialize` and `Deserialize` (with [`serde`](https://docs.rs/serde)'s
 //!   derive) for the types a user saves: the parameter sets ([`params::Params`],
 //!   [`params::DimensionalParams`], ...), every options and configuration struct
-//!   ([`hybrid::SimOptions`], [`hybrid::OutputPlan`], [`analysis::BifurcationConfig`],
-//!   [`analysis::PeriodTest`], [`stability::OrbitOptions`], [`global::AttractorConfig`], ...),
+//!   ([`hybrid::SimOptions`], [`hybrid::OutputPlan`], [`analysis::BifurcationOptions`],
+//!   [`analysis::PeriodTest`], [`stability::OrbitOptions`], [`global::AttractorOptions`], ...),
 //!   the results ([`hybrid::Trajectory`], [`analysis::Bifurcation`], [`analysis::Periodicity`],
 //!   [`stability::PeriodicOrbit`], [`stability::Continuation`], [`stability::LyapunovSpectrum`],
 //!   [`global::Attractor`], [`stability::Branch`] and its points, ...) and the errors results
@@ -108,7 +108,7 @@
 //!   `serde` and `serde_json` themselves are dependencies with or without the feature: the
 //!   resumable sweeps of [`global`] write their records with them, so the types a sweep
 //!   records or describes its settings with ([`global::Attractor`], [`global::PointFailure`],
-//!   [`global::AttractorConfig`] with [`hybrid::SimOptions`] and [`analysis::PeriodTest`],
+//!   [`global::AttractorOptions`] with [`hybrid::SimOptions`] and [`analysis::PeriodTest`],
 //!   [`params::Params`], [`paper::BasinPlane`], [`paper::ParamPlane`], ...) derive both always.
 //! * **`mpi`**: the module `global::distributed`: the resumable sweeps of [`global`]
 //!   (`open_store`, `run_points`, `scan_grid`) split across MPI ranks, with results bitwise

@@ -4,9 +4,9 @@
 use std::fmt::Debug;
 
 use jeffcott::analysis::{
-    BifurcationConfig, LocatorConfig, PeriodTest, Periodicity, SweepConfig, SweepMode,
+    BifurcationOptions, LocatorOptions, PeriodTest, Periodicity, SweepMode, SweepOptions,
 };
-use jeffcott::global::{find_attractor, AttractorConfig};
+use jeffcott::global::{find_attractor, AttractorOptions};
 use jeffcott::hybrid::{DenseSampling, OutputPlan, SimOptions, StrobeRange};
 use jeffcott::nalgebra::U6;
 use jeffcott::ode::{EventOptions, Method, Options, Tolerance};
@@ -81,19 +81,19 @@ fn options_round_trip_through_json() {
         tol: 2.0e-7,
     };
     round_trip(&period_test);
-    let mut sweep = SweepConfig::default();
+    let mut sweep = SweepOptions::default();
     sweep.mode = SweepMode::CarryOver { chunks: 3 };
     sweep.threads = Some(2);
-    round_trip(&BifurcationConfig {
+    round_trip(&BifurcationOptions {
         transient: 17,
         record: 19,
         sweep,
         opts: sim,
         period_test,
     });
-    round_trip(&LocatorConfig {
+    round_trip(&LocatorOptions {
         resolution: 0.1 + 0.2,
-        ..LocatorConfig::default()
+        ..LocatorOptions::default()
     });
     // JSON has no infinity (serde_json writes null and refuses to read it back): a finite
     // h_max here; formats with non-finite numbers take the default +inf as well.
@@ -131,11 +131,11 @@ fn options_round_trip_through_json() {
         sim,
         ..LyapunovOptions::default()
     });
-    round_trip(&AttractorConfig {
+    round_trip(&AttractorOptions {
         transient: 301,
         period_test,
         free_label: 2,
-        ..AttractorConfig::default()
+        ..AttractorOptions::default()
     });
     round_trip(
         &ContinuationOptions::default()
@@ -243,10 +243,10 @@ fn a_periodic_orbit_round_trips() {
 #[test]
 fn a_bifurcation_of_three_values_round_trips_with_a_failed_column() {
     let sweep = ParamSweep::new(Preset::Fig8a.params(), SweepParameter::Eta);
-    let config = BifurcationConfig {
+    let config = BifurcationOptions {
         transient: 100,
         record: 32,
-        ..BifurcationConfig::default()
+        ..BifurcationOptions::default()
     };
     // Three values, and a fourth the model refuses (a negative frequency ratio): its column
     // is the build error, which is saved too.
@@ -265,7 +265,7 @@ fn a_bifurcation_of_three_values_round_trips_with_a_failed_column() {
 fn an_attractor_round_trips() {
     let model = fig8a(2.0);
     let y0 = model.state_at([0.0, 0.0], [0.0, 0.0]).unwrap();
-    let config = AttractorConfig {
+    let config = AttractorOptions {
         transient: 300,
         record: 32,
         ..Default::default()

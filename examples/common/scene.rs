@@ -116,17 +116,15 @@ impl SceneFlags {
             fail(e);
         }
         let (rtol, atol) = self.tol.get();
-        let opts = SimOptions {
-            method: match self.method {
+        let opts = SimOptions::default()
+            .with_method(match self.method {
                 MethodFlag::Dop853 => Method::Dop853,
                 MethodFlag::Dopri5 => Method::Dopri5,
                 MethodFlag::Rk4 => Method::Rk4,
-            },
-            rtol,
-            atol,
-            steps_per_period: u32::try_from(self.steps_per_period).unwrap_or(u32::MAX),
-            ..SimOptions::default()
-        };
+            })
+            .with_rtol(rtol)
+            .with_atol(atol)
+            .with_steps_per_period(u32::try_from(self.steps_per_period).unwrap_or(u32::MAX));
         Scene {
             params,
             opts,

@@ -69,11 +69,7 @@ fn main() {
     .params();
     let model = or_exit(rotor::on_ring(params.with_eta(eta), q, k3));
     let y0 = jeffcott::State::zeros();
-    let opts = SimOptions {
-        rtol,
-        atol,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default().with_rtol(rtol).with_atol(atol);
     let orbit = or_exit(strobe_orbit(
         &model,
         &y0,

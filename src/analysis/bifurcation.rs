@@ -5,32 +5,71 @@ use nalgebra::{DefaultAllocator, Dim, OVector};
 
 use super::{
     strobe_orbit, sweep, AnalysisError, OrbitError, PeriodChange, PeriodTest, Periodicity,
-    PoincareMap, Progress, StrobeOrbit, SweepConfig,
+    PoincareMap, Progress, StrobeOrbit, SweepOptions,
 };
 use crate::hybrid::{ModelError, RotorModel, SimOptions};
 
 /// Settings of a [`bifurcation`] sweep.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct BifurcationConfig {
+#[non_exhaustive]
+pub struct BifurcationOptions {
     /// Forcing periods discarded at each value. Default 300 (the paper's).
     pub transient: u64,
     /// Forcing periods recorded at each value (at least 1). Default 150 (the paper's).
     pub record: u64,
     /// Reset mode or carry-over chunks, and threads. Default reset, global pool.
-    pub sweep: SweepConfig,
+    pub sweep: SweepOptions,
     /// Integration options. Default: [`SimOptions::default`].
     pub opts: SimOptions,
     /// Period test of each column. Default [`PeriodTest::default`].
     pub period_test: PeriodTest,
 }
 
-impl Default for BifurcationConfig {
+/// Builders: each returns the options with one field changed.
+impl BifurcationOptions {
+    /// With [`transient`](Self::transient) = `value`.
+    #[must_use]
+    pub fn with_transient(mut self, value: u64) -> Self {
+        self.transient = value;
+        self
+    }
+
+    /// With [`record`](Self::record) = `value`.
+    #[must_use]
+    pub fn with_record(mut self, value: u64) -> Self {
+        self.record = value;
+        self
+    }
+
+    /// With [`sweep`](Self::sweep) = `value`.
+    #[must_use]
+    pub fn with_sweep(mut self, value: SweepOptions) -> Self {
+        self.sweep = value;
+        self
+    }
+
+    /// With [`opts`](Self::opts) = `value`.
+    #[must_use]
+    pub fn with_opts(mut self, value: SimOptions) -> Self {
+        self.opts = value;
+        self
+    }
+
+    /// With [`period_test`](Self::period_test) = `value`.
+    #[must_use]
+    pub fn with_period_test(mut self, value: PeriodTest) -> Self {
+        self.period_test = value;
+        self
+    }
+}
+
+impl Default for BifurcationOptions {
     fn default() -> Self {
-        BifurcationConfig {
+        BifurcationOptions {
             transient: 300,
             record: 150,
-            sweep: SweepConfig::reset(),
+            sweep: SweepOptions::reset(),
             opts: SimOptions::default(),
             period_test: PeriodTest::default(),
         }
@@ -210,13 +249,13 @@ where
 /// ring stiffness, every value from rest.
 ///
 /// ```
-/// use jeffcott::analysis::{bifurcation, start_from, BifurcationConfig};
+/// use jeffcott::analysis::{bifurcation, start_from, BifurcationOptions};
 /// use jeffcott::params::Preset;
 /// use jeffcott::{JeffcottModel, State};
 ///
 /// let base = Preset::Fig8a.params().with_eta(3.0);
 /// let build = |k: f64| JeffcottModel::new(base.with_stiffness(k));
-/// let config = BifurcationConfig { transient: 50, record: 8, ..Default::default() };
+/// let config = BifurcationOptions::default().with_transient(50).with_record(8);
 /// let diagram = bifurcation(&[20.0, 30.0], build, start_from(State::zeros()), &config, None)?;
 /// assert_eq!(diagram.points(0).len(), 16);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -225,7 +264,7 @@ pub fn bifurcation<M, E, B, S>(
     values: &[f64],
     build: B,
     start: S,
-    config: &BifurcationConfig,
+    config: &BifurcationOptions,
     progress: Option<&dyn Progress>,
 ) -> Result<Bifurcation<M::Dim, E>, AnalysisError>
 where

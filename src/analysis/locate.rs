@@ -9,7 +9,8 @@ use crate::numeric::{bisect, Side};
 /// Settings of [`locate_period_change`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct LocatorConfig {
+#[non_exhaustive]
+pub struct LocatorOptions {
     /// Forcing periods discarded at each evaluation. Default 2000 (longer than a diagram's,
     /// because transients decay slowly near a bifurcation).
     pub transient: u64,
@@ -23,9 +24,47 @@ pub struct LocatorConfig {
     pub period_test: PeriodTest,
 }
 
-impl Default for LocatorConfig {
+/// Builders: each returns the options with one field changed.
+impl LocatorOptions {
+    /// With [`transient`](Self::transient) = `value`.
+    #[must_use]
+    pub fn with_transient(mut self, value: u64) -> Self {
+        self.transient = value;
+        self
+    }
+
+    /// With [`record`](Self::record) = `value`.
+    #[must_use]
+    pub fn with_record(mut self, value: u64) -> Self {
+        self.record = value;
+        self
+    }
+
+    /// With [`resolution`](Self::resolution) = `value`.
+    #[must_use]
+    pub fn with_resolution(mut self, value: f64) -> Self {
+        self.resolution = value;
+        self
+    }
+
+    /// With [`opts`](Self::opts) = `value`.
+    #[must_use]
+    pub fn with_opts(mut self, value: SimOptions) -> Self {
+        self.opts = value;
+        self
+    }
+
+    /// With [`period_test`](Self::period_test) = `value`.
+    #[must_use]
+    pub fn with_period_test(mut self, value: PeriodTest) -> Self {
+        self.period_test = value;
+        self
+    }
+}
+
+impl Default for LocatorOptions {
     fn default() -> Self {
-        LocatorConfig {
+        LocatorOptions {
             transient: 2000,
             record: 200,
             resolution: 5e-4,
@@ -96,7 +135,7 @@ pub fn locate_period_change<M, E, B, S>(
     to: f64,
     build: B,
     start: S,
-    config: &LocatorConfig,
+    config: &LocatorOptions,
 ) -> Result<LocatedChange, OrbitError<M::Dim, E>>
 where
     M: RotorModel,

@@ -237,7 +237,7 @@
 //!
 //! Near a bifurcation the transient decays slowly, so a periodic orbit may still be reported as
 //! "not periodic" after a short transient: the locator therefore takes its own, longer
-//! transient ([`LocatorConfig::transient`]).
+//! transient ([`LocatorOptions::transient`]).
 
 mod bifurcation;
 mod error;
@@ -248,9 +248,9 @@ mod poincare;
 mod portrait;
 mod sweep;
 
-pub use bifurcation::{bifurcation, start_from, Bifurcation, BifurcationConfig, Column, Failure};
+pub use bifurcation::{bifurcation, start_from, Bifurcation, BifurcationOptions, Column, Failure};
 pub use error::{AnalysisError, OrbitError};
-pub use locate::{locate_period_change, LocatedChange, LocatorConfig, PeriodChange};
+pub use locate::{locate_period_change, LocatedChange, LocatorOptions, PeriodChange};
 pub use orbit::{strobe_orbit, PoincareMap, StrobeOrbit};
 pub use period::{
     count_distinct, detect_period, detect_period_scalar, detect_period_scaled, distinct_values,
@@ -260,5 +260,5 @@ pub use poincare::{section_crossings, section_crossings_hermite, Crossing};
 pub use portrait::{phase_portrait, PhasePortrait};
 pub(crate) use sweep::on_pool;
 pub use sweep::{
-    chunk_ranges, linspace, sweep, Progress, StderrProgress, SweepConfig, SweepMode, SweepResult,
+    chunk_ranges, linspace, sweep, Progress, StderrProgress, SweepMode, SweepOptions, SweepResult,
 };

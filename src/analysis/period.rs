@@ -183,11 +183,29 @@ impl fmt::Display for Periodicity {
 /// with a period bound that adapts to the number of points.
 // serde always, not only with the feature: the sweeps of `global` record it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[non_exhaustive]
 pub struct PeriodTest {
     /// Largest period tested (at least 1; the orbit needs `2 · max_period` points). Default 16.
     pub max_period: usize,
     /// Relative tolerance (see the [module docs](super)). Default `1e-6`.
     pub tol: f64,
+}
+
+/// Builders: each returns the options with one field changed.
+impl PeriodTest {
+    /// With [`max_period`](Self::max_period) = `value`.
+    #[must_use]
+    pub fn with_max_period(mut self, value: usize) -> Self {
+        self.max_period = value;
+        self
+    }
+
+    /// With [`tol`](Self::tol) = `value`.
+    #[must_use]
+    pub fn with_tol(mut self, value: f64) -> Self {
+        self.tol = value;
+        self
+    }
 }
 
 impl Default for PeriodTest {

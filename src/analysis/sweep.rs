@@ -27,7 +27,7 @@ pub enum SweepMode {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
-pub struct SweepConfig {
+pub struct SweepOptions {
     /// How successive values are linked. Default: [`SweepMode::Reset`].
     pub mode: SweepMode,
     /// Number of worker threads. `None` (default) uses rayon's global pool (all cores, or
@@ -36,24 +36,34 @@ pub struct SweepConfig {
     pub threads: Option<usize>,
 }
 
-impl Default for SweepConfig {
+/// Builders: each returns the options with one field changed.
+impl SweepOptions {
+    /// With [`mode`](Self::mode) = `value`.
+    #[must_use]
+    pub fn with_mode(mut self, value: SweepMode) -> Self {
+        self.mode = value;
+        self
+    }
+}
+
+impl Default for SweepOptions {
     fn default() -> Self {
-        SweepConfig {
+        SweepOptions {
             mode: SweepMode::Reset,
             threads: None,
         }
     }
 }
 
-impl SweepConfig {
+impl SweepOptions {
     /// Independent values ([`SweepMode::Reset`]) on the global pool.
     pub fn reset() -> Self {
-        SweepConfig::default()
+        SweepOptions::default()
     }
 
     /// Carried-over state ([`SweepMode::CarryOver`]) in `chunks` chunks, on the global pool.
     pub fn carry_over(chunks: usize) -> Self {
-        SweepConfig {
+        SweepOptions {
             mode: SweepMode::CarryOver { chunks },
             threads: None,
         }
@@ -61,7 +71,7 @@ impl SweepConfig {
 
     /// The same settings with a dedicated pool of `threads` worker threads.
     pub fn with_threads(self, threads: usize) -> Self {
-        SweepConfig {
+        SweepOptions {
             threads: Some(threads),
             ..self
         }
@@ -275,20 +285,20 @@ pub fn chunk_ranges(len: usize, chunks: usize) -> Result<Vec<Range<usize>>, Anal
 /// # Example
 ///
 /// ```
-/// use jeffcott::analysis::{sweep, SweepConfig};
+/// use jeffcott::analysis::{sweep, SweepOptions};
 /// // A "simulation" whose state is a running sum, carried from value to value.
 /// let params = [1.0, 2.0, 3.0, 4.0];
 /// let runner = |p: &f64, state: Option<f64>| -> Result<(f64, f64), String> {
 ///     let s = state.unwrap_or(0.0) + p;
 ///     Ok((s, s))
 /// };
-/// let out = sweep(&params, &SweepConfig::carry_over(2).with_threads(2), runner, None).unwrap();
+/// let out = sweep(&params, &SweepOptions::carry_over(2).with_threads(2), runner, None).unwrap();
 /// let values: Vec<f64> = out.results.into_iter().map(Result::unwrap).collect();
 /// assert_eq!(values, vec![1.0, 3.0, 3.0, 7.0]); // chunks [1, 2] and [3, 4]
 /// ```
 pub fn sweep<P, T, S, E, F>(
     params: &[P],
-    config: &SweepConfig,
+    config: &SweepOptions,
     runner: F,
     progress: Option<&dyn Progress>,
 ) -> Result<SweepResult<T, E>, AnalysisError>

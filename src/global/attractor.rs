@@ -9,7 +9,8 @@ use crate::hybrid::{
 
 /// Settings of [`find_attractor`].
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct AttractorConfig {
+#[non_exhaustive]
+pub struct AttractorOptions {
     /// Forcing periods discarded before the first recording. Default 500.
     pub transient: u64,
     /// Stroboscopic points recorded and tested (at least `2 · period_test.max_period`).
@@ -27,9 +28,54 @@ pub struct AttractorConfig {
     pub free_label: u8,
 }
 
-impl Default for AttractorConfig {
+/// Builders: each returns the options with one field changed.
+impl AttractorOptions {
+    /// With [`transient`](Self::transient) = `value`.
+    #[must_use]
+    pub fn with_transient(mut self, value: u64) -> Self {
+        self.transient = value;
+        self
+    }
+
+    /// With [`record`](Self::record) = `value`.
+    #[must_use]
+    pub fn with_record(mut self, value: u64) -> Self {
+        self.record = value;
+        self
+    }
+
+    /// With [`max_transient`](Self::max_transient) = `value`.
+    #[must_use]
+    pub fn with_max_transient(mut self, value: u64) -> Self {
+        self.max_transient = value;
+        self
+    }
+
+    /// With [`opts`](Self::opts) = `value`.
+    #[must_use]
+    pub fn with_opts(mut self, value: SimOptions) -> Self {
+        self.opts = value;
+        self
+    }
+
+    /// With [`period_test`](Self::period_test) = `value`.
+    #[must_use]
+    pub fn with_period_test(mut self, value: PeriodTest) -> Self {
+        self.period_test = value;
+        self
+    }
+
+    /// With [`free_label`](Self::free_label) = `value`.
+    #[must_use]
+    pub fn with_free_label(mut self, value: u8) -> Self {
+        self.free_label = value;
+        self
+    }
+}
+
+impl Default for AttractorOptions {
     fn default() -> Self {
-        AttractorConfig {
+        AttractorOptions {
             transient: 500,
             record: 64,
             max_transient: 4000,
@@ -80,6 +126,7 @@ pub struct Attractor {
 /// model's scale ([`Attractor::scale`]; the paper's: gap = 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub struct MatchTolerance {
     /// Periodic attractors: largest difference of a state component between matched cycle
     /// points. Default 1e-3 (runs converge to ~1e-6; coexisting orbits differ by ~0.1).
@@ -89,6 +136,30 @@ pub struct MatchTolerance {
     /// Non-periodic attractors: largest difference of a side of the bounding boxes.
     /// Default 0.05.
     pub extent: f64,
+}
+
+/// Builders: each returns the options with one field changed.
+impl MatchTolerance {
+    /// With [`state`](Self::state) = `value`.
+    #[must_use]
+    pub fn with_state(mut self, value: f64) -> Self {
+        self.state = value;
+        self
+    }
+
+    /// With [`contacts`](Self::contacts) = `value`.
+    #[must_use]
+    pub fn with_contacts(mut self, value: f64) -> Self {
+        self.contacts = value;
+        self
+    }
+
+    /// With [`extent`](Self::extent) = `value`.
+    #[must_use]
+    pub fn with_extent(mut self, value: f64) -> Self {
+        self.extent = value;
+        self
+    }
 }
 
 impl Default for MatchTolerance {
@@ -251,7 +322,7 @@ fn window<M: RotorModel>(
     y0: &OVector<f64, M::Dim>,
     transient: u64,
     record: u64,
-    config: &AttractorConfig,
+    config: &AttractorOptions,
 ) -> Result<WindowObserver<M::Dim>, SimError<M::Dim>>
 where
     DefaultAllocator: Allocator<M::Dim>,
@@ -294,13 +365,13 @@ where
 /// # Example
 ///
 /// ```
-/// use jeffcott::global::{find_attractor, AttractorConfig};
+/// use jeffcott::global::{find_attractor, AttractorOptions};
 /// use jeffcott::params::Preset;
 /// use jeffcott::JeffcottModel;
 ///
 /// let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.0))?;
 /// let y0 = model.state_at([0.0, 0.0], [0.0, 0.0])?;
-/// let config = AttractorConfig { transient: 300, record: 32, ..Default::default() };
+/// let config = AttractorOptions::default().with_transient(300).with_record(32);
 /// let a = find_attractor(&model, &y0, &config)?;
 /// assert_eq!(a.period(), Some(1));
 /// assert!((a.canonical().unwrap()[0] - 0.5781094858).abs() < 1e-6);
@@ -310,7 +381,7 @@ where
 pub fn find_attractor<M: RotorModel>(
     model: &M,
     y0: &OVector<f64, M::Dim>,
-    config: &AttractorConfig,
+    config: &AttractorOptions,
 ) -> Result<Attractor, SimError<M::Dim>>
 where
     DefaultAllocator: Allocator<M::Dim>,

@@ -13,7 +13,7 @@
 //!   model has ready-made planes: [`crate::paper::BasinPlane`], [`crate::paper::ParamPlane`].
 //! * [The runner](#the-runner): the engine under every scan: any computation over a list of points, in
 //!   parallel, writing each outcome to a folder as it finishes, and skipping the points
-//!   already there when restarted ([`run_points`], [`RunConfig`]), or only one [`Shard`] of
+//!   already there when restarted ([`run_points`], [`RunOptions`]), or only one [`Shard`] of
 //!   them (a task of a job array, without MPI). Results are bitwise identical for any number
 //!   of threads, across restarts, for any number of shards, and (feature `mpi`, module
 //!   `distributed`) for any number of MPI ranks.
@@ -24,20 +24,20 @@
 //!
 //! ```no_run
 //! use jeffcott::analysis::StderrProgress;
-//! use jeffcott::global::{scan_grid, AttractorConfig, Grid2, MatchTolerance, RunConfig, SweepStore};
+//! use jeffcott::global::{scan_grid, AttractorOptions, Grid2, MatchTolerance, RunOptions, SweepStore};
 //! use jeffcott::paper::{BasinPlane, StartPlane};
 //! use jeffcott::params::Preset;
 //!
 //! let plane = BasinPlane::new(Preset::Fig8a.params().with_eta(2.2), StartPlane::XVx);
 //! let grid = Grid2::linspace((-1.0, 1.0, 200), (-1.5, 1.5, 200))?;
-//! let config = AttractorConfig::default();
+//! let config = AttractorOptions::default();
 //! // The folder records the grid, every setting of `config` and the crate's version; the
 //! // description (any `Serialize` value) adds what the scan cannot see: the model's parameters.
 //! // Killed part-way? Run it again: the points in the folder are not run again (and a run
 //! // with another grid, other settings or another description is refused).
 //! let store = SweepStore::open_scan("out/basins-fig8a", "basins", &plane, &grid, &config)?;
 //! let progress = StderrProgress::new("basins");
-//! let scan = scan_grid(&grid, plane.setup(), &config, Some(&store), &RunConfig::default(), Some(&progress))?;
+//! let scan = scan_grid(&grid, plane.setup(), &config, Some(&store), &RunOptions::default(), Some(&progress))?;
 //! let catalogue = scan.catalogue(&MatchTolerance::default());
 //! for (k, e) in catalogue.entries.iter().enumerate() {
 //!     println!("attractor {k}: {} ({} points)", e.attractor.describe(), e.count);
@@ -53,11 +53,11 @@
 //! ## Identification
 //!
 //! [`find_attractor`] runs the model from its initial state at $t = 0$, discards
-//! [`AttractorConfig::transient`] forcing periods, records [`AttractorConfig::record`]
+//! [`AttractorOptions::transient`] forcing periods, records [`AttractorOptions::record`]
 //! stroboscopic points and tests them for a period ([`PeriodTest`](crate::analysis::PeriodTest)). If none is found (not
 //! periodic, or not yet converged) the run
 //! goes on from its last state for another `transient + record` periods, and again, until the
-//! transients add up to [`AttractorConfig::max_transient`]: slowly attracting orbits (a
+//! transients add up to [`AttractorOptions::max_transient`]: slowly attracting orbits (a
 //! multiplier near the unit circle, close to a bifurcation) get the time they need, and
 //! chaotic runs stop there. The forcing is periodic, so a run continued from its state at
 //! $t = kP$ is restarted at $t = 0$ with the same forcing phase.
@@ -143,13 +143,13 @@
 //! * **Failures are results.** A runner error is recorded (`"error"` in its line) and returned
 //!   in its slot; it is not computed again on restart (delete its line to retry it). A panic
 //!   inside the runner is a bug: it propagates, the records written so far stay.
-//! * **Shards.** [`RunConfig::shard`] runs only the points of one [`Shard`] `i/n` (the points
+//! * **Shards.** [`RunOptions::shard`] runs only the points of one [`Shard`] `i/n` (the points
 //!   `i, i + n, i + 2n, …`) and writes them to the shard's own file in the folder: `n`
 //!   independent processes (the tasks of a scheduler's job array) together run the whole
 //!   sweep, without MPI and without file locking; a run without a shard then reads every
 //!   point from the folder (and runs any a shard left undone). The outcomes are those of one
 //!   run, bit for bit.
-//! * **Partial runs.** [`RunConfig::max_new_points`] and [`RunConfig::time_budget`] stop
+//! * **Partial runs.** [`RunOptions::max_new_points`] and [`RunOptions::time_budget`] stop
 //!   starting new points (for a batch queue's time limit); the points not run are `None` and
 //!   a later run with the same folder does them.
 //!
@@ -173,7 +173,7 @@
 //!     version is resumed.
 //!   * `fingerprint` is the 64-bit FNV-1a hash of the points' JSON, one a line (the grid).
 //!   * `settings` are the computation's settings, recorded by the crate: for
-//!     [`scan_grid`] its [`AttractorConfig`] as serde writes it, every field
+//!     [`scan_grid`] its [`AttractorOptions`] as serde writes it, every field
 //!     ([`SweepStore::open_scan`]); `null` for a folder opened with [`SweepStore::open`].
 //!   * `kind` and `description` are the caller's: what the sweep computes, and what the crate
 //!     cannot see, e.g. the model's parameters that the caller's `setup` closure uses (any
@@ -235,11 +235,11 @@ mod runner;
 mod scan;
 mod store;
 
-pub use attractor::{find_attractor, Attractor, AttractorConfig, MatchTolerance, OrbitStats};
+pub use attractor::{find_attractor, Attractor, AttractorOptions, MatchTolerance, OrbitStats};
 pub use catalogue::{Catalogue, CatalogueEntry, PointLabel};
 pub use failure::{PointFailure, SimFailureKind};
 pub use record::Record;
-pub use runner::{run_points, PointResults, RunConfig, Shard};
+pub use runner::{run_points, PointResults, RunOptions, Shard};
 pub use scan::{attractor_at, scan_grid, Grid2, GridScan};
 pub use store::{
     Loaded, Manifest, StoreError, SweepStore, CRATE_VERSION, FORMAT_VERSION, RESULTS_VERSION,

@@ -1,10 +1,10 @@
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, OVector};
 
-use super::attractor::{find_attractor, Attractor, AttractorConfig, MatchTolerance};
+use super::attractor::{find_attractor, Attractor, AttractorOptions, MatchTolerance};
 use super::catalogue::Catalogue;
 use super::failure::PointFailure;
-use super::runner::{run_points, PointResults, RunConfig};
+use super::runner::{run_points, PointResults, RunOptions};
 use super::store::{check_same, Manifest, StoreError, SweepStore, MANIFEST_FILE};
 use crate::analysis::{linspace, AnalysisError, Progress};
 use crate::hybrid::RotorModel;
@@ -138,7 +138,7 @@ impl Manifest {
         kind: &str,
         description: &D,
         grid: &Grid2,
-        config: &AttractorConfig,
+        config: &AttractorOptions,
     ) -> Result<Self, StoreError> {
         Manifest::new(kind, description, &grid.points())?.with_settings(config)
     }
@@ -157,7 +157,7 @@ impl SweepStore {
         kind: &str,
         description: &D,
         grid: &Grid2,
-        config: &AttractorConfig,
+        config: &AttractorOptions,
     ) -> Result<Self, StoreError> {
         SweepStore::open_manifest(dir, Manifest::scan(kind, description, grid, config)?)
     }
@@ -166,14 +166,14 @@ impl SweepStore {
 /// Checks that `store` (if any) records the scan's `config` ([`SweepStore::open_scan`]).
 pub(crate) fn check_settings(
     store: Option<&SweepStore>,
-    config: &AttractorConfig,
+    config: &AttractorOptions,
 ) -> Result<(), StoreError> {
     let Some(s) = store else { return Ok(()) };
     let path = s.dir().join(MANIFEST_FILE);
     if s.manifest().settings.is_null() {
         return Err(StoreError::SettingsNotRecorded {
             path,
-            needed: "AttractorConfig",
+            needed: "AttractorOptions",
         });
     }
     let given = serde_json::to_value(config).map_err(|e| StoreError::Encode {
@@ -187,7 +187,7 @@ pub(crate) fn check_settings(
 pub fn attractor_at<P, M, S>(
     setup: &S,
     point: &P,
-    config: &AttractorConfig,
+    config: &AttractorOptions,
 ) -> Result<Attractor, PointFailure>
 where
     M: RotorModel,
@@ -218,14 +218,14 @@ where
 /// x_0^\prime)$, without a folder:
 ///
 /// ```
-/// use jeffcott::global::{scan_grid, AttractorConfig, Grid2, MatchTolerance, RunConfig};
+/// use jeffcott::global::{scan_grid, AttractorOptions, Grid2, MatchTolerance, RunOptions};
 /// use jeffcott::paper::{BasinPlane, StartPlane};
 /// use jeffcott::params::Preset;
 ///
 /// let plane = BasinPlane::new(Preset::Fig8a.params().with_eta(2.2), StartPlane::XVx);
 /// let grid = Grid2::linspace((0.2, 0.8, 3), (-0.5, 0.5, 2))?;
-/// let config = AttractorConfig { transient: 400, max_transient: 400, ..Default::default() };
-/// let scan = scan_grid(&grid, plane.setup(), &config, None, &RunConfig::default(), None)?;
+/// let config = AttractorOptions::default().with_transient(400).with_max_transient(400);
+/// let scan = scan_grid(&grid, plane.setup(), &config, None, &RunOptions::default(), None)?;
 /// let catalogue = scan.catalogue(&MatchTolerance::default());
 /// assert!(catalogue.entries.iter().all(|e| e.attractor.period().is_some()));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -233,9 +233,9 @@ where
 pub fn scan_grid<M, S>(
     grid: &Grid2,
     setup: S,
-    config: &AttractorConfig,
+    config: &AttractorOptions,
     store: Option<&SweepStore>,
-    run: &RunConfig,
+    run: &RunOptions,
     progress: Option<&dyn Progress>,
 ) -> Result<GridScan, StoreError>
 where

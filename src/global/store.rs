@@ -95,7 +95,7 @@ pub enum StoreError {
     SettingsNotRecorded {
         /// The manifest.
         path: PathBuf,
-        /// The settings the computation needs recorded (e.g. `"AttractorConfig"`).
+        /// The settings the computation needs recorded (e.g. `"AttractorOptions"`).
         needed: &'static str,
     },
     /// A complete line of a records file (or the manifest) is not a valid record.

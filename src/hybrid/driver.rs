@@ -13,9 +13,10 @@ use crate::ode::{
     OdeError, OdeSystem, Options, Tolerance, MAX_SAMPLES,
 };
 
-/// Options of a hybrid run. A plain struct with `Default`.
+/// Options of a hybrid run. Start from `Default` and change fields with the `with_` builders.
 // serde always, not only with the feature: the sweeps of `global` record it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[non_exhaustive]
 pub struct SimOptions {
     /// Integration method of integrated modes. Default [`Method::Dop853`].
     pub method: Method,
@@ -53,6 +54,72 @@ pub struct SimOptions {
     /// is missed where the samples find it. `true` is faster (see `docs/performance.md`) and
     /// is a choice to make knowingly.
     pub screen_events: bool,
+}
+
+/// Builders: each returns the options with one field changed.
+impl SimOptions {
+    /// With [`method`](Self::method) = `value`.
+    #[must_use]
+    pub fn with_method(mut self, value: Method) -> Self {
+        self.method = value;
+        self
+    }
+
+    /// With [`rtol`](Self::rtol) = `value`.
+    #[must_use]
+    pub fn with_rtol(mut self, value: f64) -> Self {
+        self.rtol = value;
+        self
+    }
+
+    /// With [`atol`](Self::atol) = `value`.
+    #[must_use]
+    pub fn with_atol(mut self, value: f64) -> Self {
+        self.atol = value;
+        self
+    }
+
+    /// With [`steps_per_period`](Self::steps_per_period) = `value`.
+    #[must_use]
+    pub fn with_steps_per_period(mut self, value: u32) -> Self {
+        self.steps_per_period = value;
+        self
+    }
+
+    /// With [`max_step_fraction`](Self::max_step_fraction) = `value`.
+    #[must_use]
+    pub fn with_max_step_fraction(mut self, value: f64) -> Self {
+        self.max_step_fraction = value;
+        self
+    }
+
+    /// With [`event_samples`](Self::event_samples) = `value`.
+    #[must_use]
+    pub fn with_event_samples(mut self, value: usize) -> Self {
+        self.event_samples = value;
+        self
+    }
+
+    /// With [`max_events_per_period`](Self::max_events_per_period) = `value`.
+    #[must_use]
+    pub fn with_max_events_per_period(mut self, value: u32) -> Self {
+        self.max_events_per_period = value;
+        self
+    }
+
+    /// With [`max_steps`](Self::max_steps) = `value`.
+    #[must_use]
+    pub fn with_max_steps(mut self, value: u64) -> Self {
+        self.max_steps = value;
+        self
+    }
+
+    /// With [`screen_events`](Self::screen_events) = `value`.
+    #[must_use]
+    pub fn with_screen_events(mut self, value: bool) -> Self {
+        self.screen_events = value;
+        self
+    }
 }
 
 impl Default for SimOptions {

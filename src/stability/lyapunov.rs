@@ -6,9 +6,10 @@ use super::saltation::GRAZING_MARGIN;
 use super::statistics::{qr_step, BatchEstimate, BatchMeans};
 use crate::hybrid::{SimOptions, Variational, VariationalAlloc};
 
-/// Options of [`lyapunov_exponents`]. A plain struct with `Default`.
+/// Options of [`lyapunov_exponents`]. Start from `Default` and change fields with the `with_` builders.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub struct LyapunovOptions {
     /// Forcing periods run (plain simulation) before anything, to reach the attractor.
     /// Default 300.
@@ -33,6 +34,65 @@ pub struct LyapunovOptions {
     pub keep: usize,
     /// Simulation options of every run.
     pub sim: SimOptions,
+}
+
+/// Builders: each returns the options with one field changed.
+impl LyapunovOptions {
+    /// With [`transient`](Self::transient) = `value`.
+    #[must_use]
+    pub fn with_transient(mut self, value: u64) -> Self {
+        self.transient = value;
+        self
+    }
+
+    /// With [`align`](Self::align) = `value`.
+    #[must_use]
+    pub fn with_align(mut self, value: u64) -> Self {
+        self.align = value;
+        self
+    }
+
+    /// With [`periods`](Self::periods) = `value`.
+    #[must_use]
+    pub fn with_periods(mut self, value: u64) -> Self {
+        self.periods = value;
+        self
+    }
+
+    /// With [`batch`](Self::batch) = `value`.
+    #[must_use]
+    pub fn with_batch(mut self, value: u64) -> Self {
+        self.batch = value;
+        self
+    }
+
+    /// With [`separation`](Self::separation) = `value`.
+    #[must_use]
+    pub fn with_separation(mut self, value: Option<f64>) -> Self {
+        self.separation = value;
+        self
+    }
+
+    /// With [`exponents`](Self::exponents) = `Some(value)`.
+    #[must_use]
+    pub fn with_exponents(mut self, value: usize) -> Self {
+        self.exponents = Some(value);
+        self
+    }
+
+    /// With [`keep`](Self::keep) = `value`.
+    #[must_use]
+    pub fn with_keep(mut self, value: usize) -> Self {
+        self.keep = value;
+        self
+    }
+
+    /// With [`sim`](Self::sim) = `value`.
+    #[must_use]
+    pub fn with_sim(mut self, value: SimOptions) -> Self {
+        self.sim = value;
+        self
+    }
 }
 
 impl Default for LyapunovOptions {

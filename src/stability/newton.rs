@@ -32,22 +32,22 @@ impl Default for NewtonOptions {
 
 impl NewtonOptions {
     /// With the absolute residual tolerance [`atol`](Self::atol).
-    pub fn atol(mut self, atol: f64) -> Self {
+    pub fn with_atol(mut self, atol: f64) -> Self {
         self.atol = atol;
         self
     }
     /// With the relative residual tolerance [`rtol`](Self::rtol).
-    pub fn rtol(mut self, rtol: f64) -> Self {
+    pub fn with_rtol(mut self, rtol: f64) -> Self {
         self.rtol = rtol;
         self
     }
     /// With at most `n` iterations.
-    pub fn max_iterations(mut self, n: u32) -> Self {
+    pub fn with_max_iterations(mut self, n: u32) -> Self {
         self.max_iterations = n;
         self
     }
     /// With at most `n` halvings per iteration.
-    pub fn max_halvings(mut self, n: u32) -> Self {
+    pub fn with_max_halvings(mut self, n: u32) -> Self {
         self.max_halvings = n;
         self
     }
@@ -381,7 +381,9 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
-        let opts = NewtonOptions::default().max_iterations(2).atol(1e-30);
+        let opts = NewtonOptions::default()
+            .with_max_iterations(2)
+            .with_atol(1e-30);
         match newton_fixed_point(&DVector::from_vec(vec![1.1, 1.9]), map, None, &opts) {
             Err(NewtonError::NotConverged {
                 last,

@@ -11,15 +11,33 @@ use crate::hybrid::{
     Variational, VariationalAlloc,
 };
 
-/// Options of [`periodic_orbit`]. A plain struct with `Default`.
+/// Options of [`periodic_orbit`]. Start from `Default` and change fields with the `with_` builders.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub struct OrbitOptions {
     /// Newton's options (tolerance on $P^n(z) - z$ relative to the model's
     /// [`state_scale`](crate::hybrid::RotorModel::state_scale), default `1e-11`).
     pub newton: NewtonOptions,
     /// Simulation options of every run.
     pub sim: SimOptions,
+}
+
+/// Builders: each returns the options with one field changed.
+impl OrbitOptions {
+    /// With [`newton`](Self::newton) = `value`.
+    #[must_use]
+    pub fn with_newton(mut self, value: NewtonOptions) -> Self {
+        self.newton = value;
+        self
+    }
+
+    /// With [`sim`](Self::sim) = `value`.
+    #[must_use]
+    pub fn with_sim(mut self, value: SimOptions) -> Self {
+        self.sim = value;
+        self
+    }
 }
 
 /// How far a periodic orbit is from grazing (module docs).

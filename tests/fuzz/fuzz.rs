@@ -211,16 +211,17 @@ fn options() -> impl Strategy<Value = SimOptions> {
                 max_events_per_period,
                 max_steps,
                 screen_events,
-            )| SimOptions {
-                method,
-                rtol,
-                atol,
-                steps_per_period,
-                max_step_fraction,
-                event_samples,
-                max_events_per_period,
-                max_steps,
-                screen_events,
+            )| {
+                SimOptions::default()
+                    .with_method(method)
+                    .with_rtol(rtol)
+                    .with_atol(atol)
+                    .with_steps_per_period(steps_per_period)
+                    .with_max_step_fraction(max_step_fraction)
+                    .with_event_samples(event_samples)
+                    .with_max_events_per_period(max_events_per_period)
+                    .with_max_steps(max_steps)
+                    .with_screen_events(screen_events)
             },
         )
 }
@@ -921,10 +922,7 @@ fn check_run(c: RunCase) -> Result<String, String> {
         // which it crossed (its Hermite bound does not hold there).
         let screen = if c.opts.screen_events {
             let unscreened = RunCase {
-                opts: SimOptions {
-                    screen_events: false,
-                    ..c.opts
-                },
+                opts: c.opts.with_screen_events(false),
                 ..c
             };
             match check_run(unscreened) {
@@ -960,10 +958,9 @@ fn check_run(c: RunCase) -> Result<String, String> {
             // The chattering error's advice must be true: a larger bound goes further. Twice
             // the bound is enough to tell (and keeps the case's work bounded).
             if let SimErrorKind::Chattering { bound, .. } = kind {
-                let more = SimOptions {
-                    max_events_per_period: bound.max(1).saturating_mul(2),
-                    ..c.opts
-                };
+                let more = c
+                    .opts
+                    .with_max_events_per_period(bound.max(1).saturating_mul(2));
                 let (res2, _, _) = run(&more);
                 if let Err((k2, t2, _)) = &res2 {
                     if *t2 <= t {

@@ -112,11 +112,7 @@ where
 }
 
 fn opts() -> SimOptions {
-    SimOptions {
-        rtol: 1e-12,
-        atol: 1e-14,
-        ..SimOptions::default()
-    }
+    SimOptions::default().with_rtol(1e-12).with_atol(1e-14)
 }
 
 #[test]

@@ -79,11 +79,7 @@ const ALLOWED: f64 = 5e-12;
 
 #[test]
 fn matches_independent_reference_trajectories() {
-    let opts = SimOptions {
-        rtol: 1e-12,
-        atol: 1e-14,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-14);
     for name in ["fig8a_eta2.0.csv", "fig8b_eta2.0.csv", "fig8b_eta3.0.csv"] {
         let (worst, flags) = compare(name, &opts);
         println!("{name}: max |deviation| = {worst:.3e}, contact-flag mismatches = {flags}");

@@ -10,11 +10,7 @@ use jeffcott::params::{Params, Preset};
 use nalgebra::{SVector, Vector2, U6};
 
 fn opts(rtol: f64) -> SimOptions {
-    SimOptions {
-        rtol,
-        atol: rtol * 1e-2,
-        ..SimOptions::default()
-    }
+    SimOptions::default().with_rtol(rtol).with_atol(rtol * 1e-2)
 }
 
 fn end_state(model: &JeffcottModel, periods: u64, o: &SimOptions) -> State {
@@ -248,10 +244,7 @@ fn a_rotor_beyond_the_ring_is_a_typed_error() {
 fn chattering_bound_ends_the_run_with_what_was_computed() {
     // About 3 transitions per period: a bound of 2 must stop the run.
     let model = JeffcottModel::new(Preset::Fig10b.params()).unwrap();
-    let o = SimOptions {
-        max_events_per_period: 2,
-        ..opts(1e-9)
-    };
+    let o = opts(1e-9).with_max_events_per_period(2);
     let err = model.stroboscopic(&State::zeros(), 0, 50, &o).unwrap_err();
     assert!(
         matches!(err.error.kind, SimErrorKind::Chattering { .. }),
@@ -265,19 +258,9 @@ fn chattering_bound_ends_the_run_with_what_was_computed() {
 fn invalid_options_are_typed_errors() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
     for o in [
-        SimOptions {
-            rtol: f64::NAN,
-            ..SimOptions::default()
-        },
-        SimOptions {
-            rtol: 0.0,
-            atol: 0.0,
-            ..SimOptions::default()
-        },
-        SimOptions {
-            max_step_fraction: -1.0,
-            ..SimOptions::default()
-        },
+        SimOptions::default().with_rtol(f64::NAN),
+        SimOptions::default().with_rtol(0.0).with_atol(0.0),
+        SimOptions::default().with_max_step_fraction(-1.0),
     ] {
         let err = model.stroboscopic(&State::zeros(), 0, 3, &o).unwrap_err();
         assert!(
@@ -291,10 +274,7 @@ fn invalid_options_are_typed_errors() {
 fn event_samples_out_of_range_is_a_typed_error_not_a_clamp() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
     for n in [0, jeffcott::ode::MAX_SAMPLES + 1] {
-        let o = SimOptions {
-            event_samples: n,
-            ..SimOptions::default()
-        };
+        let o = SimOptions::default().with_event_samples(n);
         let err = model.stroboscopic(&State::zeros(), 0, 3, &o).unwrap_err();
         assert!(
             matches!(
@@ -307,10 +287,7 @@ fn event_samples_out_of_range_is_a_typed_error_not_a_clamp() {
     }
     // The ends of the range run.
     for n in [1, jeffcott::ode::MAX_SAMPLES] {
-        let o = SimOptions {
-            event_samples: n,
-            ..SimOptions::default()
-        };
+        let o = SimOptions::default().with_event_samples(n);
         assert!(model.stroboscopic(&State::zeros(), 0, 3, &o).is_ok(), "{n}");
     }
 }
@@ -483,10 +460,7 @@ fn the_first_output_is_the_initial_state_exactly() {
 fn a_preload_graze_one_nanometre_of_the_gap_deep_is_found_in_contact() {
     let base = Preset::Fig8b.params().with_eta(2.0);
     // The screen is off by default: this test is about the screen, so it asks for it.
-    let o = SimOptions {
-        screen_events: true,
-        ..SimOptions::default()
-    };
+    let o = SimOptions::default().with_screen_events(true);
     let (traj, _) = JeffcottModel::new(base)
         .unwrap()
         .stroboscopic(&State::zeros(), 300, 300, &o)

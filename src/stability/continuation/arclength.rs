@@ -61,57 +61,57 @@ impl Default for ContinuationOptions {
 
 impl ContinuationOptions {
     /// With the first step [`ds`](Self::ds).
-    pub fn ds(mut self, ds: f64) -> Self {
+    pub fn with_ds(mut self, ds: f64) -> Self {
         self.ds = ds;
         self
     }
     /// With the smallest step [`ds_min`](Self::ds_min).
-    pub fn ds_min(mut self, ds_min: f64) -> Self {
+    pub fn with_ds_min(mut self, ds_min: f64) -> Self {
         self.ds_min = ds_min;
         self
     }
     /// With the largest step [`ds_max`](Self::ds_max).
-    pub fn ds_max(mut self, ds_max: f64) -> Self {
+    pub fn with_ds_max(mut self, ds_max: f64) -> Self {
         self.ds_max = ds_max;
         self
     }
     /// With at most `n` points per branch.
-    pub fn max_points(mut self, n: usize) -> Self {
+    pub fn with_max_points(mut self, n: usize) -> Self {
         self.max_points = n;
         self
     }
     /// With the corrector's absolute tolerance [`atol`](Self::atol).
-    pub fn atol(mut self, atol: f64) -> Self {
+    pub fn with_atol(mut self, atol: f64) -> Self {
         self.atol = atol;
         self
     }
     /// With the corrector's relative tolerance [`rtol`](Self::rtol).
-    pub fn rtol(mut self, rtol: f64) -> Self {
+    pub fn with_rtol(mut self, rtol: f64) -> Self {
         self.rtol = rtol;
         self
     }
     /// With at most `n` corrector iterations per point.
-    pub fn max_iterations(mut self, n: u32) -> Self {
+    pub fn with_max_iterations(mut self, n: u32) -> Self {
         self.max_iterations = n;
         self
     }
     /// With the located brackets' width [`bracket_width`](Self::bracket_width).
-    pub fn bracket_width(mut self, width: f64) -> Self {
+    pub fn with_bracket_width(mut self, width: f64) -> Self {
         self.bracket_width = width;
         self
     }
     /// With the relative step [`param_step`](Self::param_step) of $F_p$.
-    pub fn param_step(mut self, step: f64) -> Self {
+    pub fn with_param_step(mut self, step: f64) -> Self {
         self.param_step = step;
         self
     }
     /// With the parameter's scale [`param_scale`](Self::param_scale).
-    pub fn param_scale(mut self, scale: f64) -> Self {
+    pub fn with_param_scale(mut self, scale: f64) -> Self {
         self.param_scale = Some(scale);
         self
     }
     /// With the simulation options [`sim`](Self::sim).
-    pub fn sim(mut self, sim: SimOptions) -> Self {
+    pub fn with_sim(mut self, sim: SimOptions) -> Self {
         self.sim = sim;
         self
     }
@@ -380,9 +380,9 @@ where
         template: &OVector<f64, M::Dim>,
     ) -> Result<Solved<M::Dim>, StabilityError> {
         let newton = NewtonOptions::default()
-            .atol(self.opts.atol)
-            .rtol(self.opts.rtol)
-            .max_iterations(self.opts.max_iterations + 1);
+            .with_atol(self.opts.atol)
+            .with_rtol(self.opts.rtol)
+            .with_max_iterations(self.opts.max_iterations + 1);
         // The residual is F_i / s_i: its scale is 1, and its relative part rtol |z_i| / s_i.
         let ones = DVector::from_element(start.len(), 1.0);
         let rule = Rule {

@@ -47,7 +47,9 @@ impl Default for LossOptions {
             max_correction: 0.05,
             through_grazing: false,
             orbit: OrbitOptions {
-                newton: NewtonOptions::default().max_iterations(10).max_halvings(6),
+                newton: NewtonOptions::default()
+                    .with_max_iterations(10)
+                    .with_max_halvings(6),
                 ..OrbitOptions::default()
             },
         }
@@ -56,32 +58,32 @@ impl Default for LossOptions {
 
 impl LossOptions {
     /// With the continuation step [`step`](Self::step).
-    pub fn step(mut self, step: f64) -> Self {
+    pub fn with_step(mut self, step: f64) -> Self {
         self.step = step;
         self
     }
     /// With the final bracket's width [`bracket_width`](Self::bracket_width).
-    pub fn bracket_width(mut self, width: f64) -> Self {
+    pub fn with_bracket_width(mut self, width: f64) -> Self {
         self.bracket_width = width;
         self
     }
     /// With at most `n` continuation steps.
-    pub fn max_steps(mut self, n: usize) -> Self {
+    pub fn with_max_steps(mut self, n: usize) -> Self {
         self.max_steps = n;
         self
     }
     /// With the largest accepted correction [`max_correction`](Self::max_correction).
-    pub fn max_correction(mut self, c: f64) -> Self {
+    pub fn with_max_correction(mut self, c: f64) -> Self {
         self.max_correction = c;
         self
     }
     /// Going on through grazings ([`through_grazing`](Self::through_grazing)).
-    pub fn through_grazing(mut self, on: bool) -> Self {
+    pub fn with_through_grazing(mut self, on: bool) -> Self {
         self.through_grazing = on;
         self
     }
     /// With the periodic-orbit options [`orbit`](Self::orbit).
-    pub fn orbit(mut self, orbit: OrbitOptions) -> Self {
+    pub fn with_orbit(mut self, orbit: OrbitOptions) -> Self {
         self.orbit = orbit;
         self
     }
