@@ -223,7 +223,9 @@ pub enum SimErrorKind {
     /// An option is invalid.
     #[error("invalid option `{field}` = {value}: {hint}")]
     InvalidOption {
-        /// Field of [`SimOptions`] or [`OutputPlan`].
+        /// Field of [`SimOptions`] or [`OutputPlan`], or an argument with a documented rule of
+        /// the function called (e.g. `record` of [`strobe_orbit`](crate::analysis::strobe_orbit),
+        /// `dt` of [`phase_portrait`](crate::analysis::phase_portrait)).
         #[cfg_attr(
             feature = "serde",
             serde(deserialize_with = "crate::serde_util::label")
@@ -237,6 +239,16 @@ pub enum SimErrorKind {
             serde(deserialize_with = "crate::serde_util::label")
         )]
         hint: crate::StaticStr,
+    },
+    /// The initial state's length is not the model's dimension
+    /// ([`RotorModel::dim`](crate::hybrid::RotorModel::dim); only possible with
+    /// [`Dyn`](nalgebra::Dyn)): a condition of the call, not of an option.
+    #[error("the initial state has {found} components but the model's dimension is {expected} (RotorModel::dim)")]
+    DimensionMismatch {
+        /// The model's dimension.
+        expected: usize,
+        /// The initial state's length.
+        found: usize,
     },
 }
 
@@ -737,10 +749,9 @@ where
         return Err(fail(k, t0, y0, stats));
     }
     if y0.len() != model.dim().value() {
-        let kind = SimErrorKind::InvalidOption {
-            field: "y0",
-            value: y0.len() as f64,
-            hint: "the initial state must have the model's dimension (RotorModel::dim)",
+        let kind = SimErrorKind::DimensionMismatch {
+            expected: model.dim().value(),
+            found: y0.len(),
         };
         return Err(fail(kind, t0, y0, stats));
     }

@@ -153,10 +153,8 @@ where
                 t: e.t,
             }
         })?;
-        let point = obs.point.ok_or(StabilityError::InvalidOption {
-            field: "periods",
-            value: self.periods as f64,
-            hint: "the run produced no stroboscopic output",
+        let point = obs.point.ok_or(StabilityError::NoStroboscopicPoint {
+            periods: self.periods,
         })?;
         Ok(Advanced {
             y: point.y,
