@@ -55,7 +55,9 @@
 //! linearisation lives with the model, the shared ring parts of it with the ring.
 //!
 //! The most used items are re-exported here: [`JeffcottModel`], [`State`], and [`nalgebra`]
-//! itself (the version this crate is built with, so that a user need not match it).
+//! itself (the version this crate is built with, so that a user need not match it). The items
+//! of the common tasks (simulate, sweep, stability, basins) come together with
+//! `use jeffcott::prelude::*;` ([`prelude`]).
 //!
 //! ## Guides
 //!
@@ -149,6 +151,7 @@ pub mod numeric;
 pub mod ode;
 pub mod paper;
 pub mod params;
+pub mod prelude;
 pub mod ring;
 pub mod rotor;
 // Always compiled: the records of `global` read `analysis::LagResiduals` through it; the label
