@@ -137,7 +137,7 @@ fn rotor(c: &mut Criterion) {
         let model = JeffcottModel::new(p).unwrap();
         let period = p.forcing_period();
         let (warm, _) = model
-            .stroboscopic(&State::zeros(), 300, 300, &opts)
+            .strobe_range(&State::zeros(), 300, 300, &opts)
             .unwrap();
         let (t0, y0) = (warm.strobe[0].t, warm.strobe[0].y);
         let plan = OutputPlan {

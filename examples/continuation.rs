@@ -216,7 +216,7 @@ fn main() {
         .unwrap_or_else(|e| fail(format!("initial state: {e}")));
     let guess = if transient > 0 {
         let (traj, _) =
-            or_exit(model.stroboscopic(&start, transient as u64, transient as u64, &scene.opts));
+            or_exit(model.strobe_range(&start, transient as u64, transient as u64, &scene.opts));
         traj.strobe.last().map_or(start, |p| p.y)
     } else {
         start

@@ -344,7 +344,7 @@ fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f6
                 let Ok(y) = model.state_at([0.0; 2], [0.0; 2]) else {
                     continue;
                 };
-                let Ok((traj, _)) = model.stroboscopic(&y, 600, 600, &config.sim) else {
+                let Ok((traj, _)) = model.strobe_range(&y, 600, 600, &config.sim) else {
                     continue;
                 };
                 let Some(guess) = traj.strobe.last().map(|s| s.y) else {
@@ -383,7 +383,7 @@ fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f6
             let Ok(y) = model.state_at([y0, 0.0], [0.0; 2]) else {
                 continue;
             };
-            let Ok((traj, _)) = model.stroboscopic(&y, 600, 600, &config.sim) else {
+            let Ok((traj, _)) = model.strobe_range(&y, 600, 600, &config.sim) else {
                 continue;
             };
             let Some(guess) = traj.strobe.last().map(|s| s.y) else {

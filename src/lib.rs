@@ -129,7 +129,7 @@
 //! use jeffcott::{JeffcottModel, State};
 //!
 //! let model = JeffcottModel::new(Preset::Fig8b.params().with_eta(2.0))?;
-//! let (orbit, stats) = model.stroboscopic(&State::zeros(), 300, 305, &SimOptions::default())?;
+//! let (orbit, stats) = model.strobe_range(&State::zeros(), 300, 305, &SimOptions::default())?;
 //! for p in &orbit.strobe {
 //!     println!("k = {}, tau = {:.4}: x = {:.6}, regime {}", p.k, p.t, p.y[0], p.label);
 //! }

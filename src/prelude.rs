@@ -22,7 +22,7 @@
 //!
 //! // Simulate: stroboscopic states from rest, after 300 forcing periods.
 //! let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.0))?;
-//! let (run, _) = model.stroboscopic(&State::zeros(), 300, 300, &SimOptions::default())?;
+//! let (run, _) = model.strobe_range(&State::zeros(), 300, 300, &SimOptions::default())?;
 //! let start = run.strobe[0].y;
 //!
 //! // Stability: Newton on the period-1 stroboscopic map from there, and its multipliers.

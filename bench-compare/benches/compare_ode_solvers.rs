@@ -605,7 +605,7 @@ fn crate_run(m: &JeffcottModel, periods: u64, rtol: f64, atol: f64) -> (State, u
         ..SimOptions::default()
     };
     let (t, s) = m
-        .stroboscopic(&State::zeros(), periods, periods, &opts)
+        .strobe_range(&State::zeros(), periods, periods, &opts)
         .expect("crate run");
     (t.strobe[0].y, s.rhs_evals)
 }

@@ -102,6 +102,14 @@
 //!
 //! # Stroboscopic orbits
 //!
+//! **One convention: `(transient, record)`.** Every analysis that runs a model to its
+//! stroboscopic points ([`strobe_orbit`], [`BifurcationOptions`], [`LocatorOptions`],
+//! [`crate::global::AttractorOptions`], [`crate::stability::LyapunovOptions`]) discards
+//! `transient` forcing periods and keeps the next `record`. The driver's own
+//! [`OutputPlan::strobe`](crate::hybrid::OutputPlan::strobe) and the paper model's
+//! [`strobe_range`](crate::paper::JeffcottModel::strobe_range) take the raw index range
+//! `first..=last` instead, and say so in their name.
+//!
 //! Stroboscopic orbits of any [`RotorModel`](crate::hybrid::RotorModel): the Poincaré map of the forcing phase.
 //!
 //! ## Conventions

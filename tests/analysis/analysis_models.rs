@@ -347,3 +347,32 @@ fn strobe_orbit_rejects_empty_and_overflowing_ranges() {
     assert_eq!(o.points.iter().map(|p| p.k).collect::<Vec<_>>(), [4, 5]);
     assert_eq!(o.last, o.points[1].y);
 }
+
+/// The two strobe conventions name the same points: `strobe_range(y0, t + 1, t + r)` (the raw
+/// index range) and `strobe_orbit(model, y0, t, r)` (the analyses' `(transient, record)`), as
+/// `JeffcottModel::strobe_range` documents. Both are one run of the driver with the same plan,
+/// so the points agree bitwise.
+#[test]
+fn strobe_range_and_strobe_orbit_name_the_same_points() {
+    use jeffcott::paper::{JeffcottModel, State};
+    use jeffcott::params::Preset;
+    let model = JeffcottModel::new(Preset::Fig8b.params().with_eta(2.0)).unwrap();
+    let (t, r) = (20, 5);
+    let opts = SimOptions::default();
+    let (range, _) = model
+        .strobe_range(&State::zeros(), t + 1, t + r, &opts)
+        .unwrap();
+    let orbit = strobe_orbit(&model, &State::zeros(), t, r, &opts).unwrap();
+    assert_eq!(range.strobe.len(), r as usize);
+    assert_eq!(orbit.points.len(), r as usize);
+    for (a, b) in range.strobe.iter().zip(&orbit.points) {
+        assert_eq!(a.k, b.k);
+        assert_eq!(a.t.to_bits(), b.t.to_bits());
+        assert!(a
+            .y
+            .iter()
+            .zip(b.y.iter())
+            .all(|(u, v)| u.to_bits() == v.to_bits()));
+    }
+    assert_eq!(orbit.points[0].k, t + 1);
+}

@@ -659,7 +659,7 @@ fn long_run(p: Params, y0: State, periods: u64, secs: u64) -> (f64, SimStats) {
     within(secs, move || {
         let m = JeffcottModel::new(p).unwrap();
         let (t, s) = m
-            .stroboscopic(&y0, 0, periods, &SimOptions::default())
+            .strobe_range(&y0, 0, periods, &SimOptions::default())
             .unwrap_or_else(|f| panic!("{}", f.error));
         assert_eq!(t.strobe.len() as u64, periods + 1);
         let mut e_max = 0.0f64;

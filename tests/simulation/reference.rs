@@ -54,7 +54,7 @@ fn compare(name: &str, opts: &SimOptions) -> (f64, usize) {
     let model = JeffcottModel::new(r.params).unwrap();
     let last = r.rows.last().unwrap().0;
     let (traj, _) = model
-        .stroboscopic(&State::zeros(), 0, last, opts)
+        .strobe_range(&State::zeros(), 0, last, opts)
         .unwrap_or_else(|f| panic!("{name}: {}", f.error));
     assert_eq!(traj.strobe.len(), r.rows.len());
     let mut worst = 0.0f64;

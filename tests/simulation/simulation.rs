@@ -15,7 +15,7 @@ fn opts(rtol: f64) -> SimOptions {
 
 fn end_state(model: &JeffcottModel, periods: u64, o: &SimOptions) -> State {
     let (traj, _) = model
-        .stroboscopic(&State::zeros(), periods, periods, o)
+        .strobe_range(&State::zeros(), periods, periods, o)
         .unwrap();
     traj.strobe[0].y
 }
@@ -64,7 +64,7 @@ fn exact_free_flight_agrees_with_dop853() {
     };
     let model = JeffcottModel::new(p).unwrap();
     let y0 = model.state_at([0.2, -0.1], [0.3, 0.1]).unwrap();
-    let (traj, stats) = model.stroboscopic(&y0, 0, 8, &opts(1e-10)).unwrap();
+    let (traj, stats) = model.strobe_range(&y0, 0, 8, &opts(1e-10)).unwrap();
     assert_eq!(stats.steps, 0, "no integrated phase expected");
     let sys = |t: f64, y: &SVector<f64, 4>, dy: &mut SVector<f64, 4>| {
         let th = p.phi0 + p.eta * t;
@@ -232,11 +232,11 @@ fn a_run_can_start_in_contact() {
 fn a_rotor_beyond_the_ring_is_a_typed_error() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
     let y0 = State::from([1.5, 0.0, 0.0, 0.0, 0.0, 0.0]);
-    let err = model.stroboscopic(&y0, 0, 3, &opts(1e-9)).unwrap_err();
+    let err = model.strobe_range(&y0, 0, 3, &opts(1e-9)).unwrap_err();
     assert!(matches!(err.error.kind, SimErrorKind::Model(_)), "{err}");
     assert_eq!(err.error.y, y0);
     let bad = State::from([f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0]);
-    let err = model.stroboscopic(&bad, 0, 3, &opts(1e-9)).unwrap_err();
+    let err = model.strobe_range(&bad, 0, 3, &opts(1e-9)).unwrap_err();
     assert!(matches!(err.error.kind, SimErrorKind::NonFinite));
 }
 
@@ -245,7 +245,7 @@ fn chattering_bound_ends_the_run_with_what_was_computed() {
     // About 3 transitions per period: a bound of 2 must stop the run.
     let model = JeffcottModel::new(Preset::Fig10b.params()).unwrap();
     let o = opts(1e-9).with_max_events_per_period(2);
-    let err = model.stroboscopic(&State::zeros(), 0, 50, &o).unwrap_err();
+    let err = model.strobe_range(&State::zeros(), 0, 50, &o).unwrap_err();
     assert!(
         matches!(err.error.kind, SimErrorKind::Chattering { .. }),
         "{err}"
@@ -262,7 +262,7 @@ fn invalid_options_are_typed_errors() {
         SimOptions::default().with_rtol(0.0).with_atol(0.0),
         SimOptions::default().with_max_step_fraction(-1.0),
     ] {
-        let err = model.stroboscopic(&State::zeros(), 0, 3, &o).unwrap_err();
+        let err = model.strobe_range(&State::zeros(), 0, 3, &o).unwrap_err();
         assert!(
             matches!(err.error.kind, SimErrorKind::InvalidOption { .. }),
             "{err}"
@@ -275,7 +275,7 @@ fn event_samples_out_of_range_is_a_typed_error_not_a_clamp() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
     for n in [0, jeffcott::ode::MAX_SAMPLES + 1] {
         let o = SimOptions::default().with_event_samples(n);
-        let err = model.stroboscopic(&State::zeros(), 0, 3, &o).unwrap_err();
+        let err = model.strobe_range(&State::zeros(), 0, 3, &o).unwrap_err();
         assert!(
             matches!(
                 err.error.kind,
@@ -288,7 +288,7 @@ fn event_samples_out_of_range_is_a_typed_error_not_a_clamp() {
     // The ends of the range run.
     for n in [1, jeffcott::ode::MAX_SAMPLES] {
         let o = SimOptions::default().with_event_samples(n);
-        assert!(model.stroboscopic(&State::zeros(), 0, 3, &o).is_ok(), "{n}");
+        assert!(model.strobe_range(&State::zeros(), 0, 3, &o).is_ok(), "{n}");
     }
 }
 
@@ -296,7 +296,7 @@ fn event_samples_out_of_range_is_a_typed_error_not_a_clamp() {
 fn reversed_output_ranges_are_typed_errors() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
     let err = model
-        .stroboscopic(&State::zeros(), 5, 4, &SimOptions::default())
+        .strobe_range(&State::zeros(), 5, 4, &SimOptions::default())
         .unwrap_err();
     assert!(
         matches!(
@@ -307,7 +307,7 @@ fn reversed_output_ranges_are_typed_errors() {
     );
     // A single point (first == last) is fine.
     let (t, _) = model
-        .stroboscopic(&State::zeros(), 4, 4, &SimOptions::default())
+        .strobe_range(&State::zeros(), 4, 4, &SimOptions::default())
         .unwrap();
     assert_eq!(t.strobe.len(), 1);
     let bad_dense = OutputPlan {
@@ -385,7 +385,7 @@ fn zero_ring_damping_runs_and_stays_close_to_tiny_damping() {
         };
         let model = JeffcottModel::new(p).unwrap();
         let (traj, stats) = model
-            .stroboscopic(&State::zeros(), 0, 40, &opts(1e-10))
+            .strobe_range(&State::zeros(), 0, 40, &opts(1e-10))
             .unwrap();
         assert!(stats.transitions > 10);
         assert!(traj
@@ -439,10 +439,10 @@ fn onsets_late_in_long_runs_resolve_at_the_time_resolution() {
 fn the_first_output_is_the_initial_state_exactly() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
     let y0 = model.state_at([0.1, -0.2], [0.3, 0.05]).unwrap();
-    let (traj, _) = model.stroboscopic(&y0, 0, 2, &opts(1e-9)).unwrap();
+    let (traj, _) = model.strobe_range(&y0, 0, 2, &opts(1e-9)).unwrap();
     assert_eq!(traj.strobe[0].y, y0);
     let (traj, _) = model
-        .stroboscopic(&State::zeros(), 0, 0, &opts(1e-9))
+        .strobe_range(&State::zeros(), 0, 0, &opts(1e-9))
         .unwrap();
     assert_eq!(traj.strobe[0].y, State::zeros());
 }
@@ -463,7 +463,7 @@ fn a_preload_graze_one_nanometre_of_the_gap_deep_is_found_in_contact() {
     let o = SimOptions::default().with_screen_events(true);
     let (traj, _) = JeffcottModel::new(base)
         .unwrap()
-        .stroboscopic(&State::zeros(), 300, 300, &o)
+        .strobe_range(&State::zeros(), 300, 300, &o)
         .unwrap();
     let (t0, y0) = (traj.strobe[0].t, traj.strobe[0].y);
     let period = base.forcing_period();

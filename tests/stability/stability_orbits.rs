@@ -359,7 +359,7 @@ fn plain_tail(preset: Preset, case: &str, eta: f64, n: u64) -> Vec<[f64; 4]> {
     let model = JeffcottModel::new(preset.params().with_eta(eta)).unwrap();
     let y0 = guess(&model, reference_point(case));
     let (traj, _) = model
-        .stroboscopic(&y0, n - 8, n, &SimOptions::default())
+        .strobe_range(&y0, n - 8, n, &SimOptions::default())
         .unwrap();
     traj.strobe
         .iter()
