@@ -490,6 +490,16 @@ struct Uniform {
 /// # Errors
 /// [`RingError::NonFinite`] for non-finite `r` or `gap`, [`RingError::NotPositive`] for
 /// `gap <= 0`, [`RingError::InsideGap`] for `|r| <= gap`.
+///
+/// ```
+/// use jeffcott::nalgebra::Vector2;
+/// use jeffcott::ring::regime_ii_position;
+///
+/// // |r| = 1.5 with gap 1: the ring moves a third of the way along r.
+/// let s = regime_ii_position(&Vector2::new(0.9, 1.2), 1.0)?;
+/// assert!((s - Vector2::new(0.3, 0.4)).norm() < 1e-15);
+/// # Ok::<(), jeffcott::ring::RingError>(())
+/// ```
 pub fn regime_ii_position(r: &Vector2<f64>, gap: f64) -> Result<Vector2<f64>, RingError> {
     check_finite("r.x", r.x)?;
     check_finite("r.y", r.y)?;
@@ -514,6 +524,18 @@ pub fn regime_ii_position(r: &Vector2<f64>, gap: f64) -> Result<Vector2<f64>, Ri
 /// [`RingError::NonFinite`] for non-finite inputs, [`RingError::Negative`] for a negative
 /// preload (`"dx"`, `"dy"`), [`RingError::NotPositive`] for `gap <= 0`,
 /// [`RingError::InsideGap`] for `|r| <= gap`.
+///
+/// ```
+/// use jeffcott::nalgebra::Vector2;
+/// use jeffcott::ring::regime_v_position;
+///
+/// // r - s = sign(r_i) (|r_i| + D_i) / R~ per axis, so the ring is on the contact circle.
+/// let r = Vector2::new(2.0, 1.0);
+/// let s = regime_v_position(&r, 0.1, 0.2, 1.0)?;
+/// assert!(((r - s).norm() - 1.0).abs() < 1e-15);
+/// assert!(s.x > 0.1 && s.y > 0.2); // both axes beyond their preloads: regime V
+/// # Ok::<(), jeffcott::ring::RingError>(())
+/// ```
 pub fn regime_v_position(
     r: &Vector2<f64>,
     dx: f64,

@@ -198,7 +198,7 @@
 //! $|s_i| = D_i$ is crossed.
 //!
 //! On a fixed branch each axis of the Lagrange condition $g_i(s) = 2\mu(r_i - s_i)$ is linear,
-//! and [`SnubberRing::locate_on`](SnubberRing::locate_on) solves it (see `locate.rs`).
+//! and [`SnubberRing::locate_on`](SnubberRing::locate_on) solves it (see [below](#where-the-ring-sits-in-contact)).
 //!
 //! # Regimes
 //!
@@ -467,6 +467,18 @@ pub(crate) fn check_positive(field: &'static str, value: f64) -> Result<f64, Rin
 ///   stiffness on an axis the ring can slide freely along it and the contact position is not
 ///   unique (any point of a chord of the circle has the same energy).
 /// * `preload` `D >= 0`: the preload displacement (`Delta / gamma`); `D = 0` means no preload.
+///
+/// ```
+/// use jeffcott::ring::RingAxis;
+///
+/// // Both branches of the energy give K D^2 at the preload |s| = D; the force's slope
+/// // halves there (2K inside, K beyond: one unit lifts off).
+/// let axis = RingAxis::new(2.0, 0.25);
+/// let kd2 = 2.0 * 0.25 * 0.25;
+/// assert!((axis.energy(0.25) - kd2).abs() < 1e-15);
+/// assert!((axis.energy(0.25 + 1e-9) - kd2).abs() < 1e-8);
+/// assert!(axis.is_inside(0.25) && !axis.is_inside(0.2500001));
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RingAxis {
     /// Unit stiffness `K > 0` of this axis.
@@ -540,6 +552,28 @@ impl RingAxis {
 /// Build it with [`SnubberRing::new`] or [`SnubberRing::isotropic`], which validate the parameters.
 /// The fields are public for reading; every fallible method re-validates, so a ring edited into
 /// an invalid state yields a [`RingError`] (never a panic).
+///
+/// ```
+/// use jeffcott::nalgebra::Vector2;
+/// use jeffcott::ring::{regime_ii_position, Regime, SnubberRing};
+///
+/// // The paper's isotropic ring: K = 1.5, preload D = 0.1, nu2 = 0.05, gap 1.
+/// let ring = SnubberRing::isotropic(1.5, 0.1, 0.05)?;
+/// // A rotor 0.05 into the ring along x: the ring is pushed 0.05, inside its preload, so
+/// // regime II, where the ring sits on the ray through r at |r| - 1 (paper eq. 22).
+/// let r = Vector2::new(1.05, 0.0);
+/// let contact = ring.locate(&r)?;
+/// assert_eq!(contact.regime(), Regime::II);
+/// assert!((contact.s - regime_ii_position(&r, 1.0)?).norm() < 1e-14);
+/// assert!(((r - contact.s).norm() - 1.0).abs() < 1e-14); // on the contact circle
+///
+/// // Out of contact, inside the preload, the ring relaxes as s0 exp(-t/T), T = 2 nu2/K
+/// // (both units act: 2K s + 4 nu2 s' = 0).
+/// let (s0, t) = (Vector2::new(0.05, -0.02), 0.3);
+/// let tau = 2.0 * 0.05 / 1.5;
+/// assert!((ring.relax(&s0, t) - s0 * (-t / tau).exp()).norm() < 1e-15);
+/// # Ok::<(), jeffcott::ring::RingError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SnubberRing {
     /// The horizontal axis.
@@ -643,6 +677,18 @@ impl SnubberRing {
     /// The contact regime (II..V) of a ring at `s`, from the preload predicates of its axes:
     /// II both inside, III `x` beyond, IV `y` beyond, V both beyond. (An axis with zero preload
     /// is always beyond.)
+    ///
+    /// ```
+    /// use jeffcott::nalgebra::Vector2;
+    /// use jeffcott::ring::{Regime, RingAxis, SnubberRing};
+    ///
+    /// let ring = SnubberRing::new(RingAxis::new(1.0, 0.1), RingAxis::new(1.0, 0.2), 0.0, 1.0)?;
+    /// assert_eq!(ring.regime_of_ring(&Vector2::new(0.05, 0.1)), Regime::II);
+    /// assert_eq!(ring.regime_of_ring(&Vector2::new(0.15, 0.1)), Regime::III);
+    /// assert_eq!(ring.regime_of_ring(&Vector2::new(0.05, -0.3)), Regime::IV);
+    /// assert_eq!(ring.regime_of_ring(&Vector2::new(-0.15, 0.3)), Regime::V);
+    /// # Ok::<(), jeffcott::ring::RingError>(())
+    /// ```
     pub fn regime_of_ring(&self, s: &Vector2<f64>) -> Regime {
         Regime::from_beyond(!self.x.is_inside(s.x), !self.y.is_inside(s.y))
     }

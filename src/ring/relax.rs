@@ -70,8 +70,7 @@ fn time_to_preload_axis(axis: &RingAxis, damping: f64, s0: f64) -> f64 {
 }
 
 impl SnubberRing {
-    /// Exact position at time `t >= 0` of the free ring started at `s0` (module docs of
-    /// `relax.rs`): piecewise exponential per axis. `t <= 0` returns `s0`; a NaN `t` gives NaN;
+    /// Exact position at time `t >= 0` of the free ring started at `s0` ([free relaxation](crate::ring#free-relaxation)): piecewise exponential per axis. `t <= 0` returns `s0`; a NaN `t` gives NaN;
     /// with `nu2 = 0` every `t > 0` gives the rest position 0.
     pub fn relax(&self, s0: &Vector2<f64>, t: f64) -> Vector2<f64> {
         Vector2::new(

@@ -102,6 +102,19 @@ pub enum FloquetError {
 ///
 /// # Errors
 /// [`FloquetError`] for a non-square or non-finite matrix.
+///
+/// ```
+/// use jeffcott::nalgebra::DMatrix;
+/// use jeffcott::stability::multipliers;
+///
+/// // Block diagonal: a rotation by a quarter turn scaled by 0.5 (eigenvalues +-0.5i) and -2.
+/// let m = DMatrix::from_row_slice(3, 3, &[0.0, -0.5, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0, -2.0]);
+/// let mu = multipliers(&m)?;
+/// assert!((mu[0].re + 2.0).abs() < 1e-15 && mu[0].im == 0.0); // largest modulus first
+/// assert!((mu[1].im - 0.5).abs() < 1e-15 && (mu[2].im + 0.5).abs() < 1e-15); // pair: +i first
+/// assert!(mu[1..].iter().all(|m| (m.modulus() - 0.5).abs() < 1e-15));
+/// # Ok::<(), jeffcott::stability::FloquetError>(())
+/// ```
 pub fn multipliers(monodromy: &DMatrix<f64>) -> Result<Vec<Multiplier>, FloquetError> {
     let (rows, cols) = monodromy.shape();
     if rows != cols {

@@ -306,6 +306,21 @@ fn halve<X, E>(
 ///
 /// # Errors
 /// [`NewtonError`], carrying the last iterate and its residual when it did not converge.
+///
+/// ```
+/// use jeffcott::nalgebra::{DMatrix, DVector};
+/// use jeffcott::stability::{newton_fixed_point, MapValue, NewtonOptions};
+///
+/// // An affine map P(z) = A z + b: its fixed point is (I - A)^{-1} b = (2.5, 2.5).
+/// let a = DMatrix::from_row_slice(2, 2, &[0.5, 0.1, 0.0, 0.2]);
+/// let b = DVector::from_vec(vec![1.0, 2.0]);
+/// let map = |z: &DVector<f64>| {
+///     Ok::<_, std::convert::Infallible>(MapValue { value: &a * z + &b, jacobian: a.clone(), extra: () })
+/// };
+/// let fixed = newton_fixed_point(&DVector::zeros(2), map, None, &NewtonOptions::default())?;
+/// assert!((fixed.point - DVector::from_vec(vec![2.5, 2.5])).amax() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn newton_fixed_point<X, E>(
     guess: &DVector<f64>,
     mut map: impl FnMut(&DVector<f64>) -> Result<MapValue<X>, E>,

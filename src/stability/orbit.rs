@@ -131,6 +131,28 @@ where
 /// # Errors
 /// [`StabilityError::NotConverged`] with the last iterate and its residual,
 /// [`StabilityError::Singular`] (a multiplier at 1), a simulation or multiplier error.
+///
+/// # Example
+///
+/// ```
+/// use jeffcott::hybrid::SimOptions;
+/// use jeffcott::paper::{JeffcottModel, State};
+/// use jeffcott::params::Preset;
+/// use jeffcott::stability::{periodic_orbit, OrbitOptions};
+///
+/// // The paper's Fig. 8a scene at eta = 2 settles on a period-1 orbit: start Newton from
+/// // the point a simulation from rest reaches after 300 forcing periods.
+/// let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.0))?;
+/// let (run, _) = model.strobe_range(&State::zeros(), 300, 300, &SimOptions::default())?;
+/// let orbit = periodic_orbit(&model, &run.strobe[0].y, 1, &OrbitOptions::default())?;
+/// // Four multipliers (x, y, x', y'); reached by simulation, so an attractor: all inside
+/// // the unit circle.
+/// assert_eq!(orbit.multipliers.len(), 4);
+/// assert!(orbit.spectral_radius() < 1.0);
+/// // The simulated point was already on the orbit, to the simulation's tolerance.
+/// assert!((orbit.state - run.strobe[0].y).amax() < 1e-6);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn periodic_orbit<M>(
     model: &M,
     guess: &OVector<f64, M::Dim>,

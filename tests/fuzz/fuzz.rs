@@ -533,7 +533,7 @@ enum Violation {
 }
 
 /// The time resolution of an event at `t`, $\tau = 64\varepsilon\max(|t|, 1)$ (the ring
-/// element's, docs of `ring::element`): events are located to $4\varepsilon|t|$, and a guard
+/// element's, docs of `ring` (contact element)): events are located to $4\varepsilon|t|$, and a guard
 /// that starts within $8\varepsilon\max(|t|, |t_\text{end}|)$ of zero is taken for the zero at
 /// the start.
 fn time_resolution(t: f64) -> f64 {
@@ -552,7 +552,7 @@ fn resolution_slack(t: f64, y: &State, ring_speed: f64) -> f64 {
 /// How deep the rotor may be beyond the ring in a free flight that started at `(t_s, y_s)`:
 /// the onset guard of a flight that starts touching is $h - m$ with the margin $m$ of
 /// `SnubberRing::onset_margin`, so the rotor may penetrate by up to $m/(2\gamma)$ before the
-/// touch (docs of `ring::element`, "A free flight that starts touching").
+/// touch (docs of `ring` (contact element), "A free flight that starts touching").
 fn margin_depth(ring: &SnubberRing, t_s: f64, y_s: &State) -> f64 {
     let k = Kinematics::new([y_s[0], y_s[1]], [y_s[2], y_s[3]]);
     let relax = Relaxation {
