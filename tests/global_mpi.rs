@@ -30,12 +30,10 @@ fn plane() -> BasinPlane {
 }
 
 fn config() -> AttractorOptions {
-    AttractorOptions {
-        transient: 300,
-        record: 32,
-        max_transient: 600,
-        ..AttractorOptions::default()
-    }
+    AttractorOptions::default()
+        .with_transient(300)
+        .with_record(32)
+        .with_max_transient(600)
 }
 
 /// The sweep's description: the plane (its parameters).
