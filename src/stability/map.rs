@@ -7,7 +7,32 @@ use crate::hybrid::{
     VariationalAlloc,
 };
 
-/// The stroboscopic map $P^n$ of a model (module docs).
+/// The stroboscopic map $P^n$ of a model ([the stroboscopic map](crate::stability#the-stroboscopic-map)).
+///
+/// ```
+/// use jeffcott::hybrid::SimOptions;
+/// use jeffcott::paper::{JeffcottModel, State};
+/// use jeffcott::params::Preset;
+/// use jeffcott::stability::StroboscopicMap;
+///
+/// // The Jacobian from the variational equations against central differences of the map
+/// // itself (an independent method), at the point one period after rest.
+/// let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.0))?;
+/// let opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-14);
+/// let map = StroboscopicMap::new(&model, 1, opts)?;
+/// let y = map.advance(&State::zeros())?.y;
+/// let lin = map.linearize(&y)?;
+/// let (z, h) = (map.reduce(&y), 1e-6);
+/// for j in 0..z.len() {
+///     let mut dz = z.clone() * 0.0;
+///     dz[j] = h;
+///     let plus = map.reduce(&map.advance(&map.state(&y, &(&z + &dz)))?.y);
+///     let minus = map.reduce(&map.advance(&map.state(&y, &(&z - &dz)))?.y);
+///     let column = (plus - minus) / (2.0 * h);
+///     assert!((column - lin.jacobian.column(j)).amax() < 1e-5, "column {j}");
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, Copy)]
 pub struct StroboscopicMap<'a, M> {
     model: &'a M,
