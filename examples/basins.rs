@@ -32,9 +32,7 @@ use common::plot::{self, Category, CategoryGrid, Figure};
 use common::ranks::Ranks;
 use common::{SweepRunFlags, Tolerances};
 use jeffcott::analysis::{PeriodTest, StderrProgress};
-use jeffcott::global::{
-    attractor_at, AttractorOptions, Grid2, Manifest, MatchTolerance, PointLabel,
-};
+use jeffcott::global::{attractor_at, AttractorOptions, Grid2, Manifest, MatchOptions, PointLabel};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{BasinPlane, StartPlane};
 use jeffcott::params::{Params, Preset};
@@ -103,7 +101,7 @@ struct Flags {
     /// Periodic attractors match when their cycle points agree to this (every component)
     /// [range: 1e-12..=1]
     #[arg(long, value_name = "NUMBER", value_parser = f64_in(1e-12, 1.0),
-          default_value = num(MatchTolerance::default().state))]
+          default_value = num(MatchOptions::default().state))]
     match_tol: f64,
     #[command(flatten)]
     tol: Tolerances,
@@ -167,7 +165,7 @@ fn main() {
         .with_max_transient(max_transient as u64)
         .with_opts(SimOptions::default().with_rtol(rtol).with_atol(atol))
         .with_period_test(PeriodTest::default());
-    let tol = MatchTolerance::default().with_state(match_tol);
+    let tol = MatchOptions::default().with_state(match_tol);
     let grid = common::or_exit(Grid2::linspace(
         (h_min, h_max, n),
         (v_min, v_max, nv.unwrap_or(n)),

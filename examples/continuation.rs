@@ -293,7 +293,7 @@ fn seeds(base: &Params, eta: f64) -> Vec<(u64, jeffcott::State)> {
             let Ok(a) = find_attractor(&model, &y0, &config) else {
                 continue;
             };
-            let tol = jeffcott::global::MatchTolerance::default();
+            let tol = jeffcott::global::MatchOptions::default();
             if a.period().is_some_and(|p| p <= 8) && !found.iter().any(|f| f.matches(&a, &tol)) {
                 found.push(a);
             }

@@ -7,7 +7,7 @@
 //! | stroboscopic orbits, periods | [`strobe_orbit`], [`PeriodTest`], [`Periodicity`] |
 //! | sweeps and bifurcation diagrams | [`ParamSweep`], [`SweepParameter`], [`bifurcation`], [`start_from`], [`linspace`], [`BifurcationOptions`], [`StderrProgress`] |
 //! | stability | [`periodic_orbit`], [`OrbitOptions`], [`PeriodicOrbit`], [`StroboscopicMap`], [`lyapunov_exponents`], [`LyapunovOptions`], [`continue_orbit`], [`ContinuationOptions`], [`locate_loss`], [`LossOptions`] |
-//! | attractors and basins | [`find_attractor`], [`AttractorOptions`], [`MatchTolerance`], [`scan_grid`], [`Grid2`], [`RunOptions`], [`SweepStore`], [`BasinPlane`], [`ParamPlane`], [`StartPlane`] |
+//! | attractors and basins | [`find_attractor`], [`AttractorOptions`], [`MatchOptions`], [`scan_grid`], [`Grid2`], [`RunOptions`], [`SweepStore`], [`BasinPlane`], [`ParamPlane`], [`StartPlane`] |
 //!
 //! Each item keeps its one home (its module); the prelude only re-exports it.
 //!
@@ -42,7 +42,7 @@
 //! let grid = Grid2::linspace((-0.5, 0.5, 2), (-0.5, 0.5, 2))?;
 //! let attractor = AttractorOptions::default().with_transient(300);
 //! let scan = scan_grid(&grid, plane.setup(), &attractor, None, &RunOptions::default(), None)?;
-//! let catalogue = scan.catalogue(&MatchTolerance::default());
+//! let catalogue = scan.catalogue(&MatchOptions::default());
 //! assert!(!catalogue.entries.is_empty());
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -54,7 +54,7 @@ pub use crate::analysis::{
 };
 #[doc(no_inline)]
 pub use crate::global::{
-    find_attractor, scan_grid, AttractorOptions, Grid2, MatchTolerance, RunOptions, SweepStore,
+    find_attractor, scan_grid, AttractorOptions, Grid2, MatchOptions, RunOptions, SweepStore,
 };
 #[doc(no_inline)]
 pub use crate::hybrid::{simulate, OutputPlan, RotorModel, SimOptions, Trajectory, Variational};

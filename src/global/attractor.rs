@@ -127,7 +127,7 @@ pub struct Attractor {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
-pub struct MatchTolerance {
+pub struct MatchOptions {
     /// Periodic attractors: largest difference of a state component between matched cycle
     /// points. Default 1e-3 (runs converge to ~1e-6; coexisting orbits differ by ~0.1).
     pub state: f64,
@@ -139,7 +139,7 @@ pub struct MatchTolerance {
 }
 
 /// Builders: each returns the options with one field changed.
-impl MatchTolerance {
+impl MatchOptions {
     /// With [`state`](Self::state) = `value`.
     #[must_use]
     pub fn with_state(mut self, value: f64) -> Self {
@@ -162,9 +162,9 @@ impl MatchTolerance {
     }
 }
 
-impl Default for MatchTolerance {
+impl Default for MatchOptions {
     fn default() -> Self {
-        MatchTolerance {
+        MatchOptions {
             state: 1e-3,
             contacts: 0.1,
             extent: 0.05,
@@ -220,7 +220,7 @@ impl Attractor {
 
     /// Whether `self` and `other` are the same attractor within `tol` (see the
     /// [module docs](super)).
-    pub fn matches(&self, other: &Attractor, tol: &MatchTolerance) -> bool {
+    pub fn matches(&self, other: &Attractor, tol: &MatchOptions) -> bool {
         let scale = joint_scale(&self.scale, &other.scale);
         match (self.period(), other.period()) {
             (Some(_), Some(_)) => {

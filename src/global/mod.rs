@@ -4,7 +4,7 @@
 //! * [Attractors](#attractors): run a model until it settles, identify the attractor
 //!   (period and a canonical periodic point, or "not periodic" with contact statistics), and
 //!   match attractors reached from different starts ([`find_attractor`], [`Attractor`],
-//!   [`MatchTolerance`]).
+//!   [`MatchOptions`]).
 //! * [Catalogues](#catalogues): the distinct attractors of a scan and the label of each point.
 //! * The continuation of periodic orbits (pseudo-arclength, bifurcations, branch switching)
 //!   is in [`crate::stability`] ([`crate::stability::continue_orbit`]).
@@ -24,7 +24,7 @@
 //!
 //! ```no_run
 //! use jeffcott::analysis::StderrProgress;
-//! use jeffcott::global::{scan_grid, AttractorOptions, Grid2, MatchTolerance, RunOptions, SweepStore};
+//! use jeffcott::global::{scan_grid, AttractorOptions, Grid2, MatchOptions, RunOptions, SweepStore};
 //! use jeffcott::paper::{BasinPlane, StartPlane};
 //! use jeffcott::params::Preset;
 //!
@@ -38,7 +38,7 @@
 //! let store = SweepStore::open_scan("out/basins-fig8a", "basins", &plane, &grid, &config)?;
 //! let progress = StderrProgress::new("basins");
 //! let scan = scan_grid(&grid, plane.setup(), &config, Some(&store), &RunOptions::default(), Some(&progress))?;
-//! let catalogue = scan.catalogue(&MatchTolerance::default());
+//! let catalogue = scan.catalogue(&MatchOptions::default());
 //! for (k, e) in catalogue.entries.iter().enumerate() {
 //!     println!("attractor {k}: {} ({} points)", e.attractor.describe(), e.count);
 //! }
@@ -81,7 +81,7 @@
 //!
 //! ## Matching
 //!
-//! [`Attractor::matches`] with a [`MatchTolerance`]:
+//! [`Attractor::matches`] with a [`MatchOptions`]:
 //!
 //! * two periodic attractors match when their cycles, each first reduced to its shortest
 //!   period **at the matching tolerance** (a cycle of period $2p$ whose halves agree to within
@@ -235,7 +235,7 @@ mod runner;
 mod scan;
 mod store;
 
-pub use attractor::{find_attractor, Attractor, AttractorOptions, MatchTolerance, OrbitStats};
+pub use attractor::{find_attractor, Attractor, AttractorOptions, MatchOptions, OrbitStats};
 pub use catalogue::{Catalogue, CatalogueEntry, PointLabel};
 pub use failure::{PointFailure, SimFailureKind};
 pub use record::Record;

@@ -1,7 +1,7 @@
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, OVector};
 
-use super::attractor::{find_attractor, Attractor, AttractorOptions, MatchTolerance};
+use super::attractor::{find_attractor, Attractor, AttractorOptions, MatchOptions};
 use super::catalogue::Catalogue;
 use super::failure::PointFailure;
 use super::runner::{run_points, PointResults, RunOptions};
@@ -91,7 +91,7 @@ pub struct GridScan {
 
 impl GridScan {
     /// The distinct attractors and each point's label ([`Catalogue::new`]).
-    pub fn catalogue(&self, tol: &MatchTolerance) -> Catalogue {
+    pub fn catalogue(&self, tol: &MatchOptions) -> Catalogue {
         Catalogue::new(&self.results.results, tol)
     }
 
@@ -218,7 +218,7 @@ where
 /// x_0^\prime)$, without a folder:
 ///
 /// ```
-/// use jeffcott::global::{scan_grid, AttractorOptions, Grid2, MatchTolerance, RunOptions};
+/// use jeffcott::global::{scan_grid, AttractorOptions, Grid2, MatchOptions, RunOptions};
 /// use jeffcott::paper::{BasinPlane, StartPlane};
 /// use jeffcott::params::Preset;
 ///
@@ -226,7 +226,7 @@ where
 /// let grid = Grid2::linspace((0.2, 0.8, 3), (-0.5, 0.5, 2))?;
 /// let config = AttractorOptions::default().with_transient(400).with_max_transient(400);
 /// let scan = scan_grid(&grid, plane.setup(), &config, None, &RunOptions::default(), None)?;
-/// let catalogue = scan.catalogue(&MatchTolerance::default());
+/// let catalogue = scan.catalogue(&MatchOptions::default());
 /// assert!(catalogue.entries.iter().all(|e| e.attractor.period().is_some()));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use jeffcott::global::{
     find_attractor, run_points, scan_grid, Attractor, AttractorOptions, Grid2, GridScan,
-    MatchTolerance, PointFailure, PointLabel, RunOptions, Shard, SimFailureKind, StoreError,
+    MatchOptions, PointFailure, PointLabel, RunOptions, Shard, SimFailureKind, StoreError,
     SweepStore,
 };
 use jeffcott::hybrid::{OutputPlan, SimOptions};
@@ -131,7 +131,7 @@ fn the_same_attractor_from_other_starts_matches_and_others_do_not() {
         [p3a.period(), p3b.period(), p1a.period(), p1b.period()],
         [Some(3), Some(3), Some(1), Some(1)]
     );
-    let tol = MatchTolerance::default();
+    let tol = MatchOptions::default();
     assert!(p3a.matches(&p3b, &tol) && p1a.matches(&p1b, &tol));
     assert!(!p3a.matches(&p1a, &tol));
     // Same canonical point from both starts (rotation fixed by the lexicographic minimum).
@@ -168,7 +168,7 @@ fn basins_at_eta_2_2_hold_period_1_and_period_3_for_both_preloads() {
             None,
         )
         .unwrap();
-        let cat = scan.catalogue(&MatchTolerance::default());
+        let cat = scan.catalogue(&MatchOptions::default());
         let mut periods: Vec<Option<usize>> =
             cat.entries.iter().map(|e| e.attractor.period()).collect();
         periods.sort();
@@ -345,7 +345,7 @@ fn failed_points_are_recorded_with_their_kind_and_not_rerun() {
     .unwrap();
     assert_eq!((again.results.computed, again.results.reused), (0, 4));
     assert_eq!(again.results.results, scan.results.results);
-    let cat = again.catalogue(&MatchTolerance::default());
+    let cat = again.catalogue(&MatchOptions::default());
     assert_eq!(cat.labels, vec![PointLabel::Failed; 4]);
     // With a sound budget the valid points succeed.
     let fine = scan_grid(
@@ -462,7 +462,7 @@ fn shards_run_separately_then_merged_equal_one_run_bitwise() {
     assert_eq!(texts(&merged), texts(&whole));
     assert_eq!(merged.results.results, whole.results.results);
     // The same labels and catalogue (the figure's data) as one run.
-    let tol = MatchTolerance::default();
+    let tol = MatchOptions::default();
     assert_eq!(merged.catalogue(&tol).labels, whole.catalogue(&tol).labels);
     // The same record set: every point once, in point order after sorting by index.
     let records = |d: &std::path::Path| {

@@ -15,7 +15,7 @@
 //! TODO(issue 17): the pseudo-arclength continuation's special points (folds) on both sides.
 
 use jeffcott::analysis::{bifurcation, start_from, strobe_orbit, BifurcationOptions, PeriodTest};
-use jeffcott::global::{find_attractor, Attractor, AttractorOptions, MatchTolerance};
+use jeffcott::global::{find_attractor, Attractor, AttractorOptions, MatchOptions};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::nalgebra::{SVector, Vector2, U6};
 use jeffcott::paper::{JeffcottModel, State};
@@ -272,7 +272,7 @@ fn attractors_match_alike() {
     let config = AttractorOptions::default()
         .with_transient(100)
         .with_record(32);
-    let tol = MatchTolerance::default();
+    let tol = MatchOptions::default();
     let run = |eta: f64| {
         let p = Preset::Fig8b.params().with_eta(eta);
         let nd = JeffcottModel::new(p).unwrap();
