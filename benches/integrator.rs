@@ -124,11 +124,7 @@ fn bench(c: &mut Criterion) {
 }
 
 fn rotor(c: &mut Criterion) {
-    let opts = SimOptions {
-        rtol: 1e-9,
-        atol: 1e-12,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default().with_rtol(1e-9).with_atol(1e-12);
     let scenes = [
         ("periodic, D=0 (fig8a, eta=2)", Preset::Fig8a.params()),
         ("periodic, D=0.1 (fig8b, eta=2)", Preset::Fig8b.params()),
@@ -141,7 +137,7 @@ fn rotor(c: &mut Criterion) {
         let model = JeffcottModel::new(p).unwrap();
         let period = p.forcing_period();
         let (warm, _) = model
-            .stroboscopic(&State::zeros(), 300, 300, &opts)
+            .strobe_range(&State::zeros(), 300, 300, &opts)
             .unwrap();
         let (t0, y0) = (warm.strobe[0].t, warm.strobe[0].y);
         let plan = OutputPlan {

@@ -28,7 +28,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use jeffcott::analysis::{sweep, SweepConfig};
+use jeffcott::analysis::{sweep, SweepOptions};
 use jeffcott::hybrid::{
     simulate, Flow, ModelError, OutputPlan, RotorModel, SimOptions, Trajectory,
 };
@@ -41,7 +41,7 @@ use jeffcott::params::{Params, Preset};
 fn on_attractor(p: Params) -> (JeffcottModel, State) {
     let m = JeffcottModel::new(p).expect("params");
     let (t, _) = m
-        .stroboscopic(&State::zeros(), 300, 300, &SimOptions::default())
+        .strobe_range(&State::zeros(), 300, 300, &SimOptions::default())
         .expect("transient");
     let y = t.strobe[0].y;
     (m, y)
@@ -209,7 +209,7 @@ fn contact_hot_loop(c: &mut Criterion) {
     };
     let (m, y) = on_attractor(p);
     let opts = SimOptions::default();
-    let (_, stats) = m.stroboscopic(&y, 10, 10, &opts).expect("run");
+    let (_, stats) = m.strobe_range(&y, 10, 10, &opts).expect("run");
     assert_eq!(
         stats.transitions, 0,
         "the hot-loop scene must stay in one contact regime"
@@ -217,7 +217,7 @@ fn contact_hot_loop(c: &mut Criterion) {
     let mut g = c.benchmark_group("contact_hot_loop");
     g.throughput(Throughput::Elements(stats.steps));
     g.bench_function("10_periods_steps", |b| {
-        b.iter(|| m.stroboscopic(black_box(&y), 10, 10, &opts).expect("run"))
+        b.iter(|| m.strobe_range(black_box(&y), 10, 10, &opts).expect("run"))
     });
     g.finish();
 }
@@ -233,13 +233,13 @@ fn run_sweep(values: usize, periods: u64, threads: usize) -> usize {
     let runner = |eta: &f64, _: Option<()>| -> Result<(f64, ()), String> {
         let m = JeffcottModel::new(base.with_eta(*eta)).map_err(|e| e.to_string())?;
         let (t, _) = m
-            .stroboscopic(&State::zeros(), periods, periods, &opts)
+            .strobe_range(&State::zeros(), periods, periods, &opts)
             .map_err(|f| f.error.to_string())?;
         Ok((t.strobe[0].y[0], ()))
     };
     let r = sweep(
         &etas,
-        &SweepConfig::reset().with_threads(threads),
+        &SweepOptions::reset().with_threads(threads),
         runner,
         None,
     )

@@ -32,9 +32,7 @@ use common::plot::{self, Category, CategoryGrid, Figure};
 use common::ranks::Ranks;
 use common::{SweepRunFlags, Tolerances};
 use jeffcott::analysis::{PeriodTest, StderrProgress};
-use jeffcott::global::{
-    attractor_at, AttractorConfig, Grid2, Manifest, MatchTolerance, PointLabel,
-};
+use jeffcott::global::{attractor_at, AttractorOptions, Grid2, Manifest, MatchOptions, PointLabel};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{BasinPlane, StartPlane};
 use jeffcott::params::{Params, Preset};
@@ -88,22 +86,22 @@ struct Flags {
     nv: Option<usize>,
     /// Forcing periods discarded before each recording [range: 1..=10000000]
     #[arg(long, value_name = "COUNT", value_parser = usize_in(1, 10_000_000),
-          default_value = AttractorConfig::default().transient.to_string())]
+          default_value = AttractorOptions::default().transient.to_string())]
     transient: usize,
     /// Stroboscopic points recorded and tested for a period (periods up to 16)
     /// [range: 32..=1000000]
     #[arg(long, value_name = "COUNT", value_parser = usize_in(32, 1_000_000),
-          default_value = AttractorConfig::default().record.to_string())]
+          default_value = AttractorOptions::default().record.to_string())]
     record: usize,
     /// A run with no period goes on until its transients add up to this
     /// [range: 1..=100000000]
     #[arg(long, value_name = "COUNT", value_parser = usize_in(1, 100_000_000),
-          default_value = AttractorConfig::default().max_transient.to_string())]
+          default_value = AttractorOptions::default().max_transient.to_string())]
     max_transient: usize,
     /// Periodic attractors match when their cycle points agree to this (every component)
     /// [range: 1e-12..=1]
     #[arg(long, value_name = "NUMBER", value_parser = f64_in(1e-12, 1.0),
-          default_value = num(MatchTolerance::default().state))]
+          default_value = num(MatchOptions::default().state))]
     match_tol: f64,
     #[command(flatten)]
     tol: Tolerances,
@@ -161,22 +159,13 @@ fn main() {
         "phi-x" => StartPlane::PhaseX,
         _ => StartPlane::XVx,
     };
-    let config = AttractorConfig {
-        transient: transient as u64,
-        record: record as u64,
-        max_transient: max_transient as u64,
-        opts: SimOptions {
-            rtol,
-            atol,
-            ..SimOptions::default()
-        },
-        period_test: PeriodTest::default(),
-        ..AttractorConfig::default()
-    };
-    let tol = MatchTolerance {
-        state: match_tol,
-        ..MatchTolerance::default()
-    };
+    let config = AttractorOptions::default()
+        .with_transient(transient as u64)
+        .with_record(record as u64)
+        .with_max_transient(max_transient as u64)
+        .with_opts(SimOptions::default().with_rtol(rtol).with_atol(atol))
+        .with_period_test(PeriodTest::default());
+    let tol = MatchOptions::default().with_state(match_tol);
     let grid = common::or_exit(Grid2::linspace(
         (h_min, h_max, n),
         (v_min, v_max, nv.unwrap_or(n)),

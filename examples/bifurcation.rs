@@ -20,7 +20,9 @@ use common::cli::{f64_in, fail, parse, usize_in};
 use common::csv::{fmt_f64, CsvWriter};
 use common::plot::{self, Figure};
 use common::Tolerances;
-use jeffcott::analysis::{linspace, BifurcationConfig, LocatorConfig, StderrProgress, SweepConfig};
+use jeffcott::analysis::{
+    linspace, BifurcationOptions, LocatorOptions, StderrProgress, SweepOptions,
+};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{ParamSweep, SweepParameter};
 use jeffcott::params::Preset;
@@ -153,16 +155,10 @@ fn main() {
         } else {
             base.with_preload(preload)
         };
-        let mut lc = LocatorConfig {
-            transient: locate_transient as u64,
-            record: locate_record as u64,
-            opts: SimOptions {
-                rtol,
-                atol,
-                ..SimOptions::default()
-            },
-            ..LocatorConfig::default()
-        };
+        let mut lc = LocatorOptions::default()
+            .with_transient(locate_transient as u64)
+            .with_record(locate_record as u64)
+            .with_opts(SimOptions::default().with_rtol(rtol).with_atol(atol));
         lc.period_test.tol = tol;
         let t0 = Instant::now();
         let family = ParamSweep::new(base, SweepParameter::Eta);
@@ -184,20 +180,14 @@ fn main() {
     }
 
     let etas = common::or_exit(linspace(eta_min, eta_max, steps));
-    let mut config = BifurcationConfig {
-        transient: transient as u64,
-        record: record as u64,
-        opts: SimOptions {
-            rtol,
-            atol,
-            ..SimOptions::default()
-        },
-        ..BifurcationConfig::default()
-    };
+    let mut config = BifurcationOptions::default()
+        .with_transient(transient as u64)
+        .with_record(record as u64)
+        .with_opts(SimOptions::default().with_rtol(rtol).with_atol(atol));
     config.period_test.tol = tol;
     config.sweep = match mode.as_str() {
-        "carry" => SweepConfig::carry_over(chunks),
-        _ => SweepConfig::reset(),
+        "carry" => SweepOptions::carry_over(chunks),
+        _ => SweepOptions::reset(),
     };
     if let Some(n) = threads {
         config.sweep = config.sweep.with_threads(n);

@@ -19,7 +19,7 @@ use std::path::PathBuf;
 use clap::Parser;
 use common::cli::{f64_in, fail, parse, usize_in};
 use common::plot::{self, Figure, Grid, LegendPosition, Series};
-use jeffcott::analysis::{detect_period_scalar, sweep, Periodicity, StderrProgress, SweepConfig};
+use jeffcott::analysis::{detect_period_scalar, sweep, Periodicity, StderrProgress, SweepOptions};
 
 /// Demo of the examples' shared helpers on synthetic data (logistic map, standard map,
 /// bouncing ball, Lyapunov heat map, work-precision diagram).
@@ -80,8 +80,8 @@ fn main() {
         .map(|i| r_min + (r_max - r_min) * i as f64 / (values - 1) as f64)
         .collect();
     let mut config = match mode.as_str() {
-        "carry" => SweepConfig::carry_over(chunks),
-        _ => SweepConfig::reset(),
+        "carry" => SweepOptions::carry_over(chunks),
+        _ => SweepOptions::reset(),
     };
     if let Some(n) = threads {
         config = config.with_threads(n);

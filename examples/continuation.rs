@@ -44,8 +44,8 @@ use common::cli::{f64_in, fail, finite, num, parse, usize_in};
 use common::or_exit;
 use common::plot::{self, BranchCurve, Figure};
 use common::scene::SceneFlags;
-use jeffcott::analysis::{linspace, BifurcationConfig};
-use jeffcott::global::{find_attractor, AttractorConfig};
+use jeffcott::analysis::{linspace, BifurcationOptions};
+use jeffcott::global::{find_attractor, AttractorOptions};
 use jeffcott::paper::{JeffcottModel, ParamSweep, SweepParameter};
 use jeffcott::params::{Params, Preset};
 use jeffcott::stability::{
@@ -189,7 +189,10 @@ fn main() {
     } = parse();
     let scene = scene.scene();
     let d = ContinuationOptions::default();
-    let config = d.ds(d.ds.min(ds_max)).ds_max(ds_max).sim(scene.opts);
+    let config = d
+        .with_ds(d.ds.min(ds_max))
+        .with_ds_max(ds_max)
+        .with_sim(scene.opts);
     if coexistence {
         run_coexistence(&out, &config);
         return;
@@ -213,7 +216,7 @@ fn main() {
         .unwrap_or_else(|e| fail(format!("initial state: {e}")));
     let guess = if transient > 0 {
         let (traj, _) =
-            or_exit(model.stroboscopic(&start, transient as u64, transient as u64, &scene.opts));
+            or_exit(model.strobe_range(&start, transient as u64, transient as u64, &scene.opts));
         traj.strobe.last().map_or(start, |p| p.y)
     } else {
         start
@@ -278,11 +281,9 @@ fn main() {
 /// The distinct periodic attractors reached at `eta` from a few starts: (period, state).
 fn seeds(base: &Params, eta: f64) -> Vec<(u64, jeffcott::State)> {
     let model = or_exit(JeffcottModel::new(base.with_eta(eta)));
-    let config = AttractorConfig {
-        transient: 600,
-        max_transient: 3000,
-        ..AttractorConfig::default()
-    };
+    let config = AttractorOptions::default()
+        .with_transient(600)
+        .with_max_transient(3000);
     let mut found: Vec<jeffcott::global::Attractor> = Vec::new();
     for x0 in [-0.6, 0.0, 0.6] {
         for v0 in [-1.2, 0.0, 0.4, 1.2] {
@@ -292,7 +293,7 @@ fn seeds(base: &Params, eta: f64) -> Vec<(u64, jeffcott::State)> {
             let Ok(a) = find_attractor(&model, &y0, &config) else {
                 continue;
             };
-            let tol = jeffcott::global::MatchTolerance::default();
+            let tol = jeffcott::global::MatchOptions::default();
             if a.period().is_some_and(|p| p <= 8) && !found.iter().any(|f| f.matches(&a, &tol)) {
                 found.push(a);
             }
@@ -330,11 +331,9 @@ fn run_coexistence(out: &Path, config: &ContinuationOptions) {
         let base = preset.params();
         // The brute-force diagram from rest.
         let etas = or_exit(linspace(lo, hi, 601));
-        let bconf = BifurcationConfig {
-            transient: 300,
-            record: 60,
-            ..BifurcationConfig::default()
-        };
+        let bconf = BifurcationOptions::default()
+            .with_transient(300)
+            .with_record(60);
         let progress =
             jeffcott::analysis::StderrProgress::new(format!("{name}: diagram from rest"));
         let diagram = or_exit(ParamSweep::new(base, SweepParameter::Eta).bifurcation(
@@ -346,7 +345,7 @@ fn run_coexistence(out: &Path, config: &ContinuationOptions) {
         // Branches from every distinct periodic attractor at the seed etas, both ways.
         let mut branches: Vec<Branch> = Vec::new();
         let build = |eta: f64| JeffcottModel::new(base.with_eta(eta));
-        let cfg = config.max_points(600);
+        let cfg = config.with_max_points(600);
         for &eta in &seed_etas {
             eprintln!("{name}: periodic attractors at eta = {eta}...");
             for (period, y) in seeds(&base, eta) {

@@ -23,7 +23,7 @@ use common::plot::{self, Category, CategoryGrid, Figure, Grid};
 use common::ranks::Ranks;
 use common::{SweepRunFlags, Tolerances};
 use jeffcott::analysis::StderrProgress;
-use jeffcott::global::{AttractorConfig, Grid2, Manifest};
+use jeffcott::global::{AttractorOptions, Grid2, Manifest};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{ParamPlane, SweepParameter};
 use jeffcott::params::Params;
@@ -147,17 +147,11 @@ fn main() {
     if max_transient < transient {
         fail("--max-transient must be at least --transient");
     }
-    let config = AttractorConfig {
-        transient: transient as u64,
-        record: record as u64,
-        max_transient: max_transient as u64,
-        opts: SimOptions {
-            rtol,
-            atol,
-            ..SimOptions::default()
-        },
-        ..AttractorConfig::default()
-    };
+    let config = AttractorOptions::default()
+        .with_transient(transient as u64)
+        .with_record(record as u64)
+        .with_max_transient(max_transient as u64)
+        .with_opts(SimOptions::default().with_rtol(rtol).with_atol(atol));
     let base = Preset::Fig8a.params();
     let maps = [
         (
@@ -350,7 +344,7 @@ fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f6
                 let Ok(y) = model.state_at([0.0; 2], [0.0; 2]) else {
                     continue;
                 };
-                let Ok((traj, _)) = model.stroboscopic(&y, 600, 600, &config.sim) else {
+                let Ok((traj, _)) = model.strobe_range(&y, 600, 600, &config.sim) else {
                     continue;
                 };
                 let Some(guess) = traj.strobe.last().map(|s| s.y) else {
@@ -389,7 +383,7 @@ fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f6
             let Ok(y) = model.state_at([y0, 0.0], [0.0; 2]) else {
                 continue;
             };
-            let Ok((traj, _)) = model.stroboscopic(&y, 600, 600, &config.sim) else {
+            let Ok((traj, _)) = model.strobe_range(&y, 600, 600, &config.sim) else {
                 continue;
             };
             let Some(guess) = traj.strobe.last().map(|s| s.y) else {

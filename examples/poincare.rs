@@ -98,12 +98,10 @@ fn main() {
     .into_iter()
     .filter(|(n, _)| figure == "all" || figure == *n)
     .collect();
-    let opts = SimOptions {
-        rtol,
-        atol,
-        ..SimOptions::default()
-    };
-    let test = PeriodTest { max_period, tol };
+    let opts = SimOptions::default().with_rtol(rtol).with_atol(atol);
+    let test = PeriodTest::default()
+        .with_max_period(max_period)
+        .with_tol(tol);
     let run = Run {
         out: &out,
         transient,

@@ -70,11 +70,7 @@ fn main() {
     .into_iter()
     .filter(|(n, _)| figure == "all" || figure == *n)
     .collect();
-    let opts = SimOptions {
-        rtol,
-        atol,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default().with_rtol(rtol).with_atol(atol);
     for (name, preset) in panels {
         let params = preset.params();
         let model = common::or_exit(JeffcottModel::new(params));

@@ -83,7 +83,7 @@ fn main() {
     let stdout = io::stdout();
     let mut out = BufWriter::new(stdout.lock());
     let header = "k,tau,x,y,vx,vy,xs,ys,regime";
-    let result = model.stroboscopic(&state, t, t.saturating_add(n), &opts);
+    let result = model.strobe_range(&state, t, t.saturating_add(n), &opts);
     let (strobe, failure) = match result {
         Ok((traj, _)) => (traj.strobe, None),
         Err(f) => (f.partial.strobe, Some(f.error)),

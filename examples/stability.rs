@@ -48,7 +48,7 @@ use common::cli::{f64_in, fail, parse, usize_in};
 use common::or_exit;
 use common::plot::{self, Figure, Series};
 use common::scene::{Scene, SceneFlags};
-use jeffcott::analysis::{linspace, sweep, SweepConfig};
+use jeffcott::analysis::{linspace, sweep, SweepOptions};
 use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::Params;
 use jeffcott::stability::{
@@ -235,12 +235,9 @@ fn main() {
         } => {
             let scene = scene.scene();
             let opts = LossOptions::default()
-                .step(step.step)
-                .bracket_width(tolerance)
-                .orbit(OrbitOptions {
-                    sim: scene.opts,
-                    ..LossOptions::default().orbit
-                });
+                .with_step(step.step)
+                .with_bracket_width(tolerance)
+                .with_orbit((LossOptions::default().orbit).with_sim(scene.opts));
             locate(
                 &scene,
                 from,
@@ -275,10 +272,7 @@ fn print(v: Value) {
 fn orbit(scene: &Scene, period: u64, transient: u64) {
     let model = or_exit(JeffcottModel::new(scene.params));
     let guess = after_transient(&model, scene, transient);
-    let opts = OrbitOptions {
-        sim: scene.opts,
-        ..OrbitOptions::default()
-    };
+    let opts = OrbitOptions::default().with_sim(scene.opts);
     let o = or_exit(periodic_orbit(&model, &guess, period, &opts));
     print(json!({
         "period": period,
@@ -301,13 +295,11 @@ fn lyapunov(scene: &Scene, transient: u64, periods: u64, batch: u64) {
     let y0 = model
         .state_at([x, y], [vx, vy])
         .unwrap_or_else(|e| fail(format!("initial state: {e}")));
-    let opts = LyapunovOptions {
-        transient,
-        periods,
-        batch,
-        sim: scene.opts,
-        ..LyapunovOptions::default()
-    };
+    let opts = LyapunovOptions::default()
+        .with_transient(transient)
+        .with_periods(periods)
+        .with_batch(batch)
+        .with_sim(scene.opts);
     let l = or_exit(lyapunov_exponents(&model, &y0, &opts));
     let two = l.two_trajectory.as_ref();
     print(json!({
@@ -399,10 +391,9 @@ fn pictures(
             },
             transient,
         );
-        let opts = LossOptions::default().step(step).orbit(OrbitOptions {
-            sim: scene.opts,
-            ..LossOptions::default().orbit
-        });
+        let opts = LossOptions::default()
+            .with_step(step)
+            .with_orbit((LossOptions::default().orbit).with_sim(scene.opts));
         let c = or_exit(locate_loss(at, 2.0, 3.0, &guess, 1, &opts));
         let mut points: Vec<(f64, f64)> = c
             .path
@@ -439,16 +430,14 @@ fn pictures(
     let etas = or_exit(linspace(2.0, 5.0, values));
     for (d, label) in presets {
         let base = scene.params.with_preload(d);
-        let opts = LyapunovOptions {
-            transient,
-            periods: periods.max(20),
-            batch: (periods / 20).max(1),
-            separation: None,
-            exponents: Some(1),
-            keep: 150,
-            sim: scene.opts,
-            ..LyapunovOptions::default()
-        };
+        let opts = LyapunovOptions::default()
+            .with_transient(transient)
+            .with_periods(periods.max(20))
+            .with_batch((periods / 20).max(1))
+            .with_separation(None)
+            .with_exponents(1)
+            .with_keep(150)
+            .with_sim(scene.opts);
         let start = scene.start;
         let runner = |eta: &f64, _: Option<()>| {
             let model = JeffcottModel::new(base.with_eta(*eta)).map_err(|e| e.to_string())?;
@@ -466,7 +455,12 @@ fn pictures(
         };
         let progress =
             jeffcott::analysis::StderrProgress::new(format!("Lyapunov exponents, {label}"));
-        let result = or_exit(sweep(&etas, &SweepConfig::reset(), runner, Some(&progress)));
+        let result = or_exit(sweep(
+            &etas,
+            &SweepOptions::reset(),
+            runner,
+            Some(&progress),
+        ));
         let mut lambda = Vec::new();
         let mut diagram = Vec::new();
         for (eta, r) in etas.iter().zip(&result.results) {

@@ -161,13 +161,11 @@ fn data_row(name: &str, k: u64) -> Option<State> {
 }
 
 fn opts_for(method: Method, tol: f64, steps: u32) -> SimOptions {
-    SimOptions {
-        method,
-        rtol: tol,
-        atol: tol,
-        steps_per_period: steps,
-        ..SimOptions::default()
-    }
+    SimOptions::default()
+        .with_method(method)
+        .with_rtol(tol)
+        .with_atol(tol)
+        .with_steps_per_period(steps)
 }
 
 /// Work-precision diagrams (error against wall time and right-hand-side evaluations) of
@@ -242,17 +240,11 @@ fn main() {
         if only != "all" && only != scene.name {
             continue;
         }
-        let ref_opts = SimOptions {
-            atol: 1e-15,
-            ..opts_for(Method::Dop853, 1e-13, 1)
-        };
+        let ref_opts = opts_for(Method::Dop853, 1e-13, 1).with_atol(1e-15);
         let reference = common::or_exit(run(&scene, &ref_opts, 1));
         let check = common::or_exit(run(
             &scene,
-            &SimOptions {
-                atol: 1e-15,
-                ..opts_for(Method::Dopri5, 1e-13, 1)
-            },
+            &opts_for(Method::Dopri5, 1e-13, 1).with_atol(1e-15),
             1,
         ));
         let dd = max_abs_diff(&reference.end, &check.end);

@@ -30,7 +30,7 @@
 //! **Switching.** Contact starts when $|r - s|$ reaches 1; it ends when the normal contact
 //! force $n\cdot f$ turns negative (or $|r|$ falls to 1). Out of contact the rotor is a damped
 //! linear oscillator and the ring relaxes exponentially with time constant $2\nu_2/K$: both
-//! are solved **in closed form** ([`paper::free_flight`]), and contact onset is found on the
+//! are solved **in closed form** ([`paper::FreeFlight`]), and contact onset is found on the
 //! closed form by a **certified** search that cannot step over a contact
 //! ([`ring::onset`]). Contact phases are integrated (DOP853 by default, [`ode`]); regime
 //! boundaries inside contact are events, so no step straddles a kink.
@@ -55,7 +55,9 @@
 //! linearisation lives with the model, the shared ring parts of it with the ring.
 //!
 //! The most used items are re-exported here: [`JeffcottModel`], [`State`], and [`nalgebra`]
-//! itself (the version this crate is built with, so that a user need not match it).
+//! itself (the version this crate is built with, so that a user need not match it). The items
+//! of the common tasks (simulate, sweep, stability, basins) come together with
+//! `use jeffcott::prelude::*;` ([`prelude`]).
 //!
 //! ## Guides
 //!
@@ -95,8 +97,8 @@
 //! * **`serde`**: `Serialize` and `Deserialize` (with [`serde`](https://docs.rs/serde)'s
 //!   derive) for the types a user saves: the parameter sets ([`params::Params`],
 //!   [`params::DimensionalParams`], ...), every options and configuration struct
-//!   ([`hybrid::SimOptions`], [`hybrid::OutputPlan`], [`analysis::BifurcationConfig`],
-//!   [`analysis::PeriodTest`], [`stability::OrbitOptions`], [`global::AttractorConfig`], ...),
+//!   ([`hybrid::SimOptions`], [`hybrid::OutputPlan`], [`analysis::BifurcationOptions`],
+//!   [`analysis::PeriodTest`], [`stability::OrbitOptions`], [`global::AttractorOptions`], ...),
 //!   the results ([`hybrid::Trajectory`], [`analysis::Bifurcation`], [`analysis::Periodicity`],
 //!   [`stability::PeriodicOrbit`], [`stability::Continuation`], [`stability::LyapunovSpectrum`],
 //!   [`global::Attractor`], [`stability::Branch`] and its points, ...) and the errors results
@@ -108,7 +110,7 @@
 //!   `serde` and `serde_json` themselves are dependencies with or without the feature: the
 //!   resumable sweeps of [`global`] write their records with them, so the types a sweep
 //!   records or describes its settings with ([`global::Attractor`], [`global::PointFailure`],
-//!   [`global::AttractorConfig`] with [`hybrid::SimOptions`] and [`analysis::PeriodTest`],
+//!   [`global::AttractorOptions`] with [`hybrid::SimOptions`] and [`analysis::PeriodTest`],
 //!   [`params::Params`], [`paper::BasinPlane`], [`paper::ParamPlane`], ...) derive both always.
 //! * **`mpi`**: the module `global::distributed`: the resumable sweeps of [`global`]
 //!   (`open_store`, `run_points`, `scan_grid`) split across MPI ranks, with results bitwise
@@ -127,7 +129,7 @@
 //! use jeffcott::{JeffcottModel, State};
 //!
 //! let model = JeffcottModel::new(Preset::Fig8b.params().with_eta(2.0))?;
-//! let (orbit, stats) = model.stroboscopic(&State::zeros(), 300, 305, &SimOptions::default())?;
+//! let (orbit, stats) = model.strobe_range(&State::zeros(), 300, 305, &SimOptions::default())?;
 //! for p in &orbit.strobe {
 //!     println!("k = {}, tau = {:.4}: x = {:.6}, regime {}", p.k, p.t, p.y[0], p.label);
 //! }
@@ -149,6 +151,7 @@ pub mod numeric;
 pub mod ode;
 pub mod paper;
 pub mod params;
+pub mod prelude;
 pub mod ring;
 pub mod rotor;
 // Always compiled: the records of `global` read `analysis::LagResiduals` through it; the label

@@ -31,7 +31,7 @@
 //! from the ring.
 //!
 //! ```
-//! use jeffcott::analysis::orbit::strobe_orbit;
+//! use jeffcott::analysis::strobe_orbit;
 //! use jeffcott::hybrid::SimOptions;
 //! use jeffcott::nalgebra::{SVector, Vector2, U6};
 //! use jeffcott::ring::{Kinematics, SnubberRing};

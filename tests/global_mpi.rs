@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use jeffcott::global::{
-    distributed, scan_grid, AttractorConfig, Grid2, GridScan, Manifest, RunConfig, SweepStore,
+    distributed, scan_grid, AttractorOptions, Grid2, GridScan, Manifest, RunOptions, SweepStore,
 };
 use jeffcott::paper::{BasinPlane, StartPlane};
 use jeffcott::params::Preset;
@@ -29,13 +29,11 @@ fn plane() -> BasinPlane {
     BasinPlane::new(Preset::Fig8b.params().with_eta(2.2), StartPlane::XVx)
 }
 
-fn config() -> AttractorConfig {
-    AttractorConfig {
-        transient: 300,
-        record: 32,
-        max_transient: 600,
-        ..AttractorConfig::default()
-    }
+fn config() -> AttractorOptions {
+    AttractorOptions::default()
+        .with_transient(300)
+        .with_record(32)
+        .with_max_transient(600)
 }
 
 /// The sweep's description: the plane (its parameters).
@@ -68,7 +66,7 @@ fn mpi_worker() {
     let grid = grid();
     let manifest = Manifest::scan("basins", &description(), &grid, &config()).unwrap();
     let store = distributed::open_store(&world, &dir, manifest).unwrap();
-    let mut run = RunConfig::default().with_threads(1);
+    let mut run = RunOptions::default().with_threads(1);
     if phase == "partial" {
         run = run.with_max_new_points(4); // per rank
     }
@@ -143,7 +141,7 @@ fn two_ranks_equal_one_process_bitwise_across_a_restart() {
         plane().setup(),
         &config(),
         None,
-        &RunConfig::default().with_threads(1),
+        &RunOptions::default().with_threads(1),
         None,
     )
     .unwrap();
@@ -192,7 +190,7 @@ fn two_ranks_equal_one_process_bitwise_across_a_restart() {
         plane().setup(),
         &config(),
         Some(&store),
-        &RunConfig::default(),
+        &RunOptions::default(),
         None,
     )
     .unwrap();

@@ -4,9 +4,9 @@
 use std::fmt::Debug;
 
 use jeffcott::analysis::{
-    BifurcationConfig, LocatorConfig, PeriodTest, Periodicity, SweepConfig, SweepMode,
+    BifurcationOptions, LocatorOptions, PeriodTest, Periodicity, SweepMode, SweepOptions,
 };
-use jeffcott::global::{find_attractor, AttractorConfig};
+use jeffcott::global::{find_attractor, AttractorOptions};
 use jeffcott::hybrid::{DenseSampling, OutputPlan, SimOptions, StrobeRange};
 use jeffcott::nalgebra::U6;
 use jeffcott::ode::{EventOptions, Method, Options, Tolerance};
@@ -67,34 +67,27 @@ fn bits(v: &serde_json::Value, out: &mut Vec<u64>) {
 /// Options a user would save, with values other than the defaults.
 #[test]
 fn options_round_trip_through_json() {
-    let sim = SimOptions {
-        method: Method::Dopri5,
-        rtol: 3.3e-9,
-        atol: 1.0 / 3.0,
-        steps_per_period: 123,
-        screen_events: true,
-        ..SimOptions::default()
-    };
+    let sim = SimOptions::default()
+        .with_method(Method::Dopri5)
+        .with_rtol(3.3e-9)
+        .with_atol(1.0 / 3.0)
+        .with_steps_per_period(123)
+        .with_screen_events(true);
     round_trip(&sim);
-    let period_test = PeriodTest {
-        max_period: 7,
-        tol: 2.0e-7,
-    };
+    let period_test = PeriodTest::default().with_max_period(7).with_tol(2.0e-7);
     round_trip(&period_test);
-    let mut sweep = SweepConfig::default();
+    let mut sweep = SweepOptions::default();
     sweep.mode = SweepMode::CarryOver { chunks: 3 };
     sweep.threads = Some(2);
-    round_trip(&BifurcationConfig {
-        transient: 17,
-        record: 19,
-        sweep,
-        opts: sim,
-        period_test,
-    });
-    round_trip(&LocatorConfig {
-        resolution: 0.1 + 0.2,
-        ..LocatorConfig::default()
-    });
+    round_trip(
+        &BifurcationOptions::default()
+            .with_transient(17)
+            .with_record(19)
+            .with_sweep(sweep)
+            .with_opts(sim)
+            .with_period_test(period_test),
+    );
+    round_trip(&LocatorOptions::default().with_resolution(0.1 + 0.2));
     // JSON has no infinity (serde_json writes null and refuses to read it back): a finite
     // h_max here; formats with non-finite numbers take the default +inf as well.
     let ode = Options::<U6> {
@@ -112,36 +105,36 @@ fn options_round_trip_through_json() {
         ..EventOptions::default()
     });
     let newton = NewtonOptions::default()
-        .atol(3e-12)
-        .rtol(1e-13)
-        .max_iterations(9)
-        .max_halvings(4);
-    let orbit = OrbitOptions { newton, sim };
+        .with_atol(3e-12)
+        .with_rtol(1e-13)
+        .with_max_iterations(9)
+        .with_max_halvings(4);
+    let orbit = OrbitOptions::default().with_newton(newton).with_sim(sim);
     round_trip(&orbit);
     round_trip(
         &LossOptions::default()
-            .step(0.003)
-            .through_grazing(true)
-            .orbit(orbit),
+            .with_step(0.003)
+            .with_through_grazing(true)
+            .with_orbit(orbit),
     );
-    round_trip(&LyapunovOptions {
-        separation: None,
-        exponents: Some(2),
-        keep: 5,
-        sim,
-        ..LyapunovOptions::default()
-    });
-    round_trip(&AttractorConfig {
-        transient: 301,
-        period_test,
-        free_label: 2,
-        ..AttractorConfig::default()
-    });
+    round_trip(
+        &LyapunovOptions::default()
+            .with_separation(None)
+            .with_exponents(2)
+            .with_keep(5)
+            .with_sim(sim),
+    );
+    round_trip(
+        &AttractorOptions::default()
+            .with_transient(301)
+            .with_period_test(period_test)
+            .with_free_label(2),
+    );
     round_trip(
         &ContinuationOptions::default()
-            .ds(0.011)
-            .rtol(1e-12)
-            .param_scale(2.5),
+            .with_ds(0.011)
+            .with_rtol(1e-12)
+            .with_param_scale(2.5),
     );
     round_trip(
         &ParamSweep::new(Preset::Fig8b.params(), SweepParameter::Nu2).with_start(RotorStart {
@@ -243,11 +236,9 @@ fn a_periodic_orbit_round_trips() {
 #[test]
 fn a_bifurcation_of_three_values_round_trips_with_a_failed_column() {
     let sweep = ParamSweep::new(Preset::Fig8a.params(), SweepParameter::Eta);
-    let config = BifurcationConfig {
-        transient: 100,
-        record: 32,
-        ..BifurcationConfig::default()
-    };
+    let config = BifurcationOptions::default()
+        .with_transient(100)
+        .with_record(32);
     // Three values, and a fourth the model refuses (a negative frequency ratio): its column
     // is the build error, which is saved too.
     let diagram = sweep
@@ -265,11 +256,9 @@ fn a_bifurcation_of_three_values_round_trips_with_a_failed_column() {
 fn an_attractor_round_trips() {
     let model = fig8a(2.0);
     let y0 = model.state_at([0.0, 0.0], [0.0, 0.0]).unwrap();
-    let config = AttractorConfig {
-        transient: 300,
-        record: 32,
-        ..Default::default()
-    };
+    let config = AttractorOptions::default()
+        .with_transient(300)
+        .with_record(32);
     let a = find_attractor(&model, &y0, &config).unwrap();
     assert_eq!(a.period(), Some(1));
     round_trip(&a);

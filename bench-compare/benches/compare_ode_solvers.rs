@@ -599,13 +599,9 @@ fn careful(p: &Params, t_end: f64, tol: f64) -> Result<([f64; 6], u64, u64), Str
 }
 
 fn crate_run(m: &JeffcottModel, periods: u64, rtol: f64, atol: f64) -> (State, u64) {
-    let opts = SimOptions {
-        rtol,
-        atol,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default().with_rtol(rtol).with_atol(atol);
     let (t, s) = m
-        .stroboscopic(&State::zeros(), periods, periods, &opts)
+        .strobe_range(&State::zeros(), periods, periods, &opts)
         .expect("crate run");
     (t.strobe[0].y, s.rhs_evals)
 }

@@ -62,8 +62,8 @@ pub struct SweepRunFlags {
 
 impl SweepRunFlags {
     /// The run configuration these flags describe.
-    pub fn config(&self) -> jeffcott::global::RunConfig {
-        let mut run = jeffcott::global::RunConfig::default();
+    pub fn config(&self) -> jeffcott::global::RunOptions {
+        let mut run = jeffcott::global::RunOptions::default();
         if let Some(t) = self.threads {
             run = run.with_threads(t);
         }

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use jeffcott::analysis::Progress;
 use jeffcott::global::{
-    AttractorConfig, Grid2, GridScan, Manifest, PointFailure, RunConfig, StoreError, SweepStore,
+    AttractorOptions, Grid2, GridScan, Manifest, PointFailure, RunOptions, StoreError, SweepStore,
 };
 use jeffcott::hybrid::RotorModel;
 use jeffcott::nalgebra::allocator::Allocator;
@@ -66,9 +66,9 @@ impl Ranks {
         &self,
         grid: &Grid2,
         setup: S,
-        config: &AttractorConfig,
+        config: &AttractorOptions,
         store: Option<&SweepStore>,
-        run: &RunConfig,
+        run: &RunOptions,
         progress: Option<&dyn Progress>,
     ) -> Result<Option<GridScan>, StoreError>
     where

@@ -130,13 +130,11 @@ impl SceneFlags {
             fail(e);
         }
         let (rtol, atol) = self.tol.get();
-        let opts = SimOptions {
-            method: self.method.method(),
-            rtol,
-            atol,
-            steps_per_period: u32::try_from(self.steps_per_period).unwrap_or(u32::MAX),
-            ..SimOptions::default()
-        };
+        let opts = SimOptions::default()
+            .with_method(self.method.method())
+            .with_rtol(rtol)
+            .with_atol(atol)
+            .with_steps_per_period(u32::try_from(self.steps_per_period).unwrap_or(u32::MAX));
         Scene {
             params,
             opts,

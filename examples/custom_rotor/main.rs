@@ -18,8 +18,8 @@ use common::csv::fmt_f64;
 use common::plot::{self, Figure, Series};
 use common::scene::MethodFlag;
 use common::{or_exit, Tolerances};
-use jeffcott::analysis::orbit::strobe_orbit;
-use jeffcott::analysis::portrait::phase_portrait;
+use jeffcott::analysis::phase_portrait;
+use jeffcott::analysis::strobe_orbit;
 use jeffcott::hybrid::SimOptions;
 use jeffcott::params::Preset;
 
@@ -74,12 +74,10 @@ fn main() {
     .params();
     let model = or_exit(rotor::on_ring(params.with_eta(eta), q, k3));
     let y0 = jeffcott::State::zeros();
-    let opts = SimOptions {
-        method: method.method(),
-        rtol,
-        atol,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default()
+        .with_method(method.method())
+        .with_rtol(rtol)
+        .with_atol(atol);
     let orbit = or_exit(strobe_orbit(
         &model,
         &y0,

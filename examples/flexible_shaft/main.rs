@@ -36,8 +36,8 @@ use common::plot::{self, Figure, Series};
 use common::scene::MethodFlag;
 use common::{or_exit, Tolerances};
 use jeffcott::analysis::{
-    bifurcation, linspace, phase_portrait, start_from, strobe_orbit, BifurcationConfig, PeriodTest,
-    Periodicity, SweepConfig,
+    bifurcation, linspace, phase_portrait, start_from, strobe_orbit, BifurcationOptions,
+    PeriodTest, Periodicity, SweepOptions,
 };
 use jeffcott::hybrid::SimOptions;
 use jeffcott::nalgebra::DVector;
@@ -146,12 +146,10 @@ fn main() {
         unbalance,
         ring,
     };
-    let opts = SimOptions {
-        method: method.method(),
-        rtol,
-        atol,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default()
+        .with_method(method.method())
+        .with_rtol(rtol)
+        .with_atol(atol);
     let model = or_exit(shaft::on_ring(params, layout));
     let s = model.rotor();
     // From rest on the shaft's line (the ring placed if the rest point is beyond the gap).
@@ -266,13 +264,11 @@ fn main() {
     // The bifurcation diagram from the crate's generic sweep: the closure builds the model.
     let clock = Instant::now();
     let etas = or_exit(linspace(eta_min, eta_max, steps));
-    let config = BifurcationConfig {
-        transient: bif_transient as u64,
-        record: record as u64,
-        sweep: SweepConfig::reset(),
-        opts,
-        ..BifurcationConfig::default()
-    };
+    let config = BifurcationOptions::default()
+        .with_transient(bif_transient as u64)
+        .with_record(record as u64)
+        .with_sweep(SweepOptions::reset())
+        .with_opts(opts);
     let build = |eta: f64| shaft::on_ring(params.with_eta(eta), layout);
     let diagram = or_exit(bifurcation(
         &etas,

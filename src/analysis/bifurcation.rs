@@ -1,24 +1,3 @@
-//! Bifurcation diagrams of any one-parameter family of [`RotorModel`]s.
-//!
-//! A family is given by two closures:
-//!
-//! * `build: Fn(f64) -> Result<M, E>` makes the model at a parameter value (`E` is the
-//!   builder's own error, e.g. invalid parameters);
-//! * `start: Fn(&M, Option<&OVector<f64, M::Dim>>) -> Result<OVector<f64, M::Dim>, ModelError>`
-//!   gives
-//!   the initial state of the run at that value. It receives `None` for a run from the reset
-//!   state (every value in [`SweepMode::Reset`](super::SweepMode::Reset), each chunk start and
-//!   the value after a failure in carry-over mode, every evaluation of the locator) and
-//!   `Some(y)`, the previous value's final state, when the state is carried over. A model with
-//!   algebraic components (e.g. a massless ring placed by its contact law) re-places them here
-//!   if the parameter moves them. [`start_from`] is the common rule "reset runs start from a
-//!   fixed state, carried states are used as they are".
-//!
-//! Each value's run discards `transient` forcing periods, records `record` stroboscopic points
-//! ([`strobe_orbit`]) and detects their period ([`PeriodTest`]); the conventions are those of
-//! [`orbit`](super::orbit). The paper's model has ready-made families over its parameters:
-//! [`crate::paper::ParamSweep`].
-
 use std::ops::Range;
 
 use nalgebra::allocator::Allocator;
@@ -26,32 +5,71 @@ use nalgebra::{DefaultAllocator, Dim, OVector};
 
 use super::{
     strobe_orbit, sweep, AnalysisError, OrbitError, PeriodChange, PeriodTest, Periodicity,
-    PoincareMap, Progress, StrobeOrbit, SweepConfig,
+    PoincareMap, Progress, StrobeOrbit, SweepOptions,
 };
 use crate::hybrid::{ModelError, RotorModel, SimOptions};
 
 /// Settings of a [`bifurcation`] sweep.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct BifurcationConfig {
+#[non_exhaustive]
+pub struct BifurcationOptions {
     /// Forcing periods discarded at each value. Default 300 (the paper's).
     pub transient: u64,
     /// Forcing periods recorded at each value (at least 1). Default 150 (the paper's).
     pub record: u64,
     /// Reset mode or carry-over chunks, and threads. Default reset, global pool.
-    pub sweep: SweepConfig,
+    pub sweep: SweepOptions,
     /// Integration options. Default: [`SimOptions::default`].
     pub opts: SimOptions,
     /// Period test of each column. Default [`PeriodTest::default`].
     pub period_test: PeriodTest,
 }
 
-impl Default for BifurcationConfig {
+/// Builders: each returns the options with one field changed.
+impl BifurcationOptions {
+    /// With [`transient`](Self::transient) = `value`.
+    #[must_use]
+    pub fn with_transient(mut self, value: u64) -> Self {
+        self.transient = value;
+        self
+    }
+
+    /// With [`record`](Self::record) = `value`.
+    #[must_use]
+    pub fn with_record(mut self, value: u64) -> Self {
+        self.record = value;
+        self
+    }
+
+    /// With [`sweep`](Self::sweep) = `value`.
+    #[must_use]
+    pub fn with_sweep(mut self, value: SweepOptions) -> Self {
+        self.sweep = value;
+        self
+    }
+
+    /// With [`opts`](Self::opts) = `value`.
+    #[must_use]
+    pub fn with_opts(mut self, value: SimOptions) -> Self {
+        self.opts = value;
+        self
+    }
+
+    /// With [`period_test`](Self::period_test) = `value`.
+    #[must_use]
+    pub fn with_period_test(mut self, value: PeriodTest) -> Self {
+        self.period_test = value;
+        self
+    }
+}
+
+impl Default for BifurcationOptions {
     fn default() -> Self {
-        BifurcationConfig {
+        BifurcationOptions {
             transient: 300,
             record: 150,
-            sweep: SweepConfig::reset(),
+            sweep: SweepOptions::reset(),
             opts: SimOptions::default(),
             period_test: PeriodTest::default(),
         }
@@ -173,7 +191,7 @@ where
 }
 
 /// The start rule "reset runs start from `y0`, carried states are used as they are" (see the
-/// [module docs](self)).
+/// [module docs](super)).
 #[allow(clippy::type_complexity)] // the closure's signature, spelled out for the reader
 pub fn start_from<D: Dim, M>(
     y0: OVector<f64, D>,
@@ -210,7 +228,7 @@ where
 }
 
 /// A bifurcation diagram: for each of `values`, build the model (`build`), start it (`start`,
-/// see the [module docs](self)), discard `config.transient` periods, record `config.record`
+/// see the [module docs](super)), discard `config.transient` periods, record `config.record`
 /// stroboscopic points and detect their period.
 ///
 /// Runs on [`sweep()`]: in reset mode every value starts from the reset state; in carry-over
@@ -231,13 +249,13 @@ where
 /// ring stiffness, every value from rest.
 ///
 /// ```
-/// use jeffcott::analysis::{bifurcation, start_from, BifurcationConfig};
+/// use jeffcott::analysis::{bifurcation, start_from, BifurcationOptions};
 /// use jeffcott::params::Preset;
 /// use jeffcott::{JeffcottModel, State};
 ///
 /// let base = Preset::Fig8a.params().with_eta(3.0);
 /// let build = |k: f64| JeffcottModel::new(base.with_stiffness(k));
-/// let config = BifurcationConfig { transient: 50, record: 8, ..Default::default() };
+/// let config = BifurcationOptions::default().with_transient(50).with_record(8);
 /// let diagram = bifurcation(&[20.0, 30.0], build, start_from(State::zeros()), &config, None)?;
 /// assert_eq!(diagram.points(0).len(), 16);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -246,7 +264,7 @@ pub fn bifurcation<M, E, B, S>(
     values: &[f64],
     build: B,
     start: S,
-    config: &BifurcationConfig,
+    config: &BifurcationOptions,
     progress: Option<&dyn Progress>,
 ) -> Result<Bifurcation<M::Dim, E>, AnalysisError>
 where

@@ -1,9 +1,3 @@
-//! Locating a change of the detected period (a bifurcation) along a parameter, by bisection.
-//!
-//! Near a bifurcation the transient decays slowly, so a periodic orbit may still be reported as
-//! "not periodic" after a short transient: the locator therefore takes its own, longer
-//! transient ([`LocatorConfig::transient`]).
-
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, OVector};
 
@@ -15,7 +9,8 @@ use crate::numeric::{bisect, Side};
 /// Settings of [`locate_period_change`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct LocatorConfig {
+#[non_exhaustive]
+pub struct LocatorOptions {
     /// Forcing periods discarded at each evaluation. Default 2000 (longer than a diagram's,
     /// because transients decay slowly near a bifurcation).
     pub transient: u64,
@@ -29,9 +24,47 @@ pub struct LocatorConfig {
     pub period_test: PeriodTest,
 }
 
-impl Default for LocatorConfig {
+/// Builders: each returns the options with one field changed.
+impl LocatorOptions {
+    /// With [`transient`](Self::transient) = `value`.
+    #[must_use]
+    pub fn with_transient(mut self, value: u64) -> Self {
+        self.transient = value;
+        self
+    }
+
+    /// With [`record`](Self::record) = `value`.
+    #[must_use]
+    pub fn with_record(mut self, value: u64) -> Self {
+        self.record = value;
+        self
+    }
+
+    /// With [`resolution`](Self::resolution) = `value`.
+    #[must_use]
+    pub fn with_resolution(mut self, value: f64) -> Self {
+        self.resolution = value;
+        self
+    }
+
+    /// With [`opts`](Self::opts) = `value`.
+    #[must_use]
+    pub fn with_opts(mut self, value: SimOptions) -> Self {
+        self.opts = value;
+        self
+    }
+
+    /// With [`period_test`](Self::period_test) = `value`.
+    #[must_use]
+    pub fn with_period_test(mut self, value: PeriodTest) -> Self {
+        self.period_test = value;
+        self
+    }
+}
+
+impl Default for LocatorOptions {
     fn default() -> Self {
-        LocatorConfig {
+        LocatorOptions {
             transient: 2000,
             record: 200,
             resolution: 5e-4,
@@ -102,7 +135,7 @@ pub fn locate_period_change<M, E, B, S>(
     to: f64,
     build: B,
     start: S,
-    config: &LocatorConfig,
+    config: &LocatorOptions,
 ) -> Result<LocatedChange, OrbitError<M::Dim, E>>
 where
     M: RotorModel,
@@ -164,7 +197,7 @@ where
 }
 
 /// The ends of [`locate_period_change`] finite and distinct, its resolution finite and > 0.
-fn check_ends(from: f64, to: f64, config: &LocatorConfig) -> Result<(), AnalysisError> {
+fn check_ends(from: f64, to: f64, config: &LocatorOptions) -> Result<(), AnalysisError> {
     if !(from.is_finite() && to.is_finite() && from != to) {
         return Err(AnalysisError::InvalidValue {
             name: "to",

@@ -1,18 +1,3 @@
-//! Stroboscopic orbits of any [`RotorModel`]: the Poincaré map of the forcing phase.
-//!
-//! # Conventions
-//!
-//! * Time starts at $t = 0$; stroboscopic point `k` is the state at $t_k = kP$, $P$ the
-//!   model's [`forcing_period`](RotorModel::forcing_period) (for the paper's model
-//!   $P = 2\pi/\eta$, so the forcing phase is $\varphi_0$ at every point).
-//! * "`transient` periods discarded, `record` periods kept" means the run covers
-//!   `transient + record` periods and keeps the points `k = transient + 1 ..= transient + record`
-//!   (the state at the *end* of each recorded period). The state handed on to the next
-//!   parameter value of a carry-over sweep is the last one, at `k = transient + record`.
-//! * Because every run starts at $t = 0$, a state carried from one parameter value to the next
-//!   is taken at the same forcing phase, as in a physical run-up where the speed is changed
-//!   slowly.
-
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector};
 
@@ -110,7 +95,7 @@ where
 }
 
 /// Runs `model` from `y0` at $t = 0$ for `transient + record` forcing periods and keeps the
-/// stroboscopic points of the last `record` periods (see the [module docs](self)).
+/// stroboscopic points of the last `record` periods (see the [module docs](super)).
 ///
 /// # Errors
 /// The driver's [`SimError`]; `record = 0` and a `transient + record` that overflows `u64`

@@ -1,81 +1,3 @@
-//! Period detection for sampled (stroboscopic) orbits, and counting distinct values.
-//!
-//! # The test
-//!
-//! Let `x_0, …, x_{n-1}` be the samples (state vectors of equal length `d`, taken once per
-//! forcing period after the transient). Define
-//!
-//! * the *extent* `E = max_c (max_i x_i[c] − min_i x_i[c])`, the largest side of the orbit's
-//!   bounding box;
-//! * the *scale* `S = max(1, E)`;
-//! * the *threshold* `θ = tol · S`.
-//!
-//! Lag `p` passes if **every** sample `i ≥ p` satisfies `‖x_i − x_{i−p}‖∞ ≤ θ`.
-//! [`detect_period`] takes the smallest passing `p` with `1 ≤ p ≤ max_period` and reports it as
-//! the period if the orbit has converged (see below; else [`Periodicity::NotConverged`]), or
-//! [`Periodicity::NotPeriodic`] if no lag passes.
-//!
-//! So `tol` is relative to the orbit's size for large orbits and absolute for orbits smaller
-//! than 1 (in the non-dimensional units of the model the gap is 1, so a fixed point with
-//! `tol = 1e-6` is resolved to 1e-6 gap; other units: see [below](#units)). Because every
-//! sample is checked, a single outlier (for example a transient not fully discarded) rejects
-//! the period: this is deliberate.
-//! A period `p` is only tested with at least `p` comparisons, which is why at least
-//! `2 · max_period` samples are required.
-//!
-//! A multiple of the period also passes the test; the smallest passing `p` is the candidate.
-//! Quasi-periodic and chaotic orbits pass for no `p` (up to the tolerance: a quasi-periodic
-//! orbit whose rotation number is close to `q/p` may pass for `p` if `tol` is loose).
-//!
-//! # Units
-//!
-//! The test above is written for components of order 1. A model in other units (SI: metres
-//! and m/s) gives each component its typical magnitude, [`RotorModel::state_scale`]: the
-//! samples are then tested in units of their scale, `x_i[c] / scale[c]` (everything above,
-//! the extent, `S`, the threshold and the residuals, in those units), so that
-//! `|x_i[c] − x_{i−p}[c]| ≤ tol · scale[c] · max(1, E)`: absolute in units of the scale for
-//! orbits smaller than it, relative to the orbit's size for larger ones.
-//! [`PeriodTest::detect_scaled`], [`detect_period_scaled`] and
-//! [`StrobeOrbit::period`](super::StrobeOrbit::period) (which carries its model's scale) do
-//! this; with a scale of 1 (the paper's model) the result is bitwise that of [`detect_period`].
-//!
-//! [`RotorModel::state_scale`]: crate::hybrid::RotorModel::state_scale
-//!
-//! # A converging orbit is not a cycle
-//!
-//! Passing the tolerance is not enough. Near a Neimark-Sacker point (a multiplier pair
-//! `m e^{±2πi a/b}` with `|m|` just below 1) the transient of a stable **fixed point** is a
-//! slowly shrinking spiral that turns `a` times in `b` samples, so the lag-`b` differences are
-//! about `(1 − m^b)/|m e^{2πi a/b} − 1|` times the lag-1 ones (1/12 for `m = 0.98`, `a/b =
-//! 3/8`): lag `b` (or any lag where the spiral nearly closes) passes while lag 1 does not, and a
-//! fixed point would be reported as a cycle of period 8. A flip multiplier near −1 does the same
-//! with lag 2. So the candidate `p` is only reported as [`Periodicity::Period`] after two checks
-//! on the residuals **per window**: the comparisons `i = p, …, n−1` are cut into
-//! `W = min(4, n − p)` consecutive windows of (nearly) equal length, and the residual of a
-//! window is the largest `‖x_i − x_{i−p}‖∞` in it ([`window_residuals`], relative to `S`).
-//!
-//! 1. **A shorter period that explains the points wins.** If for a proper divisor `q` of `p`
-//!    the lag-`q` residual is still shrinking (last window at most 0.9 times the first), the
-//!    points may be converging to a period-`q` orbit. For a genuine period-`p` cycle the lag-`q`
-//!    residual is the distance between distinct cycle points: stationary, well above the
-//!    tolerance, so a fall of 10 % is not noise.
-//! 2. **The cycle itself has converged.** If the lag-`p` residual is still shrinking (falling
-//!    from every window to the next, the last at most half the first: noise at the
-//!    tolerance's level rarely does both), its geometric decay is extrapolated: with the contraction
-//!    per lag `s = (ρ_last/ρ_first)^{p/Δ}` (`Δ` the distance in samples between the centres of
-//!    the first and the last window), the points still have to move by about
-//!    `ρ_last · s/(1 − s)`; if that exceeds `tol`, the cycle has not converged. Residuals at the
-//!    round-off or integration-noise level, far below `tol`, pass this check whatever their
-//!    trend.
-//!
-//! If either check fails, the answer is [`Periodicity::NotConverged`], with what was seen:
-//! the passing lag and the shrinking lag, each with its residual per window. Run longer (as
-//! [`crate::global::find_attractor`] does) and test again. The checks are conservative: a
-//! genuine cycle whose lag-`q` residual is within a few tolerances of zero and noisy at the
-//! tolerance's level may be reported as not converged rather than as a cycle; a fixed point
-//! whose multipliers are within about `1e-3` of a root of unity can still show a lag-`p`
-//! residual that neither shrinks visibly within the record nor exceeds the tolerance.
-
 use std::fmt;
 
 use nalgebra::allocator::Allocator;
@@ -87,7 +9,7 @@ use super::AnalysisError;
 pub const MAX_WINDOWS: usize = 4;
 
 /// The residual of one lag over consecutive windows of a record (see the
-/// [module docs](self)): in window `w`, the largest `‖x_i − x_{i−lag}‖∞ / S`.
+/// [module docs](super)): in window `w`, the largest `‖x_i − x_{i−lag}‖∞ / S`.
 // serde always, not only with the feature: the sweeps of `global` record it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LagResiduals {
@@ -190,7 +112,7 @@ impl fmt::Display for LagResiduals {
 #[non_exhaustive]
 pub enum Periodicity {
     /// The orbit repeats after this many samples (the smallest such number; at least 1), and
-    /// has converged (see the [module docs](self)).
+    /// has converged (see the [module docs](super)).
     Period(usize),
     /// No period up to and including `up_to` passes the test (quasi-periodic, chaotic, or a
     /// period longer than `up_to`, or a transient still present).
@@ -200,7 +122,7 @@ pub enum Periodicity {
     },
     /// A lag passes the tolerance but the orbit is still converging: a shorter period may
     /// explain the points, or the cycle itself still moves by more than the tolerance (see the
-    /// [module docs](self)). Not a period.
+    /// [module docs](super)). Not a period.
     NotConverged {
         /// The smallest lag within tolerance, with its residual per window.
         passed: LagResiduals,
@@ -261,11 +183,29 @@ impl fmt::Display for Periodicity {
 /// with a period bound that adapts to the number of points.
 // serde always, not only with the feature: the sweeps of `global` record it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[non_exhaustive]
 pub struct PeriodTest {
     /// Largest period tested (at least 1; the orbit needs `2 · max_period` points). Default 16.
     pub max_period: usize,
-    /// Relative tolerance (see the [module docs](self)). Default `1e-6`.
+    /// Relative tolerance (see the [module docs](super)). Default `1e-6`.
     pub tol: f64,
+}
+
+/// Builders: each returns the options with one field changed.
+impl PeriodTest {
+    /// With [`max_period`](Self::max_period) = `value`.
+    #[must_use]
+    pub fn with_max_period(mut self, value: usize) -> Self {
+        self.max_period = value;
+        self
+    }
+
+    /// With [`tol`](Self::tol) = `value`.
+    #[must_use]
+    pub fn with_tol(mut self, value: f64) -> Self {
+        self.tol = value;
+        self
+    }
 }
 
 impl Default for PeriodTest {
@@ -293,7 +233,7 @@ impl PeriodTest {
     }
 
     /// [`PeriodTest::detect`] with the components in units of `scale` (see the
-    /// [module docs](self#units)), e.g. the model's [`RotorModel::state_scale`].
+    /// [module docs](super#units)), e.g. the model's [`RotorModel::state_scale`].
     ///
     /// # Errors
     /// As [`detect_period_scaled`].
@@ -327,7 +267,7 @@ impl PeriodTest {
 }
 
 /// [`detect_period`] with component `c` of every sample in units of `scale[c]` (see the
-/// [module docs](self#units)). A scale of 1 for every component gives bitwise the result
+/// [module docs](super#units)). A scale of 1 for every component gives bitwise the result
 /// of [`detect_period`].
 ///
 /// # Errors
@@ -440,7 +380,7 @@ fn max_lag_distance<S: AsRef<[f64]>>(samples: &[S], p: usize, stop_above: f64) -
     worst
 }
 
-/// Finds the period of a sampled orbit (see the [module docs](self) for the exact test).
+/// Finds the period of a sampled orbit (see the [module docs](super) for the exact test).
 ///
 /// `samples` can be a slice of arrays (`&[[f64; 2]]`), of vectors (`&[Vec<f64>]`), or of any
 /// `AsRef<[f64]>`; for scalar samples use [`detect_period_scalar`].
@@ -491,12 +431,12 @@ pub fn detect_period<S: AsRef<[f64]>>(
 }
 
 /// The residual fall over the record that counts as "still shrinking" for a proper divisor of
-/// the passing lag (see the [module docs](self)).
+/// the passing lag (see the [module docs](super)).
 const SHORTER_LAG_FALL: f64 = 0.9;
 /// The same for the passing lag itself, whose residual is at the noise level of the samples.
 const OWN_LAG_FALL: f64 = 0.5;
 
-/// The two convergence checks of the [module docs](self) on the smallest passing lag `p`.
+/// The two convergence checks of the [module docs](super) on the smallest passing lag `p`.
 fn check_converged<S: AsRef<[f64]>>(samples: &[S], p: usize, tol: f64, scale: f64) -> Periodicity {
     let passed = lag_windows(samples, p, scale);
     for q in (1..p).filter(|&q| p.is_multiple_of(q)) {
@@ -542,7 +482,7 @@ fn lag_windows<S: AsRef<[f64]>>(samples: &[S], p: usize, scale: f64) -> LagResid
     }
 }
 
-/// The residual of lag `p` per window of the record (see the [module docs](self)): the
+/// The residual of lag `p` per window of the record (see the [module docs](super)): the
 /// comparisons `i = p, …, n−1` cut into `min(4, n − p)` consecutive windows, each window's
 /// largest `‖x_i − x_{i−p}‖∞` divided by the scale `S`.
 ///

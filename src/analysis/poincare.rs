@@ -1,39 +1,3 @@
-//! Section crossings of a densely sampled trajectory (generic Poincaré-section helpers).
-//!
-//! Given samples `(t_k, x_k)` of a trajectory and a *section function* `h(t, x)`, a crossing is
-//! a sign change of `h_k = h(t_k, x_k)` between two consecutive samples:
-//!
-//! * rising: `h_k < 0 ≤ h_{k+1}`; falling: `h_k > 0 ≥ h_{k+1}`.
-//!
-//! The half-open test counts a sample lying exactly on the section once (in the interval that
-//! ends on it). A trajectory that touches the section and turns back between two samples is
-//! missed; one that touches it exactly at a sample counts as a crossing. Sample densely enough
-//! that `h` changes sign at most once per interval.
-//!
-//! Within the interval the crossing is located either
-//!
-//! * linearly ([`section_crossings`]): `θ = h_k / (h_k − h_{k+1})`, state and time interpolated
-//!   linearly (error `O(Δt²)`); or
-//! * with cubic Hermite interpolation ([`section_crossings_hermite`]), which also uses the time
-//!   derivatives `x'_k` (error `O(Δt⁴)`): `h` along the Hermite cubic is solved for `θ` by the
-//!   crate's root finder [`numeric::illinois`](crate::numeric::illinois), a fixed number
-//!   of steps at most, so the result is deterministic.
-//!
-//! Every [`Crossing`] carries the final bracket of its search ([`Crossing::bracket`]) and
-//! whether the search converged ([`Crossing::converged`]): the located point is an end of the
-//! bracket, where `h` has the sign it has after the crossing (or is zero), unless the other
-//! end has the smaller `|h|`. An unconverged search (it ran out of steps, or `h` returned NaN
-//! on the interpolant) is reported, flagged, never passed off as located: check `converged`.
-//!
-//! The stroboscopic map of a periodically forced system (`t = t_0 + 2πk/η`) needs no search; it
-//! comes from the simulation directly ([`strobe_orbit`](super::strobe_orbit)); for a
-//! simulated run, [`PhasePortrait::crossings`](super::PhasePortrait::crossings) applies the
-//! Hermite search to the dense samples of each smooth piece.
-//!
-//! Which crossings count is a [`numeric::Direction`](Direction), the type guards use:
-//! `Rising` (`h` goes from negative to non-negative), `Falling` (from positive to
-//! non-positive) or `Either`.
-
 use super::AnalysisError;
 use crate::numeric::{illinois, Bracket, Direction, RootOptions};
 
@@ -217,7 +181,7 @@ fn hermite(x0: &[f64], x1: &[f64], d0: &[f64], d1: &[f64], dt: f64, theta: f64) 
 /// 200 evaluations, stopping when the bracket is narrower than `1e-14` (relative to the
 /// interval); the section function is called about ten extra times per crossing for a smooth
 /// `h`. Each crossing carries its final bracket and whether the search converged (see the
-/// [module docs](self)).
+/// [module docs](super)).
 ///
 /// # Errors
 ///

@@ -1,6 +1,3 @@
-//! Phase portraits of any [`RotorModel`]: dense samples that know where the state's
-//! derivative jumps, and Poincaré sections through them.
-
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector};
 

@@ -1,49 +1,3 @@
-//! A parallel, deterministic parameter sweep.
-//!
-//! [`sweep`] runs a user-supplied *runner* once per parameter value and returns the results in
-//! parameter order. The runner has the signature
-//!
-//! ```text
-//! Fn(&P, Option<S>) -> Result<(T, S), E>
-//! ```
-//!
-//! It receives the parameter value and, optionally, the state `S` left by the previous value;
-//! it returns what to record (`T`) and the state to hand on, or an error `E`. `None` means
-//! "start from your reset state" (for the rotor: zero initial conditions); a runner that needs
-//! a longer transient after a reset can tell from the `None`.
-//!
-//! # Modes
-//!
-//! * [`SweepMode::Reset`]: every value starts from the reset state (the runner always gets
-//!   `None`). The values are independent and run in parallel, one task per value.
-//! * [`SweepMode::CarryOver`]: the state at the end of value `k` seeds value `k + 1`, as when a
-//!   physical experiment turns the speed up slowly. A chain is sequential by nature, so the list
-//!   is split into `chunks` contiguous chunks ([`chunk_ranges`]); each chunk starts from the
-//!   reset state and the chunks run in parallel. With `chunks = 1` the whole sweep is one chain
-//!   (serial); more chunks use more cores at the price of a fresh transient at each chunk start.
-//!
-//! # Determinism
-//!
-//! The chunk boundaries depend only on the number of values and on `chunks`, which the caller
-//! fixes; they never depend on the number of threads. Each value is computed by exactly one call
-//! of the runner, with inputs (the parameter and the carried state) that are themselves fixed by
-//! the parameter list and the mode. So if the runner is a deterministic function of its inputs,
-//! the results are **bitwise identical for any number of threads** (1, 2 or the whole machine),
-//! and they are returned in parameter order whatever order the threads finish in.
-//!
-//! # Failures
-//!
-//! A runner error at one value is recorded in that value's slot (`Err(e)`) and the sweep goes
-//! on. In carry-over mode there is no state to carry past a failure, so the **next value starts
-//! from the reset state** (the runner gets `None`), exactly as at a chunk start. A panic inside
-//! the runner is not caught: it propagates out of [`sweep`] (a panic is a bug, not a result).
-//!
-//! # Progress
-//!
-//! After each value a [`Progress`] observer, if given, is called with `(done, total)`. Calls come
-//! from the worker threads; each `done` in `1..=total` is reported exactly once, but not
-//! necessarily in increasing order. [`StderrProgress`] prints a throttled progress line.
-
 use std::io::{IsTerminal, Write};
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
@@ -53,7 +7,7 @@ use rayon::prelude::*;
 
 use super::AnalysisError;
 
-/// How successive parameter values are linked. See the [module docs](self).
+/// How successive parameter values are linked. See the [module docs](super).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
@@ -73,7 +27,7 @@ pub enum SweepMode {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
-pub struct SweepConfig {
+pub struct SweepOptions {
     /// How successive values are linked. Default: [`SweepMode::Reset`].
     pub mode: SweepMode,
     /// Number of worker threads. `None` (default) uses rayon's global pool (all cores, or
@@ -82,24 +36,34 @@ pub struct SweepConfig {
     pub threads: Option<usize>,
 }
 
-impl Default for SweepConfig {
+/// Builders: each returns the options with one field changed.
+impl SweepOptions {
+    /// With [`mode`](Self::mode) = `value`.
+    #[must_use]
+    pub fn with_mode(mut self, value: SweepMode) -> Self {
+        self.mode = value;
+        self
+    }
+}
+
+impl Default for SweepOptions {
     fn default() -> Self {
-        SweepConfig {
+        SweepOptions {
             mode: SweepMode::Reset,
             threads: None,
         }
     }
 }
 
-impl SweepConfig {
+impl SweepOptions {
     /// Independent values ([`SweepMode::Reset`]) on the global pool.
     pub fn reset() -> Self {
-        SweepConfig::default()
+        SweepOptions::default()
     }
 
     /// Carried-over state ([`SweepMode::CarryOver`]) in `chunks` chunks, on the global pool.
     pub fn carry_over(chunks: usize) -> Self {
-        SweepConfig {
+        SweepOptions {
             mode: SweepMode::CarryOver { chunks },
             threads: None,
         }
@@ -107,7 +71,7 @@ impl SweepConfig {
 
     /// The same settings with a dedicated pool of `threads` worker threads.
     pub fn with_threads(self, threads: usize) -> Self {
-        SweepConfig {
+        SweepOptions {
             threads: Some(threads),
             ..self
         }
@@ -308,7 +272,7 @@ pub fn chunk_ranges(len: usize, chunks: usize) -> Result<Vec<Range<usize>>, Anal
 
 /// Runs `runner` over `params` and returns the results in parameter order.
 ///
-/// See the [module docs](self) for the runner's contract, the two modes, the determinism
+/// See the [module docs](super) for the runner's contract, the two modes, the determinism
 /// guarantee and what happens on failure.
 ///
 /// # Errors
@@ -321,20 +285,20 @@ pub fn chunk_ranges(len: usize, chunks: usize) -> Result<Vec<Range<usize>>, Anal
 /// # Example
 ///
 /// ```
-/// use jeffcott::analysis::{sweep, SweepConfig};
+/// use jeffcott::analysis::{sweep, SweepOptions};
 /// // A "simulation" whose state is a running sum, carried from value to value.
 /// let params = [1.0, 2.0, 3.0, 4.0];
 /// let runner = |p: &f64, state: Option<f64>| -> Result<(f64, f64), String> {
 ///     let s = state.unwrap_or(0.0) + p;
 ///     Ok((s, s))
 /// };
-/// let out = sweep(&params, &SweepConfig::carry_over(2).with_threads(2), runner, None).unwrap();
+/// let out = sweep(&params, &SweepOptions::carry_over(2).with_threads(2), runner, None).unwrap();
 /// let values: Vec<f64> = out.results.into_iter().map(Result::unwrap).collect();
 /// assert_eq!(values, vec![1.0, 3.0, 3.0, 7.0]); // chunks [1, 2] and [3, 4]
 /// ```
 pub fn sweep<P, T, S, E, F>(
     params: &[P],
-    config: &SweepConfig,
+    config: &SweepOptions,
     runner: F,
     progress: Option<&dyn Progress>,
 ) -> Result<SweepResult<T, E>, AnalysisError>

@@ -1,53 +1,3 @@
-//! Which attractor a run settles on: its period, a canonical periodic point, and contact
-//! statistics; and when two runs reached the same one.
-//!
-//! # Identification
-//!
-//! [`find_attractor`] runs the model from its initial state at $t = 0$, discards
-//! [`AttractorConfig::transient`] forcing periods, records [`AttractorConfig::record`]
-//! stroboscopic points and tests them for a period ([`PeriodTest`]). If none is found (not
-//! periodic, or not yet converged) the run
-//! goes on from its last state for another `transient + record` periods, and again, until the
-//! transients add up to [`AttractorConfig::max_transient`]: slowly attracting orbits (a
-//! multiplier near the unit circle, close to a bifurcation) get the time they need, and
-//! chaotic runs stop there. The forcing is periodic, so a run continued from its state at
-//! $t = kP$ is restarted at $t = 0$ with the same forcing phase.
-//!
-//! * A **periodic** attractor of period $p$ is stored as its cycle: the last $p$ stroboscopic
-//!   states, rotated to start at the **canonical point**, the one smallest in the
-//!   lexicographic order of its components (compared with `f64::total_cmp`). Two runs that
-//!   reach the same cycle from different initial states store it starting at the same point,
-//!   up to the convergence of the runs.
-//! * A **non-periodic** attractor (no period up to the test's bound: quasi-periodic, chaotic,
-//!   or not converged within `max_transient`) is described by its statistics. A run whose
-//!   last window passes the period test for some lag but is still converging (a stable orbit
-//!   near a Neimark-Sacker or flip point, whose slowly shrinking transient nearly closes after
-//!   a few periods) ends as [`Periodicity::NotConverged`] with the residuals seen, never as a
-//!   long cycle: see [`crate::analysis::period`].
-//!
-//! Both carry [`OrbitStats`] over the recorded window: contacts per forcing period (onsets,
-//! i.e. transitions out of the free-flight mode), the fraction of time in contact, the
-//! occupancy of each mode (for the paper's model the regimes I-V), and the bounding box of the
-//! recorded stroboscopic states.
-//!
-//! # Matching
-//!
-//! [`Attractor::matches`] with a [`MatchTolerance`]:
-//!
-//! * two periodic attractors match when their cycles, each first reduced to its shortest
-//!   period **at the matching tolerance** (a cycle of period $2p$ whose halves agree to within
-//!   `state` is compared as period $p$), have the same length and, for some cyclic shift,
-//!   every component of every point agrees to within `state`;
-//! * two non-periodic ones match when their contacts per period agree to within `contacts`
-//!   and every side of their bounding boxes to within `extent`;
-//! * a periodic attractor never matches a non-periodic one.
-//!
-//! `state` and `extent` are in units of the model's scale ([`RotorModel::state_scale`], kept
-//! in [`Attractor::scale`]): component $c$ agrees when $|a_c - b_c| \le$ `state` $\cdot
-//! \max(s^a_c, s^b_c)$. The paper's model has scale 1 (its units: the gap); a model in SI
-//! units gives its components' typical sizes, and the same tolerances mean the same there.
-//! The period test runs in the same units ([`PeriodTest::detect_scaled`]).
-
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, OVector};
 
@@ -59,7 +9,8 @@ use crate::hybrid::{
 
 /// Settings of [`find_attractor`].
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct AttractorConfig {
+#[non_exhaustive]
+pub struct AttractorOptions {
     /// Forcing periods discarded before the first recording. Default 500.
     pub transient: u64,
     /// Stroboscopic points recorded and tested (at least `2 · period_test.max_period`).
@@ -77,9 +28,54 @@ pub struct AttractorConfig {
     pub free_label: u8,
 }
 
-impl Default for AttractorConfig {
+/// Builders: each returns the options with one field changed.
+impl AttractorOptions {
+    /// With [`transient`](Self::transient) = `value`.
+    #[must_use]
+    pub fn with_transient(mut self, value: u64) -> Self {
+        self.transient = value;
+        self
+    }
+
+    /// With [`record`](Self::record) = `value`.
+    #[must_use]
+    pub fn with_record(mut self, value: u64) -> Self {
+        self.record = value;
+        self
+    }
+
+    /// With [`max_transient`](Self::max_transient) = `value`.
+    #[must_use]
+    pub fn with_max_transient(mut self, value: u64) -> Self {
+        self.max_transient = value;
+        self
+    }
+
+    /// With [`opts`](Self::opts) = `value`.
+    #[must_use]
+    pub fn with_opts(mut self, value: SimOptions) -> Self {
+        self.opts = value;
+        self
+    }
+
+    /// With [`period_test`](Self::period_test) = `value`.
+    #[must_use]
+    pub fn with_period_test(mut self, value: PeriodTest) -> Self {
+        self.period_test = value;
+        self
+    }
+
+    /// With [`free_label`](Self::free_label) = `value`.
+    #[must_use]
+    pub fn with_free_label(mut self, value: u8) -> Self {
+        self.free_label = value;
+        self
+    }
+}
+
+impl Default for AttractorOptions {
     fn default() -> Self {
-        AttractorConfig {
+        AttractorOptions {
             transient: 500,
             record: 64,
             max_transient: 4000,
@@ -90,7 +86,7 @@ impl Default for AttractorConfig {
     }
 }
 
-/// Statistics of the recorded window of a run (see the [module docs](self)).
+/// Statistics of the recorded window of a run (see the [module docs](super)).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct OrbitStats {
     /// Forcing periods run in all, transients included.
@@ -109,7 +105,7 @@ pub struct OrbitStats {
     pub hi: Vec<f64>,
 }
 
-/// The attractor a run settled on (see the [module docs](self)).
+/// The attractor a run settled on (see the [module docs](super)).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Attractor {
     /// The detected period of the stroboscopic map.
@@ -119,18 +115,19 @@ pub struct Attractor {
     /// Contact and mode statistics of the recorded window.
     pub stats: OrbitStats,
     /// The model's [`RotorModel::state_scale`], one entry per component: the units of the
-    /// matching tolerances (see the [module docs](self)). Empty (and left out of the record)
+    /// matching tolerances (see the [module docs](super)). Empty (and left out of the record)
     /// when the scale is 1 for every component, as for the paper's model; a missing entry
     /// counts as 1.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub scale: Vec<f64>,
 }
 
-/// Tolerances of [`Attractor::matches`] (see the [module docs](self)), in units of the
+/// Tolerances of [`Attractor::matches`] (see the [module docs](super)), in units of the
 /// model's scale ([`Attractor::scale`]; the paper's: gap = 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct MatchTolerance {
+#[non_exhaustive]
+pub struct MatchOptions {
     /// Periodic attractors: largest difference of a state component between matched cycle
     /// points. Default 1e-3 (runs converge to ~1e-6; coexisting orbits differ by ~0.1).
     pub state: f64,
@@ -141,9 +138,33 @@ pub struct MatchTolerance {
     pub extent: f64,
 }
 
-impl Default for MatchTolerance {
+/// Builders: each returns the options with one field changed.
+impl MatchOptions {
+    /// With [`state`](Self::state) = `value`.
+    #[must_use]
+    pub fn with_state(mut self, value: f64) -> Self {
+        self.state = value;
+        self
+    }
+
+    /// With [`contacts`](Self::contacts) = `value`.
+    #[must_use]
+    pub fn with_contacts(mut self, value: f64) -> Self {
+        self.contacts = value;
+        self
+    }
+
+    /// With [`extent`](Self::extent) = `value`.
+    #[must_use]
+    pub fn with_extent(mut self, value: f64) -> Self {
+        self.extent = value;
+        self
+    }
+}
+
+impl Default for MatchOptions {
     fn default() -> Self {
-        MatchTolerance {
+        MatchOptions {
             state: 1e-3,
             contacts: 0.1,
             extent: 0.05,
@@ -198,8 +219,8 @@ impl Attractor {
     }
 
     /// Whether `self` and `other` are the same attractor within `tol` (see the
-    /// [module docs](self)).
-    pub fn matches(&self, other: &Attractor, tol: &MatchTolerance) -> bool {
+    /// [module docs](super)).
+    pub fn matches(&self, other: &Attractor, tol: &MatchOptions) -> bool {
         let scale = joint_scale(&self.scale, &other.scale);
         match (self.period(), other.period()) {
             (Some(_), Some(_)) => {
@@ -301,7 +322,7 @@ fn window<M: RotorModel>(
     y0: &OVector<f64, M::Dim>,
     transient: u64,
     record: u64,
-    config: &AttractorConfig,
+    config: &AttractorOptions,
 ) -> Result<WindowObserver<M::Dim>, SimError<M::Dim>>
 where
     DefaultAllocator: Allocator<M::Dim>,
@@ -334,7 +355,7 @@ where
 }
 
 /// Runs `model` from `y0` and identifies the attractor it settles on (see the
-/// [module docs](self)).
+/// [module docs](super)).
 ///
 /// # Errors
 /// The driver's [`SimError`] (with the last good state) if a run fails; invalid settings
@@ -344,13 +365,13 @@ where
 /// # Example
 ///
 /// ```
-/// use jeffcott::global::{find_attractor, AttractorConfig};
+/// use jeffcott::global::{find_attractor, AttractorOptions};
 /// use jeffcott::params::Preset;
 /// use jeffcott::JeffcottModel;
 ///
 /// let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.0))?;
 /// let y0 = model.state_at([0.0, 0.0], [0.0, 0.0])?;
-/// let config = AttractorConfig { transient: 300, record: 32, ..Default::default() };
+/// let config = AttractorOptions::default().with_transient(300).with_record(32);
 /// let a = find_attractor(&model, &y0, &config)?;
 /// assert_eq!(a.period(), Some(1));
 /// assert!((a.canonical().unwrap()[0] - 0.5781094858).abs() < 1e-6);
@@ -360,7 +381,7 @@ where
 pub fn find_attractor<M: RotorModel>(
     model: &M,
     y0: &OVector<f64, M::Dim>,
-    config: &AttractorConfig,
+    config: &AttractorOptions,
 ) -> Result<Attractor, SimError<M::Dim>>
 where
     DefaultAllocator: Allocator<M::Dim>,
@@ -410,7 +431,7 @@ where
 }
 
 /// The first invalid setting of [`find_attractor`] (field, value, hint), if any.
-fn invalid_setting(config: &AttractorConfig) -> Option<(&'static str, f64, &'static str)> {
+fn invalid_setting(config: &AttractorOptions) -> Option<(&'static str, f64, &'static str)> {
     let test = config.period_test;
     if test.max_period == 0 {
         return Some((

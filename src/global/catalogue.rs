@@ -1,6 +1,4 @@
-//! The distinct attractors found over a scan, and which one each point reached.
-
-use super::attractor::{Attractor, MatchTolerance};
+use super::attractor::{Attractor, MatchOptions};
 
 /// What a point of a scan is labelled with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -40,12 +38,12 @@ pub struct Catalogue {
     /// One label per point.
     pub labels: Vec<PointLabel>,
     /// The tolerance used.
-    pub tolerance: MatchTolerance,
+    pub tolerance: MatchOptions,
 }
 
 impl Catalogue {
     /// Matches the attractors of `results` (one slot per point; `None` = not run) at `tol`.
-    pub fn new<E>(results: &[Option<Result<Attractor, E>>], tol: &MatchTolerance) -> Self {
+    pub fn new<E>(results: &[Option<Result<Attractor, E>>], tol: &MatchOptions) -> Self {
         let mut entries: Vec<CatalogueEntry> = Vec::new();
         let labels = results
             .iter()

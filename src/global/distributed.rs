@@ -3,7 +3,7 @@
 //! Every rank calls the same function with the same points; rank 0 reads the sweep's folder,
 //! decides which points are still to run and sends the list to all; rank `r` of `n` runs the
 //! points `r, r + n, r + 2n, …` of that list (the rule of [`super::Shard`]; on its own
-//! threads, [`RunConfig::threads`]),
+//! threads, [`RunOptions::threads`]),
 //! appending each outcome to its own file `records-<r>.jsonl` as it finishes; at the end the
 //! record lines are gathered on rank 0, which returns every point's outcome. Other ranks get
 //! `None`.
@@ -24,7 +24,7 @@
 //!
 //! The record lines of one run are gathered as bytes with 32-bit counts: at most 2 GiB per
 //! run (about five million points of [`super::scan_grid`]); split larger sweeps with
-//! [`RunConfig::max_new_points`].
+//! [`RunOptions::max_new_points`].
 //!
 //! # Running
 //!
@@ -42,10 +42,10 @@ use mpi::Count;
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, OVector};
 
-use super::attractor::AttractorConfig;
+use super::attractor::AttractorOptions;
 use super::failure::PointFailure;
 use super::record::Record;
-use super::runner::{check_points, compute, Computed, PointResults, RunConfig, Shard};
+use super::runner::{check_points, compute, Computed, PointResults, RunOptions, Shard};
 use super::scan::{attractor_at, check_settings, Grid2, GridScan};
 use super::store::{decode_line, fingerprint, Manifest, StoreError, SweepStore};
 use crate::analysis::Progress;
@@ -109,13 +109,13 @@ fn broadcast_u64s<C: Communicator>(comm: &C, data: &mut Vec<u64>) {
 ///
 /// # Errors
 /// As [`super::run_points`], on every rank if any rank failed; [`StoreError::Mpi`] if the
-/// ranks were given different points, a [`RunConfig::shard`] (the ranks split the whole
+/// ranks were given different points, a [`RunOptions::shard`] (the ranks split the whole
 /// sweep), or the records exceed 2 GiB.
 pub fn run_points<C, P, T, E, F>(
     comm: &C,
     points: &[P],
     store: Option<&SweepStore>,
-    config: &RunConfig,
+    config: &RunOptions,
     runner: F,
     progress: Option<&dyn Progress>,
 ) -> Result<Option<PointResults<T, E>>, StoreError>
@@ -241,7 +241,7 @@ fn gather_records<C: Communicator, T, E>(
         .filter(|_| total <= Count::MAX as u64);
     let Some(count) = count else {
         return Err(StoreError::Mpi(format!(
-            "{total} bytes of records in one run: more than one gather can carry (2 GiB); the records are in the folder: split the run with RunConfig::max_new_points"
+            "{total} bytes of records in one run: more than one gather can carry (2 GiB); the records are in the folder: split the run with RunOptions::max_new_points"
         )));
     };
     let root_process = comm.process_at_rank(0);
@@ -305,9 +305,9 @@ pub fn scan_grid<C, M, S>(
     comm: &C,
     grid: &Grid2,
     setup: S,
-    config: &AttractorConfig,
+    config: &AttractorOptions,
     store: Option<&SweepStore>,
-    run: &RunConfig,
+    run: &RunOptions,
     progress: Option<&dyn Progress>,
 ) -> Result<Option<GridScan>, StoreError>
 where

@@ -63,16 +63,19 @@ pub enum SimFailureKind {
     NonFinite,
     /// [`SimErrorKind::InvalidOption`].
     InvalidOption,
+    /// [`SimErrorKind::DimensionMismatch`].
+    DimensionMismatch,
 }
 
 impl SimFailureKind {
-    const NAMES: [(SimFailureKind, &'static str); 6] = [
+    const NAMES: [(SimFailureKind, &'static str); 7] = [
         (SimFailureKind::Model, "model"),
         (SimFailureKind::Integrator, "integrator"),
         (SimFailureKind::Chattering, "chattering"),
         (SimFailureKind::Stalled, "stalled"),
         (SimFailureKind::NonFinite, "non-finite"),
         (SimFailureKind::InvalidOption, "invalid-option"),
+        (SimFailureKind::DimensionMismatch, "dimension-mismatch"),
     ];
 
     /// The kind of a driver error.
@@ -84,11 +87,12 @@ impl SimFailureKind {
             SimErrorKind::Stalled { .. } => SimFailureKind::Stalled,
             SimErrorKind::NonFinite => SimFailureKind::NonFinite,
             SimErrorKind::InvalidOption { .. } => SimFailureKind::InvalidOption,
+            SimErrorKind::DimensionMismatch { .. } => SimFailureKind::DimensionMismatch,
         }
     }
 
     /// Its name (its `Display`): `"model"`, `"integrator"`, `"chattering"`, `"stalled"`,
-    /// `"non-finite"` or `"invalid-option"`.
+    /// `"non-finite"`, `"invalid-option"` or `"dimension-mismatch"`.
     pub fn name(self) -> &'static str {
         Self::NAMES
             .iter()

@@ -1,23 +1,8 @@
-//! [`Record`]: what a sweep writes to its folder and reads back: a point, a result, an error.
-//!
-//! A record is the value's JSON as [`serde_json`] writes it from the value's `Serialize`, and
-//! is read back through its `Deserialize`: derive both for your point and result types
-//! (`#[derive(serde::Serialize, serde::Deserialize)]`) and they are records.
-//!
-//! * **Numbers.** An `f64` is written in its shortest round-trip form (`0.1`, `1e-7`, `-0.0`)
-//!   and read back with `serde_json`'s `float_roundtrip` parser: **bit for bit** the same value
-//!   (subnormals, `-0.0` and the extremes included; a property test checks it).
-//! * **NaN and infinities.** JSON has none: `serde_json` writes a non-finite `f64` as `null`,
-//!   which does not read back as an `f64`. [`run_points`](super::run_points) reads every
-//!   outcome back before writing it, so such an outcome is never written: the run stops with
-//!   [`StoreError::RoundTrip`](super::StoreError::RoundTrip) naming the point. A result that
-//!   may be undefined holds an `Option<f64>` (`null` is `None`) or an error instead.
-
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 
 /// A value that a resumable sweep writes as JSON and reads back when it restarts: every type
-/// that implements `Serialize` and `Deserialize` (see the [module docs](self)).
+/// that implements `Serialize` and `Deserialize` (see the [module docs](super)).
 ///
 /// Reading back the record of `x` must give back `x`; the sweep runner passes every result
 /// through its record even when it is not restarted ([`run_points`](super::run_points)), so a

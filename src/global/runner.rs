@@ -1,35 +1,3 @@
-//! Running a computation over a list of points, in parallel, resumably.
-//!
-//! [`run_points`] calls `runner(&point)` once for each point not yet recorded in the sweep's
-//! folder ([`SweepStore`]), on a pool of threads, writes each outcome to the folder as soon as
-//! it is known, and returns every point's outcome (recorded earlier or computed now) in point
-//! order.
-//!
-//! # Guarantees
-//!
-//! * **Deterministic.** The points are independent: each outcome is `runner(&point)` and
-//!   nothing else, so for a runner that is a deterministic function of its point, the
-//!   outcomes are bitwise identical for any number of threads, any number of MPI ranks
-//!   (module `distributed`, feature `mpi`), and across interruptions and
-//!   restarts.
-//! * **Every outcome passes through its record.** An outcome computed now is encoded and
-//!   decoded back before it is written and returned, exactly as one read from the folder after
-//!   a restart: a restarted run returns the same values as an uninterrupted one even if a
-//!   [`Record`] encoding were lossy. An outcome that does not read back (a NaN written as
-//!   `null`) is not written: the run stops with [`StoreError::RoundTrip`].
-//! * **Failures are results.** A runner error is recorded (`"error"` in its line) and returned
-//!   in its slot; it is not computed again on restart (delete its line to retry it). A panic
-//!   inside the runner is a bug: it propagates, the records written so far stay.
-//! * **Shards.** [`RunConfig::shard`] runs only the points of one [`Shard`] `i/n` (the points
-//!   `i, i + n, i + 2n, …`) and writes them to the shard's own file in the folder: `n`
-//!   independent processes (the tasks of a scheduler's job array) together run the whole
-//!   sweep, without MPI and without file locking; a run without a shard then reads every
-//!   point from the folder (and runs any a shard left undone). The outcomes are those of one
-//!   run, bit for bit.
-//! * **Partial runs.** [`RunConfig::max_new_points`] and [`RunConfig::time_budget`] stop
-//!   starting new points (for a batch queue's time limit); the points not run are `None` and
-//!   a later run with the same folder does them.
-
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -135,7 +103,7 @@ impl<'de> serde::Deserialize<'de> for Shard {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
-pub struct RunConfig {
+pub struct RunOptions {
     /// Worker threads: `None` (default) uses rayon's global pool (all cores, or
     /// `RAYON_NUM_THREADS`), `Some(n)` a dedicated pool of `n ≥ 1`. Results do not depend on it.
     pub threads: Option<usize>,
@@ -149,10 +117,10 @@ pub struct RunConfig {
     pub shard: Option<Shard>,
 }
 
-impl RunConfig {
+impl RunOptions {
     /// The same settings with a dedicated pool of `threads` worker threads.
     pub fn with_threads(self, threads: usize) -> Self {
-        RunConfig {
+        RunOptions {
             threads: Some(threads),
             ..self
         }
@@ -160,7 +128,7 @@ impl RunConfig {
 
     /// The same settings starting at most `n` new points.
     pub fn with_max_new_points(self, n: usize) -> Self {
-        RunConfig {
+        RunOptions {
             max_new_points: Some(n),
             ..self
         }
@@ -168,7 +136,7 @@ impl RunConfig {
 
     /// The same settings running only the points of `shard`.
     pub fn with_shard(self, shard: Shard) -> Self {
-        RunConfig {
+        RunOptions {
             shard: Some(shard),
             ..self
         }
@@ -176,7 +144,7 @@ impl RunConfig {
 
     /// The same settings starting no new point after `budget`.
     pub fn with_time_budget(self, budget: Duration) -> Self {
-        RunConfig {
+        RunOptions {
             time_budget: Some(budget),
             ..self
         }
@@ -235,8 +203,8 @@ impl<T, E> PointResults<T, E> {
 }
 
 /// Runs `runner` on every point of `points` not yet recorded in `store`, and returns all
-/// outcomes in point order (see the [module docs](self) for the guarantees). Without a
-/// store nothing is written and every point is run. With [`RunConfig::shard`], only the
+/// outcomes in point order (see the [module docs](super) for the guarantees). Without a
+/// store nothing is written and every point is run. With [`RunOptions::shard`], only the
 /// shard's points are run (written to the shard's file); the other points are those the
 /// folder holds, `None` if it holds none.
 ///
@@ -252,7 +220,7 @@ impl<T, E> PointResults<T, E> {
 /// # Example
 ///
 /// ```
-/// use jeffcott::global::{run_points, RunConfig, SweepStore};
+/// use jeffcott::global::{run_points, RunOptions, SweepStore};
 ///
 /// let dir = std::env::temp_dir().join(format!("jeffcott-doc-run-points-{}", std::process::id()));
 /// # let _ = std::fs::remove_dir_all(&dir);
@@ -260,7 +228,7 @@ impl<T, E> PointResults<T, E> {
 /// let store = SweepStore::open(&dir, "squares", &(), &points)?;
 /// let square = |x: &f64| if *x < 15.0 { Ok(x * x) } else { Err(format!("{x} too large")) };
 /// // A first run stops after 8 points; the second does the other 12.
-/// let config = RunConfig::default().with_threads(2);
+/// let config = RunOptions::default().with_threads(2);
 /// let first = run_points(&points, Some(&store), &config.with_max_new_points(8), square, None)?;
 /// assert_eq!((first.computed, first.missing()), (8, 12));
 /// let second = run_points(&points, Some(&store), &config, square, None)?;
@@ -273,7 +241,7 @@ impl<T, E> PointResults<T, E> {
 pub fn run_points<P, T, E, F>(
     points: &[P],
     store: Option<&SweepStore>,
-    config: &RunConfig,
+    config: &RunOptions,
     runner: F,
     progress: Option<&dyn Progress>,
 ) -> Result<PointResults<T, E>, StoreError>
@@ -387,7 +355,7 @@ pub(crate) fn compute<P, T, E, F>(
     points: &[P],
     todo: &[usize],
     writer: Option<RecordWriter>,
-    config: &RunConfig,
+    config: &RunOptions,
     runner: &F,
     progress: Option<&dyn Progress>,
 ) -> Result<(Vec<Computed<T, E>>, usize), StoreError>

@@ -1,26 +1,10 @@
-//! Attractor scans over a grid: basins of attraction (a grid of initial states) and
-//! two-parameter maps (a grid of parameters).
-//!
-//! Both are the same computation: at each grid point a *setup* closure builds the model and
-//! its initial state, [`find_attractor`] runs it, and the outcome is recorded
-//! ([`run_points`]: parallel, resumable, deterministic). They differ in what the grid means
-//! and how the outcomes are drawn:
-//!
-//! * **basins**: fixed parameters, the grid varies the initial state; the attractors are
-//!   matched across points ([`GridScan::catalogue`]) and each point coloured by the one it
-//!   reached;
-//! * **parameter maps**: the grid varies two parameters, each run from the same initial state;
-//!   each point coloured by its period ([`GridScan::periods`]) or its contacts per period
-//!   ([`GridScan::contacts_per_period`]). Where attractors coexist, the map shows the one
-//!   reached from that initial state.
-
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, OVector};
 
-use super::attractor::{find_attractor, Attractor, AttractorConfig, MatchTolerance};
+use super::attractor::{find_attractor, Attractor, AttractorOptions, MatchOptions};
 use super::catalogue::Catalogue;
 use super::failure::PointFailure;
-use super::runner::{run_points, PointResults, RunConfig};
+use super::runner::{run_points, PointResults, RunOptions};
 use super::store::{check_same, Manifest, StoreError, SweepStore, MANIFEST_FILE};
 use crate::analysis::{linspace, AnalysisError, Progress};
 use crate::hybrid::RotorModel;
@@ -107,7 +91,7 @@ pub struct GridScan {
 
 impl GridScan {
     /// The distinct attractors and each point's label ([`Catalogue::new`]).
-    pub fn catalogue(&self, tol: &MatchTolerance) -> Catalogue {
+    pub fn catalogue(&self, tol: &MatchOptions) -> Catalogue {
         Catalogue::new(&self.results.results, tol)
     }
 
@@ -154,7 +138,7 @@ impl Manifest {
         kind: &str,
         description: &D,
         grid: &Grid2,
-        config: &AttractorConfig,
+        config: &AttractorOptions,
     ) -> Result<Self, StoreError> {
         Manifest::new(kind, description, &grid.points())?.with_settings(config)
     }
@@ -173,7 +157,7 @@ impl SweepStore {
         kind: &str,
         description: &D,
         grid: &Grid2,
-        config: &AttractorConfig,
+        config: &AttractorOptions,
     ) -> Result<Self, StoreError> {
         SweepStore::open_manifest(dir, Manifest::scan(kind, description, grid, config)?)
     }
@@ -182,14 +166,14 @@ impl SweepStore {
 /// Checks that `store` (if any) records the scan's `config` ([`SweepStore::open_scan`]).
 pub(crate) fn check_settings(
     store: Option<&SweepStore>,
-    config: &AttractorConfig,
+    config: &AttractorOptions,
 ) -> Result<(), StoreError> {
     let Some(s) = store else { return Ok(()) };
     let path = s.dir().join(MANIFEST_FILE);
     if s.manifest().settings.is_null() {
         return Err(StoreError::SettingsNotRecorded {
             path,
-            needed: "AttractorConfig",
+            needed: "AttractorOptions",
         });
     }
     let given = serde_json::to_value(config).map_err(|e| StoreError::Encode {
@@ -203,7 +187,7 @@ pub(crate) fn check_settings(
 pub fn attractor_at<P, M, S>(
     setup: &S,
     point: &P,
-    config: &AttractorConfig,
+    config: &AttractorOptions,
 ) -> Result<Attractor, PointFailure>
 where
     M: RotorModel,
@@ -215,7 +199,7 @@ where
 }
 
 /// Runs [`find_attractor`] at every point of `grid`, the model and initial state built by
-/// `setup` (see the [module docs](self)), in parallel, writing each outcome to `store` as it
+/// `setup` (see the [module docs](super)), in parallel, writing each outcome to `store` as it
 /// finishes and skipping the points it already holds ([`run_points`]).
 ///
 /// A folder must be opened for this scan with [`SweepStore::open_scan`]: it records the grid
@@ -234,24 +218,24 @@ where
 /// x_0^\prime)$, without a folder:
 ///
 /// ```
-/// use jeffcott::global::{scan_grid, AttractorConfig, Grid2, MatchTolerance, RunConfig};
+/// use jeffcott::global::{scan_grid, AttractorOptions, Grid2, MatchOptions, RunOptions};
 /// use jeffcott::paper::{BasinPlane, StartPlane};
 /// use jeffcott::params::Preset;
 ///
 /// let plane = BasinPlane::new(Preset::Fig8a.params().with_eta(2.2), StartPlane::XVx);
 /// let grid = Grid2::linspace((0.2, 0.8, 3), (-0.5, 0.5, 2))?;
-/// let config = AttractorConfig { transient: 400, max_transient: 400, ..Default::default() };
-/// let scan = scan_grid(&grid, plane.setup(), &config, None, &RunConfig::default(), None)?;
-/// let catalogue = scan.catalogue(&MatchTolerance::default());
+/// let config = AttractorOptions::default().with_transient(400).with_max_transient(400);
+/// let scan = scan_grid(&grid, plane.setup(), &config, None, &RunOptions::default(), None)?;
+/// let catalogue = scan.catalogue(&MatchOptions::default());
 /// assert!(catalogue.entries.iter().all(|e| e.attractor.period().is_some()));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn scan_grid<M, S>(
     grid: &Grid2,
     setup: S,
-    config: &AttractorConfig,
+    config: &AttractorOptions,
     store: Option<&SweepStore>,
-    run: &RunConfig,
+    run: &RunOptions,
     progress: Option<&dyn Progress>,
 ) -> Result<GridScan, StoreError>
 where

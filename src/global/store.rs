@@ -1,55 +1,3 @@
-//! A sweep's output folder: a manifest saying which sweep it holds, and its records, one JSON
-//! object a line, written as points finish.
-//!
-//! # The folder
-//!
-//! * `manifest.json`: `{"format": 3, "crate_version": "0.2.0", "results_version": 1, "kind":
-//!   "...", "points": N, "fingerprint": "<16 hex digits>", "settings": {...}, "description":
-//!   {...}}`, written when the folder is created and checked whenever it is opened again:
-//!   * `format` is the layout of the folder and its records ([`FORMAT_VERSION`]); a folder of
-//!     another format is refused ([`StoreError::Format`]): format 2 (jeffcott 0.2.0, the
-//!     hand-written JSON) wrote whole numbers as `17.0`, which this version does not read.
-//!   * `crate_version` and `results_version` are written by the crate ([`CRATE_VERSION`],
-//!     [`RESULTS_VERSION`]); a folder of another results version is refused
-//!     ([`StoreError::ResultsVersion`]): its records were computed by a version whose results
-//!     differ from this one's. A folder of another crate version with the same results
-//!     version is resumed.
-//!   * `fingerprint` is the 64-bit FNV-1a hash of the points' JSON, one a line (the grid).
-//!   * `settings` are the computation's settings, recorded by the crate: for
-//!     [`super::scan_grid`] its [`super::AttractorConfig`] as serde writes it, every field
-//!     ([`SweepStore::open_scan`]); `null` for a folder opened with [`SweepStore::open`].
-//!   * `kind` and `description` are the caller's: what the sweep computes, and what the crate
-//!     cannot see, e.g. the model's parameters that the caller's `setup` closure uses (any
-//!     `Serialize` value; `&()` for none).
-//!
-//!   A folder whose manifest differs from the sweep being run is refused
-//!   ([`StoreError::Mismatch`], [`StoreError::SettingMismatch`] naming the setting, the
-//!   folder's value and this run's): results of one sweep are never mixed into another, and a
-//!   sweep is resumed only with the settings it was started with.
-//! * `records-<w>.jsonl`, one file per writer `w` (the process, or the MPI rank), and
-//!   `records-shard-<i>-of-<n>.jsonl`, one per shard of a sweep split into independent
-//!   processes ([`super::Shard`], e.g. the tasks of a job array); each line one point:
-//!   `{"index": i, "point": <the point>, "ok": <the result>}` or
-//!   `{"index": i, "point": <the point>, "error": <the error>}`, each value as serde writes it
-//!   ([`Record`], with the rules for numbers, NaN and infinities). `index` is the point's position
-//!   in the sweep's list, so the order of the lines never matters. Reading the folder merges
-//!   every records file: no file is written by two processes at once, so no file locking is
-//!   needed, on a shared file system neither.
-//!
-//! Several processes may open the same new folder at once (the shards of a job array): the
-//! manifest is written whole to a temporary file and linked to `manifest.json` only if there
-//! is none yet (an atomic create-if-absent, also on NFS), then read back and checked: exactly
-//! one manifest is created, and a process of another sweep is refused.
-//!
-//! # Crashes and restarts
-//!
-//! A record is written with one `write` call as soon as its point finishes. A process killed
-//! in the middle of a write leaves at most a partial last line without its line break: readers
-//! ignore it, and the next writer of that file cuts it off before appending. On reading, a
-//! point recorded twice (a rare race of two writers) keeps its first record, in the order of
-//! the file names and the lines; the others are counted in [`Loaded::duplicates`]. A complete
-//! line that is not a valid record is an error ([`StoreError::Corrupt`]), not silently redone.
-
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
@@ -75,7 +23,7 @@ pub const RESULTS_VERSION: u64 = 1;
 pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
 
 /// File name of the manifest.
-pub const MANIFEST_FILE: &str = "manifest.json";
+pub(crate) const MANIFEST_FILE: &str = "manifest.json";
 
 /// What went wrong with a sweep's folder or its configuration.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -147,7 +95,7 @@ pub enum StoreError {
     SettingsNotRecorded {
         /// The manifest.
         path: PathBuf,
-        /// The settings the computation needs recorded (e.g. `"AttractorConfig"`).
+        /// The settings the computation needs recorded (e.g. `"AttractorOptions"`).
         needed: &'static str,
     },
     /// A complete line of a records file (or the manifest) is not a valid record.
@@ -236,7 +184,7 @@ pub(crate) fn io_err(path: &Path, e: io::Error) -> StoreError {
     }
 }
 
-/// Which sweep a folder holds (see the [module docs](self)).
+/// Which sweep a folder holds (see the [module docs](super)).
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct Manifest {
@@ -368,7 +316,7 @@ impl Write for Fnv {
     }
 }
 
-/// A sweep's output folder (see the [module docs](self)).
+/// A sweep's output folder (see the [module docs](super)).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SweepStore {
     dir: PathBuf,
@@ -412,7 +360,7 @@ impl SweepStore {
 
     /// Opens the folder `dir` for the sweep of `manifest`: creates it with its manifest if it
     /// does not exist (or holds no manifest), and checks that its manifest is this sweep's
-    /// otherwise (see the [module docs](self)).
+    /// otherwise (see the [module docs](super)).
     ///
     /// # Errors
     /// [`StoreError::Io`] if the folder or manifest cannot be created or read;

@@ -13,9 +13,10 @@ use crate::ode::{
     OdeError, OdeSystem, Options, Tolerance, MAX_SAMPLES,
 };
 
-/// Options of a hybrid run. A plain struct with `Default`.
+/// Options of a hybrid run. Start from `Default` and change fields with the `with_` builders.
 // serde always, not only with the feature: the sweeps of `global` record it.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[non_exhaustive]
 pub struct SimOptions {
     /// Integration method of integrated modes. Default [`Method::Dop853`].
     pub method: Method,
@@ -53,6 +54,72 @@ pub struct SimOptions {
     /// is missed where the samples find it. `true` is faster (see `docs/performance.md`) and
     /// is a choice to make knowingly.
     pub screen_events: bool,
+}
+
+/// Builders: each returns the options with one field changed.
+impl SimOptions {
+    /// With [`method`](Self::method) = `value`.
+    #[must_use]
+    pub fn with_method(mut self, value: Method) -> Self {
+        self.method = value;
+        self
+    }
+
+    /// With [`rtol`](Self::rtol) = `value`.
+    #[must_use]
+    pub fn with_rtol(mut self, value: f64) -> Self {
+        self.rtol = value;
+        self
+    }
+
+    /// With [`atol`](Self::atol) = `value`.
+    #[must_use]
+    pub fn with_atol(mut self, value: f64) -> Self {
+        self.atol = value;
+        self
+    }
+
+    /// With [`steps_per_period`](Self::steps_per_period) = `value`.
+    #[must_use]
+    pub fn with_steps_per_period(mut self, value: u32) -> Self {
+        self.steps_per_period = value;
+        self
+    }
+
+    /// With [`max_step_fraction`](Self::max_step_fraction) = `value`.
+    #[must_use]
+    pub fn with_max_step_fraction(mut self, value: f64) -> Self {
+        self.max_step_fraction = value;
+        self
+    }
+
+    /// With [`event_samples`](Self::event_samples) = `value`.
+    #[must_use]
+    pub fn with_event_samples(mut self, value: usize) -> Self {
+        self.event_samples = value;
+        self
+    }
+
+    /// With [`max_events_per_period`](Self::max_events_per_period) = `value`.
+    #[must_use]
+    pub fn with_max_events_per_period(mut self, value: u32) -> Self {
+        self.max_events_per_period = value;
+        self
+    }
+
+    /// With [`max_steps`](Self::max_steps) = `value`.
+    #[must_use]
+    pub fn with_max_steps(mut self, value: u64) -> Self {
+        self.max_steps = value;
+        self
+    }
+
+    /// With [`screen_events`](Self::screen_events) = `value`.
+    #[must_use]
+    pub fn with_screen_events(mut self, value: bool) -> Self {
+        self.screen_events = value;
+        self
+    }
 }
 
 impl Default for SimOptions {
@@ -156,7 +223,9 @@ pub enum SimErrorKind {
     /// An option is invalid.
     #[error("invalid option `{field}` = {value}: {hint}")]
     InvalidOption {
-        /// Field of [`SimOptions`] or [`OutputPlan`].
+        /// Field of [`SimOptions`] or [`OutputPlan`], or an argument with a documented rule of
+        /// the function called (e.g. `record` of [`strobe_orbit`](crate::analysis::strobe_orbit),
+        /// `dt` of [`phase_portrait`](crate::analysis::phase_portrait)).
         #[cfg_attr(
             feature = "serde",
             serde(deserialize_with = "crate::serde_util::label")
@@ -170,6 +239,16 @@ pub enum SimErrorKind {
             serde(deserialize_with = "crate::serde_util::label")
         )]
         hint: crate::StaticStr,
+    },
+    /// The initial state's length is not the model's dimension
+    /// ([`RotorModel::dim`](crate::hybrid::RotorModel::dim); only possible with
+    /// [`Dyn`](nalgebra::Dyn)): a condition of the call, not of an option.
+    #[error("the initial state has {found} components but the model's dimension is {expected} (RotorModel::dim)")]
+    DimensionMismatch {
+        /// The model's dimension.
+        expected: usize,
+        /// The initial state's length.
+        found: usize,
     },
 }
 
@@ -670,10 +749,9 @@ where
         return Err(fail(k, t0, y0, stats));
     }
     if y0.len() != model.dim().value() {
-        let kind = SimErrorKind::InvalidOption {
-            field: "y0",
-            value: y0.len() as f64,
-            hint: "the initial state must have the model's dimension (RotorModel::dim)",
+        let kind = SimErrorKind::DimensionMismatch {
+            expected: model.dim().value(),
+            found: y0.len(),
         };
         return Err(fail(kind, t0, y0, stats));
     }

@@ -207,7 +207,7 @@ where
 /// of [`crate::analysis`] runs on it; here a bifurcation diagram over $A$:
 ///
 /// ```
-/// use jeffcott::analysis::{bifurcation, start_from, BifurcationConfig};
+/// use jeffcott::analysis::{bifurcation, start_from, BifurcationOptions};
 /// use jeffcott::hybrid::{Flow, ModelError, NoExactModes, RotorModel};
 /// use jeffcott::nalgebra::{DVector, Dyn};
 /// use jeffcott::numeric::Direction;
@@ -299,7 +299,7 @@ where
 /// // Three masses, two amplitudes, every value from rest (the closures build the model and
 /// // give each run's initial state).
 /// let build = |amp: f64| -> Result<Chain, String> { Ok(Chain { m: 3, amp }) };
-/// let config = BifurcationConfig { transient: 100, record: 8, ..Default::default() };
+/// let config = BifurcationOptions::default().with_transient(100).with_record(8);
 /// let diagram = bifurcation(&[0.2, 1.5], build, start_from(DVector::zeros(6)), &config, None)?;
 /// // A = 0.2 stays clear of the stop (steady amplitude 0.22): linear, period 1.
 /// let low = diagram.columns[0].as_ref().unwrap();

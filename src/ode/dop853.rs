@@ -1,15 +1,3 @@
-//! DOP853: the Dormand–Prince 8(5,3) method of Hairer's `dop853.f`, with its
-//! 7th-order dense output.
-//!
-//! Twelve stages per step (first-same-as-last: 12 evaluations of $f$ per
-//! accepted step, 11 per rejected one). The error estimate combines the
-//! 5th-order estimate $e_5$ and the 3rd-order estimate $e_3$ as
-//! $$\mathrm{err} = |h|\thinspace\frac{\Vert e_5\Vert^2}{\sqrt{N\thinspace(\Vert e_5\Vert^2 + 0.01\thinspace\Vert e_3\Vert^2)}}$$
-//! (sums of squares of scaled components), which behaves like an
-//! 8th-order estimate. Dense output needs three more stages
-//! ($k_{14}, k_{15}, k_{16}$), computed lazily on the first call of
-//! `dense` after a step.
-
 // The coefficients are kept with all the digits Hairer publishes, so that
 // they can be checked against the source; Rust rounds them correctly.
 #![allow(clippy::excessive_precision)]
@@ -199,6 +187,14 @@ const D7: [f64; 12] = [
 const D_STAGES: [usize; 12] = [0, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
 
 /// Dormand–Prince 8(5,3) integrator with 7th-order dense output.
+///
+/// The method of Hairer's `dop853.f`. Twelve stages per step (first-same-as-last: 12
+/// evaluations of $f$ per accepted step, 11 per rejected one). The error estimate combines the
+/// 5th-order estimate $e_5$ and the 3rd-order estimate $e_3$ as
+/// $$\mathrm{err} = |h|\thinspace\frac{\Vert e_5\Vert^2}{\sqrt{N\thinspace(\Vert e_5\Vert^2 + 0.01\thinspace\Vert e_3\Vert^2)}}$$
+/// (sums of squares of scaled components), which behaves like an 8th-order estimate. Dense
+/// output needs three more stages ($k_{14}, k_{15}, k_{16}$), computed lazily on the first call
+/// of `dense` after a step.
 ///
 /// Dense output on $[t_{\text{prev}}, t_{\text{prev}} + h]$ with
 /// $\theta = (t - t_{\text{prev}})/h$, $\bar\theta = 1 - \theta$:

@@ -1,10 +1,3 @@
-//! DOPRI5: the Dormand–Prince 5(4) pair with Shampine's 4th-order continuous
-//! extension (as in Hairer's `dopri5.f`).
-//!
-//! Seven stages, first-same-as-last, so an accepted step costs 6 evaluations
-//! of $f$. The local error estimate is the difference between the 5th-order
-//! propagating solution and the embedded 4th-order one.
-
 use super::core::{core_accessors, fit, zeros, Core, Trial, TrialIo};
 use super::kernels::{axpy, combo};
 use super::{controller::scale, Integrator, OdeError, OdeSystem, Options, Stats};
@@ -54,6 +47,10 @@ const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
 
 /// Dormand–Prince 5(4) integrator with 4th-order dense output.
+///
+/// Shampine's 4th-order continuous extension, as in Hairer's `dopri5.f`. Seven stages,
+/// first-same-as-last, so an accepted step costs 6 evaluations of $f$. The local error estimate
+/// is the difference between the 5th-order propagating solution and the embedded 4th-order one.
 ///
 /// Dense output on $[t_{\text{prev}}, t_{\text{prev}} + h]$ with
 /// $\theta = (t - t_{\text{prev}})/h$:

@@ -1,6 +1,3 @@
-//! The classical 4th-order Runge–Kutta method with fixed steps and cubic
-//! Hermite dense output.
-
 use super::core::{core_accessors, fit, zeros, Core, Trial, TrialIo};
 use super::kernels::axpy;
 use super::{Integrator, OdeError, OdeSystem, Options, Stats};

@@ -1,6 +1,3 @@
-//! A convenience driver: integrate from `t0` to `t_end` with outputs at
-//! requested times (from the dense output) and events.
-
 use super::core::zeros;
 use super::events::{find_first_event, EventHit, EventOptions, EventSet, EventState};
 use super::{Integrator, OdeError, OdeSystem, Stats};

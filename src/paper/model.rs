@@ -190,12 +190,20 @@ impl JeffcottModel {
         }
     }
 
-    /// Stroboscopic states $y(2\pi k/\eta)$ for `k = first..=last`, from `y0` at time 0.
+    /// Stroboscopic states $y(2\pi k/\eta)$ for the index range `k = first..=last` (both
+    /// included; `k = 0` is `y0` itself), from `y0` at time 0: the raw range of
+    /// [`OutputPlan::strobe`], with the driver's full [`Trajectory`].
+    ///
+    /// The analyses' convention is `(transient, record)` instead: `transient` periods
+    /// discarded, the points `k = transient + 1 ..= transient + record` kept
+    /// ([`crate::analysis::strobe_orbit`], whose [`StrobeOrbit`](crate::analysis::StrobeOrbit)
+    /// tests the period). `strobe_range(y0, t + 1, t + r, opts)` gives the same points as
+    /// `strobe_orbit(model, y0, t, r, opts)`.
     ///
     /// # Errors
     /// [`RunFailure`] carrying the error and the states computed before it; a reversed range
     /// (`first > last`) is [`crate::hybrid::SimErrorKind::InvalidOption`].
-    pub fn stroboscopic(
+    pub fn strobe_range(
         &self,
         y0: &State,
         first: u64,

@@ -2,8 +2,8 @@
 //! varies, where each run starts, and convenience wrappers taking [`Params`].
 
 use crate::analysis::{
-    self, AnalysisError, Bifurcation, BifurcationConfig, LocatedChange, LocatorConfig, OrbitError,
-    PeriodTest, PoincareMap, Progress,
+    self, AnalysisError, Bifurcation, BifurcationOptions, LocatedChange, LocatorOptions,
+    OrbitError, PeriodTest, PoincareMap, Progress,
 };
 use nalgebra::U6;
 
@@ -128,12 +128,12 @@ impl RotorStart {
 /// [`ParamSweep::locate_period_change`]).
 ///
 /// ```
-/// use jeffcott::analysis::BifurcationConfig;
+/// use jeffcott::analysis::BifurcationOptions;
 /// use jeffcott::paper::{ParamSweep, SweepParameter};
 /// use jeffcott::params::Preset;
 ///
 /// let family = ParamSweep::new(Preset::Fig8a.params(), SweepParameter::Eta);
-/// let config = BifurcationConfig { transient: 300, record: 8, ..Default::default() };
+/// let config = BifurcationOptions::default().with_transient(300).with_record(8);
 /// let diagram = family.bifurcation(&[2.0, 3.0], &config, None)?;
 /// let periods: Vec<_> = diagram.columns.iter().map(|c| c.as_ref().unwrap().periodicity.period()).collect();
 /// assert_eq!(periods, [Some(1), Some(2)]);
@@ -200,7 +200,7 @@ impl ParamSweep {
     pub fn bifurcation(
         &self,
         values: &[f64],
-        config: &BifurcationConfig,
+        config: &BifurcationOptions,
         progress: Option<&dyn Progress>,
     ) -> Result<Bifurcation<U6, ParamError>, AnalysisError> {
         analysis::bifurcation(
@@ -221,7 +221,7 @@ impl ParamSweep {
         &self,
         from: f64,
         to: f64,
-        config: &LocatorConfig,
+        config: &LocatorOptions,
     ) -> Result<LocatedChange, OrbitError<U6, ParamError>> {
         analysis::locate_period_change(
             from,

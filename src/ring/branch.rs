@@ -1,15 +1,3 @@
-//! The ring's location on a prescribed branch: the smooth extension of one contact regime.
-//!
-//! [`SnubberRing::locate`](super::SnubberRing::locate) picks, for each axis, the branch of the
-//! piecewise-linear force law the minimiser actually lies on, so $s^*(r)$ is continuous but its
-//! derivative jumps at the regime boundaries. An integrator must not step across such a
-//! kink: inside one contact regime the driver uses the *same* branch formulas extended beyond
-//! the boundary, which are analytic, and an event moves it to the neighbouring branch when
-//! $|s_i| = D_i$ is crossed.
-//!
-//! On a fixed branch each axis of the Lagrange condition $g_i(s) = 2\mu(r_i - s_i)$ is linear,
-//! and [`SnubberRing::locate_on`](super::SnubberRing::locate_on) solves it (see `locate.rs`).
-
 use nalgebra::Vector2;
 
 use super::{Regime, RingAxis, SnubberRing};

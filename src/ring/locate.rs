@@ -1,70 +1,3 @@
-//! Where the ring sits in contact: $s^*(r) = \arg\min E(s)$ subject to $|r - s| = \gamma$.
-//!
-//! # One solver for every regime
-//! With $d = r - s$, a minimiser satisfies the Lagrange conditions $g(s) = 2\mu d$, $\mu > 0$,
-//! $|d| = \gamma$. On fixed branches of the two axes' force laws ([`Branches`]) each axis is
-//! linear in $s_i$, so
-//!
-//! $$d_i(\mu) = \frac{\alpha_i}{\beta_i + \mu},\qquad (\alpha_i, \beta_i) = \begin{cases}
-//! (K_i r_i,\ K_i) & \text{inner: } g_i = 2K_i s_i\\\\
-//! (\tfrac12 K_i (r_i + \sigma_i D_i),\ \tfrac12 K_i) & \text{outer: } g_i = K_i (s_i + \sigma_i D_i)
-//! \end{cases}$$
-//!
-//! and $\mu$ solves $|d(\mu)| = \gamma$ on $\mu > -\beta_{\min}$ (negative $\mu$ is the smooth
-//! extension of a contact regime slightly inside $|r| = \gamma$, which event location needs).
-//! The function $\varphi(\mu) = |d(\mu)|^{-1} - 1/\gamma$ is a weighted power mean of exponent
-//! $-2$ of the affine functions $\beta_i + \mu$ minus a constant, hence **increasing and
-//! concave**, and the root lies in
-//! $[\thinspace|\alpha|/\gamma - \beta_{\max},\ |\alpha|/\gamma - \beta_{\min}\thinspace]$.
-//!
-//! **Next to the pole.** The solver works in $u = \beta_{\min} + \mu > 0$, the distance from the
-//! soft axis' pole, and computes $\beta_i + \mu = (\beta_i - \beta_{\min}) + u$ and $d$ from it:
-//! where the stiff axis alone cannot reach the ring ($d_t = |\alpha_t|/(\beta_{\max} -
-//! \beta_{\min}) < \gamma$ at the pole; on a branch on the far side of the centre, or inside
-//! $|r| = \gamma$) the root is at $u \approx |\alpha_s|/\sqrt{\gamma^2 - d_t^2}$, which for
-//! $r_s \sim 10^{-17}$ is far below one ulp of $\mu$ but well resolved in $u$. The bracket
-//! $|\alpha_s|/\gamma \le u \le |\alpha_s|/\sqrt{\gamma^2 - d_t^2}$ holds it. For $\alpha_s = 0$
-//! the root is the pole's limit: $d_s = \pm\sqrt{\gamma^2 - d_t^2}$ with the sign of $\alpha_s$
-//! (of $r_s = \pm 0$), the limit of $r_s \to 0^\pm$, so that the answer is continuous in $r$
-//! from either side. No float equality picks a formula: equal betas give a bracket of one point,
-//! $u = |\alpha|/\gamma$ (regimes II and V of an isotropic ring, paper eq. 22 and Table 3),
-//! and the pole's limit replaces $d_s = \alpha_s/u$ only where that is $0/0$. Otherwise a
-//! safeguarded Newton iteration on $\varphi$ converges monotonically from the left (a step that
-//! leaves the bracket is replaced by bisection, geometric while the bracket spans orders of
-//! magnitude; after 8 Newton steps, lost in the rounding of the residual, only bisection).
-//!
-//! **Stopping rule and tolerance.** The iteration stops after a Newton step
-//! $|\delta| \le 10^{-10} u$ (on a fixed branch the error left after such a step is
-//! $\lesssim \delta^2/u$, below rounding), or once a Newton step or the bracket moves the ring
-//! by less than its rounding, $|\delta|\thinspace|d^\prime(u)| \le 4\varepsilon\gamma$, or
-//! when the bracket is at adjacent floats. The tolerance is relative to the soft axis because
-//! the ring's position moves by about $|d|\thinspace du/u$ there: relative to $\beta_{\max}$
-//! it left errors up to $10^{-20}(\beta_{\max}/\beta_{\min})^2$ in $s$ ($5\times10^{-7}$ for
-//! $K_y/K_x = 10^7$, depending on the warm start), and iterating on $\mu$ could not resolve a
-//! root next to the pole at all. Warm and cold starts agree to rounding ($1.5\times10^{-15}$
-//! relative to $\gamma + |r|$ over $10^6$ random placements with one coordinate of $r$ at or
-//! near 0, $K$ from $10^{-3}$ to $10^4$ per axis, any branches and hints). About 1.6
-//! iterations on average there, at most 60; it never returns an unconverged iterate: after
-//! [`MAX_ITERATIONS`] steps it returns [`RingError::NotConverged`] (the bisection reaches
-//! adjacent floats well before, so this cannot happen for finite input; the error keeps the
-//! promise checkable).
-//!
-//! # Choosing the branches
-//! [`SnubberRing::locate`] also finds the branches the minimiser lies on. For a given $\mu$
-//! each axis solves the monotone piecewise-linear equation $g_i(s_i) + 2\mu s_i = 2\mu r_i$; the
-//! axis passes its preload at the breakpoint $\mu_i^* = K_i D_i/(|r_i| - D_i)$ (if
-//! $|r_i| > D_i > 0$; $0$ if $D_i = 0$). $|d(\mu)|$ falls strictly from $|r|$ at $\mu = 0$, so
-//! comparing $|d|^2$ with $\gamma^2$ at the (at most two) breakpoints finds the piece, hence the
-//! branches, that hold the root; the branch solver then runs inside that piece.
-//!
-//! The Jacobian $J = \partial s^*/\partial r$ follows from implicit differentiation: with
-//! $A = \operatorname{diag}(g_i^\prime + 2\mu)$ and $w = A^{-1}d$,
-//! $J = 2\mu A^{-1} + w\thinspace(d - 2\mu w)^{\mathsf T}/(d\cdot w)$ (see `docs/ring.md`). With
-//! $A_{ii} = a_i = 2(\beta_i + \mu)$ and $a_i - 2\mu = 2\beta_i$ this is
-//! $J = I - \frac{2}{P}\begin{pmatrix}\beta_x d_y^2 & -\beta_y d_x d_y\\\\ -\beta_x d_x d_y &
-//! \beta_y d_x^2\end{pmatrix}$ with $P = a_y d_x^2 + a_x d_y^2$: no cancellation of
-//! $\mu/(\beta_i + \mu)$ terms, and finite at a pole ($a_i = 0$), which is how it is computed.
-
 use nalgebra::{Matrix2, Vector2};
 
 use super::branch::{Branch, Branches};
@@ -76,7 +9,7 @@ use super::{
 /// Largest number of safeguarded Newton/bisection steps of the multiplier solver (1 to 4 are
 /// typical; up to about 60 with a stiffness ratio of $10^7$ between the axes or a root next to
 /// a branch's pole, and a poor warm start).
-pub const MAX_ITERATIONS: u32 = 100;
+pub(crate) const MAX_ITERATIONS: u32 = 100;
 
 /// The ring located in contact with the rotor at `r`, on given force-law branches.
 ///
@@ -615,6 +548,16 @@ struct Uniform {
 /// # Errors
 /// [`RingError::NonFinite`] for non-finite `r` or `gap`, [`RingError::NotPositive`] for
 /// `gap <= 0`, [`RingError::InsideGap`] for `|r| <= gap`.
+///
+/// ```
+/// use jeffcott::nalgebra::Vector2;
+/// use jeffcott::ring::regime_ii_position;
+///
+/// // |r| = 1.5 with gap 1: the ring moves a third of the way along r.
+/// let s = regime_ii_position(&Vector2::new(0.9, 1.2), 1.0)?;
+/// assert!((s - Vector2::new(0.3, 0.4)).norm() < 1e-15);
+/// # Ok::<(), jeffcott::ring::RingError>(())
+/// ```
 pub fn regime_ii_position(r: &Vector2<f64>, gap: f64) -> Result<Vector2<f64>, RingError> {
     check_finite("r.x", r.x)?;
     check_finite("r.y", r.y)?;
@@ -639,6 +582,18 @@ pub fn regime_ii_position(r: &Vector2<f64>, gap: f64) -> Result<Vector2<f64>, Ri
 /// [`RingError::NonFinite`] for non-finite inputs, [`RingError::Negative`] for a negative
 /// preload (`"dx"`, `"dy"`), [`RingError::NotPositive`] for `gap <= 0`,
 /// [`RingError::InsideGap`] for `|r| <= gap`.
+///
+/// ```
+/// use jeffcott::nalgebra::Vector2;
+/// use jeffcott::ring::regime_v_position;
+///
+/// // r - s = sign(r_i) (|r_i| + D_i) / R~ per axis, so the ring is on the contact circle.
+/// let r = Vector2::new(2.0, 1.0);
+/// let s = regime_v_position(&r, 0.1, 0.2, 1.0)?;
+/// assert!(((r - s).norm() - 1.0).abs() < 1e-15);
+/// assert!(s.x > 0.1 && s.y > 0.2); // both axes beyond their preloads: regime V
+/// # Ok::<(), jeffcott::ring::RingError>(())
+/// ```
 pub fn regime_v_position(
     r: &Vector2<f64>,
     dx: f64,

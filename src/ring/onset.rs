@@ -26,7 +26,7 @@
 //!
 //! From a node $t_k$ to the end of its piece, $|q|, |q^\prime|, |q^{\prime\prime}|,
 //! |q^{\prime\prime\prime}|$ have rigorous bounds: the rotor's from
-//! [`RotorMotion::bounds`] (for the paper's model [`FreeFlight::bounds`](crate::paper::free_flight::FreeFlight::bounds)) (the homogeneous energy never
+//! [`RotorMotion::bounds`] (for the paper's model [`FreeFlight::bounds`](crate::paper::FreeFlight::bounds)) (the homogeneous energy never
 //! grows, for every $\nu_1 \ge 0$: under-, critically and over-damped), the ring's because on a
 //! piece each $|s_i|$ and $|s_i^\prime|$ decrease, with $|s_i^{\prime\prime}| =
 //! |s_i^\prime|/T_i$ and $|s_i^{\prime\prime\prime}| = |s_i^\prime|/T_i^2$. They give
@@ -141,7 +141,7 @@ pub struct MotionBounds {
 
 /// The rotor's free motion at the ring's station, known in closed form from a start time on,
 /// with rigorous bounds: what the certified onset search needs from a rotor model that solves
-/// its free flight exactly (the paper's model: [`crate::paper::free_flight::FreeFlight`]).
+/// its free flight exactly (the paper's model: [`crate::paper::FreeFlight`]).
 pub trait RotorMotion {
     /// Start time of the closed form.
     fn start(&self) -> f64;

@@ -1,5 +1,3 @@
-//! Contact regimes I..V and the analytic region boundaries (paper section 4, eqs. 23-27).
-
 use std::fmt;
 
 use nalgebra::Vector2;

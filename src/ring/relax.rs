@@ -1,17 +1,3 @@
-//! Free relaxation of the massless ring out of contact.
-//!
-//! Out of contact the ring's force is zero, `g(s) + C(s) s' = 0`, i.e. per axis with the time
-//! constant `T = 2 nu2/K` (the same inside and beyond the preload):
-//!
-//! * inside (`|s| <= D`): `2 K s + 4 nu2 s' = 0`, so `s' = -s/T` and `s(t) = s0 e^{-t/T}`;
-//! * beyond (`|s| > D`, or `D = 0`): `K (s + sign(s) D) + 2 nu2 s' = 0`, so
-//!   `s' = -(s + sign(s) D)/T` and `s(t) = sign(s0) [ (|s0| + D) e^{-t/T} - D ]` until `|s| = D`
-//!   at `t1 = T ln((|s0| + D)/(2 D))`, then `s(t) = sign(s0) D e^{-(t - t1)/T}`.
-//!
-//! The solution never changes sign, `|s(t)|` is non-increasing and so is `|s'(t)|`: it decays
-//! exponentially on each piece and drops by the factor 2 at `t1` (from `2D/T` to `D/T`).
-//! With `nu2 = 0` the relaxation is instantaneous: `s(t) = 0` for every `t > 0`.
-
 use nalgebra::Vector2;
 
 use super::{RingAxis, SnubberRing};
@@ -84,8 +70,7 @@ fn time_to_preload_axis(axis: &RingAxis, damping: f64, s0: f64) -> f64 {
 }
 
 impl SnubberRing {
-    /// Exact position at time `t >= 0` of the free ring started at `s0` (module docs of
-    /// `relax.rs`): piecewise exponential per axis. `t <= 0` returns `s0`; a NaN `t` gives NaN;
+    /// Exact position at time `t >= 0` of the free ring started at `s0` ([free relaxation](crate::ring#free-relaxation)): piecewise exponential per axis. `t <= 0` returns `s0`; a NaN `t` gives NaN;
     /// with `nu2 = 0` every `t > 0` gives the rest position 0.
     pub fn relax(&self, s0: &Vector2<f64>, t: f64) -> Vector2<f64> {
         Vector2::new(

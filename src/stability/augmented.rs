@@ -547,11 +547,9 @@ where
     };
     let stats = run_dyn(&aug, &start, &plan, opts, &mut rec)?;
     let log = aug.take_log();
-    let point = rec.strobe.ok_or(StabilityError::InvalidOption {
-        field: "periods",
-        value: periods as f64,
-        hint: "the run produced no stroboscopic output: periods must be >= 1",
-    })?;
+    let point = rec
+        .strobe
+        .ok_or(StabilityError::NoStroboscopicPoint { periods })?;
     let (y, m) = aug.unpack(&point.y);
     debug_assert_eq!(log.len(), rec.events.len());
     Ok(Propagated {

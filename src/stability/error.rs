@@ -127,7 +127,14 @@ pub enum StabilityError {
     /// The multipliers could not be computed.
     #[error(transparent)]
     Floquet(#[from] FloquetError),
-    /// An option or argument is invalid.
+    /// A run of the map ended without its stroboscopic point (the driver returned without
+    /// reaching the section): a condition of the run, not of an option.
+    #[error("the run of {periods} forcing periods produced no stroboscopic point")]
+    NoStroboscopicPoint {
+        /// The map's number of forcing periods.
+        periods: u64,
+    },
+    /// An option or an argument breaks its documented rule.
     #[error("invalid `{field}` = {value}: {hint}")]
     InvalidOption {
         /// The option.

@@ -1,16 +1,3 @@
-//! Floquet multipliers: the eigenvalues of a monodromy matrix, sorted, and how a multiplier
-//! leaves the unit circle.
-//!
-//! For a periodic point $z^{\ast} = P^n(z^{\ast})$ of a stroboscopic map the multipliers are the
-//! eigenvalues of the monodromy matrix $DP^n(z^{\ast})$. The point is asymptotically stable when
-//! every multiplier has modulus below 1; it loses stability when one crosses the unit circle:
-//! a real multiplier through $-1$ (**flip**, period doubling), through $+1$ (**fold**, saddle
-//! node), or a complex pair (**Neimark–Sacker**, a torus).
-//!
-//! Eigenvalues come from nalgebra's real Schur decomposition (pure Rust, backward stable:
-//! their error is about $\varepsilon\thinspace\lVert A\rVert$ times the eigenvalue's condition
-//! number).
-
 use nalgebra::DMatrix;
 use thiserror::Error;
 
@@ -115,6 +102,19 @@ pub enum FloquetError {
 ///
 /// # Errors
 /// [`FloquetError`] for a non-square or non-finite matrix.
+///
+/// ```
+/// use jeffcott::nalgebra::DMatrix;
+/// use jeffcott::stability::multipliers;
+///
+/// // Block diagonal: a rotation by a quarter turn scaled by 0.5 (eigenvalues +-0.5i) and -2.
+/// let m = DMatrix::from_row_slice(3, 3, &[0.0, -0.5, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0, -2.0]);
+/// let mu = multipliers(&m)?;
+/// assert!((mu[0].re + 2.0).abs() < 1e-15 && mu[0].im == 0.0); // largest modulus first
+/// assert!((mu[1].im - 0.5).abs() < 1e-15 && (mu[2].im + 0.5).abs() < 1e-15); // pair: +i first
+/// assert!(mu[1..].iter().all(|m| (m.modulus() - 0.5).abs() < 1e-15));
+/// # Ok::<(), jeffcott::stability::FloquetError>(())
+/// ```
 pub fn multipliers(monodromy: &DMatrix<f64>) -> Result<Vec<Multiplier>, FloquetError> {
     let (rows, cols) = monodromy.shape();
     if rows != cols {
@@ -144,7 +144,7 @@ pub fn multipliers(monodromy: &DMatrix<f64>) -> Result<Vec<Multiplier>, FloquetE
 }
 
 /// Sorts multipliers by modulus, largest first (ties as in [`multipliers`]).
-pub fn sort_by_modulus(m: &mut [Multiplier]) {
+pub(crate) fn sort_by_modulus(m: &mut [Multiplier]) {
     m.sort_by(|a, b| {
         b.modulus()
             .total_cmp(&a.modulus())
@@ -154,7 +154,7 @@ pub fn sort_by_modulus(m: &mut [Multiplier]) {
 }
 
 /// The largest modulus of a set of multipliers (0 for none): the spectral radius.
-pub fn spectral_radius(m: &[Multiplier]) -> f64 {
+pub(crate) fn spectral_radius(m: &[Multiplier]) -> f64 {
     m.iter().map(Multiplier::modulus).fold(0.0, f64::max)
 }
 

@@ -1,31 +1,3 @@
-//! Lyapunov exponents of the stroboscopic map.
-//!
-//! * **Spectrum, QR (Benettin) method.** Along a trajectory $y_{k+1} = P(y_k)$ the variational
-//!   equations carry an orthonormal frame $Q_k$ ($d\times d$, $d$ the number of non-algebraic
-//!   components) through one forcing period, $DP(z_k)\thinspace Q_k = Q_{k+1}R_k$, and
-//!   $\lambda_i = \langle\ln R_{k,ii}\rangle$ per forcing period (divide by $2\pi/\eta$ for per
-//!   unit $\tau$). The first periods align the frame and are not recorded.
-//! * **Statistical error.** Batch means over the recorded periods (`statistics`), with the
-//!   batch length stated in the result; the running estimate after each batch shows the
-//!   convergence.
-//! * **Largest exponent, two-trajectory method** (independent of the variational equations):
-//!   a second trajectory $d_0$ away along $u_k$ is run one period with the model's own
-//!   simulation, its distance $d_{k+1}$ recorded as $\ln(d_{k+1}/d_0)$, and it is renormalised
-//!   back to $d_0$ along the new separation (distances in units of the model's
-//!   [`RotorModel::state_scale`](crate::hybrid::RotorModel::state_scale), so that they mean
-//!   the same in any units).
-//! * **Sum of the exponents.** With the whole spectrum, $\sum_i\lambda_i$ is the mean of
-//!   $\ln|\det DP(z_k)|$ by construction (the product of the QR's diagonal), so it is no check
-//!   of $DP$. The check is Liouville's formula along the trajectory, independent of the
-//!   variational code: $\ln|\det DP| = \int\operatorname{tr}(\partial f/\partial y)\thinspace d\tau +
-//!   \sum_e\ln|\det S_e|$ over the period (`tests/stability/stability_lyapunov.rs`,
-//!   docs/stability.md).
-//!
-//! Every event of the fiducial trajectory is crossed through its saltation matrix; the result
-//! counts those crossed at a margin below [`GRAZING_MARGIN`] (the exponents stay meaningful:
-//! the saltations of the ring's onset and preload crossings are bounded at grazing), and the
-//! sections at which the map on $z$ was not closed (a ring that has not relaxed in free flight).
-
 use std::collections::VecDeque;
 
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
@@ -37,9 +9,10 @@ use super::saltation::GRAZING_MARGIN;
 use super::statistics::{qr_step, BatchEstimate, BatchMeans};
 use crate::hybrid::{SimOptions, Variational, VariationalAlloc};
 
-/// Options of [`lyapunov_exponents`]. A plain struct with `Default`.
+/// Options of [`lyapunov_exponents`]. Start from `Default` and change fields with the `with_` builders.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub struct LyapunovOptions {
     /// Forcing periods run (plain simulation) before anything, to reach the attractor.
     /// Default 300.
@@ -64,6 +37,65 @@ pub struct LyapunovOptions {
     pub keep: usize,
     /// Simulation options of every run.
     pub sim: SimOptions,
+}
+
+/// Builders: each returns the options with one field changed.
+impl LyapunovOptions {
+    /// With [`transient`](Self::transient) = `value`.
+    #[must_use]
+    pub fn with_transient(mut self, value: u64) -> Self {
+        self.transient = value;
+        self
+    }
+
+    /// With [`align`](Self::align) = `value`.
+    #[must_use]
+    pub fn with_align(mut self, value: u64) -> Self {
+        self.align = value;
+        self
+    }
+
+    /// With [`periods`](Self::periods) = `value`.
+    #[must_use]
+    pub fn with_periods(mut self, value: u64) -> Self {
+        self.periods = value;
+        self
+    }
+
+    /// With [`batch`](Self::batch) = `value`.
+    #[must_use]
+    pub fn with_batch(mut self, value: u64) -> Self {
+        self.batch = value;
+        self
+    }
+
+    /// With [`separation`](Self::separation) = `value`.
+    #[must_use]
+    pub fn with_separation(mut self, value: Option<f64>) -> Self {
+        self.separation = value;
+        self
+    }
+
+    /// With [`exponents`](Self::exponents) = `Some(value)`.
+    #[must_use]
+    pub fn with_exponents(mut self, value: usize) -> Self {
+        self.exponents = Some(value);
+        self
+    }
+
+    /// With [`keep`](Self::keep) = `value`.
+    #[must_use]
+    pub fn with_keep(mut self, value: usize) -> Self {
+        self.keep = value;
+        self
+    }
+
+    /// With [`sim`](Self::sim) = `value`.
+    #[must_use]
+    pub fn with_sim(mut self, value: SimOptions) -> Self {
+        self.sim = value;
+        self
+    }
 }
 
 impl Default for LyapunovOptions {

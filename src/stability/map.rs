@@ -1,18 +1,3 @@
-//! The stroboscopic map and its Jacobian.
-//!
-//! $P^n$ maps the state at $\tau = 0$ to the state $n$ forcing periods later
-//! ($\tau_k = 2\pi k/\eta$ for the paper's model). It acts on the model's **non-algebraic**
-//! components $z$ (the rotor's four states $(x, y, x^\prime, y^\prime)$ for the paper's model):
-//! the algebraic ones are placed by the model from $z$ at the section
-//! ([`Variational::section_state`]). For the ring this is exact when the section falls in
-//! contact ($s = s^*(r)$) or in free flight with the ring relaxed to its centre (exactly 0 in
-//! double precision on the paper's orbits); otherwise the map on $z$ is not closed, and
-//! [`Linearization::openness`] says by how much (the ring's distance from its centre).
-//!
-//! Its Jacobian comes from the variational equations integrated with the state through every
-//! event (`stability::augmented`), not from differences: the run that gives $P^n(z)$ gives
-//! $DP^n(z)$, on the same steps.
-
 use nalgebra::{DMatrix, DVector, DefaultAllocator, Dim, Dyn, OMatrix, OVector};
 
 use super::augmented::{propagate, LinearEvent};
@@ -22,7 +7,32 @@ use crate::hybrid::{
     VariationalAlloc,
 };
 
-/// The stroboscopic map $P^n$ of a model (module docs).
+/// The stroboscopic map $P^n$ of a model ([the stroboscopic map](crate::stability#the-stroboscopic-map)).
+///
+/// ```
+/// use jeffcott::hybrid::SimOptions;
+/// use jeffcott::paper::{JeffcottModel, State};
+/// use jeffcott::params::Preset;
+/// use jeffcott::stability::StroboscopicMap;
+///
+/// // The Jacobian from the variational equations against central differences of the map
+/// // itself (an independent method), at the point one period after rest.
+/// let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.0))?;
+/// let opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-14);
+/// let map = StroboscopicMap::new(&model, 1, opts)?;
+/// let y = map.advance(&State::zeros())?.y;
+/// let lin = map.linearize(&y)?;
+/// let (z, h) = (map.reduce(&y), 1e-6);
+/// for j in 0..z.len() {
+///     let mut dz = z.clone() * 0.0;
+///     dz[j] = h;
+///     let plus = map.reduce(&map.advance(&map.state(&y, &(&z + &dz)))?.y);
+///     let minus = map.reduce(&map.advance(&map.state(&y, &(&z - &dz)))?.y);
+///     let column = (plus - minus) / (2.0 * h);
+///     assert!((column - lin.jacobian.column(j)).amax() < 1e-5, "column {j}");
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, Copy)]
 pub struct StroboscopicMap<'a, M> {
     model: &'a M,
@@ -168,10 +178,8 @@ where
                 t: e.t,
             }
         })?;
-        let point = obs.point.ok_or(StabilityError::InvalidOption {
-            field: "periods",
-            value: self.periods as f64,
-            hint: "the run produced no stroboscopic output",
+        let point = obs.point.ok_or(StabilityError::NoStroboscopicPoint {
+            periods: self.periods,
         })?;
         Ok(Advanced {
             y: point.y,

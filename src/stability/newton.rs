@@ -1,18 +1,3 @@
-//! Newton's method: the one Newton of the crate, for a fixed point of a map with a known
-//! Jacobian, $F(z) = P(z) - z = 0$ ([`newton_fixed_point`]), and for the bordered systems of
-//! the continuation (`stability::continuation`).
-//!
-//! Each iteration solves $J\thinspace\delta = -G(u_k)$ by LU with partial pivoting ($J = DP -
-//! I$ for a fixed point) and takes the full step if it lowers the residual; otherwise it halves
-//! the step (up to [`NewtonOptions::max_halvings`] times), which keeps an iterate that would
-//! leave the basin of the orbit from jumping to another one. It stops when every component of
-//! the residual is within its tolerance, **relative plus absolute**:
-//! $|G_i| \le$ [`atol`](NewtonOptions::atol)$\cdot s_i +$ [`rtol`](NewtonOptions::rtol)$\cdot
-//! |u_i|$, $s_i$ the scale of component $i$ (the model's
-//! [`state_scale`](crate::hybrid::RotorModel::state_scale); 1 by default), and returns the
-//! point with the map's value and Jacobian there (the monodromy matrix). A run that does not
-//! converge returns its last iterate and residual inside the error.
-
 use nalgebra::{DMatrix, DVector};
 use thiserror::Error;
 
@@ -47,22 +32,22 @@ impl Default for NewtonOptions {
 
 impl NewtonOptions {
     /// With the absolute residual tolerance [`atol`](Self::atol).
-    pub fn atol(mut self, atol: f64) -> Self {
+    pub fn with_atol(mut self, atol: f64) -> Self {
         self.atol = atol;
         self
     }
     /// With the relative residual tolerance [`rtol`](Self::rtol).
-    pub fn rtol(mut self, rtol: f64) -> Self {
+    pub fn with_rtol(mut self, rtol: f64) -> Self {
         self.rtol = rtol;
         self
     }
     /// With at most `n` iterations.
-    pub fn max_iterations(mut self, n: u32) -> Self {
+    pub fn with_max_iterations(mut self, n: u32) -> Self {
         self.max_iterations = n;
         self
     }
     /// With at most `n` halvings per iteration.
-    pub fn max_halvings(mut self, n: u32) -> Self {
+    pub fn with_max_halvings(mut self, n: u32) -> Self {
         self.max_halvings = n;
         self
     }
@@ -321,6 +306,21 @@ fn halve<X, E>(
 ///
 /// # Errors
 /// [`NewtonError`], carrying the last iterate and its residual when it did not converge.
+///
+/// ```
+/// use jeffcott::nalgebra::{DMatrix, DVector};
+/// use jeffcott::stability::{newton_fixed_point, MapValue, NewtonOptions};
+///
+/// // An affine map P(z) = A z + b: its fixed point is (I - A)^{-1} b = (2.5, 2.5).
+/// let a = DMatrix::from_row_slice(2, 2, &[0.5, 0.1, 0.0, 0.2]);
+/// let b = DVector::from_vec(vec![1.0, 2.0]);
+/// let map = |z: &DVector<f64>| {
+///     Ok::<_, std::convert::Infallible>(MapValue { value: &a * z + &b, jacobian: a.clone(), extra: () })
+/// };
+/// let fixed = newton_fixed_point(&DVector::zeros(2), map, None, &NewtonOptions::default())?;
+/// assert!((fixed.point - DVector::from_vec(vec![2.5, 2.5])).amax() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn newton_fixed_point<X, E>(
     guess: &DVector<f64>,
     mut map: impl FnMut(&DVector<f64>) -> Result<MapValue<X>, E>,
@@ -396,7 +396,9 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
-        let opts = NewtonOptions::default().max_iterations(2).atol(1e-30);
+        let opts = NewtonOptions::default()
+            .with_max_iterations(2)
+            .with_atol(1e-30);
         match newton_fixed_point(&DVector::from_vec(vec![1.1, 1.9]), map, None, &opts) {
             Err(NewtonError::NotConverged {
                 last,

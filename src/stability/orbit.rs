@@ -1,17 +1,3 @@
-//! Periodic orbits by shooting: Newton's method on $P^n(z) - z$ with the Jacobian of the
-//! variational equations, the Floquet multipliers, and the orbit's grazing margins.
-//!
-//! **Margins.** A periodic orbit of a contact model can lose or gain a contact without any
-//! multiplier reaching the unit circle (a grazing bifurcation), and near one the map is not
-//! smooth. [`OrbitMargins`] measures how far the orbit is from that: the number of contact
-//! phases per orbit, the smallest penetration depth of a contact, the closest approach to
-//! contact in free flight (both from the model's [`Variational::contact_depth`], sampled 64
-//! times on each smooth piece between events and refined by a parabola through the largest
-//! sample and its neighbours), and the smallest crossing margin of the events' saltation
-//! matrices. An orbit with an event crossed at a margin below [`GRAZING_MARGIN`] is flagged
-//! ([`PeriodicOrbit::grazing`]): its multipliers are those of a map that is not
-//! differentiable there.
-
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 
 use super::augmented::LinearEvent;
@@ -25,15 +11,33 @@ use crate::hybrid::{
     Variational, VariationalAlloc,
 };
 
-/// Options of [`periodic_orbit`]. A plain struct with `Default`.
+/// Options of [`periodic_orbit`]. Start from `Default` and change fields with the `with_` builders.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub struct OrbitOptions {
     /// Newton's options (tolerance on $P^n(z) - z$ relative to the model's
     /// [`state_scale`](crate::hybrid::RotorModel::state_scale), default `1e-11`).
     pub newton: NewtonOptions,
     /// Simulation options of every run.
     pub sim: SimOptions,
+}
+
+/// Builders: each returns the options with one field changed.
+impl OrbitOptions {
+    /// With [`newton`](Self::newton) = `value`.
+    #[must_use]
+    pub fn with_newton(mut self, value: NewtonOptions) -> Self {
+        self.newton = value;
+        self
+    }
+
+    /// With [`sim`](Self::sim) = `value`.
+    #[must_use]
+    pub fn with_sim(mut self, value: SimOptions) -> Self {
+        self.sim = value;
+        self
+    }
 }
 
 /// How far a periodic orbit is from grazing (module docs).
@@ -127,6 +131,28 @@ where
 /// # Errors
 /// [`StabilityError::NotConverged`] with the last iterate and its residual,
 /// [`StabilityError::Singular`] (a multiplier at 1), a simulation or multiplier error.
+///
+/// # Example
+///
+/// ```
+/// use jeffcott::hybrid::SimOptions;
+/// use jeffcott::paper::{JeffcottModel, State};
+/// use jeffcott::params::Preset;
+/// use jeffcott::stability::{periodic_orbit, OrbitOptions};
+///
+/// // The paper's Fig. 8a scene at eta = 2 settles on a period-1 orbit: start Newton from
+/// // the point a simulation from rest reaches after 300 forcing periods.
+/// let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.0))?;
+/// let (run, _) = model.strobe_range(&State::zeros(), 300, 300, &SimOptions::default())?;
+/// let orbit = periodic_orbit(&model, &run.strobe[0].y, 1, &OrbitOptions::default())?;
+/// // Four multipliers (x, y, x', y'); reached by simulation, so an attractor: all inside
+/// // the unit circle.
+/// assert_eq!(orbit.multipliers.len(), 4);
+/// assert!(orbit.spectral_radius() < 1.0);
+/// // The simulated point was already on the orbit, to the simulation's tolerance.
+/// assert!((orbit.state - run.strobe[0].y).amax() < 1e-6);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn periodic_orbit<M>(
     model: &M,
     guess: &OVector<f64, M::Dim>,

@@ -1,33 +1,8 @@
-//! Time averages with a statistical error: batch means, and the QR (Benettin) bookkeeping of
-//! Lyapunov exponents.
-//!
-//! # Batch means
-//!
-//! A time average $\bar x = \frac1n\sum_k x_k$ of a correlated series (one value per forcing
-//! period) has a standard error that the sample variance underestimates. Split the series into
-//! $m$ consecutive batches of length $b$; when $b$ is long against the correlation time the
-//! batch means $\bar x_j$ are nearly independent, and
-//!
-//! $$\operatorname{se}(\bar x) \approx \frac{s_b}{\sqrt m},\qquad
-//! s_b^2 = \frac{1}{m - 1}\sum_j (\bar x_j - \bar x_b)^2 .$$
-//!
-//! The estimate is honest only if $b$ exceeds the correlation time: check it by doubling $b$
-//! (the error must not grow). [`BatchMeans`] keeps the batch means and the running estimate
-//! (the mean after each complete batch).
-//!
-//! # QR re-orthonormalisation
-//!
-//! With $Q_k$ orthonormal ($d\times p$) and $Y = DP(z_k)\thinspace Q_k = Q_{k+1}R_k$ (thin QR, $R_k$
-//! upper triangular with a positive diagonal), the $i$-th Lyapunov exponent per iteration of
-//! the map is the time average of $\ln R_{k,ii}$ ([`qr_step`]). Summed over $i = 1..d$ the
-//! samples are $\ln|\det DP(z_k)|$ by construction (an identity of the factorisation, not a
-//! check of $DP$; the check of the exponents' sum is Liouville's formula, `lyapunov`).
-
 use nalgebra::{DMatrix, DVector};
 
 /// Batch-means accumulator of a vector-valued series (one sample per iteration).
 #[derive(Debug, Clone, PartialEq)]
-pub struct BatchMeans {
+pub(crate) struct BatchMeans {
     batch_length: usize,
     dim: usize,
     /// Sum over the current (incomplete) batch.
@@ -40,7 +15,7 @@ pub struct BatchMeans {
     count: usize,
 }
 
-/// The estimate of a [`BatchMeans`].
+/// A batch-means estimate of a time average and its standard error (see [batch means](crate::stability#batch-means)).
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BatchEstimate {
@@ -89,11 +64,6 @@ impl BatchMeans {
         }
     }
 
-    /// Samples so far.
-    pub fn count(&self) -> usize {
-        self.count
-    }
-
     /// The current estimate.
     pub fn estimate(&self) -> BatchEstimate {
         let n = self.count.max(1) as f64;
@@ -137,7 +107,7 @@ impl BatchMeans {
 /// factored as $Q^\prime R$ with $R_{ii} > 0$; returns $Q^\prime$ and $\ln R_{ii}$. A zero or
 /// non-finite diagonal (a direction collapsed to rounding, or a non-finite Jacobian) gives
 /// $-\infty$ or NaN in that slot, for the caller to report.
-pub fn qr_step(y: DMatrix<f64>) -> (DMatrix<f64>, DVector<f64>) {
+pub(crate) fn qr_step(y: DMatrix<f64>) -> (DMatrix<f64>, DVector<f64>) {
     let p = y.ncols();
     let qr = y.qr();
     let (mut q, r) = (qr.q(), qr.r());

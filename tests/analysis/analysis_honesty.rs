@@ -10,13 +10,13 @@
 //! is a spiral that turns 3 times in 8 periods, so the lag-8 difference of the stroboscopic
 //! points is about (1 - 0.98^8) / |0.98 e^{3i pi/4} - 1| ~ 1/12 of the lag-1 difference.
 
-use jeffcott::analysis::period::MAX_WINDOWS;
+use jeffcott::analysis::MAX_WINDOWS;
 use jeffcott::analysis::{
-    bifurcation, detect_period, start_from, strobe_orbit, window_residuals, BifurcationConfig,
+    bifurcation, detect_period, start_from, strobe_orbit, window_residuals, BifurcationOptions,
     PeriodTest, Periodicity,
 };
 use jeffcott::analysis::{section_crossings, section_crossings_hermite};
-use jeffcott::global::{find_attractor, Attractor, AttractorConfig};
+use jeffcott::global::{find_attractor, Attractor, AttractorOptions};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::numeric::Direction;
 use jeffcott::params::{Params, Preset};
@@ -64,7 +64,7 @@ fn find_attractor_reports_the_fixed_point_not_a_long_cycle() {
     for beta in BETAS {
         let p = linear_params(0.98, 3.0 / 8.0, beta);
         let model = JeffcottModel::new(p).unwrap();
-        let a = find_attractor(&model, &State::zeros(), &AttractorConfig::default()).unwrap();
+        let a = find_attractor(&model, &State::zeros(), &AttractorOptions::default()).unwrap();
         assert_eq!(a.period(), Some(1), "beta {beta}: {}", a.describe());
         assert!(a.describe().starts_with("period 1 "), "{}", a.describe());
         // The cycle point is the closed-form harmonic steady state (to within the test's
@@ -219,11 +219,9 @@ fn bifurcation_columns_and_changes_never_show_the_spurious_cycle() {
     let base = linear_params(0.98, 3.0 / 8.0, 0.02);
     let values = [eta0 - 2e-3, eta0 - 1e-3, eta0, eta0 + 1e-3, eta0 + 2e-3];
     let build = |eta: f64| JeffcottModel::new(Params { eta, ..base });
-    let config = BifurcationConfig {
-        transient: 500,
-        record: 64,
-        ..Default::default()
-    };
+    let config = BifurcationOptions::default()
+        .with_transient(500)
+        .with_record(64);
     let d = bifurcation(&values, build, start_from(State::zeros()), &config, None).unwrap();
     for col in d.columns.iter().flatten() {
         assert!(
@@ -247,10 +245,7 @@ fn a_not_converged_attractor_round_trips_through_its_record() {
     let p = linear_params(0.98, 3.0 / 8.0, 0.02);
     let model = JeffcottModel::new(p).unwrap();
     // One window only: the run stops not converged.
-    let config = AttractorConfig {
-        max_transient: 500,
-        ..Default::default()
-    };
+    let config = AttractorOptions::default().with_max_transient(500);
     let a = find_attractor(&model, &State::zeros(), &config).unwrap();
     assert!(
         matches!(a.periodicity, Periodicity::NotConverged { .. }),
@@ -279,12 +274,12 @@ fn a_not_converged_attractor_round_trips_through_its_record() {
 fn the_papers_period_3_orbit_near_its_neimark_sacker_point_is_not_period_15() {
     let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(4.853)).unwrap();
     let y0 = model.state_at([0.0, 0.0], [0.0, 0.0]).unwrap();
-    let config = BifurcationConfig::default();
+    let config = BifurcationOptions::default();
     let o = strobe_orbit(&model, &y0, config.transient, config.record, &config.opts).unwrap();
     let got = o.period(&config.period_test).unwrap();
     assert!(got.period().is_none_or(|p| p == 3), "{got}");
     // Given the time, the run settles on the period-3 orbit.
-    let a = find_attractor(&model, &y0, &AttractorConfig::default()).unwrap();
+    let a = find_attractor(&model, &y0, &AttractorOptions::default()).unwrap();
     assert_eq!(a.period(), Some(3), "{}", a.describe());
 }
 

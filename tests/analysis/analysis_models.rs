@@ -5,8 +5,8 @@
 use std::f64::consts::{PI, TAU};
 
 use jeffcott::analysis::{
-    bifurcation, locate_period_change, phase_portrait, start_from, strobe_orbit, BifurcationConfig,
-    LocatorConfig, OrbitError, PeriodTest, Periodicity, SweepConfig,
+    bifurcation, locate_period_change, phase_portrait, start_from, strobe_orbit,
+    BifurcationOptions, LocatorOptions, OrbitError, PeriodTest, Periodicity, SweepOptions,
 };
 use jeffcott::hybrid::{Flow, ModelError, NoExactModes, RotorModel, SimErrorKind, SimOptions};
 use jeffcott::nalgebra::{SVector, U2};
@@ -168,23 +168,17 @@ impl RotorModel for Rotation {
 }
 
 fn tight() -> SimOptions {
-    SimOptions {
-        rtol: 1e-12,
-        atol: 1e-14,
-        ..SimOptions::default()
-    }
+    SimOptions::default().with_rtol(1e-12).with_atol(1e-14)
 }
 
 #[test]
 fn bifurcation_of_a_user_model_matches_the_linear_steady_state_below_contact() {
     // Amplitudes whose steady amplitude A / |1 - w^2 + 2i zeta w| stays below the stop at 1.
     let amps = [0.1, 0.2, 0.3];
-    let config = BifurcationConfig {
-        transient: 60,
-        record: 6,
-        opts: tight(),
-        ..BifurcationConfig::default()
-    };
+    let config = BifurcationOptions::default()
+        .with_transient(60)
+        .with_record(6)
+        .with_opts(tight());
     let diagram = bifurcation(
         &amps,
         ForcedStop::new,
@@ -214,13 +208,11 @@ fn bifurcation_of_a_user_model_matches_the_linear_steady_state_below_contact() {
 fn a_user_model_sweep_carries_state_fails_per_value_and_is_thread_independent() {
     // Amplitudes with contact (steady amplitude above 1) and an invalid one.
     let amps = [0.5, 0.6, -1.0, 0.7, 0.8];
-    let run = |sweep: SweepConfig| {
-        let config = BifurcationConfig {
-            transient: 40,
-            record: 8,
-            sweep,
-            ..BifurcationConfig::default()
-        };
+    let run = |sweep: SweepOptions| {
+        let config = BifurcationOptions::default()
+            .with_transient(40)
+            .with_record(8)
+            .with_sweep(sweep);
         bifurcation(
             &amps,
             ForcedStop::new,
@@ -244,7 +236,7 @@ fn a_user_model_sweep_carries_state_fails_per_value_and_is_thread_independent() 
             })
             .collect()
     };
-    for mode in [SweepConfig::reset(), SweepConfig::carry_over(1)] {
+    for mode in [SweepOptions::reset(), SweepOptions::carry_over(1)] {
         let one = run(mode.with_threads(1));
         let two = run(mode.with_threads(2));
         assert_eq!(bits(&one), bits(&two), "{mode:?}");
@@ -255,7 +247,7 @@ fn a_user_model_sweep_carries_state_fails_per_value_and_is_thread_independent() 
         let col = |i: usize| one.columns[i].as_ref().unwrap();
         assert!(col(0).orbit.stats.transitions > 0, "contact expected");
         // Carried state: value 1 starts where value 0 ended; after the failure, from reset.
-        let carried = mode != SweepConfig::reset();
+        let carried = mode != SweepOptions::reset();
         assert_eq!(col(1).from_reset, !carried);
         assert!(col(3).from_reset);
         if carried {
@@ -267,7 +259,7 @@ fn a_user_model_sweep_carries_state_fails_per_value_and_is_thread_independent() 
 }
 
 fn config_opts() -> SimOptions {
-    BifurcationConfig::default().opts
+    BifurcationOptions::default().opts
 }
 
 #[test]
@@ -307,13 +299,12 @@ fn poincare_section_of_a_user_models_phase_portrait_finds_its_maxima() {
 fn locator_finds_a_rational_rotation_of_a_user_model() {
     // Sampling x'' = -x every P rotates the phase by P: period 2 at P = pi exactly, not
     // periodic (up to 16) just below it. The change is at pi.
-    let config = LocatorConfig {
-        transient: 1,
-        record: 40,
-        resolution: 1e-4,
-        opts: tight(),
-        period_test: PeriodTest::default(),
-    };
+    let config = LocatorOptions::default()
+        .with_transient(1)
+        .with_record(40)
+        .with_resolution(1e-4)
+        .with_opts(tight())
+        .with_period_test(PeriodTest::default());
     let build = |period: f64| -> Result<Rotation, String> { Ok(Rotation { period }) };
     let start = start_from(S::new(1.0, 0.0));
     let c = locate_period_change(PI, 2.5, build, start.clone(), &config).unwrap();
@@ -355,4 +346,33 @@ fn strobe_orbit_rejects_empty_and_overflowing_ranges() {
     let o = strobe_orbit(&model, &y0, 3, 2, &opts).unwrap();
     assert_eq!(o.points.iter().map(|p| p.k).collect::<Vec<_>>(), [4, 5]);
     assert_eq!(o.last, o.points[1].y);
+}
+
+/// The two strobe conventions name the same points: `strobe_range(y0, t + 1, t + r)` (the raw
+/// index range) and `strobe_orbit(model, y0, t, r)` (the analyses' `(transient, record)`), as
+/// `JeffcottModel::strobe_range` documents. Both are one run of the driver with the same plan,
+/// so the points agree bitwise.
+#[test]
+fn strobe_range_and_strobe_orbit_name_the_same_points() {
+    use jeffcott::paper::{JeffcottModel, State};
+    use jeffcott::params::Preset;
+    let model = JeffcottModel::new(Preset::Fig8b.params().with_eta(2.0)).unwrap();
+    let (t, r) = (20, 5);
+    let opts = SimOptions::default();
+    let (range, _) = model
+        .strobe_range(&State::zeros(), t + 1, t + r, &opts)
+        .unwrap();
+    let orbit = strobe_orbit(&model, &State::zeros(), t, r, &opts).unwrap();
+    assert_eq!(range.strobe.len(), r as usize);
+    assert_eq!(orbit.points.len(), r as usize);
+    for (a, b) in range.strobe.iter().zip(&orbit.points) {
+        assert_eq!(a.k, b.k);
+        assert_eq!(a.t.to_bits(), b.t.to_bits());
+        assert!(a
+            .y
+            .iter()
+            .zip(b.y.iter())
+            .all(|(u, v)| u.to_bits() == v.to_bits()));
+    }
+    assert_eq!(orbit.points[0].k, t + 1);
 }

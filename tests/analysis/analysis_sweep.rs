@@ -5,7 +5,7 @@ use std::sync::Mutex;
 use std::time::Duration;
 
 use jeffcott::analysis::{
-    chunk_ranges, sweep, AnalysisError, Progress, StderrProgress, SweepConfig,
+    chunk_ranges, sweep, AnalysisError, Progress, StderrProgress, SweepOptions,
 };
 
 /// A chaotic "simulation": 2000 logistic-map steps from the carried state (or 0.3 after a
@@ -38,19 +38,19 @@ fn carry_over_is_bitwise_identical_for_one_and_two_threads() {
     for chunks in [1, 3, 8, 200] {
         let one = sweep(
             &p,
-            &SweepConfig::carry_over(chunks).with_threads(1),
+            &SweepOptions::carry_over(chunks).with_threads(1),
             logistic,
             None,
         )
         .unwrap();
         let two = sweep(
             &p,
-            &SweepConfig::carry_over(chunks).with_threads(2),
+            &SweepOptions::carry_over(chunks).with_threads(2),
             logistic,
             None,
         )
         .unwrap();
-        let global = sweep(&p, &SweepConfig::carry_over(chunks), logistic, None).unwrap();
+        let global = sweep(&p, &SweepOptions::carry_over(chunks), logistic, None).unwrap();
         assert_eq!(one.threads, 1);
         assert_eq!(two.threads, 2);
         assert_eq!(bits(&one.results), bits(&two.results), "chunks = {chunks}");
@@ -66,8 +66,8 @@ fn carry_over_is_bitwise_identical_for_one_and_two_threads() {
 #[test]
 fn reset_is_bitwise_identical_for_one_and_two_threads() {
     let p = params();
-    let one = sweep(&p, &SweepConfig::reset().with_threads(1), logistic, None).unwrap();
-    let two = sweep(&p, &SweepConfig::reset().with_threads(2), logistic, None).unwrap();
+    let one = sweep(&p, &SweepOptions::reset().with_threads(1), logistic, None).unwrap();
+    let two = sweep(&p, &SweepOptions::reset().with_threads(2), logistic, None).unwrap();
     assert_eq!(bits(&one.results), bits(&two.results));
     // Each value on its own equals a direct call from the reset state.
     for (r, res) in p.iter().zip(&one.results) {
@@ -85,7 +85,7 @@ fn carry_over_hands_the_state_on_within_each_chunk() {
     };
     let out = sweep(
         &p,
-        &SweepConfig::carry_over(3).with_threads(2),
+        &SweepOptions::carry_over(3).with_threads(2),
         runner,
         None,
     )
@@ -93,7 +93,7 @@ fn carry_over_hands_the_state_on_within_each_chunk() {
     let got: Vec<usize> = out.results.into_iter().map(Result::unwrap).collect();
     // Chunks 0..4, 4..7, 7..10.
     assert_eq!(got, vec![1, 2, 3, 4, 1, 2, 3, 1, 2, 3]);
-    let out = sweep(&p, &SweepConfig::reset(), runner, None).unwrap();
+    let out = sweep(&p, &SweepOptions::reset(), runner, None).unwrap();
     assert!(out.results.iter().all(|r| *r == Ok(1)));
 }
 
@@ -105,7 +105,7 @@ fn results_come_back_in_parameter_order() {
         std::thread::sleep(Duration::from_millis(2 * (16 - i)));
         Ok((i * 10, ()))
     };
-    for config in [SweepConfig::reset(), SweepConfig::carry_over(4)] {
+    for config in [SweepOptions::reset(), SweepOptions::carry_over(4)] {
         let out = sweep(&p, &config.with_threads(2), runner, None).unwrap();
         let got: Vec<u64> = out.results.into_iter().map(Result::unwrap).collect();
         assert_eq!(got, (0..16).map(|i| i * 10).collect::<Vec<_>>());
@@ -127,7 +127,7 @@ fn a_failure_is_recorded_and_the_rest_completes() {
     // Chunks 0..6 and 6..12: the failure is the last value of the first chunk.
     let out = sweep(
         &p,
-        &SweepConfig::carry_over(2).with_threads(2),
+        &SweepOptions::carry_over(2).with_threads(2),
         runner,
         None,
     )
@@ -156,7 +156,7 @@ fn a_failure_is_recorded_and_the_rest_completes() {
     seen.lock().unwrap().clear();
     let out = sweep(
         &p,
-        &SweepConfig::carry_over(1).with_threads(2),
+        &SweepOptions::carry_over(1).with_threads(2),
         runner,
         None,
     )
@@ -174,7 +174,7 @@ fn a_failure_is_recorded_and_the_rest_completes() {
     assert!(seen.contains(&(5, Some(5))));
     assert!(seen.contains(&(6, None)));
     // Reset mode: the same single failure.
-    let out = sweep(&p, &SweepConfig::reset().with_threads(2), runner, None).unwrap();
+    let out = sweep(&p, &SweepOptions::reset().with_threads(2), runner, None).unwrap();
     assert_eq!(out.failures().map(|(i, _)| i).collect::<Vec<_>>(), vec![5]);
     assert_eq!(out.successes().count(), 11);
 }
@@ -196,7 +196,7 @@ impl Progress for Counter {
 #[test]
 fn progress_is_called_once_per_value() {
     let p = params()[..40].to_vec();
-    for config in [SweepConfig::reset(), SweepConfig::carry_over(5)] {
+    for config in [SweepOptions::reset(), SweepOptions::carry_over(5)] {
         let counter = Counter::default();
         sweep(&p, &config.with_threads(2), logistic, Some(&counter)).unwrap();
         assert_eq!(counter.calls.load(Ordering::Relaxed), 40);
@@ -211,7 +211,7 @@ fn progress_is_called_once_per_value() {
     };
     sweep(
         &p,
-        &SweepConfig::carry_over(3).with_threads(2),
+        &SweepOptions::carry_over(3).with_threads(2),
         logistic,
         Some(&count),
     )
@@ -220,7 +220,7 @@ fn progress_is_called_once_per_value() {
     // The no-op observer and the stderr line from two threads.
     sweep(
         &p,
-        &SweepConfig::reset().with_threads(2),
+        &SweepOptions::reset().with_threads(2),
         logistic,
         Some(&()),
     )
@@ -228,7 +228,7 @@ fn progress_is_called_once_per_value() {
     let bar = StderrProgress::new("test sweep").with_interval(Duration::from_millis(1));
     sweep(
         &p,
-        &SweepConfig::reset().with_threads(2),
+        &SweepOptions::reset().with_threads(2),
         logistic,
         Some(&bar),
     )
@@ -239,7 +239,7 @@ fn progress_is_called_once_per_value() {
 fn bad_configuration_is_a_typed_error() {
     let p = params();
     assert!(matches!(
-        sweep(&p, &SweepConfig::carry_over(0), logistic, None),
+        sweep(&p, &SweepOptions::carry_over(0), logistic, None),
         Err(AnalysisError::InvalidCount {
             name: "chunks",
             value: 0,
@@ -247,7 +247,7 @@ fn bad_configuration_is_a_typed_error() {
         })
     ));
     assert!(matches!(
-        sweep(&p, &SweepConfig::reset().with_threads(0), logistic, None),
+        sweep(&p, &SweepOptions::reset().with_threads(0), logistic, None),
         Err(AnalysisError::InvalidCount {
             name: "threads",
             value: 0,
@@ -255,7 +255,7 @@ fn bad_configuration_is_a_typed_error() {
         })
     ));
     let empty: [f64; 0] = [];
-    let out = sweep(&empty, &SweepConfig::carry_over(4), logistic, None).unwrap();
+    let out = sweep(&empty, &SweepOptions::carry_over(4), logistic, None).unwrap();
     assert!(out.results.is_empty() && out.chains.is_empty());
 }
 

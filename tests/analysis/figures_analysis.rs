@@ -2,8 +2,8 @@
 //! over), period detection on known cases, the bifurcation locator, phase portraits.
 
 use jeffcott::analysis::{
-    linspace, phase_portrait, strobe_orbit, Bifurcation, BifurcationConfig, LocatorConfig,
-    OrbitError, PeriodTest, Periodicity, SweepConfig,
+    linspace, phase_portrait, strobe_orbit, Bifurcation, BifurcationOptions, LocatorOptions,
+    OrbitError, PeriodTest, Periodicity, SweepOptions,
 };
 use jeffcott::hybrid::SimOptions;
 use jeffcott::nalgebra::U6;
@@ -30,20 +30,18 @@ fn eta_sweep(base: Params) -> ParamSweep {
     ParamSweep::new(base, SweepParameter::Eta)
 }
 
-fn small_config(sweep: SweepConfig) -> BifurcationConfig {
-    BifurcationConfig {
-        transient: 40,
-        record: 12,
-        sweep,
-        ..BifurcationConfig::default()
-    }
+fn small_config(sweep: SweepOptions) -> BifurcationOptions {
+    BifurcationOptions::default()
+        .with_transient(40)
+        .with_record(12)
+        .with_sweep(sweep)
 }
 
 #[test]
 fn sweep_is_bitwise_identical_for_1_and_2_threads() {
     let base = Preset::Fig8b.params();
     let etas = linspace(2.0, 4.5, 6).unwrap();
-    for mode in [SweepConfig::reset(), SweepConfig::carry_over(2)] {
+    for mode in [SweepOptions::reset(), SweepOptions::carry_over(2)] {
         let one = eta_sweep(base)
             .bifurcation(&etas, &small_config(mode.with_threads(1)), None)
             .unwrap();
@@ -62,7 +60,7 @@ fn sweep_is_bitwise_identical_for_1_and_2_threads() {
 fn carry_over_hands_the_state_on_within_a_chunk() {
     let base = Preset::Fig8a.params();
     let etas = [2.0, 2.01, 2.02, 2.03];
-    let config = small_config(SweepConfig::carry_over(2).with_threads(2));
+    let config = small_config(SweepOptions::carry_over(2).with_threads(2));
     let b = eta_sweep(base).bifurcation(&etas, &config, None).unwrap();
     let cols: Vec<_> = b.columns.iter().map(|c| c.as_ref().unwrap()).collect();
     assert_eq!(
@@ -75,7 +73,7 @@ fn carry_over_hands_the_state_on_within_a_chunk() {
     assert_eq!(direct.points, cols[1].orbit.points);
     // In reset mode value 1 starts from rest instead, and differs.
     let r = eta_sweep(base)
-        .bifurcation(&etas, &small_config(SweepConfig::reset()), None)
+        .bifurcation(&etas, &small_config(SweepOptions::reset()), None)
         .unwrap();
     let r1 = r.columns[1].as_ref().unwrap();
     assert!(r1.from_reset);
@@ -87,7 +85,7 @@ fn a_failure_is_recorded_and_the_sweep_completes() {
     let base = Preset::Fig8a.params();
     // eta = -1 is an invalid parameter; the others are fine.
     let etas = [2.0, -1.0, 2.5, 3.0];
-    for mode in [SweepConfig::reset(), SweepConfig::carry_over(1)] {
+    for mode in [SweepOptions::reset(), SweepOptions::carry_over(1)] {
         let b = eta_sweep(base)
             .bifurcation(&etas, &small_config(mode.with_threads(2)), None)
             .unwrap();
@@ -117,7 +115,7 @@ fn progress_is_reported_once_per_value() {
         calls.fetch_add(1, Ordering::Relaxed);
     };
     let etas = [2.0, 2.5, 3.0];
-    let config = small_config(SweepConfig::reset());
+    let config = small_config(SweepOptions::reset());
     eta_sweep(Preset::Fig8a.params())
         .bifurcation(&etas, &config, Some(&progress))
         .unwrap();
@@ -160,10 +158,7 @@ fn known_periods() {
 
 #[test]
 fn locator_finds_the_first_bifurcation_of_fig8a() {
-    let config = LocatorConfig {
-        resolution: 2e-3,
-        ..LocatorConfig::default()
-    };
+    let config = LocatorOptions::default().with_resolution(2e-3);
     let family = eta_sweep(Preset::Fig8a.params());
     let c = family.locate_period_change(2.1, 2.2, &config).unwrap();
     assert_eq!(c.bracket.at_from, Periodicity::Period(1));
@@ -233,7 +228,7 @@ fn grids_and_parameters() {
     assert_eq!(SweepParameter::default(), SweepParameter::Eta);
     assert_eq!(SweepParameter::Eta.apply(&base, 3.0).eta, 3.0);
     // A sweep over the preload, carrying the state (the ring is re-placed at each value).
-    let config = small_config(SweepConfig::carry_over(1));
+    let config = small_config(SweepOptions::carry_over(1));
     let b = ParamSweep::new(base.with_eta(3.0), SweepParameter::Preload)
         .bifurcation(&[0.0, 0.05, 0.1], &config, None)
         .unwrap();

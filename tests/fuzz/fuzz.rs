@@ -51,7 +51,7 @@ use jeffcott::hybrid::{
 };
 use jeffcott::nalgebra::{Vector2, U6};
 use jeffcott::ode::{Method, OdeError};
-use jeffcott::paper::free_flight::FreeOscillator;
+use jeffcott::paper::FreeOscillator;
 use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::Params;
 use jeffcott::ring::boundaries::{Boundary, RegionBoundaries};
@@ -211,16 +211,17 @@ fn options() -> impl Strategy<Value = SimOptions> {
                 max_events_per_period,
                 max_steps,
                 screen_events,
-            )| SimOptions {
-                method,
-                rtol,
-                atol,
-                steps_per_period,
-                max_step_fraction,
-                event_samples,
-                max_events_per_period,
-                max_steps,
-                screen_events,
+            )| {
+                SimOptions::default()
+                    .with_method(method)
+                    .with_rtol(rtol)
+                    .with_atol(atol)
+                    .with_steps_per_period(steps_per_period)
+                    .with_max_step_fraction(max_step_fraction)
+                    .with_event_samples(event_samples)
+                    .with_max_events_per_period(max_events_per_period)
+                    .with_max_steps(max_steps)
+                    .with_screen_events(screen_events)
             },
         )
 }
@@ -532,7 +533,7 @@ enum Violation {
 }
 
 /// The time resolution of an event at `t`, $\tau = 64\varepsilon\max(|t|, 1)$ (the ring
-/// element's, docs of `ring::element`): events are located to $4\varepsilon|t|$, and a guard
+/// element's, docs of `ring` (contact element)): events are located to $4\varepsilon|t|$, and a guard
 /// that starts within $8\varepsilon\max(|t|, |t_\text{end}|)$ of zero is taken for the zero at
 /// the start.
 fn time_resolution(t: f64) -> f64 {
@@ -551,7 +552,7 @@ fn resolution_slack(t: f64, y: &State, ring_speed: f64) -> f64 {
 /// How deep the rotor may be beyond the ring in a free flight that started at `(t_s, y_s)`:
 /// the onset guard of a flight that starts touching is $h - m$ with the margin $m$ of
 /// `SnubberRing::onset_margin`, so the rotor may penetrate by up to $m/(2\gamma)$ before the
-/// touch (docs of `ring::element`, "A free flight that starts touching").
+/// touch (docs of `ring` (contact element), "A free flight that starts touching").
 fn margin_depth(ring: &SnubberRing, t_s: f64, y_s: &State) -> f64 {
     let k = Kinematics::new([y_s[0], y_s[1]], [y_s[2], y_s[3]]);
     let relax = Relaxation {
@@ -921,10 +922,7 @@ fn check_run(c: RunCase) -> Result<String, String> {
         // which it crossed (its Hermite bound does not hold there).
         let screen = if c.opts.screen_events {
             let unscreened = RunCase {
-                opts: SimOptions {
-                    screen_events: false,
-                    ..c.opts
-                },
+                opts: c.opts.with_screen_events(false),
                 ..c
             };
             match check_run(unscreened) {
@@ -960,10 +958,9 @@ fn check_run(c: RunCase) -> Result<String, String> {
             // The chattering error's advice must be true: a larger bound goes further. Twice
             // the bound is enough to tell (and keeps the case's work bounded).
             if let SimErrorKind::Chattering { bound, .. } = kind {
-                let more = SimOptions {
-                    max_events_per_period: bound.max(1).saturating_mul(2),
-                    ..c.opts
-                };
+                let more = c
+                    .opts
+                    .with_max_events_per_period(bound.max(1).saturating_mul(2));
                 let (res2, _, _) = run(&more);
                 if let Err((k2, t2, _)) = &res2 {
                     if *t2 <= t {

@@ -11,7 +11,7 @@ use jeffcott::hybrid::{
 use jeffcott::nalgebra::{SVector, Vector2, U1};
 use jeffcott::numeric::Direction;
 use jeffcott::ode::Method;
-use jeffcott::paper::free_flight::FreeOscillator;
+use jeffcott::paper::FreeOscillator;
 use jeffcott::paper::{guard, JeffcottModel};
 use jeffcott::params::Params;
 use jeffcott::ring::onset::{find_onset, Onset, OnsetStats};
@@ -95,14 +95,12 @@ fn far_rest_position_runs_without_a_false_stall() {
             [speed * dir.cos(), speed * dir.sin()],
         )
         .unwrap();
-    let opts = SimOptions {
-        method: Method::Dopri5,
-        rtol: 1.1237947268150232e-9,
-        atol: 8.222976445674338e-14,
-        max_step_fraction: 0.5182073218068742,
-        event_samples: 41,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default()
+        .with_method(Method::Dopri5)
+        .with_rtol(1.1237947268150232e-9)
+        .with_atol(8.222976445674338e-14)
+        .with_max_step_fraction(0.5182073218068742)
+        .with_event_samples(41);
     let (traj, stats) = m
         .run(0.0, &y0, &plan(&p, 1), &opts)
         .unwrap_or_else(|f| panic!("{}", f.error));
@@ -207,14 +205,12 @@ fn event_on_a_non_finite_dense_output_is_non_finite_with_a_good_last_state() {
     // whose samples find the chattering). With 1 (this test until issue 16) the grazing
     // check of the samples' interpolant now finds a preload crossing first, at a state
     // already blown up: the typed error of a preload below its resolution.
-    let opts = SimOptions {
-        rtol: 1.0,
-        atol: 8.572388403695387e-7,
-        max_step_fraction: 0.17217850026456383,
-        event_samples: 8,
-        screen_events: true,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default()
+        .with_rtol(1.0)
+        .with_atol(8.572388403695387e-7)
+        .with_max_step_fraction(0.17217850026456383)
+        .with_event_samples(8)
+        .with_screen_events(true);
     let mut traj = Trajectory::default();
     let e = simulate(&model, 0.0, &y0, &plan(&p, 3), &opts, &mut traj).unwrap_err();
     assert_eq!(e.kind, SimErrorKind::NonFinite, "{e}");
@@ -316,10 +312,7 @@ fn slowdown(advancing: u32, bound: u32) -> Result<u64, SimErrorKind> {
         dense: None,
         events: false,
     };
-    let opts = SimOptions {
-        max_events_per_period: bound,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default().with_max_events_per_period(bound);
     simulate(
         &Slowdown { advancing },
         0.0,
@@ -369,10 +362,7 @@ fn one_transition_at_the_start_is_not_a_stall() {
     let m = JeffcottModel::new(p).unwrap();
     let y0 = m.state_at([0.0, 1.0], [0.0, 0.5]).unwrap();
     let run = |bound: u32| {
-        let opts = SimOptions {
-            max_events_per_period: bound,
-            ..SimOptions::default()
-        };
+        let opts = SimOptions::default().with_max_events_per_period(bound);
         m.run(0.0, &y0, &plan(&p, 2), &opts)
     };
     match run(1) {
@@ -550,12 +540,10 @@ fn rotor_curving_back_after_a_touch_without_load_meets_the_ring() {
         -1.000088900582341e-12,
         6.123532776778104e-29,
     ];
-    let opts = SimOptions {
-        method: Method::Dopri5,
-        rtol: 1.0569511298034146e-6,
-        atol: 3.070137861527155e-8,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default()
+        .with_method(Method::Dopri5)
+        .with_rtol(1.0569511298034146e-6)
+        .with_atol(3.070137861527155e-8);
     let (beyond, _) = free_excursion(
         p,
         (-0.47048397918170715, 1.868724081889459),
@@ -662,14 +650,12 @@ fn preloads_crossed_within_one_ulp_of_the_onset_switch_the_branches() {
         dense: None,
         events: false,
     };
-    let opts = SimOptions {
-        method: Method::Dopri5,
-        rtol: 4.140347919517178e-9,
-        atol: 3.846675761683378e-12,
-        max_step_fraction: 0.004575233048964348,
-        event_samples: 1,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default()
+        .with_method(Method::Dopri5)
+        .with_rtol(4.140347919517178e-9)
+        .with_atol(3.846675761683378e-12)
+        .with_max_step_fraction(0.004575233048964348)
+        .with_event_samples(1);
     let traj = match m.run(t0, &y0, &plan, &opts) {
         Ok((traj, _)) => traj,
         Err(f) => {
@@ -721,16 +707,14 @@ fn a_ring_through_its_inner_region_within_the_time_resolution_takes_the_far_bran
         }),
         events: false,
     };
-    let opts = SimOptions {
-        method: Method::Dopri5,
-        rtol: 4.1252693824424665e-6,
-        atol: 8.731740900609176e-5,
-        max_step_fraction: 0.010815520387604064,
-        event_samples: 14,
-        max_events_per_period: 10_000,
-        screen_events: false,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default()
+        .with_method(Method::Dopri5)
+        .with_rtol(4.1252693824424665e-6)
+        .with_atol(8.731740900609176e-5)
+        .with_max_step_fraction(0.010815520387604064)
+        .with_event_samples(14)
+        .with_max_events_per_period(10_000)
+        .with_screen_events(false);
     let mut traj = Trajectory::default();
     if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
         below_resolution_or_panic(&e.kind);
@@ -889,13 +873,11 @@ fn unresolved_rk4_is_flagged_in_the_run_statistics() {
             [speed * dir.cos(), speed * dir.sin()],
         )
         .unwrap();
-    let opts = SimOptions {
-        method: Method::Rk4,
-        steps_per_period: 2,
-        event_samples: 41,
-        max_events_per_period: 62,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default()
+        .with_method(Method::Rk4)
+        .with_steps_per_period(2)
+        .with_event_samples(41)
+        .with_max_events_per_period(62);
     let (traj, stats) = match m.run(0.0, &y0, &plan(&p, 3), &opts) {
         Ok(ok) => ok,
         Err(f) => (f.partial, f.error.stats),
@@ -911,10 +893,7 @@ fn unresolved_rk4_is_flagged_in_the_run_statistics() {
         "inconsistent outputs ({worst:e}) from a run with no unresolved step: {stats:?}"
     );
     // The same run resolved: no step flagged.
-    let fine = SimOptions {
-        steps_per_period: 2000,
-        ..opts
-    };
+    let fine = opts.with_steps_per_period(2000);
     let stats = match m.run(0.0, &y0, &plan(&p, 3), &fine) {
         Ok((_, stats)) => stats,
         Err(f) => f.error.stats,
@@ -948,17 +927,16 @@ fn a_preload_below_the_rounding_of_the_ring_position_is_a_typed_error() {
     let m = rotor::on_ring(p, -0.16674255294477353, 0.5506916622927115).unwrap();
     let (speed, dir) = (1.526470520501915e-6f64, 0.054227660851708895f64);
     let y0 = SVector::from([0.0, 0.0, speed * dir.cos(), speed * dir.sin(), 0.0, 0.0]);
-    let opts = SimOptions {
-        method: Method::Dop853,
-        rtol: 3.9459873847590993e-10,
-        atol: 7.170878364034749e-6,
-        steps_per_period: 10,
-        max_step_fraction: 0.001725827382784153,
-        event_samples: 41,
-        max_events_per_period: 1000,
-        max_steps: 48401,
-        screen_events: true,
-    };
+    let opts = SimOptions::default()
+        .with_method(Method::Dop853)
+        .with_rtol(3.9459873847590993e-10)
+        .with_atol(7.170878364034749e-6)
+        .with_steps_per_period(10)
+        .with_max_step_fraction(0.001725827382784153)
+        .with_event_samples(41)
+        .with_max_events_per_period(1000)
+        .with_max_steps(48401)
+        .with_screen_events(true);
     let mut traj = Trajectory::default();
     let res = simulate(&m, 0.0, &y0, &plan(&p, 2), &opts, &mut traj);
     let worst = worst_inconsistency(m.ring(), &traj);
@@ -1016,17 +994,16 @@ fn a_touch_a_hair_inside_the_circle_moving_outward_starts_contact() {
         dense: None,
         events: true,
     };
-    let opts = SimOptions {
-        method: Method::Rk4,
-        rtol: 4.579066598091129e-6,
-        atol: 8.121132758309089e-6,
-        steps_per_period: 454,
-        max_step_fraction: 0.21273644290132865,
-        event_samples: 41,
-        max_events_per_period: 1000,
-        max_steps: 65047,
-        screen_events: true,
-    };
+    let opts = SimOptions::default()
+        .with_method(Method::Rk4)
+        .with_rtol(4.579066598091129e-6)
+        .with_atol(8.121132758309089e-6)
+        .with_steps_per_period(454)
+        .with_max_step_fraction(0.21273644290132865)
+        .with_event_samples(41)
+        .with_max_events_per_period(1000)
+        .with_max_steps(65047)
+        .with_screen_events(true);
     let (traj, stats) = m
         .run(t0, &y0, &plan, &opts)
         .unwrap_or_else(|f| panic!("{}", f.error));
@@ -1090,17 +1067,16 @@ fn the_event_screen_does_not_clear_a_crossing() {
         events: true,
     };
     for screen_events in [false, true] {
-        let opts = SimOptions {
-            method: Method::Dop853,
-            rtol: 2.4485229992722414e-11,
-            atol: 0.0008890410066892507,
-            steps_per_period: 10,
-            max_step_fraction: 0.09872976906416432,
-            event_samples: 18,
-            max_events_per_period: 48,
-            max_steps: 79607,
-            screen_events,
-        };
+        let opts = SimOptions::default()
+            .with_method(Method::Dop853)
+            .with_rtol(2.4485229992722414e-11)
+            .with_atol(0.0008890410066892507)
+            .with_steps_per_period(10)
+            .with_max_step_fraction(0.09872976906416432)
+            .with_event_samples(18)
+            .with_max_events_per_period(48)
+            .with_max_steps(79607)
+            .with_screen_events(screen_events);
         let (traj, _) = m
             .run(t0, &y0, &plan, &opts)
             .unwrap_or_else(|f| panic!("{}", f.error));
@@ -1147,17 +1123,16 @@ fn a_start_on_the_circle_accelerated_outward_touches_the_ring() {
         dense: None,
         events: true,
     };
-    let opts = SimOptions {
-        method: Method::Dop853,
-        rtol: 4.993687308337673e-13,
-        atol: 2.0228944270706403e-9,
-        steps_per_period: 5,
-        max_step_fraction: 0.1043659477653059,
-        event_samples: 1,
-        max_events_per_period: 1000,
-        max_steps: 83257,
-        screen_events: false,
-    };
+    let opts = SimOptions::default()
+        .with_method(Method::Dop853)
+        .with_rtol(4.993687308337673e-13)
+        .with_atol(2.0228944270706403e-9)
+        .with_steps_per_period(5)
+        .with_max_step_fraction(0.1043659477653059)
+        .with_event_samples(1)
+        .with_max_events_per_period(1000)
+        .with_max_steps(83257)
+        .with_screen_events(false);
     let mut traj = Trajectory::default();
     if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
         below_resolution_or_panic(&e.kind);
@@ -1221,17 +1196,16 @@ fn a_preload_crossing_pair_the_interpolant_misses_is_found() {
         dense: None,
         events: true,
     };
-    let opts = SimOptions {
-        method: Method::Dopri5,
-        rtol: 0.0002586272338551919,
-        atol: 1.219811436710111e-8,
-        steps_per_period: 2,
-        max_step_fraction: 0.13858953303811822,
-        event_samples: 1,
-        max_events_per_period: 1000,
-        max_steps: 61668,
-        screen_events: false,
-    };
+    let opts = SimOptions::default()
+        .with_method(Method::Dopri5)
+        .with_rtol(0.0002586272338551919)
+        .with_atol(1.219811436710111e-8)
+        .with_steps_per_period(2)
+        .with_max_step_fraction(0.13858953303811822)
+        .with_event_samples(1)
+        .with_max_events_per_period(1000)
+        .with_max_steps(61668)
+        .with_screen_events(false);
     let mut traj = Trajectory::default();
     if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
         panic!("{}", e.kind);

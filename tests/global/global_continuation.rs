@@ -350,7 +350,7 @@ fn the_arclength_does_not_depend_on_the_parameter_units() {
     let config = ContinuationOptions::default();
     let branch = continue_orbit(build, 2.0, 2.3, &guess, 1, &config).unwrap();
     let in_q = |q: f64| JeffcottModel::new(base.with_eta(q / 1000.0));
-    let scaled = config.bracket_width(1e-5);
+    let scaled = config.with_bracket_width(1e-5);
     let branch_q = continue_orbit(in_q, 2000.0, 2300.0, &guess, 1, &scaled).unwrap();
     assert_eq!(branch_q.end, BranchEnd::Reached, "{:?}", branch_q.end);
     let flip = |b: &jeffcott::stability::Branch| {

@@ -6,7 +6,7 @@
 use std::fs;
 use std::path::PathBuf;
 
-use jeffcott::global::{run_points, RunConfig, StoreError, SweepStore};
+use jeffcott::global::{run_points, RunOptions, StoreError, SweepStore};
 use proptest::prelude::*;
 
 fn temp_dir(name: &str) -> PathBuf {
@@ -72,7 +72,7 @@ proptest! {
             if x.to_bits() % 2 == 1 { Err(-x) } else { Ok([*x, -x]) }
         };
         let expected: Vec<Outcome> = values.iter().map(|x| Some(runner(x))).collect();
-        let one = RunConfig::default().with_threads(1);
+        let one = RunOptions::default().with_threads(1);
         let store = SweepStore::open(&dir, "records", &(), &values).unwrap();
         let first = run_points(&values, Some(&store), &one, runner, None).unwrap();
         prop_assert_eq!(first.computed, values.len());
@@ -96,7 +96,7 @@ fn an_outcome_that_does_not_read_back_is_not_written() {
         let points = [1.0, 2.0, 3.0];
         let store = SweepStore::open(&dir, "records", &(), &points).unwrap();
         let runner = |x: &f64| Ok::<f64, String>(if *x == 2.0 { bad } else { *x });
-        let one = RunConfig::default().with_threads(1);
+        let one = RunOptions::default().with_threads(1);
         let err = run_points(&points, Some(&store), &one, runner, None).unwrap_err();
         assert!(
             matches!(err, StoreError::RoundTrip { index: 1, .. }),
@@ -117,7 +117,7 @@ fn an_outcome_written_as_null_reads_back() {
     let points = [-1.0, 2.0];
     let store = SweepStore::open(&dir, "records", &(), &points).unwrap();
     let runner = |x: &f64| Ok::<Option<f64>, String>((*x > 0.0).then_some(*x));
-    let one = RunConfig::default().with_threads(1);
+    let one = RunOptions::default().with_threads(1);
     let first = run_points(&points, Some(&store), &one, runner, None).unwrap();
     assert_eq!(first.results, vec![Some(Ok(None)), Some(Ok(Some(2.0)))]);
     let again = run_points(&points, Some(&store), &one, runner, None).unwrap();

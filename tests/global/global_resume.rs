@@ -1,5 +1,5 @@
 //! Resumed sweeps refuse what they cannot continue (issue 16, item 6): a folder records the
-//! grid, every setting of the scan's `AttractorConfig`, the crate's version and its results
+//! grid, every setting of the scan's `AttractorOptions`, the crate's version and its results
 //! version; a resume with another setting, another grid of the same size, or from a folder
 //! of another results version is an error naming the field and both values. A resume with
 //! the same everything continues and equals one uninterrupted run bit for bit.
@@ -8,7 +8,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use jeffcott::global::{
-    run_points, scan_grid, AttractorConfig, Grid2, GridScan, RunConfig, StoreError, SweepStore,
+    run_points, scan_grid, AttractorOptions, Grid2, GridScan, RunOptions, StoreError, SweepStore,
     CRATE_VERSION, FORMAT_VERSION, RESULTS_VERSION,
 };
 use jeffcott::paper::{BasinPlane, StartPlane};
@@ -24,13 +24,11 @@ fn temp_dir(name: &str) -> PathBuf {
 }
 
 /// Short runs: the tests are about the folder, not the attractors.
-fn quick() -> AttractorConfig {
-    AttractorConfig {
-        transient: 100,
-        record: 32,
-        max_transient: 100,
-        ..AttractorConfig::default()
-    }
+fn quick() -> AttractorOptions {
+    AttractorOptions::default()
+        .with_transient(100)
+        .with_record(32)
+        .with_max_transient(100)
 }
 
 fn plane() -> BasinPlane {
@@ -46,8 +44,8 @@ fn description() -> BasinPlane {
     plane()
 }
 
-fn one_thread() -> RunConfig {
-    RunConfig::default().with_threads(1)
+fn one_thread() -> RunOptions {
+    RunOptions::default().with_threads(1)
 }
 
 /// A folder of `grid()` with `quick()` in which the first point is recorded.
@@ -69,7 +67,7 @@ fn started(name: &str) -> PathBuf {
 
 /// Resumes the folder `dir` with `config` over `grid`, as a user would: opening it for this
 /// scan, then scanning.
-fn resume(dir: &Path, grid: &Grid2, config: &AttractorConfig) -> Result<GridScan, StoreError> {
+fn resume(dir: &Path, grid: &Grid2, config: &AttractorOptions) -> Result<GridScan, StoreError> {
     let store = SweepStore::open_scan(dir, "basins", &description(), grid, config)?;
     scan_grid(
         grid,
@@ -116,10 +114,7 @@ fn a_resume_with_another_setting_is_refused_naming_it() {
         ),
         other => panic!("{:?}", other.map(|s| s.results.computed)),
     }
-    let other = AttractorConfig {
-        transient: 200,
-        ..quick()
-    };
+    let other = quick().with_transient(200);
     let err = resume(&dir, &grid(), &other).unwrap_err();
     assert!(
         matches!(&err, StoreError::SettingMismatch { setting, .. } if setting == "settings.transient"),
@@ -136,10 +131,7 @@ fn a_scan_with_another_config_than_its_open_folder_is_refused() {
     // The folder opened for one config, the scan called with another (before: it went on).
     let dir = started("config");
     let store = SweepStore::open_scan(&dir, "basins", &description(), &grid(), &quick()).unwrap();
-    let other = AttractorConfig {
-        record: 40,
-        ..quick()
-    };
+    let other = quick().with_record(40);
     let err = scan_grid(
         &grid(),
         plane().setup(),

@@ -7,8 +7,8 @@ use std::fs;
 use std::path::PathBuf;
 
 use jeffcott::global::{
-    find_attractor, run_points, scan_grid, Attractor, AttractorConfig, Grid2, GridScan,
-    MatchTolerance, PointFailure, PointLabel, RunConfig, Shard, SimFailureKind, StoreError,
+    find_attractor, run_points, scan_grid, Attractor, AttractorOptions, Grid2, GridScan,
+    MatchOptions, PointFailure, PointLabel, RunOptions, Shard, SimFailureKind, StoreError,
     SweepStore,
 };
 use jeffcott::hybrid::{OutputPlan, SimOptions};
@@ -37,13 +37,11 @@ fn texts(scan: &GridScan) -> Vec<String> {
         .collect()
 }
 
-fn quick() -> AttractorConfig {
-    AttractorConfig {
-        transient: 300,
-        record: 32,
-        max_transient: 600,
-        ..AttractorConfig::default()
-    }
+fn quick() -> AttractorOptions {
+    AttractorOptions::default()
+        .with_transient(300)
+        .with_record(32)
+        .with_max_transient(600)
 }
 
 /// A cycle point of `a` within `tol` of `z` (rotor components), and its distance.
@@ -87,11 +85,7 @@ fn attractors_match_the_reference_orbits() {
 
     // The period-3 orbit of Fig. 8a at eta = 2.17, reached from rest (reference point).
     let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.17)).unwrap();
-    let config = AttractorConfig {
-        transient: 2000,
-        max_transient: 2000,
-        ..quick()
-    };
+    let config = quick().with_transient(2000).with_max_transient(2000);
     let b = find_attractor(
         &model,
         &model.state_at([0.0; 2], [0.0; 2]).unwrap(),
@@ -137,7 +131,7 @@ fn the_same_attractor_from_other_starts_matches_and_others_do_not() {
         [p3a.period(), p3b.period(), p1a.period(), p1b.period()],
         [Some(3), Some(3), Some(1), Some(1)]
     );
-    let tol = MatchTolerance::default();
+    let tol = MatchOptions::default();
     assert!(p3a.matches(&p3b, &tol) && p1a.matches(&p1b, &tol));
     assert!(!p3a.matches(&p1a, &tol));
     // Same canonical point from both starts (rotation fixed by the lexicographic minimum).
@@ -162,11 +156,7 @@ fn basins_at_eta_2_2_hold_period_1_and_period_3_for_both_preloads() {
     let grid = Grid2::linspace((-1.0, 1.0, 5), (-1.5, 1.5, 4)).unwrap();
     // With D = 0.1 the period-3 orbit attracts slowly (a multiplier of its third iterate near
     // -1 makes it look like period 6 after 600 periods): give it 2000.
-    let config = AttractorConfig {
-        transient: 1000,
-        max_transient: 2000,
-        ..quick()
-    };
+    let config = quick().with_transient(1000).with_max_transient(2000);
     for (preset, rest_period) in [(Preset::Fig8a, 3), (Preset::Fig8b, 1)] {
         let plane = BasinPlane::new(preset.params().with_eta(2.2), StartPlane::XVx);
         let scan = scan_grid(
@@ -174,11 +164,11 @@ fn basins_at_eta_2_2_hold_period_1_and_period_3_for_both_preloads() {
             plane.setup(),
             &config,
             None,
-            &RunConfig::default(),
+            &RunOptions::default(),
             None,
         )
         .unwrap();
-        let cat = scan.catalogue(&MatchTolerance::default());
+        let cat = scan.catalogue(&MatchOptions::default());
         let mut periods: Vec<Option<usize>> =
             cat.entries.iter().map(|e| e.attractor.period()).collect();
         periods.sort();
@@ -217,7 +207,7 @@ fn an_interrupted_scan_restarted_equals_an_uninterrupted_one_bitwise() {
         plane.setup(),
         &config,
         None,
-        &RunConfig::default().with_threads(1),
+        &RunOptions::default().with_threads(1),
         None,
     )
     .unwrap();
@@ -227,7 +217,7 @@ fn an_interrupted_scan_restarted_equals_an_uninterrupted_one_bitwise() {
     // Interrupted after 7 points (2 threads), then after 9 more (1 thread), then finished (2).
     let dir = temp_dir("restart");
     let store = SweepStore::open_scan(&dir, "basins", &description, &grid, &config).unwrap();
-    let two = RunConfig::default().with_threads(2);
+    let two = RunOptions::default().with_threads(2);
     let first = scan_grid(
         &grid,
         plane.setup(),
@@ -256,7 +246,7 @@ fn an_interrupted_scan_restarted_equals_an_uninterrupted_one_bitwise() {
         plane.setup(),
         &config,
         Some(&store),
-        &RunConfig::default().with_threads(1).with_max_new_points(9),
+        &RunOptions::default().with_threads(1).with_max_new_points(9),
         None,
     )
     .unwrap();
@@ -302,7 +292,7 @@ fn results_do_not_depend_on_the_number_of_threads() {
             plane.setup(),
             &quick(),
             None,
-            &RunConfig::default().with_threads(t),
+            &RunOptions::default().with_threads(t),
             None,
         )
         .unwrap()
@@ -330,7 +320,7 @@ fn failed_points_are_recorded_with_their_kind_and_not_rerun() {
         plane.setup(),
         &config,
         Some(&store),
-        &RunConfig::default(),
+        &RunOptions::default(),
         None,
     )
     .unwrap();
@@ -349,13 +339,13 @@ fn failed_points_are_recorded_with_their_kind_and_not_rerun() {
         plane.setup(),
         &config,
         Some(&store),
-        &RunConfig::default(),
+        &RunOptions::default(),
         None,
     )
     .unwrap();
     assert_eq!((again.results.computed, again.results.reused), (0, 4));
     assert_eq!(again.results.results, scan.results.results);
-    let cat = again.catalogue(&MatchTolerance::default());
+    let cat = again.catalogue(&MatchOptions::default());
     assert_eq!(cat.labels, vec![PointLabel::Failed; 4]);
     // With a sound budget the valid points succeed.
     let fine = scan_grid(
@@ -363,7 +353,7 @@ fn failed_points_are_recorded_with_their_kind_and_not_rerun() {
         plane.setup(),
         &quick(),
         None,
-        &RunConfig::default(),
+        &RunOptions::default(),
         None,
     )
     .unwrap();
@@ -379,7 +369,7 @@ fn run_points_works_on_any_points_and_stops_on_a_time_budget() {
         std::thread::sleep(std::time::Duration::from_millis(5));
         Ok(p[0].sin() * p[1])
     };
-    let cfg = RunConfig::default()
+    let cfg = RunOptions::default()
         .with_threads(2)
         .with_time_budget(std::time::Duration::from_millis(30));
     let partial = run_points(&points, None, &cfg, f, None).unwrap();
@@ -424,7 +414,7 @@ fn shards_run_separately_then_merged_equal_one_run_bitwise() {
     let plane = BasinPlane::new(Preset::Fig8b.params().with_eta(2.2), StartPlane::XVx);
     let config = quick();
     let description = plane;
-    let one = RunConfig::default().with_threads(1);
+    let one = RunOptions::default().with_threads(1);
 
     // One run, one process, its own folder.
     let dir = temp_dir("shard-whole");
@@ -472,7 +462,7 @@ fn shards_run_separately_then_merged_equal_one_run_bitwise() {
     assert_eq!(texts(&merged), texts(&whole));
     assert_eq!(merged.results.results, whole.results.results);
     // The same labels and catalogue (the figure's data) as one run.
-    let tol = MatchTolerance::default();
+    let tol = MatchOptions::default();
     assert_eq!(merged.catalogue(&tol).labels, whole.catalogue(&tol).labels);
     // The same record set: every point once, in point order after sorting by index.
     let records = |d: &std::path::Path| {
@@ -517,7 +507,7 @@ fn a_shard_resumed_runs_only_its_points_not_yet_done() {
     let dir = temp_dir("shard-resume");
     let store = SweepStore::open_scan(&dir, "basins", &(), &grid, &config).unwrap();
     let shard = "1/2".parse::<Shard>().unwrap();
-    let run = RunConfig::default().with_threads(1).with_shard(shard);
+    let run = RunOptions::default().with_threads(1).with_shard(shard);
     // Shard 1 of 2 owns the points 1, 3, 5, 7: killed after 2 of them.
     let first = scan_grid(
         &grid,

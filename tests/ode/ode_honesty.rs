@@ -134,11 +134,7 @@ fn quartic_events(b: f64, a: f64, base: SimOptions) -> Vec<f64> {
         dense: None,
         events: true,
     };
-    let opts = SimOptions {
-        method: Method::Rk4,
-        steps_per_period: 1,
-        ..base
-    };
+    let opts = base.with_method(Method::Rk4).with_steps_per_period(1);
     let mut traj = Trajectory::default();
     simulate(&model, 0.0, &V1::zeros(), &plan, &opts, &mut traj).unwrap();
     traj.events.iter().map(|e| e.t).collect()
@@ -168,14 +164,7 @@ fn the_driver_default_finds_a_dip_the_step_end_screen_misses() {
 
     // The screen, asked for explicitly, checks its premise at mid-step since issue 17 and
     // samples this step (before, it cleared it and reported no event).
-    let screened = quartic_events(
-        b,
-        a,
-        SimOptions {
-            screen_events: true,
-            ..SimOptions::default()
-        },
-    );
+    let screened = quartic_events(b, a, SimOptions::default().with_screen_events(true));
     assert!(
         screened.first().is_some_and(|t| (t - exact).abs() < 1e-12),
         "screen found {screened:?}, not {exact}"
@@ -219,10 +208,7 @@ fn outputs_never_change_the_trajectory() {
         ..bare
     };
     for method in Method::ALL {
-        let opts = SimOptions {
-            method,
-            ..SimOptions::default()
-        };
+        let opts = SimOptions::default().with_method(method);
         let (a, sa) = model.run(0.0, &State::zeros(), &bare, &opts).unwrap();
         let (b, sb) = model.run(0.0, &State::zeros(), &busy, &opts).unwrap();
         assert_eq!(b.strobe.len(), periods as usize + 1);
@@ -312,11 +298,9 @@ fn a_guard_that_cannot_be_evaluated_stops_the_run_with_a_typed_error() {
     };
     for method in Method::ALL {
         for screen_events in [false, true] {
-            let opts = SimOptions {
-                method,
-                screen_events,
-                ..SimOptions::default()
-            };
+            let opts = SimOptions::default()
+                .with_method(method)
+                .with_screen_events(screen_events);
             let mut traj = Trajectory::default();
             let r = simulate(&NanWindow, 0.0, &V1::zeros(), &plan, &opts, &mut traj);
             let e = match r {

@@ -45,7 +45,7 @@
 //! form, so $|t_s - t_o| \le (\varepsilon_h + 2\delta_h)/h'(t_o) + 2\thinspace\mathrm{ulp}(t_o) +
 //! \mathrm{RES}$.
 
-use jeffcott::paper::free_flight::{FreeFlight, FreeOscillator};
+use jeffcott::paper::{FreeFlight, FreeOscillator};
 use jeffcott::params::{Params, Preset};
 use jeffcott::ring::onset::{find_onset, Onset, OnsetStats};
 use jeffcott::ring::Relaxation;

@@ -1,4 +1,4 @@
-//! The ring's analytic derivatives (`ring::sensitivity`) against central finite differences of
+//! The ring's analytic derivatives (`ring` (derivatives)) against central finite differences of
 //! the quantities they differentiate, on every branch combination (the smooth extension of each
 //! contact regime), isotropic and anisotropic rings, with and without preload.
 //!

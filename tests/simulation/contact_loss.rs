@@ -177,10 +177,7 @@ fn run(st: &Start, t0: f64, y0: &State, periods: f64, bound: u32, dense: bool) -
         }),
         events: true,
     };
-    let opts = SimOptions {
-        max_events_per_period: bound,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default().with_max_events_per_period(bound);
     match m.run(t0, y0, &plan, &opts) {
         Ok((traj, _)) => Outcome { error: None, traj },
         Err(f) => Outcome {
@@ -566,10 +563,7 @@ fn blink(dt: Option<f64>, bound: u32) -> Result<u64, SimErrorKind> {
         dense: None,
         events: false,
     };
-    let opts = SimOptions {
-        max_events_per_period: bound,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default().with_max_events_per_period(bound);
     simulate(
         &Blinker { dt },
         0.5,

@@ -112,11 +112,7 @@ where
 }
 
 fn opts() -> SimOptions {
-    SimOptions {
-        rtol: 1e-12,
-        atol: 1e-14,
-        ..SimOptions::default()
-    }
+    SimOptions::default().with_rtol(1e-12).with_atol(1e-14)
 }
 
 #[test]
@@ -226,8 +222,15 @@ fn the_same_model_with_a_run_time_size_gives_bitwise_the_same_run() {
         &mut (),
     )
     .unwrap_err();
-    assert!(matches!(
-        e.kind,
-        jeffcott::hybrid::SimErrorKind::InvalidOption { field: "y0", .. }
-    ));
+    assert!(
+        matches!(
+            e.kind,
+            jeffcott::hybrid::SimErrorKind::DimensionMismatch {
+                expected: 2,
+                found: 3
+            }
+        ),
+        "{:?}",
+        e.kind
+    );
 }

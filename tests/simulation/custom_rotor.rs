@@ -11,11 +11,7 @@ use jeffcott::JeffcottModel;
 
 /// Strobes k = 0..=300 and the event log of a run from rest.
 fn run<M: RotorModel<Dim = U6>>(model: &M, period: f64) -> Trajectory<U6> {
-    let opts = SimOptions {
-        rtol: 1e-12,
-        atol: 1e-14,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-14);
     let plan = OutputPlan {
         events: true,
         ..OutputPlan::strobe(period, 0, 300)
@@ -130,11 +126,7 @@ fn onsets_over_five_periods<M: RotorModel<Dim = U6>>(
     y0: &SVector<f64, 6>,
     rtol: f64,
 ) -> usize {
-    let opts = SimOptions {
-        rtol,
-        atol: rtol * 1e-2,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default().with_rtol(rtol).with_atol(rtol * 1e-2);
     let plan = OutputPlan {
         t_end: 5.0 * p,
         strobe: None,

@@ -163,17 +163,11 @@ fn the_paper_model_as_a_dyn_model_gives_bitwise_the_same_run() {
         (Preset::Fig10b.params(), SimOptions::default()),
         (
             Preset::Fig8b.params().with_eta(3.0),
-            SimOptions {
-                method: jeffcott::ode::Method::Dopri5,
-                ..SimOptions::default()
-            },
+            SimOptions::default().with_method(jeffcott::ode::Method::Dopri5),
         ),
         (
             Preset::Fig8b.params().with_eta(3.0),
-            SimOptions {
-                method: jeffcott::ode::Method::Rk4,
-                ..SimOptions::default()
-            },
+            SimOptions::default().with_method(jeffcott::ode::Method::Rk4),
         ),
     ];
     for (p, opts) in cases {

@@ -34,11 +34,7 @@ const SIX: Layout = Layout {
 };
 
 fn opts(rtol: f64) -> SimOptions {
-    SimOptions {
-        rtol,
-        atol: rtol * 1e-2,
-        ..SimOptions::default()
-    }
+    SimOptions::default().with_rtol(rtol).with_atol(rtol * 1e-2)
 }
 
 /// Strobes `first..=last` and the event log of a run from `y0`.

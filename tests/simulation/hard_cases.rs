@@ -57,11 +57,7 @@ fn ok(o: Outcome, what: &str) -> (Trajectory<U6>, SimStats) {
 }
 
 fn tol(rtol: f64, atol: f64) -> SimOptions {
-    SimOptions {
-        rtol,
-        atol,
-        ..SimOptions::default()
-    }
+    SimOptions::default().with_rtol(rtol).with_atol(atol)
 }
 
 fn last(t: &Trajectory<U6>) -> State {
@@ -377,15 +373,7 @@ fn corner_of_both_preloads_at_once() {
         let (t, _) = ok(run(p, y0, 5, SimOptions::default()), "corner");
         let (tt, _) = ok(run(p, y0, 5, tol(1e-13, 1e-15)), "corner tight");
         let (t5, _) = ok(
-            run(
-                p,
-                y0,
-                5,
-                SimOptions {
-                    method: Method::Dopri5,
-                    ..tol(1e-12, 1e-14)
-                },
-            ),
+            run(p, y0, 5, tol(1e-12, 1e-14).with_method(Method::Dopri5)),
             "corner dopri5",
         );
         assert_sane(&t, 2.0, 2.0, "corner");
@@ -495,15 +483,7 @@ fn start_inside_contact() {
         let y0 = m.state_at(r, v).unwrap();
         let (t, _) = ok(run(p, y0, 10, SimOptions::default()), "inside");
         let (t5, _) = ok(
-            run(
-                p,
-                y0,
-                10,
-                SimOptions {
-                    method: Method::Dopri5,
-                    ..tol(1e-13, 1e-15)
-                },
-            ),
+            run(p, y0, 10, tol(1e-13, 1e-15).with_method(Method::Dopri5)),
             "inside dopri5",
         );
         assert_sane(&t, 2.5, 3.0, "inside");
@@ -679,7 +659,7 @@ fn long_run(p: Params, y0: State, periods: u64, secs: u64) -> (f64, SimStats) {
     within(secs, move || {
         let m = JeffcottModel::new(p).unwrap();
         let (t, s) = m
-            .stroboscopic(&y0, 0, periods, &SimOptions::default())
+            .strobe_range(&y0, 0, periods, &SimOptions::default())
             .unwrap_or_else(|f| panic!("{}", f.error));
         assert_eq!(t.strobe.len() as u64, periods + 1);
         let mut e_max = 0.0f64;
@@ -734,10 +714,7 @@ fn chattering_bound_ends_in_typed_error() {
     // typed chattering error, carrying the state reached and the partial output.
     let p = grazing_params(1.0 + 1e-9);
     let (y0, _) = steady_orbit(&p);
-    let opts = SimOptions {
-        max_events_per_period: 1,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default().with_max_events_per_period(1);
     match run(p, y0, 50, opts) {
         Err(f) => {
             assert!(
@@ -758,19 +735,11 @@ fn chattering_bound_ends_in_typed_error() {
 fn invalid_options_are_typed_errors() {
     let p = Preset::Fig8a.params();
     for opts in [
-        SimOptions {
-            rtol: f64::NAN,
-            ..SimOptions::default()
-        },
-        SimOptions {
-            steps_per_period: 0,
-            method: Method::Rk4,
-            ..SimOptions::default()
-        },
-        SimOptions {
-            max_step_fraction: 0.0,
-            ..SimOptions::default()
-        },
+        SimOptions::default().with_rtol(f64::NAN),
+        SimOptions::default()
+            .with_steps_per_period(0)
+            .with_method(Method::Rk4),
+        SimOptions::default().with_max_step_fraction(0.0),
     ] {
         match run(p, State::zeros(), 1, opts) {
             Err(f) => assert!(
@@ -796,11 +765,9 @@ fn rk4_and_adaptive_agree_on_contact_scene() {
             p,
             State::zeros(),
             10,
-            SimOptions {
-                method: Method::Rk4,
-                steps_per_period: 4000,
-                ..SimOptions::default()
-            },
+            SimOptions::default()
+                .with_method(Method::Rk4)
+                .with_steps_per_period(4000),
         ),
         "rk4",
     );

@@ -54,7 +54,7 @@ fn compare(name: &str, opts: &SimOptions) -> (f64, usize) {
     let model = JeffcottModel::new(r.params).unwrap();
     let last = r.rows.last().unwrap().0;
     let (traj, _) = model
-        .stroboscopic(&State::zeros(), 0, last, opts)
+        .strobe_range(&State::zeros(), 0, last, opts)
         .unwrap_or_else(|f| panic!("{name}: {}", f.error));
     assert_eq!(traj.strobe.len(), r.rows.len());
     let mut worst = 0.0f64;
@@ -79,11 +79,7 @@ const ALLOWED: f64 = 5e-12;
 
 #[test]
 fn matches_independent_reference_trajectories() {
-    let opts = SimOptions {
-        rtol: 1e-12,
-        atol: 1e-14,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-14);
     for name in ["fig8a_eta2.0.csv", "fig8b_eta2.0.csv", "fig8b_eta3.0.csv"] {
         let (worst, flags) = compare(name, &opts);
         println!("{name}: max |deviation| = {worst:.3e}, contact-flag mismatches = {flags}");
@@ -100,12 +96,10 @@ const ALLOWED_RADAU5: f64 = 1e-7;
 
 #[test]
 fn radau5_matches_independent_reference_trajectories() {
-    let opts = SimOptions {
-        method: jeffcott::ode::Method::Radau5,
-        rtol: 1e-10,
-        atol: 1e-12,
-        ..SimOptions::default()
-    };
+    let opts = SimOptions::default()
+        .with_method(jeffcott::ode::Method::Radau5)
+        .with_rtol(1e-10)
+        .with_atol(1e-12);
     for name in ["fig8a_eta2.0.csv", "fig8b_eta2.0.csv", "fig8b_eta3.0.csv"] {
         let (worst, flags) = compare(name, &opts);
         println!("RADAU5 {name}: max |deviation| = {worst:.3e}, contact-flag mismatches = {flags}");

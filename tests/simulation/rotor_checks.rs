@@ -215,14 +215,8 @@ fn an_eccentric_station_has_the_paper_models_multipliers() {
         0.0,
         0.0,
     ]);
-    let opts = OrbitOptions {
-        sim: SimOptions {
-            rtol: 1e-13,
-            atol: 1e-15,
-            ..SimOptions::default()
-        },
-        ..OrbitOptions::default()
-    };
+    let opts =
+        OrbitOptions::default().with_sim(SimOptions::default().with_rtol(1e-13).with_atol(1e-15));
     let orbit = periodic_orbit(&model, &y0, 1, &opts).unwrap();
     let want = [0.7311493467, 0.6746058590, 0.6746058590, 0.6235630128];
     for (m, w) in orbit.multipliers.iter().zip(want) {

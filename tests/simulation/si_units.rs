@@ -14,8 +14,8 @@
 //! by `stability::locate_loss`, at the same parameter on both sides.
 //! TODO(issue 17): the pseudo-arclength continuation's special points (folds) on both sides.
 
-use jeffcott::analysis::{bifurcation, start_from, strobe_orbit, BifurcationConfig, PeriodTest};
-use jeffcott::global::{find_attractor, Attractor, AttractorConfig, MatchTolerance};
+use jeffcott::analysis::{bifurcation, start_from, strobe_orbit, BifurcationOptions, PeriodTest};
+use jeffcott::global::{find_attractor, Attractor, AttractorOptions, MatchOptions};
 use jeffcott::hybrid::SimOptions;
 use jeffcott::nalgebra::{SVector, Vector2, U6};
 use jeffcott::paper::{JeffcottModel, State};
@@ -239,11 +239,9 @@ fn a_converging_orbit_is_not_a_cycle_in_si_units_either() {
 #[test]
 fn attractors_agree() {
     // Period 1 (eta = 2), period 2 (eta = 3) of Fig. 8b, from rest.
-    let config = AttractorConfig {
-        transient: 100,
-        record: 32,
-        ..AttractorConfig::default()
-    };
+    let config = AttractorOptions::default()
+        .with_transient(100)
+        .with_record(32);
     for (eta, period) in [(2.0, 1), (3.0, 2)] {
         let p = Preset::Fig8b.params().with_eta(eta);
         let nd = JeffcottModel::new(p).unwrap();
@@ -271,12 +269,10 @@ fn attractors_match_alike() {
     // The period-2 orbits at eta = 3 and 3.005 differ by about 7e-3 gap: distinct attractors
     // at the default matching tolerance (1e-3 of the state's scale), in both units; each
     // matches the same run's attractor.
-    let config = AttractorConfig {
-        transient: 100,
-        record: 32,
-        ..AttractorConfig::default()
-    };
-    let tol = MatchTolerance::default();
+    let config = AttractorOptions::default()
+        .with_transient(100)
+        .with_record(32);
+    let tol = MatchOptions::default();
     let run = |eta: f64| {
         let p = Preset::Fig8b.params().with_eta(eta);
         let nd = JeffcottModel::new(p).unwrap();
@@ -306,11 +302,9 @@ fn attractors_match_alike() {
 fn a_bifurcation_slice_agrees() {
     let base = Preset::Fig8b.params();
     let values = [2.0, 2.5, 3.0, 3.5, 4.0, 4.6];
-    let config = BifurcationConfig {
-        transient: 300,
-        record: 32,
-        ..BifurcationConfig::default()
-    };
+    let config = BifurcationOptions::default()
+        .with_transient(300)
+        .with_record(32);
     let nd = bifurcation(
         &values,
         |eta| JeffcottModel::new(base.with_eta(eta)),

@@ -10,16 +10,12 @@ use jeffcott::params::{Params, Preset};
 use nalgebra::{SVector, Vector2, U6};
 
 fn opts(rtol: f64) -> SimOptions {
-    SimOptions {
-        rtol,
-        atol: rtol * 1e-2,
-        ..SimOptions::default()
-    }
+    SimOptions::default().with_rtol(rtol).with_atol(rtol * 1e-2)
 }
 
 fn end_state(model: &JeffcottModel, periods: u64, o: &SimOptions) -> State {
     let (traj, _) = model
-        .stroboscopic(&State::zeros(), periods, periods, o)
+        .strobe_range(&State::zeros(), periods, periods, o)
         .unwrap();
     traj.strobe[0].y
 }
@@ -68,7 +64,7 @@ fn exact_free_flight_agrees_with_dop853() {
     };
     let model = JeffcottModel::new(p).unwrap();
     let y0 = model.state_at([0.2, -0.1], [0.3, 0.1]).unwrap();
-    let (traj, stats) = model.stroboscopic(&y0, 0, 8, &opts(1e-10)).unwrap();
+    let (traj, stats) = model.strobe_range(&y0, 0, 8, &opts(1e-10)).unwrap();
     assert_eq!(stats.steps, 0, "no integrated phase expected");
     let sys = |t: f64, y: &SVector<f64, 4>, dy: &mut SVector<f64, 4>| {
         let th = p.phi0 + p.eta * t;
@@ -236,11 +232,11 @@ fn a_run_can_start_in_contact() {
 fn a_rotor_beyond_the_ring_is_a_typed_error() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
     let y0 = State::from([1.5, 0.0, 0.0, 0.0, 0.0, 0.0]);
-    let err = model.stroboscopic(&y0, 0, 3, &opts(1e-9)).unwrap_err();
+    let err = model.strobe_range(&y0, 0, 3, &opts(1e-9)).unwrap_err();
     assert!(matches!(err.error.kind, SimErrorKind::Model(_)), "{err}");
     assert_eq!(err.error.y, y0);
     let bad = State::from([f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0]);
-    let err = model.stroboscopic(&bad, 0, 3, &opts(1e-9)).unwrap_err();
+    let err = model.strobe_range(&bad, 0, 3, &opts(1e-9)).unwrap_err();
     assert!(matches!(err.error.kind, SimErrorKind::NonFinite));
 }
 
@@ -248,11 +244,8 @@ fn a_rotor_beyond_the_ring_is_a_typed_error() {
 fn chattering_bound_ends_the_run_with_what_was_computed() {
     // About 3 transitions per period: a bound of 2 must stop the run.
     let model = JeffcottModel::new(Preset::Fig10b.params()).unwrap();
-    let o = SimOptions {
-        max_events_per_period: 2,
-        ..opts(1e-9)
-    };
-    let err = model.stroboscopic(&State::zeros(), 0, 50, &o).unwrap_err();
+    let o = opts(1e-9).with_max_events_per_period(2);
+    let err = model.strobe_range(&State::zeros(), 0, 50, &o).unwrap_err();
     assert!(
         matches!(err.error.kind, SimErrorKind::Chattering { .. }),
         "{err}"
@@ -265,21 +258,11 @@ fn chattering_bound_ends_the_run_with_what_was_computed() {
 fn invalid_options_are_typed_errors() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
     for o in [
-        SimOptions {
-            rtol: f64::NAN,
-            ..SimOptions::default()
-        },
-        SimOptions {
-            rtol: 0.0,
-            atol: 0.0,
-            ..SimOptions::default()
-        },
-        SimOptions {
-            max_step_fraction: -1.0,
-            ..SimOptions::default()
-        },
+        SimOptions::default().with_rtol(f64::NAN),
+        SimOptions::default().with_rtol(0.0).with_atol(0.0),
+        SimOptions::default().with_max_step_fraction(-1.0),
     ] {
-        let err = model.stroboscopic(&State::zeros(), 0, 3, &o).unwrap_err();
+        let err = model.strobe_range(&State::zeros(), 0, 3, &o).unwrap_err();
         assert!(
             matches!(err.error.kind, SimErrorKind::InvalidOption { .. }),
             "{err}"
@@ -290,12 +273,9 @@ fn invalid_options_are_typed_errors() {
 #[test]
 fn event_samples_out_of_range_is_a_typed_error_not_a_clamp() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
-    for n in [0, jeffcott::ode::events::MAX_SAMPLES + 1] {
-        let o = SimOptions {
-            event_samples: n,
-            ..SimOptions::default()
-        };
-        let err = model.stroboscopic(&State::zeros(), 0, 3, &o).unwrap_err();
+    for n in [0, jeffcott::ode::MAX_SAMPLES + 1] {
+        let o = SimOptions::default().with_event_samples(n);
+        let err = model.strobe_range(&State::zeros(), 0, 3, &o).unwrap_err();
         assert!(
             matches!(
                 err.error.kind,
@@ -306,12 +286,9 @@ fn event_samples_out_of_range_is_a_typed_error_not_a_clamp() {
         assert!(err.partial.strobe.is_empty());
     }
     // The ends of the range run.
-    for n in [1, jeffcott::ode::events::MAX_SAMPLES] {
-        let o = SimOptions {
-            event_samples: n,
-            ..SimOptions::default()
-        };
-        assert!(model.stroboscopic(&State::zeros(), 0, 3, &o).is_ok(), "{n}");
+    for n in [1, jeffcott::ode::MAX_SAMPLES] {
+        let o = SimOptions::default().with_event_samples(n);
+        assert!(model.strobe_range(&State::zeros(), 0, 3, &o).is_ok(), "{n}");
     }
 }
 
@@ -319,7 +296,7 @@ fn event_samples_out_of_range_is_a_typed_error_not_a_clamp() {
 fn reversed_output_ranges_are_typed_errors() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
     let err = model
-        .stroboscopic(&State::zeros(), 5, 4, &SimOptions::default())
+        .strobe_range(&State::zeros(), 5, 4, &SimOptions::default())
         .unwrap_err();
     assert!(
         matches!(
@@ -330,7 +307,7 @@ fn reversed_output_ranges_are_typed_errors() {
     );
     // A single point (first == last) is fine.
     let (t, _) = model
-        .stroboscopic(&State::zeros(), 4, 4, &SimOptions::default())
+        .strobe_range(&State::zeros(), 4, 4, &SimOptions::default())
         .unwrap();
     assert_eq!(t.strobe.len(), 1);
     let bad_dense = OutputPlan {
@@ -408,7 +385,7 @@ fn zero_ring_damping_runs_and_stays_close_to_tiny_damping() {
         };
         let model = JeffcottModel::new(p).unwrap();
         let (traj, stats) = model
-            .stroboscopic(&State::zeros(), 0, 40, &opts(1e-10))
+            .strobe_range(&State::zeros(), 0, 40, &opts(1e-10))
             .unwrap();
         assert!(stats.transitions > 10);
         assert!(traj
@@ -462,10 +439,10 @@ fn onsets_late_in_long_runs_resolve_at_the_time_resolution() {
 fn the_first_output_is_the_initial_state_exactly() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
     let y0 = model.state_at([0.1, -0.2], [0.3, 0.05]).unwrap();
-    let (traj, _) = model.stroboscopic(&y0, 0, 2, &opts(1e-9)).unwrap();
+    let (traj, _) = model.strobe_range(&y0, 0, 2, &opts(1e-9)).unwrap();
     assert_eq!(traj.strobe[0].y, y0);
     let (traj, _) = model
-        .stroboscopic(&State::zeros(), 0, 0, &opts(1e-9))
+        .strobe_range(&State::zeros(), 0, 0, &opts(1e-9))
         .unwrap();
     assert_eq!(traj.strobe[0].y, State::zeros());
 }
@@ -483,13 +460,10 @@ fn the_first_output_is_the_initial_state_exactly() {
 fn a_preload_graze_one_nanometre_of_the_gap_deep_is_found_in_contact() {
     let base = Preset::Fig8b.params().with_eta(2.0);
     // The screen is off by default: this test is about the screen, so it asks for it.
-    let o = SimOptions {
-        screen_events: true,
-        ..SimOptions::default()
-    };
+    let o = SimOptions::default().with_screen_events(true);
     let (traj, _) = JeffcottModel::new(base)
         .unwrap()
-        .stroboscopic(&State::zeros(), 300, 300, &o)
+        .strobe_range(&State::zeros(), 300, 300, &o)
         .unwrap();
     let (t0, y0) = (traj.strobe[0].t, traj.strobe[0].y);
     let period = base.forcing_period();

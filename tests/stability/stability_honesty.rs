@@ -76,7 +76,7 @@ fn a_builder_that_fails_is_a_failure_not_a_grazing_or_a_fold() {
 fn an_exhausted_step_budget_returns_the_path_with_the_error() {
     let p = Preset::Fig8a.params();
     let model = JeffcottModel::new(p.with_eta(2.0)).unwrap();
-    let opts = LossOptions::default().max_steps(3);
+    let opts = LossOptions::default().with_max_steps(3);
     let c = locate_loss(
         |eta| JeffcottModel::new(p.with_eta(eta)),
         2.0,

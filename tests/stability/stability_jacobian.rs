@@ -15,11 +15,7 @@ use jeffcott::stability::StroboscopicMap;
 use nalgebra::{DMatrix, DVector};
 
 fn tight() -> SimOptions {
-    SimOptions {
-        rtol: 1e-13,
-        atol: 1e-15,
-        ..SimOptions::default()
-    }
+    SimOptions::default().with_rtol(1e-13).with_atol(1e-15)
 }
 
 /// Richardson central differences of the map on z at the state `y`.

@@ -47,13 +47,11 @@ fn reference_value(case: &str, quantity: &str) -> (f64, f64) {
 fn run(preset: Preset, eta: f64, x0: f64, periods: u64, batch: u64) -> LyapunovSpectrum {
     let model = JeffcottModel::new(preset.params().with_eta(eta)).unwrap();
     let y0 = model.state_at([x0, 0.0], [0.0, 0.0]).unwrap();
-    let opts = LyapunovOptions {
-        transient: 500,
-        align: 100,
-        periods,
-        batch,
-        ..LyapunovOptions::default()
-    };
+    let opts = LyapunovOptions::default()
+        .with_transient(500)
+        .with_align(100)
+        .with_periods(periods)
+        .with_batch(batch);
     lyapunov_exponents(&model, &y0, &opts).unwrap()
 }
 
@@ -155,16 +153,9 @@ fn the_spectrum_of_a_stable_orbit_is_the_log_of_its_multipliers() {
 #[test]
 fn bad_options_are_typed_errors() {
     let model = JeffcottModel::new(Preset::Fig8a.params()).unwrap();
-    let opts = LyapunovOptions {
-        periods: 10,
-        batch: 20,
-        ..LyapunovOptions::default()
-    };
+    let opts = LyapunovOptions::default().with_periods(10).with_batch(20);
     assert!(lyapunov_exponents(&model, &State::zeros(), &opts).is_err());
-    let opts = LyapunovOptions {
-        separation: Some(0.0),
-        ..LyapunovOptions::default()
-    };
+    let opts = LyapunovOptions::default().with_separation(Some(0.0));
     assert!(lyapunov_exponents(&model, &State::zeros(), &opts).is_err());
 }
 
@@ -256,15 +247,13 @@ fn the_spectrum_sums_to_liouvilles_formula_along_the_trajectory() {
         let p = Preset::Fig8a.params().with_eta(eta);
         let model = JeffcottModel::new(p).unwrap();
         let y0 = model.state_at([0.0, 0.0], [0.0, 0.0]).unwrap();
-        let opts = LyapunovOptions {
-            transient: 500,
-            align: 100,
-            periods,
-            batch,
-            separation: None,
-            keep: periods as usize,
-            ..LyapunovOptions::default()
-        };
+        let opts = LyapunovOptions::default()
+            .with_transient(500)
+            .with_align(100)
+            .with_periods(periods)
+            .with_batch(batch)
+            .with_separation(None)
+            .with_keep(periods as usize);
         let l = lyapunov_exponents(&model, &y0, &opts).unwrap();
         assert_eq!(l.open_sections, 0);
         // The same periods, plain runs: from the section where the recording starts, then

@@ -19,11 +19,7 @@ use jeffcott::stability::{multipliers, periodic_orbit, OrbitOptions, Stroboscopi
 const CHECK: [f64; 4] = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533];
 
 fn tight() -> SimOptions {
-    SimOptions {
-        rtol: 1e-13,
-        atol: 1e-15,
-        ..SimOptions::default()
-    }
+    SimOptions::default().with_rtol(1e-13).with_atol(1e-15)
 }
 
 /// Richardson central differences of P^n on z at `y`.
@@ -57,10 +53,7 @@ fn a_user_rotor_on_the_ring_has_the_paper_models_multipliers() {
     // integrated free flight.
     let p = Preset::Fig8a.params().with_eta(2.0);
     let model = rotor::on_ring(p, 0.0, 0.0).unwrap();
-    let opts = OrbitOptions {
-        sim: tight(),
-        ..OrbitOptions::default()
-    };
+    let opts = OrbitOptions::default().with_sim(tight());
     let orbit = periodic_orbit(&model, &check_state(&model), 1, &opts).unwrap();
     // tests/data/stability_reference.csv (independent; its error 7e-11).
     let want = [

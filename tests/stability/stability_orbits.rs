@@ -297,10 +297,8 @@ fn the_coexisting_period_three_orbit_is_born_in_a_fold() {
 fn newton_failure_returns_the_last_iterate_and_its_residual() {
     // A period-1 guess on the chaotic attractor with two iterations: no convergence.
     let model = JeffcottModel::new(Preset::Fig8a.params().with_eta(2.442)).unwrap();
-    let opts = OrbitOptions {
-        newton: jeffcott::stability::NewtonOptions::default().max_iterations(2),
-        ..Default::default()
-    };
+    let opts = OrbitOptions::default()
+        .with_newton(jeffcott::stability::NewtonOptions::default().with_max_iterations(2));
     let start = guess(&model, [0.2, 0.1, 0.0, 0.0]);
     match periodic_orbit(&model, &start, 1, &opts) {
         Err(StabilityError::NotConverged {
@@ -348,7 +346,7 @@ fn the_period_two_orbit_grazes_the_preload_near_the_papers_3_107() {
         "still stable beyond"
     );
     // The same continuation through the grazing goes on to 3.2 without a loss.
-    let opts = LossOptions::default().through_grazing(true);
+    let opts = LossOptions::default().with_through_grazing(true);
     let c = locate_loss(build, 3.0, 3.2, &start, 2, &opts).unwrap();
     assert!(c.loss.is_none());
     assert_eq!(c.grazings.len(), 1);
@@ -361,7 +359,7 @@ fn plain_tail(preset: Preset, case: &str, eta: f64, n: u64) -> Vec<[f64; 4]> {
     let model = JeffcottModel::new(preset.params().with_eta(eta)).unwrap();
     let y0 = guess(&model, reference_point(case));
     let (traj, _) = model
-        .stroboscopic(&y0, n - 8, n, &SimOptions::default())
+        .strobe_range(&y0, n - 8, n, &SimOptions::default())
         .unwrap();
     traj.strobe
         .iter()

@@ -1,51 +1,3 @@
-//! Continuation of periodic orbits in any scalar parameter: pseudo-arclength through folds,
-//! stability along the branch, bifurcations located, branch switching at a flip, and grazing
-//! (a contact gained or lost) detected, located and passed.
-//!
-//! # The method
-//!
-//! A period-$n$ orbit is a zero of $F(z, p) = P^n_p(z) - z$, $z$ the non-algebraic components at
-//! the section $\tau = 0$ (the rotor's $(x, y, x^\prime, y^\prime)$ for the paper's model) and
-//! $p$ the parameter, the model being built at each $p$ by a closure. The branch is followed in
-//! the **scaled** coordinates $w = (z_i/s_i,\ p/s_p)$, $s_i$ the model's
-//! [`state_scale`](crate::hybrid::RotorModel::state_scale) and $s_p$
-//! [`ContinuationOptions::param_scale`] (so that the arclength does not mix units), in its
-//! arclength $s$ (pseudo-arclength): from a point $w_k$ with unit tangent $t_k$ (the null
-//! vector of $[F_w\ F_p]$, oriented along the last one), the predictor $w_k + \Delta s\thinspace
-//! t_k$ is corrected by the one Newton ([`crate::stability::newton`], full steps) on
-//!
-//! $$F(w) = 0,\qquad t_k\cdot(w - w_k - \Delta s\thinspace t_k) = 0,$$
-//!
-//! which stays regular at a fold, where $p$ turns back. $F_z = DP^n - I$ is the Jacobian of the
-//! variational equations through every event ([`StroboscopicMap`]); $F_p$ is a central
-//! difference in $p$ (step $h = $ [`ContinuationOptions::param_step`] $\cdot(1 + |p|)$). The
-//! corrector stops when $|F_i| \le$ `atol`$\cdot s_i +$ `rtol`$\cdot|z_i|$ (and the constraint
-//! is within $10^3$ `atol`). The step grows by 1.5 after an easy correction (at most 3
-//! iterations) up to [`ContinuationOptions::ds_max`] and halves after a failed one (a
-//! correction that does not converge, or one larger than the step: Newton jumped to another
-//! branch); the branch ends if it falls below [`ContinuationOptions::ds_min`].
-//!
-//! # Special points
-//!
-//! At every point the multipliers (eigenvalues of $DP^n$) are counted outside the unit circle
-//! and the event structure recorded ([`super`]'s one definition). Between two points a change
-//! of a count is a fold, flip or Neimark–Sacker bifurcation, a change of the event structure a
-//! grazing, which the continuation goes on through.
-//!
-//! Each is located by the one bisection ([`crate::numeric::bisect`]) along the secant between the two
-//! points (a corrected point on the hyperplane through the midpoint, normal to the secant)
-//! until the bracket is narrower than [`ContinuationOptions::bracket_width`] (in the parameter,
-//! and in every component of $z$ relative to its scale); the value reported is the bracket's
-//! midpoint, with the multipliers at its near end. If the bisection stops short (no corrected
-//! point or no orbit at a midpoint), the point is returned as detected but not located:
-//! [`SpecialPoint::converged`] is `false`, with the error and the bracket reached.
-//!
-//! **Branch switching** ([`switch_at_flip`]): at a flip of the period-$n$ orbit the period-$2n$
-//! orbit branches off along the eigenvector $v$ of the multiplier $-1$. Its first point is
-//! corrected on the hyperplane $v\cdot(w - w^{\ast}) = a$ (with $p$ free, $v$ in the scaled
-//! coordinates) for amplitudes $a$ from $10^{-3}$ up, until a point of minimal period $2n$ is
-//! found; its branch is then continued as any other.
-
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 
 use super::{canonical, crossings, model, SpecialKind};
@@ -109,57 +61,57 @@ impl Default for ContinuationOptions {
 
 impl ContinuationOptions {
     /// With the first step [`ds`](Self::ds).
-    pub fn ds(mut self, ds: f64) -> Self {
+    pub fn with_ds(mut self, ds: f64) -> Self {
         self.ds = ds;
         self
     }
     /// With the smallest step [`ds_min`](Self::ds_min).
-    pub fn ds_min(mut self, ds_min: f64) -> Self {
+    pub fn with_ds_min(mut self, ds_min: f64) -> Self {
         self.ds_min = ds_min;
         self
     }
     /// With the largest step [`ds_max`](Self::ds_max).
-    pub fn ds_max(mut self, ds_max: f64) -> Self {
+    pub fn with_ds_max(mut self, ds_max: f64) -> Self {
         self.ds_max = ds_max;
         self
     }
     /// With at most `n` points per branch.
-    pub fn max_points(mut self, n: usize) -> Self {
+    pub fn with_max_points(mut self, n: usize) -> Self {
         self.max_points = n;
         self
     }
     /// With the corrector's absolute tolerance [`atol`](Self::atol).
-    pub fn atol(mut self, atol: f64) -> Self {
+    pub fn with_atol(mut self, atol: f64) -> Self {
         self.atol = atol;
         self
     }
     /// With the corrector's relative tolerance [`rtol`](Self::rtol).
-    pub fn rtol(mut self, rtol: f64) -> Self {
+    pub fn with_rtol(mut self, rtol: f64) -> Self {
         self.rtol = rtol;
         self
     }
     /// With at most `n` corrector iterations per point.
-    pub fn max_iterations(mut self, n: u32) -> Self {
+    pub fn with_max_iterations(mut self, n: u32) -> Self {
         self.max_iterations = n;
         self
     }
     /// With the located brackets' width [`bracket_width`](Self::bracket_width).
-    pub fn bracket_width(mut self, width: f64) -> Self {
+    pub fn with_bracket_width(mut self, width: f64) -> Self {
         self.bracket_width = width;
         self
     }
     /// With the relative step [`param_step`](Self::param_step) of $F_p$.
-    pub fn param_step(mut self, step: f64) -> Self {
+    pub fn with_param_step(mut self, step: f64) -> Self {
         self.param_step = step;
         self
     }
     /// With the parameter's scale [`param_scale`](Self::param_scale).
-    pub fn param_scale(mut self, scale: f64) -> Self {
+    pub fn with_param_scale(mut self, scale: f64) -> Self {
         self.param_scale = Some(scale);
         self
     }
     /// With the simulation options [`sim`](Self::sim).
-    pub fn sim(mut self, sim: SimOptions) -> Self {
+    pub fn with_sim(mut self, sim: SimOptions) -> Self {
         self.sim = sim;
         self
     }
@@ -428,9 +380,9 @@ where
         template: &OVector<f64, M::Dim>,
     ) -> Result<Solved<M::Dim>, StabilityError> {
         let newton = NewtonOptions::default()
-            .atol(self.opts.atol)
-            .rtol(self.opts.rtol)
-            .max_iterations(self.opts.max_iterations + 1);
+            .with_atol(self.opts.atol)
+            .with_rtol(self.opts.rtol)
+            .with_max_iterations(self.opts.max_iterations + 1);
         // The residual is F_i / s_i: its scale is 1, and its relative part rtol |z_i| / s_i.
         let ones = DVector::from_element(start.len(), 1.0);
         let rule = Rule {
@@ -824,7 +776,7 @@ where
 
 /// Continues the period-`period` orbit through the full state `guess` (at the section, e.g. a
 /// point of a simulated orbit) at parameter `from`, towards `to` (see the
-/// [module docs](self); the arguments in the order of [`locate_loss`](super::locate_loss)). `build(p)` makes the model at `p`. The branch ends when its
+/// [module docs](crate::stability); the arguments in the order of [`locate_loss`](super::locate_loss)). `build(p)` makes the model at `p`. The branch ends when its
 /// parameter leaves the interval between `from` and `to`; after a fold it may come back
 /// through it.
 ///
@@ -891,7 +843,7 @@ where
 }
 
 /// Switches at the flip `flip` of a period-`period` branch onto the period-`2 period` branch
-/// and continues it from there towards `to` (see the [module docs](self)).
+/// and continues it from there towards `to` (see the [module docs](crate::stability)).
 ///
 /// # Errors
 /// [`StabilityError::InvalidOption`] if `flip` is not a flip with an eigenvector;

@@ -1,48 +1,3 @@
-//! Following a periodic orbit along a parameter and locating where it loses stability.
-//!
-//! The parameter enters through a closure that builds the model at each value (any parameter,
-//! any model). From the orbit found at `from`, natural-parameter continuation steps towards
-//! `to`, each orbit found by Newton ([`periodic_orbit`]) from a secant prediction of the last
-//! two, until one of these happens between two steps:
-//!
-//! * a multiplier leaves the unit circle (the spectral radius passes 1): **flip** (real,
-//!   through $-1$), **fold** (real, through $+1$) or **Neimark–Sacker** (a complex pair);
-//! * the orbit's **event structure** changes (a contact appears or disappears: a grazing
-//!   bifurcation, which the multipliers do not announce; compared up to a rotation, so that
-//!   an event moving across the section does not count);
-//! * no orbit is found, and none as the step is halved down to the tolerance.
-//!
-//! The bracket is then bisected by the one bisection ([`crate::numeric::bisect`]; Newton at each
-//! midpoint, warm-started from the stable end)
-//! until it is narrower than [`LossOptions::bracket_width`]; for a multiplier crossing the
-//! value reported is the linear interpolation of the spectral radius to 1 inside the final
-//! bracket, for the others its midpoint. The bisection has no other exit: a located
-//! [`StabilityLoss`] always has a bracket of at most the width (or two adjacent floats). The
-//! kinds are the one definition of [`super`] ([`SpecialKind`]).
-//!
-//! Why this loop and not [`continue_orbit`](super::continue_orbit)'s: with the parameter held
-//! fixed (the constraint row $e_p$) the core's bordered corrector is Newton on $P^n(z) - z$,
-//! which is what [`periodic_orbit`] runs (the one Newton, with its step halvings), so the steps
-//! here call that directly. Through the core each solve would also evaluate $F_p$ (two more
-//! runs of the map per iteration, unused at a fixed parameter) and return a branch point
-//! without what this question needs at every step: the orbit's margins, minimal period and
-//! monodromy.
-//!
-//! **A failure is not a bifurcation.** Where no orbit is found at the far end of the final
-//! bracket, the branch ends there; that is called a bifurcation only on positive evidence at
-//! the last orbit found, and only when what failed is Newton itself (no convergence, a
-//! singular $DP^n - I$, or an orbit of the wrong branch):
-//!
-//! * a **fold** if a real multiplier has come near $+1$ (above 0.95, and not farther from 1
-//!   than where the bracket started): a branch of period-$n$ orbits ends by turning back;
-//! * a **grazing** if an event of the last orbit is crossed tangentially
-//!   ([`PeriodicOrbit::grazing`]: its margin has gone to 0): a contact or a regime boundary
-//!   met tangentially, where the map is not differentiable.
-//!
-//! Any other end (a model that cannot be built, a failed simulation, Newton failing with no
-//! such evidence, the step budget exhausted) is reported as a [`BranchFailure`] with its
-//! error, where it happened and the last orbit found, never as a located point.
-
 use nalgebra::{DVector, DefaultAllocator, OVector};
 
 use super::{canonical, crossings, largest_real_positive, model, SpecialKind};
@@ -92,7 +47,9 @@ impl Default for LossOptions {
             max_correction: 0.05,
             through_grazing: false,
             orbit: OrbitOptions {
-                newton: NewtonOptions::default().max_iterations(10).max_halvings(6),
+                newton: NewtonOptions::default()
+                    .with_max_iterations(10)
+                    .with_max_halvings(6),
                 ..OrbitOptions::default()
             },
         }
@@ -101,32 +58,32 @@ impl Default for LossOptions {
 
 impl LossOptions {
     /// With the continuation step [`step`](Self::step).
-    pub fn step(mut self, step: f64) -> Self {
+    pub fn with_step(mut self, step: f64) -> Self {
         self.step = step;
         self
     }
     /// With the final bracket's width [`bracket_width`](Self::bracket_width).
-    pub fn bracket_width(mut self, width: f64) -> Self {
+    pub fn with_bracket_width(mut self, width: f64) -> Self {
         self.bracket_width = width;
         self
     }
     /// With at most `n` continuation steps.
-    pub fn max_steps(mut self, n: usize) -> Self {
+    pub fn with_max_steps(mut self, n: usize) -> Self {
         self.max_steps = n;
         self
     }
     /// With the largest accepted correction [`max_correction`](Self::max_correction).
-    pub fn max_correction(mut self, c: f64) -> Self {
+    pub fn with_max_correction(mut self, c: f64) -> Self {
         self.max_correction = c;
         self
     }
     /// Going on through grazings ([`through_grazing`](Self::through_grazing)).
-    pub fn through_grazing(mut self, on: bool) -> Self {
+    pub fn with_through_grazing(mut self, on: bool) -> Self {
         self.through_grazing = on;
         self
     }
     /// With the periodic-orbit options [`orbit`](Self::orbit).
-    pub fn orbit(mut self, orbit: OrbitOptions) -> Self {
+    pub fn with_orbit(mut self, orbit: OrbitOptions) -> Self {
         self.orbit = orbit;
         self
     }

@@ -1,38 +1,5 @@
-//! Following periodic orbits along a parameter: one continuation core, one Newton, one locator
-//! of special points.
-//!
-//! The parameter enters through a closure that builds the model at each value (any parameter,
-//! any model). A period-$n$ orbit is a zero of $F(z, p) = P^n_p(z) - z$, $z$ the
-//! non-algebraic components at the section.
-//!
-//! * [`continue_orbit`] follows the branch in its **pseudo-arclength** (through folds), with
-//!   its stability, and locates every special point on the way; [`switch_at_flip`] starts the
-//!   period-$2n$ branch at a flip. The method is in [`arclength`](mod@arclength).
-//! * [`locate_loss`] is its **natural-parameter** case, for the question "where does this
-//!   stable orbit stop being stable?": steps in the parameter itself (the constraint row of
-//!   the corrector is $e_p$), each orbit found by [`periodic_orbit`](super::periodic_orbit),
-//!   until the first loss of stability, which it brackets and reports with the orbit there, or
-//!   a [`BranchFailure`] with its error. The method is in [`loss`](mod@loss).
-//!
-//! Both use the one Newton ([`super::newton`]) with its relative-plus-absolute
-//! stopping rule on the model's [`state_scale`](crate::hybrid::RotorModel::state_scale), and
-//! the one locator: a special point is bracketed between two orbits and the bracket bisected
-//! (by the crate's one bisection, [`crate::numeric::bisect`]) until it is narrower than the options' `bracket_width` (a width, in the
-//! parameter's units; the residual tolerances are `atol`/`rtol`).
-//!
-//! **The special points, one definition.** The multipliers outside the unit circle are
-//! counted in three classes: a change of the count of real positive ones is a
-//! [**fold**](SpecialKind::Fold) (a real multiplier through $+1$), of real negative ones a
-//! [**flip**](SpecialKind::Flip) (through $-1$), of complex ones a
-//! [**Neimark–Sacker**](SpecialKind::NeimarkSacker) bifurcation. A change of the orbit's
-//! **event structure** (the guards crossed over one orbit, compared up to a rotation) is a
-//! [**grazing**](SpecialKind::Grazing): the margin of a contact onset (or of a regime boundary
-//! in contact) going to zero, a contact gained or lost; the multipliers do not announce it.
-//! The contacts per orbit are the events on guards the model calls contact onsets
-//! ([`RotorModel::is_contact_onset`](crate::hybrid::RotorModel::is_contact_onset)).
-
-pub mod arclength;
-pub mod loss;
+mod arclength;
+mod loss;
 
 pub use arclength::{
     continue_orbit, switch_at_flip, Branch, BranchEnd, BranchPoint, ContinuationOptions,
