@@ -158,7 +158,8 @@ fn options() -> impl Strategy<Value = SimOptions> {
     let method = prop_oneof![
         Just(Method::Dop853),
         Just(Method::Dopri5),
-        Just(Method::Rk4)
+        Just(Method::Rk4),
+        Just(Method::Radau5)
     ];
     let rtol = prop_oneof![
         80 => log_uniform(1e-14, 1e-3),
