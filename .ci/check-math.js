@@ -4,13 +4,16 @@
 // which builds the docs and fetches what this needs; no npm dependencies (Chromium is driven
 // through the DevTools protocol over a pipe).
 //
-// usage: node check-math.js --doc DIR --katex DIST --src DIR [--shots DIR PAGE...]
+// usage: node check-math.js --doc DIR (--katex DIST | --offline) --src DIR [PAGE...] [--shots DIR PAGE...]
 //   --doc    the crate's rustdoc folder (target/doc/jeffcott)
 //   --katex  a local KaTeX dist/ folder: requests for `.../katex@VERSION/dist/FILE` (the header's
 //            CDN) are answered from it, so the pages are checked exactly as generated
 //   --src    the crate's src/: each rendered formula is traced back to the doc comment that
 //            wrote it, and that source is checked for what rustdoc's Markdown eats
-//   --shots  write full-page PNG screenshots of the listed pages (paths relative to --doc)
+//   --offline  no network at all: KaTeX must load from the pages' own folder (docs/doc.sh's
+//            copy, docs/katex/header.html) with its fonts; a request for KaTeX's CDN is an error
+//   PAGE     check only these pages (paths relative to --doc; default: every page)
+//   --shots  write full-page PNG screenshots of the listed pages
 // Exit status: 0 when every page is clean, 1 when any error is found, 2 when the check itself fails.
 'use strict';
 const fs = require('fs');
@@ -28,11 +31,12 @@ const args = { shots: null, pages: [] };
     else if (a === '--katex') args.katex = path.resolve(argv[++i]);
     else if (a === '--src') args.src = path.resolve(argv[++i]);
     else if (a === '--shots') args.shots = path.resolve(argv[++i]);
+    else if (a === '--offline') args.offline = true;
     else if (a === '--chromium') args.chromium = argv[++i];
     else args.pages.push(a);
   }
   args.chromium = args.chromium || process.env.CHROMIUM || '/usr/bin/chromium';
-  for (const k of ['doc', 'katex', 'src']) {
+  for (const k of args.offline ? ['doc', 'src'] : ['doc', 'katex', 'src']) {
     if (!args[k]) die(`missing --${k}`);
   }
 }
@@ -265,7 +269,7 @@ async function openTab(browser, stats) {
     } else if (msg.method === 'Fetch.requestPaused') {
       const { requestId, request } = msg.params;
       const m = /\/katex@[^/]+\/dist\/([^?#]+)/.exec(request.url);
-      const file = m && path.join(args.katex, m[1]);
+      const file = m && !args.offline && path.join(args.katex, m[1]);
       try {
         if (file && file.startsWith(args.katex) && fs.existsSync(file)) {
           stats.katexServed++;
@@ -407,7 +411,7 @@ async function main() {
     const tabs = [];
     const nTabs = args.shots ? 1 : 2;
     for (let i = 0; i < nTabs; i++) tabs.push(await openTab(browser, stats));
-    const queue = args.shots ? args.pages.map((p) => path.join(args.doc, p)) : pages.slice();
+    const queue = args.pages.length ? args.pages.map((p) => path.join(args.doc, p)) : pages.slice();
     for (const p of queue) if (!fs.existsSync(p)) die(`no page ${p}`);
     if (args.shots) fs.mkdirSync(args.shots, { recursive: true });
     const root = path.dirname(args.doc);
@@ -441,7 +445,19 @@ async function main() {
         const r = result.value;
         report.pages++;
         tab.blocked.filter((u) => !/\/katex@/.test(u)).forEach((u) => report.blocked.add(u));
-        if (!r.katex) addError(page, '(whole page)', 'KaTeX did not load: no window.katex (header missing, or its CDN not answered)');
+        // Offline, KaTeX must not reach for its CDN (a crate's own favicon or logo is only noted).
+        if (args.offline) tab.blocked.filter((u) => /\/katex@/.test(u)).forEach((u) => addError(page, '(network)', `KaTeX requested from the network, offline: ${u}`));
+        if (!r.katex) addError(page, '(whole page)', `KaTeX did not load: no window.katex (header missing, or ${args.offline ? 'its local copy missing' : 'its CDN not answered'})`);
+        if (args.offline) {
+          // The fonts a page's formulas use, once loaded: from the local copy, or failed.
+          const { result: fonts } = await tab.send('Runtime.evaluate', {
+            expression: 'document.fonts.ready.then(() => [...document.fonts].filter((f) => /KaTeX/.test(f.family)).map((f) => f.status))',
+            awaitPromise: true, returnByValue: true,
+          });
+          const status = fonts.value || [];
+          if (status.includes('error')) addError(page, '(whole page)', 'a KaTeX font failed to load from the local copy');
+          if (r.formulas.length && !status.includes('loaded')) addError(page, '(whole page)', 'no KaTeX font loaded for its formulas');
+        }
         const failed = [];
         for (const c of tab.console) {
           const m = /KaTeX auto-render: Failed to parse `([\s\S]*)` with\s*([\s\S]*)/.exec(c.text);

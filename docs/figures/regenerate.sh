@@ -9,13 +9,13 @@
 #
 # The runs write into target/figures/regenerate (removed first, so that the resumable sweeps of
 # basins and param_map start over; REUSE=1 keeps it, and an interrupted sweep resumes). NICE=0
-# runs without `nice`; BUILD=0 uses the example binaries already built. Run from anywhere inside
-# the repository.
+# runs without `nice`; BUILD=0 uses the example binaries already built; DEST=DIR copies the
+# pictures there instead of docs/figures (CI: .ci/commands). Run from anywhere inside the repository.
 set -euo pipefail
 
 cd "$(git rev-parse --show-toplevel)"
 out=target/figures/regenerate
-dest=docs/figures
+dest=${DEST:-docs/figures}
 bin=target/release/examples
 nice_cmd=(nice)
 [[ "${NICE:-1}" == 0 ]] && nice_cmd=()
