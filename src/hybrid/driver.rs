@@ -50,7 +50,7 @@ pub struct SimOptions {
     /// Applies to guards with [`RotorModel::guard_derivative`]. Default `false`: every step
     /// is sampled (`event_samples` points). The screen's guarantee is conditional (the
     /// interpolant of a step's ends must be within half the smaller end value of the guard,
-    /// see [`crate::ode::events`]): a dip between the ends that this interpolant cannot see
+    /// see [`ode`, Events](crate::ode#events)): a dip between the ends that this interpolant cannot see
     /// is missed where the samples find it. `true` is faster (see `docs/performance.md`) and
     /// is a choice to make knowingly.
     pub screen_events: bool,

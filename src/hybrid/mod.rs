@@ -391,7 +391,7 @@ where
     /// **A guard that is zero at the start of a mode** (a transition left the state on it, or
     /// two guards crossed at the same time) takes the sign of its motion there: the sign of
     /// [`RotorModel::guard_derivative`] if given and non-zero, else the sign of the guard a
-    /// little way along the step (see [`crate::ode::events`]). If it leaves zero in its
+    /// little way along the step (see [`ode`, Events](crate::ode#events)). If it leaves zero in its
     /// crossing direction, that departure is the zero at the start time, not an event (the
     /// transition must have dealt with it, e.g. by choosing the mode beyond that boundary); if
     /// it leaves zero the other way, its next crossing fires as usual, even within the first

@@ -241,7 +241,7 @@ where
 /// every step (several non-terminal events per step are reported in time
 /// order) and stops at the first terminal event, truncating the integrator
 /// there. Events at `t0` itself do not fire (re-arming rule of
-/// [`events`](super::events)).
+/// [events](crate::ode#events)).
 ///
 /// Errors carry the last good `(t, y)` and the stats.
 #[allow(clippy::too_many_arguments)]

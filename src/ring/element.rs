@@ -18,7 +18,7 @@ const CORNER_TOL: f64 = 1e-10;
 
 /// Time, relative to $\max(|t|, 1)$, within which a ring moving towards its preload counts as
 /// on it: more than the resolution of an event located at $t$ and of the start-of-segment
-/// window of [`crate::ode::events`] ($8\varepsilon\max(|t|, |t_\text{end}|)$, for steps up
+/// window of [`ode`, Events](crate::ode#events) ($8\varepsilon\max(|t|, |t_\text{end}|)$, for steps up
 /// to $7\max(|t|, 1)$ long). A preload guard closer to zero than its rate times that window
 /// at a mode's start, moving towards it, would be taken for the zero at the start time.
 const PRELOAD_TIME_TOL: f64 = 64.0 * f64::EPSILON;
@@ -62,7 +62,7 @@ pub enum RingMode {
         /// ring (the zero-force slide) or was released a hair inside it is caught by an event
         /// detector's sign change, at a penetration of at most $m$; a guard on zero at the
         /// start would be taken for the zero at the start time
-        /// ([`crate::ode::events`], start-of-segment rule 3).
+        /// ([`ode`, Events](crate::ode#events), start-of-segment rule 3).
         onset_margin: f64,
     },
     /// Contact on these branches (regimes II..V).

@@ -87,7 +87,7 @@
 //! on the circle) has its onset guard offset by a margin $m$ ([`SnubberRing::onset_margin`]):
 //! the guard is $h - m$, which starts below zero by more than the rounding of $h$ and than an
 //! event detector's start-of-segment window. A guard on zero at a mode's start that leaves it
-//! rising is taken for the zero at the start time ([`crate::ode::events`], rule 3): without
+//! rising is taken for the zero at the start time ([`ode`, Events](crate::ode#events), rule 3): without
 //! the margin a rotor that curves back into the ring (the zero-force slide) or was released a
 //! hair inside it passed through the ring in free flight, silently. With it, such a rotor
 //! touches the ring again after penetrating at most $m$ (about $10^{-14}\gamma^2$, more late in

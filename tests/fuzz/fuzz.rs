@@ -641,7 +641,7 @@ fn check_point(
 /// Defect class A (docs/reliability.md, fixed 7): in an **integrated** free flight
 /// (`RingedRotor`) that starts with the rotor touching the ring (after a contact loss or a
 /// touch without load, or a start on the gap circle), the onset guard $h = |r - s|^2 -
-/// \gamma^2$ starts at zero, or within the start-of-segment window of `ode::events` of it
+/// \gamma^2$ starts at zero, or within the start-of-segment window of `ode` (Events) of it
 /// ($|h| \le |h^\prime|\thinspace w$, $w = 8\varepsilon\max(|t|, |t_\text{end}|)$, the step's
 /// end at most `step_max` later); if the rotor then moves or curves into the ring, the guard
 /// leaves zero in its crossing direction, which the rule takes for the zero at the start, not
@@ -668,7 +668,7 @@ fn touching_start_swallowed(
 
 /// Defect class D (docs/reliability.md, fixed 8): a preload so small that the ring's excursion
 /// around it is shorter than the event detector's resolution at a mode's start. Either the
-/// preload guard starts within the start-of-segment window of `ode::events`
+/// preload guard starts within the start-of-segment window of `ode` (Events)
 /// ($w = 8\varepsilon\max(|t|, |t_\text{end}|)$, the step's end at most `step_max` later) and
 /// leaves it in its crossing direction, so it is taken for the zero at the start (the ring
 /// element chose the branch by a tolerance relative to the preload, $10^{-10} D$); or, after an
@@ -919,7 +919,7 @@ fn check_run(c: RunCase) -> Result<String, String> {
             _ => "",
         };
         // Class S: the same case without the event screen (`SimOptions::screen_events`,
-        // `ode::events`, "Screening") is consistent: the screen cleared a guard over a step on
+        // `ode` (Events), "Screening") is consistent: the screen cleared a guard over a step on
         // which it crossed (its Hermite bound does not hold there).
         let screen = if c.opts.screen_events {
             let unscreened = RunCase {

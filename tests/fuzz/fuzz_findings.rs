@@ -560,7 +560,7 @@ fn rotor_curving_back_after_a_touch_without_load_meets_the_ring() {
 
 // ---------------------------------------------------------------------------------------------
 // 8. A preload the ring passes within the time resolution (open defect D before 0.2.0:
-//    `ode::events` rule 4 limited to zeros at the start, `SnubberRing` branches within the
+//    `ode` (Events) rule 4 limited to zeros at the start, `SnubberRing` branches within the
 //    time resolution).
 
 /// A run may end in the typed error of a preload below the resolution of the run (issue 16:
@@ -1026,7 +1026,7 @@ fn a_touch_a_hair_inside_the_circle_moving_outward_starts_contact() {
 /// derivatives look quiet, so the cubic Hermite interpolant of the ends is far from the
 /// guard and its bound proves nothing. The next onset found the rotor $1.7\times10^{-5}$
 /// beyond the ring; without the screen $5\times10^{-13}$. The screen now checks its premise
-/// at mid-step (`ode::events`, *Screening*) and samples such steps.
+/// at mid-step (`ode` (Events), *Screening*) and samples such steps.
 #[test]
 fn the_event_screen_does_not_clear_a_crossing() {
     let p = Params {
@@ -1157,7 +1157,7 @@ fn a_start_on_the_circle_accelerated_outward_touches_the_ring() {
 /// not searched: the loss fired first, with the ring on the inner branch $2.6\times10^{-2}$
 /// from $s^*(r)$ (truth: the minimiser of the ring's energy, `SnubberRing::locate`, checked
 /// against a brute-force minimiser in `tests/ring/ring_locate.rs`). The detector now checks
-/// the interpolant against the guard at its extremum before trusting it (`ode::events`,
+/// the interpolant against the guard at its extremum before trusting it (`ode` (Events),
 /// "Detection").
 #[test]
 fn a_preload_crossing_pair_the_interpolant_misses_is_found() {

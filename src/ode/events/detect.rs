@@ -1194,8 +1194,8 @@ fn hermite_root(ga: f64, (gb, da, db): (f64, f64, f64), h: f64, resolution: f64)
 
 /// Look for the earliest event on the last step of `integ` using its dense
 /// output; returns the earliest hit with the root located to near machine
-/// precision by the Illinois method (ties: smallest index). See the [module
-/// docs](super) for the detection algorithm, its guarantee and the
+/// precision by the Illinois method (ties: smallest index). See the [`ode` docs,
+/// Events](crate::ode#events) for the detection algorithm, its guarantee and the
 /// start-of-segment and re-arming rules.
 ///
 /// The hit is held by `state` (a reference is returned, nothing is

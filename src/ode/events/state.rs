@@ -76,7 +76,7 @@ impl Default for Slot {
 }
 
 /// Bookkeeping of the detector between calls: the segment origin (for the
-/// re-arming rule, see the [module docs](super)), where to resume after a hit
+/// re-arming rule, see [`ode`, Events](crate::ode#events)), where to resume after a hit
 /// inside the current step, per-event data sized from the event set, scratch
 /// vectors, and the last hit.
 ///
