@@ -8,7 +8,7 @@ use jeffcott::ode::{
     find_first_event, EventFns, EventOptions, EventState, Integrator, JacobianMut, OdeSystem,
     Options, Radau5,
 };
-use nalgebra::{DVector, Dyn, SVector, U2, U4};
+use nalgebra::{DVector, Dyn, SVector, U1, U2, U4};
 
 type V2 = SVector<f64, 2>;
 
@@ -124,7 +124,8 @@ fn dense_output_follows_the_closed_form() {
 }
 
 /// Error against the number of steps on the Kepler problem (e = 0.5, one orbit; exact by
-/// Kepler's equation): the slope of log(error) against log(steps) is about -5, the order.
+/// Kepler's equation): the slope of log(error) against log(steps) is at least the order, 5
+/// (within a margin for the adaptive controller).
 #[test]
 fn order_five_on_a_smooth_problem() {
     let sys = Kepler { e: 0.5 };
@@ -146,7 +147,11 @@ fn order_five_on_a_smooth_problem() {
     }
     let p = -slope(&steps, &errs);
     println!("observed order {p:.2}");
-    assert!((4.3..6.0).contains(&p), "observed order {p}");
+    // At least the order: a lower slope would show an order below 5 (the fixed-step tests
+    // measure the order itself, 4.99 and 5.00). No upper bound: an adaptive run's slope
+    // over these tolerances is pre-asymptotic (6.09 measured with atol held as given, 4.83
+    // with RADAU5's transformed atol), and a steeper one is no defect.
+    assert!(p >= 4.3, "observed order {p}");
 }
 
 /// The same stiff problem with `Dyn(2)` and `Const<2>`: bitwise identical steps and counters.
@@ -324,4 +329,24 @@ fn truncated_steps_continue_correctly() {
     assert!(truncations > 20);
     let bound = 10.0 * 0.1 * tol.powf(2.0 / 3.0);
     assert!(rel < bound, "rel. error {rel:e} > {bound:e}");
+}
+
+/// An absolute tolerance is held as given: with rtol 1e-13 and atol 1e-4, decay y' = -y from 1
+/// to t = 20 (where y = 2e-9, far below atol) must stay within atol of e^{-t}. RADAU5's
+/// tolerance transformation also scaled atol by rtol'/rtol (2154 here: an absolute tolerance
+/// of 0.2), and the fuzzer found a rotor 8.5e-3 gaps beyond the ring at such settings.
+#[test]
+fn absolute_tolerance_is_not_loosened() {
+    let sys = |_t: f64, y: &SVector<f64, 1>, dy: &mut SVector<f64, 1>| dy[0] = -y[0];
+    let mut integ = Radau5::<U1>::new(Options::with_tol(1e-13, 1e-4)).unwrap();
+    integ
+        .reset(&sys, 0.0, &SVector::<f64, 1>::new(1.0), false)
+        .unwrap();
+    let mut worst = 0f64;
+    while integ.t() < 20.0 {
+        integ.step(&sys, 20.0).unwrap();
+        worst = worst.max((integ.y()[0] - (-integ.t()).exp()).abs());
+    }
+    println!("worst error {worst:.2e} in {} steps", integ.stats().steps);
+    assert!(worst <= 1e-4, "worst error {worst:e} > atol 1e-4");
 }

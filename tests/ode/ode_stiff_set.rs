@@ -124,14 +124,14 @@ fn scd_follows_the_test_set_convention() {
     assert!((mescd(&y, &reference, 1e-8, 1e-10) + 700f64.log10()).abs() < 1e-9);
 }
 
-/// The tolerance at which a problem's target is asked. HIRES at 1e-11: issue 19 asks scd >= 7
+/// The tolerance at which a problem's target is asked. HIRES at 1e-9: issue 19 asks scd >= 7
 /// at rtol = atol = 1e-8, which neither method reaches (measured with the example `stiff_set`:
-/// RADAU5 4.57, 5.85, 6.54, 7.55, 7.91 at 1e-8 to 1e-12; DOP853 4.62 at 1e-8, 9.96 at 1e-10).
-/// RADAU5 controls its embedded third-order estimate against rtol' = 0.1 rtol^(2/3) (2.2e-8
-/// at 1e-10), as Hairer's code does, and HIRES's small components are held to atol only.
+/// RADAU5 6.40, 7.82, 8.40, 9.41, 10.37 at 1e-8 to 1e-12; DOP853 4.62 at 1e-8, 9.96 at
+/// 1e-10). RADAU5 controls its embedded third-order estimate against rtol' = 0.1 rtol^(2/3)
+/// (4.6e-7 at 1e-8), as Hairer's code does, and HIRES's small components are held to atol.
 fn target_rtol(p: Problem) -> f64 {
     match p {
-        Problem::Hires => 1e-11,
+        Problem::Hires => 1e-9,
         _ => 1e-8,
     }
 }
