@@ -163,7 +163,7 @@ pub(crate) struct Rule<'a> {
 }
 
 impl Rule<'_> {
-    /// The scaled residual: the largest $|G_i|/(\text{atol}\,s_i + \text{rtol}|u_i|)$, below 1
+    /// The scaled residual: the largest $|G_i|/(\text{atol}\thinspace s_i + \text{rtol}|u_i|)$, below 1
     /// when converged.
     fn scaled(&self, g: &DVector<f64>, u: &DVector<f64>) -> f64 {
         let n = g.len();

@@ -40,7 +40,7 @@ const KEEP_H_UP_TO: f64 = 1.2;
 /// $((\alpha + i\beta)/h) I - J$ ($3N$ real unknowns for the price of $N$ real plus $N$
 /// complex ones). The contraction rate $\theta_k = \Vert\Delta W_k\Vert / \Vert\Delta W_{k-1}\Vert$
 /// is monitored: the iteration stops when $\frac{\theta}{1-\theta}\Vert\Delta W_k\Vert \le
-/// \kappa$ ($\kappa = \max(10\varepsilon/\mathrm{rtol}', \min(0.03, \sqrt{\mathrm{rtol}'}))$),
+/// \kappa$ ($\kappa = \max(10\varepsilon/\mathrm{rtol}^\prime, \min(0.03, \sqrt{\mathrm{rtol}^\prime}))$),
 /// and the step is rejected with a smaller $h$ when $\theta \ge 0.99$, when the error
 /// predicted after the remaining iterations exceeds $\kappa$, or after 7 iterations. Newton
 /// failure is always a rejection (counted in [`Stats::rejected`](super::Stats)), never an
@@ -56,20 +56,21 @@ const KEEP_H_UP_TO: f64 = 1.2;
 /// the resolvent so that it stays bounded for stiff components; on the first step after a
 /// reset and after a rejection, if $\Vert e\Vert > 1$, it is refined once with
 /// $f(t, y + e)$ in place of $f(t, y)$. The norm is the crate's RMS norm with the scale
-/// $s_i = \mathrm{atol}_i + \mathrm{rtol}'_i|y_i|$ at the start of the step, where RADAU5's
-/// tolerance transformation $\mathrm{rtol}' = 0.1\thinspace\mathrm{rtol}^{2/3}$ maps the
+/// $s_i = \mathrm{atol}_i + \mathrm{rtol}^\prime_i|y_i|$ at the start of the step, where RADAU5's
+/// tolerance transformation $\mathrm{rtol}^\prime = 0.1\thinspace\mathrm{rtol}^{2/3}$ maps the
 /// requested relative tolerance of the order-5 solution to the order-3 estimate. The absolute
-/// tolerance is held as given: Hairer's code also scales it, by $\mathrm{rtol}'/\mathrm{rtol}$,
+/// tolerance is held as given: Hairer's code also scales it, by $\mathrm{rtol}^\prime/\mathrm{rtol}$,
 /// which is consistent only where atol/rtol is the size of the solution (at rtol $10^{-13}$ and
 /// atol $10^{-4}$ it made an absolute tolerance of 0.2, and errors of $1.7\cdot10^{-3}$).
 ///
-/// **Step size.** $h_{\text{new}} = h/\mathrm{clamp}(\Vert e\Vert^{1/4}/\mathrm{fac},
-/// 1/\mathrm{fac\\_max}, 1/\mathrm{fac\\_min})$ with $\mathrm{fac} = \min(\mathrm{safety},
-/// \mathrm{safety}\thinspace(1 + 2\cdot7)/(k + 2\cdot 7))$ for $k$ Newton iterations, and on
-/// acceptance Gustafsson's predictive controller may lower it:
+/// **Step size.** $h_{\text{new}} = h/q$ with $q = \Vert e\Vert^{1/4}/\mathrm{fac}$ kept
+/// between the reciprocals of [`Options::fac_max`] and [`Options::fac_min`], where
+/// $\mathrm{fac} = \min(\mathrm{safety}, \mathrm{safety}\thinspace(1 + 2\cdot7)/(k + 2\cdot 7))$
+/// for $k$ Newton iterations; on acceptance the predictive controller of Gustafsson may lower
+/// it:
 /// $h_{\text{new}} \le h\thinspace\mathrm{safety}\thinspace\frac{h}{h_{\text{acc}}}
-/// \big(\mathrm{err}_{\text{acc}}/\mathrm{err}^2\big)^{1/4}$ (the previous accepted step
-/// $h_{\text{acc}}$ and its error). [`Options::beta`] is not used.
+/// \big(\mathrm{err}_{\text{acc}}/\mathrm{err}^2\big)^{1/4}$ (acc: the previous accepted
+/// step and its error). [`Options::beta`] is not used.
 ///
 /// **Dense output** is the collocation polynomial: the cubic $u$ with $u(t_{\text{prev}}) =
 /// y_{\text{prev}}$, $u(t_{\text{prev}} + c_i h) = y_{\text{prev}} + Z_i$, in Newton's form
@@ -266,7 +267,7 @@ where
         }
     }
 
-    /// The error scale $s_i = \mathrm{atol}'_i + \mathrm{rtol}'_i |y_i|$ at the current point.
+    /// The error scale $s_i = \mathrm{atol}_i + \mathrm{rtol}^\prime_i |y_i|$ at the current point.
     fn update_scale(&mut self) {
         let c = &self.core;
         for i in 0..self.scal.len() {
@@ -635,7 +636,7 @@ where
 
     /// Truncates by taking the step again, from $t_{\text{prev}}$ to exactly `t_new`: the
     /// collocation polynomial is only of order 3 inside a step (its error is that of the
-    /// transformed tolerance $0.1\,\mathrm{rtol}^{2/3}$), while a step's end has the method's
+    /// transformed tolerance $0.1\thinspace\mathrm{rtol}^{2/3}$), while a step's end has the method's
     /// order 5. A hybrid run truncates at every event, so the placed state must have the
     /// step's accuracy (100 jumps placed on the polynomial: 7.0e-7 off at rtol 1e-10;
     /// stepped again: 2.8e-10). Costs one Newton solve and two LU decompositions. Should that
