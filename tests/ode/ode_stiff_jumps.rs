@@ -23,7 +23,7 @@ use nalgebra::{SVector, U2};
 type V2 = SVector<f64, 2>;
 
 /// The methods the jump problem runs with, each with the scalar `(rtol, atol)` it needs for
-/// [`MAX_ERROR`] (a stiff method is added here). DOP853 works at its stability limit here, where
+/// [`MAX_ERROR`]. DOP853 works at its stability limit here, where
 /// the error of the fast component is only loosely controlled (measured error at t = 5:
 /// 1.4e-8 at rtol 1e-10 / atol 1e-12, 9.3e-11 at 1e-12 / 1e-12, 1.4e-9 at 1e-12 / 1e-14,
 /// 2.9e-12 at 1e-13 / 1e-15).

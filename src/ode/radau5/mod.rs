@@ -330,6 +330,24 @@ fn eval_poly<D: Dim>(
     }
 }
 
+/// An accepted step, as [`Radau5::accept`] books it.
+struct StepEnd {
+    /// The step taken.
+    h_try: f64,
+    /// The step that was asked for (`h_try` is shorter when clipped to a bound).
+    h: f64,
+    /// Its right end.
+    t_new: f64,
+    /// The suggested ratio $h_{\text{new}}/h$.
+    ratio: f64,
+    /// Its scaled error.
+    err: f64,
+    /// A rejection came before it: the next step may not grow.
+    no_growth: bool,
+    /// Clipped to the bound: the next step is at least `h`.
+    clipped: bool,
+}
+
 /// What one attempt gave.
 enum Attempt {
     /// Accepted with this step-size ratio suggestion $h_{\text{new}}/h$ and error.
@@ -489,7 +507,15 @@ where
             match outcome {
                 Attempt::Accepted { ratio, err } => {
                     let ratio = if fixed.is_some() { 1.0 } else { ratio };
-                    self.accept(h_try, h, t_new, ratio, err, reject_before, clipped);
+                    self.accept(StepEnd {
+                        h_try,
+                        h,
+                        t_new,
+                        ratio,
+                        err,
+                        no_growth: reject_before,
+                        clipped,
+                    });
                     return Ok(());
                 }
                 Attempt::Rejected {
@@ -531,7 +557,15 @@ where
         if !all_finite(c.f_new.as_slice()) {
             return false;
         }
-        self.accept(h, h, t_new, ratio, err, false, false);
+        self.accept(StepEnd {
+            h_try: h,
+            h,
+            t_new,
+            ratio,
+            err,
+            no_growth: false,
+            clipped: false,
+        });
         self.core.h = h_keep;
         true
     }
@@ -545,17 +579,16 @@ where
     }
 
     /// Moves to the accepted point `(t_new, core.y_new)` and sets the next step size.
-    #[allow(clippy::too_many_arguments)]
-    fn accept(
-        &mut self,
-        h_try: f64,
-        h: f64,
-        t_new: f64,
-        ratio: f64,
-        err: f64,
-        no_growth: bool,
-        clipped: bool,
-    ) {
+    fn accept(&mut self, end: StepEnd) {
+        let StepEnd {
+            h_try,
+            h,
+            t_new,
+            ratio,
+            err,
+            no_growth,
+            clipped,
+        } = end;
         self.h_acc = h_try;
         self.err_acc = err.max(1e-2);
         let keep_jac = self.rate.theta <= THETA_JAC;
