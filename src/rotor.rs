@@ -81,6 +81,11 @@
 //! ```
 
 mod linearization;
+mod matrices;
+#[cfg(feature = "mat")]
+mod ross;
+
+pub use matrices::{DofLayout, RotorMatrices};
 
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector, Vector2, U1};
@@ -228,6 +233,74 @@ pub enum RotorError {
         velocity: [f64; 2],
         /// `station(rhs(t, y)).r - station(0).r`.
         derivative: [f64; 2],
+    },
+    /// A rotor's matrices do not have a whole number of nodes ([`RotorMatrices::new`]).
+    #[error("the matrices have {dofs} DOFs, not a positive multiple of the layout's {per_node} DOFs a node")]
+    DofCount {
+        /// Rows of `M`.
+        dofs: usize,
+        /// DOFs a node of the layout.
+        per_node: usize,
+    },
+    /// A matrix is not square or not of `M`'s size ([`RotorMatrices::new`]).
+    #[error(
+        "matrix {matrix} is {rows} x {cols}, expected {expected} x {expected} (the size of M)"
+    )]
+    MatrixShape {
+        /// `"M"`, `"C"`, `"G"` or `"K"`.
+        matrix: &'static str,
+        /// Its rows.
+        rows: usize,
+        /// Its columns.
+        cols: usize,
+        /// Rows of `M`.
+        expected: usize,
+    },
+    /// A matrix entry is not finite ([`RotorMatrices::new`]).
+    #[error("matrix {matrix} has the non-finite entry {value} at ({row}, {col})")]
+    MatrixEntry {
+        /// `"M"`, `"C"`, `"G"` or `"K"`.
+        matrix: &'static str,
+        /// Row (0-based).
+        row: usize,
+        /// Column (0-based).
+        col: usize,
+        /// The entry.
+        value: f64,
+    },
+    /// A lateral DOF is coupled to an axial or torsional one, so the lateral DOFs cannot be
+    /// taken alone ([`RotorMatrices::lateral`]).
+    #[error("matrix {matrix} couples lateral and axial/torsional DOFs: entry ({row}, {col}) is {value}, not 0")]
+    LateralCoupling {
+        /// `"M"`, `"C"`, `"G"` or `"K"`.
+        matrix: &'static str,
+        /// Row (0-based, in the 6-DOF layout).
+        row: usize,
+        /// Column.
+        col: usize,
+        /// The entry.
+        value: f64,
+    },
+    /// A node index beyond the rotor's nodes.
+    #[error("node {node} is out of range: the rotor has nodes 0 to {}", nodes.saturating_sub(1))]
+    NodeOutOfRange {
+        /// The node asked for.
+        node: usize,
+        /// Number of nodes.
+        nodes: usize,
+    },
+    /// A rotor file could not be read.
+    #[error("cannot read the rotor file: {0}")]
+    Io(std::io::ErrorKind),
+    /// A rotor file is not a MATLAB (v5) MAT file.
+    #[error("the rotor file is not a MATLAB v5 MAT file (ROSS writes one with rotor.save_mat(file, speed))")]
+    NotMatFile,
+    /// A MAT file lacks one of ROSS's matrices, or holds it as something else than a real
+    /// double 2-D array.
+    #[error("the MAT file has no real 2-D double matrix '{key}': not a ROSS export (rotor.save_mat writes M, K, C, G)")]
+    MissingMatrix {
+        /// The key looked for.
+        key: &'static str,
     },
     /// A force at the station does not accelerate it along the force.
     #[error("SmoothRotor::add_station_force: the force {force:?} at the station changes the station's acceleration by {accel:?}, whose component along the force is {along}, not positive: a force must push the station along itself (dy[velocity] += force / mass)")]

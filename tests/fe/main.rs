@@ -1,0 +1,3 @@
+//! Finite-element rotors (ROSS exports) on the ring.
+
+mod fe_matrices;
