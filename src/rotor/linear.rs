@@ -270,7 +270,8 @@ impl LinearSystem {
     /// The synchronous steady response's complex amplitude $X$, $q(t) = \operatorname{Re}(X
     /// e^{i\Omega t})$: $(K - \Omega^2 M + i\Omega D) X = \hat F$ (complex LU). The constant
     /// force's part is [`LinearSystem::static_deflection`] (not a harmonic: it is added to
-    /// $\operatorname{Re}(X e^{i\Omega t})$, not to $X$). Error: a singular dynamic stiffness
+    /// $\operatorname{Re}(X e^{i\Omega t})$, not to $X$). One step of iterative refinement
+    /// follows the solve. Error: a singular dynamic stiffness
     /// (an undamped resonance at $\Omega$, [`RotorError::Singular`]).
     pub fn steady_response(&self) -> Result<DVector<Complex<f64>>, RotorError> {
         let (w, n) = (self.speed, self.dofs());
@@ -280,13 +281,24 @@ impl LinearSystem {
                 w * self.damping[(i, j)],
             )
         });
-        a.lu()
+        let singular = RotorError::Singular {
+            matrix: "K - W^2 M + i W D",
+            hint: "an undamped resonance at the spin speed",
+        };
+        let finite =
+            |x: &DVector<Complex<f64>>| x.iter().all(|v| v.re.is_finite() && v.im.is_finite());
+        let lu = a.clone().lu();
+        let mut x = lu
             .solve(&self.harmonic_force)
-            .filter(|x| x.iter().all(|v| v.re.is_finite() && v.im.is_finite()))
-            .ok_or(RotorError::Singular {
-                matrix: "K - W^2 M + i W D",
-                hint: "an undamped resonance at the spin speed",
-            })
+            .filter(finite)
+            .ok_or(singular)?;
+        // One step of iterative refinement: the LU's rounding grows with the condition of
+        // the dynamic stiffness (Rayleigh damping's stiff high modes).
+        let residual = &self.harmonic_force - &a * &x;
+        if let Some(dx) = lu.solve(&residual).filter(finite) {
+            x += dx;
+        }
+        Ok(x)
     }
 
     /// The static deflection $K^{-1} f_0$ under the constant force (zero without one, whatever
