@@ -344,9 +344,9 @@ impl LinearSystem {
 /// \Delta) + c_s s^\prime$ beyond it. The element is scale-free (its tolerances are relative to
 /// the gap), so it runs in metres as it is.
 ///
-/// The paper's non-dimensional ring is the same ring in the units *lengths in $\gamma$,
-/// forces in $k_r\gamma$, time in $1/\omega_n$* of the 2-DOF rotor (mass $m$, stiffness
-/// $k_r$, $\omega_n = \sqrt{k_r/m}$): $K = k_s/k_r$, $D = \Delta/\gamma$,
+/// The paper's non-dimensional ring is the same ring in the units of its 2-DOF rotor of mass
+/// $m$ and stiffness $k_r$, $\omega_n = \sqrt{k_r/m}$: lengths in $\gamma$, forces in
+/// $k_r\gamma$, time in $1/\omega_n$. There $K = k_s/k_r$, $D = \Delta/\gamma$,
 /// $\nu_2 = c_s/(2\sqrt{k_r m})$, gap 1. For any rotor the rule is the same: pick a length
 /// unit $L$ (the gap), a force unit $F$ and a time unit $T$; then $K = k_s L/F$,
 /// $D = \Delta/L$, $\nu_2 = c_s L/(2FT)$, gap $= \gamma/L$, and the rotor's equations are
@@ -627,12 +627,12 @@ impl SmoothRotor for LinearRotor {
         Some(self.scale.clone())
     }
 
-    /// A bound of the state matrix's spectral radius with a spring `stiffness` and a damper
-    /// `damping` at the station: $\sqrt{a} + b$ with $a = \max_i \sum_j |(M^{-1}K)_{ij}| +
-    /// k\thinspace|M^{-1}_{i,\text{station}}|$ and $b$ the same of $M^{-1}D$ and $c$, the
-    /// infinity norm of the state matrix scaled by $\operatorname{diag}(I, \sqrt{a} I)$ (for
-    /// a unit mass $\sqrt{k_0 + k} + c_0 + c$). Pessimistic where coordinates of different
-    /// units mix (metres and radians).
+    /// A bound of the state matrix's spectral radius with a spring `stiffness` $k$ and a
+    /// damper `damping` $c$ at the station: $\sqrt{a} + b$, where $a$ is the largest row sum
+    /// of $|M^{-1}K|$ plus $k$ times the row sum of the station's two columns of $|M^{-1}|$,
+    /// and $b$ the same of $|M^{-1}D|$ and $c$: the infinity norm of the state matrix scaled by
+    /// $\operatorname{diag}(I, \sqrt{a} I)$ (for a unit mass, $\sqrt{k_0 + k} + c_0 + c$).
+    /// Pessimistic where coordinates of different units mix (metres and radians).
     fn max_rate(&self, _t: f64, _y: &DVector<f64>, stiffness: f64, damping: f64) -> Option<f64> {
         let [k, d, s] = &self.row_sums;
         let (mut a, mut b) = (0.0f64, 0.0f64);

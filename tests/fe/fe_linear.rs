@@ -201,3 +201,40 @@ fn unbalance_and_gravity_are_the_forces_they_say() {
     let q0 = rotor.system().static_deflection().unwrap();
     assert!((q0[1] + 9.81 * 10.0 / 1e6).abs() < 1e-18);
 }
+
+/// `max_rate` bounds the rates of the motion: at least the largest |eigenvalue| of the lateral
+/// state matrix that each sidecar gives (numpy's eig of the exported matrices).
+#[test]
+fn max_rate_bounds_the_largest_eigenvalue() {
+    use jeffcott::rotor::{RotorMatrices, SmoothRotor};
+    for stem in [
+        "rotor_example_1500rpm",
+        "rotor_example_with_damping_1200rpm",
+    ] {
+        let path = |ext: &str| {
+            format!(
+                "{}/tests/data/rotors/{stem}.{ext}",
+                env!("CARGO_MANIFEST_DIR")
+            )
+        };
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(path("json")).unwrap()).unwrap();
+        let speed = json["speed_rad_s"].as_f64().unwrap();
+        let largest = json["largest_eigenvalue_modulus_lateral_rad_s"]
+            .as_f64()
+            .unwrap();
+        let lateral = RotorMatrices::from_ross_mat(path("mat"))
+            .unwrap()
+            .lateral()
+            .unwrap();
+        let system = LinearSystem::from_matrices(&lateral, speed).unwrap();
+        let x = lateral.x_dof(2).unwrap();
+        let rotor = LinearRotor::new(system, [x, x + 1], [0.0; 2]).unwrap();
+        let y = rotor.rest_state();
+        let free = rotor.max_rate(0.0, &y, 0.0, 0.0).unwrap();
+        let contact = rotor.max_rate(0.0, &y, 2.2e6, 0.02).unwrap();
+        println!("{stem}: largest |eigenvalue| {largest:.3e}, max_rate {free:.3e} (contact {contact:.3e})");
+        assert!(free >= largest, "{free} < {largest}");
+        assert!(contact >= free);
+    }
+}
