@@ -1,5 +1,6 @@
 //! Finite-element rotors (ROSS exports) on the ring.
 
+mod fe_eccentric;
 mod fe_linear;
 mod fe_matrices;
 mod fe_s1;
