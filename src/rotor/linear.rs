@@ -24,6 +24,7 @@ use crate::ring::Kinematics;
 /// A reduction builds its own with [`LinearSystem::from_parts`] from the projected matrices
 /// and forces ($T^{\mathsf T} M T$, ..., $T^{\mathsf T}\hat F$).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LinearSystem {
     mass: DMatrix<f64>,
     damping: DMatrix<f64>,
@@ -474,13 +475,7 @@ impl LinearRotor {
         Ok(rotor)
     }
 
-    /// The scale of the state: each coordinate's steady amplitude $|X_i| + |q_{0,i}|$ (the
-    /// synchronous response plus the static deflection, [`LinearSystem::steady_response`]),
-    /// at least $10^{-3}$ of the largest (a coordinate at a node of the response), at least
-    /// the gap's order for the station: see [`LinearRotor::with_gap_scale`]; velocities
-    /// $\Omega$ times that; the ring's slots the station's. Without forcing, or where the
-    /// response cannot be computed (an undamped resonance), 1 mm for every coordinate and 1
-    /// mm times $\Omega$ for the velocities.
+    /// The state's scale before the gap is known ([`SmoothRotor::state_scale`]).
     fn natural_scale(&self) -> DVector<f64> {
         let n = self.system.dofs();
         let w = self.system.speed;
@@ -623,6 +618,13 @@ impl SmoothRotor for LinearRotor {
         std::f64::consts::TAU / self.system.speed
     }
 
+    /// Each coordinate's steady amplitude $|X_i| + |q_{0,i}|$ (the synchronous response plus
+    /// the static deflection), at least $10^{-3}$ of the largest (a coordinate at a node of
+    /// the response); $\Omega$ times that for the velocities; the station's raised to the
+    /// ring's gap by [`LinearRotor::ringed`] ([`LinearRotor::with_gap_scale`]). Without
+    /// forcing, or at an undamped resonance, 1 mm (and 1 mm times $\Omega$). The absolute
+    /// tolerance of a run is `atol` times this: `atol = rtol` asks for each coordinate's
+    /// error relative to its amplitude, as S1's reference did.
     fn state_scale(&self) -> Option<DVector<f64>> {
         Some(self.scale.clone())
     }
