@@ -222,11 +222,13 @@ fn main() {
         .fold(0.0, f64::max);
     let periodicity = or_exit(orbit.period(&PeriodTest::default()));
     println!(
-        "orbit: {}, {contacts} contact onsets in {periods} periods, largest |r| at the ring {reach:.4}, {} steps ({} rejected, {} rhs evaluations), {:.2} s",
+        "orbit: {}, {contacts} contact onsets in {periods} periods, largest |r| at the ring {reach:.4}, {} steps ({} rejected, {} rhs evaluations, {} Jacobians, {} LU), {:.2} s",
         describe(&periodicity),
         orbit.stats.steps + portrait.stats.steps,
         orbit.stats.rejected + portrait.stats.rejected,
         orbit.stats.rhs_evals + portrait.stats.rhs_evals,
+        orbit.stats.jacobians + portrait.stats.jacobians,
+        orbit.stats.lu_decompositions + portrait.stats.lu_decompositions,
         clock.elapsed().as_secs_f64()
     );
 

@@ -114,7 +114,7 @@ where
         kind: SimErrorKind::InvalidOption { field, value, hint },
         t: 0.0,
         y: y0.clone(),
-        stats: SimStats::default(),
+        stats: Box::default(),
     };
     if record == 0 {
         return Err(invalid("record", 0.0, "record at least one forcing period"));

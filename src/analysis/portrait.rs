@@ -142,7 +142,7 @@ where
         kind: SimErrorKind::InvalidOption { field, value, hint },
         t: 0.0,
         y: y0.clone(),
-        stats: SimStats::default(),
+        stats: Box::default(),
     };
     if !(dt.is_finite() && dt > 0.0) {
         return Err(bad("dt", dt, "a finite sampling step > 0"));

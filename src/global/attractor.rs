@@ -4,7 +4,7 @@ use nalgebra::{DefaultAllocator, OVector};
 use crate::analysis::{PeriodTest, Periodicity};
 use crate::hybrid::{
     simulate, EventRecord, HybridObserver, OutputPlan, RotorModel, SimError, SimErrorKind,
-    SimOptions, SimStats, StrobePoint, StrobeRange,
+    SimOptions, StrobePoint, StrobeRange,
 };
 
 /// Settings of [`find_attractor`].
@@ -391,7 +391,7 @@ where
             kind: SimErrorKind::InvalidOption { field, value, hint },
             t: 0.0,
             y: y0.clone(),
-            stats: SimStats::default(),
+            stats: Box::default(),
         });
     }
     let test = config.period_test;
@@ -412,7 +412,7 @@ where
                 kind: SimErrorKind::NonFinite,
                 t: t_end,
                 y: obs.strobe.last().cloned().unwrap_or_else(|| start.clone()),
-                stats: SimStats::default(),
+                stats: Box::default(),
             })?;
         let more = transient_done + config.transient <= config.max_transient;
         if periodicity.period().is_some() || !more || config.transient == 0 {

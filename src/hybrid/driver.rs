@@ -158,6 +158,14 @@ pub struct SimStats {
     /// raise [`SimOptions::steps_per_period`] until this is 0. Always 0 for the adaptive
     /// methods and for models that give no bound.
     pub unresolved_steps: u64,
+    /// Jacobians of the right-hand side computed by the integrator ([`Radau5`](crate::ode::Radau5);
+    /// 0 for the explicit methods).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub jacobians: u64,
+    /// LU decompositions of the integrator's Newton matrices ([`Radau5`](crate::ode::Radau5):
+    /// its real and complex one counted as one; 0 for the explicit methods).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub lu_decompositions: u64,
 }
 
 /// What went wrong in a run.
@@ -274,8 +282,8 @@ where
     pub t: f64,
     /// Last good state.
     pub y: OVector<f64, D>,
-    /// Work done until then.
-    pub stats: SimStats,
+    /// Work done until then (boxed: it keeps the error small, clippy's `result_large_err`).
+    pub stats: Box<SimStats>,
 }
 
 /// The model in one mode, as an [`OdeSystem`].
@@ -728,7 +736,7 @@ where
         kind,
         t,
         y: y.clone(),
-        stats,
+        stats: Box::new(stats),
     }
 }
 
@@ -1095,6 +1103,8 @@ where
     stats.steps = s.steps;
     stats.rejected = s.rejected;
     stats.rhs_evals = s.rhs_evals;
+    stats.jacobians = s.jacobians;
+    stats.lu_decompositions = s.lu_decompositions;
 }
 
 /// The integrator of a run: the model's dimension, its algebraic components out of the error

@@ -880,7 +880,7 @@ fn unresolved_rk4_is_flagged_in_the_run_statistics() {
         .with_max_events_per_period(62);
     let (traj, stats) = match m.run(0.0, &y0, &plan(&p, 3), &opts) {
         Ok(ok) => ok,
-        Err(f) => (f.partial, f.error.stats),
+        Err(f) => (f.partial, *f.error.stats),
     };
     let worst = worst_inconsistency(m.ring(), &traj);
     // When found, the outputs were inconsistent (8.7e-2, all 16 steps unresolved). Since
@@ -896,7 +896,7 @@ fn unresolved_rk4_is_flagged_in_the_run_statistics() {
     let fine = opts.with_steps_per_period(2000);
     let stats = match m.run(0.0, &y0, &plan(&p, 3), &fine) {
         Ok((_, stats)) => stats,
-        Err(f) => f.error.stats,
+        Err(f) => *f.error.stats,
     };
     assert_eq!(stats.unresolved_steps, 0, "{stats:?}");
 }

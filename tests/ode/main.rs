@@ -5,6 +5,10 @@
 /// Test models with known solutions (shared by the integrator tests).
 #[path = "../common/mod.rs"]
 mod common;
+/// `examples/flexible_shaft`'s modal shaft (a hybrid model with many contact events).
+#[allow(dead_code)] // the example uses what the tests do not
+#[path = "../../examples/flexible_shaft/shaft.rs"]
+mod shaft;
 
 mod ode_adaptive;
 mod ode_convergence;
@@ -14,5 +18,6 @@ mod ode_errors;
 mod ode_events;
 mod ode_honesty;
 mod ode_radau;
+mod ode_radau_contacts;
 mod ode_stiff_jumps;
 mod ode_stiff_set;

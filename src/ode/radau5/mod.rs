@@ -15,8 +15,15 @@ use nalgebra::{DefaultAllocator, Dim, DimName, OVector};
 
 /// Convergence rate below which the Jacobian is kept for the next step (RADAU5's `THET`).
 const THETA_JAC: f64 = 1e-3;
-/// A step-size increase by at most this factor is not taken, to keep the LU decompositions.
-const KEEP_H_UP_TO: f64 = 1.2;
+/// Suggested step-size ratios $h_{\text{new}}/h$ within which $h$ is kept, to keep the LU
+/// decompositions (RADAU5's `QUOT1`, `QUOT2`): Hairer's defaults, for small systems...
+const KEEP_H_SMALL: (f64, f64) = (1.0, 1.2);
+/// ...and the values his documentation suggests for large full systems, taken from
+/// [`LARGE_SYSTEM`] states on.
+const KEEP_H_LARGE: (f64, f64) = (0.99, 2.0);
+/// From this dimension on the LU decompositions dominate a step's cost: a pair costs about
+/// $\tfrac{10}{3}N^3$ flops, a step's Newton and error solves about $35N^2$.
+const LARGE_SYSTEM: usize = 20;
 
 /// RADAU5: the three-stage Radau IIA collocation method of order 5 (L-stable, stiffly
 /// accurate), after Hairer and Wanner's `radau5.f` (*Solving ODEs II*, §IV.8).
@@ -49,7 +56,11 @@ const KEEP_H_UP_TO: f64 = 1.2;
 /// **Reuse.** $J$ is computed at the start of a step only when the last step converged
 /// slowly ($\theta > 10^{-3}$) or after a reset; after a rejection it is recomputed unless it
 /// is already fresh at this point. The two LU decompositions are redone only when $h$
-/// changes; a step-size increase by a factor in $[1, 1.2]$ is not taken, to keep them.
+/// changes; after a fast-converging step, a suggested ratio $h_{\text{new}}/h$ in $[1, 1.2]$
+/// is not taken, to keep them, and from $N = 20$ states on one in $[0.99, 2]$ (the values
+/// Hairer's documentation of RADAU5 gives for large full systems: there the decompositions,
+/// $\tfrac{10}{3}N^3$ flops a pair, cost more than the extra steps; on the 64-mode flexible shaft
+/// with contacts, 258 states, a third of the decompositions and 25 % more steps).
 ///
 /// **Error estimate.** $e = (\tfrac{\gamma}{h} I - J)^{-1}\big(f(t, y) + \tfrac1h(d_1Z_1 + d_2Z_2 + d_3Z_3)\big)$
 /// with $d = (-(13 + 7\sqrt6)/3, (-13 + 7\sqrt6)/3, -1/3)$, a third-order estimate filtered by
@@ -66,7 +77,10 @@ const KEEP_H_UP_TO: f64 = 1.2;
 /// **Step size.** $h_{\text{new}} = h/q$ with $q = \Vert e\Vert^{1/4}/\mathrm{fac}$ kept
 /// between the reciprocals of [`Options::fac_max`] and [`Options::fac_min`], where
 /// $\mathrm{fac} = \min(\mathrm{safety}, \mathrm{safety}\thinspace(1 + 2\cdot7)/(k + 2\cdot 7))$
-/// for $k$ Newton iterations; on acceptance the predictive controller of Gustafsson may lower
+/// for $k$ Newton iterations; a rejected first step after a reset divides $h$ by 10 instead
+/// (Hairer's rule for a guessed initial step) unless the step size was kept across the reset
+/// (`keep_step`: a step size that worked before a discontinuity, whose error estimate is then
+/// trusted as any other); on acceptance the predictive controller of Gustafsson may lower
 /// it:
 /// $h_{\text{new}} \le h\thinspace\mathrm{safety}\thinspace\frac{h}{h_{\text{acc}}}
 /// \big(\mathrm{err}_{\text{acc}}/\mathrm{err}^2\big)^{1/4}$ (acc: the previous accepted
@@ -146,6 +160,10 @@ where
     /// Gustafsson's memory: last accepted step and its error (`h_acc` 0 = none).
     h_acc: f64,
     err_acc: f64,
+    /// The step size was kept across the last reset (not guessed).
+    h_kept: bool,
+    /// Ratios $h_{\text{new}}/h$ within which $h$ and the LU decompositions are kept.
+    keep_h: (f64, f64),
 }
 
 impl<D: DimName> Radau5<D>
@@ -209,6 +227,12 @@ where
             first: true,
             h_acc: 0.0,
             err_acc: 1e-2,
+            h_kept: false,
+            keep_h: if n >= LARGE_SYSTEM {
+                KEEP_H_LARGE
+            } else {
+                KEEP_H_SMALL
+            },
         })
     }
 
@@ -439,7 +463,11 @@ where
         let quot = (err.powf(0.25) / fac).clamp(1.0 / fac_max, 1.0 / fac_min);
         if err >= 1.0 {
             return Attempt::Rejected {
-                factor: if self.first { 0.1 } else { 1.0 / quot },
+                factor: if self.first && !self.h_kept {
+                    0.1
+                } else {
+                    1.0 / quot
+                },
                 non_finite: false,
             };
         }
@@ -594,7 +622,7 @@ where
         let keep_jac = self.rate.theta <= THETA_JAC;
         let mut h_next = if no_growth {
             h_try * ratio.min(1.0)
-        } else if keep_jac && (1.0..=KEEP_H_UP_TO).contains(&ratio) {
+        } else if keep_jac && (self.keep_h.0..=self.keep_h.1).contains(&ratio) {
             h_try
         } else {
             h_try * ratio
@@ -637,8 +665,12 @@ where
         y: &OVector<f64, D>,
         keep_step: bool,
     ) -> Result<(), OdeError> {
+        self.h_kept = keep_step && self.core.h > 0.0;
         self.core.reset(sys, t, y, keep_step)?;
-        // A reset marks a discontinuity: a new Jacobian, zero starting values.
+        // A reset marks a discontinuity: a new Jacobian (the old one may filter the error
+        // estimate with stiffness the new field lacks), zero starting values (the last
+        // polynomial does not extrapolate across a jump), no error history for Gustafsson's
+        // controller.
         self.first = true;
         self.jac_ok = false;
         self.jac_fresh = false;
