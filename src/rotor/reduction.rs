@@ -1,0 +1,461 @@
+//! Craig-Bampton reduction of a finite-element rotor that keeps the ring's DOFs physical.
+//!
+//! The contact sees the displacement of one node, so that node's `x` and `y` (the *boundary*
+//! DOFs, index set $b$) stay physical coordinates and the rest (the *interior*, $i$) is
+//! described by the static shapes they impose plus a few of its own vibration modes:
+//!
+//! $$q = T \begin{bmatrix} q_b \\\\ \eta \end{bmatrix}, \qquad
+//! T = \begin{bmatrix} I & 0 \\\\ \Psi & \Phi_i \end{bmatrix}, \qquad
+//! \Psi = -K_{ii}^{-1} K_{ib},$$
+//!
+//! (rows shown in the order $[b, i]$; [`CraigBampton::basis`] keeps the rotor's own DOF order)
+//! where $\Psi$ are the *constraint modes* (the rotor's static deflection under a unit
+//! displacement of one boundary DOF, the others held at zero) and $\Phi_i$ the lowest
+//! *fixed-interface modes*, $K_{ii}\phi = \omega^2 M_{ii}\phi$ with the boundary held,
+//! mass-normalised ($\Phi_i^{\mathsf T} M_{ii} \Phi_i = I$). With no fixed-interface mode kept
+//! it is Guyan's static condensation; with all of them $T$ is square and the reduction exact.
+//!
+//! **Non-symmetric stiffness.** A rotordynamics code's `K` at speed holds the bearings'
+//! cross-coupling ($k_{xy} \ne k_{yx}$) and need not be symmetric; `M` is. The constraint modes
+//! use the full $K$ (a linear solve), so that a static force on the boundary DOFs is reproduced
+//! exactly at every mode count; the fixed-interface modes come from the symmetric parts
+//! $\tfrac12(K_{ii} + K_{ii}^{\mathsf T})$, $\tfrac12(M_{ii} + M_{ii}^{\mathsf T})$, by a
+//! Cholesky factor $M_{ii} = L L^{\mathsf T}$ and the symmetric eigenproblem of
+//! $L^{-1} K_{ii} L^{-\mathsf T}$ (real, orthogonal modes; any basis of the interior is valid,
+//! these converge fastest for a weakly non-symmetric $K$). The projection itself uses the full
+//! matrices, $T^{\mathsf T} A\thinspace T$ for $A$ in $M$, $C$, $G$, $K$, so nothing of the
+//! cross-coupling, the damping or the gyroscopic terms is lost in the retained coordinates.
+//!
+//! **Choosing the number of modes.** [`CraigBampton::response_error`] gives the reduction's
+//! relative error on the steady harmonic response at the boundary DOFs (e.g. the unbalance
+//! response at the running speed), and [`CraigBampton::response_error_sweep`] its worst over a
+//! list of speeds.
+
+use nalgebra::{Cholesky, Complex, ComplexField, DMatrix, DVector, SymmetricEigen};
+
+use super::{RotorError, RotorMatrices};
+
+/// Which fixed-interface modes a [`CraigBampton`] reduction keeps (always the lowest ones).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum ModeSelection {
+    /// The lowest `n` modes; `Count(0)` is Guyan's static condensation.
+    Count(usize),
+    /// Every mode whose fixed-interface natural frequency is below this cut-off, in rad/s
+    /// (`f64::INFINITY` keeps all; a cut-off below the lowest keeps none).
+    Below(f64),
+}
+
+/// A Craig-Bampton reduction basis $T$ of a rotor, reduced coordinates ordered
+/// `[boundary DOFs (physical, in the order given), fixed-interface modal coordinates
+/// (by increasing frequency)]`. See the [module docs](self) for the formulas.
+///
+/// ```
+/// use jeffcott::nalgebra::DMatrix;
+/// use jeffcott::rotor::{CraigBampton, ModeSelection};
+/// // A chain of three unit masses between two walls, springs k = 1; boundary: the middle mass.
+/// let m = DMatrix::<f64>::identity(3, 3);
+/// let k = DMatrix::from_row_slice(3, 3, &[2.0, -1.0, 0.0, -1.0, 2.0, -1.0, 0.0, -1.0, 2.0]);
+/// let cb = CraigBampton::new(&m, &k, &[1], ModeSelection::Count(1))?;
+/// assert_eq!(cb.basis().shape(), (3, 2));
+/// // Held middle mass: each outer mass on two springs, omega = sqrt(2).
+/// assert!((cb.frequencies()[0] - 2f64.sqrt()).abs() < 1e-12);
+/// let k_reduced = cb.project(&k)?;
+/// assert!((k_reduced[(0, 0)] - 1.0).abs() < 1e-12); // two springs of 1/2 each to the walls
+/// # Ok::<(), jeffcott::rotor::RotorError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct CraigBampton {
+    boundary: Vec<usize>,
+    basis: DMatrix<f64>,
+    frequencies: Vec<f64>,
+}
+
+/// The reduction's error on a steady harmonic response at the boundary DOFs
+/// ([`CraigBampton::response_error`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
+pub struct ResponseError {
+    /// The speed $\Omega$ (rad/s) of the response.
+    pub speed: f64,
+    /// $\Vert X_b^{\mathrm{red}} - X_b \Vert_2 / \Vert X_b \Vert_2$ over the boundary DOFs
+    /// (0 if both responses vanish).
+    pub relative: f64,
+    /// $\Vert X_b \Vert_2$, the full model's boundary amplitude (the unit of the DOFs, m).
+    pub amplitude: f64,
+}
+
+impl CraigBampton {
+    /// The reduction of the rotor with mass `mass` and stiffness `stiffness` (square, of the
+    /// same size) keeping the DOFs `boundary` physical (distinct indices, any order: the reduced
+    /// coordinate `j` is `boundary[j]`) and the fixed-interface modes chosen by `modes`.
+    ///
+    /// Errors: a matrix not square or of another size ([`RotorError::MatrixShape`]), a
+    /// non-finite entry ([`RotorError::MatrixEntry`]), a boundary DOF out of range or repeated
+    /// ([`RotorError::BoundaryDof`], [`RotorError::DuplicateBoundaryDof`]), an interior mass
+    /// that is not positive definite ([`RotorError::InteriorMass`]), an interior stiffness
+    /// that does not hold the rotor, e.g. rigid-body or axial/torsional DOFs left free
+    /// ([`RotorError::InteriorStiffness`]), more modes than interior DOFs
+    /// ([`RotorError::ModeCount`]), a cut-off that is NaN or negative
+    /// ([`RotorError::ModeCutoff`]).
+    pub fn new(
+        mass: &DMatrix<f64>,
+        stiffness: &DMatrix<f64>,
+        boundary: &[usize],
+        modes: ModeSelection,
+    ) -> Result<Self, RotorError> {
+        let n = mass.nrows();
+        check_matrix("M", mass, n)?;
+        check_matrix("K", stiffness, n)?;
+        if let ModeSelection::Below(cutoff) = modes {
+            if cutoff.is_nan() || cutoff < 0.0 {
+                return Err(RotorError::ModeCutoff { cutoff });
+            }
+        }
+        let interior = interior_dofs(n, boundary)?;
+        let pick = |a: &DMatrix<f64>, rows: &[usize], cols: &[usize]| {
+            DMatrix::from_fn(rows.len(), cols.len(), |r, c| a[(rows[r], cols[c])])
+        };
+        let k_ii = pick(stiffness, &interior, &interior);
+        let (frequencies, phi) = fixed_interface_modes(&pick(mass, &interior, &interior), &k_ii)?;
+        let kept = match modes {
+            ModeSelection::Count(count) if count > frequencies.len() => {
+                return Err(RotorError::ModeCount {
+                    requested: count,
+                    available: frequencies.len(),
+                })
+            }
+            ModeSelection::Count(count) => count,
+            ModeSelection::Below(cutoff) => frequencies.iter().take_while(|w| **w < cutoff).count(),
+        };
+        let k_ib = pick(stiffness, &interior, boundary);
+        // Unreachable once K_ii's symmetric part is positive definite (x^T K_ii x > 0).
+        let psi = k_ii
+            .lu()
+            .solve(&(-k_ib))
+            .ok_or(RotorError::InteriorStiffness { eigenvalue: 0.0 })?;
+        let mut basis = DMatrix::zeros(n, boundary.len() + kept);
+        for (j, &b) in boundary.iter().enumerate() {
+            basis[(b, j)] = 1.0;
+        }
+        for (r, &i) in interior.iter().enumerate() {
+            for j in 0..boundary.len() {
+                basis[(i, j)] = psi[(r, j)];
+            }
+            for k in 0..kept {
+                basis[(i, boundary.len() + k)] = phi[(r, k)];
+            }
+        }
+        Ok(Self {
+            boundary: boundary.to_vec(),
+            basis,
+            frequencies: frequencies[..kept].to_vec(),
+        })
+    }
+
+    /// The reduction of a rotor's matrices ([`CraigBampton::new`] on its `M` and `K`): give the
+    /// lateral rotor ([`RotorMatrices::lateral`]), whose stiffness holds every DOF (ROSS's
+    /// axial and torsional DOFs have none to ground).
+    pub fn from_rotor(
+        rotor: &RotorMatrices,
+        boundary: &[usize],
+        modes: ModeSelection,
+    ) -> Result<Self, RotorError> {
+        Self::new(rotor.mass(), rotor.stiffness(), boundary, modes)
+    }
+
+    /// The reduction keeping a node's `x` and `y` physical (reduced coordinates 0 and 1), the
+    /// ring's node. Error: a node out of range ([`RotorError::NodeOutOfRange`]), or those of
+    /// [`CraigBampton::new`].
+    pub fn at_node(
+        rotor: &RotorMatrices,
+        node: usize,
+        modes: ModeSelection,
+    ) -> Result<Self, RotorError> {
+        let x = rotor.x_dof(node)?;
+        Self::from_rotor(rotor, &[x, x + 1], modes)
+    }
+
+    /// The basis $T$, full DOFs by reduced coordinates (boundary first, then modes).
+    pub fn basis(&self) -> &DMatrix<f64> {
+        &self.basis
+    }
+    /// The boundary DOFs (full indices); the reduced coordinate `j` is `boundary()[j]`.
+    pub fn boundary(&self) -> &[usize] {
+        &self.boundary
+    }
+    /// The reduced coordinate of a full DOF if it is a boundary DOF.
+    pub fn boundary_index(&self, dof: usize) -> Option<usize> {
+        self.boundary.iter().position(|&b| b == dof)
+    }
+    /// Natural frequencies (rad/s) of the kept fixed-interface modes, increasing; the modal
+    /// coordinate `k` (reduced coordinate `boundary().len() + k`) belongs to `frequencies()[k]`.
+    pub fn frequencies(&self) -> &[f64] {
+        &self.frequencies
+    }
+    /// Number of kept fixed-interface modes.
+    pub fn modes(&self) -> usize {
+        self.frequencies.len()
+    }
+    /// Number of full DOFs.
+    pub fn full_dofs(&self) -> usize {
+        self.basis.nrows()
+    }
+    /// Number of reduced coordinates (boundary DOFs plus kept modes).
+    pub fn reduced_dofs(&self) -> usize {
+        self.basis.ncols()
+    }
+
+    /// $T^{\mathsf T} A\thinspace T$: the reduced counterpart of a full matrix ($M$, $C$, $G$,
+    /// $K$, or $C + \Omega G$). Error: `a` not of the full size ([`RotorError::MatrixShape`]).
+    pub fn project(&self, a: &DMatrix<f64>) -> Result<DMatrix<f64>, RotorError> {
+        check_matrix("projected", a, self.full_dofs())?;
+        Ok(self.basis.tr_mul(&(a * &self.basis)))
+    }
+
+    /// $T^{\mathsf T} f$: the reduced counterpart of a full force vector, real (`f64`) or
+    /// complex (a harmonic amplitude). Error: `f` not of the full length
+    /// ([`RotorError::VectorLength`]).
+    pub fn project_force<T: ComplexField<RealField = f64>>(
+        &self,
+        f: &DVector<T>,
+    ) -> Result<DVector<T>, RotorError> {
+        check_length(f.len(), self.full_dofs())?;
+        Ok(DVector::from_fn(self.reduced_dofs(), |j, _| {
+            self.basis
+                .column(j)
+                .iter()
+                .zip(f.iter())
+                .fold(T::zero(), |s, (t, fi)| s + T::from_real(*t) * fi.clone())
+        }))
+    }
+
+    /// $T q$: the full displacement of reduced coordinates `q`, real or complex. Error: `q`
+    /// not of the reduced length ([`RotorError::VectorLength`]).
+    pub fn expand<T: ComplexField<RealField = f64>>(
+        &self,
+        q: &DVector<T>,
+    ) -> Result<DVector<T>, RotorError> {
+        check_length(q.len(), self.reduced_dofs())?;
+        Ok(DVector::from_fn(self.full_dofs(), |i, _| {
+            self.basis
+                .row(i)
+                .iter()
+                .zip(q.iter())
+                .fold(T::zero(), |s, (t, qj)| s + T::from_real(*t) * qj.clone())
+        }))
+    }
+
+    /// The reduction's relative error on the steady harmonic response at the boundary DOFs:
+    /// $X$ solves $(K - \Omega^2 M + \mathrm i\thinspace\Omega D)\thinspace X = \hat F$ with the
+    /// full matrices and with their projections ($q(t) = \mathrm{Re}(X e^{\mathrm i \Omega t})$;
+    /// for an unbalance, $D = C + \Omega G$ and $\hat F$ the rotating force's amplitude,
+    /// $\hat F_x = m e\thinspace\Omega^2 e^{\mathrm i\varphi}$,
+    /// $\hat F_y = -\mathrm i\thinspace\hat F_x$). At $\Omega = 0$ it is the static response.
+    ///
+    /// Errors: matrices or force of another size ([`RotorError::MatrixShape`],
+    /// [`RotorError::VectorLength`]), a non-finite speed ([`RotorError::Speed`]), a singular
+    /// full or reduced dynamic stiffness, e.g. an undamped rotor at a resonance
+    /// ([`RotorError::SingularDynamicStiffness`]).
+    pub fn response_error(
+        &self,
+        mass: &DMatrix<f64>,
+        damping: &DMatrix<f64>,
+        stiffness: &DMatrix<f64>,
+        force: &DVector<Complex<f64>>,
+        speed: f64,
+    ) -> Result<ResponseError, RotorError> {
+        check_length(force.len(), self.full_dofs())?;
+        let full = steady_response([mass, damping, stiffness], force, speed)?;
+        let reduced = [
+            self.project(mass)?,
+            self.project(damping)?,
+            self.project(stiffness)?,
+        ];
+        let red = steady_response(
+            [&reduced[0], &reduced[1], &reduced[2]],
+            &self.project_force(force)?,
+            speed,
+        )?;
+        Ok(self.compare(speed, &full, &red))
+    }
+
+    /// The worst [`CraigBampton::response_error`] over `speeds` (rad/s), with
+    /// $D = C + \Omega G$ at each and the rotor's `M`, `C`, `G`, `K` held as given (a code
+    /// exports the bearings at one speed). The relative error does not depend on the force's
+    /// scale, so an unbalance's $\hat F$ at any one speed serves all. Errors: those of
+    /// [`CraigBampton::response_error`], an empty list ([`RotorError::Speed`] with NaN).
+    pub fn response_error_sweep(
+        &self,
+        rotor: &RotorMatrices,
+        force: &DVector<Complex<f64>>,
+        speeds: &[f64],
+    ) -> Result<ResponseError, RotorError> {
+        check_length(force.len(), self.full_dofs())?;
+        let named = [
+            rotor.mass(),
+            rotor.damping(),
+            rotor.gyroscopic(),
+            rotor.stiffness(),
+        ];
+        let mut reduced = Vec::with_capacity(4);
+        for a in named {
+            reduced.push(self.project(a)?);
+        }
+        let force_reduced = self.project_force(force)?;
+        let mut worst: Option<ResponseError> = None;
+        for &speed in speeds {
+            let d = named[1] + named[2] * speed;
+            let d_red = &reduced[1] + &reduced[2] * speed;
+            let full = steady_response([named[0], &d, named[3]], force, speed)?;
+            let red = steady_response([&reduced[0], &d_red, &reduced[3]], &force_reduced, speed)?;
+            let e = self.compare(speed, &full, &red);
+            if worst.is_none_or(|w| !(e.relative <= w.relative)) {
+                worst = Some(e);
+            }
+        }
+        worst.ok_or(RotorError::Speed { speed: f64::NAN })
+    }
+
+    /// The error of the reduced response `red` (reduced coordinates) against the full `full`
+    /// at the boundary DOFs.
+    fn compare(
+        &self,
+        speed: f64,
+        full: &DVector<Complex<f64>>,
+        red: &DVector<Complex<f64>>,
+    ) -> ResponseError {
+        let (mut diff, mut amp) = (0.0, 0.0);
+        for (j, &b) in self.boundary.iter().enumerate() {
+            diff += (red[j] - full[b]).norm_sqr();
+            amp += full[b].norm_sqr();
+        }
+        let relative = if diff == 0.0 { 0.0 } else { (diff / amp).sqrt() };
+        ResponseError {
+            speed,
+            relative,
+            amplitude: amp.sqrt(),
+        }
+    }
+}
+
+/// The steady harmonic response: solves $(K - \Omega^2 M + \mathrm i \Omega D) X = \hat F$
+/// by complex LU; `[mass, damping, stiffness]` square of the force's size.
+fn steady_response(
+    [mass, damping, stiffness]: [&DMatrix<f64>; 3],
+    force: &DVector<Complex<f64>>,
+    speed: f64,
+) -> Result<DVector<Complex<f64>>, RotorError> {
+    if !speed.is_finite() {
+        return Err(RotorError::Speed { speed });
+    }
+    let n = force.len();
+    for (name, a) in [("M", mass), ("D", damping), ("K", stiffness)] {
+        check_matrix(name, a, n)?;
+    }
+    let dynamic = DMatrix::from_fn(n, n, |r, c| {
+        Complex::new(
+            stiffness[(r, c)] - speed * speed * mass[(r, c)],
+            speed * damping[(r, c)],
+        )
+    });
+    dynamic
+        .lu()
+        .solve(force)
+        .filter(|x| x.iter().all(|v| v.re.is_finite() && v.im.is_finite()))
+        .ok_or(RotorError::SingularDynamicStiffness { speed })
+}
+
+/// The fixed-interface modes of $(K_{ii}, M_{ii})$ from their symmetric parts: frequencies
+/// (rad/s, increasing) and the mass-normalised modes as columns.
+fn fixed_interface_modes(
+    m_ii: &DMatrix<f64>,
+    k_ii: &DMatrix<f64>,
+) -> Result<(Vec<f64>, DMatrix<f64>), RotorError> {
+    let n = m_ii.nrows();
+    if n == 0 {
+        return Ok((Vec::new(), DMatrix::zeros(0, 0)));
+    }
+    let m_s = symmetric_part(m_ii);
+    let mass_error = || RotorError::InteriorMass {
+        eigenvalue: m_s.symmetric_eigenvalues().min(),
+    };
+    let l = Cholesky::new(m_s.clone()).ok_or_else(mass_error)?.unpack();
+    // L^{-1} K L^{-T} = L^{-1} (L^{-1} K)^T for a symmetric K.
+    let half = l
+        .solve_lower_triangular(&symmetric_part(k_ii))
+        .ok_or_else(mass_error)?;
+    let a = l
+        .solve_lower_triangular(&half.transpose())
+        .ok_or_else(mass_error)?;
+    let eigen = SymmetricEigen::new(symmetric_part(&a));
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| eigen.eigenvalues[i].total_cmp(&eigen.eigenvalues[j]));
+    let (lowest, highest) = (eigen.eigenvalues[order[0]], eigen.eigenvalues[order[n - 1]]);
+    // A singular K_ii leaves an eigenvalue at rounding level of the largest, either sign.
+    if !(lowest > n as f64 * f64::EPSILON * highest) {
+        return Err(RotorError::InteriorStiffness { eigenvalue: lowest });
+    }
+    let mut v = DMatrix::from_fn(n, n, |r, c| eigen.eigenvectors[(r, order[c])]);
+    for mut column in v.column_iter_mut() {
+        // A fixed sign (largest component positive) makes the basis reproducible.
+        if column.iter().fold(0.0, |m: f64, x| if x.abs() > m.abs() { *x } else { m }) < 0.0 {
+            column.neg_mut();
+        }
+    }
+    let phi = l
+        .transpose()
+        .solve_upper_triangular(&v)
+        .ok_or_else(mass_error)?;
+    let frequencies = order.iter().map(|&i| eigen.eigenvalues[i].sqrt()).collect();
+    Ok((frequencies, phi))
+}
+
+fn symmetric_part(a: &DMatrix<f64>) -> DMatrix<f64> {
+    (a + a.transpose()) * 0.5
+}
+
+/// The interior DOFs (those not in `boundary`, increasing); refuses an index out of range or
+/// repeated.
+fn interior_dofs(n: usize, boundary: &[usize]) -> Result<Vec<usize>, RotorError> {
+    let mut is_boundary = vec![false; n];
+    for &dof in boundary {
+        if dof >= n {
+            return Err(RotorError::BoundaryDof { dof, dofs: n });
+        }
+        if is_boundary[dof] {
+            return Err(RotorError::DuplicateBoundaryDof { dof });
+        }
+        is_boundary[dof] = true;
+    }
+    Ok((0..n).filter(|&i| !is_boundary[i]).collect())
+}
+
+fn check_matrix(matrix: &'static str, a: &DMatrix<f64>, n: usize) -> Result<(), RotorError> {
+    if a.nrows() != n || a.ncols() != n {
+        return Err(RotorError::MatrixShape {
+            matrix,
+            rows: a.nrows(),
+            cols: a.ncols(),
+            expected: n,
+        });
+    }
+    match a.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        Some((i, v)) => Err(RotorError::MatrixEntry {
+            matrix,
+            row: i % n,
+            col: i / n,
+            value: *v,
+        }),
+        None => Ok(()),
+    }
+}
+
+fn check_length(len: usize, expected: usize) -> Result<(), RotorError> {
+    if len != expected {
+        return Err(RotorError::VectorLength { len, expected });
+    }
+    Ok(())
+}
