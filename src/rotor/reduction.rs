@@ -332,7 +332,11 @@ impl CraigBampton {
             diff += (red[j] - full[b]).norm_sqr();
             amp += full[b].norm_sqr();
         }
-        let relative = if diff == 0.0 { 0.0 } else { (diff / amp).sqrt() };
+        let relative = if diff == 0.0 {
+            0.0
+        } else {
+            (diff / amp).sqrt()
+        };
         ResponseError {
             speed,
             relative,
@@ -401,7 +405,11 @@ fn fixed_interface_modes(
     let mut v = DMatrix::from_fn(n, n, |r, c| eigen.eigenvectors[(r, order[c])]);
     for mut column in v.column_iter_mut() {
         // A fixed sign (largest component positive) makes the basis reproducible.
-        if column.iter().fold(0.0, |m: f64, x| if x.abs() > m.abs() { *x } else { m }) < 0.0 {
+        if column
+            .iter()
+            .fold(0.0, |m: f64, x| if x.abs() > m.abs() { *x } else { m })
+            < 0.0
+        {
             column.neg_mut();
         }
     }

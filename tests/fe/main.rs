@@ -1,3 +1,4 @@
 //! Finite-element rotors (ROSS exports) on the ring.
 
 mod fe_matrices;
+mod fe_reduction;

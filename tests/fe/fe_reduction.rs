@@ -1,0 +1,440 @@
+//! Craig-Bampton reduction of the ROSS rotors with the ring's node kept physical.
+//!
+//! Truths: an invertible change of coordinates changes no solution (all modes kept); a static
+//! solution lying in the basis is reproduced exactly by the Galerkin projection (the
+//! constraint modes span the static response to boundary forces); ROSS's own unbalance
+//! responses (the sidecars' `linear_check`); the generalized eigenvalues of the interior
+//! computed another way ($M^{-1/2} K M^{-1/2}$ by the eigenvectors of $M$, not its Cholesky
+//! factor).
+
+use jeffcott::nalgebra::{Complex, DMatrix, DVector, SymmetricEigen};
+use jeffcott::rotor::{CraigBampton, ModeSelection, RotorError, RotorMatrices};
+
+/// One of the shared rotors with its unbalance case (the sidecar's `linear_check`) and the
+/// ring's node.
+pub struct Case {
+    pub file: &'static str,
+    pub ring_node: usize,
+    pub unbalance_node: usize,
+    pub me: f64,
+    pub phase: f64,
+    pub speed: f64,
+}
+
+pub const CASES: [Case; 2] = [
+    Case {
+        file: "rotor_example_with_damping_1200rpm",
+        ring_node: 12,
+        unbalance_node: 12,
+        me: 2e-3,
+        phase: -std::f64::consts::FRAC_PI_2,
+        speed: 125.66370614359172,
+    },
+    Case {
+        file: "rotor_example_1500rpm",
+        ring_node: 4,
+        unbalance_node: 2,
+        me: 1e-4,
+        phase: 0.0,
+        speed: 157.07963267948966,
+    },
+];
+
+fn data(name: &str) -> String {
+    format!("{}/tests/data/rotors/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+impl Case {
+    /// The lateral rotor.
+    pub fn rotor(&self) -> RotorMatrices {
+        RotorMatrices::from_ross_mat(data(&format!("{}.mat", self.file)))
+            .unwrap()
+            .lateral()
+            .unwrap()
+    }
+
+    /// $\hat F$: $F_x = m e\thinspace\Omega^2 e^{i\varphi}$, $F_y = -i F_x$ at the unbalance
+    /// node (shared README's convention, lateral layout).
+    pub fn force(&self, dofs: usize) -> DVector<Complex<f64>> {
+        let fx = Complex::from_polar(self.me * self.speed * self.speed, self.phase);
+        let mut f = DVector::zeros(dofs);
+        f[4 * self.unbalance_node] = fx;
+        f[4 * self.unbalance_node + 1] = -Complex::<f64>::i() * fx;
+        f
+    }
+
+    /// ROSS's response at the ring node (the sidecar's `all_nodes_x_y`), `[X_x, X_y]`.
+    fn ross_response(&self) -> [Complex<f64>; 2] {
+        let text = std::fs::read_to_string(data(&format!("{}.json", self.file))).unwrap();
+        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let node = &json["linear_check"]["all_nodes_x_y"][self.ring_node];
+        let c =
+            |v: &serde_json::Value| Complex::new(v[0].as_f64().unwrap(), v[1].as_f64().unwrap());
+        [c(&node[0]), c(&node[1])]
+    }
+}
+
+/// $D = C + \Omega G$.
+pub fn damping(rotor: &RotorMatrices, speed: f64) -> DMatrix<f64> {
+    rotor.damping() + rotor.gyroscopic() * speed
+}
+
+/// Solves $(K - \Omega^2 M + i\Omega D) X = F$ (complex LU).
+pub fn steady(
+    m: &DMatrix<f64>,
+    d: &DMatrix<f64>,
+    k: &DMatrix<f64>,
+    f: &DVector<Complex<f64>>,
+    w: f64,
+) -> DVector<Complex<f64>> {
+    let a = DMatrix::from_fn(m.nrows(), m.ncols(), |r, c| {
+        Complex::new(k[(r, c)] - w * w * m[(r, c)], w * d[(r, c)])
+    });
+    a.lu().solve(f).unwrap()
+}
+
+fn rel(a: &DVector<Complex<f64>>, b: &DVector<Complex<f64>>) -> f64 {
+    (a - b).norm() / b.norm()
+}
+
+/// The interior DOFs' count of a node-boundary reduction.
+fn interior(rotor: &RotorMatrices) -> usize {
+    rotor.dofs() - 2
+}
+
+/// "Equal up to rounding" for the 204-DOF rotor: its dynamic stiffness at speed has the
+/// condition number 2.3e7 (1.3e7 at rest; SVD, measured), so each solve alone may be off by
+/// kappa eps = 5e-9; measured 1.0e-11 (all modes, all DOFs) and 1.3e-12 (static), against
+/// 4.9e-8 with one mode of 134 short. The 42-DOF rotor (kappa 2.3e3) stays below 2e-14.
+const EXACT: f64 = 1e-10;
+
+#[test]
+fn all_modes_kept_reproduce_the_full_response_and_ross() {
+    for case in &CASES {
+        let rotor = case.rotor();
+        let n = rotor.dofs();
+        let f = case.force(n);
+        let d = damping(&rotor, case.speed);
+        let full = steady(rotor.mass(), &d, rotor.stiffness(), &f, case.speed);
+        // The direct solve is ROSS's answer (shared README: 3e-13 at node 12, 2e-15 at node 4).
+        let x = 4 * case.ring_node;
+        let ross = case.ross_response();
+        let at_node = DVector::from_vec(vec![full[x], full[x + 1]]);
+        assert!(rel(&at_node, &DVector::from_vec(ross.to_vec())) < 1e-10);
+        for modes in [
+            ModeSelection::Count(interior(&rotor)),
+            ModeSelection::Below(f64::INFINITY),
+        ] {
+            let cb = CraigBampton::at_node(&rotor, case.ring_node, modes).unwrap();
+            assert_eq!(cb.reduced_dofs(), n, "{}: T is square", case.file);
+            assert_eq!(cb.boundary(), &[x, x + 1]);
+            assert_eq!(
+                (cb.boundary_index(x), cb.boundary_index(x + 1)),
+                (Some(0), Some(1))
+            );
+            // T is invertible: the reduced solution is the full one in other coordinates.
+            let [mr, dr, kr] =
+                [rotor.mass(), &d, rotor.stiffness()].map(|a| cb.project(a).unwrap());
+            let q = steady(&mr, &dr, &kr, &cb.project_force(&f).unwrap(), case.speed);
+            let expanded = cb.expand(&q).unwrap();
+            let e = rel(&expanded, &full);
+            assert!(e < EXACT, "{}: all DOFs off by {e:e}", case.file);
+            let err = cb
+                .response_error(rotor.mass(), &d, rotor.stiffness(), &f, case.speed)
+                .unwrap();
+            assert!(err.relative < EXACT, "{}: {err:?}", case.file);
+            assert!((err.amplitude - at_node.norm()).abs() <= 1e-12 * at_node.norm());
+        }
+    }
+}
+
+/// The cross-coupling a fluid-film bearing adds ($k_{xy} = -k_{yx}$), at the 204-DOF rotor's
+/// first bearing (node 4): $K$ is then not symmetric.
+fn cross_coupled(rotor: &RotorMatrices) -> RotorMatrices {
+    let mut k = rotor.stiffness().clone();
+    k[(16, 17)] += 4e5;
+    k[(17, 16)] -= 4e5;
+    RotorMatrices::new(
+        rotor.mass().clone(),
+        rotor.damping().clone(),
+        rotor.gyroscopic().clone(),
+        k,
+        rotor.layout(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn a_static_boundary_force_is_reproduced_exactly_at_any_mode_count() {
+    let base = CASES[0].rotor();
+    let rotors = [CASES[0].rotor(), CASES[1].rotor(), cross_coupled(&base)];
+    for (rotor, node) in rotors.iter().zip([12, 4, 12]) {
+        let x = 4 * node;
+        let mut f = DVector::<f64>::zeros(rotor.dofs());
+        f[x] = 1.3e3;
+        f[x + 1] = -2.1e3;
+        let k = rotor.stiffness();
+        let full = k.clone().lu().solve(&f).unwrap();
+        for count in [0, 8] {
+            let cb = CraigBampton::at_node(rotor, node, ModeSelection::Count(count)).unwrap();
+            let kr = cb.project(k).unwrap();
+            let q = kr.lu().solve(&cb.project_force(&f).unwrap()).unwrap();
+            let e = (cb.expand(&q).unwrap() - &full).norm() / full.norm();
+            assert!(e < EXACT, "node {node}, {count} modes: {e:e}");
+            // The same through the steady response at speed 0 (a static problem).
+            let fc = f.map(|v| Complex::new(v, 0.0));
+            let err = cb
+                .response_error(rotor.mass(), rotor.damping(), k, &fc, 0.0)
+                .unwrap();
+            assert!(err.relative < EXACT, "node {node}, {count} modes: {err:?}");
+        }
+    }
+}
+
+/// Relative errors at the ring node for these mode counts.
+pub const COUNTS: [usize; 8] = [0, 4, 8, 12, 16, 24, 32, 48];
+
+#[test]
+fn the_error_falls_as_modes_are_added() {
+    for case in &CASES {
+        let rotor = case.rotor();
+        let f = case.force(rotor.dofs());
+        let d = damping(&rotor, case.speed);
+        let counts: Vec<usize> = COUNTS
+            .into_iter()
+            .filter(|&c| c <= interior(&rotor))
+            .collect();
+        let errors: Vec<f64> = counts
+            .iter()
+            .map(|&c| {
+                let cb =
+                    CraigBampton::at_node(&rotor, case.ring_node, ModeSelection::Count(c)).unwrap();
+                cb.response_error(rotor.mass(), &d, rotor.stiffness(), &f, case.speed)
+                    .unwrap()
+                    .relative
+            })
+            .collect();
+        println!("{}: {counts:?} modes: {errors:?}", case.file);
+        // Guyan alone misses the dynamics of the running speed by a visible amount.
+        assert!(errors[0] > 1e-3, "{}: {errors:?}", case.file);
+        // Not monotone mode by mode (a Galerkin projection of the indefinite K - W^2 M + i W D
+        // is not a best approximation: the 42-DOF rotor's error rises from 8 to 12 modes), but
+        // doubling the modes always helps, and the last count is far below Guyan.
+        for (i, &c) in counts.iter().enumerate().skip(1) {
+            if let Some(j) = counts.iter().position(|&d| d == 2 * c) {
+                assert!(
+                    errors[j] < errors[i],
+                    "{}: {counts:?}: {errors:?}",
+                    case.file
+                );
+            }
+        }
+        assert!(
+            *errors.last().unwrap() < 1e-6 * errors[0],
+            "{}: {errors:?}",
+            case.file
+        );
+    }
+}
+
+/// The generalized eigenvalues of $(K_{ii}, M_{ii})$ (symmetric parts), increasing, by
+/// $M^{-1/2} K M^{-1/2}$ with $M^{-1/2}$ from $M$'s eigenvectors.
+fn interior_eigenvalues(rotor: &RotorMatrices, boundary: &[usize]) -> Vec<f64> {
+    let keep: Vec<usize> = (0..rotor.dofs())
+        .filter(|i| !boundary.contains(i))
+        .collect();
+    let pick = |a: &DMatrix<f64>| {
+        let s = (a + a.transpose()) * 0.5;
+        DMatrix::from_fn(keep.len(), keep.len(), |r, c| s[(keep[r], keep[c])])
+    };
+    let m = SymmetricEigen::new(pick(rotor.mass()));
+    let inv_sqrt = &m.eigenvectors
+        * DMatrix::from_diagonal(&m.eigenvalues.map(|v| 1.0 / v.sqrt()))
+        * m.eigenvectors.transpose();
+    let a = &inv_sqrt * pick(rotor.stiffness()) * &inv_sqrt;
+    let mut v: Vec<f64> = SymmetricEigen::new((&a + a.transpose()) * 0.5)
+        .eigenvalues
+        .iter()
+        .copied()
+        .collect();
+    v.sort_by(f64::total_cmp);
+    v
+}
+
+#[test]
+fn the_kept_frequencies_are_the_fixed_interface_eigenvalues() {
+    let base = CASES[0].rotor();
+    let rotors = [CASES[0].rotor(), CASES[1].rotor(), cross_coupled(&base)];
+    for (rotor, node) in rotors.iter().zip([12, 4, 12]) {
+        let all =
+            CraigBampton::at_node(rotor, node, ModeSelection::Count(interior(rotor))).unwrap();
+        let want = interior_eigenvalues(rotor, all.boundary());
+        let top = want.last().unwrap();
+        for (k, (w, l)) in all.frequencies().iter().zip(&want).enumerate() {
+            let tol = 1e-8 * l + 1e-12 * top;
+            assert!(
+                (w * w - l).abs() <= tol,
+                "node {node}, mode {k}: {} vs {l}",
+                w * w
+            );
+        }
+        // Mass-normalised and M-orthogonal: the modal block of T^T M T is the identity.
+        let mr = all.project(rotor.mass()).unwrap();
+        let modal = mr.view((2, 2), (all.modes(), all.modes()));
+        let off = (modal - DMatrix::<f64>::identity(all.modes(), all.modes())).amax();
+        assert!(off < 1e-10, "node {node}: Phi^T M Phi off I by {off:e}");
+        // A cut-off keeps exactly the modes below it.
+        let cut = 0.5 * (all.frequencies()[9] + all.frequencies()[10]);
+        let below = CraigBampton::at_node(rotor, node, ModeSelection::Below(cut)).unwrap();
+        assert_eq!(below.modes(), 10);
+        assert_eq!(below.frequencies(), &all.frequencies()[..10]);
+        assert_eq!(below.basis(), &all.basis().columns(0, 12).into_owned());
+    }
+}
+
+#[test]
+fn the_sweep_reports_the_worst_speed() {
+    let case = &CASES[0];
+    let rotor = case.rotor();
+    let f = case.force(rotor.dofs());
+    let cb = CraigBampton::at_node(&rotor, case.ring_node, ModeSelection::Count(8)).unwrap();
+    let speeds = [50.0, case.speed, 180.0, 400.0];
+    let each: Vec<f64> = speeds
+        .iter()
+        .map(|&w| {
+            cb.response_error(rotor.mass(), &damping(&rotor, w), rotor.stiffness(), &f, w)
+                .unwrap()
+                .relative
+        })
+        .collect();
+    let worst = cb.response_error_sweep(&rotor, &f, &speeds).unwrap();
+    let (i, max) = each.iter().enumerate().fold(
+        (0, 0.0),
+        |(j, m), (i, &e)| if e > m { (i, e) } else { (j, m) },
+    );
+    assert_eq!(worst.speed, speeds[i]);
+    // The sweep projects C and G apart, not C + W G: the same up to rounding.
+    assert!(
+        (worst.relative - max).abs() <= 1e-9 * max,
+        "{worst:?} vs {max}"
+    );
+    // The relative error does not depend on the force's scale (an unbalance's W^2).
+    let scaled = cb
+        .response_error_sweep(&rotor, &(&f * Complex::new(3.0, 0.0)), &speeds)
+        .unwrap();
+    assert!((scaled.relative - worst.relative).abs() <= 1e-9 * max);
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let rotor = CASES[1].rotor();
+    let n = rotor.dofs();
+    let new = |b: &[usize], m| CraigBampton::from_rotor(&rotor, b, m).map(|_| ());
+    let c0 = ModeSelection::Count(0);
+    assert_eq!(
+        new(&[0, n], c0),
+        Err(RotorError::BoundaryDof { dof: n, dofs: n })
+    );
+    assert_eq!(
+        new(&[3, 3], c0),
+        Err(RotorError::DuplicateBoundaryDof { dof: 3 })
+    );
+    let many = ModeSelection::Count(n - 1);
+    assert_eq!(
+        new(&[0, 1], many),
+        Err(RotorError::ModeCount {
+            requested: n - 1,
+            available: n - 2
+        })
+    );
+    assert!(matches!(
+        new(&[0], ModeSelection::Below(f64::NAN)),
+        Err(RotorError::ModeCutoff { cutoff }) if cutoff.is_nan()
+    ));
+    assert_eq!(
+        new(&[0], ModeSelection::Below(-1.0)),
+        Err(RotorError::ModeCutoff { cutoff: -1.0 })
+    );
+    assert_eq!(
+        CraigBampton::at_node(&rotor, 7, c0),
+        Err(RotorError::NodeOutOfRange { node: 7, nodes: 7 })
+    );
+    // ROSS's 6-DOF export: the axial and torsional DOFs have no stiffness to ground.
+    let full = RotorMatrices::from_ross_mat(data("rotor_example_1500rpm.mat")).unwrap();
+    match CraigBampton::at_node(&full, 4, c0) {
+        Err(RotorError::InteriorStiffness { eigenvalue }) => assert!(eigenvalue.abs() < 1e-3),
+        other => panic!("{other:?}"),
+    }
+    // A massless interior DOF.
+    let mut m = rotor.mass().clone();
+    m.row_mut(5).fill(0.0);
+    m.column_mut(5).fill(0.0);
+    assert!(matches!(
+        CraigBampton::new(&m, rotor.stiffness(), &[0, 1], c0),
+        Err(RotorError::InteriorMass { .. })
+    ));
+    let mut k = rotor.stiffness().clone();
+    k[(2, 3)] = f64::NAN;
+    assert!(matches!(
+        CraigBampton::new(rotor.mass(), &k, &[0, 1], c0),
+        Err(RotorError::MatrixEntry {
+            matrix: "K",
+            row: 2,
+            col: 3,
+            ..
+        })
+    ));
+    let cb = CraigBampton::at_node(&rotor, 4, ModeSelection::Count(4)).unwrap();
+    assert!(matches!(
+        cb.project(&DMatrix::zeros(n, n - 1)),
+        Err(RotorError::MatrixShape {
+            rows: 28,
+            cols: 27,
+            expected: 28,
+            ..
+        })
+    ));
+    assert_eq!(
+        cb.project_force(&DVector::<f64>::zeros(n + 1)),
+        Err(RotorError::VectorLength {
+            len: n + 1,
+            expected: n
+        })
+    );
+    assert_eq!(
+        cb.expand(&DVector::<f64>::zeros(n)),
+        Err(RotorError::VectorLength {
+            len: n,
+            expected: 6
+        })
+    );
+    let f = CASES[1].force(n);
+    let (mm, c, kk) = (rotor.mass(), rotor.damping(), rotor.stiffness());
+    assert!(matches!(
+        cb.response_error(mm, c, kk, &f, f64::INFINITY),
+        Err(RotorError::Speed { .. })
+    ));
+    assert!(matches!(
+        cb.response_error_sweep(&rotor, &f, &[]),
+        Err(RotorError::Speed { speed }) if speed.is_nan()
+    ));
+    // An undamped two-mass system at its (fixed-interface and full) natural frequency 1.
+    let toy = CraigBampton::new(
+        &DMatrix::identity(2, 2),
+        &DMatrix::from_diagonal(&DVector::from_vec(vec![4.0, 1.0])),
+        &[0],
+        ModeSelection::Count(1),
+    )
+    .unwrap();
+    let f2 = DVector::from_element(2, Complex::new(1.0, 0.0));
+    assert_eq!(
+        toy.response_error(
+            &DMatrix::identity(2, 2),
+            &DMatrix::zeros(2, 2),
+            &DMatrix::from_diagonal(&DVector::from_vec(vec![4.0, 1.0])),
+            &f2,
+            1.0
+        ),
+        Err(RotorError::SingularDynamicStiffness { speed: 1.0 })
+    );
+}
