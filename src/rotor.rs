@@ -306,6 +306,54 @@ pub enum RotorError {
         /// The key looked for.
         key: &'static str,
     },
+    /// The spin speed of a `LinearSystem` is not finite and positive.
+    #[error("the spin speed must be finite and > 0 rad/s, got {value} (the unbalance rotates at it and it sets the forcing period)")]
+    Speed {
+        /// The speed given, rad/s.
+        value: f64,
+    },
+    /// A scalar input is not finite.
+    #[error("{field} must be finite, got {value}")]
+    Parameter {
+        /// The input (`"unbalance magnitude"`, `"ring offset x"`, ...).
+        field: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// A coordinate index beyond the system's coordinates.
+    #[error("{field} = {index} is out of range: the system has coordinates 0 to {}", dofs.saturating_sub(1))]
+    DofOutOfRange {
+        /// What the index is for (`"station x"`, `"force dof"`, ...).
+        field: &'static str,
+        /// The index given.
+        index: usize,
+        /// Number of coordinates.
+        dofs: usize,
+    },
+    /// The station's x and y are the same coordinate.
+    #[error("the station's x and y are both coordinate {index}: give two distinct coordinates")]
+    StationCoincident {
+        /// The coordinate given twice.
+        index: usize,
+    },
+    /// A force vector is not of the system's size.
+    #[error("vector {vector} has {len} entries, expected {expected} (the size of M)")]
+    VectorLength {
+        /// `"F_hat"` or `"f0"`.
+        vector: &'static str,
+        /// Its length.
+        len: usize,
+        /// Rows of `M`.
+        expected: usize,
+    },
+    /// A matrix that must be inverted is singular.
+    #[error("{matrix} is singular (LU found a zero pivot): {hint}")]
+    Singular {
+        /// The matrix (`"M"`, `"K"`, `"K - W^2 M + i W D"`).
+        matrix: &'static str,
+        /// What to check.
+        hint: &'static str,
+    },
     /// A force at the station does not accelerate it along the force.
     #[error("SmoothRotor::add_station_force: the force {force:?} at the station changes the station's acceleration by {accel:?}, whose component along the force is {along}, not positive: a force must push the station along itself (dy[velocity] += force / mass)")]
     StationForce {
@@ -315,14 +363,6 @@ pub enum RotorError {
         accel: [f64; 2],
         /// `accel · force / |force|`.
         along: f64,
-    },
-    /// A boundary DOF of a reduction beyond the rotor's DOFs ([`CraigBampton::new`]).
-    #[error("boundary DOF {dof} is out of range: the rotor has DOFs 0 to {}", dofs.saturating_sub(1))]
-    BoundaryDof {
-        /// The DOF given.
-        dof: usize,
-        /// Number of DOFs.
-        dofs: usize,
     },
     /// A boundary DOF given twice ([`CraigBampton::new`]).
     #[error("boundary DOF {dof} is given twice: list each boundary DOF once")]
@@ -358,27 +398,6 @@ pub enum RotorError {
     ModeCutoff {
         /// The cut-off given (rad/s).
         cutoff: f64,
-    },
-    /// A vector of another length than the matrices' size ([`CraigBampton`]).
-    #[error("vector of length {len}, expected {expected}")]
-    VectorLength {
-        /// Its length.
-        len: usize,
-        /// The length expected.
-        expected: usize,
-    },
-    /// A spin speed that is not finite, or an empty list of speeds (NaN).
-    #[error("speed {speed} rad/s: give a finite speed (and at least one)")]
-    Speed {
-        /// The speed given (rad/s).
-        speed: f64,
-    },
-    /// The dynamic stiffness $K - \Omega^2 M + \mathrm i \Omega D$ is singular at this speed
-    /// (an undamped rotor at a resonance).
-    #[error("the dynamic stiffness K - W^2 M + i W D is singular at W = {speed} rad/s (an undamped rotor at a natural frequency): choose another speed or add damping")]
-    SingularDynamicStiffness {
-        /// The speed (rad/s).
-        speed: f64,
     },
 }
 

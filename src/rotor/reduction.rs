@@ -94,7 +94,7 @@ impl CraigBampton {
     ///
     /// Errors: a matrix not square or of another size ([`RotorError::MatrixShape`]), a
     /// non-finite entry ([`RotorError::MatrixEntry`]), a boundary DOF out of range or repeated
-    /// ([`RotorError::BoundaryDof`], [`RotorError::DuplicateBoundaryDof`]), an interior mass
+    /// ([`RotorError::DofOutOfRange`], [`RotorError::DuplicateBoundaryDof`]), an interior mass
     /// that is not positive definite ([`RotorError::InteriorMass`]), an interior stiffness
     /// that does not hold the rotor, e.g. rigid-body or axial/torsional DOFs left free
     /// ([`RotorError::InteriorStiffness`]), more modes than interior DOFs
@@ -222,7 +222,7 @@ impl CraigBampton {
         &self,
         f: &DVector<T>,
     ) -> Result<DVector<T>, RotorError> {
-        check_length(f.len(), self.full_dofs())?;
+        check_length("f", f.len(), self.full_dofs())?;
         Ok(DVector::from_fn(self.reduced_dofs(), |j, _| {
             self.basis
                 .column(j)
@@ -238,7 +238,7 @@ impl CraigBampton {
         &self,
         q: &DVector<T>,
     ) -> Result<DVector<T>, RotorError> {
-        check_length(q.len(), self.reduced_dofs())?;
+        check_length("q", q.len(), self.reduced_dofs())?;
         Ok(DVector::from_fn(self.full_dofs(), |i, _| {
             self.basis
                 .row(i)
@@ -256,9 +256,9 @@ impl CraigBampton {
     /// $\hat F_y = -\mathrm i\thinspace\hat F_x$). At $\Omega = 0$ it is the static response.
     ///
     /// Errors: matrices or force of another size ([`RotorError::MatrixShape`],
-    /// [`RotorError::VectorLength`]), a non-finite speed ([`RotorError::Speed`]), a singular
-    /// full or reduced dynamic stiffness, e.g. an undamped rotor at a resonance
-    /// ([`RotorError::SingularDynamicStiffness`]).
+    /// [`RotorError::VectorLength`]), a non-finite speed ([`RotorError::Speed`]; 0 and
+    /// negative speeds are fine), a singular full or reduced dynamic stiffness, e.g. an
+    /// undamped rotor at a resonance ([`RotorError::Singular`]).
     pub fn response_error(
         &self,
         mass: &DMatrix<f64>,
@@ -267,7 +267,7 @@ impl CraigBampton {
         force: &DVector<Complex<f64>>,
         speed: f64,
     ) -> Result<ResponseError, RotorError> {
-        check_length(force.len(), self.full_dofs())?;
+        check_length("F_hat", force.len(), self.full_dofs())?;
         let full = steady_response([mass, damping, stiffness], force, speed)?;
         let reduced = [
             self.project(mass)?,
@@ -293,7 +293,7 @@ impl CraigBampton {
         force: &DVector<Complex<f64>>,
         speeds: &[f64],
     ) -> Result<ResponseError, RotorError> {
-        check_length(force.len(), self.full_dofs())?;
+        check_length("F_hat", force.len(), self.full_dofs())?;
         let named = [
             rotor.mass(),
             rotor.damping(),
@@ -316,7 +316,7 @@ impl CraigBampton {
                 worst = Some(e);
             }
         }
-        worst.ok_or(RotorError::Speed { speed: f64::NAN })
+        worst.ok_or(RotorError::Speed { value: f64::NAN })
     }
 
     /// The error of the reduced response `red` (reduced coordinates) against the full `full`
@@ -353,7 +353,7 @@ fn steady_response(
     speed: f64,
 ) -> Result<DVector<Complex<f64>>, RotorError> {
     if !speed.is_finite() {
-        return Err(RotorError::Speed { speed });
+        return Err(RotorError::Speed { value: speed });
     }
     let n = force.len();
     for (name, a) in [("M", mass), ("D", damping), ("K", stiffness)] {
@@ -369,7 +369,10 @@ fn steady_response(
         .lu()
         .solve(force)
         .filter(|x| x.iter().all(|v| v.re.is_finite() && v.im.is_finite()))
-        .ok_or(RotorError::SingularDynamicStiffness { speed })
+        .ok_or(RotorError::Singular {
+            matrix: "K - W^2 M + i W D",
+            hint: "an undamped rotor at a natural frequency: choose another speed or add damping",
+        })
 }
 
 /// The fixed-interface modes of $(K_{ii}, M_{ii})$ from their symmetric parts: frequencies
@@ -431,7 +434,11 @@ fn interior_dofs(n: usize, boundary: &[usize]) -> Result<Vec<usize>, RotorError>
     let mut is_boundary = vec![false; n];
     for &dof in boundary {
         if dof >= n {
-            return Err(RotorError::BoundaryDof { dof, dofs: n });
+            return Err(RotorError::DofOutOfRange {
+                field: "boundary DOF",
+                index: dof,
+                dofs: n,
+            });
         }
         if is_boundary[dof] {
             return Err(RotorError::DuplicateBoundaryDof { dof });
@@ -461,9 +468,13 @@ fn check_matrix(matrix: &'static str, a: &DMatrix<f64>, n: usize) -> Result<(), 
     }
 }
 
-fn check_length(len: usize, expected: usize) -> Result<(), RotorError> {
+fn check_length(vector: &'static str, len: usize, expected: usize) -> Result<(), RotorError> {
     if len != expected {
-        return Err(RotorError::VectorLength { len, expected });
+        return Err(RotorError::VectorLength {
+            vector,
+            len,
+            expected,
+        });
     }
     Ok(())
 }

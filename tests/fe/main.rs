@@ -2,3 +2,4 @@
 
 mod fe_matrices;
 mod fe_reduction;
+mod fe_reduction_table;
