@@ -1,35 +1,4 @@
 //! Craig-Bampton reduction of a finite-element rotor that keeps the ring's DOFs physical.
-//!
-//! The contact sees the displacement of one node, so that node's `x` and `y` (the *boundary*
-//! DOFs, index set $b$) stay physical coordinates and the rest (the *interior*, $i$) is
-//! described by the static shapes they impose plus a few of its own vibration modes:
-//!
-//! $$q = T \begin{bmatrix} q_b \\\\ \eta \end{bmatrix}, \qquad
-//! T = \begin{bmatrix} I & 0 \\\\ \Psi & \Phi_i \end{bmatrix}, \qquad
-//! \Psi = -K_{ii}^{-1} K_{ib},$$
-//!
-//! (rows shown in the order $[b, i]$; [`CraigBampton::basis`] keeps the rotor's own DOF order)
-//! where $\Psi$ are the *constraint modes* (the rotor's static deflection under a unit
-//! displacement of one boundary DOF, the others held at zero) and $\Phi_i$ the lowest
-//! *fixed-interface modes*, $K_{ii}\phi = \omega^2 M_{ii}\phi$ with the boundary held,
-//! mass-normalised ($\Phi_i^{\mathsf T} M_{ii} \Phi_i = I$). With no fixed-interface mode kept
-//! it is Guyan's static condensation; with all of them $T$ is square and the reduction exact.
-//!
-//! **Non-symmetric stiffness.** A rotordynamics code's `K` at speed holds the bearings'
-//! cross-coupling ($k_{xy} \ne k_{yx}$) and need not be symmetric; `M` is. The constraint modes
-//! use the full $K$ (a linear solve), so that a static force on the boundary DOFs is reproduced
-//! exactly at every mode count; the fixed-interface modes come from the symmetric parts
-//! $\tfrac12(K_{ii} + K_{ii}^{\mathsf T})$, $\tfrac12(M_{ii} + M_{ii}^{\mathsf T})$, by a
-//! Cholesky factor $M_{ii} = L L^{\mathsf T}$ and the symmetric eigenproblem of
-//! $L^{-1} K_{ii} L^{-\mathsf T}$ (real, orthogonal modes; any basis of the interior is valid,
-//! these converge fastest for a weakly non-symmetric $K$). The projection itself uses the full
-//! matrices, $T^{\mathsf T} A\thinspace T$ for $A$ in $M$, $C$, $G$, $K$, so nothing of the
-//! cross-coupling, the damping or the gyroscopic terms is lost in the retained coordinates.
-//!
-//! **Choosing the number of modes.** [`CraigBampton::response_error`] gives the reduction's
-//! relative error on the steady harmonic response at the boundary DOFs (e.g. the unbalance
-//! response at the running speed), and [`CraigBampton::response_error_sweep`] its worst over a
-//! list of speeds.
 
 use nalgebra::{Cholesky, Complex, ComplexField, DMatrix, DVector, SymmetricEigen};
 
@@ -48,7 +17,42 @@ pub enum ModeSelection {
 
 /// A Craig-Bampton reduction basis $T$ of a rotor, reduced coordinates ordered
 /// `[boundary DOFs (physical, in the order given), fixed-interface modal coordinates
-/// (by increasing frequency)]`. See the [module docs](self) for the formulas.
+/// (by increasing frequency)]`.
+///
+/// The contact sees the displacement of one node, so that node's `x` and `y` (the *boundary*
+/// DOFs, index set $b$) stay physical coordinates and the rest (the *interior*, $i$) is
+/// described by the static shapes they impose plus a few of its own vibration modes:
+///
+/// $$q = T \begin{bmatrix} q_b \\\\ \eta \end{bmatrix}, \qquad
+/// T = \begin{bmatrix} I & 0 \\\\ \Psi & \Phi_i \end{bmatrix}, \qquad
+/// \Psi = -K_{ii}^{-1} K_{ib},$$
+///
+/// (rows shown in the order $[b, i]$; [`CraigBampton::basis`] keeps the rotor's own DOF order)
+/// where $\Psi$ are the *constraint modes* (the rotor's static deflection under a unit
+/// displacement of one boundary DOF, the others held at zero) and $\Phi_i$ the lowest
+/// *fixed-interface modes*, $K_{ii}\phi = \omega^2 M_{ii}\phi$ with the boundary held,
+/// mass-normalised ($\Phi_i^{\mathsf T} M_{ii} \Phi_i = I$). With no fixed-interface mode kept
+/// it is Guyan's static condensation; with all of them $T$ is square and the reduction exact.
+///
+/// **Non-symmetric stiffness.** A rotordynamics code's `K` at speed holds the bearings'
+/// cross-coupling ($k_{xy} \ne k_{yx}$) and need not be symmetric; `M` is. The constraint modes
+/// use the full $K$ (a linear solve), so that a static force on the boundary DOFs is reproduced
+/// exactly at every mode count; the fixed-interface modes come from the symmetric parts
+/// $\tfrac12(K_{ii} + K_{ii}^{\mathsf T})$, $\tfrac12(M_{ii} + M_{ii}^{\mathsf T})$, by a
+/// Cholesky factor $M_{ii} = L L^{\mathsf T}$ and the symmetric eigenproblem of
+/// $L^{-1} K_{ii} L^{-\mathsf T}$ (real, mass-orthogonal modes; any vectors spanning the
+/// interior make a valid basis, so with all modes kept the reduction stays exact whatever the
+/// asymmetry; with fewer, [`CraigBampton::response_error`] measures what truncation costs).
+/// The projection itself uses the full
+/// matrices, $T^{\mathsf T} A\thinspace T$ for $A$ in $M$, $C$, $G$, $K$, so nothing of the
+/// cross-coupling, the damping or the gyroscopic terms is lost in the retained coordinates.
+///
+/// **Choosing the number of modes.** [`CraigBampton::response_error`] gives the reduction's
+/// relative error on the steady harmonic response at the boundary DOFs (e.g. the unbalance
+/// response at the running speed), and [`CraigBampton::response_error_sweep`] its worst over a
+/// list of speeds.
+///
+/// # Example
 ///
 /// ```
 /// use jeffcott::nalgebra::DMatrix;
@@ -312,7 +316,8 @@ impl CraigBampton {
             let full = steady_response([named[0], &d, named[3]], force, speed)?;
             let red = steady_response([&reduced[0], &d_red, &reduced[3]], &force_reduced, speed)?;
             let e = self.compare(speed, &full, &red);
-            if worst.is_none_or(|w| !(e.relative <= w.relative)) {
+            // total_cmp: a NaN error (an overflowing response) counts as the worst.
+            if worst.is_none_or(|w| e.relative.total_cmp(&w.relative).is_gt()) {
                 worst = Some(e);
             }
         }
@@ -402,7 +407,7 @@ fn fixed_interface_modes(
     order.sort_by(|&i, &j| eigen.eigenvalues[i].total_cmp(&eigen.eigenvalues[j]));
     let (lowest, highest) = (eigen.eigenvalues[order[0]], eigen.eigenvalues[order[n - 1]]);
     // A singular K_ii leaves an eigenvalue at rounding level of the largest, either sign.
-    if !(lowest > n as f64 * f64::EPSILON * highest) {
+    if lowest.is_nan() || lowest <= n as f64 * f64::EPSILON * highest {
         return Err(RotorError::InteriorStiffness { eigenvalue: lowest });
     }
     let mut v = DMatrix::from_fn(n, n, |r, c| eigen.eigenvectors[(r, order[c])]);
