@@ -399,6 +399,15 @@ pub enum RotorError {
         /// The cut-off given (rad/s).
         cutoff: f64,
     },
+    /// No number of fixed-interface modes brings a reduction's response error within the
+    /// tolerance ([`CraigBampton::fewest_modes`]).
+    #[error("no number of modes reaches the relative response error {tolerance}: the best is {best} (all modes kept leave rounding only, about the condition number of K - W^2 M + i W D times 1e-16)")]
+    ModeTolerance {
+        /// The tolerance asked for.
+        tolerance: f64,
+        /// The smallest worst-over-speeds error reached.
+        best: f64,
+    },
 }
 
 /// Relative tolerance of the station map's affinity (rounding of a fixed combination).

@@ -1,8 +1,12 @@
 //! Craig-Bampton reduction of a finite-element rotor that keeps the ring's DOFs physical.
 
-use nalgebra::{Cholesky, Complex, ComplexField, DMatrix, DVector, SymmetricEigen};
+use nalgebra::{Cholesky, ComplexField, DMatrix, DVector, SymmetricEigen};
 
 use super::{RotorError, RotorMatrices};
+
+mod response;
+
+pub use response::ResponseError;
 
 /// Which fixed-interface modes a [`CraigBampton`] reduction keeps (always the lowest ones).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -74,21 +78,6 @@ pub struct CraigBampton {
     boundary: Vec<usize>,
     basis: DMatrix<f64>,
     frequencies: Vec<f64>,
-}
-
-/// The reduction's error on a steady harmonic response at the boundary DOFs
-/// ([`CraigBampton::response_error`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[non_exhaustive]
-pub struct ResponseError {
-    /// The speed $\Omega$ (rad/s) of the response.
-    pub speed: f64,
-    /// $\Vert X_b^{\mathrm{red}} - X_b \Vert_2 / \Vert X_b \Vert_2$ over the boundary DOFs
-    /// (0 if both responses vanish).
-    pub relative: f64,
-    /// $\Vert X_b \Vert_2$, the full model's boundary amplitude (the unit of the DOFs, m).
-    pub amplitude: f64,
 }
 
 impl CraigBampton {
@@ -251,133 +240,6 @@ impl CraigBampton {
                 .fold(T::zero(), |s, (t, qj)| s + T::from_real(*t) * qj.clone())
         }))
     }
-
-    /// The reduction's relative error on the steady harmonic response at the boundary DOFs:
-    /// $X$ solves $(K - \Omega^2 M + \mathrm i\thinspace\Omega D)\thinspace X = \hat F$ with the
-    /// full matrices and with their projections ($q(t) = \mathrm{Re}(X e^{\mathrm i \Omega t})$;
-    /// for an unbalance, $D = C + \Omega G$ and $\hat F$ the rotating force's amplitude,
-    /// $\hat F_x = m e\thinspace\Omega^2 e^{\mathrm i\varphi}$,
-    /// $\hat F_y = -\mathrm i\thinspace\hat F_x$). At $\Omega = 0$ it is the static response.
-    ///
-    /// Errors: matrices or force of another size ([`RotorError::MatrixShape`],
-    /// [`RotorError::VectorLength`]), a non-finite speed ([`RotorError::Speed`]; 0 and
-    /// negative speeds are fine), a singular full or reduced dynamic stiffness, e.g. an
-    /// undamped rotor at a resonance ([`RotorError::Singular`]).
-    pub fn response_error(
-        &self,
-        mass: &DMatrix<f64>,
-        damping: &DMatrix<f64>,
-        stiffness: &DMatrix<f64>,
-        force: &DVector<Complex<f64>>,
-        speed: f64,
-    ) -> Result<ResponseError, RotorError> {
-        check_length("F_hat", force.len(), self.full_dofs())?;
-        let full = steady_response([mass, damping, stiffness], force, speed)?;
-        let reduced = [
-            self.project(mass)?,
-            self.project(damping)?,
-            self.project(stiffness)?,
-        ];
-        let red = steady_response(
-            [&reduced[0], &reduced[1], &reduced[2]],
-            &self.project_force(force)?,
-            speed,
-        )?;
-        Ok(self.compare(speed, &full, &red))
-    }
-
-    /// The worst [`CraigBampton::response_error`] over `speeds` (rad/s), with
-    /// $D = C + \Omega G$ at each and the rotor's `M`, `C`, `G`, `K` held as given (a code
-    /// exports the bearings at one speed). The relative error does not depend on the force's
-    /// scale, so an unbalance's $\hat F$ at any one speed serves all. Errors: those of
-    /// [`CraigBampton::response_error`], an empty list ([`RotorError::Speed`] with NaN).
-    pub fn response_error_sweep(
-        &self,
-        rotor: &RotorMatrices,
-        force: &DVector<Complex<f64>>,
-        speeds: &[f64],
-    ) -> Result<ResponseError, RotorError> {
-        check_length("F_hat", force.len(), self.full_dofs())?;
-        let named = [
-            rotor.mass(),
-            rotor.damping(),
-            rotor.gyroscopic(),
-            rotor.stiffness(),
-        ];
-        let mut reduced = Vec::with_capacity(4);
-        for a in named {
-            reduced.push(self.project(a)?);
-        }
-        let force_reduced = self.project_force(force)?;
-        let mut worst: Option<ResponseError> = None;
-        for &speed in speeds {
-            let d = named[1] + named[2] * speed;
-            let d_red = &reduced[1] + &reduced[2] * speed;
-            let full = steady_response([named[0], &d, named[3]], force, speed)?;
-            let red = steady_response([&reduced[0], &d_red, &reduced[3]], &force_reduced, speed)?;
-            let e = self.compare(speed, &full, &red);
-            // total_cmp: a NaN error (an overflowing response) counts as the worst.
-            if worst.is_none_or(|w| e.relative.total_cmp(&w.relative).is_gt()) {
-                worst = Some(e);
-            }
-        }
-        worst.ok_or(RotorError::Speed { value: f64::NAN })
-    }
-
-    /// The error of the reduced response `red` (reduced coordinates) against the full `full`
-    /// at the boundary DOFs.
-    fn compare(
-        &self,
-        speed: f64,
-        full: &DVector<Complex<f64>>,
-        red: &DVector<Complex<f64>>,
-    ) -> ResponseError {
-        let (mut diff, mut amp) = (0.0, 0.0);
-        for (j, &b) in self.boundary.iter().enumerate() {
-            diff += (red[j] - full[b]).norm_sqr();
-            amp += full[b].norm_sqr();
-        }
-        let relative = if diff == 0.0 {
-            0.0
-        } else {
-            (diff / amp).sqrt()
-        };
-        ResponseError {
-            speed,
-            relative,
-            amplitude: amp.sqrt(),
-        }
-    }
-}
-
-/// The steady harmonic response: solves $(K - \Omega^2 M + \mathrm i \Omega D) X = \hat F$
-/// by complex LU; `[mass, damping, stiffness]` square of the force's size.
-fn steady_response(
-    [mass, damping, stiffness]: [&DMatrix<f64>; 3],
-    force: &DVector<Complex<f64>>,
-    speed: f64,
-) -> Result<DVector<Complex<f64>>, RotorError> {
-    if !speed.is_finite() {
-        return Err(RotorError::Speed { value: speed });
-    }
-    let n = force.len();
-    for (name, a) in [("M", mass), ("D", damping), ("K", stiffness)] {
-        check_matrix(name, a, n)?;
-    }
-    let dynamic = DMatrix::from_fn(n, n, |r, c| {
-        Complex::new(
-            stiffness[(r, c)] - speed * speed * mass[(r, c)],
-            speed * damping[(r, c)],
-        )
-    });
-    dynamic
-        .lu()
-        .solve(force)
-        .filter(|x| x.iter().all(|v| v.re.is_finite() && v.im.is_finite()))
-        .ok_or(RotorError::Singular {
-            matrix: "K - W^2 M + i W D",
-            hint: "an undamped rotor at a natural frequency: choose another speed or add damping",
-        })
 }
 
 /// The fixed-interface modes of $(K_{ii}, M_{ii})$ from their symmetric parts: frequencies

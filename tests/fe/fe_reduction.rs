@@ -356,7 +356,7 @@ fn the_sweep_reports_the_worst_speed() {
     let scaled = cb
         .response_error_sweep(&rotor, &(&f * Complex::new(3.0, 0.0)), &speeds)
         .unwrap();
-    assert!((scaled.relative - worst.relative).abs() <= 1e-9 * max);
+    assert!((scaled.relative - worst.relative).abs() <= EXACT);
 }
 
 #[test]
@@ -482,4 +482,60 @@ fn bad_input_is_a_clear_error() {
             ..
         })
     ));
+}
+
+#[test]
+fn fewest_modes_is_the_first_count_within_the_tolerance() {
+    for case in &CASES {
+        let rotor = case.rotor();
+        let f = case.force(rotor.dofs());
+        let x = 4 * case.ring_node;
+        let speeds = [0.5 * case.speed, case.speed];
+        for tolerance in [1e-3, 1e-6] {
+            let (cb, worst) =
+                CraigBampton::fewest_modes(&rotor, &[x, x + 1], &f, &speeds, tolerance).unwrap();
+            assert!(worst.relative <= tolerance);
+            // Checked through the public single-count path, built anew for every count.
+            let sweep = |count| {
+                CraigBampton::at_node(&rotor, case.ring_node, ModeSelection::Count(count))
+                    .unwrap()
+                    .response_error_sweep(&rotor, &f, &speeds)
+                    .unwrap()
+            };
+            // The same up to rounding: the worst error is projected with all modes and cut to a
+            // leading block there, with the kept ones here (another summation order); the
+            // response's rounding, about 1e-11 of it (all modes kept), bounds the difference.
+            let again = sweep(cb.modes());
+            assert!(
+                (again.relative - worst.relative).abs() <= EXACT,
+                "{again:?} {worst:?}"
+            );
+            for fewer in 0..cb.modes() {
+                assert!(sweep(fewer).relative > tolerance, "{}: {fewer}", case.file);
+            }
+            println!("{}: {tolerance:e} needs {} modes", case.file, cb.modes());
+        }
+    }
+    // The truncation of a reduction is the reduction with fewer modes.
+    let rotor = CASES[0].rotor();
+    let all = CraigBampton::at_node(&rotor, 12, ModeSelection::Count(20)).unwrap();
+    let eight = CraigBampton::at_node(&rotor, 12, ModeSelection::Count(8)).unwrap();
+    assert_eq!(all.truncated(8).unwrap(), eight);
+    assert_eq!(
+        all.truncated(21),
+        Err(RotorError::ModeCount {
+            requested: 21,
+            available: 20
+        })
+    );
+    // Nothing beats rounding.
+    let f = CASES[0].force(rotor.dofs());
+    let none = CraigBampton::fewest_modes(&rotor, &[48, 49], &f, &[CASES[0].speed], 0.0);
+    match none {
+        Err(RotorError::ModeTolerance { tolerance, best }) => {
+            assert_eq!(tolerance, 0.0);
+            assert!(best > 0.0 && best < EXACT, "{best}");
+        }
+        other => panic!("{other:?}"),
+    }
 }

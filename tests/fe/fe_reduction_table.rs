@@ -66,5 +66,17 @@ fn fe_reduction_table() {
                 e.relative, sweep.relative, sweep.speed
             );
         }
+        let x = 4 * case.ring_node;
+        for tolerance in [1e-2, 1e-3, 1e-4, 1e-6] {
+            let fewest = |speeds: &[f64]| {
+                CraigBampton::fewest_modes(&rotor, &[x, x + 1], &f, speeds, tolerance)
+                    .map_or("-".into(), |(cb, _)| cb.modes().to_string())
+            };
+            println!(
+                "fewest modes for {tolerance:e}: at W {}, over the sweep {}",
+                fewest(&[w]),
+                fewest(&speeds)
+            );
+        }
     }
 }
