@@ -124,11 +124,15 @@ impl CraigBampton {
             ModeSelection::Below(cutoff) => frequencies.iter().take_while(|w| **w < cutoff).count(),
         };
         let k_ib = pick(stiffness, &interior, boundary);
-        // Unreachable once K_ii's symmetric part is positive definite (x^T K_ii x > 0).
-        let psi = k_ii
-            .lu()
-            .solve(&(-k_ib))
-            .ok_or(RotorError::InteriorStiffness { eigenvalue: 0.0 })?;
+        // nalgebra's LU panics on an empty system (every DOF on the boundary).
+        let psi = if interior.is_empty() {
+            k_ib
+        } else {
+            // Unreachable once K_ii's symmetric part is positive definite (x^T K_ii x > 0).
+            k_ii.lu()
+                .solve(&(-k_ib))
+                .ok_or(RotorError::InteriorStiffness { eigenvalue: 0.0 })?
+        };
         let mut basis = DMatrix::zeros(n, boundary.len() + kept);
         for (j, &b) in boundary.iter().enumerate() {
             basis[(b, j)] = 1.0;

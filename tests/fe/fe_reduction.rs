@@ -539,3 +539,36 @@ fn fewest_modes_is_the_first_count_within_the_tolerance() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn every_dof_or_none_on_the_boundary() {
+    // Three unit masses between walls (springs 1): all on the boundary is the identity basis;
+    // none is a modal basis, and with all modes the steady response is the full one.
+    let m = DMatrix::<f64>::identity(3, 3);
+    let k = DMatrix::from_row_slice(3, 3, &[2.0, -1.0, 0.0, -1.0, 2.0, -1.0, 0.0, -1.0, 2.0]);
+    let all = CraigBampton::new(&m, &k, &[2, 0, 1], ModeSelection::Below(f64::INFINITY)).unwrap();
+    assert_eq!(all.modes(), 0);
+    assert_eq!(all.basis()[(2, 0)], 1.0);
+    assert_eq!(all.basis().abs().sum(), 3.0);
+    let none = CraigBampton::new(&m, &k, &[], ModeSelection::Count(3)).unwrap();
+    // The chain's frequencies: 2 sin(j pi / 8), j = 1, 2, 3.
+    for (j, w) in none.frequencies().iter().enumerate() {
+        let want = 2.0 * ((j + 1) as f64 * std::f64::consts::PI / 8.0).sin();
+        assert!((w - want).abs() < 1e-14, "{w} vs {want}");
+    }
+    let f = DVector::from_vec(vec![
+        Complex::new(1.0, 0.0),
+        Complex::new(0.0, -1.0),
+        Complex::new(0.5, 0.0),
+    ]);
+    let d = DMatrix::identity(3, 3) * 0.1;
+    let full = steady(&m, &d, &k, &f, 1.3);
+    let [mr, dr, kr] = [&m, &d, &k].map(|a| none.project(a).unwrap());
+    let q = steady(&mr, &dr, &kr, &none.project_force(&f).unwrap(), 1.3);
+    assert!(rel(&none.expand(&q).unwrap(), &full) < 1e-14);
+    // Nothing kept at all: an empty reduced system, no boundary to be wrong at.
+    let empty = CraigBampton::new(&m, &k, &[], ModeSelection::Count(0)).unwrap();
+    assert_eq!(empty.reduced_dofs(), 0);
+    let e = empty.response_error(&m, &d, &k, &f, 1.3).unwrap();
+    assert_eq!((e.relative, e.amplitude), (0.0, 0.0));
+}

@@ -223,6 +223,10 @@ fn steady_response(
     for (name, a) in [("M", mass), ("D", damping), ("K", stiffness)] {
         check_matrix(name, a, n)?;
     }
+    if n == 0 {
+        // nalgebra's LU panics on an empty system (no boundary DOF and no mode kept).
+        return Ok(DVector::zeros(0));
+    }
     let dynamic = DMatrix::from_fn(n, n, |r, c| {
         Complex::new(
             stiffness[(r, c)] - speed * speed * mass[(r, c)],
