@@ -268,6 +268,12 @@ fn fixed_interface_modes(
     let a = l
         .solve_lower_triangular(&half.transpose())
         .ok_or_else(mass_error)?;
+    if a.iter().any(|v| !v.is_finite()) {
+        // Finite but huge entries overflowed: no eigenvalue to trust.
+        return Err(RotorError::InteriorStiffness {
+            eigenvalue: f64::NAN,
+        });
+    }
     let eigen = SymmetricEigen::new(symmetric_part(&a));
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&i, &j| eigen.eigenvalues[i].total_cmp(&eigen.eigenvalues[j]));

@@ -411,6 +411,12 @@ fn bad_input_is_a_clear_error() {
         CraigBampton::new(&m, rotor.stiffness(), &[0, 1], c0),
         Err(RotorError::InteriorMass { .. })
     ));
+    // Finite entries whose products overflow.
+    let huge = rotor.stiffness() * 1e300;
+    assert!(matches!(
+        CraigBampton::new(rotor.mass(), &huge, &[0, 1], c0),
+        Err(RotorError::InteriorStiffness { eigenvalue }) if eigenvalue.is_nan()
+    ));
     let mut k = rotor.stiffness().clone();
     k[(2, 3)] = f64::NAN;
     assert!(matches!(
