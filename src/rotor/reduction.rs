@@ -11,6 +11,7 @@ pub use response::ResponseError;
 /// Which fixed-interface modes a [`CraigBampton`] reduction keeps (always the lowest ones).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum ModeSelection {
     /// The lowest `n` modes; `Count(0)` is Guyan's static condensation.
     Count(usize),
