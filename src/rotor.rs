@@ -10,6 +10,12 @@
 //! corner, the relaxation after loss). The model author cannot get those rules wrong because
 //! they do not write them.
 //!
+//! A linear rotor given by its matrices (a finite-element model, e.g. ROSS's export read by
+//! [`RotorMatrices`]) needs no hand-written [`SmoothRotor`]: [`LinearSystem`] holds
+//! $M$, $C + \Omega G$, $K$ and the unbalance in SI units, [`LinearRotor`] is its
+//! [`SmoothRotor`] with the ring at a node ([`LinearRotor`]'s docs write down how the ring in
+//! SI units maps onto the paper's non-dimensional ring).
+//!
 //! Free flight is integrated (the rotor's own vector field may be non-linear); the ring's
 //! relaxation after a loss is known in closed form and enters only the onset guard. The ring's
 //! two state components are *algebraic*: the composition sets them (relaxing ring in free
@@ -80,12 +86,14 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod linear;
 mod linearization;
 mod matrices;
 mod reduction;
 #[cfg(feature = "mat")]
 mod ross;
 
+pub use linear::{LinearRotor, LinearSystem};
 pub use matrices::{DofLayout, RotorMatrices};
 pub use reduction::{CraigBampton, ModeSelection, ResponseError};
 
@@ -306,7 +314,7 @@ pub enum RotorError {
         /// The key looked for.
         key: &'static str,
     },
-    /// The spin speed of a `LinearSystem` is not finite and positive.
+    /// The spin speed of a [`LinearSystem`] is not finite and positive.
     #[error("the spin speed must be finite and > 0 rad/s, got {value} (the unbalance rotates at it and it sets the forcing period)")]
     Speed {
         /// The speed given, rad/s.

@@ -1,5 +1,9 @@
 //! Finite-element rotors (ROSS exports) on the ring.
 
+mod fe_eccentric;
+mod fe_linear;
 mod fe_matrices;
 mod fe_reduction;
 mod fe_reduction_table;
+mod fe_s1;
+mod fe_steady;
