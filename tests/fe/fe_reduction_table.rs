@@ -7,7 +7,7 @@
 use jeffcott::nalgebra::DMatrix;
 use jeffcott::rotor::{CraigBampton, ModeSelection};
 
-use super::fe_reduction::{damping, CASES, COUNTS};
+use super::fe_reduction::{damping, system, CASES, COUNTS};
 
 /// Smallest and largest |eigenvalue| of $[0, I; -M^{-1} K, -M^{-1} D]$.
 fn state_span(m: &DMatrix<f64>, d: &DMatrix<f64>, k: &DMatrix<f64>) -> (f64, f64) {
@@ -50,9 +50,7 @@ fn fe_reduction_table() {
         {
             let cb =
                 CraigBampton::at_node(&rotor, case.ring_node, ModeSelection::Count(count)).unwrap();
-            let e = cb
-                .response_error(rotor.mass(), &d, rotor.stiffness(), &f, w)
-                .unwrap();
+            let e = cb.response_error(&system(&rotor, &f, w)).unwrap();
             let sweep = cb.response_error_sweep(&rotor, &f, &speeds).unwrap();
             let [mr, dr, kr] =
                 [rotor.mass(), &d, rotor.stiffness()].map(|a| cb.project(a).unwrap());

@@ -3,8 +3,8 @@
 
 use nalgebra::{Complex, DMatrix, DVector};
 
-use super::{check_length, check_matrix, CraigBampton, ModeSelection};
-use crate::rotor::{RotorError, RotorMatrices};
+use super::{check_length, CraigBampton, ModeSelection};
+use crate::rotor::{LinearSystem, RotorError, RotorMatrices};
 
 /// The reduction's error on a steady harmonic response at the boundary DOFs
 /// ([`CraigBampton::response_error`]).
@@ -22,45 +22,45 @@ pub struct ResponseError {
 }
 
 impl CraigBampton {
-    /// The reduction's relative error on the steady harmonic response at the boundary DOFs:
-    /// $X$ solves $(K - \Omega^2 M + \mathrm i\thinspace\Omega D)\thinspace X = \hat F$ with the
-    /// full matrices and with their projections ($q(t) = \mathrm{Re}(X e^{\mathrm i \Omega t})$;
-    /// for an unbalance, $D = C + \Omega G$ and $\hat F$ the rotating force's amplitude,
-    /// $\hat F_x = m e\thinspace\Omega^2 e^{\mathrm i\varphi}$,
-    /// $\hat F_y = -\mathrm i\thinspace\hat F_x$). At $\Omega = 0$ it is the static response.
-    ///
-    /// Errors: matrices or force of another size ([`RotorError::MatrixShape`],
-    /// [`RotorError::VectorLength`]), a non-finite speed ([`RotorError::Speed`]; 0 and
-    /// negative speeds are fine), a singular full or reduced dynamic stiffness, e.g. an
-    /// undamped rotor at a resonance ([`RotorError::Singular`]).
-    pub fn response_error(
-        &self,
-        mass: &DMatrix<f64>,
-        damping: &DMatrix<f64>,
-        stiffness: &DMatrix<f64>,
-        force: &DVector<Complex<f64>>,
-        speed: f64,
-    ) -> Result<ResponseError, RotorError> {
-        check_length("F_hat", force.len(), self.full_dofs())?;
-        let full = steady_response([mass, damping, stiffness], force, speed)?;
-        let reduced = [
-            self.project(mass)?,
-            self.project(damping)?,
-            self.project(stiffness)?,
-        ];
-        let red = steady_response(
-            [&reduced[0], &reduced[1], &reduced[2]],
-            &self.project_force(force)?,
-            speed,
-        )?;
-        Ok(self.compare(speed, &full, &red))
+    /// The reduced system: $T^{\mathsf T} M T$, $T^{\mathsf T} D\thinspace T$,
+    /// $T^{\mathsf T} K T$ at the same speed, with the forces $T^{\mathsf T} \hat F$ and
+    /// $T^{\mathsf T} f_0$; its coordinates are the reduced ones (the boundary DOFs first: put
+    /// the ring at coordinates 0 and 1 of [`LinearRotor`](crate::rotor::LinearRotor) when the
+    /// ring's node is the boundary). Error: a system of another size
+    /// ([`RotorError::MatrixShape`]).
+    pub fn reduce(&self, system: &LinearSystem) -> Result<LinearSystem, RotorError> {
+        LinearSystem::from_parts(
+            self.project(system.mass())?,
+            self.project(system.damping())?,
+            self.project(system.stiffness())?,
+            system.speed(),
+            self.project_force(system.harmonic_force())?,
+            self.project_force(system.constant_force())?,
+        )
     }
 
-    /// The worst [`CraigBampton::response_error`] over `speeds` (rad/s), with
+    /// The reduction's relative error on the steady harmonic response at the boundary DOFs:
+    /// [`LinearSystem::steady_response`] of the full system against that of the reduced one
+    /// ([`CraigBampton::reduce`]), $X$ solving
+    /// $(K - \Omega^2 M + \mathrm i\thinspace\Omega D)\thinspace X = \hat F$ (for an
+    /// unbalance, [`LinearSystem::with_unbalance`]).
+    ///
+    /// Errors: a system of another size ([`RotorError::MatrixShape`]), a singular full or
+    /// reduced dynamic stiffness, e.g. an undamped rotor at a resonance
+    /// ([`RotorError::Singular`]).
+    pub fn response_error(&self, system: &LinearSystem) -> Result<ResponseError, RotorError> {
+        let reduced = self.reduce(system)?;
+        let full = system.steady_response()?;
+        Ok(self.compare(system.speed(), &full, &steady(&reduced)?))
+    }
+
+    /// The worst [`CraigBampton::response_error`] over `speeds` (rad/s, each positive), with
     /// $D = C + \Omega G$ at each and the rotor's `M`, `C`, `G`, `K` held as given (a code
-    /// exports the bearings at one speed). The relative error does not depend on the force's
-    /// scale, so an unbalance's $\hat F$ at any one speed serves all. Errors: those of
-    /// [`CraigBampton::response_error`], an empty list ([`RotorError::Speed`] with NaN).
+    /// exports the bearings at one speed) under the harmonic force $\hat F$ `force`. The
+    /// relative error does not depend on the force's scale, so an unbalance's $\hat F$ at any
+    /// one speed serves all. Errors: those of [`CraigBampton::response_error`], a force of
+    /// another length ([`RotorError::VectorLength`]), a speed that is not finite and positive
+    /// or an empty list ([`RotorError::Speed`], NaN for the empty list).
     pub fn response_error_sweep(
         &self,
         rotor: &RotorMatrices,
@@ -173,7 +173,18 @@ impl<'a> Sweep<'a> {
         );
         let full = speeds
             .iter()
-            .map(|&w| steady_response([m, &(c + g * w), k], force, w))
+            .map(|&w| {
+                let d = c + g * w;
+                let system = LinearSystem::from_parts(
+                    m.clone(),
+                    d,
+                    k.clone(),
+                    w,
+                    force.clone(),
+                    zero(k.nrows()),
+                )?;
+                system.steady_response()
+            })
             .collect::<Result<_, _>>()?;
         Ok(Self {
             speeds,
@@ -198,7 +209,16 @@ impl<'a> Sweep<'a> {
         let force = self.force.rows(0, size).into_owned();
         let mut worst: Option<ResponseError> = None;
         for (&speed, full) in self.speeds.iter().zip(&self.full) {
-            let red = steady_response([m, &(c + g * speed), k], &force, speed)?;
+            let d = c + g * speed;
+            let system = LinearSystem::from_parts(
+                m.clone(),
+                d,
+                k.clone(),
+                speed,
+                force.clone(),
+                zero(size),
+            )?;
+            let red = steady(&system)?;
             let e = cb.compare(speed, full, &red);
             // total_cmp: a NaN error (an overflowing response) counts as the worst.
             if worst.is_none_or(|w| e.relative.total_cmp(&w.relative).is_gt()) {
@@ -209,36 +229,15 @@ impl<'a> Sweep<'a> {
     }
 }
 
-/// The steady harmonic response: solves $(K - \Omega^2 M + \mathrm i \Omega D) X = \hat F$
-/// by complex LU; `[mass, damping, stiffness]` square of the force's size.
-fn steady_response(
-    [mass, damping, stiffness]: [&DMatrix<f64>; 3],
-    force: &DVector<Complex<f64>>,
-    speed: f64,
-) -> Result<DVector<Complex<f64>>, RotorError> {
-    if !speed.is_finite() {
-        return Err(RotorError::Speed { value: speed });
-    }
-    let n = force.len();
-    for (name, a) in [("M", mass), ("D", damping), ("K", stiffness)] {
-        check_matrix(name, a, n)?;
-    }
-    if n == 0 {
-        // nalgebra's LU panics on an empty system (no boundary DOF and no mode kept).
+fn zero(n: usize) -> DVector<f64> {
+    DVector::zeros(n)
+}
+
+/// [`LinearSystem::steady_response`], also for a system without coordinates (no boundary
+/// DOF and no mode kept), on which nalgebra's LU panics.
+fn steady(system: &LinearSystem) -> Result<DVector<Complex<f64>>, RotorError> {
+    if system.dofs() == 0 {
         return Ok(DVector::zeros(0));
     }
-    let dynamic = DMatrix::from_fn(n, n, |r, c| {
-        Complex::new(
-            stiffness[(r, c)] - speed * speed * mass[(r, c)],
-            speed * damping[(r, c)],
-        )
-    });
-    dynamic
-        .lu()
-        .solve(force)
-        .filter(|x| x.iter().all(|v| v.re.is_finite() && v.im.is_finite()))
-        .ok_or(RotorError::Singular {
-            matrix: "K - W^2 M + i W D",
-            hint: "an undamped rotor at a natural frequency: choose another speed or add damping",
-        })
+    system.steady_response()
 }
