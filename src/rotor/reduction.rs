@@ -52,10 +52,20 @@ pub enum ModeSelection {
 /// matrices, $T^{\mathsf T} A\thinspace T$ for $A$ in $M$, $C$, $G$, $K$, so nothing of the
 /// cross-coupling, the damping or the gyroscopic terms is lost in the retained coordinates.
 ///
+/// **Using it.** [`CraigBampton::reduce`] projects a [`LinearSystem`](crate::rotor::LinearSystem)
+/// (matrices and forces); with the ring's node as the boundary, the ring sits at reduced
+/// coordinates 0 and 1 of a [`LinearRotor`](crate::rotor::LinearRotor). The reduced model is
+/// far less stiff: on ROSS's 204-DOF rub-example rotor the lateral state matrix's largest
+/// |eigenvalue| is 7.3e6 rad/s in full and 2.6e4 rad/s with 24 modes.
+///
 /// **Choosing the number of modes.** [`CraigBampton::response_error`] gives the reduction's
 /// relative error on the steady harmonic response at the boundary DOFs (e.g. the unbalance
-/// response at the running speed), and [`CraigBampton::response_error_sweep`] its worst over a
-/// list of speeds.
+/// response at the running speed), [`CraigBampton::response_error_sweep`] its worst over a
+/// list of speeds, and [`CraigBampton::fewest_modes`] the fewest modes within a tolerance.
+/// The error is not monotone mode by mode but falls fast overall; on the 204-DOF rotor with
+/// the ring at node 12, at 1200 rpm: 2.2e-2 with no mode (Guyan), 6.7e-6 with 12, 1.5e-7
+/// with 24, 1.8e-9 with 48; the contact transient of case S1 (`tests/fe/fe_reduction_s1.rs`)
+/// is then within 6.6e-4, 4.7e-5 and 1.0e-6 of the gap.
 ///
 /// # Example
 ///
