@@ -89,11 +89,13 @@
 mod linear;
 mod linearization;
 mod matrices;
+mod reduction;
 #[cfg(feature = "mat")]
 mod ross;
 
 pub use linear::{LinearRotor, LinearSystem};
 pub use matrices::{DofLayout, RotorMatrices};
+pub use reduction::{CraigBampton, ModeSelection, ResponseError};
 
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector, Vector2, U1};
@@ -250,12 +252,14 @@ pub enum RotorError {
         /// DOFs a node of the layout.
         per_node: usize,
     },
-    /// A matrix is not square or not of `M`'s size ([`RotorMatrices::new`]).
+    /// A matrix is not square or not of `M`'s size ([`RotorMatrices::new`]), or not of the
+    /// full size a [`CraigBampton`] reduction expects.
     #[error(
         "matrix {matrix} is {rows} x {cols}, expected {expected} x {expected} (the size of M)"
     )]
     MatrixShape {
-        /// `"M"`, `"C"`, `"G"` or `"K"`.
+        /// `"M"`, `"C"`, `"G"` or `"K"` (`"D"`: $C + \Omega G$; `"projected"`: the matrix
+        /// given to [`CraigBampton::project`]).
         matrix: &'static str,
         /// Its rows.
         rows: usize,
@@ -367,6 +371,50 @@ pub enum RotorError {
         accel: [f64; 2],
         /// `accel · force / |force|`.
         along: f64,
+    },
+    /// A boundary DOF given twice ([`CraigBampton::new`]).
+    #[error("boundary DOF {dof} is given twice: list each boundary DOF once")]
+    DuplicateBoundaryDof {
+        /// The DOF repeated.
+        dof: usize,
+    },
+    /// The interior mass of a reduction (the rotor's mass with the boundary DOFs held) is not
+    /// positive definite ([`CraigBampton::new`]).
+    #[error("the interior mass matrix M_ii (symmetric part) is not positive definite: its lowest eigenvalue is {eigenvalue}; every DOF not on the boundary needs mass (condense massless DOFs first)")]
+    InteriorMass {
+        /// Lowest eigenvalue of $\tfrac12(M_{ii} + M_{ii}^{\mathsf T})$ (0 if the
+        /// factorisation failed on a zero pivot).
+        eigenvalue: f64,
+    },
+    /// The interior stiffness of a reduction does not hold the rotor with the boundary DOFs
+    /// fixed: a rigid-body mode or a DOF without stiffness ([`CraigBampton::new`]).
+    #[error("the interior stiffness K_ii (symmetric part) is not positive definite with the boundary DOFs held: lowest generalized eigenvalue omega^2 = {eigenvalue} (rad/s)^2; drop DOFs without stiffness to ground (RotorMatrices::lateral drops ROSS's axial and torsional ones) or hold a free rotor at more boundary DOFs")]
+    InteriorStiffness {
+        /// Lowest eigenvalue $\omega^2$ of $(K_{ii}, M_{ii})$ (symmetric parts).
+        eigenvalue: f64,
+    },
+    /// More fixed-interface modes asked for than the interior has DOFs ([`CraigBampton::new`]).
+    #[error("{requested} fixed-interface modes requested but the interior has only {available} DOFs (modes)")]
+    ModeCount {
+        /// Modes requested.
+        requested: usize,
+        /// Interior DOFs.
+        available: usize,
+    },
+    /// A reduction's frequency cut-off is NaN or negative ([`CraigBampton::new`]).
+    #[error("mode cut-off {cutoff} rad/s: give a frequency >= 0 (f64::INFINITY keeps all modes)")]
+    ModeCutoff {
+        /// The cut-off given (rad/s).
+        cutoff: f64,
+    },
+    /// No number of fixed-interface modes brings a reduction's response error within the
+    /// tolerance ([`CraigBampton::fewest_modes`]).
+    #[error("no number of modes reaches the relative response error {tolerance}: the best is {best} (all modes kept leave rounding only, about the condition number of K - W^2 M + i W D times 1e-16)")]
+    ModeTolerance {
+        /// The tolerance asked for.
+        tolerance: f64,
+        /// The smallest worst-over-speeds error reached.
+        best: f64,
     },
 }
 

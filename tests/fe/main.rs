@@ -3,5 +3,8 @@
 mod fe_eccentric;
 mod fe_linear;
 mod fe_matrices;
+mod fe_reduction;
+mod fe_reduction_s1;
+mod fe_reduction_table;
 mod fe_s1;
 mod fe_steady;
