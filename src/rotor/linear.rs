@@ -6,6 +6,7 @@
 
 use nalgebra::{Complex, DMatrix, DVector, Dyn, MatrixXx2, Vector2};
 
+use super::matrices::check_matrix;
 use super::{DofLayout, RotorError, RotorMatrices, SmoothRotor};
 use crate::ring::Kinematics;
 
@@ -34,26 +35,6 @@ pub struct LinearSystem {
     constant_force: DVector<f64>,
 }
 
-fn check_matrix(name: &'static str, m: &DMatrix<f64>, n: usize) -> Result<(), RotorError> {
-    if m.nrows() != n || m.ncols() != n {
-        return Err(RotorError::MatrixShape {
-            matrix: name,
-            rows: m.nrows(),
-            cols: m.ncols(),
-            expected: n,
-        });
-    }
-    if let Some((i, v)) = m.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-        return Err(RotorError::MatrixEntry {
-            matrix: name,
-            row: i % n,
-            col: i / n,
-            value: *v,
-        });
-    }
-    Ok(())
-}
-
 fn check_finite(field: &'static str, value: f64) -> Result<f64, RotorError> {
     if value.is_finite() {
         Ok(value)
@@ -74,7 +55,8 @@ impl LinearSystem {
     /// The unforced system $M q^{\prime\prime} + D q^\prime + K q = 0$ at the speed
     /// `speed` (rad/s). Errors: a matrix not square or not of `M`'s size
     /// ([`RotorError::MatrixShape`], `D` named `"D"`), a non-finite entry
-    /// ([`RotorError::MatrixEntry`]), a speed not finite and positive ([`RotorError::Speed`]).
+    /// ([`RotorError::MatrixEntry`]), a speed not finite and positive ([`RotorError::Speed`]),
+    /// no coordinate at all ([`RotorError::DofCount`]).
     pub fn new(
         mass: DMatrix<f64>,
         damping: DMatrix<f64>,
@@ -82,6 +64,13 @@ impl LinearSystem {
         speed: f64,
     ) -> Result<Self, RotorError> {
         let n = mass.nrows();
+        if n == 0 {
+            // Nothing to move (and nalgebra's solvers panic on empty systems).
+            return Err(RotorError::DofCount {
+                dofs: 0,
+                per_node: 1,
+            });
+        }
         check_matrix("M", &mass, n)?;
         check_matrix("D", &damping, n)?;
         check_matrix("K", &stiffness, n)?;

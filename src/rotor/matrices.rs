@@ -70,22 +70,7 @@ impl RotorMatrices {
             ("G", &gyroscopic),
             ("K", &stiffness),
         ] {
-            if m.nrows() != n || m.ncols() != n {
-                return Err(RotorError::MatrixShape {
-                    matrix: name,
-                    rows: m.nrows(),
-                    cols: m.ncols(),
-                    expected: n,
-                });
-            }
-            if let Some((i, v)) = m.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-                return Err(RotorError::MatrixEntry {
-                    matrix: name,
-                    row: i % n,
-                    col: i / n,
-                    value: *v,
-                });
-            }
+            check_matrix(name, m, n)?;
         }
         Ok(Self {
             mass,
@@ -182,5 +167,31 @@ impl RotorMatrices {
             ("G", &self.gyroscopic),
             ("K", &self.stiffness),
         ]
+    }
+}
+
+/// Checks that `m` is `n` x `n` ([`RotorError::MatrixShape`]) with finite entries
+/// ([`RotorError::MatrixEntry`]), naming it `name`: the rotor layer's one shape check.
+pub(super) fn check_matrix(
+    name: &'static str,
+    m: &DMatrix<f64>,
+    n: usize,
+) -> Result<(), RotorError> {
+    if m.nrows() != n || m.ncols() != n {
+        return Err(RotorError::MatrixShape {
+            matrix: name,
+            rows: m.nrows(),
+            cols: m.ncols(),
+            expected: n,
+        });
+    }
+    match m.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        Some((i, v)) => Err(RotorError::MatrixEntry {
+            matrix: name,
+            row: i % n,
+            col: i / n,
+            value: *v,
+        }),
+        None => Ok(()),
     }
 }

@@ -2,6 +2,7 @@
 
 use nalgebra::{Cholesky, ComplexField, DMatrix, DVector, SymmetricEigen};
 
+use super::matrices::check_matrix;
 use super::{RotorError, RotorMatrices};
 
 mod response;
@@ -334,26 +335,6 @@ fn interior_dofs(n: usize, boundary: &[usize]) -> Result<Vec<usize>, RotorError>
         is_boundary[dof] = true;
     }
     Ok((0..n).filter(|&i| !is_boundary[i]).collect())
-}
-
-fn check_matrix(matrix: &'static str, a: &DMatrix<f64>, n: usize) -> Result<(), RotorError> {
-    if a.nrows() != n || a.ncols() != n {
-        return Err(RotorError::MatrixShape {
-            matrix,
-            rows: a.nrows(),
-            cols: a.ncols(),
-            expected: n,
-        });
-    }
-    match a.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-        Some((i, v)) => Err(RotorError::MatrixEntry {
-            matrix,
-            row: i % n,
-            col: i / n,
-            value: *v,
-        }),
-        None => Ok(()),
-    }
 }
 
 fn check_length(vector: &'static str, len: usize, expected: usize) -> Result<(), RotorError> {

@@ -77,6 +77,16 @@ fn bad_input_is_a_clear_error() {
         station.to_string().contains("coordinates 0 to 1"),
         "{station}"
     );
+    // No coordinate at all: an error, not nalgebra's panic on an empty solve.
+    let empty = DMatrix::<f64>::zeros(0, 0);
+    let none = LinearSystem::new(empty.clone(), empty.clone(), empty, 300.0).unwrap_err();
+    assert_eq!(
+        none,
+        RotorError::DofCount {
+            dofs: 0,
+            per_node: 1
+        }
+    );
     let twice = LinearRotor::new(jeffcott(300.0), [1, 1], [0.0; 2]).unwrap_err();
     assert_eq!(twice, RotorError::StationCoincident { index: 1 });
     let offset = LinearRotor::new(jeffcott(300.0), [0, 1], [f64::NAN, 0.0]).unwrap_err();
