@@ -36,10 +36,13 @@
 //! ```
 
 mod bisect;
+mod eigen;
 pub(crate) mod lu;
 mod roots;
 
 pub use bisect::{bisect, Bisection, Side};
+pub(crate) use eigen::solve_complex;
+pub use eigen::{eigen_decomposition, EigenDecomposition};
 pub use roots::{illinois, Bracket, RootOptions};
 
 /// Errors of the numerical tools.
@@ -61,6 +64,34 @@ pub enum NumericError {
         b: f64,
         /// The value at the second end.
         fb: f64,
+    },
+    /// The matrix to decompose is not square (or empty).
+    #[error(
+        "the matrix is {rows} x {cols}: an eigen-decomposition needs a non-empty square matrix"
+    )]
+    NotSquare {
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+    },
+    /// The matrix to decompose has a non-finite entry.
+    #[error("the matrix has the non-finite entry {value}")]
+    NonFiniteMatrix {
+        /// The entry.
+        value: f64,
+    },
+    /// The Schur iteration did not converge.
+    #[error("the Schur iteration did not converge in {iterations} iterations")]
+    NoConvergence {
+        /// The iteration limit.
+        iterations: usize,
+    },
+    /// The eigenvectors are linearly dependent to working precision (a defective matrix).
+    #[error("the eigenvector matrix is singular to working precision (zero pivot in column {column}): the matrix is defective or nearly so")]
+    SingularEigenvectors {
+        /// The column of the zero pivot.
+        column: usize,
     },
 }
 

@@ -1,3 +1,4 @@
 //! Finite-element rotors (ROSS exports) on the ring.
 
+mod fe_exact;
 mod fe_matrices;
