@@ -270,3 +270,156 @@ fn random_stable_rotor_matches_a_high_accuracy_integration() {
     );
     assert!(worst < 1e-10, "{worst:e}");
 }
+
+/// A linear rotor written from its matrices as a [`SmoothRotor`] (state `[q, q', x_s, y_s]`),
+/// with or without its closed form.
+struct MatrixRotor {
+    field: MatrixField,
+    exact: bool,
+}
+
+impl SmoothRotor for MatrixRotor {
+    type Dim = Dyn;
+    fn dim(&self) -> Dyn {
+        Dyn(2 * self.field.lf.dofs() + 2)
+    }
+    fn rhs(&self, t: f64, y: &OVector<f64, Dyn>, dy: &mut OVector<f64, Dyn>) {
+        let n = self.field.lf.dofs();
+        let (q, v) = y.as_slice()[..2 * n].split_at(n);
+        let mut a = vec![0.0; n];
+        self.field.accel(t, q, v, &mut a);
+        dy.as_mut_slice()[..n].copy_from_slice(v);
+        dy.as_mut_slice()[n..2 * n].copy_from_slice(&a);
+    }
+    fn station(&self, y: &OVector<f64, Dyn>) -> Kinematics {
+        let (n, [ix, iy], o) = (
+            self.field.lf.dofs(),
+            self.field.lf.station,
+            self.field.lf.offset,
+        );
+        Kinematics::new([y[ix] - o.x, y[iy] - o.y], [y[n + ix], y[n + iy]])
+    }
+    fn add_station_force(
+        &self,
+        _y: &OVector<f64, Dyn>,
+        f: &Vector2<f64>,
+        dy: &mut OVector<f64, Dyn>,
+    ) {
+        let (n, [ix, iy]) = (self.field.lf.dofs(), self.field.lf.station);
+        for i in 0..n {
+            dy[n + i] += self.field.minv[(i, ix)] * f.x + self.field.minv[(i, iy)] * f.y;
+        }
+    }
+    fn ring_slots(&self) -> [usize; 2] {
+        let n = self.field.lf.dofs();
+        [2 * n, 2 * n + 1]
+    }
+    fn forcing_period(&self) -> f64 {
+        std::f64::consts::TAU / self.field.lf.speed
+    }
+    fn linear_free_flight(&self) -> Option<LinearFreeFlight> {
+        self.exact.then(|| self.field.lf.clone())
+    }
+}
+
+/// Two lumped nodes, gyroscopic coupling, unbalance at node 0 where the ring sits (gap 1):
+/// a rotor that hits the ring several times a period.
+fn two_node_rotor(exact: bool) -> MatrixRotor {
+    let n = 4;
+    let m = DMatrix::from_diagonal(&DVector::from_vec(vec![1.0, 1.0, 0.5, 0.5]));
+    let k2 = [[2.0, -1.0], [-1.0, 1.5]];
+    let k = DMatrix::from_fn(n, n, |i, j| {
+        if i % 2 == j % 2 {
+            k2[i / 2][j / 2]
+        } else {
+            0.0
+        }
+    });
+    let speed = 1.4;
+    let g = DMatrix::from_fn(n, n, |i, j| match (i % 2, j % 2, i / 2 == j / 2) {
+        (0, 1, true) => 0.2,
+        (1, 0, true) => -0.2,
+        _ => 0.0,
+    });
+    let d = &k * 0.04 + g * speed;
+    let b = Complex::from_polar(0.9, 0.3);
+    let mut f = DVector::from_element(n, Complex::new(0.0, 0.0));
+    f[0] = b;
+    f[1] = b * Complex::new(0.0, -1.0);
+    let lf = LinearFreeFlight::new(
+        m,
+        d,
+        k,
+        speed,
+        f,
+        DVector::zeros(n),
+        [0, 1],
+        Vector2::new(0.05, -0.1),
+    );
+    MatrixRotor {
+        field: MatrixField::new(lf),
+        exact,
+    }
+}
+
+fn run_ringed(rotor: MatrixRotor, periods: u64) -> (Trajectory<Dyn>, jeffcott::hybrid::SimStats) {
+    let ring = SnubberRing::isotropic(30.0, 0.05, 0.01).unwrap();
+    let period = rotor.forcing_period();
+    let model = RingedRotor::new(rotor, ring).unwrap();
+    let opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-14);
+    let plan = OutputPlan {
+        events: true,
+        ..OutputPlan::strobe(period, 0, periods)
+    };
+    let mut traj = Trajectory::default();
+    let y0 = DVector::zeros(10);
+    let stats = jeffcott::hybrid::simulate(&model, 0.0, &y0, &plan, &opts, &mut traj).unwrap();
+    (traj, stats)
+}
+
+#[test]
+fn ringed_rotor_with_exact_free_flight_matches_integrated_free_flight() {
+    let exact_model = RingedRotor::new(
+        two_node_rotor(true),
+        SnubberRing::isotropic(30.0, 0.05, 0.01).unwrap(),
+    )
+    .unwrap();
+    assert!(matches!(exact_model.closed_form(), Some(Ok(_))));
+    let periods = 60;
+    let t = std::time::Instant::now();
+    let (exact, se) = run_ringed(two_node_rotor(true), periods);
+    let te = t.elapsed();
+    let t = std::time::Instant::now();
+    let (integrated, si) = run_ringed(two_node_rotor(false), periods);
+    let ti = t.elapsed();
+    let kinds = |t: &Trajectory<Dyn>| t.events.iter().map(|e| e.kind).collect::<Vec<_>>();
+    let onsets = exact
+        .events
+        .iter()
+        .filter(|e| e.kind == "contact onset")
+        .count();
+    let worst_strobe = exact
+        .strobe
+        .iter()
+        .zip(&integrated.strobe)
+        .map(|(a, b)| (a.y.rows(0, 8) - b.y.rows(0, 8)).amax())
+        .fold(0.0f64, f64::max);
+    let worst_event = exact
+        .events
+        .iter()
+        .zip(&integrated.events)
+        .map(|(a, b)| (a.t - b.t).abs())
+        .fold(0.0f64, f64::max);
+    eprintln!(
+        "two-node rotor, {periods} periods: {onsets} contact onsets, {} events; max strobe difference {worst_strobe:.2e}, max event time difference {worst_event:.2e}; exact: {te:?} ({} steps, {} closed-form evaluations), integrated: {ti:?} ({} steps)",
+        exact.events.len(),
+        se.steps,
+        se.exact_evals,
+        si.steps
+    );
+    assert_eq!(kinds(&exact), kinds(&integrated));
+    assert!(onsets >= 20, "{onsets}");
+    assert!(se.exact_evals > 0 && si.exact_evals == 0);
+    assert!(worst_strobe < 1e-9, "{worst_strobe:e}");
+    assert!(worst_event < 1e-9, "{worst_event:e}");
+}
