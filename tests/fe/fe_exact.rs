@@ -423,3 +423,95 @@ fn ringed_rotor_with_exact_free_flight_matches_integrated_free_flight() {
     assert!(worst_strobe < 1e-9, "{worst_strobe:e}");
     assert!(worst_event < 1e-9, "{worst_event:e}");
 }
+
+/// Cost of the closed form against DOP853 on the S1 rotor's free flight (timings printed;
+/// `cargo test --test fe free_flight_cost -- --ignored --nocapture`).
+#[test]
+#[ignore = "timing report"]
+fn free_flight_cost_on_the_s1_rotor() {
+    use jeffcott::ring::onset::{find_onset, OnsetStats};
+    use jeffcott::ring::Relaxation;
+    let lf = s1_free_flight();
+    let t = std::time::Instant::now();
+    let form = Arc::new(lf.prepare().unwrap());
+    let prepare = t.elapsed();
+    let n = form.dofs();
+    let mut rng = Rng(5);
+    let x0: Vec<f64> = (0..2 * n)
+        .map(|i| if i < n { 1e-5 } else { 1e-3 } * rng.sym())
+        .collect();
+    let reps = 2000;
+    let t = std::time::Instant::now();
+    let mut seg = form.segment(0.0, &x0);
+    for _ in 1..reps {
+        seg = form.segment(0.0, &x0);
+    }
+    let start = t.elapsed() / reps;
+    let t = std::time::Instant::now();
+    let mut acc = 0.0;
+    for i in 0..reps {
+        acc += seg.kinematics(1e-4 * i as f64).0.x;
+    }
+    let kin = t.elapsed() / reps;
+    let t = std::time::Instant::now();
+    for i in 0..reps {
+        acc += seg.bounds_on(1e-4 * i as f64, 1.0).jerk;
+    }
+    let bounds = t.elapsed() / reps;
+    let (mut x, mut dx) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
+    let t = std::time::Instant::now();
+    for i in 0..reps / 10 {
+        seg.state(1e-4 * i as f64, &mut x, &mut dx);
+        acc += x[0];
+    }
+    let full = t.elapsed() / (reps / 10);
+    // The certified search over one revolution (0.05 s) against a ring far away.
+    let ring = SnubberRing {
+        gap: 1e-2,
+        ..SnubberRing::isotropic(1.1e6, 0.0, 0.005).unwrap()
+    };
+    let mut stats = OnsetStats::default();
+    let t = std::time::Instant::now();
+    let onset = find_onset(
+        &seg,
+        &Relaxation::at_rest(0.0),
+        &ring,
+        (0.0, 0.05),
+        false,
+        &mut stats,
+    );
+    let search = t.elapsed();
+    // DOP853 on the same free flight, 1 ms (1/50 of a revolution), rtol 1e-10.
+    let field = MatrixField::new(s1_free_flight());
+    let sys = |t: f64, y: &OVector<f64, Dyn>, dy: &mut OVector<f64, Dyn>| {
+        let (q, v) = y.as_slice().split_at(n);
+        dy.as_mut_slice()[..n].copy_from_slice(v);
+        let mut a = vec![0.0; n];
+        field.accel(t, q, v, &mut a);
+        dy.as_mut_slice()[n..].copy_from_slice(&a);
+    };
+    let opts = Options {
+        rtol: Tolerance::Scalar(1e-10),
+        atol: Tolerance::Scalar(1e-16),
+        ..Options::default()
+    };
+    let mut integ = Dop853::with_dim(Dyn(2 * n), opts).unwrap();
+    let t = std::time::Instant::now();
+    integ
+        .reset(&sys, 0.0, &DVector::from_vec(x0.clone()), false)
+        .unwrap();
+    let mut steps = 0;
+    while integ.t() < 1e-3 {
+        integ.step(&sys, 1e-3).unwrap();
+        steps += 1;
+    }
+    let dop = t.elapsed();
+    seg.state(1e-3, &mut x, &mut dx);
+    let diff = (0..n)
+        .map(|i| (x[i] - integ.y()[i]).abs())
+        .fold(0.0, f64::max);
+    eprintln!(
+        "S1 rotor (n = {n}): prepare {prepare:?}; segment start {start:?}; station r, r', r'' {kin:?}; bounds {bounds:?}; full state {full:?}; certified search over one revolution: {onset:?}, {} evaluations, {search:?}; DOP853 rtol 1e-10 over 1 ms: {steps} steps, {dop:?} (x 50 = one revolution), max |q| difference at 1 ms {diff:.2e} m ({acc:.1e})",
+        stats.evaluations
+    );
+}
