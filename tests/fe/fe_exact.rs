@@ -515,3 +515,49 @@ fn free_flight_cost_on_the_s1_rotor() {
         stats.evaluations
     );
 }
+
+/// Case S1's first free flight, from rest to the first contact: the closed form and the
+/// certified search against the shared reference (an independent implementation, DOP853 and
+/// LSODA at rtol 1e-12, event times agreeing to 8e-11 s): its samples before the onset and
+/// its first onset time.
+#[test]
+fn s1_first_free_flight_matches_the_reference() {
+    use jeffcott::ring::onset::{find_onset, Onset, OnsetStats};
+    use jeffcott::ring::{Relaxation, RingAxis};
+    let form = Arc::new(s1_free_flight().prepare().unwrap());
+    let n = form.dofs();
+    let seg = form.segment(0.0, &vec![0.0; 2 * n]);
+    let gap = 7.95e-5;
+    // k_s = 1.1e6 N/m, c_s = 0.01 N s/m, no preload: the ring's K = k_s, nu2 = c_s / 2.
+    let axis = RingAxis::new(1.1e6, 0.0);
+    let ring = SnubberRing::new(axis, axis, 0.005, gap).unwrap();
+    let mut stats = OnsetStats::default();
+    let Onset::At(t_on) = find_onset(
+        &seg,
+        &Relaxation::at_rest(0.0),
+        &ring,
+        (0.0, 0.05),
+        false,
+        &mut stats,
+    ) else {
+        panic!("no contact found");
+    };
+    let reference_onset = 0.0048176775848062375;
+    let csv = std::fs::read_to_string(data("S1_reference.csv")).unwrap();
+    let mut worst = 0.0f64;
+    for line in csv.lines().skip(1) {
+        let v: Vec<f64> = line.split(',').map(|s| s.parse().unwrap()).collect();
+        if v[0] >= t_on {
+            break;
+        }
+        let (r, _, _) = seg.kinematics(v[0]);
+        worst = worst.max((r.x - v[1]).abs().max((r.y - v[2]).abs()) / gap);
+    }
+    eprintln!(
+        "S1 first free flight: onset at {t_on} s (reference {reference_onset}, difference {:.1e} s, {} evaluations); samples before it within {worst:.1e} of the gap",
+        t_on - reference_onset,
+        stats.evaluations
+    );
+    assert!((t_on - reference_onset).abs() < 1e-9, "{t_on}");
+    assert!(worst < 1e-8, "{worst:e}");
+}
