@@ -15,6 +15,15 @@
 //! two state components are *algebraic*: the composition sets them (relaxing ring in free
 //! flight, $s^*(r)$ in contact) and excludes them from error control.
 //!
+//! **Exact free flight of linear rotors.** A rotor that is linear with constant coefficients
+//! and harmonic forcing between contacts (a finite-element rotor at constant speed) can say so
+//! ([`SmoothRotor::linear_free_flight`], a [`LinearFreeFlight`]): its free flight is then
+//! propagated in closed form (modal decomposition of the state matrix, once per model, and the
+//! particular harmonic solution: [`LinearClosedForm`]) and contact onsets are found by the
+//! certified search of [`crate::ring::onset`], as in the paper's model. A closed form whose
+//! modes are too ill-conditioned is refused ([`RingedRotor::closed_form`] says why) and the
+//! free flight integrated.
+//!
 //! **Onset guarantee.** Contact onsets in integrated free flight are found by the event
 //! detector, whose guarantee is relative to the integrated trajectory: every touch of the dense
 //! output is found, and whether the exact orbit touches is decided to the trajectory's own
@@ -517,7 +526,7 @@ where
             let scale = amax(&k).max(amax(&[r.x, r.y, v.x, v.y]));
             let tol = AFFINE_RTOL * scale + GAP_ATOL * self.ring.gap;
             for (index, (a, b)) in [r.x, r.y, v.x, v.y].into_iter().zip(k).enumerate() {
-                if !((a - b).abs() <= tol) {
+                if (a - b).abs().is_nan() || (a - b).abs() > tol {
                     return Err(RotorError::LinearMismatch {
                         method: "station",
                         t,
@@ -536,7 +545,7 @@ where
                 let tol = 1e-7 * scale;
                 for index in half {
                     let (a, b) = (dx[index], dy[index]);
-                    if !((a - b).abs() <= tol) {
+                    if (a - b).abs().is_nan() || (a - b).abs() > tol {
                         return Err(RotorError::LinearMismatch {
                             method: "rhs",
                             t,

@@ -210,13 +210,14 @@ impl LinearFreeFlight {
         }
         let a = self.state_matrix()?;
         let e = eigen_decomposition(&a).map_err(RotorError::Eigen)?;
-        if !(e.condition <= self.max_condition) {
+        if e.condition.is_nan() || e.condition > self.max_condition {
             return Err(RotorError::IllConditionedModes {
                 condition: e.condition,
                 limit: self.max_condition,
             });
         }
-        if !(e.residual <= MAX_RESIDUAL && e.reconstruction <= MAX_RESIDUAL) {
+        let too_large = |v: f64| v.is_nan() || v > MAX_RESIDUAL;
+        if too_large(e.residual) || too_large(e.reconstruction) {
             return Err(RotorError::EigenResidual {
                 residual: e.residual,
                 reconstruction: e.reconstruction,

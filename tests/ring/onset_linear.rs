@@ -53,7 +53,7 @@ fn three_node_rotor() -> Arc<LinearClosedForm> {
     let m = DMatrix::from_diagonal(&DVector::from_vec(vec![1.0, 1.0, 0.5, 0.5, 0.01, 0.01]));
     // Node springs: 0-ground 1, 0-1 1, 1-ground 0.5, 0-2 1e4 (the stiff light node).
     let mut k = DMatrix::zeros(n, n);
-    let mut spring = |a: usize, b: Option<usize>, s: f64, k: &mut DMatrix<f64>| {
+    let spring = |a: usize, b: Option<usize>, s: f64, k: &mut DMatrix<f64>| {
         for d in 0..2 {
             k[(2 * a + d, 2 * a + d)] += s;
             if let Some(b) = b {
