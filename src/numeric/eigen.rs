@@ -1,29 +1,11 @@
-//! Eigen-decomposition of a real non-symmetric matrix, with eigenvectors and their inverse.
-//!
-//! nalgebra computes the Schur form but no eigenvectors of a non-symmetric matrix. Here the
-//! matrix is balanced (a diagonal similarity $A_b = D^{-1} A D$ by powers of 2, Parlett and
-//! Reinsch, as LAPACK's `gebal` does before `geev`: a state matrix
-//! $\begin{pmatrix}0 & I\\ -M^{-1}K & -M^{-1}D\end{pmatrix}$ has blocks of sizes 1 and
-//! $\omega_\text{max}^2$, and without balancing the Schur form's backward error
-//! $\varepsilon|A|$ would swamp the low modes), reduced to the *complex* Schur form
-//! $A_b = Q T Q^{\mathsf H}$ (nalgebra's [`Schur`] over `Complex<f64>`: $T$ upper
-//! triangular), and the eigenvectors of $T$ are found by back-substitution (LAPACK's `trevc`,
-//! with its guard on tiny divisors), $V = Q Y$, columns scaled to unit 2-norm. The inverse
-//! comes from the crate's LU.
-//!
-//! Everything is returned **in balanced coordinates**: $A = D V \Lambda V^{-1} D^{-1}$. The
-//! condition number $\kappa_1(V) = |V|_1|V^{-1}|_1$ measures how much rounding the modal
-//! coordinates $w = V^{-1} z$ amplify (about $\kappa\varepsilon$ relative); a near-defective
-//! matrix (two modes close to coalescing, e.g. a mode near critical damping) has a large
-//! $\kappa$, a defective one an infinite or enormous one. What to accept is the caller's
-//! decision; the decomposition only reports.
+//! Eigen-decomposition of a real non-symmetric matrix ([`eigen_decomposition`]).
 
 use nalgebra::{Complex, DMatrix, DVector, Schur};
 
 use super::lu::{lu_factor, lu_solve};
 use super::NumericError;
 
-/// $A = D V \Lambda V^{-1} D^{-1}$ ([module docs](self)).
+/// $A = D V \Lambda V^{-1} D^{-1}$ ([`eigen_decomposition`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct EigenDecomposition {
     /// The balancing scales $D$ (powers of 2).
@@ -42,8 +24,25 @@ pub struct EigenDecomposition {
     pub reconstruction: f64,
 }
 
-/// The eigenvalues, eigenvectors and inverse eigenvector matrix of the real square matrix `a`
-/// ([module docs](self)).
+/// The eigenvalues, eigenvectors and inverse eigenvector matrix of the real square matrix `a`.
+///
+/// nalgebra computes the Schur form but no eigenvectors of a non-symmetric matrix. Here the
+/// matrix is balanced (a diagonal similarity $A_b = D^{-1} A D$ by powers of 2, Parlett and
+/// Reinsch, as LAPACK's `gebal` does before `geev`: a state matrix
+/// $\begin{pmatrix}0 & I\\ -M^{-1}K & -M^{-1}D\end{pmatrix}$ has blocks of sizes 1 and
+/// $\omega_\text{max}^2$, and without balancing the Schur form's backward error
+/// $\varepsilon|A|$ would swamp the low modes), reduced to the *complex* Schur form
+/// $A_b = Q T Q^{\mathsf H}$ (nalgebra's [`Schur`] over `Complex<f64>`: $T$ upper
+/// triangular), and the eigenvectors of $T$ are found by back-substitution (LAPACK's `trevc`,
+/// with its guard on tiny divisors), $V = Q Y$, columns scaled to unit 2-norm. The inverse
+/// comes from the crate's LU.
+///
+/// Everything is returned **in balanced coordinates**: $A = D V \Lambda V^{-1} D^{-1}$. The
+/// condition number $\kappa_1(V) = |V|_1|V^{-1}|_1$ measures how much rounding the modal
+/// coordinates $w = V^{-1} z$ amplify (about $\kappa\varepsilon$ relative); a near-defective
+/// matrix (two modes close to coalescing, e.g. a mode near critical damping) has a large
+/// $\kappa$, a defective one an infinite or enormous one. What to accept is the caller's
+/// decision; the decomposition only reports.
 ///
 /// # Errors
 /// [`NumericError::NotSquare`], [`NumericError::NonFiniteMatrix`],

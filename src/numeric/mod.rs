@@ -1,6 +1,6 @@
 //! The crate's scalar numerical tools, below every other layer (it imports nothing of the
-//! crate): one bracketing root finder, one bisection helper, and the direction type of a sign
-//! change.
+//! crate): one bracketing root finder, one bisection helper, one non-symmetric
+//! eigen-decomposition, and the direction type of a sign change.
 //!
 //! * [`illinois`] — the bracketing root finder (Illinois-modified regula falsi with a bisection
 //!   safeguard) for a continuous scalar function with a sign change on a bracket: the event
@@ -13,6 +13,10 @@
 //!   without a continuous value to interpolate, such as the detected period of a simulation
 //!   ([`analysis::locate_period_change`](crate::analysis::locate_period_change)). It returns a
 //!   [`Bisection`] (the final bracket, evaluations, `converged`).
+//! * [`eigen_decomposition`] — eigenvalues, eigenvectors and their inverse for a real
+//!   non-symmetric matrix (balancing, nalgebra's complex Schur form, back-substitution), with
+//!   the eigenvector matrix's condition number and the backward error: the modal closed form of
+//!   a linear rotor's free flight ([`crate::rotor::LinearClosedForm`]) rests on it.
 //! * [`Direction`] — the direction of a sign change (`Rising`, `Falling`, `Either`), used by
 //!   event functions, the guards of hybrid models, the ring element and Poincaré sections.
 //!

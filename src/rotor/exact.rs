@@ -1,41 +1,4 @@
-//! Exact free flight of a linear rotor at constant speed.
-//!
-//! Between contacts a finite-element rotor on the ring is linear, with constant coefficients
-//! and harmonic forcing,
-//!
-//! $$M q^{\prime\prime} + D q^\prime + K q = f_0 + \operatorname{Re}(\hat F e^{i\Omega t}),$$
-//!
-//! ($D = C + \Omega G$), i.e. $x^\prime = A x + b_0 + \operatorname{Re}(\hat b e^{i\Omega t})$
-//! for $x = (q, q^\prime)$ with $A = \begin{pmatrix}0 & I\\ -M^{-1}K & -M^{-1}D\end{pmatrix}$.
-//! Its solution is known in closed form ([`LinearClosedForm`]):
-//!
-//! $$x(t) = x_p(t) + \operatorname{Re}\Big(\textstyle\sum_k V_k\thinspace w_k
-//! e^{\lambda_k (t - t_0)}\Big),\qquad x_p(t) = x_s + \operatorname{Re}(X e^{i\Omega t}),$$
-//!
-//! with $K q_s = f_0$, $(K - \Omega^2 M + i\Omega D) Q = \hat F$, $x_s = (q_s, 0)$,
-//! $X = (Q, i\Omega Q)$, the eigen-decomposition $A = V\Lambda V^{-1}$
-//! ([`crate::numeric::eigen_decomposition`], once per model) and the modal coordinates
-//! $w = V^{-1}(x_0 - x_p(t_0))$ of a segment started at $(t_0, x_0)$ ([`LinearSegment`]).
-//! The ring's station sees $r = (q_{i_x}, q_{i_y}) - o$, $o$ the ring centre's offset: with
-//! the station's rows of $V$ (two complex numbers a mode) precomputed, $r$, $r^\prime$,
-//! $r^{\prime\prime}$ cost $O(2n)$ a time, the full state $O(n^2)$ (segment ends, outputs).
-//!
-//! **Refused, never inaccurate.** A near-defective $A$ (two modes about to coalesce, e.g. an
-//! over-damped mode near critical damping) has an ill-conditioned $V$, and the modal
-//! coordinates amplify rounding by its condition number $\kappa_1(V)$ (in balanced
-//! coordinates). [`LinearFreeFlight::prepare`] refuses the closed form with
-//! [`RotorError::IllConditionedModes`] when $\kappa$ exceeds
-//! [`LinearFreeFlight::max_condition`] (default [`DEFAULT_MAX_CONDITION`]: the modal
-//! coordinates then carry less than about $10^{-9}$ relative rounding), and
-//! [`RingedRotor`](super::RingedRotor) integrates the free flight instead.
-//!
-//! **Bounds for the certified onset search** ([`crate::ring::onset`]): on $[t_a, t_b]$,
-//! $|r^{(p)}(t)| \le \Omega^p |P| + [p = 0]\thinspace|r_s| + \sum_k |\lambda_k|^p |c_k|
-//! e^{\operatorname{Re}\lambda_k (\tau_k - t_0)}$, $c_k$ the mode's station coefficients
-//! ($\mathbb{C}^2$), $P$ the particular amplitude at the station, $r_s$ its static position,
-//! $\tau_k = t_a$ for a decaying mode and $t_b$ for a growing one
-//! ([`RotorMotion::bounds_on`]): the high modes' huge jerk bound fades as they decay, and an
-//! unstable rotor gets bounds on finite windows (the search's chunks: one forcing period).
+//! Exact free flight of a linear rotor at constant speed ([`LinearClosedForm`]).
 
 use std::sync::Arc;
 
@@ -58,7 +21,7 @@ const MAX_RESIDUAL: f64 = 1e-10;
 /// A linear rotor's free flight at constant speed, as a [`SmoothRotor`](super::SmoothRotor)
 /// describes it ([`SmoothRotor::linear_free_flight`](super::SmoothRotor::linear_free_flight)):
 /// $M q^{\prime\prime} + D q^\prime + K q = f_0 + \operatorname{Re}(\hat F e^{i\Omega t})$
-/// ([module docs](self)). The rotor's state must be `[q (n), q' (n), x_s, y_s]`.
+/// ([`LinearClosedForm`]). The rotor's state must be `[q (n), q' (n), x_s, y_s]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearFreeFlight {
     /// $M$ ($n\times n$, invertible).
@@ -82,8 +45,46 @@ pub struct LinearFreeFlight {
     pub max_condition: f64,
 }
 
-/// The closed form of a [`LinearFreeFlight`], computed once per model
-/// ([`LinearFreeFlight::prepare`]).
+/// Exact free flight of a linear rotor at constant speed.
+///
+/// Between contacts a finite-element rotor on the ring is linear, with constant coefficients
+/// and harmonic forcing,
+///
+/// $$M q^{\prime\prime} + D q^\prime + K q = f_0 + \operatorname{Re}(\hat F e^{i\Omega t}),$$
+///
+/// ($D = C + \Omega G$), i.e. $x^\prime = A x + b_0 + \operatorname{Re}(\hat b e^{i\Omega t})$
+/// for $x = (q, q^\prime)$ with $A = \begin{pmatrix}0 & I\\ -M^{-1}K & -M^{-1}D\end{pmatrix}$.
+/// Its solution is known in closed form ([`LinearClosedForm`]):
+///
+/// $$x(t) = x_p(t) + \operatorname{Re}\Big(\textstyle\sum_k V_k\thinspace w_k
+/// e^{\lambda_k (t - t_0)}\Big),\qquad x_p(t) = x_s + \operatorname{Re}(X e^{i\Omega t}),$$
+///
+/// with $K q_s = f_0$, $(K - \Omega^2 M + i\Omega D) Q = \hat F$, $x_s = (q_s, 0)$,
+/// $X = (Q, i\Omega Q)$, the eigen-decomposition $A = V\Lambda V^{-1}$
+/// ([`crate::numeric::eigen_decomposition`], once per model) and the modal coordinates
+/// $w = V^{-1}(x_0 - x_p(t_0))$ of a segment started at $(t_0, x_0)$ ([`LinearSegment`]).
+/// The ring's station sees $r = (q_{i_x}, q_{i_y}) - o$, $o$ the ring centre's offset: with
+/// the station's rows of $V$ (two complex numbers a mode) precomputed, $r$, $r^\prime$,
+/// $r^{\prime\prime}$ cost $O(2n)$ a time, the full state $O(n^2)$ (segment ends, outputs).
+///
+/// **Refused, never inaccurate.** A near-defective $A$ (two modes about to coalesce, e.g. an
+/// over-damped mode near critical damping) has an ill-conditioned $V$, and the modal
+/// coordinates amplify rounding by its condition number $\kappa_1(V)$ (in balanced
+/// coordinates). [`LinearFreeFlight::prepare`] refuses the closed form with
+/// [`RotorError::IllConditionedModes`] when $\kappa$ exceeds
+/// [`LinearFreeFlight::max_condition`] (default [`DEFAULT_MAX_CONDITION`]: the modal
+/// coordinates then carry less than about $10^{-9}$ relative rounding), and
+/// [`RingedRotor`](super::RingedRotor) integrates the free flight instead.
+///
+/// **Bounds for the certified onset search** ([`crate::ring::onset`]): on $[t_a, t_b]$,
+/// $|r^{(p)}(t)| \le \Omega^p |P| + [p = 0]\thinspace|r_s| + \sum_k |\lambda_k|^p |c_k|
+/// e^{\operatorname{Re}\lambda_k (\tau_k - t_0)}$, $c_k$ the mode's station coefficients
+/// ($\mathbb{C}^2$), $P$ the particular amplitude at the station, $r_s$ its static position,
+/// $\tau_k = t_a$ for a decaying mode and $t_b$ for a growing one
+/// ([`RotorMotion::bounds_on`]): the high modes' huge jerk bound fades as they decay, and an
+/// unstable rotor gets bounds on finite windows (the search's chunks: one forcing period).
+///
+/// Computed once per model by [`LinearFreeFlight::prepare`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearClosedForm {
     n: usize,
