@@ -309,3 +309,50 @@ fn onset_search_on_linear_rotors_agrees_with_brute_force() {
     eprintln!("linear rotor onsets: {contacts} contacts, {clear} clear, {ambiguous} ambiguous; {evaluations} search evaluations; worst timing error / bound {worst_timing:.2}");
     assert!(contacts > 200 && clear > 200);
 }
+
+/// An unstable rotor (negative damping, $\nu_1 = -0.02$): its bounds hold on finite windows
+/// only ([`RotorMotion::bounds_on`] with the window's end for growing modes), and the search
+/// finds the first contact of the growing orbit, against dense sampling with bisection.
+#[test]
+fn onset_search_on_an_unstable_rotor_finds_the_first_contact() {
+    let nu1 = -0.02;
+    let lf = LinearFreeFlight::new(
+        DMatrix::identity(2, 2),
+        DMatrix::identity(2, 2) * (2.0 * nu1),
+        DMatrix::identity(2, 2),
+        1.7,
+        DVector::from_vec(vec![Complex::new(0.01, 0.0), Complex::new(0.0, -0.01)]),
+        DVector::zeros(2),
+        [0, 1],
+        Vector2::zeros(),
+    );
+    let form = Arc::new(lf.prepare().unwrap());
+    let seg = form.segment(0.0, &[0.05, 0.0, 0.0, 0.03]);
+    assert!(seg.bounds().position.is_infinite());
+    let ring = SnubberRing::isotropic(20.0, 0.0, 0.05).unwrap();
+    let relax = Relaxation::at_rest(0.0);
+    let t_end = 300.0;
+    let mut stats = OnsetStats::default();
+    let Onset::At(t_s) = find_onset(&seg, &relax, &ring, (0.0, t_end), false, &mut stats) else {
+        panic!("the growing orbit must reach the gap");
+    };
+    // Dense sampling (step 1e-3; |h''| <= 2(|r'|^2 + |r| |r''|), about 10 here, so an
+    // excursion between samples is at most 1.3e-6 deep) and bisection of the first crossing.
+    let h = |t: f64| seg.kinematics(t).0.norm_squared() - 1.0;
+    let dt = 1e-3;
+    let mut t = 0.0;
+    while h(t + dt) < 0.0 {
+        t += dt;
+    }
+    let (mut a, mut b) = (t, t + dt);
+    for _ in 0..60 {
+        let c = 0.5 * (a + b);
+        if h(c) < 0.0 {
+            a = c;
+        } else {
+            b = c;
+        }
+    }
+    eprintln!("unstable rotor: onset {t_s} (sampled {b}), {} evaluations", stats.evaluations);
+    assert!(t_s <= b + 1e-9 && t_s >= b - 1e-6, "{t_s} vs {b}");
+}
