@@ -504,8 +504,20 @@ where
             dy.fill(f64::NAN);
             return;
         };
-        let n2 = 2 * motion.form.n;
+        let f = &*motion.form;
+        let (n, n2, [ix, iy]) = (f.n, 2 * f.n, f.station);
         motion.state(t, &mut y.as_mut_slice()[..n2], &mut dy.as_mut_slice()[..n2]);
+        // The station's coordinates as the onset search saw them (the station shapes' sums,
+        // which differ from the full state's by rounding): a contact found there starts there.
+        let (r, v, a) = motion.kinematics(t);
+        y[ix] = r.x + f.offset.x;
+        y[iy] = r.y + f.offset.y;
+        y[n + ix] = v.x;
+        y[n + iy] = v.y;
+        dy[ix] = v.x;
+        dy[iy] = v.y;
+        dy[n + ix] = a.x;
+        dy[n + iy] = a.y;
         let (s, sd) = self.relax.at(&self.ring, t);
         y[n2] = s.x;
         y[n2 + 1] = s.y;

@@ -353,6 +353,9 @@ fn onset_search_on_an_unstable_rotor_finds_the_first_contact() {
             b = c;
         }
     }
-    eprintln!("unstable rotor: onset {t_s} (sampled {b}), {} evaluations", stats.evaluations);
+    eprintln!(
+        "unstable rotor: onset {t_s} (sampled {b}), {} evaluations",
+        stats.evaluations
+    );
     assert!(t_s <= b + 1e-9 && t_s >= b - 1e-6, "{t_s} vs {b}");
 }
