@@ -382,7 +382,7 @@ pub enum RotorError {
         slots: [usize; 2],
     },
     /// A rotor's linear closed form disagrees with its own vector field or station.
-    #[error("SmoothRotor::linear_free_flight disagrees with SmoothRotor::{method} at a probe state (t = {t}): component {index} is {closed_form} by the closed form, {rotor} by the rotor (difference {difference:e} above the tolerance {tolerance:e})")]
+    #[error("SmoothRotor::linear_free_flight disagrees with SmoothRotor::{method} (t = {t}): component {index} is {closed_form} by the closed form, {rotor} by the rotor (difference {difference:e} above the tolerance {tolerance:e})")]
     LinearMismatch {
         /// `"rhs"` or `"station"`.
         method: &'static str,
@@ -424,6 +424,31 @@ fn kin4(k: &Kinematics) -> [f64; 4] {
 
 fn sub4(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3]]
+}
+
+/// `Err(LinearMismatch)` unless the closed form's `closed_form` and the rotor's `rotor` agree
+/// within `tolerance`.
+fn linear_agrees(
+    method: &'static str,
+    t: f64,
+    index: usize,
+    closed_form: f64,
+    rotor: f64,
+    tolerance: f64,
+) -> Result<(), RotorError> {
+    let difference = (closed_form - rotor).abs();
+    if difference.is_nan() || difference > tolerance {
+        return Err(RotorError::LinearMismatch {
+            method,
+            t,
+            index,
+            closed_form,
+            rotor,
+            difference,
+            tolerance,
+        });
+    }
+    Ok(())
 }
 
 fn amax(a: &[f64]) -> f64 {
@@ -500,24 +525,25 @@ where
             ) => return Ok(Some(Err(e))),
             Err(e) => return Err(e),
         };
-        self.check_closed_form(&form, probes)?;
+        self.check_closed_form(&linear, &form, probes)?;
         Ok(Some(Ok(form)))
     }
 
-    /// The closed form's station and derivative against the rotor's `station` and `rhs` at
-    /// the probe states, at two times (relative $10^{-7}$ of each half of the state, the
-    /// positions' and the velocities' derivatives: the closed form's derivative carries
-    /// rounding amplified by the modes' condition).
+    /// The closed form against the rotor's own `station` and `rhs`: the station at the probe
+    /// states (to the affinity tolerance); the state matrix $A$ column by column against
+    /// `rhs(0, e_j) - rhs(0, 0)` (exact up to rounding for a linear field: relative $10^{-8}$
+    /// of each column's largest entry in each half, positions' and velocities' derivatives);
+    /// the forcing `rhs(t, 0)` against $x_p^\prime - A x_p$ at two times (relative
+    /// $10^{-8}$ of the terms). A probe's derivative is not compared through the modes: the
+    /// stiff modes amplify its rounding by $|\lambda|_\text{max}\kappa$.
     fn check_closed_form(
         &self,
+        linear: &LinearFreeFlight,
         form: &Arc<LinearClosedForm>,
         probes: &[OVector<f64, R::Dim>; 2],
     ) -> Result<(), RotorError> {
         let n = form.dofs();
         let period = self.rotor.forcing_period();
-        let mut x = vec![0.0; 2 * n];
-        let mut dx = vec![0.0; 2 * n];
-        let mut dy = self.zero_state();
         for (m, y) in probes.iter().enumerate() {
             let t = if m == 0 { 0.0 } else { 0.37 * period };
             let segment = form.segment(t, &y.as_slice()[..2 * n]);
@@ -526,36 +552,47 @@ where
             let scale = amax(&k).max(amax(&[r.x, r.y, v.x, v.y]));
             let tol = AFFINE_RTOL * scale + GAP_ATOL * self.ring.gap;
             for (index, (a, b)) in [r.x, r.y, v.x, v.y].into_iter().zip(k).enumerate() {
-                if (a - b).abs().is_nan() || (a - b).abs() > tol {
-                    return Err(RotorError::LinearMismatch {
-                        method: "station",
-                        t,
-                        index,
-                        closed_form: a,
-                        rotor: b,
-                        difference: (a - b).abs(),
-                        tolerance: tol,
-                    });
+                linear_agrees("station", t, index, a, b, tol)?;
+            }
+        }
+        let a = linear.state_matrix()?;
+        let mut y = self.zero_state();
+        let mut base = self.zero_state();
+        let mut dy = self.zero_state();
+        self.rotor.rhs(0.0, &y, &mut base);
+        for j in 0..2 * n {
+            y[j] = 1.0;
+            self.rotor.rhs(0.0, &y, &mut dy);
+            y[j] = 0.0;
+            for half in [0..n, n..2 * n] {
+                let col: Vec<f64> = half.clone().map(|i| dy[i] - base[i]).collect();
+                let want: Vec<f64> = half.clone().map(|i| a[(i, j)]).collect();
+                let tol = 1e-8 * amax(&col).max(amax(&want));
+                for (k, i) in half.enumerate() {
+                    linear_agrees("rhs", 0.0, i, want[k], col[k], tol)?;
                 }
             }
-            segment.state(t, &mut x, &mut dx);
-            self.rotor.rhs(t, y, &mut dy);
+        }
+        let (mut xp, mut dxp) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
+        for t in [0.0, 0.37 * period] {
+            xp.fill(0.0);
+            dxp.fill(0.0);
+            form.add_particular(t, &mut xp, &mut dxp);
+            self.rotor.rhs(t, &self.zero_state(), &mut dy);
+            let terms: Vec<(f64, f64)> = (0..2 * n)
+                .map(|i| {
+                    let ax: f64 = (0..2 * n).map(|j| a[(i, j)] * xp[j]).sum();
+                    let size: f64 = (0..2 * n).map(|j| (a[(i, j)] * xp[j]).abs()).sum();
+                    (dxp[i] - ax, size + dxp[i].abs())
+                })
+                .collect();
             for half in [0..n, n..2 * n] {
-                let scale = amax(&dx[half.clone()]).max(amax(&dy.as_slice()[half.clone()]));
-                let tol = 1e-7 * scale;
-                for index in half {
-                    let (a, b) = (dx[index], dy[index]);
-                    if (a - b).abs().is_nan() || (a - b).abs() > tol {
-                        return Err(RotorError::LinearMismatch {
-                            method: "rhs",
-                            t,
-                            index,
-                            closed_form: a,
-                            rotor: b,
-                            difference: (a - b).abs(),
-                            tolerance: tol,
-                        });
-                    }
+                let size = half
+                    .clone()
+                    .map(|i| terms[i].1.max(dy[i].abs()))
+                    .fold(0.0, f64::max);
+                for i in half {
+                    linear_agrees("rhs", t, i, terms[i].0, dy[i], 1e-8 * size)?;
                 }
             }
         }

@@ -300,7 +300,7 @@ impl LinearClosedForm {
 
     /// The particular solution's state and its derivative at `t`, added to `x`, `dx`
     /// (each of length $2n$).
-    fn add_particular(&self, t: f64, x: &mut [f64], dx: &mut [f64]) {
+    pub(crate) fn add_particular(&self, t: f64, x: &mut [f64], dx: &mut [f64]) {
         let (s, c) = (self.speed * t).sin_cos();
         let ph = Complex::new(c, s);
         let iw = Complex::new(0.0, self.speed);

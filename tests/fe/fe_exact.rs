@@ -288,7 +288,8 @@ fn random_stable_rotor_matches_a_high_accuracy_integration() {
 /// with or without its closed form.
 struct MatrixRotor {
     field: MatrixField,
-    exact: bool,
+    /// What `linear_free_flight` gives (its own matrices, or another's to test the check).
+    closed: Option<LinearFreeFlight>,
 }
 
 impl SmoothRotor for MatrixRotor {
@@ -330,7 +331,7 @@ impl SmoothRotor for MatrixRotor {
         std::f64::consts::TAU / self.field.lf.speed
     }
     fn linear_free_flight(&self) -> Option<LinearFreeFlight> {
-        self.exact.then(|| self.field.lf.clone())
+        self.closed.clone()
     }
 }
 
@@ -369,8 +370,8 @@ fn two_node_rotor(exact: bool) -> MatrixRotor {
         Vector2::new(0.05, -0.1),
     );
     MatrixRotor {
+        closed: exact.then(|| lf.clone()),
         field: MatrixField::new(lf),
-        exact,
     }
 }
 
@@ -387,6 +388,42 @@ fn run_ringed(rotor: MatrixRotor, periods: u64) -> (Trajectory<Dyn>, jeffcott::h
     let y0 = DVector::zeros(10);
     let stats = jeffcott::hybrid::simulate(&model, 0.0, &y0, &plan, &opts, &mut traj).unwrap();
     (traj, stats)
+}
+
+#[test]
+fn a_closed_form_that_disagrees_with_its_rotor_is_an_error() {
+    // The gyroscopic sign flipped (D = C - W G instead of C + W G), or the unbalance's phase
+    // off by a quarter turn: RingedRotor::new names the mismatch.
+    let ring = SnubberRing::isotropic(30.0, 0.05, 0.01).unwrap();
+    let mut rotor = two_node_rotor(true);
+    let mut wrong = rotor.field.lf.clone();
+    let w = wrong.speed;
+    for (i, j) in [(0, 1), (2, 3)] {
+        wrong.damping[(i, j)] -= 0.4 * w;
+        wrong.damping[(j, i)] += 0.4 * w;
+    }
+    rotor.closed = Some(wrong);
+    let Err(err) = RingedRotor::new(rotor, ring) else {
+        panic!("accepted");
+    };
+    eprintln!("{err}");
+    assert!(
+        matches!(err, RotorError::LinearMismatch { method: "rhs", .. }),
+        "{err:?}"
+    );
+    let mut rotor = two_node_rotor(true);
+    let mut wrong = rotor.field.lf.clone();
+    wrong.harmonic_force *= Complex::new(0.0, 1.0);
+    rotor.closed = Some(wrong);
+    let Err(err) = RingedRotor::new(rotor, ring) else {
+        panic!("accepted");
+    };
+    assert!(
+        matches!(err, RotorError::LinearMismatch { method: "rhs", .. }),
+        "{err:?}"
+    );
+    // The same rotor with its own matrices is accepted.
+    assert!(RingedRotor::new(two_node_rotor(true), ring).is_ok());
 }
 
 #[test]
@@ -585,7 +622,7 @@ fn s1_full_run_with_exact_free_flight() {
     let exact = std::env::var("S1_INTEGRATED").is_err();
     let rotor = MatrixRotor {
         field: MatrixField::new(s1_free_flight()),
-        exact,
+        closed: exact.then(s1_free_flight),
     };
     let gap = 7.95e-5;
     let axis = RingAxis::new(1.1e6, 0.0);
@@ -595,23 +632,43 @@ fn s1_full_run_with_exact_free_flight() {
     let plan = OutputPlan {
         t_end: 0.5,
         strobe: None,
-        dense: Some(jeffcott::hybrid::DenseSampling { t_start: 0.0, dt: 0.0005 }),
+        dense: Some(jeffcott::hybrid::DenseSampling {
+            t_start: 0.0,
+            dt: 0.0005,
+        }),
         events: true,
     };
     let mut traj = Trajectory::default();
     let n = 136;
     let t = std::time::Instant::now();
-    let stats = jeffcott::hybrid::simulate(&model, 0.0, &DVector::zeros(2 * n + 2), &plan, &opts, &mut traj).unwrap();
+    let stats = jeffcott::hybrid::simulate(
+        &model,
+        0.0,
+        &DVector::zeros(2 * n + 2),
+        &plan,
+        &opts,
+        &mut traj,
+    )
+    .unwrap();
     let wall = t.elapsed();
     let csv = std::fs::read_to_string(data("S1_reference.csv")).unwrap();
-    let reference: Vec<Vec<f64>> = csv.lines().skip(1).map(|l| l.split(',').map(|s| s.parse().unwrap()).collect()).collect();
+    let reference: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|s| s.parse().unwrap()).collect())
+        .collect();
     let ix = 48;
     let mut worst = 0.0f64;
     for (s, r) in traj.samples.iter().zip(&reference) {
         assert!((s.t - r[0]).abs() < 1e-12);
         worst = worst.max((s.y[ix] - r[1]).abs().max((s.y[ix + 1] - r[2]).abs()) / gap);
     }
-    let onsets: Vec<f64> = traj.events.iter().filter(|e| e.kind == "contact onset").map(|e| e.t).collect();
+    let onsets: Vec<f64> = traj
+        .events
+        .iter()
+        .filter(|e| e.kind == "contact onset")
+        .map(|e| e.t)
+        .collect();
     eprintln!(
         "S1 ({} free flight): {} samples, max |error| / gap {worst:.2e}, {} contacts at {onsets:?}; {wall:?}, {} steps, {} closed-form evaluations",
         if exact { "exact" } else { "integrated" },
