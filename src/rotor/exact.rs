@@ -298,6 +298,21 @@ impl LinearClosedForm {
         self.residual
     }
 
+    /// The state-transition matrix $\partial x(t_0 + u)/\partial x(t_0) =
+    /// \operatorname{diag}(d) V e^{\Lambda u} V^{-1} \operatorname{diag}(d)^{-1}$
+    /// ($2n\times 2n$; the forcing is additive, so it depends on $u$ only). $O(n^3)$.
+    pub fn transition_matrix(&self, u: f64) -> DMatrix<f64> {
+        let n2 = 2 * self.n;
+        let mut left = self.vectors.clone();
+        for (k, mut col) in left.column_iter_mut().enumerate() {
+            col *= (self.values[k] * u).exp();
+        }
+        let phi = left * &self.inverse;
+        DMatrix::from_fn(n2, n2, |i, j| {
+            phi[(i, j)].re * self.scale[i] / self.scale[j]
+        })
+    }
+
     /// The particular solution's state and its derivative at `t`, added to `x`, `dx`
     /// (each of length $2n$).
     pub(crate) fn add_particular(&self, t: f64, x: &mut [f64], dx: &mut [f64]) {

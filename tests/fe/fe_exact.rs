@@ -114,6 +114,13 @@ fn jeffcott_rotor_as_matrices_matches_the_paper_closed_form() {
             for (got, want) in [(dx[2], ap[0]), (dx[3], ap[1]), (a.x, ap[0]), (a.y, ap[1])] {
                 worst = worst.max((got - want).abs() / scale);
             }
+            // The state-transition matrices: the paper's per-axis closed form.
+            let (phi, want) = (form.transition_matrix(t - t0), paper.transition_matrix(t));
+            for i in 0..4 {
+                for j in 0..4 {
+                    worst = worst.max((phi[(i, j)] - want[(i, j)]).abs());
+                }
+            }
         }
     }
     eprintln!(
@@ -338,6 +345,10 @@ impl SmoothRotor for MatrixRotor {
 /// Two lumped nodes, gyroscopic coupling, unbalance at node 0 where the ring sits (gap 1):
 /// a rotor that hits the ring several times a period.
 fn two_node_rotor(exact: bool) -> MatrixRotor {
+    two_node_rotor_forced(exact, 0.9)
+}
+
+fn two_node_rotor_forced(exact: bool, amplitude: f64) -> MatrixRotor {
     let n = 4;
     let m = DMatrix::from_diagonal(&DVector::from_vec(vec![1.0, 1.0, 0.5, 0.5]));
     let k2 = [[2.0, -1.0], [-1.0, 1.5]];
@@ -355,7 +366,7 @@ fn two_node_rotor(exact: bool) -> MatrixRotor {
         _ => 0.0,
     });
     let d = &k * 0.04 + g * speed;
-    let b = Complex::from_polar(0.9, 0.3);
+    let b = Complex::from_polar(amplitude, 0.3);
     let mut f = DVector::from_element(n, Complex::new(0.0, 0.0));
     f[0] = b;
     f[1] = b * Complex::new(0.0, -1.0);
@@ -680,4 +691,44 @@ fn s1_full_run_with_exact_free_flight() {
     assert_eq!(traj.samples.len(), reference.len());
     assert_eq!(onsets.len(), 7);
     assert!(worst < 1e-6, "{worst:e}");
+}
+
+#[test]
+fn multipliers_with_exact_free_flight_match_integrated_free_flight() {
+    use jeffcott::stability::{periodic_orbit, OrbitOptions};
+    let ring = SnubberRing::isotropic(30.0, 0.05, 0.01).unwrap();
+    // Unbalance 1.2: a period-1 orbit with several impacts a period (free flights between).
+    let (settled, _) = run_ringed(two_node_rotor_forced(false, 1.2), 200);
+    let start = settled.strobe.last().unwrap().y.clone();
+    let opts = OrbitOptions::default();
+    let mut results = Vec::new();
+    for exact in [true, false] {
+        let model = RingedRotor::new(two_node_rotor_forced(exact, 1.2), ring).unwrap();
+        let t = std::time::Instant::now();
+        let orbit = periodic_orbit(&model, &start, 1, &opts).unwrap();
+        let onsets = orbit
+            .events
+            .iter()
+            .filter(|e| e.kind == "contact onset")
+            .count();
+        eprintln!(
+            "exact free flight {exact}: spectral radius {:.6}, {} events ({onsets} onsets), {} Newton iterations, {:?}",
+            orbit.spectral_radius(),
+            orbit.events.len(),
+            orbit.iterations,
+            t.elapsed()
+        );
+        results.push(orbit);
+    }
+    let (a, b) = (&results[0], &results[1]);
+    let dz = (&a.point - &b.point).amax();
+    let dm = a
+        .multipliers
+        .iter()
+        .zip(&b.multipliers)
+        .map(|(u, v)| (u.re - v.re).hypot(u.im - v.im))
+        .fold(0.0, f64::max);
+    eprintln!("periodic orbit: points differ by {dz:.1e}, multipliers by {dm:.1e}");
+    assert!(a.events.iter().any(|e| e.kind == "contact onset"));
+    assert!(dz < 1e-8 && dm < 1e-6, "{dz:e} {dm:e}");
 }
