@@ -10,6 +10,12 @@
 //! corner, the relaxation after loss). The model author cannot get those rules wrong because
 //! they do not write them.
 //!
+//! A linear rotor given by its matrices (a finite-element model, e.g. ROSS's export read by
+//! [`RotorMatrices`]) needs no hand-written [`SmoothRotor`]: [`LinearSystem`] holds
+//! $M$, $C + \Omega G$, $K$ and the unbalance in SI units, [`LinearRotor`] is its
+//! [`SmoothRotor`] with the ring at a node ([`LinearRotor`]'s docs write down how the ring in
+//! SI units maps onto the paper's non-dimensional ring).
+//!
 //! Free flight is integrated (the rotor's own vector field may be non-linear); the ring's
 //! relaxation after a loss is known in closed form and enters only the onset guard. The ring's
 //! two state components are *algebraic*: the composition sets them (relaxing ring in free
@@ -90,6 +96,7 @@
 //! ```
 
 mod exact;
+mod linear;
 mod linearization;
 mod matrices;
 #[cfg(feature = "mat")]
@@ -98,7 +105,7 @@ mod ross;
 pub use exact::{
     LinearClosedForm, LinearFreeFlight, LinearFreeSegment, LinearSegment, DEFAULT_MAX_CONDITION,
 };
-
+pub use linear::{LinearRotor, LinearSystem};
 pub use matrices::{DofLayout, RotorMatrices};
 use std::sync::Arc;
 
@@ -398,6 +405,54 @@ pub enum RotorError {
         difference: f64,
         /// The tolerance.
         tolerance: f64,
+    },
+    /// The spin speed of a [`LinearSystem`] is not finite and positive.
+    #[error("the spin speed must be finite and > 0 rad/s, got {value} (the unbalance rotates at it and it sets the forcing period)")]
+    Speed {
+        /// The speed given, rad/s.
+        value: f64,
+    },
+    /// A scalar input is not finite.
+    #[error("{field} must be finite, got {value}")]
+    Parameter {
+        /// The input (`"unbalance magnitude"`, `"ring offset x"`, ...).
+        field: &'static str,
+        /// Its value.
+        value: f64,
+    },
+    /// A coordinate index beyond the system's coordinates.
+    #[error("{field} = {index} is out of range: the system has coordinates 0 to {}", dofs.saturating_sub(1))]
+    DofOutOfRange {
+        /// What the index is for (`"station x"`, `"force dof"`, ...).
+        field: &'static str,
+        /// The index given.
+        index: usize,
+        /// Number of coordinates.
+        dofs: usize,
+    },
+    /// The station's x and y are the same coordinate.
+    #[error("the station's x and y are both coordinate {index}: give two distinct coordinates")]
+    StationCoincident {
+        /// The coordinate given twice.
+        index: usize,
+    },
+    /// A force vector is not of the system's size.
+    #[error("vector {vector} has {len} entries, expected {expected} (the size of M)")]
+    VectorLength {
+        /// `"F_hat"` or `"f0"`.
+        vector: &'static str,
+        /// Its length.
+        len: usize,
+        /// Rows of `M`.
+        expected: usize,
+    },
+    /// A matrix that must be inverted is singular.
+    #[error("{matrix} is singular (LU found a zero pivot): {hint}")]
+    Singular {
+        /// The matrix (`"M"`, `"K"`, `"K - W^2 M + i W D"`).
+        matrix: &'static str,
+        /// What to check.
+        hint: &'static str,
     },
     /// A force at the station does not accelerate it along the force.
     #[error("SmoothRotor::add_station_force: the force {force:?} at the station changes the station's acceleration by {accel:?}, whose component along the force is {along}, not positive: a force must push the station along itself (dy[velocity] += force / mass)")]

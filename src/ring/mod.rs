@@ -609,6 +609,43 @@ impl SnubberRing {
         Self::new(axis, axis, damping, 1.0)
     }
 
+    /// The ring from its physical parameters, in any consistent units (SI: N/m, N s/m, m):
+    /// unit stiffness `unit_stiffness` $k_s$, unit damping `unit_damping` $c_s$ (a unit's
+    /// damping force is $c_s s^\prime$), preloads `preload` $[\Delta_x, \Delta_y]$ and radial
+    /// gap `gap` $\gamma$. The fields are then $K = k_s$, $D = \Delta$, $\nu_2 = c_s/2$ and
+    /// gap $\gamma$, and per axis the ring's force is $f = 2k_s s + 2c_s s^\prime$ inside the
+    /// preload and $\operatorname{sign}(s)\thinspace k_s(|s| + \Delta) + c_s s^\prime$ beyond
+    /// it, in the units of $k_s$ times those of $\gamma$ (N for SI). The element's tolerances
+    /// are relative to the gap, so it runs in metres as it does in gaps. The paper's
+    /// non-dimensional ring is this ring with lengths in $\gamma$, forces in $k_r\gamma$ and
+    /// time in $1/\omega_n$: `from_units(k_s / k_r, c_s / sqrt(k_r m), [Δx / γ, Δy / γ], 1)`
+    /// (see [`crate::rotor::LinearRotor`] for the rule for any rotor).
+    ///
+    /// ```
+    /// use jeffcott::ring::{RingAxis, SnubberRing};
+    /// // ROSS's rub example's ring: k_s = 1.1e6 N/m, c_s = 0.01 N s/m, gap 79.5 µm.
+    /// let ring = SnubberRing::from_units(1.1e6, 0.01, [0.0, 0.0], 7.95e-5)?;
+    /// assert_eq!(ring, SnubberRing::new(RingAxis::new(1.1e6, 0.0), RingAxis::new(1.1e6, 0.0), 0.005, 7.95e-5)?);
+    /// # Ok::<(), jeffcott::ring::RingError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`SnubberRing::new`], with the damping named `"unit_damping"` and its value $c_s$.
+    pub fn from_units(
+        unit_stiffness: f64,
+        unit_damping: f64,
+        preload: [f64; 2],
+        gap: f64,
+    ) -> Result<Self, RingError> {
+        check_non_negative("unit_damping", unit_damping)?;
+        Self::new(
+            RingAxis::new(unit_stiffness, preload[0]),
+            RingAxis::new(unit_stiffness, preload[1]),
+            0.5 * unit_damping,
+            gap,
+        )
+    }
+
     /// Checks all parameters (see [`SnubberRing::new`]).
     ///
     /// # Errors
