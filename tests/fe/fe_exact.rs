@@ -744,3 +744,90 @@ fn multipliers_with_exact_free_flight_match_integrated_free_flight() {
     assert!(a.events.iter().any(|e| e.kind == "contact onset"));
     assert!(dz < 1e-8 && dm < 1e-6, "{dz:e} {dm:e}");
 }
+
+/// Case S1 on `LinearRotor` with exact and with integrated free flight (Radau5, rtol = atol =
+/// 1e-8 in contact, as `fe_s1`), against the shared reference: samples, event times, cost.
+/// `S1_T_END` (s, default 0.5). `cargo test --test fe s1_linear_rotor -- --ignored --nocapture`.
+#[test]
+#[ignore = "about a minute (two runs of S1)"]
+fn s1_linear_rotor_exact_and_integrated_free_flight() {
+    use crate::fe_s1::{event_error, reference, Run};
+    use jeffcott::hybrid::DenseSampling;
+    use jeffcott::ode::Method;
+    use jeffcott::rotor::{LinearRotor, LinearSystem};
+    let t_end: f64 = std::env::var("S1_T_END").map_or(0.5, |v| v.parse().unwrap());
+    let gap = 7.95e-5;
+    let lateral = RotorMatrices::from_ross_mat(data("rotor_example_with_damping_1200rpm.mat"))
+        .unwrap()
+        .lateral()
+        .unwrap();
+    let w = 1200.0 * std::f64::consts::TAU / 60.0;
+    let x = lateral.x_dof(12).unwrap();
+    let system = LinearSystem::from_matrices(&lateral, w)
+        .unwrap()
+        .with_unbalance(lateral.layout(), 12, 0.002, -std::f64::consts::FRAC_PI_2)
+        .unwrap();
+    let ring = SnubberRing::from_units(1.1e6, 0.01, [0.0, 0.0], gap).unwrap();
+    let opts = SimOptions::default()
+        .with_method(Method::Radau5)
+        .with_rtol(1e-8)
+        .with_atol(1e-8);
+    let plan = OutputPlan {
+        t_end,
+        strobe: None,
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: 0.0005,
+        }),
+        events: true,
+    };
+    let reference = reference(t_end);
+    let mut runs = Vec::new();
+    for exact in [true, false] {
+        let t = std::time::Instant::now();
+        let rotor = LinearRotor::new(system.clone(), [x, x + 1], [0.0, 0.0])
+            .unwrap()
+            .with_exact_free_flight(exact);
+        let model = rotor.ringed(ring).unwrap();
+        let build = t.elapsed().as_secs_f64();
+        assert_eq!(model.closed_form().is_some(), exact);
+        let mut trajectory = Trajectory::default();
+        let t = std::time::Instant::now();
+        let y0 = model.rotor().rest_state();
+        let stats =
+            jeffcott::hybrid::simulate(&model, 0.0, &y0, &plan, &opts, &mut trajectory).unwrap();
+        let run = Run {
+            trajectory,
+            stats,
+            seconds: t.elapsed().as_secs_f64(),
+        };
+        let worst = run
+            .trajectory
+            .samples
+            .iter()
+            .zip(&reference)
+            .map(|(s, r)| (s.y[x] - r[1]).hypot(s.y[x + 1] - r[2]) / gap)
+            .fold(0.0, f64::max);
+        let dt_event = event_error(&run, t_end);
+        eprintln!(
+            "S1 to {t_end} s, Radau5 rtol 1e-8, {} free flight: build {build:.2} s, run {:.2} s, {} steps, {} rhs, {} closed-form evaluations, {} transitions; max error {worst:.2e} gap, events within {dt_event:.1e} s",
+            if exact { "exact" } else { "integrated" },
+            run.seconds,
+            run.stats.steps,
+            run.stats.rhs_evals,
+            run.stats.exact_evals,
+            run.stats.transitions
+        );
+        assert_eq!(run.trajectory.samples.len(), reference.len());
+        assert!(worst <= 1e-6, "{worst:e}");
+        runs.push(run);
+    }
+    let diff = runs[0]
+        .trajectory
+        .samples
+        .iter()
+        .zip(&runs[1].trajectory.samples)
+        .map(|(a, b)| (a.y[x] - b.y[x]).hypot(a.y[x + 1] - b.y[x + 1]) / gap)
+        .fold(0.0, f64::max);
+    eprintln!("exact against integrated free flight: max difference {diff:.2e} gap");
+}
