@@ -161,3 +161,32 @@ fn event_bookkeeping_grows_once_for_a_larger_set() {
         assert_eq!(again.count_total, 0, "{again:?}");
     }
 }
+
+/// `rotor::LinearRotor` (a finite-element rotor's vector field): its right-hand side and the
+/// ring's force at its station allocate nothing (one matrix-vector product into views).
+#[test]
+fn linear_rotor_rhs_allocates_nothing() {
+    use jeffcott::nalgebra::{Complex, DMatrix, Vector2};
+    use jeffcott::rotor::{LinearRotor, LinearSystem, SmoothRotor};
+    let n = 8;
+    let m = DMatrix::from_fn(n, n, |i, j| if i == j { 2.0 } else { 0.1 });
+    let k = DMatrix::from_fn(n, n, |i, j| if i == j { 1e4 } else { -10.0 });
+    let system = LinearSystem::new(m, k.scale(1e-4), k, 50.0)
+        .unwrap()
+        .with_harmonic_force(2, Complex::new(1.0, -0.5))
+        .unwrap()
+        .with_constant_force(3, -9.81)
+        .unwrap();
+    let rotor = LinearRotor::new(system, [2, 3], [1e-5, 0.0]).unwrap();
+    let y = DVector::from_fn(2 * n + 2, |i, _| 1e-4 * (i as f64).cos());
+    let mut dy = rotor.rest_state();
+    let force = Vector2::new(3.0, -1.0);
+    let info = allocation_counter::measure(|| {
+        for step in 0..100 {
+            rotor.rhs(step as f64 * 1e-3, &y, &mut dy);
+            rotor.add_station_force(&y, &force, &mut dy);
+            std::hint::black_box(rotor.station(&y));
+        }
+    });
+    assert_eq!(info.count_total, 0, "{info:?}");
+}

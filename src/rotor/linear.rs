@@ -577,6 +577,34 @@ impl LinearRotor {
         }
     }
 
+    /// $[-M^{-1}K \mid -M^{-1}D]$ ($n \times 2n$): the acceleration's dependence on
+    /// $[q, q^\prime]$.
+    pub fn acceleration_matrix(&self) -> &DMatrix<f64> {
+        &self.accel
+    }
+
+    /// The station's two columns of $M^{-1}$: the acceleration per unit force at the station
+    /// along x and y.
+    pub fn station_compliance(&self) -> &MatrixXx2<f64> {
+        &self.station_compliance
+    }
+
+    /// Writes the Jacobian of [`SmoothRotor::rhs`] into `jac` ($(2n + 2) \times (2n + 2)$,
+    /// every entry written): $\begin{pmatrix} 0 & I \\\\ -M^{-1}K & -M^{-1}D \end{pmatrix}$
+    /// and zero rows and columns for the ring's slots (set by the composition). Constant: the
+    /// rotor is linear. The ring's contribution in contact is not included. Returns `false`
+    /// (writing nothing) for a matrix of another size.
+    pub fn write_jacobian(&self, jac: &mut crate::ode::JacobianMut<'_, Dyn>) -> bool {
+        let n = self.system.dofs();
+        if jac.nrows() != 2 * n + 2 || jac.ncols() != 2 * n + 2 {
+            return false;
+        }
+        jac.fill(0.0);
+        jac.view_mut((0, n), (n, n)).fill_diagonal(1.0);
+        jac.view_mut((n, 0), (n, 2 * n)).copy_from(&self.accel);
+        true
+    }
+
     /// The state at rest: $q = q^\prime = 0$ and the ring at its rest centre ($s = 0$), as
     /// ROSS's Newmark starts. If the offset puts the undeflected node beyond the gap, place the
     /// ring with [`super::RingedRotor::make_consistent`].

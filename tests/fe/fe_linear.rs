@@ -238,3 +238,52 @@ fn max_rate_bounds_the_largest_eigenvalue() {
         assert!(contact >= free);
     }
 }
+
+/// `write_jacobian` is the derivative of `rhs`: against central differences of the vector
+/// field (exact for a linear field up to rounding).
+#[test]
+fn the_linear_jacobian_is_the_derivative_of_rhs() {
+    use jeffcott::rotor::SmoothRotor;
+    let n = 4;
+    let m = DMatrix::from_fn(n, n, |i, j| if i == j { 3.0 } else { 0.2 });
+    let k = DMatrix::from_fn(
+        n,
+        n,
+        |i, j| if i == j { 5e3 } else { -30.0 * (i + j) as f64 },
+    );
+    let d = DMatrix::from_fn(n, n, |i, j| {
+        0.5 * (i as f64 - j as f64) + if i == j { 2.0 } else { 0.0 }
+    });
+    let system = LinearSystem::new(m, d, k, 20.0)
+        .unwrap()
+        .with_harmonic_force(1, Complex::new(2.0, 1.0))
+        .unwrap();
+    let rotor = LinearRotor::new(system, [0, 1], [0.0; 2]).unwrap();
+    let dim = 2 * n + 2;
+    let mut storage = DMatrix::from_element(dim, dim, f64::NAN);
+    assert!(rotor.write_jacobian(&mut storage.view_mut((0, 0), (dim, dim))));
+    let y = DVector::from_fn(dim, |i, _| 1e-3 * (1.0 + i as f64).sin());
+    let (mut plus, mut minus) = (y.clone(), y.clone());
+    for j in 0..dim {
+        let h = 1e-6;
+        plus[j] += h;
+        minus[j] -= h;
+        let (mut fp, mut fm) = (y.clone(), y.clone());
+        rotor.rhs(0.3, &plus, &mut fp);
+        rotor.rhs(0.3, &minus, &mut fm);
+        plus[j] = y[j];
+        minus[j] = y[j];
+        for i in 0..2 * n {
+            let fd = (fp[i] - fm[i]) / (2.0 * h);
+            let scale = storage[(i, j)].abs().max(1.0);
+            assert!(
+                (fd - storage[(i, j)]).abs() <= 1e-6 * scale,
+                "({i}, {j}): {fd} {}",
+                storage[(i, j)]
+            );
+        }
+    }
+    assert!(storage.rows(2 * n, 2).iter().all(|&v| v == 0.0));
+    let mut wrong = DMatrix::zeros(3, 3);
+    assert!(!rotor.write_jacobian(&mut wrong.view_mut((0, 0), (3, 3))));
+}

@@ -205,7 +205,7 @@ fn s1_first_contacts_with_radau5() {
 /// Case S1 in full: 1001 samples within 1e-6 of the gap, 7 onsets and 6 losses at the
 /// reference's times.
 #[test]
-#[ignore = "about 35 s (Radau5, rtol 1e-8, test profile, loaded 2-core machine): 80 % of it \
+#[ignore = "20-35 s (Radau5, rtol 1e-8, test profile, shared 2-core machine): 80 % of it \
             in the LU decompositions of the 274-state Newton matrices; the suite runs \
             s1_first_contacts_with_radau5"]
 fn s1_full_model_with_radau5() {
