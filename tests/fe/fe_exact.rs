@@ -831,3 +831,41 @@ fn s1_linear_rotor_exact_and_integrated_free_flight() {
         .fold(0.0, f64::max);
     eprintln!("exact against integrated free flight: max difference {diff:.2e} gap");
 }
+
+#[test]
+fn a_refused_closed_form_leaves_free_flight_integrated() {
+    // The critically damped Jeffcott rotor as matrices: RingedRotor keeps the refusal and
+    // integrates, and the run meets the ring as the paper's model does.
+    use jeffcott::hybrid::{Flow, RotorModel};
+    use jeffcott::ring::RingMode;
+    let p = Params {
+        nu1: 1.0,
+        eta: 2.0,
+        beta: 0.5,
+        ..Preset::Fig8a.params()
+    };
+    let lf = jeffcott_as_matrices(&p);
+    let rotor = MatrixRotor {
+        closed: Some(lf.clone()),
+        field: MatrixField::new(lf),
+    };
+    let ring = SnubberRing::isotropic(30.0, 0.0, 0.002).unwrap();
+    let model = RingedRotor::new(rotor, ring).unwrap();
+    assert!(matches!(
+        model.closed_form(),
+        Some(Err(RotorError::IllConditionedModes { .. }))
+    ));
+    let y0 = DVector::zeros(6);
+    let free = model.initial_mode(0.0, &y0).unwrap();
+    assert!(matches!(free, RingMode::Free { .. }));
+    assert_eq!(model.flow(free), Flow::Integrated);
+    let plan = OutputPlan {
+        events: true,
+        ..OutputPlan::strobe(std::f64::consts::TAU / p.eta, 0, 20)
+    };
+    let mut traj = Trajectory::default();
+    let stats =
+        jeffcott::hybrid::simulate(&model, 0.0, &y0, &plan, &SimOptions::default(), &mut traj)
+            .unwrap();
+    assert!(stats.transitions > 0 && stats.exact_evals == 0);
+}
