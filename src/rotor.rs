@@ -21,6 +21,15 @@
 //! two state components are *algebraic*: the composition sets them (relaxing ring in free
 //! flight, $s^*(r)$ in contact) and excludes them from error control.
 //!
+//! **Exact free flight of linear rotors.** A rotor that is linear with constant coefficients
+//! and harmonic forcing between contacts (a finite-element rotor at constant speed) can say so
+//! ([`SmoothRotor::linear_free_flight`], a [`LinearFreeFlight`]): its free flight is then
+//! propagated in closed form (modal decomposition of the state matrix, once per model, and the
+//! particular harmonic solution: [`LinearClosedForm`]) and contact onsets are found by the
+//! certified search of [`crate::ring::onset`], as in the paper's model. A closed form whose
+//! modes are too ill-conditioned is refused ([`RingedRotor::closed_form`] says why) and the
+//! free flight integrated.
+//!
 //! **Onset guarantee.** Contact onsets in integrated free flight are found by the event
 //! detector, whose guarantee is relative to the integrated trajectory: every touch of the dense
 //! output is found, and whether the exact orbit touches is decided to the trajectory's own
@@ -86,6 +95,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod exact;
 mod linear;
 mod linearization;
 mod matrices;
@@ -93,16 +103,22 @@ mod reduction;
 #[cfg(feature = "mat")]
 mod ross;
 
+pub use exact::{
+    LinearClosedForm, LinearFreeFlight, LinearFreeSegment, LinearSegment, DEFAULT_MAX_CONDITION,
+};
 pub use linear::{LinearRotor, LinearSystem};
 pub use matrices::{DofLayout, RotorMatrices};
 pub use reduction::{CraigBampton, ModeSelection, ResponseError};
+use std::sync::Arc;
 
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector, Vector2, U1};
 use thiserror::Error;
 
-use crate::hybrid::{Flow, ModelError, NoExactModes, RotorModel};
+use crate::hybrid::{Flow, ModelError, RotorModel};
 use crate::numeric::Direction;
+use crate::ring::onset::OnsetScan;
+use crate::ring::Relaxation;
 use crate::ring::{Kinematics, RingCache, RingError, RingGuard, RingMode, SnubberRing};
 
 /// A rotor without the ring: smooth, of state dimension [`SmoothRotor::Dim`] (fixed, e.g.
@@ -160,6 +176,16 @@ where
         None
     }
 
+    /// The rotor's free flight in closed form, if it is linear with constant coefficients and
+    /// harmonic forcing ([`LinearFreeFlight`]; the state must then be `[q (n), q' (n), x_s,
+    /// y_s]`). [`RingedRotor`] then propagates free flight exactly and finds contact onsets by
+    /// the certified search of [`crate::ring::onset`] (no touch missed, however shallow),
+    /// unless the closed form is refused as ill-conditioned
+    /// ([`RingedRotor::closed_form`]). Default `None`: free flight is integrated.
+    fn linear_free_flight(&self) -> Option<LinearFreeFlight> {
+        None
+    }
+
     /// An upper bound of the rates of the rotor's motion at `(t, y)` with a spring of
     /// stiffness `stiffness` and a damper of coefficient `damping` acting at the station (both
     /// 0 in free flight; in contact the ring's [`SnubberRing::contact_bounds`]), if known: for
@@ -185,6 +211,8 @@ where
 pub struct RingedRotor<R> {
     rotor: R,
     ring: SnubberRing,
+    /// The rotor's free-flight closed form: `None` without one, `Some(Err)` when refused.
+    exact: Option<Result<Arc<LinearClosedForm>, RotorError>>,
 }
 
 /// A rotor that cannot be put on the ring: the ring's parameters, or a [`SmoothRotor`] method
@@ -314,6 +342,74 @@ pub enum RotorError {
         /// The key looked for.
         key: &'static str,
     },
+    /// The mass matrix of a [`LinearFreeFlight`] is singular.
+    #[error("LinearFreeFlight: the mass matrix M is singular to working precision")]
+    SingularMass,
+    /// A [`LinearFreeFlight`]'s station or force vectors do not fit its matrices (or its
+    /// speed or offset is not finite).
+    #[error("LinearFreeFlight: station {station:?} or the force vectors do not fit the {dofs} coordinates (station indices below {dofs}, forces of length {dofs}, finite speed and offset)")]
+    LinearStation {
+        /// The station's coordinates.
+        station: [usize; 2],
+        /// The number of coordinates.
+        dofs: usize,
+    },
+    /// The eigen-decomposition of a linear rotor's state matrix failed.
+    #[error("LinearFreeFlight: the eigen-decomposition of the state matrix failed: {0}")]
+    Eigen(crate::numeric::NumericError),
+    /// The state matrix's eigenvectors are too ill-conditioned for the closed form (modes
+    /// close to coalescing, e.g. near critical damping): the free flight is integrated.
+    #[error("LinearFreeFlight: the eigenvector matrix has condition number {condition:e} > {limit:e} (near-defective modes): closed-form free flight refused, free flight is integrated")]
+    IllConditionedModes {
+        /// $\kappa_1(V)$ (balanced).
+        condition: f64,
+        /// [`LinearFreeFlight::max_condition`].
+        limit: f64,
+    },
+    /// The eigen-decomposition does not reproduce the state matrix to the required accuracy.
+    #[error("LinearFreeFlight: eigenpair residual {residual:e}, reconstruction error {reconstruction:e} (relative; at most 1e-10 accepted): closed-form free flight refused")]
+    EigenResidual {
+        /// $|AV - V\Lambda| / (|A||V|)$.
+        residual: f64,
+        /// $|V\Lambda V^{-1} - A| / |A|$.
+        reconstruction: f64,
+    },
+    /// The forcing is at a resonance: $K - \Omega^2 M + i\Omega D$ is singular (speed 0:
+    /// $K$ is singular under a static force).
+    #[error("LinearFreeFlight: no particular solution at speed {speed}: K - speed^2 M + i speed D is singular (speed 0: K singular under a static force)")]
+    ResonantForcing {
+        /// $\Omega$.
+        speed: f64,
+    },
+    /// A rotor's [`SmoothRotor::linear_free_flight`] does not fit its state: the state must
+    /// be `[q (n), q' (n), x_s, y_s]` with the ring's slots last.
+    #[error("SmoothRotor::linear_free_flight has {dofs} coordinates but the state has {dim} components with the ring slots at {slots:?}: it must be [q ({dofs}), q' ({dofs}), x_s, y_s]")]
+    LinearLayout {
+        /// $n$.
+        dofs: usize,
+        /// The state's dimension.
+        dim: usize,
+        /// [`SmoothRotor::ring_slots`].
+        slots: [usize; 2],
+    },
+    /// A rotor's linear closed form disagrees with its own vector field or station.
+    #[error("SmoothRotor::linear_free_flight disagrees with SmoothRotor::{method} (t = {t}): component {index} is {closed_form} by the closed form, {rotor} by the rotor (difference {difference:e} above the tolerance {tolerance:e})")]
+    LinearMismatch {
+        /// `"rhs"` or `"station"`.
+        method: &'static str,
+        /// The probe's time.
+        t: f64,
+        /// The component compared.
+        index: usize,
+        /// The closed form's value.
+        closed_form: f64,
+        /// The rotor's value.
+        rotor: f64,
+        /// Their difference.
+        difference: f64,
+        /// The tolerance.
+        tolerance: f64,
+    },
     /// The spin speed of a [`LinearSystem`] is not finite and positive.
     #[error("the spin speed must be finite and > 0 rad/s, got {value} (the unbalance rotates at it and it sets the forcing period)")]
     Speed {
@@ -401,6 +497,9 @@ pub enum RotorError {
         /// Interior DOFs.
         available: usize,
     },
+    /// A reduction that keeps no coordinate: no boundary DOF and no mode ([`CraigBampton::new`]).
+    #[error("the reduction keeps no coordinate: give at least one boundary DOF or one mode")]
+    EmptyReduction,
     /// A reduction's frequency cut-off is NaN or negative ([`CraigBampton::new`]).
     #[error("mode cut-off {cutoff} rad/s: give a frequency >= 0 (f64::INFINITY keeps all modes)")]
     ModeCutoff {
@@ -433,6 +532,31 @@ fn sub4(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3]]
 }
 
+/// `Err(LinearMismatch)` unless the closed form's `closed_form` and the rotor's `rotor` agree
+/// within `tolerance`.
+fn linear_agrees(
+    method: &'static str,
+    t: f64,
+    index: usize,
+    closed_form: f64,
+    rotor: f64,
+    tolerance: f64,
+) -> Result<(), RotorError> {
+    let difference = (closed_form - rotor).abs();
+    if difference.is_nan() || difference > tolerance {
+        return Err(RotorError::LinearMismatch {
+            method,
+            t,
+            index,
+            closed_form,
+            rotor,
+            difference,
+            tolerance,
+        });
+    }
+    Ok(())
+}
+
 fn amax(a: &[f64]) -> f64 {
     a.iter().fold(0.0, |m, v| m.max(v.abs()))
 }
@@ -461,12 +585,124 @@ where
     /// method that breaks its contract and the values it gave.
     pub fn new(rotor: R, ring: SnubberRing) -> Result<Self, RotorError> {
         ring.validate()?;
-        let model = Self { rotor, ring };
+        let mut model = Self {
+            rotor,
+            ring,
+            exact: None,
+        };
         model.check_slots()?;
         let probes = model.check_station()?;
         model.check_velocity(&probes)?;
         model.check_force(&probes)?;
+        model.exact = model.prepare_closed_form(&probes)?;
         Ok(model)
+    }
+
+    /// The rotor's [`SmoothRotor::linear_free_flight`], prepared: `Ok(None)` without one,
+    /// `Ok(Some(Err))` when its closed form is refused (ill-conditioned modes, a failed
+    /// decomposition, a resonance: free flight is then integrated), an error when it does not
+    /// fit the rotor (layout, shapes, or a disagreement with the rotor's own `rhs` or
+    /// `station` at the probe states).
+    #[allow(clippy::type_complexity)]
+    fn prepare_closed_form(
+        &self,
+        probes: &[OVector<f64, R::Dim>; 2],
+    ) -> Result<Option<Result<Arc<LinearClosedForm>, RotorError>>, RotorError> {
+        let Some(linear) = self.rotor.linear_free_flight() else {
+            return Ok(None);
+        };
+        let n = linear.dofs();
+        let dim = self.rotor.dim().value();
+        let slots = self.rotor.ring_slots();
+        if dim != 2 * n + 2 || slots != [2 * n, 2 * n + 1] {
+            return Err(RotorError::LinearLayout {
+                dofs: n,
+                dim,
+                slots,
+            });
+        }
+        let form = match linear.prepare() {
+            Ok(form) => Arc::new(form),
+            Err(
+                e @ (RotorError::IllConditionedModes { .. }
+                | RotorError::EigenResidual { .. }
+                | RotorError::Eigen(_)
+                | RotorError::ResonantForcing { .. }),
+            ) => return Ok(Some(Err(e))),
+            Err(e) => return Err(e),
+        };
+        self.check_closed_form(&linear, &form, probes)?;
+        Ok(Some(Ok(form)))
+    }
+
+    /// The closed form against the rotor's own `station` and `rhs`: the station at the probe
+    /// states (to the affinity tolerance); the state matrix $A$ column by column against
+    /// `rhs(0, e_j) - rhs(0, 0)` (exact up to rounding for a linear field: relative $10^{-8}$
+    /// of each column's largest entry in each half, positions' and velocities' derivatives);
+    /// the forcing `rhs(t, 0)` against $x_p^\prime - A x_p$ at two times (relative
+    /// $10^{-8}$ of the terms). A probe's derivative is not compared through the modes: the
+    /// stiff modes amplify its rounding by $|\lambda|_\text{max}\kappa$.
+    fn check_closed_form(
+        &self,
+        linear: &LinearFreeFlight,
+        form: &Arc<LinearClosedForm>,
+        probes: &[OVector<f64, R::Dim>; 2],
+    ) -> Result<(), RotorError> {
+        let n = form.dofs();
+        let period = self.rotor.forcing_period();
+        for (m, y) in probes.iter().enumerate() {
+            let t = if m == 0 { 0.0 } else { 0.37 * period };
+            let segment = form.segment(t, &y.as_slice()[..2 * n]);
+            let (r, v, _) = crate::ring::onset::RotorMotion::kinematics(&segment, t);
+            let k = kin4(&self.rotor.station(y));
+            let scale = amax(&k).max(amax(&[r.x, r.y, v.x, v.y]));
+            let tol = AFFINE_RTOL * scale + GAP_ATOL * self.ring.gap;
+            for (index, (a, b)) in [r.x, r.y, v.x, v.y].into_iter().zip(k).enumerate() {
+                linear_agrees("station", t, index, a, b, tol)?;
+            }
+        }
+        let a = linear.state_matrix()?;
+        let mut y = self.zero_state();
+        let mut base = self.zero_state();
+        let mut dy = self.zero_state();
+        self.rotor.rhs(0.0, &y, &mut base);
+        for j in 0..2 * n {
+            y[j] = 1.0;
+            self.rotor.rhs(0.0, &y, &mut dy);
+            y[j] = 0.0;
+            for half in [0..n, n..2 * n] {
+                let col: Vec<f64> = half.clone().map(|i| dy[i] - base[i]).collect();
+                let want: Vec<f64> = half.clone().map(|i| a[(i, j)]).collect();
+                let tol = 1e-8 * amax(&col).max(amax(&want));
+                for (k, i) in half.enumerate() {
+                    linear_agrees("rhs", 0.0, i, want[k], col[k], tol)?;
+                }
+            }
+        }
+        let (mut xp, mut dxp) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
+        for t in [0.0, 0.37 * period] {
+            xp.fill(0.0);
+            dxp.fill(0.0);
+            form.add_particular(t, &mut xp, &mut dxp);
+            self.rotor.rhs(t, &self.zero_state(), &mut dy);
+            let terms: Vec<(f64, f64)> = (0..2 * n)
+                .map(|i| {
+                    let ax: f64 = (0..2 * n).map(|j| a[(i, j)] * xp[j]).sum();
+                    let size: f64 = (0..2 * n).map(|j| (a[(i, j)] * xp[j]).abs()).sum();
+                    (dxp[i] - ax, size + dxp[i].abs())
+                })
+                .collect();
+            for half in [0..n, n..2 * n] {
+                let size = half
+                    .clone()
+                    .map(|i| terms[i].1.max(dy[i].abs()))
+                    .fold(0.0, f64::max);
+                for i in half {
+                    linear_agrees("rhs", t, i, terms[i].0, dy[i], 1e-8 * size)?;
+                }
+            }
+        }
+        Ok(())
     }
 
     fn zero_state(&self) -> OVector<f64, R::Dim> {
@@ -625,6 +861,14 @@ impl<R> RingedRotor<R> {
         &self.rotor
     }
 
+    /// The rotor's free flight in closed form ([`SmoothRotor::linear_free_flight`]): `None`
+    /// when the rotor gives none (free flight integrated), `Some(Ok)` when free flight is
+    /// exact, `Some(Err)` with the reason when the closed form was refused (free flight
+    /// integrated).
+    pub fn closed_form(&self) -> Option<Result<&LinearClosedForm, &RotorError>> {
+        self.exact.as_ref().map(|r| r.as_ref().map(|f| &**f))
+    }
+
     /// The ring.
     pub fn ring(&self) -> &SnubberRing {
         &self.ring
@@ -683,7 +927,7 @@ where
 {
     type Dim = R::Dim;
     type Mode = RingMode;
-    type Segment = NoExactModes;
+    type Segment = LinearFreeSegment;
     type Cache = RingCache;
 
     fn dim(&self) -> R::Dim {
@@ -758,8 +1002,13 @@ where
             })
     }
 
-    fn flow(&self, _mode: RingMode) -> Flow {
-        Flow::Integrated
+    /// Free flight is [`Flow::Exact`] when the rotor has an accepted closed form
+    /// ([`RingedRotor::closed_form`]); everything else is integrated.
+    fn flow(&self, mode: RingMode) -> Flow {
+        match (mode, &self.exact) {
+            (RingMode::Free { .. }, Some(Ok(_))) => Flow::Exact,
+            _ => Flow::Integrated,
+        }
     }
 
     fn rhs(
@@ -917,8 +1166,26 @@ where
         Ok(next.mode)
     }
 
-    fn start_segment(&self, _mode: RingMode, _t: f64, _y: &OVector<f64, R::Dim>) -> NoExactModes {
-        NoExactModes
+    /// The linear rotor's closed form ([`LinearSegment`]) with the ring's relaxation and the
+    /// certified onset search, in chunks of the forcing period (as the paper's model).
+    fn start_segment(&self, mode: RingMode, t: f64, y: &OVector<f64, R::Dim>) -> LinearFreeSegment {
+        let (relax, separating) = match mode {
+            RingMode::Free {
+                relax, separating, ..
+            } => (relax, separating),
+            // Never started for a contact mode (it is integrated); a ring at rest is harmless.
+            _ => (Relaxation::at_rest(t), false),
+        };
+        let motion = match &self.exact {
+            Some(Ok(form)) => Some(form.segment(t, &y.as_slice()[..2 * form.dofs()])),
+            _ => None,
+        };
+        LinearFreeSegment {
+            motion,
+            relax,
+            ring: self.ring,
+            scan: OnsetScan::new(t, self.rotor.forcing_period(), separating),
+        }
     }
 
     fn project(&self, mode: RingMode, t: f64, y: &mut OVector<f64, R::Dim>, cache: &RingCache) {

@@ -1,6 +1,6 @@
 //! The crate's scalar numerical tools, below every other layer (it imports nothing of the
-//! crate): one bracketing root finder, one bisection helper, and the direction type of a sign
-//! change.
+//! crate): one bracketing root finder, one bisection helper, one non-symmetric
+//! eigen-decomposition, and the direction type of a sign change.
 //!
 //! * [`illinois`] — the bracketing root finder (Illinois-modified regula falsi with a bisection
 //!   safeguard) for a continuous scalar function with a sign change on a bracket: the event
@@ -13,6 +13,10 @@
 //!   without a continuous value to interpolate, such as the detected period of a simulation
 //!   ([`analysis::locate_period_change`](crate::analysis::locate_period_change)). It returns a
 //!   [`Bisection`] (the final bracket, evaluations, `converged`).
+//! * [`eigen_decomposition`] — eigenvalues, eigenvectors and their inverse for a real
+//!   non-symmetric matrix (balancing, nalgebra's complex Schur form, back-substitution), with
+//!   the eigenvector matrix's condition number and the backward error: the modal closed form of
+//!   a linear rotor's free flight ([`crate::rotor::LinearClosedForm`]) rests on it.
 //! * [`Direction`] — the direction of a sign change (`Rising`, `Falling`, `Either`), used by
 //!   event functions, the guards of hybrid models, the ring element and Poincaré sections.
 //!
@@ -36,10 +40,13 @@
 //! ```
 
 mod bisect;
+mod eigen;
 pub(crate) mod lu;
 mod roots;
 
 pub use bisect::{bisect, Bisection, Side};
+pub(crate) use eigen::solve_complex;
+pub use eigen::{eigen_decomposition, EigenDecomposition};
 pub use roots::{illinois, Bracket, RootOptions};
 
 /// Errors of the numerical tools.
@@ -61,6 +68,34 @@ pub enum NumericError {
         b: f64,
         /// The value at the second end.
         fb: f64,
+    },
+    /// The matrix to decompose is not square (or empty).
+    #[error(
+        "the matrix is {rows} x {cols}: an eigen-decomposition needs a non-empty square matrix"
+    )]
+    NotSquare {
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+    },
+    /// The matrix to decompose has a non-finite entry.
+    #[error("the matrix has the non-finite entry {value}")]
+    NonFiniteMatrix {
+        /// The entry.
+        value: f64,
+    },
+    /// The Schur iteration did not converge.
+    #[error("the Schur iteration did not converge in {iterations} iterations")]
+    NoConvergence {
+        /// The iteration limit.
+        iterations: usize,
+    },
+    /// The eigenvectors are linearly dependent to working precision (a defective matrix).
+    #[error("the eigenvector matrix is singular to working precision (zero pivot in column {column}): the matrix is defective or nearly so")]
+    SingularEigenvectors {
+        /// The column of the zero pivot.
+        column: usize,
     },
 }
 

@@ -13,7 +13,7 @@ use crate::hybrid::{
 };
 use crate::numeric::Direction;
 use crate::params::{ParamError, Params};
-use crate::ring::onset::{find_onset, Onset, OnsetStats};
+use crate::ring::onset::OnsetScan;
 use crate::ring::{
     Kinematics, Relaxation, RingAxis, RingCache, RingError, RingGuard, RingMode, SnubberRing,
 };
@@ -249,16 +249,9 @@ pub struct FreeSegment {
     start: [f64; 4],
     relax: Relaxation,
     ring: SnubberRing,
-    stats: OnsetStats,
-    /// The search is run in chunks ending on multiples of this (the forcing period), never at
-    /// output times, so that asking for outputs does not move the onset by a rounding.
-    chunk: f64,
-    /// No onset before this time (certified).
-    searched_to: f64,
-    /// The onset, once found.
-    found: Option<f64>,
-    /// Starts touching and parting (after contact loss).
-    separating: bool,
+    /// The onset search, in chunks of the forcing period (never ending at output times, so
+    /// that asking for outputs does not move the onset by a rounding).
+    scan: OnsetScan,
 }
 
 impl ExactSegment<U6> for FreeSegment {
@@ -275,34 +268,13 @@ impl ExactSegment<U6> for FreeSegment {
     }
 
     fn next_guard(&mut self, t_from: f64, t_to: f64) -> Option<GuardCrossing> {
-        self.searched_to = self.searched_to.max(t_from);
-        loop {
-            if let Some(t) = self.found {
-                return (t <= t_to).then_some(GuardCrossing { guard: 0, t });
-            }
-            if self.searched_to >= t_to {
-                return None;
-            }
-            let k = (self.searched_to / self.chunk).floor() + 1.0;
-            let chunk_end = (k * self.chunk).max(self.searched_to.next_up());
-            // Only the very start of the segment is a separation.
-            let separating = self.separating && self.searched_to == self.rotor.start();
-            match find_onset(
-                &self.rotor,
-                &self.relax,
-                &self.ring,
-                (self.searched_to, chunk_end),
-                separating,
-                &mut self.stats,
-            ) {
-                Onset::None => self.searched_to = chunk_end,
-                Onset::At(t) => self.found = Some(t),
-            }
-        }
+        self.scan
+            .next_onset(&self.rotor, &self.relax, &self.ring, t_from, t_to)
+            .map(|t| GuardCrossing { guard: 0, t })
     }
 
     fn evaluations(&self) -> u64 {
-        self.stats.evaluations
+        self.scan.evaluations()
     }
 }
 
@@ -495,11 +467,7 @@ impl RotorModel for JeffcottModel {
             start,
             relax,
             ring: self.ring,
-            stats: OnsetStats::default(),
-            chunk: self.params.forcing_period(),
-            searched_to: t,
-            found: None,
-            separating,
+            scan: OnsetScan::new(t, self.params.forcing_period(), separating),
         }
     }
 

@@ -26,7 +26,10 @@
 //!
 //! From a node $t_k$ to the end of its piece, $|q|, |q^\prime|, |q^{\prime\prime}|,
 //! |q^{\prime\prime\prime}|$ have rigorous bounds: the rotor's from
-//! [`RotorMotion::bounds`] (for the paper's model [`FreeFlight::bounds`](crate::paper::FreeFlight::bounds)) (the homogeneous energy never
+//! [`RotorMotion::bounds_on`] on $[t_k, \text{piece end}]$ (by default [`RotorMotion::bounds`],
+//! valid from the segment's start on; a linear rotor's decaying modes give bounds that shrink
+//! along the segment: [`crate::rotor::LinearSegment`]). For the paper's model they are
+//! [`FreeFlight::bounds`](crate::paper::FreeFlight::bounds) (the homogeneous energy never
 //! grows, for every $\nu_1 \ge 0$: under-, critically and over-damped), the ring's because on a
 //! piece each $|s_i|$ and $|s_i^\prime|$ decrease, with $|s_i^{\prime\prime}| =
 //! |s_i^\prime|/T_i$ and $|s_i^{\prime\prime\prime}| = |s_i^\prime|/T_i^2$. They give
@@ -125,8 +128,8 @@ pub struct OnsetStats {
     pub evaluations: u64,
 }
 
-/// Bounds on the rotor's motion at the ring's station valid for every time after a free
-/// flight's start.
+/// Bounds on the rotor's motion at the ring's station, valid for every time after a free
+/// flight's start ([`RotorMotion::bounds`]) or on a stretch of it ([`RotorMotion::bounds_on`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MotionBounds {
     /// Bound on $|r|$ (distance from the ring's rest centre).
@@ -150,6 +153,16 @@ pub trait RotorMotion {
     /// Bounds on $|r|$, $|r^\prime|$, $|r^{\prime\prime}|$, $|r^{\prime\prime\prime}|$ valid
     /// for every $t \ge$ `start()` (the search's certificate rests on them).
     fn bounds(&self) -> MotionBounds;
+    /// Bounds valid on $[t_\text{from}, t_\text{to}]$ ($t_\text{from} \ge$ `start()`,
+    /// $t_\text{to}$ possibly infinite): the search asks for them at every node, for the
+    /// stretch up to the end of the node's smooth piece. A motion made of decaying modes gives
+    /// far smaller bounds late in a segment than at its start (a mode of rate $10^6$ has a
+    /// jerk bound $10^{18}$ times its amplitude at the start, none once it has decayed); a
+    /// growing one gives bounds on a finite window only. Default: [`RotorMotion::bounds`].
+    fn bounds_on(&self, from: f64, to: f64) -> MotionBounds {
+        let _ = (from, to);
+        self.bounds()
+    }
 }
 
 /// First positive root of $p(u) = c_0 + c_1 u + c_2 u^2 + c_3 u^3$ ($c_3 > 0$, $p(0^+) < 0$);
@@ -249,7 +262,7 @@ pub fn find_onset(
     separating: bool,
     stats: &mut OnsetStats,
 ) -> Onset {
-    let search = OnsetSearch::new(rotor, ring_state, ring, separating);
+    let search = OnsetSearch::new(rotor, ring_state, ring, separating, (t0, t_end));
     let mut t = t0;
     // Only a segment's start can be touching (right after contact loss, or a touch without
     // load); a later window start is a node like any other.
@@ -277,7 +290,7 @@ pub fn find_onset(
         // The closed form is smooth up to the next preload crossing: the Taylor bounds are
         // applied on [t, piece_end] only, from the derivatives of the piece after t.
         let piece_end = next_after(&search.crossings, t).min(t_end);
-        let mut t_next = t + search.certified_step(&node, piece_end - t);
+        let mut t_next = t + search.certified_step(&node, t, piece_end);
         if t_next <= t && separating && t == t0 {
             // Parting by assumption: make progress even when no bound certifies any.
             t_next = t.next_up();
@@ -298,6 +311,79 @@ pub fn find_onset(
             return Onset::None;
         }
         t = t_next.min(piece_end);
+    }
+}
+
+/// The onset search of one free-flight segment, as an exact mode's
+/// [`ExactSegment::next_guard`](crate::hybrid::ExactSegment::next_guard) runs it: the driver
+/// asks for consecutive windows ending at output times, and the answer must not depend on
+/// them, so [`find_onset`] is run in chunks ending on multiples of a fixed length (the forcing
+/// period), and the onset, once found, is kept. Only the very start of the segment is a
+/// separation (`separating`: right after contact loss).
+#[derive(Debug, Clone, PartialEq)]
+pub struct OnsetScan {
+    start: f64,
+    chunk: f64,
+    separating: bool,
+    /// No onset before this time (certified).
+    searched_to: f64,
+    /// The onset, once found.
+    found: Option<f64>,
+    stats: OnsetStats,
+}
+
+impl OnsetScan {
+    /// A scan of the segment starting at `start`, in chunks ending on multiples of `chunk`.
+    pub fn new(start: f64, chunk: f64, separating: bool) -> Self {
+        OnsetScan {
+            start,
+            chunk,
+            separating,
+            searched_to: start,
+            found: None,
+            stats: OnsetStats::default(),
+        }
+    }
+
+    /// The first onset in $(t_\text{from}, t_\text{to}]$, if any, of `rotor` (started at
+    /// this scan's start) against the ring relaxing as `relax`.
+    pub fn next_onset(
+        &mut self,
+        rotor: &impl RotorMotion,
+        relax: &Relaxation,
+        ring: &SnubberRing,
+        t_from: f64,
+        t_to: f64,
+    ) -> Option<f64> {
+        self.searched_to = self.searched_to.max(t_from);
+        loop {
+            if let Some(t) = self.found {
+                return (t <= t_to).then_some(t);
+            }
+            if self.searched_to >= t_to {
+                return None;
+            }
+            let k = (self.searched_to / self.chunk).floor() + 1.0;
+            let chunk_end = (k * self.chunk).max(self.searched_to.next_up());
+            // Only the very start of the segment is a separation.
+            let separating = self.separating && self.searched_to == self.start;
+            match find_onset(
+                rotor,
+                relax,
+                ring,
+                (self.searched_to, chunk_end),
+                separating,
+                &mut self.stats,
+            ) {
+                Onset::None => self.searched_to = chunk_end,
+                Onset::At(t) => self.found = Some(t),
+            }
+        }
+    }
+
+    /// Closed-form evaluations made so far.
+    pub fn evaluations(&self) -> u64 {
+        self.stats.evaluations
     }
 }
 
@@ -337,6 +423,7 @@ impl<'a, R: RotorMotion> OnsetSearch<'a, R> {
         ring_state: &'a Relaxation,
         ring: &'a SnubberRing,
         separating: bool,
+        (t0, t_end): (f64, f64),
     ) -> Self {
         let gap2 = ring.gap * ring.gap;
         let tc = ring.relaxation_time();
@@ -349,7 +436,7 @@ impl<'a, R: RotorMotion> OnsetSearch<'a, R> {
             eps_h: H_TOLERANCE * gap2,
             inv_t: Vector2::new(inv_or_zero(tc.x), inv_or_zero(tc.y)),
             crossings: ring_state.preload_crossings(ring),
-            bounds: rotor.bounds(),
+            bounds: rotor.bounds_on(t0, t_end),
         }
     }
 
@@ -406,18 +493,19 @@ impl<'a, R: RotorMotion> OnsetSearch<'a, R> {
         false
     }
 
-    /// The largest step from the node over which $h$ certainly stays below 0, within the
-    /// smooth piece ahead of length `piece`: the first root of the quadratic (or, when that is
-    /// short, cubic) Taylor bound on $h$.
+    /// The largest step from the node at `t` over which $h$ certainly stays below 0, within
+    /// the smooth piece ahead, which ends at `piece_end`: the first root of the quadratic (or,
+    /// when that is short, cubic) Taylor bound on $h$.
     #[inline]
-    fn certified_step(&self, node: &Node, piece: f64) -> f64 {
+    fn certified_step(&self, node: &Node, t: f64, piece_end: f64) -> f64 {
         let Node {
             s, sd, h, h1, h2, ..
         } = *node;
-        let rb = &self.bounds;
-        // Bounds on the derivatives of q on the piece: the rotor's from the segment start
-        // (valid for all later times), the ring's from t (each coordinate and its velocity
-        // decay monotonically on a piece, with s_i'' = -s_i'/T_i).
+        let piece = piece_end - t;
+        let rb = &self.rotor.bounds_on(t, piece_end);
+        // Bounds on the derivatives of q on the piece: the rotor's on [t, piece_end] (by
+        // default from the segment start, valid for all later times), the ring's from t (each
+        // coordinate and its velocity decay monotonically on a piece, with s_i'' = -s_i'/T_i).
         let sd_abs = Vector2::new(sd.x.abs(), sd.y.abs());
         let ring_acc = sd_abs.component_mul(&self.inv_t).norm();
         let ring_jerk = sd_abs

@@ -7,7 +7,7 @@
 use nalgebra::{Complex, DMatrix, DVector, Dyn, MatrixXx2, Vector2};
 
 use super::matrices::check_matrix;
-use super::{DofLayout, RotorError, RotorMatrices, SmoothRotor};
+use super::{DofLayout, LinearFreeFlight, RotorError, RotorMatrices, SmoothRotor};
 use crate::ring::Kinematics;
 
 /// A second-order linear system at the spin speed $\Omega$ (rad/s), in any coordinates
@@ -394,6 +394,8 @@ pub struct LinearRotor {
     /// Row sums of $|M^{-1}K|$, of $|M^{-1}D|$ and of the station's columns of $|M^{-1}|$
     /// ([`SmoothRotor::max_rate`]).
     row_sums: [DVector<f64>; 3],
+    /// Whether [`SmoothRotor::linear_free_flight`] gives the closed form.
+    exact_free_flight: bool,
 }
 
 impl LinearRotor {
@@ -459,6 +461,7 @@ impl LinearRotor {
             system,
             station,
             offset: ring_offset,
+            exact_free_flight: true,
         };
         rotor.scale = rotor.natural_scale();
         Ok(rotor)
@@ -528,6 +531,16 @@ impl LinearRotor {
     ) -> Result<super::RingedRotor<Self>, RotorError> {
         let gap = ring.gap;
         super::RingedRotor::new(self.with_gap_scale(gap), ring)
+    }
+
+    /// The rotor with its free flight in closed form (`true`, the default:
+    /// [`SmoothRotor::linear_free_flight`], exact between contacts with the certified onset
+    /// search, at the cost of one eigen-decomposition of the $2n\times 2n$ state matrix when
+    /// composed with the ring) or integrated (`false`).
+    #[must_use]
+    pub fn with_exact_free_flight(mut self, exact: bool) -> Self {
+        self.exact_free_flight = exact;
+        self
     }
 
     /// The system.
@@ -633,6 +646,24 @@ impl SmoothRotor for LinearRotor {
 
     fn forcing_period(&self) -> f64 {
         std::f64::consts::TAU / self.system.speed
+    }
+
+    /// The system's matrices, forces, speed and station ([`LinearFreeFlight`]), unless
+    /// [`LinearRotor::with_exact_free_flight`] turned it off.
+    fn linear_free_flight(&self) -> Option<LinearFreeFlight> {
+        let s = &self.system;
+        self.exact_free_flight.then(|| {
+            LinearFreeFlight::new(
+                s.mass.clone(),
+                s.damping.clone(),
+                s.stiffness.clone(),
+                s.speed,
+                s.harmonic_force.clone(),
+                s.constant_force.clone(),
+                self.station,
+                Vector2::new(self.offset[0], self.offset[1]),
+            )
+        })
     }
 
     /// Each coordinate's steady amplitude $|X_i| + |q_{0,i}|$ (the synchronous response plus

@@ -74,6 +74,32 @@ where
         station(self).algebraic_variation(&mode, t, y, start, m);
     }
 
+    /// The closed form's transition matrix ([`LinearClosedForm::transition_matrix`](super::LinearClosedForm::transition_matrix)) in the
+    /// rotor's rows and columns; the ring's columns are zero (the rotor's free flight does not
+    /// depend on the ring), its rows unused (algebraic). Asked for only in exact modes, which
+    /// exist only with an accepted closed form ([`RingedRotor::closed_form`]).
+    fn segment_jacobian(
+        &self,
+        _mode: RingMode,
+        t0: f64,
+        _y0: &OVector<f64, R::Dim>,
+        t: f64,
+        jac: &mut OMatrix<f64, R::Dim, R::Dim>,
+    ) {
+        let Some(Ok(form)) = self.closed_form() else {
+            jac.fill(f64::NAN);
+            return;
+        };
+        let phi = form.transition_matrix(t - t0);
+        jac.fill(0.0);
+        let n2 = phi.nrows();
+        for j in 0..n2 {
+            for i in 0..n2 {
+                jac[(i, j)] = phi[(i, j)];
+            }
+        }
+    }
+
     fn section_state(
         &self,
         _t: f64,

@@ -104,7 +104,7 @@ impl CraigBampton {
     /// that does not hold the rotor, e.g. rigid-body or axial/torsional DOFs left free
     /// ([`RotorError::InteriorStiffness`]), more modes than interior DOFs
     /// ([`RotorError::ModeCount`]), a cut-off that is NaN or negative
-    /// ([`RotorError::ModeCutoff`]).
+    /// ([`RotorError::ModeCutoff`]), nothing kept at all ([`RotorError::EmptyReduction`]).
     pub fn new(
         mass: &DMatrix<f64>,
         stiffness: &DMatrix<f64>,
@@ -135,6 +135,9 @@ impl CraigBampton {
             ModeSelection::Count(count) => count,
             ModeSelection::Below(cutoff) => frequencies.iter().take_while(|w| **w < cutoff).count(),
         };
+        if boundary.len() + kept == 0 {
+            return Err(RotorError::EmptyReduction);
+        }
         let k_ib = pick(stiffness, &interior, boundary);
         // nalgebra's LU panics on an empty system (every DOF on the boundary).
         let psi = if interior.is_empty() {

@@ -3,6 +3,7 @@
 //! `cargo test --test ring ring_locate::`.
 
 mod onset_bruteforce;
+mod onset_linear;
 mod ring_boundaries;
 mod ring_element;
 mod ring_locate;
