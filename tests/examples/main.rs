@@ -15,4 +15,5 @@ mod analysis_plot;
 mod examples_help;
 mod figures_simulate;
 mod global_examples;
+mod ross_rotor_cli;
 mod stability_cli;
