@@ -173,3 +173,8 @@ pub use paper::{JeffcottModel, State};
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
+
+/// docs/fe-rotors.md's Rust snippets, compiled as doctests (`cargo test --doc`).
+#[doc = include_str!("../docs/fe-rotors.md")]
+#[cfg(doctest)]
+pub struct FeRotorsDoctests;

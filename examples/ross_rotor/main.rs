@@ -177,13 +177,18 @@ fn main() {
     let run = transient(&model, &f);
     write_csv(&run.samples);
     eprintln!(
-        "ross_rotor: {} DOFs{}, {:?}, {} contacts, {} steps ({} rejected), {} events, {:.3} s",
+        "ross_rotor: {} DOFs{}, {:?}, free flight {}, {} contacts, {} steps ({} rejected), {} events, {:.3} s",
         model.rotor().system().dofs(),
         kept.map_or(String::new(), |w| format!(
             " ({} modes, highest {w:.4e} rad/s)",
             f.modes
         )),
         method(&f).method(),
+        match model.closed_form() {
+            Some(Ok(_)) => "exact".to_string(),
+            Some(Err(e)) => format!("integrated ({e})"),
+            None => "integrated".to_string(),
+        },
         run.contacts,
         run.steps,
         run.rejected,
