@@ -342,12 +342,8 @@ pub enum RotorError {
         /// The key looked for.
         key: &'static str,
     },
-    /// The mass matrix of a [`LinearFreeFlight`] is singular.
-    #[error("LinearFreeFlight: the mass matrix M is singular to working precision")]
-    SingularMass,
-    /// A [`LinearFreeFlight`]'s station or force vectors do not fit its matrices (or its
-    /// speed or offset is not finite).
-    #[error("LinearFreeFlight: station {station:?} or the force vectors do not fit the {dofs} coordinates (station indices below {dofs}, forces of length {dofs}, finite speed and offset)")]
+    /// A [`LinearFreeFlight`]'s station does not fit its system (or its offset is not finite).
+    #[error("LinearFreeFlight: station {station:?} does not fit the {dofs} coordinates (indices below {dofs}) or its offset is not finite")]
     LinearStation {
         /// The station's coordinates.
         station: [usize; 2],
@@ -373,13 +369,6 @@ pub enum RotorError {
         residual: f64,
         /// $|V\Lambda V^{-1} - A| / |A|$.
         reconstruction: f64,
-    },
-    /// The forcing is at a resonance: $K - \Omega^2 M + i\Omega D$ is singular (speed 0:
-    /// $K$ is singular under a static force).
-    #[error("LinearFreeFlight: no particular solution at speed {speed}: K - speed^2 M + i speed D is singular (speed 0: K singular under a static force)")]
-    ResonantForcing {
-        /// $\Omega$.
-        speed: f64,
     },
     /// A rotor's [`SmoothRotor::linear_free_flight`] does not fit its state: the state must
     /// be `[q (n), q' (n), x_s, y_s]` with the ring's slots last.
@@ -626,9 +615,13 @@ where
             Err(
                 e @ (RotorError::IllConditionedModes { .. }
                 | RotorError::EigenResidual { .. }
-                | RotorError::Eigen(_)
-                | RotorError::ResonantForcing { .. }),
+                | RotorError::Eigen(_)),
             ) => return Ok(Some(Err(e))),
+            // No particular solution (an undamped resonance, or K singular under a static
+            // force): integrate. A singular M is an error: nothing can be integrated.
+            Err(e @ RotorError::Singular { matrix, .. }) if matrix != "M" => {
+                return Ok(Some(Err(e)))
+            }
             Err(e) => return Err(e),
         };
         self.check_closed_form(&linear, &form, probes)?;
@@ -661,7 +654,7 @@ where
                 linear_agrees("station", t, index, a, b, tol)?;
             }
         }
-        let a = linear.state_matrix()?;
+        let a = linear.system.state_matrix()?;
         let mut y = self.zero_state();
         let mut base = self.zero_state();
         let mut dy = self.zero_state();

@@ -174,23 +174,6 @@ fn invert(v: &DMatrix<Complex<f64>>) -> Result<DMatrix<Complex<f64>>, NumericErr
     Ok(inv)
 }
 
-/// Solves the complex systems $S x = b$ in place for the columns of `b` (column-major, a
-/// multiple of $n$ long; each becomes its $x$) by the crate's LU, factored once; `Err(k)` when
-/// the pivot of column `k` vanishes.
-pub(crate) fn solve_complex(
-    s: &DMatrix<Complex<f64>>,
-    b: &mut [Complex<f64>],
-) -> Result<(), usize> {
-    let n = s.nrows();
-    let mut lu = s.clone();
-    let mut piv = vec![0; n];
-    lu_factor(lu.as_mut_slice(), n, &mut piv)?;
-    for col in b.chunks_mut(n) {
-        lu_solve(lu.as_slice(), n, &piv, col);
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

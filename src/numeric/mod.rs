@@ -45,7 +45,6 @@ pub(crate) mod lu;
 mod roots;
 
 pub use bisect::{bisect, Bisection, Side};
-pub(crate) use eigen::solve_complex;
 pub use eigen::{eigen_decomposition, EigenDecomposition};
 pub use roots::{illinois, Bracket, RootOptions};
 

@@ -5,9 +5,9 @@ use std::sync::Arc;
 use nalgebra::allocator::Allocator;
 use nalgebra::{Complex, DMatrix, DVector, DefaultAllocator, Dim, OVector, Vector2};
 
-use super::RotorError;
+use super::{LinearSystem, RotorError};
 use crate::hybrid::{ExactSegment, GuardCrossing};
-use crate::numeric::{eigen_decomposition, solve_complex};
+use crate::numeric::eigen_decomposition;
 use crate::ring::onset::{MotionBounds, OnsetScan, RotorMotion};
 use crate::ring::{Relaxation, SnubberRing};
 
@@ -24,18 +24,8 @@ const MAX_RESIDUAL: f64 = 1e-10;
 /// ([`LinearClosedForm`]). The rotor's state must be `[q (n), q' (n), x_s, y_s]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearFreeFlight {
-    /// $M$ ($n\times n$, invertible).
-    pub mass: DMatrix<f64>,
-    /// $D = C + \Omega G$.
-    pub damping: DMatrix<f64>,
-    /// $K$.
-    pub stiffness: DMatrix<f64>,
-    /// The forcing's angular frequency $\Omega$ (the spin speed, rad/s).
-    pub speed: f64,
-    /// $\hat F$: the harmonic force is $\operatorname{Re}(\hat F e^{i\Omega t})$.
-    pub harmonic_force: DVector<Complex<f64>>,
-    /// $f_0$: the constant force (gravity).
-    pub static_force: DVector<f64>,
+    /// The system: $M$, $D = C + \Omega G$, $K$, the speed $\Omega$, $\hat F$ and $f_0$.
+    pub system: LinearSystem,
     /// The coordinates $(i_x, i_y)$ of $q$ that the ring's station sees.
     pub station: [usize; 2],
     /// The ring centre's position $o$: the station is at $(q_{i_x}, q_{i_y}) - o$.
@@ -107,25 +97,11 @@ pub struct LinearClosedForm {
 }
 
 impl LinearFreeFlight {
-    /// A description with [`DEFAULT_MAX_CONDITION`].
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        mass: DMatrix<f64>,
-        damping: DMatrix<f64>,
-        stiffness: DMatrix<f64>,
-        speed: f64,
-        harmonic_force: DVector<Complex<f64>>,
-        static_force: DVector<f64>,
-        station: [usize; 2],
-        offset: Vector2<f64>,
-    ) -> Self {
+    /// The free flight of `system` with the ring's station at its coordinates `station` and
+    /// the ring centre at `offset`, with [`DEFAULT_MAX_CONDITION`].
+    pub fn new(system: LinearSystem, station: [usize; 2], offset: Vector2<f64>) -> Self {
         Self {
-            mass,
-            damping,
-            stiffness,
-            speed,
-            harmonic_force,
-            static_force,
+            system,
             station,
             offset,
             max_condition: DEFAULT_MAX_CONDITION,
@@ -134,82 +110,28 @@ impl LinearFreeFlight {
 
     /// Number of coordinates $n$ (the state has $2n + 2$ components with the ring).
     pub fn dofs(&self) -> usize {
-        self.mass.nrows()
-    }
-
-    /// The state matrix $A$ ($2n\times 2n$).
-    ///
-    /// # Errors
-    /// [`RotorError::MatrixShape`], [`RotorError::MatrixEntry`], [`RotorError::SingularMass`].
-    pub fn state_matrix(&self) -> Result<DMatrix<f64>, RotorError> {
-        let n = self.dofs();
-        for (matrix, m) in [
-            ("M", &self.mass),
-            ("D", &self.damping),
-            ("K", &self.stiffness),
-        ] {
-            if m.nrows() != n || m.ncols() != n {
-                return Err(RotorError::MatrixShape {
-                    matrix,
-                    rows: m.nrows(),
-                    cols: m.ncols(),
-                    expected: n,
-                });
-            }
-            if let Some((i, &value)) = m.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-                return Err(RotorError::MatrixEntry {
-                    matrix,
-                    row: i % n,
-                    col: i / n,
-                    value,
-                });
-            }
-        }
-        // M^{-1} [K, D] by one factorisation.
-        let mut rhs = DMatrix::from_element(n, 2 * n, Complex::new(0.0, 0.0));
-        for j in 0..n {
-            for i in 0..n {
-                rhs[(i, j)] = Complex::new(self.stiffness[(i, j)], 0.0);
-                rhs[(i, n + j)] = Complex::new(self.damping[(i, j)], 0.0);
-            }
-        }
-        let mass = self.mass.map(|v| Complex::new(v, 0.0));
-        solve_complex(&mass, rhs.as_mut_slice()).map_err(|_| RotorError::SingularMass)?;
-        let mut a = DMatrix::zeros(2 * n, 2 * n);
-        for j in 0..2 * n {
-            for i in 0..n {
-                a[(n + i, j)] = -rhs[(i, j)].re;
-            }
-        }
-        for i in 0..n {
-            a[(i, n + i)] = 1.0;
-        }
-        Ok(a)
+        self.system.dofs()
     }
 
     /// The closed form: eigen-decomposition of $A$, particular solution, station shapes.
     ///
     /// # Errors
-    /// The shape and entry errors of [`LinearFreeFlight::state_matrix`];
-    /// [`RotorError::LinearStation`] for a station or force vector that does not fit;
+    /// [`RotorError::LinearStation`] for a station out of range or an offset not finite;
+    /// [`RotorError::Singular`] for a singular $M$ ([`LinearSystem::state_matrix`]), or,
+    /// naming it, a singular $K - \Omega^2 M + i\Omega D$ (forcing at an undamped resonance)
+    /// or $K$ under a static force (no particular solution);
     /// [`RotorError::Eigen`] if the decomposition fails; [`RotorError::IllConditionedModes`]
-    /// (near-defective $A$) or [`RotorError::EigenResidual`]: the closed form is refused;
-    /// [`RotorError::ResonantForcing`] if $K - \Omega^2 M + i\Omega D$ or $K$ (with a static
-    /// force) is singular.
+    /// (near-defective $A$) or [`RotorError::EigenResidual`]: the closed form is refused.
     pub fn prepare(&self) -> Result<LinearClosedForm, RotorError> {
         let n = self.dofs();
-        let fits = self.station.iter().all(|&i| i < n)
-            && self.harmonic_force.len() == n
-            && self.static_force.len() == n
-            && self.offset.iter().all(|v| v.is_finite())
-            && self.speed.is_finite();
+        let fits = self.station.iter().all(|&i| i < n) && self.offset.iter().all(|v| v.is_finite());
         if !fits {
             return Err(RotorError::LinearStation {
                 station: self.station,
                 dofs: n,
             });
         }
-        let a = self.state_matrix()?;
+        let a = self.system.state_matrix()?;
         let e = eigen_decomposition(&a).map_err(RotorError::Eigen)?;
         if e.condition.is_nan() || e.condition > self.max_condition {
             return Err(RotorError::IllConditionedModes {
@@ -228,7 +150,7 @@ impl LinearFreeFlight {
         let shape = |i: usize| e.vectors.row(i).transpose() * Complex::new(e.scale[i], 0.0);
         Ok(LinearClosedForm {
             n,
-            speed: self.speed,
+            speed: self.system.speed(),
             shape_x: shape(self.station[0]),
             shape_y: shape(self.station[1]),
             values: e.values,
@@ -244,33 +166,18 @@ impl LinearFreeFlight {
         })
     }
 
-    /// $x_s = (q_s, 0)$ and $X = (Q, i\Omega Q)$.
+    /// $x_s = (q_s, 0)$ and $X = (Q, i\Omega Q)$, from the system's static deflection and
+    /// steady response ([`LinearSystem::static_deflection`], [`LinearSystem::steady_response`]).
     fn particular(&self) -> Result<(DVector<f64>, DVector<Complex<f64>>), RotorError> {
-        let n = self.dofs();
-        let w = self.speed;
-        let resonant = |_| RotorError::ResonantForcing { speed: w };
+        let (n, w) = (self.dofs(), self.system.speed());
         let mut xs = DVector::zeros(2 * n);
-        if self.static_force.iter().any(|&f| f != 0.0) {
-            let k = self.stiffness.map(|v| Complex::new(v, 0.0));
-            let mut q = self.static_force.map(|v| Complex::new(v, 0.0));
-            solve_complex(&k, q.as_mut_slice())
-                .map_err(|_| RotorError::ResonantForcing { speed: 0.0 })?;
-            xs.rows_mut(0, n).copy_from(&q.map(|v| v.re));
-        }
+        xs.rows_mut(0, n)
+            .copy_from(&self.system.static_deflection()?);
+        let q = self.system.steady_response()?;
         let mut xh = DVector::from_element(2 * n, Complex::new(0.0, 0.0));
-        if self.harmonic_force.iter().any(|f| f.norm() != 0.0) {
-            let s = DMatrix::from_fn(n, n, |i, j| {
-                Complex::new(
-                    self.stiffness[(i, j)] - w * w * self.mass[(i, j)],
-                    w * self.damping[(i, j)],
-                )
-            });
-            let mut q = self.harmonic_force.clone();
-            solve_complex(&s, q.as_mut_slice()).map_err(resonant)?;
-            for i in 0..n {
-                xh[i] = q[i];
-                xh[n + i] = q[i] * Complex::new(0.0, w);
-            }
+        for i in 0..n {
+            xh[i] = q[i];
+            xh[n + i] = q[i] * Complex::new(0.0, w);
         }
         Ok((xs, xh))
     }

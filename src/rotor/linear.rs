@@ -290,6 +290,35 @@ impl LinearSystem {
         }
         Ok(x)
     }
+    /// $M^{-1} B$ for the columns of `b` (one LU of $M$). Error: a singular $M$
+    /// ([`RotorError::Singular`]).
+    pub fn solve_mass(&self, b: &DMatrix<f64>) -> Result<DMatrix<f64>, RotorError> {
+        self.mass
+            .clone()
+            .lu()
+            .solve(b)
+            .filter(|x| x.iter().all(|v| v.is_finite()))
+            .ok_or(RotorError::Singular {
+                matrix: "M",
+                hint:
+                    "every coordinate needs inertia (a massless coordinate must be condensed out)",
+            })
+    }
+
+    /// The first-order state matrix of $x = (q, q^\prime)$,
+    /// $A = \begin{pmatrix}0 & I\\\\ -M^{-1}K & -M^{-1}D\end{pmatrix}$ ($2n\times 2n$).
+    /// Error: a singular $M$ ([`RotorError::Singular`]).
+    pub fn state_matrix(&self) -> Result<DMatrix<f64>, RotorError> {
+        let n = self.dofs();
+        let mut kd = DMatrix::zeros(n, 2 * n);
+        kd.columns_mut(0, n).copy_from(&self.stiffness);
+        kd.columns_mut(n, n).copy_from(&self.damping);
+        let accel = self.solve_mass(&kd)?;
+        let mut a = DMatrix::zeros(2 * n, 2 * n);
+        a.view_mut((0, n), (n, n)).fill_diagonal(1.0);
+        a.view_mut((n, 0), (n, 2 * n)).copy_from(&(-accel));
+        Ok(a)
+    }
 
     /// The static deflection $K^{-1} f_0$ under the constant force (zero without one, whatever
     /// $K$). Error: $f_0 \ne 0$ and $K$ singular ([`RotorError::Singular`]: a rotor with free
@@ -421,12 +450,6 @@ impl LinearRotor {
         }
         check_finite("ring offset x", ring_offset[0])?;
         check_finite("ring offset y", ring_offset[1])?;
-        let lu = system.mass.clone().lu();
-        let singular = RotorError::Singular {
-            matrix: "M",
-            hint: "every coordinate needs inertia (a massless coordinate must be condensed out)",
-        };
-        let solve = |b: &DMatrix<f64>| lu.solve(b).filter(|x| x.iter().all(|v| v.is_finite()));
         let mut rhs = DMatrix::zeros(n, 2 * n + 5);
         rhs.columns_mut(0, n).copy_from(&system.stiffness);
         rhs.columns_mut(n, n).copy_from(&system.damping);
@@ -437,7 +460,7 @@ impl LinearRotor {
         rhs.column_mut(2 * n + 2).copy_from(&system.constant_force);
         rhs[(station[0], 2 * n + 3)] = 1.0;
         rhs[(station[1], 2 * n + 4)] = 1.0;
-        let x = solve(&rhs).ok_or(singular)?;
+        let x = system.solve_mass(&rhs)?;
         let accel = -x.columns(0, 2 * n);
         let station_compliance =
             MatrixXx2::from_columns(&[x.column(2 * n + 3), x.column(2 * n + 4)]);
@@ -654,12 +677,7 @@ impl SmoothRotor for LinearRotor {
         let s = &self.system;
         self.exact_free_flight.then(|| {
             LinearFreeFlight::new(
-                s.mass.clone(),
-                s.damping.clone(),
-                s.stiffness.clone(),
-                s.speed,
-                s.harmonic_force.clone(),
-                s.constant_force.clone(),
+                s.clone(),
                 self.station,
                 Vector2::new(self.offset[0], self.offset[1]),
             )

@@ -12,7 +12,9 @@ use jeffcott::paper::FreeOscillator;
 use jeffcott::params::{Params, Preset};
 use jeffcott::ring::onset::RotorMotion;
 use jeffcott::ring::{Kinematics, SnubberRing};
-use jeffcott::rotor::{LinearFreeFlight, RingedRotor, RotorError, RotorMatrices, SmoothRotor};
+use jeffcott::rotor::{
+    LinearFreeFlight, LinearSystem, RingedRotor, RotorError, RotorMatrices, SmoothRotor,
+};
 
 fn data(name: &str) -> String {
     format!("{}/tests/data/rotors/{name}", env!("CARGO_MANIFEST_DIR"))
@@ -39,12 +41,15 @@ fn ross_free_flight(file: &str, rpm: f64, node: usize) -> LinearFreeFlight {
     f[ix] = ph;
     f[ix + 1] = ph * Complex::new(0.0, -1.0);
     LinearFreeFlight::new(
-        lat.mass().clone(),
-        d,
-        lat.stiffness().clone(),
-        w,
-        f,
-        DVector::zeros(n),
+        LinearSystem::from_parts(
+            lat.mass().clone(),
+            d,
+            lat.stiffness().clone(),
+            w,
+            f,
+            DVector::zeros(n),
+        )
+        .unwrap(),
         [ix, ix + 1],
         Vector2::zeros(),
     )
@@ -81,12 +86,15 @@ fn ross_rotors_closed_forms_are_accepted_and_well_conditioned() {
 fn jeffcott_as_matrices(p: &Params) -> LinearFreeFlight {
     let b = Complex::from_polar(p.forcing_amplitude(), p.phi0);
     LinearFreeFlight::new(
-        DMatrix::identity(2, 2),
-        DMatrix::identity(2, 2) * (2.0 * p.nu1),
-        DMatrix::identity(2, 2),
-        p.eta,
-        DVector::from_vec(vec![b, b * Complex::new(0.0, -1.0)]),
-        DVector::from_vec(vec![p.ex, p.ey]),
+        LinearSystem::from_parts(
+            DMatrix::identity(2, 2),
+            DMatrix::identity(2, 2) * (2.0 * p.nu1),
+            DMatrix::identity(2, 2),
+            p.eta,
+            DVector::from_vec(vec![b, b * Complex::new(0.0, -1.0)]),
+            DVector::from_vec(vec![p.ex, p.ey]),
+        )
+        .unwrap(),
         [0, 1],
         Vector2::zeros(),
     )
@@ -208,7 +216,11 @@ fn random_rotor(n: usize, seed: u64) -> LinearFreeFlight {
     let d = &c + (&g - g.transpose()) * speed;
     let f = DVector::from_fn(n, |_, _| Complex::new(rng.sym(), rng.sym()));
     let f0 = DVector::from_fn(n, |_, _| 0.3 * rng.sym());
-    LinearFreeFlight::new(m, d, k, speed, f, f0, [0, 1], Vector2::new(0.1, -0.05))
+    LinearFreeFlight::new(
+        LinearSystem::from_parts(m, d, k, speed, f, f0).unwrap(),
+        [0, 1],
+        Vector2::new(0.1, -0.05),
+    )
 }
 
 /// The matrices' vector field $x^\prime = (q^\prime, M^{-1}(f_0 + \mathrm{Re}(\hat F
@@ -225,20 +237,20 @@ struct MatrixField {
 
 impl MatrixField {
     fn new(lf: LinearFreeFlight) -> Self {
-        let minv = lf.mass.clone().try_inverse().unwrap();
+        let minv = lf.system.mass().clone().try_inverse().unwrap();
         let minv_c = minv.map(|v| Complex::new(v, 0.0));
         Self {
-            minv_k: &minv * &lf.stiffness,
-            minv_d: &minv * &lf.damping,
-            minv_f0: &minv * &lf.static_force,
-            minv_fhat: minv_c * &lf.harmonic_force,
+            minv_k: &minv * lf.system.stiffness(),
+            minv_d: &minv * lf.system.damping(),
+            minv_f0: &minv * lf.system.constant_force(),
+            minv_fhat: minv_c * lf.system.harmonic_force(),
             minv,
             lf,
         }
     }
     fn accel(&self, t: f64, q: &[f64], v: &[f64], out: &mut [f64]) {
         let n = self.lf.dofs();
-        let (s, c) = (self.lf.speed * t).sin_cos();
+        let (s, c) = (self.lf.system.speed() * t).sin_cos();
         let ph = Complex::new(c, s);
         for i in 0..n {
             out[i] = self.minv_f0[i] + (self.minv_fhat[i] * ph).re;
@@ -347,7 +359,7 @@ impl SmoothRotor for MatrixRotor {
         [2 * n, 2 * n + 1]
     }
     fn forcing_period(&self) -> f64 {
-        std::f64::consts::TAU / self.field.lf.speed
+        std::f64::consts::TAU / self.field.lf.system.speed()
     }
     fn linear_free_flight(&self) -> Option<LinearFreeFlight> {
         self.closed.clone()
@@ -383,12 +395,7 @@ fn two_node_rotor_forced(exact: bool, amplitude: f64) -> MatrixRotor {
     f[0] = b;
     f[1] = b * Complex::new(0.0, -1.0);
     let lf = LinearFreeFlight::new(
-        m,
-        d,
-        k,
-        speed,
-        f,
-        DVector::zeros(n),
+        LinearSystem::from_parts(m, d, k, speed, f, DVector::zeros(n)).unwrap(),
         [0, 1],
         Vector2::new(0.05, -0.1),
     );
@@ -420,11 +427,21 @@ fn a_closed_form_that_disagrees_with_its_rotor_is_an_error() {
     let ring = SnubberRing::isotropic(30.0, 0.05, 0.01).unwrap();
     let mut rotor = two_node_rotor(true);
     let mut wrong = rotor.field.lf.clone();
-    let w = wrong.speed;
+    let s = &wrong.system;
+    let w = s.speed();
+    let mut d = s.damping().clone();
     for (i, j) in [(0, 1), (2, 3)] {
-        wrong.damping[(i, j)] -= 0.4 * w;
-        wrong.damping[(j, i)] += 0.4 * w;
+        d[(i, j)] -= 0.4 * w;
+        d[(j, i)] += 0.4 * w;
     }
+    let (m, k, f, f0) = (
+        s.mass(),
+        s.stiffness(),
+        s.harmonic_force(),
+        s.constant_force(),
+    );
+    let system = LinearSystem::from_parts(m.clone(), d, k.clone(), w, f.clone(), f0.clone());
+    wrong.system = system.unwrap();
     rotor.closed = Some(wrong);
     let Err(err) = RingedRotor::new(rotor, ring) else {
         panic!("accepted");
@@ -436,7 +453,11 @@ fn a_closed_form_that_disagrees_with_its_rotor_is_an_error() {
     );
     let mut rotor = two_node_rotor(true);
     let mut wrong = rotor.field.lf.clone();
-    wrong.harmonic_force *= Complex::new(0.0, 1.0);
+    let s = &wrong.system;
+    let f = s.harmonic_force() * Complex::new(0.0, 1.0);
+    let (m, d, k) = (s.mass().clone(), s.damping().clone(), s.stiffness().clone());
+    let system = LinearSystem::from_parts(m, d, k, s.speed(), f, s.constant_force().clone());
+    wrong.system = system.unwrap();
     rotor.closed = Some(wrong);
     let Err(err) = RingedRotor::new(rotor, ring) else {
         panic!("accepted");

@@ -29,7 +29,7 @@ use std::sync::Arc;
 use jeffcott::nalgebra::{Complex, DMatrix, DVector, Vector2};
 use jeffcott::ring::onset::{find_onset, MotionBounds, Onset, OnsetStats, RotorMotion};
 use jeffcott::ring::{Relaxation, SnubberRing};
-use jeffcott::rotor::{LinearClosedForm, LinearFreeFlight, LinearSegment};
+use jeffcott::rotor::{LinearClosedForm, LinearFreeFlight, LinearSegment, LinearSystem};
 
 const RES: f64 = 1e-13;
 
@@ -82,12 +82,7 @@ fn three_node_rotor() -> Arc<LinearClosedForm> {
     f[0] = b;
     f[1] = b * Complex::new(0.0, -1.0);
     let lf = LinearFreeFlight::new(
-        m,
-        d,
-        k,
-        speed,
-        f,
-        DVector::zeros(n),
+        LinearSystem::from_parts(m, d, k, speed, f, DVector::zeros(n)).unwrap(),
         [0, 1],
         Vector2::new(0.1, 0.0),
     );
@@ -317,12 +312,15 @@ fn onset_search_on_linear_rotors_agrees_with_brute_force() {
 fn onset_search_on_an_unstable_rotor_finds_the_first_contact() {
     let nu1 = -0.02;
     let lf = LinearFreeFlight::new(
-        DMatrix::identity(2, 2),
-        DMatrix::identity(2, 2) * (2.0 * nu1),
-        DMatrix::identity(2, 2),
-        1.7,
-        DVector::from_vec(vec![Complex::new(0.01, 0.0), Complex::new(0.0, -0.01)]),
-        DVector::zeros(2),
+        LinearSystem::from_parts(
+            DMatrix::identity(2, 2),
+            DMatrix::identity(2, 2) * (2.0 * nu1),
+            DMatrix::identity(2, 2),
+            1.7,
+            DVector::from_vec(vec![Complex::new(0.01, 0.0), Complex::new(0.0, -0.01)]),
+            DVector::zeros(2),
+        )
+        .unwrap(),
         [0, 1],
         Vector2::zeros(),
     );
