@@ -175,6 +175,16 @@ where
         let _ = (t, y, stiffness, damping);
         None
     }
+
+    /// $p$ when the state is `[q (p), q' (p), others]` and [`SmoothRotor::rhs`] writes
+    /// `dy[i] = y[p + i]` exactly for $i < p$ (and [`SmoothRotor::add_station_force`] leaves
+    /// those rows alone): [`RingedRotor`] passes it on as [`RotorModel::second_order`], with
+    /// which [`Radau5`](crate::ode::Radau5) factors matrices of size $N - p$ instead of $N$
+    /// ([`OdeSystem::second_order`](crate::ode::OdeSystem::second_order)). The ring's slots
+    /// must then be among the others (index $\ge 2p$). Default `None`.
+    fn second_order(&self) -> Option<usize> {
+        None
+    }
 }
 
 /// A [`SmoothRotor`] with the snubber ring at its station: a [`RotorModel`] whose modes are the
@@ -898,5 +908,14 @@ where
             _ => (0.0, 0.0),
         };
         self.rotor.max_rate(t, y, k, c)
+    }
+
+    /// The rotor's [`SmoothRotor::second_order`] (the ring's force enters only the velocity
+    /// rows, its slots are set after the rotor's $2p$ components), `None` if a ring slot
+    /// lies among the positions and velocities.
+    fn second_order(&self) -> Option<usize> {
+        let p = self.rotor.second_order()?;
+        let slots_after = self.rotor.ring_slots().iter().all(|&i| i >= 2 * p);
+        slots_after.then_some(p)
     }
 }

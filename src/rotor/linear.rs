@@ -642,6 +642,12 @@ impl SmoothRotor for LinearRotor {
         [2 * n, 2 * n + 1]
     }
 
+    /// $n$: the state is $[q, q^\prime, s]$ and the first $n$ rows of [`SmoothRotor::rhs`]
+    /// copy $q^\prime$.
+    fn second_order(&self) -> Option<usize> {
+        Some(self.system.dofs())
+    }
+
     fn forcing_period(&self) -> f64 {
         std::f64::consts::TAU / self.system.speed
     }
