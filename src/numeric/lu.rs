@@ -171,7 +171,9 @@ mod bench {
     #[ignore]
     fn lu_speed() {
         for n in [137, 274] {
-            let re = |i: usize, j: usize| ((i * 7 + j * 13) % 17) as f64 - 8.0 + if i == j { 40.0 } else { 0.0 };
+            let re = |i: usize, j: usize| {
+                ((i * 7 + j * 13) % 17) as f64 - 8.0 + if i == j { 40.0 } else { 0.0 }
+            };
             let a0 = matrix(n, re);
             let c0 = matrix(n, |i, j| Complex::new(re(i, j), ((i + 3 * j) % 5) as f64));
             let mut piv = vec![0; n];

@@ -426,8 +426,8 @@ where
     /// $J = \begin{pmatrix} 0 & I & 0\\\\ A_q & A_v & A_z\\\\ G_q & G_v & G_z\end{pmatrix}$,
     /// and eliminating $x_q = (b_q + x_v)/c$ from $(cI - J)x = b$ leaves
     /// $$\Big(cI - \begin{pmatrix} A_v + A_q/c & A_z\\\\ G_v + G_q/c & G_z\end{pmatrix}\Big)
-    /// \begin{pmatrix}x_v\\\\ x_z\end{pmatrix} = \begin{pmatrix}b_v\\\\ b_z\end{pmatrix}
-    /// + \frac1c\begin{pmatrix}A_q\\\\ G_q\end{pmatrix} b_q,$$
+    /// \begin{pmatrix}x_v\\\\ x_z\end{pmatrix} = \begin{pmatrix}b_v\\\\ b_z\end{pmatrix} +
+    /// \frac1c\begin{pmatrix}A_q\\\\ G_q\end{pmatrix} b_q,$$
     /// of size $N - p$ instead of $N$ (Hairer and Wanner's RADAU5 option `M1` = `M2` = $p$).
     /// For a mechanical system, $N = 2p + m$, the LU decompositions, which dominate a step's
     /// cost for large $N$, become up to 8 times cheaper. The rows of $J$ for $q$ are not read

@@ -17,8 +17,13 @@ fn model() -> jeffcott::rotor::RingedRotor<LinearRotor> {
         .with_harmonic_force(2, Complex::new(1.0, -0.5))
         .unwrap();
     let rotor = LinearRotor::new(system, [2, 3], [0.0, 0.0]).unwrap();
-    let ring = SnubberRing::new(RingAxis::new(30.0, 0.15), RingAxis::new(60.0, 0.05), 0.05, 1.0)
-        .unwrap();
+    let ring = SnubberRing::new(
+        RingAxis::new(30.0, 0.15),
+        RingAxis::new(60.0, 0.05),
+        0.05,
+        1.0,
+    )
+    .unwrap();
     rotor.ringed(ring).unwrap()
 }
 

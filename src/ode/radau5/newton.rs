@@ -122,7 +122,15 @@ impl Linear {
     /// Solves $((\gamma/h) I - J) x = b$ in place with the factors of [`Linear::decompose`].
     pub(super) fn solve_real(&self, h: f64, b: &mut [f64]) {
         if self.p > 0 {
-            condensed_solve(&self.jac, self.n, self.p, self.gamma / h, &self.e1, &self.piv1, b);
+            condensed_solve(
+                &self.jac,
+                self.n,
+                self.p,
+                self.gamma / h,
+                &self.e1,
+                &self.piv1,
+                b,
+            );
         } else {
             lu_solve(&self.e1, self.n, &self.piv1, b);
         }
@@ -132,7 +140,15 @@ impl Linear {
     fn solve_complex(&mut self, h: f64) {
         if self.p > 0 {
             let c = Complex::new(self.alpha / h, self.beta / h);
-            condensed_solve(&self.jac, self.n, self.p, c, &self.e2, &self.piv2, &mut self.rc);
+            condensed_solve(
+                &self.jac,
+                self.n,
+                self.p,
+                c,
+                &self.e2,
+                &self.piv2,
+                &mut self.rc,
+            );
         } else {
             lu_solve(&self.e2, self.n, &self.piv2, &mut self.rc);
         }
@@ -164,8 +180,8 @@ impl Linear {
 /// $J = \begin{pmatrix} 0 & I & 0\\\\ A_q & A_v & A_z\\\\ G_q & G_v & G_z\end{pmatrix}$
 /// and $(cI - J)x = b$ reads $c x_q - x_v = b_q$ and, with $x_q = (b_q + x_v)/c$ substituted,
 /// $$\Big(cI - \begin{pmatrix} A_v + A_q/c & A_z\\\\ G_v + G_q/c & G_z\end{pmatrix}\Big)
-/// \begin{pmatrix}x_v\\\\ x_z\end{pmatrix} = \begin{pmatrix}b_v\\\\ b_z\end{pmatrix}
-/// + \frac1c\begin{pmatrix}A_q\\\\ G_q\end{pmatrix} b_q$$
+/// \begin{pmatrix}x_v\\\\ x_z\end{pmatrix} = \begin{pmatrix}b_v\\\\ b_z\end{pmatrix} +
+/// \frac1c\begin{pmatrix}A_q\\\\ G_q\end{pmatrix} b_q$$
 /// (Hairer and Wanner's RADAU5 with `M1` = `M2` = $p$): an $(N - p)$ square matrix, written
 /// column-major into `e`; the rows of $J$ for $q$ are not read.
 fn condense<T: LuScalar>(jac: &[f64], n: usize, p: usize, c: T, e: &mut [T]) {
@@ -462,8 +478,9 @@ mod tests {
             }
             let mut piv = vec![0; n];
             lu_factor(&mut full, n, &mut piv).unwrap();
-            let b: Vec<Complex<f64>> =
-                (0..n).map(|i| Complex::new(1.0 + i as f64, 0.5 - i as f64)).collect();
+            let b: Vec<Complex<f64>> = (0..n)
+                .map(|i| Complex::new(1.0 + i as f64, 0.5 - i as f64))
+                .collect();
             let mut want = b.clone();
             lu_solve(&full, n, &piv, &mut want);
             let mut e = vec![Complex::new(0.0, 0.0); n * n];
@@ -474,7 +491,12 @@ mod tests {
             condensed_solve(&jac, n, p, c, &e, &piv_c, &mut got);
             let scale = want.iter().map(|v| v.norm()).fold(0.0, f64::max);
             for i in 0..n {
-                assert!((got[i] - want[i]).norm() < 1e-13 * scale, "{c} {i}: {} {}", got[i], want[i]);
+                assert!(
+                    (got[i] - want[i]).norm() < 1e-13 * scale,
+                    "{c} {i}: {} {}",
+                    got[i],
+                    want[i]
+                );
             }
         };
         check(Complex::new(3.7, 0.0));
