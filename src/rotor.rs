@@ -117,9 +117,12 @@ use thiserror::Error;
 
 use crate::hybrid::{Flow, ModelError, RotorModel};
 use crate::numeric::Direction;
+use crate::ode::JacobianMut;
 use crate::ring::onset::OnsetScan;
 use crate::ring::Relaxation;
-use crate::ring::{Kinematics, RingCache, RingError, RingGuard, RingMode, SnubberRing};
+use crate::ring::{
+    ForceJacobian, Kinematics, RingCache, RingError, RingGuard, RingMode, SnubberRing,
+};
 
 /// A rotor without the ring: smooth, of state dimension [`SmoothRotor::Dim`] (fixed, e.g.
 /// `U6`, or `Dyn` for a size known at run time), with one station where the ring acts. The
@@ -202,6 +205,35 @@ where
     ) -> Option<f64> {
         let _ = (t, y, stiffness, damping);
         None
+    }
+
+    /// $p$ when the state is `[q (p), q' (p), others]` and [`SmoothRotor::rhs`] writes
+    /// `dy[i] = y[p + i]` exactly for $i < p$ (and [`SmoothRotor::add_station_force`] leaves
+    /// those rows alone): [`RingedRotor`] passes it on as [`RotorModel::second_order`], with
+    /// which [`Radau5`](crate::ode::Radau5) factors matrices of size $N - p$ instead of $N$
+    /// ([`OdeSystem::second_order`](crate::ode::OdeSystem::second_order)). The ring's slots
+    /// must then be among the others (index $\ge 2p$). Default `None`.
+    fn second_order(&self) -> Option<usize> {
+        None
+    }
+
+    /// The Jacobian of the rotor's field with a force at the station, written into `jac`:
+    /// $\partial f/\partial y$ of [`SmoothRotor::rhs`] and, when `contact` is given (the
+    /// ring's force $F(r, v)$ differentiated: [`ForceJacobian`]), of the force $-F(r(y), v(y))$
+    /// added by [`SmoothRotor::add_station_force`]: $-B(F_r R + F_v V)$ with $B$ the force's
+    /// input matrix and $R$, $V$ the station map's position and velocity rows. Every entry
+    /// outside the ring slots' rows must be written (the composition writes those). Returns
+    /// `false` (the default) for finite differences. [`RingedRotor`] passes it on as
+    /// [`RotorModel::jacobian`], which [`Radau5`](crate::ode::Radau5) uses.
+    fn jacobian(
+        &self,
+        t: f64,
+        y: &OVector<f64, Self::Dim>,
+        contact: Option<&ForceJacobian>,
+        jac: &mut JacobianMut<'_, Self::Dim>,
+    ) -> bool {
+        let _ = (t, y, contact, jac);
+        false
     }
 }
 
@@ -1206,5 +1238,49 @@ where
             _ => (0.0, 0.0),
         };
         self.rotor.max_rate(t, y, k, c)
+    }
+
+    /// The rotor's [`SmoothRotor::second_order`] (the ring's force enters only the velocity
+    /// rows, its slots are set after the rotor's $2p$ components), `None` if a ring slot
+    /// lies among the positions and velocities.
+    /// The rotor's [`SmoothRotor::jacobian`] with, in contact, the ring force's Jacobian on
+    /// the mode's branches ([`SnubberRing::force_jacobian`]); the ring slots' rows are zero.
+    /// Exact in free flight, where the ring relaxes independently of the state; in contact
+    /// the ring's velocity $J(r)\thinspace r^\prime$ depends on the rotor, but nothing
+    /// depends on the slots (the force is a function of the station's motion), so the zero
+    /// rows only delay the slots' Newton convergence, and the slots are algebraic: excluded
+    /// from error control and from the Newton norm, and set by the ring's rules at every
+    /// output and event.
+    fn jacobian(
+        &self,
+        mode: RingMode,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        jac: &mut JacobianMut<'_, R::Dim>,
+        cache: &RingCache,
+    ) -> bool {
+        let force = match mode {
+            RingMode::Contact(branches) => {
+                let k = self.rotor.station(y);
+                match self.ring.contact_on(branches, &k.r, cache) {
+                    Ok(c) => Some(self.ring.force_jacobian(&c, &k.v)),
+                    Err(_) => return false,
+                }
+            }
+            _ => None,
+        };
+        if !self.rotor.jacobian(t, y, force.as_ref(), jac) {
+            return false;
+        }
+        for i in self.rotor.ring_slots() {
+            jac.row_mut(i).fill(0.0);
+        }
+        true
+    }
+
+    fn second_order(&self) -> Option<usize> {
+        let p = self.rotor.second_order()?;
+        let slots_after = self.rotor.ring_slots().iter().all(|&i| i >= 2 * p);
+        slots_after.then_some(p)
     }
 }

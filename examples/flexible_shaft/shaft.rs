@@ -48,9 +48,13 @@
 //!
 //! # State
 //!
-//! `4 n + 2` components: mode $j$ (1-based) holds $(q_{xj}, q_{yj}, q_{xj}^\prime,
-//! q_{yj}^\prime)$ at `4 (j - 1) .. 4 j`, and the ring's position $(x_s, y_s)$ is at `4 n`,
-//! `4 n + 1`. With one mode this is the paper's state with $x = e_x + q_x$, $y = e_y + q_y$.
+//! `4 n + 2` components: positions, then velocities, then the ring. Mode $j$ (1-based) holds
+//! $(q_{xj}, q_{yj})$ at `2 (j - 1)`, `2 j - 1` and $(q_{xj}^\prime, q_{yj}^\prime)$ at
+//! `2 n + 2 (j - 1)`, `2 n + 2 j - 1`; the ring's position $(x_s, y_s)$ is at `4 n`, `4 n + 1`.
+//! With one mode this is the paper's state with $x = e_x + q_x$, $y = e_y + q_y$. The order
+//! makes the field of second order in its first `4 n` components
+//! ([`SmoothRotor::second_order`]), which Radau5 uses to condense its Newton systems to
+//! `2 n + 2` unknowns.
 
 use std::f64::consts::PI;
 
@@ -207,6 +211,25 @@ impl FlexibleShaft {
         4 * self.layout.modes + 2
     }
 
+    /// Index of mode `j`'s (0-based) $a_{x,j}$ in the state (then $a_{y,j}$): the state is
+    /// `[a_x1, a_y1, ..., a_xn, a_yn, a'_x1, a'_y1, ..., a'_yn, s_x, s_y]`, positions then
+    /// velocities, so that Radau5 can condense its Newton systems
+    /// ([`SmoothRotor::second_order`]).
+    pub fn position_index(&self, j: usize) -> usize {
+        2 * j
+    }
+
+    /// Index of mode `j`'s (0-based) $a_{x,j}^\prime$ in the state (then $a_{y,j}^\prime$).
+    pub fn velocity_index(&self, j: usize) -> usize {
+        2 * self.layout.modes + 2 * j
+    }
+
+    /// Mode `j`'s (0-based) `[a_x, a_y, a'_x, a'_y]`.
+    fn modal(&self, y: &[f64], j: usize) -> [f64; 4] {
+        let (p, v) = (self.position_index(j), self.velocity_index(j));
+        [y[p], y[p + 1], y[v], y[v + 1]]
+    }
+
     /// Axial position $\xi_i = i/(n_s + 1)$ of station `i` (1-based).
     pub fn station_position(&self, station: usize) -> f64 {
         station as f64 / (self.layout.stations + 1) as f64
@@ -220,7 +243,7 @@ impl FlexibleShaft {
         let mut v = [0.0; 2];
         for j in 1..=self.layout.modes {
             let phi = Self::shape_at(j, station, n);
-            let m = &y[4 * (j - 1)..4 * j];
+            let m = self.modal(y, j - 1);
             w[0] += phi * m[0];
             w[1] += phi * m[1];
             v[0] += phi * m[2];
@@ -236,7 +259,7 @@ impl FlexibleShaft {
             .iter()
             .enumerate()
             .map(|(j, w)| {
-                let m = &y[4 * j..4 * j + 4];
+                let m = self.modal(y, j);
                 0.5 * (m[2] * m[2] + m[3] * m[3] + w * w * (m[0] * m[0] + m[1] * m[1]))
             })
             .sum()
@@ -272,11 +295,12 @@ impl FlexibleShaft {
         let f = self.unbalance_force(t);
         let zeta = self.params.nu1;
         for (j, (&w, &phi)) in self.omega.iter().zip(&self.at_unbalance).enumerate() {
-            let (m, d) = (&y[4 * j..4 * j + 4], &mut dy[4 * j..4 * j + 4]);
-            d[0] = m[2];
-            d[1] = m[3];
-            d[2] = phi * f[0] - 2.0 * zeta * w * m[2] - w * w * m[0];
-            d[3] = phi * f[1] - 2.0 * zeta * w * m[3] - w * w * m[1];
+            let m = self.modal(y, j);
+            let (p, v) = (self.position_index(j), self.velocity_index(j));
+            dy[p] = m[2];
+            dy[p + 1] = m[3];
+            dy[v] = phi * f[0] - 2.0 * zeta * w * m[2] - w * w * m[0];
+            dy[v + 1] = phi * f[1] - 2.0 * zeta * w * m[3] - w * w * m[1];
         }
         let [i, k] = self.ring_slots_of();
         dy[i] = 0.0;
@@ -289,7 +313,7 @@ impl FlexibleShaft {
         let mut r = [self.params.ex, self.params.ey];
         let mut v = [0.0; 2];
         for (j, phi) in self.at_ring.iter().enumerate() {
-            let m = &y[4 * j..4 * j + 4];
+            let m = self.modal(y, j);
             r[0] += phi * m[0];
             r[1] += phi * m[1];
             v[0] += phi * m[2];
@@ -302,8 +326,9 @@ impl FlexibleShaft {
     /// masses).
     pub fn add_ring_force(&self, f: &Vector2<f64>, dy: &mut [f64]) {
         for (j, phi) in self.at_ring.iter().enumerate() {
-            dy[4 * j + 2] += phi * f.x;
-            dy[4 * j + 3] += phi * f.y;
+            let v = self.velocity_index(j);
+            dy[v] += phi * f.x;
+            dy[v + 1] += phi * f.y;
         }
     }
 
@@ -334,6 +359,10 @@ impl SmoothRotor for FlexibleShaft {
     }
     fn forcing_period(&self) -> f64 {
         self.params.forcing_period()
+    }
+    /// The state is `[a (2 modes), a' (2 modes), s]` and `rhs` copies `a'` into `a`'s rows.
+    fn second_order(&self) -> Option<usize> {
+        Some(2 * self.layout.modes)
     }
 }
 

@@ -9,8 +9,8 @@ use super::record::{EventRecord, HybridObserver, OutputPlan, Sample, StrobePoint
 use super::{ExactSegment, Flow, GuardCrossing, ModelError, RotorModel};
 use crate::numeric::Direction;
 use crate::ode::{
-    find_first_event, AnyIntegrator, EventOptions, EventSet, EventState, Integrator, Method,
-    OdeError, OdeSystem, Options, Tolerance, MAX_SAMPLES,
+    find_first_event, AnyIntegrator, EventOptions, EventSet, EventState, Integrator, JacobianMut,
+    Method, OdeError, OdeSystem, Options, Tolerance, MAX_SAMPLES,
 };
 
 /// Options of a hybrid run. Start from `Default` and change fields with the `with_` builders.
@@ -303,6 +303,19 @@ where
     #[inline]
     fn rhs(&self, t: f64, y: &OVector<f64, M::Dim>, dy: &mut OVector<f64, M::Dim>) {
         self.model.rhs(self.mode, t, y, dy, self.cache);
+    }
+
+    fn jacobian(
+        &self,
+        t: f64,
+        y: &OVector<f64, M::Dim>,
+        jac: &mut JacobianMut<'_, M::Dim>,
+    ) -> bool {
+        self.model.jacobian(self.mode, t, y, jac, self.cache)
+    }
+
+    fn second_order(&self) -> Option<usize> {
+        self.model.second_order()
     }
 }
 

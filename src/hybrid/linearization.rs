@@ -43,6 +43,7 @@ use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, Dyn, OMatrix, OVector, U1};
 
 use super::{ExactSegment, ModelError, RotorModel};
+use crate::ode::JacobianMut;
 
 /// The allocations the linearisation of a model of dimension `D` needs (vectors, square
 /// matrices and `D x Dyn` variations); every nalgebra dimension has them. Write
@@ -105,8 +106,9 @@ where
     }
 
     /// The Jacobian $\partial f/\partial y$ of the vector field of `mode` at $(t, y)$, written
-    /// into `jac`. Only the rows of the non-algebraic components are used. Default: central
-    /// differences of [`RotorModel::rhs`].
+    /// into `jac`. Only the rows of the non-algebraic components are used. Default: the
+    /// model's [`RotorModel::jacobian`] if it has one, else central differences of
+    /// [`RotorModel::rhs`].
     #[allow(clippy::too_many_arguments)]
     fn rhs_jacobian(
         &self,
@@ -117,6 +119,11 @@ where
         cache: &Self::Cache,
         work: &mut Workspace<Self::Dim>,
     ) {
+        let dim = y.shape_generic().0;
+        let mut view = JacobianMut::from_slice_generic(jac.as_mut_slice(), dim, dim);
+        if self.jacobian(mode, t, y, &mut view, cache) {
+            return;
+        }
         let h = self.difference_step();
         work.y.copy_from(y);
         for j in 0..y.len() {

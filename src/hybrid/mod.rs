@@ -381,6 +381,32 @@ where
         false
     }
 
+    /// $p$ when every mode's field is of second order in the first $2p$ components
+    /// (positions, then velocities, then the rest: `dy[i] = y[p + i]` exactly for $i < p$),
+    /// passed to the integrator as [`OdeSystem::second_order`](crate::ode::OdeSystem::second_order),
+    /// where [`Radau5`](crate::ode::Radau5) solves its Newton systems condensed to
+    /// $N - p$ unknowns. Default `None`.
+    fn second_order(&self) -> Option<usize> {
+        None
+    }
+
+    /// The Jacobian $\partial f/\partial y$ of `mode`'s field at $(t, y)$ written into `jac`
+    /// (every entry), `true`; or `false` (the default) for finite differences. Passed to the
+    /// integrator as [`OdeSystem::jacobian`](crate::ode::OdeSystem::jacobian) (only
+    /// [`Radau5`](crate::ode::Radau5) uses it; an approximation slows its Newton iteration,
+    /// never makes a step wrong).
+    fn jacobian(
+        &self,
+        mode: Self::Mode,
+        t: f64,
+        y: &OVector<f64, Self::Dim>,
+        jac: &mut crate::ode::JacobianMut<'_, Self::Dim>,
+        cache: &Self::Cache,
+    ) -> bool {
+        let _ = (mode, t, y, jac, cache);
+        false
+    }
+
     /// Number of guards of an integrated mode (any number).
     fn guard_count(&self, mode: Self::Mode) -> usize;
 

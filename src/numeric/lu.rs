@@ -154,3 +154,51 @@ mod tests {
         assert_eq!(lu_factor(&mut a, 2, &mut piv), Err(1));
     }
 }
+
+#[cfg(test)]
+mod bench {
+    use super::*;
+    use nalgebra::Complex;
+    use std::time::Instant;
+
+    fn matrix<T: LuScalar>(n: usize, entry: impl Fn(usize, usize) -> T) -> Vec<T> {
+        (0..n * n).map(|k| entry(k % n, k / n)).collect()
+    }
+
+    /// GFlop/s of the factorisation against $\tfrac23 n^3$ (real) and $\tfrac83 n^3$ real
+    /// flops (complex); run with `--ignored --nocapture` in release.
+    #[test]
+    #[ignore]
+    fn lu_speed() {
+        for n in [137, 274] {
+            let re = |i: usize, j: usize| {
+                ((i * 7 + j * 13) % 17) as f64 - 8.0 + if i == j { 40.0 } else { 0.0 }
+            };
+            let a0 = matrix(n, re);
+            let c0 = matrix(n, |i, j| Complex::new(re(i, j), ((i + 3 * j) % 5) as f64));
+            let mut piv = vec![0; n];
+            let reps = 20;
+            let (mut a, mut c) = (a0.clone(), c0.clone());
+            let t = Instant::now();
+            for _ in 0..reps {
+                a.copy_from_slice(&a0);
+                lu_factor(&mut a, n, &mut piv).unwrap();
+            }
+            let real = t.elapsed().as_secs_f64() / reps as f64;
+            let t = Instant::now();
+            for _ in 0..reps {
+                c.copy_from_slice(&c0);
+                lu_factor(&mut c, n, &mut piv).unwrap();
+            }
+            let cplx = t.elapsed().as_secs_f64() / reps as f64;
+            let flops = 2.0 / 3.0 * (n as f64).powi(3);
+            println!(
+                "n = {n}: real {:.2} ms {:.2} GFlop/s, complex {:.2} ms {:.2} GFlop/s (real flops)",
+                real * 1e3,
+                flops / real * 1e-9,
+                cplx * 1e3,
+                4.0 * flops / cplx * 1e-9
+            );
+        }
+    }
+}

@@ -415,6 +415,28 @@ where
         let _ = (t, y, jac);
         false
     }
+
+    /// $p$ when the system is of second order in its first $2p$ components: the state is
+    /// $y = (q, v, z)$ with positions $q$ and velocities $v$ in $\mathbb R^p$ and any other
+    /// components $z$ after them, and $q^\prime = v$ **exactly** (`dy[i] = y[p + i]` for
+    /// $i < p$, nothing else in those rows). Default `None`.
+    ///
+    /// Only [`Radau5`] uses it: its Newton matrices $cI - J$ ($c = \gamma/h$ real, $c =
+    /// (\alpha + i\beta)/h$ complex) have the Jacobian
+    /// $J = \begin{pmatrix} 0 & I & 0\\\\ A_q & A_v & A_z\\\\ G_q & G_v & G_z\end{pmatrix}$,
+    /// and eliminating $x_q = (b_q + x_v)/c$ from $(cI - J)x = b$ leaves
+    /// $$\Big(cI - \begin{pmatrix} A_v + A_q/c & A_z\\\\ G_v + G_q/c & G_z\end{pmatrix}\Big)
+    /// \begin{pmatrix}x_v\\\\ x_z\end{pmatrix} = \begin{pmatrix}b_v\\\\ b_z\end{pmatrix} +
+    /// \frac1c\begin{pmatrix}A_q\\\\ G_q\end{pmatrix} b_q,$$
+    /// of size $N - p$ instead of $N$ (Hairer and Wanner's RADAU5 option `M1` = `M2` = $p$).
+    /// For a mechanical system, $N = 2p + m$, the LU decompositions, which dominate a step's
+    /// cost for large $N$, become up to 8 times cheaper. The rows of $J$ for $q$ are not read
+    /// (the structure gives them); a system whose position rows are not exactly $v$ gets a
+    /// wrong Newton matrix, which shows as slow convergence, never as a wrong step. A value
+    /// with $2p > N$ is ignored.
+    fn second_order(&self) -> Option<usize> {
+        None
+    }
 }
 
 /// A mutable view of an $N\times N$ Jacobian (column-major, over storage the integrator

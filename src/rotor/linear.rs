@@ -8,7 +8,8 @@ use nalgebra::{Complex, DMatrix, DVector, Dyn, MatrixXx2, Vector2};
 
 use super::matrices::check_matrix;
 use super::{DofLayout, LinearFreeFlight, RotorError, RotorMatrices, SmoothRotor};
-use crate::ring::Kinematics;
+use crate::ode::JacobianMut;
+use crate::ring::{ForceJacobian, Kinematics};
 
 /// A second-order linear system at the spin speed $\Omega$ (rad/s), in any coordinates
 /// (physical DOFs or reduced ones):
@@ -665,6 +666,40 @@ impl SmoothRotor for LinearRotor {
     fn ring_slots(&self) -> [usize; 2] {
         let n = self.system.dofs();
         [2 * n, 2 * n + 1]
+    }
+
+    /// [`LinearRotor::write_jacobian`], and in contact $-M^{-1}_{\cdot s}(F_r, F_v)$ in the
+    /// station's position and velocity columns ($M^{-1}_{\cdot s}$: the station's two
+    /// columns of $M^{-1}$, [`LinearRotor::station_compliance`]).
+    fn jacobian(
+        &self,
+        _t: f64,
+        _y: &DVector<f64>,
+        contact: Option<&ForceJacobian>,
+        jac: &mut JacobianMut<'_, Dyn>,
+    ) -> bool {
+        if !self.write_jacobian(jac) {
+            return false;
+        }
+        let Some(f) = contact else {
+            return true;
+        };
+        let n = self.system.dofs();
+        for (a, &dof) in self.station.iter().enumerate() {
+            for (col, d) in [(dof, &f.position), (n + dof, &f.velocity)] {
+                for k in 0..n {
+                    let b = self.station_compliance.row(k);
+                    jac[(n + k, col)] -= b[0] * d[(0, a)] + b[1] * d[(1, a)];
+                }
+            }
+        }
+        true
+    }
+
+    /// $n$: the state is $[q, q^\prime, s]$ and the first $n$ rows of [`SmoothRotor::rhs`]
+    /// copy $q^\prime$.
+    fn second_order(&self) -> Option<usize> {
+        Some(self.system.dofs())
     }
 
     fn forcing_period(&self) -> f64 {

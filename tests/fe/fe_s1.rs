@@ -175,8 +175,8 @@ pub fn event_error(run: &Run, t_end: f64) -> f64 {
 fn report(name: &str, run: &Run, err: f64, dt_event: f64) {
     let s = &run.stats;
     println!(
-        "{name}: {:.2} s, {} steps, {} rejected, {} rhs, {} transitions; max error {err:.2e} gap, events within {dt_event:.1e} s",
-        run.seconds, s.steps, s.rejected, s.rhs_evals, s.transitions
+        "{name}: {:.2} s, {} steps, {} rejected, {} rhs, {} Jacobians, {} LU, {} transitions; max error {err:.2e} gap, events within {dt_event:.1e} s",
+        run.seconds, s.steps, s.rejected, s.rhs_evals, s.jacobians, s.lu_decompositions, s.transitions
     );
 }
 

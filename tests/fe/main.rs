@@ -2,6 +2,7 @@
 
 mod fe_eccentric;
 mod fe_exact;
+mod fe_jacobian;
 mod fe_linear;
 mod fe_matrices;
 mod fe_reduction;

@@ -68,3 +68,59 @@ fn radau5_rejects_few_steps_per_contact_event() {
         "{lu_per_step:.2} LU decompositions per step (bound {MAX_LU_PER_STEP})"
     );
 }
+
+/// The 64-mode shaft of issue 19 (`flexible_shaft --modes 64 --stations 8 --eta 1.1
+/// --transient 30 --periods 10`): Radau5 at rtol 1e-8 (atol from `SHAFT_ATOL`, default the
+/// driver's 1e-12) against DOP853 at rtol = atol = 1e-12 (the reference): the largest
+/// distance of the ring station's strobe points, in gaps, work and time of both.
+#[test]
+#[ignore = "measurement: about 20 s in release"]
+fn shaft64_radau5_against_dop853() {
+    use jeffcott::analysis::strobe_orbit;
+    use std::time::Instant;
+    let params = Preset::Fig8a.params().with_eta(1.1);
+    let layout = Layout {
+        modes: 64,
+        stations: 8,
+        unbalance: 2,
+        ring: 3,
+    };
+    let model = shaft::on_ring(params, layout).expect("shaft");
+    let mut y0 = DVector::zeros(model.rotor().state_len());
+    model.make_consistent(&mut y0).expect("consistent start");
+    let atol: f64 = std::env::var("SHAFT_ATOL").map_or(1e-12, |v| v.parse().unwrap());
+    let run = |method, rtol, atol| {
+        let opts = SimOptions::default()
+            .with_method(method)
+            .with_rtol(rtol)
+            .with_atol(atol);
+        let clock = Instant::now();
+        let orbit = strobe_orbit(&model, &y0, 30, 10, &opts).expect("orbit");
+        (orbit, clock.elapsed().as_secs_f64())
+    };
+    let (reference, t_ref) = run(Method::Dop853, 1e-12, 1e-12);
+    let (radau, t_radau) = run(Method::Radau5, 1e-8, atol);
+    let s = model.rotor();
+    let dist = reference
+        .points
+        .iter()
+        .zip(&radau.points)
+        .map(|(a, b)| {
+            (s.ring_kinematics(a.y.as_slice()).r - s.ring_kinematics(b.y.as_slice()).r).norm()
+        })
+        .fold(0.0, f64::max);
+    for (name, o, t) in [
+        ("DOP853 1e-12", &reference, t_ref),
+        ("Radau5 1e-8", &radau, t_radau),
+    ] {
+        let st = &o.stats;
+        println!(
+            "{name}: {} steps, {} rejected, {} Jacobians, {} LU, {} transitions, {t:.2} s",
+            st.steps, st.rejected, st.jacobians, st.lu_decompositions, st.transitions
+        );
+    }
+    println!(
+        "largest distance of the ring station's strobe points: {dist:.2e} gap (atol {atol:e})"
+    );
+    assert_eq!(reference.stats.transitions, radau.stats.transitions);
+}

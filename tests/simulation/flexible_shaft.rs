@@ -313,7 +313,8 @@ fn energy_balance_with_contact_and_several_modes() {
             (1..=layout.modes)
                 .map(|j| {
                     let w = (j * j) as f64;
-                    2.0 * p.nu1 * w * (y[4 * j - 2].powi(2) + y[4 * j - 1].powi(2))
+                    let v = s.velocity_index(j - 1);
+                    2.0 * p.nu1 * w * (y[v].powi(2) + y[v + 1].powi(2))
                 })
                 .sum()
         };

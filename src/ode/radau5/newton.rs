@@ -2,7 +2,7 @@
 //! simplified Newton iteration on the transformed stage system, and the error estimate.
 
 use super::tableau::{C1, C2, DD1, DD2, DD3, T, TI};
-use crate::numeric::lu::{lu_factor, lu_solve};
+use crate::numeric::lu::{lu_factor, lu_solve, LuScalar};
 use crate::ode::{JacobianMut, OdeSystem, Stats};
 use nalgebra::allocator::Allocator;
 use nalgebra::{Complex, DefaultAllocator, Dim, OVector};
@@ -11,12 +11,19 @@ use nalgebra::{Complex, DefaultAllocator, Dim, OVector};
 pub(super) const NIT: usize = 7;
 
 /// The Jacobian and the factored Newton matrices, all preallocated.
+///
+/// For a second-order system ([`OdeSystem::second_order`] = $p$) the matrices factored are
+/// the condensed ones of size $N - p$ (see [`condensed_solve`]), stored in the leading
+/// part of the same buffers.
 #[derive(Debug, Clone)]
 pub(super) struct Linear {
     pub n: usize,
+    /// Positions eliminated from the Newton systems: $p$ of [`OdeSystem::second_order`],
+    /// 0 for the full systems.
+    pub p: usize,
     /// $J$, column-major.
     pub jac: Vec<f64>,
-    /// LU of $(\gamma/h) I - J$.
+    /// LU of $(\gamma/h) I - J$ (condensed when `p > 0`).
     pub e1: Vec<f64>,
     pub piv1: Vec<usize>,
     /// LU of $((\alpha + i\beta)/h) I - J$.
@@ -34,6 +41,7 @@ impl Linear {
         let (alpha, beta) = super::tableau::alpha_beta();
         Linear {
             n,
+            p: 0,
             jac: vec![0.0; n * n],
             e1: vec![0.0; n * n],
             piv1: vec![0; n],
@@ -64,6 +72,7 @@ impl Linear {
     {
         let dim = y.shape_generic().0;
         let n = self.n;
+        self.p = sys.second_order().filter(|&p| 2 * p <= n).unwrap_or(0);
         stats.jacobians += 1;
         let mut view = JacobianMut::from_slice_generic(&mut self.jac, dim, dim);
         if sys.jacobian(t, y, &mut view) {
@@ -84,11 +93,19 @@ impl Linear {
         stats.rhs_evals += n as u64;
     }
 
-    /// Factors $(\gamma/h) I - J$ and $((\alpha + i\beta)/h) I - J$; `false` if either is
-    /// singular to working precision.
+    /// Factors $(\gamma/h) I - J$ and $((\alpha + i\beta)/h) I - J$ (condensed when `p > 0`);
+    /// `false` if either is singular to working precision.
     pub(super) fn decompose(&mut self, h: f64, stats: &mut Stats) -> bool {
-        let n = self.n;
         let (g, ar, ai) = (self.gamma / h, self.alpha / h, self.beta / h);
+        stats.lu_decompositions += 1;
+        if self.p > 0 {
+            let (n, p) = (self.n, self.p);
+            condense(&self.jac, n, p, g, &mut self.e1);
+            condense(&self.jac, n, p, Complex::new(ar, ai), &mut self.e2);
+            return lu_factor(&mut self.e1, n - p, &mut self.piv1).is_ok()
+                && lu_factor(&mut self.e2, n - p, &mut self.piv2).is_ok();
+        }
+        let n = self.n;
         for (k, (e1, e2)) in self.e1.iter_mut().zip(self.e2.iter_mut()).enumerate() {
             let j = -self.jac[k];
             *e1 = j;
@@ -98,9 +115,43 @@ impl Linear {
             self.e1[i * n + i] += g;
             self.e2[i * n + i] += Complex::new(ar, ai);
         }
-        stats.lu_decompositions += 1;
         lu_factor(&mut self.e1, n, &mut self.piv1).is_ok()
             && lu_factor(&mut self.e2, n, &mut self.piv2).is_ok()
+    }
+
+    /// Solves $((\gamma/h) I - J) x = b$ in place with the factors of [`Linear::decompose`].
+    pub(super) fn solve_real(&self, h: f64, b: &mut [f64]) {
+        if self.p > 0 {
+            condensed_solve(
+                &self.jac,
+                self.n,
+                self.p,
+                self.gamma / h,
+                &self.e1,
+                &self.piv1,
+                b,
+            );
+        } else {
+            lu_solve(&self.e1, self.n, &self.piv1, b);
+        }
+    }
+
+    /// Solves $(((\alpha + i\beta)/h) I - J) x = b$ in place, `b` = `self.rc`.
+    fn solve_complex(&mut self, h: f64) {
+        if self.p > 0 {
+            let c = Complex::new(self.alpha / h, self.beta / h);
+            condensed_solve(
+                &self.jac,
+                self.n,
+                self.p,
+                c,
+                &self.e2,
+                &self.piv2,
+                &mut self.rc,
+            );
+        } else {
+            lu_solve(&self.e2, self.n, &self.piv2, &mut self.rc);
+        }
     }
 
     /// Solves the transformed linear systems in place: on entry `z` holds
@@ -115,12 +166,68 @@ impl Linear {
             let im = z[2][i] - w[1][i] * ai - w[2][i] * ar;
             self.rc[i] = Complex::new(re, im);
         }
-        lu_solve(&self.e1, n, &self.piv1, z[0]);
-        lu_solve(&self.e2, n, &self.piv2, &mut self.rc);
+        self.solve_real(h, z[0]);
+        self.solve_complex(h);
         for i in 0..n {
             z[1][i] = self.rc[i].re;
             z[2][i] = self.rc[i].im;
         }
+    }
+}
+
+/// The condensed Newton matrix of a second-order system. With the state $(q, v, z)$,
+/// $q, v \in \mathbb R^p$, $q^\prime = v$ exactly, the Jacobian is
+/// $J = \begin{pmatrix} 0 & I & 0\\\\ A_q & A_v & A_z\\\\ G_q & G_v & G_z\end{pmatrix}$
+/// and $(cI - J)x = b$ reads $c x_q - x_v = b_q$ and, with $x_q = (b_q + x_v)/c$ substituted,
+/// $$\Big(cI - \begin{pmatrix} A_v + A_q/c & A_z\\\\ G_v + G_q/c & G_z\end{pmatrix}\Big)
+/// \begin{pmatrix}x_v\\\\ x_z\end{pmatrix} = \begin{pmatrix}b_v\\\\ b_z\end{pmatrix} +
+/// \frac1c\begin{pmatrix}A_q\\\\ G_q\end{pmatrix} b_q$$
+/// (Hairer and Wanner's RADAU5 with `M1` = `M2` = $p$): an $(N - p)$ square matrix, written
+/// column-major into `e`; the rows of $J$ for $q$ are not read.
+fn condense<T: LuScalar>(jac: &[f64], n: usize, p: usize, c: T, e: &mut [T]) {
+    let m = n - p;
+    let inv = T::one() / c;
+    for j in 0..m {
+        let col = &jac[(p + j) * n + p..(p + j + 1) * n];
+        let out = &mut e[j * m..(j + 1) * m];
+        for (x, &v) in out.iter_mut().zip(col) {
+            *x = T::from_real(-v);
+        }
+        if j < p {
+            let colq = &jac[j * n + p..(j + 1) * n];
+            for (x, &v) in out.iter_mut().zip(colq) {
+                *x -= inv.scale(v);
+            }
+        }
+        out[j] += c;
+    }
+}
+
+/// Solves $(cI - J)x = b$ in place through the condensed factors of [`condense`]: the
+/// right-hand side $b_{v,z} + \frac1c (A_q; G_q) b_q$, the condensed solve for $(x_v, x_z)$,
+/// then $x_q = (b_q + x_v)/c$.
+fn condensed_solve<T: LuScalar>(
+    jac: &[f64],
+    n: usize,
+    p: usize,
+    c: T,
+    e: &[T],
+    piv: &[usize],
+    b: &mut [T],
+) {
+    let inv = T::one() / c;
+    let (bq, bvz) = b.split_at_mut(p);
+    for (k, &bk) in bq.iter().enumerate() {
+        let bk = bk * inv;
+        if bk != T::zero() {
+            for (x, &v) in bvz.iter_mut().zip(&jac[k * n + p..(k + 1) * n]) {
+                *x += bk.scale(v);
+            }
+        }
+    }
+    lu_solve(e, n - p, piv, bvz);
+    for (x, &v) in bq.iter_mut().zip(bvz.iter()) {
+        *x = (*x + v) * inv;
     }
 }
 
@@ -298,7 +405,7 @@ where
         f2[i] = h1 * z[0][i] + h2 * z[1][i] + h3 * z[2][i];
         e[i] = f2[i] + f0[i];
     }
-    lu_solve(&lin.e1, n, &lin.piv1, e.as_mut_slice());
+    lin.solve_real(inp.h, e.as_mut_slice());
     let mut err = rms(e, inp.scal, inp.n_ctrl);
     if err >= 1.0 && refine {
         for i in 0..n {
@@ -309,7 +416,7 @@ where
         for i in 0..n {
             e[i] += f2[i];
         }
-        lu_solve(&lin.e1, n, &lin.piv1, e.as_mut_slice());
+        lin.solve_real(inp.h, e.as_mut_slice());
         err = rms(e, inp.scal, inp.n_ctrl);
     }
     // NaN stays NaN (a rejection), tiny errors are floored as RADAU5 does.
@@ -330,4 +437,86 @@ where
         s += (a / b) * (a / b);
     }
     (s / n_ctrl).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A Jacobian of a second-order system: state $(q, v, z)$, $p = 3$, $m = 2$; rows of $q$
+    /// exactly $(0, I, 0)$, the rest dense and unsymmetric.
+    fn second_order_jacobian(p: usize, m: usize) -> Vec<f64> {
+        let n = 2 * p + m;
+        let mut jac = vec![0.0; n * n];
+        for j in 0..n {
+            for i in 0..n {
+                jac[i + j * n] = if i < p {
+                    if j == p + i {
+                        1.0
+                    } else {
+                        0.0
+                    }
+                } else {
+                    ((i * 7 + j * 11) % 13) as f64 - 6.0 + if i == j { -20.0 } else { 0.0 }
+                };
+            }
+        }
+        jac
+    }
+
+    /// The condensed solve against the full LU of $cI - J$ (independent: no elimination of
+    /// the positions), real and complex, on a right-hand side with every entry nonzero.
+    #[test]
+    fn condensed_solve_matches_the_full_system() {
+        let (p, m) = (3, 2);
+        let n = 2 * p + m;
+        let jac = second_order_jacobian(p, m);
+        let check = |c: Complex<f64>| {
+            let mut full: Vec<Complex<f64>> = jac.iter().map(|&v| Complex::new(-v, 0.0)).collect();
+            for i in 0..n {
+                full[i * n + i] += c;
+            }
+            let mut piv = vec![0; n];
+            lu_factor(&mut full, n, &mut piv).unwrap();
+            let b: Vec<Complex<f64>> = (0..n)
+                .map(|i| Complex::new(1.0 + i as f64, 0.5 - i as f64))
+                .collect();
+            let mut want = b.clone();
+            lu_solve(&full, n, &piv, &mut want);
+            let mut e = vec![Complex::new(0.0, 0.0); n * n];
+            condense(&jac, n, p, c, &mut e);
+            let mut piv_c = vec![0; n];
+            lu_factor(&mut e, n - p, &mut piv_c).unwrap();
+            let mut got = b;
+            condensed_solve(&jac, n, p, c, &e, &piv_c, &mut got);
+            let scale = want.iter().map(|v| v.norm()).fold(0.0, f64::max);
+            for i in 0..n {
+                assert!(
+                    (got[i] - want[i]).norm() < 1e-13 * scale,
+                    "{c} {i}: {} {}",
+                    got[i],
+                    want[i]
+                );
+            }
+        };
+        check(Complex::new(3.7, 0.0));
+        check(Complex::new(2.1, 4.3));
+        // The real path (f64) against the complex one with zero imaginary part.
+        let c = 3.7;
+        let mut e = vec![0.0; n * n];
+        condense(&jac, n, p, c, &mut e);
+        let mut piv = vec![0; n];
+        lu_factor(&mut e, n - p, &mut piv).unwrap();
+        let mut x: Vec<f64> = (0..n).map(|i| 1.0 + i as f64).collect();
+        let b = x.clone();
+        condensed_solve(&jac, n, p, c, &e, &piv, &mut x);
+        // Residual of (cI - J) x = b.
+        for i in 0..n {
+            let mut r = c * x[i] - b[i];
+            for j in 0..n {
+                r -= jac[i + j * n] * x[j];
+            }
+            assert!(r.abs() < 1e-12 * n as f64, "row {i}: residual {r}");
+        }
+    }
 }
