@@ -10,14 +10,16 @@
 //! (the gyroscopic $\Omega G$ is skew and drops out), $C(s)$ the ring's damping ($4\nu_2$ on
 //! an inner branch, $2\nu_2$ beyond the preload) and $g = \nabla E_\text{ring}$:
 //!
-//! * the rotor: $\frac{d}{dt}E_\text{rot} = v\cdot F(t) - v^{\mathsf T}D_s v - v^{\mathsf T}K_a q
-//!   - f\cdot r^\prime$;
-//! * the ring in contact: $f\cdot r^\prime = g\cdot s^\prime + s^{\prime\mathsf T}C s^\prime
-//!   + f\cdot(r^\prime - s^\prime)$. The last term, the *slip* work, is the paper's model: the
-//!   massless ring sits at the minimum of its elastic energy, so $g$ is along the normal, but its
-//!   dampers' force $C s^\prime$ is not, and its tangential part acts on the rotor like a
-//!   viscous friction against the tangential slip $r^\prime - s^\prime$ (the normal parts of
-//!   $r^\prime$ and $s^\prime$ are equal: $|r - s| = \gamma$ holds);
+//! * the rotor: $\frac{d}{dt}E_\text{rot} = v\cdot F(t) - v^{\mathsf T}D_s v -
+//!   v^{\mathsf T}K_a q - f\cdot r^\prime$;
+//! * the ring in contact: $f\cdot r^\prime = g\cdot s^\prime + s^{\prime\mathsf T}C
+//!   s^\prime + f\cdot(r^\prime - s^\prime)$. The last term, the *slip* work, is the paper's
+//!   model: the massless ring sits at the minimum of its elastic energy, so $g$ is along the
+//!   normal, but its dampers' force $C s^\prime$ is not, and its tangential part acts on the
+//!   rotor like a viscous friction against the tangential slip $r^\prime - s^\prime$ (the
+//!   normal parts of $r^\prime$ and $s^\prime$ are equal: $|r - s| = \gamma$ holds). It is
+//!   about half the dampers' own dissipation here: the ring's work on the rotor is *not*
+//!   minus the change of its elastic energy minus its dampers' dissipation alone;
 //! * the ring in free flight: $f = 0$ and $g\cdot s^\prime = -s^{\prime\mathsf T}Cs^\prime$;
 //! * at a touch the ring may jump to the minimiser of its energy (a ring not yet relaxed):
 //!   $E_\text{ring}$ drops there, instantly.
