@@ -18,8 +18,9 @@
 //!   normal, but its dampers' force $C s^\prime$ is not, and its tangential part acts on the
 //!   rotor like a viscous friction against the tangential slip $r^\prime - s^\prime$ (the
 //!   normal parts of $r^\prime$ and $s^\prime$ are equal: $|r - s| = \gamma$ holds). It is
-//!   about half the dampers' own dissipation here: the ring's work on the rotor is *not*
-//!   minus the change of its elastic energy minus its dampers' dissipation alone;
+//!   40 % of the dampers' own dissipation to more than all of it here: the rotor's work on
+//!   the ring is *not* the change of the ring's elastic energy plus its dampers'
+//!   dissipation alone;
 //! * the ring in free flight: $f = 0$ and $g\cdot s^\prime = -s^{\prime\mathsf T}Cs^\prime$;
 //! * at a touch the ring may jump to the minimiser of its energy (a ring not yet relaxed):
 //!   $E_\text{ring}$ drops there, instantly.
@@ -630,6 +631,35 @@ fn case_42(method: Method) {
     check(&format!("42 DOF, {method:?} rtol 1e-10"), &b, &stats);
 }
 
+/// A heavily damped ring (c_s = 2e4 N s/m: it relaxes with the time constant c_s/k_s = 4 ms)
+/// on the same rotor: the rotor touches it again before it has relaxed, and the touch places
+/// it at the minimum of its energy over the disk $|r - s| \le \gamma$, a drop of its
+/// elastic energy at the event (never a rise). Measured: the drops sum to -4.0e-9 J, 1.3e-5
+/// of the scale; the slip work (1.6e-4 J) exceeds the dampers' (1.1e-4 J); the balance
+/// closes to 7e-14 of the scale.
+#[test]
+fn energy_balance_42_dof_ring_not_relaxed_at_a_touch() {
+    let model = rotor_42(5e6, 2e4, [2e-7, 1e-7], 1.5e-6, [2e-6, 0.0]);
+    let opts = options(Method::Dop853, 1e-10);
+    let (b, stats, labels) = run(&model, model.rotor().rest_state(), 0.2, 2e-6, &opts);
+    assert_eq!(
+        labels,
+        [1, 2, 3, 4, 5],
+        "free flight and the regimes II to V"
+    );
+    assert!(
+        b.ring_jumps <= 0.0,
+        "a touch raised the ring's energy by {:e} J",
+        b.ring_jumps
+    );
+    assert!(
+        -b.ring_jumps / b.scale() > 1e3 * TOL,
+        "{:e} J",
+        b.ring_jumps
+    );
+    check("42 DOF, damped ring, Dop853 rtol 1e-10", &b, &stats);
+}
+
 /// Measured: DOP853 4.4e-14 of the scale (0.7 s), with C = 0 every loss of energy is the
 /// ring's: its dampers 2.7e-6 J in contact and 3.3e-10 J relaxing, the slip 1.0e-6 J.
 #[test]
@@ -663,5 +693,38 @@ fn energy_balance_s1_on_24_modes() {
             &b,
             &stats,
         );
+    }
+}
+
+/// The limits: each balance's residual against the sample spacing (quadrature) and the
+/// tolerance (integration), DOP853.
+#[test]
+#[ignore = "a report, about 10 s: run with --ignored --nocapture"]
+fn energy_balance_report() {
+    let cases = [
+        (
+            "42 DOF",
+            rotor_42(5e6, 50.0, [2e-7, 1e-7], 1.5e-6, [2e-6, 0.0]),
+            0.2,
+        ),
+        ("S1, 24 modes", s1_reduced(24), 0.1),
+    ];
+    println!("case | h (s) | rtol | rotor | ring | system (residual / scale)");
+    for (name, model, t_end) in &cases {
+        let runs = [2e-5, 1e-5, 4e-6, 2e-6]
+            .map(|h| (h, 1e-10))
+            .into_iter()
+            .chain([1e-6, 1e-8, 1e-12].map(|rtol| (2e-6, rtol)));
+        for (h, rtol) in runs {
+            let opts = options(Method::Dop853, rtol);
+            let (b, _, _) = run(model, model.rotor().rest_state(), *t_end, h, &opts);
+            let scale = b.scale();
+            println!(
+                "{name} | {h:.0e} | {rtol:.0e} | {:.1e} | {:.1e} | {:.1e}",
+                b.rotor_residual() / scale,
+                b.ring_residual() / scale,
+                b.system_residual() / scale
+            );
+        }
     }
 }
