@@ -1,6 +1,7 @@
 //! Finite-element rotors (ROSS exports) on the ring.
 
 mod fe_eccentric;
+mod fe_energy;
 mod fe_exact;
 mod fe_jacobian;
 mod fe_linear;
