@@ -23,5 +23,6 @@ mod flexible_shaft;
 mod hard_cases;
 mod reference;
 mod rotor_checks;
+mod run_up;
 mod si_units;
 mod simulation;
