@@ -47,7 +47,11 @@ impl SpeedProfile {
             }
         }
         if eta_from.max(eta_to) <= 0.0 {
-            return bad("eta_to", eta_to, "the rotor must turn: one speed must be > 0");
+            return bad(
+                "eta_to",
+                eta_to,
+                "the rotor must turn: one speed must be > 0",
+            );
         }
         if eta_from == eta_to {
             return Ok(Self::constant_unchecked(eta_from));

@@ -20,7 +20,13 @@ fn gauss_legendre(f: impl Fn(f64) -> f64, a: f64, b: f64, panels: usize) -> f64 
     let (x1, x2) = ((5.0 - 2.0 * r).sqrt() / 3.0, (5.0 + 2.0 * r).sqrt() / 3.0);
     let s70 = 70.0f64.sqrt();
     let (w1, w2) = ((322.0 + 13.0 * s70) / 900.0, (322.0 - 13.0 * s70) / 900.0);
-    let nodes = [(0.0, 128.0 / 225.0), (x1, w1), (-x1, w1), (x2, w2), (-x2, w2)];
+    let nodes = [
+        (0.0, 128.0 / 225.0),
+        (x1, w1),
+        (-x1, w1),
+        (x2, w2),
+        (-x2, w2),
+    ];
     let h = (b - a) / panels as f64;
     (0..panels)
         .map(|i| {
@@ -98,7 +104,10 @@ fn linear_run_up_through_resonance_matches_the_duhamel_integral() {
         let panels = (s.t * 100.0).ceil() as usize;
         for c in 0..2 {
             let (q, q2) = (fine(c, panels), fine(c, 2 * panels));
-            assert!((q - q2).abs() < 1e-13 * amplitude, "quadrature: {q} vs {q2}");
+            assert!(
+                (q - q2).abs() < 1e-13 * amplitude,
+                "quadrature: {q} vs {q2}"
+            );
             worst = worst.max((s.y[c] - q2).abs());
             // The same integral without the eta' terms: the check must tell them apart.
             let radial = |u: f64| force(&p, eta0, rate, u)[c] - tangential(&p, eta0, rate, u)[c];
@@ -140,7 +149,10 @@ fn strobes_fall_on_the_phases_of_the_revolution() {
         for s in &traj.strobe {
             let phase = eta0 * s.t + 0.5 * rate * s.t * s.t;
             let want = std::f64::consts::TAU * s.k as f64 / 7.0;
-            assert!((phase - want).abs() <= 1e-12 * want.max(1.0), "{phase} {want}");
+            assert!(
+                (phase - want).abs() <= 1e-12 * want.max(1.0),
+                "{phase} {want}"
+            );
         }
     }
 }
@@ -167,7 +179,11 @@ fn touch_run(depth: f64) -> usize {
     let mut traj = Trajectory::<U6>::default();
     simulate(&model, 0.0, &y0, &plan, &opts, &mut traj).expect("run");
     for e in &traj.events {
-        assert!((e.t - std::f64::consts::PI).abs() < 1e-3, "event at {}", e.t);
+        assert!(
+            (e.t - std::f64::consts::PI).abs() < 1e-3,
+            "event at {}",
+            e.t
+        );
     }
     traj.events.len()
 }
