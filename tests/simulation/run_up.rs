@@ -13,48 +13,7 @@ use jeffcott::nalgebra::{SVector, U6};
 use jeffcott::params::{Params, Preset};
 use jeffcott::rotor::{ProfiledJeffcott, SpeedProfile};
 
-/// Composite 5-point Gauss-Legendre quadrature of `f` over `[a, b]` on `panels` panels (exact
-/// for polynomials of degree 9 on each panel; nodes and weights in closed form).
-fn gauss_legendre(f: impl Fn(f64) -> f64, a: f64, b: f64, panels: usize) -> f64 {
-    let r = (10.0f64 / 7.0).sqrt();
-    let (x1, x2) = ((5.0 - 2.0 * r).sqrt() / 3.0, (5.0 + 2.0 * r).sqrt() / 3.0);
-    let s70 = 70.0f64.sqrt();
-    let (w1, w2) = ((322.0 + 13.0 * s70) / 900.0, (322.0 - 13.0 * s70) / 900.0);
-    let nodes = [
-        (0.0, 128.0 / 225.0),
-        (x1, w1),
-        (-x1, w1),
-        (x2, w2),
-        (-x2, w2),
-    ];
-    let h = (b - a) / panels as f64;
-    (0..panels)
-        .map(|i| {
-            let mid = a + (i as f64 + 0.5) * h;
-            let sum: f64 = nodes.iter().map(|(x, w)| w * f(mid + 0.5 * h * x)).sum();
-            0.5 * h * sum
-        })
-        .sum()
-}
-
-/// The free response at $\tau$ of $u^{\prime\prime} + 2\nu u^\prime + u = F(\tau)$ from rest,
-/// $u(\tau) = \int_0^\tau h(\tau - s) F(s)\thinspace ds$ with the impulse response
-/// $h(t) = e^{-\nu t}\sin(\omega_d t)/\omega_d$, $\omega_d = \sqrt{1 - \nu^2}$.
-fn duhamel(nu: f64, force: impl Fn(f64) -> f64, tau: f64, panels: usize) -> f64 {
-    let wd = (1.0 - nu * nu).sqrt();
-    let h = |t: f64| (-nu * t).exp() * (wd * t).sin() / wd;
-    gauss_legendre(|s| h(tau - s) * force(s), 0.0, tau, panels)
-}
-
-/// The out-of-balance force written from the formula, independently of the crate:
-/// $\beta(\eta^2\cos\varphi + \eta^\prime\sin\varphi, \eta^2\sin\varphi - \eta^\prime\cos\varphi)$
-/// with $\eta = \eta_0 + R s$, $\varphi = \varphi_0 + \eta_0 s + R s^2/2$ (on the ramp).
-fn force(p: &Params, eta0: f64, rate: f64, s: f64) -> [f64; 2] {
-    let eta = eta0 + rate * s;
-    let (sin, cos) = (p.phi0 + eta0 * s + 0.5 * rate * s * s).sin_cos();
-    let (a, b) = (p.beta * eta * eta, p.beta * rate);
-    [a * cos + b * sin, a * sin - b * cos]
-}
+use crate::duhamel::{duhamel, ramp_force};
 
 fn strobes(model: &impl jeffcott::hybrid::RotorModel<Dim = U6>, t_end: f64) -> Trajectory<U6> {
     let opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-13);
@@ -100,7 +59,14 @@ fn linear_run_up_through_resonance_matches_the_duhamel_integral() {
     let (mut worst, mut without_tangential) = (0.0f64, 0.0f64);
     for i in [peak - 20, peak - 5, peak, peak + 5, peak + 20] {
         let s = &traj.strobe[i];
-        let fine = |c: usize, panels| duhamel(p.nu1, |u| force(&p, eta0, rate, u)[c], s.t, panels);
+        let fine = |c: usize, panels| {
+            duhamel(
+                p.nu1,
+                |u| ramp_force(p.beta, p.phi0, eta0, rate, u, true)[c],
+                s.t,
+                panels,
+            )
+        };
         let panels = (s.t * 100.0).ceil() as usize;
         for c in 0..2 {
             let (q, q2) = (fine(c, panels), fine(c, 2 * panels));
@@ -110,7 +76,7 @@ fn linear_run_up_through_resonance_matches_the_duhamel_integral() {
             );
             worst = worst.max((s.y[c] - q2).abs());
             // The same integral without the eta' terms: the check must tell them apart.
-            let radial = |u: f64| force(&p, eta0, rate, u)[c] - tangential(&p, eta0, rate, u)[c];
+            let radial = |u: f64| ramp_force(p.beta, p.phi0, eta0, rate, u, false)[c];
             let q0 = duhamel(p.nu1, radial, s.t, panels);
             without_tangential = without_tangential.max((s.y[c] - q0).abs());
         }
@@ -125,12 +91,6 @@ fn linear_run_up_through_resonance_matches_the_duhamel_integral() {
     println!("without the eta' terms the Duhamel integral differs by {without_tangential:.2e}");
     assert!(worst <= 1e-9 * amplitude, "{worst:e}");
     assert!(without_tangential > 1e-4 * amplitude);
-}
-
-/// The forcing's $\eta^\prime$ part alone, $\beta R(\sin\varphi, -\cos\varphi)$.
-fn tangential(p: &Params, eta0: f64, rate: f64, s: f64) -> [f64; 2] {
-    let (sin, cos) = (p.phi0 + eta0 * s + 0.5 * rate * s * s).sin_cos();
-    [p.beta * rate * sin, -p.beta * rate * cos]
 }
 
 #[test]
