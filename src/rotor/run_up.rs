@@ -30,9 +30,6 @@ use super::{RingedRotor, RotorError, SmoothRotor, SpeedProfile};
 use crate::params::{ParamError, Params};
 use crate::ring::{Kinematics, RingAxis, SnubberRing};
 
-/// The gap of the ring that [`ProfiledJeffcott::off_ring`] puts out of reach, in gaps.
-pub const OUT_OF_REACH: f64 = 1e6;
-
 /// The paper's Jeffcott rotor driven by a [`SpeedProfile`]. State
 /// `[x, y, x', y', x_s, y_s]` (the ring's centre last), as the paper's model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,6 +40,9 @@ pub struct ProfiledJeffcott {
 }
 
 impl ProfiledJeffcott {
+    /// The gap of the ring that [`ProfiledJeffcott::off_ring`] puts out of reach, in gaps.
+    pub const OUT_OF_REACH: f64 = 1e6;
+
     /// The rotor of `params` at the speed `profile` (the parameters' `eta` is not used: the
     /// profile gives the speed). One stroboscopic output per revolution.
     ///
@@ -113,13 +113,13 @@ impl ProfiledJeffcott {
         self.with_gap(1.0)
     }
 
-    /// Without contact: the ring's gap is [`OUT_OF_REACH`], so a rotor within that radius
+    /// Without contact: the ring's gap is [`ProfiledJeffcott::OUT_OF_REACH`], so a rotor within that radius
     /// never touches it (the run's `transitions` count says so).
     ///
     /// # Errors
     /// [`RotorError`] if the ring or the composition refuses.
     pub fn off_ring(self) -> Result<RingedRotor<Self>, RotorError> {
-        self.with_gap(OUT_OF_REACH)
+        self.with_gap(Self::OUT_OF_REACH)
     }
 
     fn with_gap(self, gap: f64) -> Result<RingedRotor<Self>, RotorError> {

@@ -172,3 +172,52 @@ impl SpeedProfile {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_phase_inverse_is_the_phase_s_inverse() {
+        for (a, b, r) in [
+            (0.3, 3.0, 0.01),
+            (3.0, 0.3, -0.05),
+            (0.0, 2.0, 1.0),
+            (2.0, 0.0, -0.5),
+        ] {
+            let p = SpeedProfile::ramp(a, b, r).unwrap();
+            let end = p.phase(p.ramp_time());
+            // The phase's closed form at the ramp's end: the mean speed times the duration.
+            assert!((end - 0.5 * (a + b) * p.ramp_time()).abs() <= 1e-13 * end);
+            for i in 0..=100 {
+                let phase = end * 1.2 * f64::from(i) / 100.0;
+                match p.time_of_phase(phase) {
+                    Some(t) => assert!((p.phase(t) - phase).abs() <= 1e-13 * end, "{phase}"),
+                    None => assert!(b == 0.0 && phase > end, "{phase}"),
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_ramp_the_rate_cannot_make_is_refused() {
+        for (a, b, r) in [
+            (0.3, 3.0, -0.01),
+            (0.3, 3.0, 0.0),
+            (0.0, 0.0, 1.0),
+            (-1.0, 1.0, 1.0),
+        ] {
+            assert!(matches!(
+                SpeedProfile::ramp(a, b, r),
+                Err(RotorError::SpeedProfile { .. })
+            ));
+        }
+        assert!(SpeedProfile::ramp(0.3, 3.0, f64::NAN).is_err());
+        assert!(SpeedProfile::constant(0.0).is_err());
+        let c = SpeedProfile::constant(2.0).unwrap();
+        assert_eq!(
+            (c.eta(5.0), c.eta_rate(5.0), c.phase(5.0)),
+            (2.0, 0.0, 10.0)
+        );
+    }
+}
