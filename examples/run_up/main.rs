@@ -8,7 +8,9 @@
 //! $\varphi(\tau) = \varphi_0 + A\tau + R\tau^2/2$ reaches $\varphi_0 + 2\pi k/S$ (closed
 //! form), for every such time up to the end. Without `--csv`, prints one summary line: the
 //! largest radius $|r|$ from the ring's centre, the speed and time where it occurred, the number
-//! of samples and of contacts.
+//! of samples and of contacts; with `--out DIR` also the sweep back (from $B$ to $A$ at
+//! $-R$) and its summary line, and draws `DIR/envelope.png` (with `envelope.csv`): the largest
+//! radius in each revolution against the speed, up and down.
 //!
 //! The scene flags are `simulate`'s (`--preset`, parameter overrides, `--rtol`, `--atol`,
 //! `--method`, the initial rotor state `--x0 --y0 --vx0 --vy0`, default at rest at the origin;
@@ -26,8 +28,10 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+mod envelope;
 
 use std::io::{self, BufWriter, Write};
+use std::path::PathBuf;
 
 use clap::Parser;
 use common::cli::{f64_in, fail, parse, usize_in};
@@ -63,6 +67,9 @@ struct Flags {
     /// Print the samples as CSV tau,eta,x,y
     #[arg(long)]
     csv: bool,
+    /// Without --csv: also run the sweep back and draw the envelope of both in this folder
+    #[arg(long, value_name = "DIR", conflicts_with = "csv")]
+    out: Option<PathBuf>,
 }
 
 /// The rotor and its consistent initial state, or exit with status 2.
@@ -183,4 +190,54 @@ fn main() {
         eprintln!("error: {e}");
         std::process::exit(1);
     }
+    if let Some(dir) = &flags.out {
+        sweep_back_and_draw(&flags, &scene, dir, &rotor, &traj);
+    }
+}
+
+/// The sweep from B back to A, its summary line, and the envelope of both sweeps.
+fn sweep_back_and_draw(
+    flags: &Flags,
+    scene: &Scene,
+    dir: &std::path::Path,
+    rotor: &ProfiledJeffcott,
+    traj: &Trajectory<U6>,
+) {
+    let back = Flags {
+        eta_from: flags.eta_to,
+        eta_to: flags.eta_from,
+        rate: -flags.rate,
+        out: None,
+        scene: flags.scene.clone(),
+        ..*flags
+    };
+    let (rotor_back, traj_back, error) = run(&back, scene);
+    let mut out = io::stdout().lock();
+    if let Err(e) = write_summary(&mut out, &rotor_back, &traj_back) {
+        eprintln!("error: writing the output: {e}");
+        std::process::exit(1);
+    }
+    if let Some(e) = error {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+    let s = flags.samples_per_period;
+    let label = |f: &Flags| format!("{} → {} at R = {}", f.eta_from, f.eta_to, f.rate);
+    let sweeps = vec![
+        (
+            label(flags),
+            envelope::per_revolution(traj, rotor.profile(), s),
+        ),
+        (
+            label(&back),
+            envelope::per_revolution(&traj_back, rotor_back.profile(), s),
+        ),
+    ];
+    let ring = if flags.no_ring {
+        "without the ring"
+    } else {
+        "on the ring"
+    };
+    let title = format!("{} {ring}: envelope", flags.scene.preset);
+    common::or_exit(envelope::draw(dir, &title, sweeps));
 }

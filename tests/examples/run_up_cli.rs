@@ -204,3 +204,47 @@ fn bad_input_is_status_2_with_one_line() {
     ]);
     assert_eq!(out.status.code(), Some(2), "--rate is required");
 }
+
+#[test]
+fn out_draws_the_envelope_of_both_sweeps() {
+    let dir = std::env::temp_dir().join(format!("run_up_cli_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = support::run_ok(
+        Command::new(support::example_exe("run_up"))
+            .args([
+                "--preset",
+                "fig8a",
+                "--x0",
+                "0.9",
+                "--eta-from",
+                "0.5",
+                "--eta-to",
+                "2",
+                "--rate",
+                "0.05",
+                "--samples-per-period",
+                "8",
+                "--out",
+            ])
+            .arg(&dir),
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(
+        text.lines().count(),
+        2,
+        "a summary line for each sweep: {text}"
+    );
+    assert!(text.lines().all(|l| l.starts_with("peak radius")), "{text}");
+    assert!(dir.join("envelope.png").is_file());
+    let csv = std::fs::read_to_string(dir.join("envelope.csv")).unwrap();
+    let series: std::collections::BTreeSet<&str> = csv
+        .lines()
+        .skip(1)
+        .filter_map(|l| l.split(',').next())
+        .collect();
+    assert_eq!(series.len(), 2, "up and down: {series:?}");
+    // One row a revolution: the mean speed times the duration over 2 pi, per sweep.
+    let revolutions = (0.5 * 2.5 * 1.5 / 0.05 / TAU).ceil();
+    assert_eq!(csv.lines().count() as f64 - 1.0, 2.0 * revolutions);
+    let _ = std::fs::remove_dir_all(&dir);
+}
