@@ -102,6 +102,8 @@ mod matrices;
 mod reduction;
 #[cfg(feature = "mat")]
 mod ross;
+mod run_up;
+mod speed;
 
 pub use exact::{
     LinearClosedForm, LinearFreeFlight, LinearFreeSegment, LinearSegment, DEFAULT_MAX_CONDITION,
@@ -109,6 +111,8 @@ pub use exact::{
 pub use linear::{LinearRotor, LinearSystem};
 pub use matrices::{DofLayout, RotorMatrices};
 pub use reduction::{CraigBampton, ModeSelection, ResponseError};
+pub use run_up::ProfiledJeffcott;
+pub use speed::SpeedProfile;
 use std::sync::Arc;
 
 use nalgebra::allocator::Allocator;
@@ -170,6 +174,14 @@ where
     /// The forcing period (stroboscopic sampling and the chattering window use it; an unforced
     /// rotor gives a characteristic period, e.g. that of its first mode).
     fn forcing_period(&self) -> f64;
+
+    /// The time of the stroboscopic output `k` ([`RotorModel::strobe_time`], which
+    /// [`RingedRotor`] passes on). Default $kP$, $P$ = [`SmoothRotor::forcing_period`]; a rotor
+    /// whose speed varies returns the time its forcing phase has advanced by $2\pi k$ (or a
+    /// fraction of it, [`ProfiledJeffcott`]).
+    fn strobe_time(&self, k: u64) -> f64 {
+        self.forcing_period() * k as f64
+    }
 
     /// A typical magnitude of each state component ([`RotorModel::state_scale`]), if the
     /// rotor knows one. Default `None`: [`RingedRotor`] derives it from the ring's gap and the
@@ -256,6 +268,16 @@ pub enum RotorError {
     /// The ring's parameters are invalid.
     #[error(transparent)]
     Ring(#[from] RingError),
+    /// A speed profile's parameter is invalid ([`SpeedProfile::ramp`]).
+    #[error("speed profile: {field} = {value}: {reason}")]
+    SpeedProfile {
+        /// The parameter (`"eta_from"`, `"eta_to"`, `"rate"`, `"strobes_per_revolution"`).
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// What is wrong.
+        reason: &'static str,
+    },
     /// The ring's slots are not two distinct components of the state.
     #[error("SmoothRotor::ring_slots is {slots:?} but the state has {dim} components (SmoothRotor::dim): give two distinct indices below {dim}")]
     RingSlots {
@@ -1230,6 +1252,10 @@ where
 
     fn forcing_period(&self) -> f64 {
         self.rotor.forcing_period()
+    }
+
+    fn strobe_time(&self, k: u64) -> f64 {
+        self.rotor.strobe_time(k)
     }
 
     fn max_rate(&self, mode: RingMode, t: f64, y: &OVector<f64, R::Dim>) -> Option<f64> {

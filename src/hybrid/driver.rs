@@ -361,9 +361,10 @@ where
     }
 }
 
-/// Pending outputs, in time order.
+/// Pending outputs, in time order. Strobe times are the model's
+/// ([`RotorModel::strobe_time`]), cached for the next index.
 struct Schedule {
-    period: f64,
+    strobe_at: f64,
     strobe_next: u64,
     strobe_last: u64,
     has_strobe: bool,
@@ -380,13 +381,16 @@ enum Due {
 }
 
 impl Schedule {
-    fn new(plan: &OutputPlan, period: f64, t0: f64) -> Self {
+    fn new<M: RotorModel>(plan: &OutputPlan, model: &M, t0: f64) -> Self
+    where
+        DefaultAllocator: Allocator<M::Dim>,
+    {
         let (first, last) = plan.strobe.map_or((1, 0), |r| (r.first, r.last));
         let (d0, dt) = plan
             .dense
             .map_or((f64::INFINITY, 1.0), |d| (d.t_start, d.dt));
         let mut s = Self {
-            period,
+            strobe_at: model.strobe_time(first),
             strobe_next: first,
             strobe_last: last,
             has_strobe: plan.strobe.is_some() && first <= last,
@@ -398,7 +402,7 @@ impl Schedule {
         };
         // Skip outputs before the start.
         while s.has_strobe && s.strobe_time() < t0 {
-            s.advance_strobe();
+            s.advance_strobe(model);
         }
         while s.has_dense && s.dense_time() < t0 {
             s.advance_dense();
@@ -406,15 +410,20 @@ impl Schedule {
         s
     }
     fn strobe_time(&self) -> f64 {
-        self.period * self.strobe_next as f64
+        self.strobe_at
     }
     fn dense_time(&self) -> f64 {
         self.dense_t0 + self.dense_dt * self.dense_next as f64
     }
-    fn advance_strobe(&mut self) {
+    fn advance_strobe<M: RotorModel>(&mut self, model: &M)
+    where
+        DefaultAllocator: Allocator<M::Dim>,
+    {
         self.strobe_next += 1;
         if self.strobe_next > self.strobe_last {
             self.has_strobe = false;
+        } else {
+            self.strobe_at = model.strobe_time(self.strobe_next);
         }
     }
     fn advance_dense(&mut self) {
@@ -439,7 +448,10 @@ impl Schedule {
         self.next_strobe().min(d)
     }
     /// The next output due at or before `t`, strobes first on ties.
-    fn pop_due(&mut self, t: f64) -> Option<(f64, Due)> {
+    fn pop_due<M: RotorModel>(&mut self, t: f64, model: &M) -> Option<(f64, Due)>
+    where
+        DefaultAllocator: Allocator<M::Dim>,
+    {
         let ts = self.next_strobe();
         let td = if self.has_dense {
             self.dense_time()
@@ -448,7 +460,7 @@ impl Schedule {
         };
         if ts <= t && ts <= td {
             let k = self.strobe_next;
-            self.advance_strobe();
+            self.advance_strobe(model);
             Some((ts, Due::Strobe(k)))
         } else if td <= t {
             self.advance_dense();
@@ -864,7 +876,7 @@ where
             integ,
             ev_state: EventState::with_dim(dim),
             w: Scratch::new(dim),
-            sched: Schedule::new(plan, period, t0),
+            sched: Schedule::new(plan, model, t0),
             chatter: ChatterGuard {
                 window_start: t0,
                 count: 0,
@@ -919,7 +931,7 @@ where
             let target = self.sched.next_time().min(t_end);
             let hit = seg.next_guard(self.t, target);
             let t_stop = hit.map_or(target, |h| h.t);
-            while let Some((to, due)) = self.sched.pop_due(t_stop) {
+            while let Some((to, due)) = self.sched.pop_due(t_stop, model) {
                 seg.eval(to, &mut self.y, &mut self.w.dy);
                 self.w
                     .out
@@ -1038,7 +1050,7 @@ where
         label: u8,
     ) -> Result<(), SimError<M::Dim>> {
         let (model, mode, cache) = (self.model, self.mode, self.caches.outputs);
-        while let Some((to, due)) = self.sched.pop_due(t_stop) {
+        while let Some((to, due)) = self.sched.pop_due(t_stop, model) {
             if to == self.integ.t() {
                 self.w.yo.copy_from(self.integ.y());
             } else {

@@ -578,13 +578,23 @@ where
     fn mode_label(&self, mode: Self::Mode) -> u8;
 
     /// The period $P$ of the excitation: stroboscopic outputs are at $t_k = kP$
-    /// ([`StrobeRange`]) and the chattering bound counts transitions per window of length
+    /// ([`StrobeRange`]; unless [`RotorModel::strobe_time`] says otherwise) and the chattering bound counts transitions per window of length
     /// $P$ ([`SimOptions::max_events_per_period`]), as does the maximum step
     /// ([`SimOptions::max_step_fraction`]) and the fixed step of RK4
     /// ([`SimOptions::steps_per_period`]). An **unforced** model returns a characteristic
     /// period of its motion instead (e.g. $2\pi/\omega_n$ of its lowest mode, or the sampling
     /// interval wanted for its stroboscopic outputs): finite and > 0.
     fn forcing_period(&self) -> f64;
+
+    /// The time $t_k$ of the stroboscopic output `k` ([`StrobeRange`]): the default is
+    /// $t_k = kP$ ($P$ = [`RotorModel::forcing_period`]), the forcing's phase back at its
+    /// start after `k` periods. A model whose forcing frequency varies in time (a run-up,
+    /// [`crate::rotor::SpeedProfile`]) returns the times its forcing phase reaches its
+    /// start plus $2\pi k$ (or a fraction of it). Must increase with `k` and be finite for
+    /// the indices asked for.
+    fn strobe_time(&self, k: u64) -> f64 {
+        self.forcing_period() * k as f64
+    }
 
     /// An upper bound $\lambda$ of the rates of the motion in `mode` at `(t, y)` (the spectral
     /// radius of the vector field's Jacobian, for a unit-mass oscillator of stiffness $k$ and

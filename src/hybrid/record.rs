@@ -3,7 +3,8 @@
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, OVector};
 
-/// Stroboscopic outputs at $t_k = k P$ ($P$ the forcing period) for `k` in `first..=last`.
+/// Stroboscopic outputs at $t_k = k P$ ($P$ the forcing period; in general the model's
+/// [`super::RotorModel::strobe_time`]) for `k` in `first..=last`.
 ///
 /// `first > last` is an invalid option of [`super::simulate`] (not an empty output).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -69,7 +70,7 @@ where
 {
     /// Forcing periods since $t = 0$.
     pub k: u64,
-    /// Time $t_k = kP$.
+    /// Time $t_k = kP$ (the model's [`super::RotorModel::strobe_time`]).
     pub t: f64,
     /// State at $t_k$ (its left limit if an event falls exactly there).
     pub y: OVector<f64, D>,

@@ -414,6 +414,10 @@ where
     fn forcing_period(&self) -> f64 {
         self.model.forcing_period()
     }
+
+    fn strobe_time(&self, k: u64) -> f64 {
+        self.model.strobe_time(k)
+    }
 }
 
 /// An exact mode of the augmented model: the model's closed form, and the variation

@@ -6,6 +6,9 @@
 /// The examples' shared CLI, CSV and figure helpers (`examples/common/`).
 #[path = "../../examples/common/mod.rs"]
 mod common;
+/// The Duhamel integral of the linear rotor by Gauss-Legendre quadrature.
+#[path = "../support/duhamel.rs"]
+mod duhamel;
 /// The built example programs.
 #[path = "../support/examples.rs"]
 mod support;
@@ -16,4 +19,5 @@ mod examples_help;
 mod figures_simulate;
 mod global_examples;
 mod ross_rotor_cli;
+mod run_up_cli;
 mod stability_cli;

@@ -3,6 +3,9 @@
 //! own; one module per file: `cargo test --test simulation`, or one module:
 //! `cargo test --test simulation hard_cases::`.
 
+/// The Duhamel integral of the linear rotor by Gauss-Legendre quadrature.
+#[path = "../support/duhamel.rs"]
+mod duhamel;
 /// `examples/custom_rotor`'s rotor, tested as a user's model.
 #[allow(dead_code)] // the example uses what the tests do not
 #[path = "../../examples/custom_rotor/rotor.rs"]
@@ -23,5 +26,6 @@ mod flexible_shaft;
 mod hard_cases;
 mod reference;
 mod rotor_checks;
+mod run_up;
 mod si_units;
 mod simulation;

@@ -1,0 +1,243 @@
+//! A run-up (or run-down) of the paper's rotor through its critical speed, with or without the
+//! snubber ring: the speed ramps at the constant rate `--rate` $R = d\eta/d\tau$ from
+//! `--eta-from` $A$ to `--eta-to` $B$ ($R < 0$ for a run-down, $A > B$), and the run stops when
+//! it reaches $B$, at $\tau = (B - A)/R$.
+//!
+//! With `--csv`, prints the CSV `tau,eta,x,y` at `--samples-per-period` $S$ equally spaced
+//! phases per revolution of the out-of-balance: row `k` is at the time where the forcing phase
+//! $\varphi(\tau) = \varphi_0 + A\tau + R\tau^2/2$ reaches $\varphi_0 + 2\pi k/S$ (closed
+//! form), for every such time up to the end. Without `--csv`, prints one summary line: the
+//! largest radius $|r|$ from the ring's centre, the speed and time where it occurred, the number
+//! of samples and of contacts; with `--out DIR` also the sweep back (from $B$ to $A$ at
+//! $-R$) and its summary line, and draws `DIR/envelope.png` (with `envelope.csv`): the largest
+//! radius in each revolution against the speed, up and down.
+//!
+//! The scene flags are `simulate`'s (`--preset`, parameter overrides, `--rtol`, `--atol`,
+//! `--method`, the initial rotor state `--x0 --y0 --vx0 --vy0`, default at rest at the origin;
+//! the ring starts at its centre, or at its minimum-energy position if the rotor starts in
+//! contact). `--eta` is accepted but unused: the ramp sets the speed. `--no-ring` puts the ring
+//! out of reach (a gap of 1e6). The out-of-balance force includes the terms of the speed's rate,
+//! $\beta(\eta^2\cos\varphi + \eta^\prime\sin\varphi, \eta^2\sin\varphi - \eta^\prime\cos\varphi)$.
+//!
+//! Exit status: 0 on success; 2 with one `error: ...` line on standard error for bad input;
+//! 1 with one line on standard error if the simulation fails (after the rows computed so far).
+//!
+//! ```text
+//! cargo run --release --example run_up -- --preset fig8a --eta-from 0.3 --eta-to 3 --rate 0.01 --samples-per-period 16 --csv
+//! ```
+
+#[path = "../common/mod.rs"]
+mod common;
+mod envelope;
+
+use std::io::{self, BufWriter, Write};
+use std::path::PathBuf;
+
+use clap::Parser;
+use common::cli::{f64_in, fail, parse, usize_in};
+use common::csv::write_f64;
+use common::scene::{Scene, SceneFlags};
+use jeffcott::hybrid::{simulate, OutputPlan, SimError, StrobeRange, Trajectory};
+use jeffcott::nalgebra::{SVector, U6};
+use jeffcott::rotor::{ProfiledJeffcott, SpeedProfile};
+use jeffcott::JeffcottModel;
+
+/// A run-up or run-down of the paper's rotor at a constant rate R = d eta / d tau from eta = A
+/// to eta = B: CSV tau,eta,x,y at S phases per revolution (--csv), or one summary line.
+#[derive(Parser)]
+#[command(name = "run_up")]
+struct Flags {
+    #[command(flatten)]
+    scene: SceneFlags,
+    /// Put the ring out of reach (no contact)
+    #[arg(long)]
+    no_ring: bool,
+    /// Speed A at the start [range: 0..=1000]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3))]
+    eta_from: f64,
+    /// Speed B at the end [range: 0..=1000]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3))]
+    eta_to: f64,
+    /// Rate R = d eta / d tau, not 0, < 0 for a run-down [range: -1000..=1000]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(-1e3, 1e3))]
+    rate: f64,
+    /// Samples S per revolution of the out-of-balance [range: 1..=1000000]
+    #[arg(long, value_name = "COUNT", value_parser = usize_in(1, 1_000_000))]
+    samples_per_period: usize,
+    /// Print the samples as CSV tau,eta,x,y
+    #[arg(long)]
+    csv: bool,
+    /// Without --csv: also run the sweep back and draw the envelope of both in this folder
+    #[arg(long, value_name = "DIR", conflicts_with = "csv")]
+    out: Option<PathBuf>,
+}
+
+/// The rotor and its consistent initial state, or exit with status 2.
+fn setup(flags: &Flags, scene: &Scene) -> (ProfiledJeffcott, SVector<f64, 6>) {
+    if flags.eta_from == flags.eta_to {
+        fail("--eta-from and --eta-to must differ (a ramp)");
+    }
+    let profile = SpeedProfile::ramp(flags.eta_from, flags.eta_to, flags.rate)
+        .unwrap_or_else(|e| fail(format!("--rate: {e}")));
+    let samples = u32::try_from(flags.samples_per_period).unwrap_or(u32::MAX);
+    let rotor = ProfiledJeffcott::new(scene.params, profile)
+        .unwrap_or_else(|e| fail(e))
+        .with_strobes_per_revolution(samples)
+        .unwrap_or_else(|e| fail(e));
+    let [x0, y0, vx0, vy0] = scene.start;
+    let mut start = SVector::<f64, 6>::from([x0, y0, vx0, vy0, 0.0, 0.0]);
+    if !flags.no_ring {
+        // The paper's model places the ring for a start in contact; it has the same ring.
+        let paper = JeffcottModel::new(*rotor.params()).unwrap_or_else(|e| fail(e));
+        start = paper
+            .state_at([x0, y0], [vx0, vy0])
+            .unwrap_or_else(|e| fail(format!("initial state: {e}")));
+    }
+    (rotor, start)
+}
+
+/// Runs the ramp to its end with the strobes at the sampled phases.
+fn run(flags: &Flags, scene: &Scene) -> (ProfiledJeffcott, Trajectory<U6>, Option<SimError<U6>>) {
+    let (rotor, start) = setup(flags, scene);
+    let model = if flags.no_ring {
+        rotor.off_ring()
+    } else {
+        rotor.on_ring()
+    }
+    .unwrap_or_else(|e| fail(e));
+    let plan = OutputPlan {
+        t_end: rotor.profile().ramp_time(),
+        strobe: Some(StrobeRange {
+            first: 0,
+            last: u64::MAX - 1,
+        }),
+        dense: None,
+        events: true,
+    };
+    let mut traj = Trajectory::default();
+    let error = simulate(&model, 0.0, &start, &plan, &scene.opts, &mut traj).err();
+    (rotor, traj, error)
+}
+
+fn write_csv(
+    out: &mut impl Write,
+    rotor: &ProfiledJeffcott,
+    traj: &Trajectory<U6>,
+) -> io::Result<()> {
+    writeln!(out, "tau,eta,x,y")?;
+    for p in &traj.strobe {
+        for (i, v) in [p.t, rotor.profile().eta(p.t), p.y[0], p.y[1]]
+            .into_iter()
+            .enumerate()
+        {
+            if i > 0 {
+                out.write_all(b",")?;
+            }
+            write_f64(out, v)?;
+        }
+        writeln!(out)?;
+    }
+    Ok(())
+}
+
+fn write_summary(
+    out: &mut impl Write,
+    rotor: &ProfiledJeffcott,
+    traj: &Trajectory<U6>,
+) -> io::Result<()> {
+    let radius = |i: usize| traj.strobe[i].y[0].hypot(traj.strobe[i].y[1]);
+    let peak = (0..traj.strobe.len()).max_by(|&a, &b| radius(a).total_cmp(&radius(b)));
+    let contacts = traj
+        .events
+        .iter()
+        .filter(|e| e.kind == "contact onset")
+        .count();
+    let n = traj.strobe.len();
+    match peak {
+        Some(i) => {
+            let t = traj.strobe[i].t;
+            let eta = rotor.profile().eta(t);
+            writeln!(
+                out,
+                "peak radius {} at eta {eta} (tau {t}); {n} samples, {contacts} contacts",
+                radius(i)
+            )
+        }
+        None => writeln!(out, "no samples; {contacts} contacts"),
+    }
+}
+
+fn main() {
+    let flags: Flags = parse();
+    let scene = flags.scene.scene();
+    let (rotor, traj, error) = run(&flags, &scene);
+    let stdout = io::stdout();
+    let mut out = BufWriter::new(stdout.lock());
+    let written = if flags.csv {
+        write_csv(&mut out, &rotor, &traj)
+    } else {
+        write_summary(&mut out, &rotor, &traj)
+    }
+    .and_then(|_| out.flush());
+    if let Err(e) = written {
+        // A closed pipe (e.g. `| head`) is not an error of the simulation.
+        if e.kind() != io::ErrorKind::BrokenPipe {
+            eprintln!("error: writing the output: {e}");
+            std::process::exit(1);
+        }
+    }
+    if let Some(e) = error {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+    if let Some(dir) = &flags.out {
+        sweep_back_and_draw(&flags, &scene, dir, &rotor, &traj);
+    }
+}
+
+/// The sweep from B back to A, its summary line, and the envelope of both sweeps.
+fn sweep_back_and_draw(
+    flags: &Flags,
+    scene: &Scene,
+    dir: &std::path::Path,
+    rotor: &ProfiledJeffcott,
+    traj: &Trajectory<U6>,
+) {
+    let back = Flags {
+        eta_from: flags.eta_to,
+        eta_to: flags.eta_from,
+        rate: -flags.rate,
+        out: None,
+        scene: flags.scene.clone(),
+        ..*flags
+    };
+    let (rotor_back, traj_back, error) = run(&back, scene);
+    let mut out = io::stdout().lock();
+    if let Err(e) = write_summary(&mut out, &rotor_back, &traj_back) {
+        eprintln!("error: writing the output: {e}");
+        std::process::exit(1);
+    }
+    if let Some(e) = error {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+    let s = flags.samples_per_period;
+    let label = |f: &Flags| format!("{} → {} at R = {}", f.eta_from, f.eta_to, f.rate);
+    let sweeps = vec![
+        (
+            label(flags),
+            envelope::per_revolution(traj, rotor.profile(), s),
+        ),
+        (
+            label(&back),
+            envelope::per_revolution(&traj_back, rotor_back.profile(), s),
+        ),
+    ];
+    let ring = if flags.no_ring {
+        "without the ring"
+    } else {
+        "on the ring"
+    };
+    let title = format!("{} {ring}: envelope", flags.scene.preset);
+    common::or_exit(envelope::draw(dir, &title, sweeps));
+}
