@@ -29,7 +29,7 @@ pub struct EigenDecomposition {
 /// nalgebra computes the Schur form but no eigenvectors of a non-symmetric matrix. Here the
 /// matrix is balanced (a diagonal similarity $A_b = D^{-1} A D$ by powers of 2, Parlett and
 /// Reinsch, as LAPACK's `gebal` does before `geev`: a state matrix
-/// $\begin{pmatrix}0 & I\\ -M^{-1}K & -M^{-1}D\end{pmatrix}$ has blocks of sizes 1 and
+/// $\begin{pmatrix}0 & I\\\\ -M^{-1}K & -M^{-1}D\end{pmatrix}$ has blocks of sizes 1 and
 /// $\omega_\text{max}^2$, and without balancing the Schur form's backward error
 /// $\varepsilon|A|$ would swamp the low modes), reduced to the *complex* Schur form
 /// $A_b = Q T Q^{\mathsf H}$ (nalgebra's [`Schur`] over `Complex<f64>`: $T$ upper

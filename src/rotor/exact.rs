@@ -43,7 +43,7 @@ pub struct LinearFreeFlight {
 /// $$M q^{\prime\prime} + D q^\prime + K q = f_0 + \operatorname{Re}(\hat F e^{i\Omega t}),$$
 ///
 /// ($D = C + \Omega G$), i.e. $x^\prime = A x + b_0 + \operatorname{Re}(\hat b e^{i\Omega t})$
-/// for $x = (q, q^\prime)$ with $A = \begin{pmatrix}0 & I\\ -M^{-1}K & -M^{-1}D\end{pmatrix}$.
+/// for $x = (q, q^\prime)$ with $A = \begin{pmatrix}0 & I\\\\ -M^{-1}K & -M^{-1}D\end{pmatrix}$.
 /// Its solution is known in closed form ([`LinearClosedForm`]):
 ///
 /// $$x(t) = x_p(t) + \operatorname{Re}\Big(\textstyle\sum_k V_k\thinspace w_k

@@ -13,6 +13,18 @@ use jeffcott::rotor::{LinearRotor, LinearSystem, RingedRotor, RotorMatrices};
 const GAP: f64 = 1.5e-6;
 
 fn model(offset: [f64; 2]) -> RingedRotor<LinearRotor> {
+    rotor_42(5e6, 50.0, [2e-7, 1e-7], GAP, offset)
+}
+
+/// The 42-DOF ROSS rotor at 1500 rpm (unbalances at nodes 2 and 5) with the ring of unit
+/// stiffness `ks`, unit damping `cs`, preloads and gap at node 4, its centre at `offset` (m).
+pub fn rotor_42(
+    ks: f64,
+    cs: f64,
+    preload: [f64; 2],
+    gap: f64,
+    offset: [f64; 2],
+) -> RingedRotor<LinearRotor> {
     let path = format!(
         "{}/tests/data/rotors/rotor_example_1500rpm.mat",
         env!("CARGO_MANIFEST_DIR")
@@ -29,7 +41,7 @@ fn model(offset: [f64; 2]) -> RingedRotor<LinearRotor> {
         .with_unbalance(lateral.layout(), 5, 5e-5, 1.0)
         .unwrap();
     let x = lateral.x_dof(4).unwrap();
-    let ring = SnubberRing::from_units(5e6, 50.0, [2e-7, 1e-7], GAP).unwrap();
+    let ring = SnubberRing::from_units(ks, cs, preload, gap).unwrap();
     LinearRotor::new(system, [x, x + 1], offset)
         .unwrap()
         .ringed(ring)

@@ -41,7 +41,10 @@ use jeffcott::hybrid::{
 use jeffcott::nalgebra::{Complex, DMatrix, DVector, Dyn, Vector2};
 use jeffcott::ode::Method;
 use jeffcott::ring::{Branch, Branches, Relaxation, RingAxis, RingCache, RingMode, SnubberRing};
-use jeffcott::rotor::{LinearRotor, LinearSystem, RingedRotor, RotorMatrices};
+use jeffcott::rotor::{LinearRotor, RingedRotor};
+
+use super::fe_reduction_s1::reduced_model;
+use super::fe_s1::S1;
 
 /// The integrands (W): $v\cdot F$, $v^{\mathsf T}D_s v$, $v^{\mathsf T}K_a q$, $f\cdot
 /// r^\prime$, $s^{\prime\mathsf T}Cs^\prime$, $g\cdot s^\prime$, $f\cdot(r^\prime - s^\prime)$.
@@ -515,65 +518,8 @@ fn options(method: Method, rtol: f64) -> SimOptions {
         .with_atol(rtol)
 }
 
-/// ROSS's 42-DOF `rotor_example` at 1500 rpm (undamped: $C = 0$), unbalanced at nodes 2 and
-/// 5, with a preloaded ring at node 4 (k_s, c_s, preloads, gap, centre offset).
-fn rotor_42(
-    ks: f64,
-    cs: f64,
-    preload: [f64; 2],
-    gap: f64,
-    offset: [f64; 2],
-) -> RingedRotor<LinearRotor> {
-    let path = format!(
-        "{}/tests/data/rotors/rotor_example_1500rpm.mat",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let lateral = RotorMatrices::from_ross_mat(path)
-        .unwrap()
-        .lateral()
-        .unwrap();
-    let speed = 1500.0 * std::f64::consts::TAU / 60.0;
-    let system = LinearSystem::from_matrices(&lateral, speed)
-        .unwrap()
-        .with_unbalance(lateral.layout(), 2, 1e-4, 0.0)
-        .unwrap()
-        .with_unbalance(lateral.layout(), 5, 5e-5, 1.0)
-        .unwrap();
-    let x = lateral.x_dof(4).unwrap();
-    let ring = SnubberRing::from_units(ks, cs, preload, gap).unwrap();
-    LinearRotor::new(system, [x, x + 1], offset)
-        .unwrap()
-        .ringed(ring)
-        .unwrap()
-}
-
 fn asymmetry(a: &DMatrix<f64>) -> f64 {
     (a - a.transpose()).amax() / a.amax().max(f64::MIN_POSITIVE)
-}
-
-/// S1 (`fe_s1`) on a Craig-Bampton reduction to `modes` fixed-interface modes that keeps the
-/// ring node's x, y physical (as `fe_reduction_s1`).
-fn s1_reduced(modes: usize) -> RingedRotor<LinearRotor> {
-    let full = super::fe_s1::S1::load().model(1.0);
-    let lateral = RotorMatrices::from_ross_mat(format!(
-        "{}/tests/data/rotors/rotor_example_with_damping_1200rpm.mat",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .lateral()
-    .unwrap();
-    let station = full.rotor().station_dofs();
-    let cb = jeffcott::rotor::CraigBampton::from_rotor(
-        &lateral,
-        &station,
-        jeffcott::rotor::ModeSelection::Count(modes),
-    )
-    .unwrap();
-    let system = cb.reduce(full.rotor().system()).unwrap();
-    LinearRotor::new(system, [0, 1], full.rotor().ring_offset())
-        .unwrap()
-        .ringed(*full.ring())
-        .unwrap()
 }
 
 /// The relative tolerance of every balance: measured 4e-14 to 9e-13 (see the report below).
@@ -608,7 +554,7 @@ fn check(name: &str, b: &Balance, stats: &SimStats) {
 /// the rotor starts in contact) on the undamped 42-DOF rotor, 0.2 s (5 revolutions): every
 /// contact regime, two losses and two onsets.
 fn case_42(method: Method) {
-    let model = rotor_42(5e6, 50.0, [2e-7, 1e-7], 1.5e-6, [2e-6, 0.0]);
+    let model = super::fe_eccentric::rotor_42(5e6, 50.0, [2e-7, 1e-7], 1.5e-6, [2e-6, 0.0]);
     let (b, stats, labels) = run(
         &model,
         model.rotor().rest_state(),
@@ -639,7 +585,7 @@ fn case_42(method: Method) {
 /// closes to 7e-14 of the scale.
 #[test]
 fn energy_balance_42_dof_ring_not_relaxed_at_a_touch() {
-    let model = rotor_42(5e6, 2e4, [2e-7, 1e-7], 1.5e-6, [2e-6, 0.0]);
+    let model = super::fe_eccentric::rotor_42(5e6, 2e4, [2e-7, 1e-7], 1.5e-6, [2e-6, 0.0]);
     let opts = options(Method::Dop853, 1e-10);
     let (b, stats, labels) = run(&model, model.rotor().rest_state(), 0.2, 2e-6, &opts);
     assert_eq!(
@@ -678,7 +624,7 @@ fn energy_balance_42_dof_preloaded_ring_radau5() {
 /// measured 4e-15 and 7e-14 of the scale.
 #[test]
 fn energy_balance_s1_on_24_modes() {
-    let model = s1_reduced(24);
+    let model = reduced_model(&S1::load(), 24);
     for method in [Method::Dop853, Method::Radau5] {
         let (b, stats, labels) = run(
             &model,
@@ -704,10 +650,10 @@ fn energy_balance_report() {
     let cases = [
         (
             "42 DOF",
-            rotor_42(5e6, 50.0, [2e-7, 1e-7], 1.5e-6, [2e-6, 0.0]),
+            super::fe_eccentric::rotor_42(5e6, 50.0, [2e-7, 1e-7], 1.5e-6, [2e-6, 0.0]),
             0.2,
         ),
-        ("S1, 24 modes", s1_reduced(24), 0.1),
+        ("S1, 24 modes", reduced_model(&S1::load(), 24), 0.1),
     ];
     println!("case | h (s) | rtol | rotor | ring | system (residual / scale)");
     for (name, model, t_end) in &cases {

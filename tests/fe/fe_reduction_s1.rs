@@ -15,7 +15,7 @@ use super::fe_s1::{event_error, reference, Run, S1};
 
 /// S1 with the rotor reduced to node 12's x, y and `modes` fixed-interface modes: the full
 /// model's system (unbalance included) projected, the ring at reduced coordinates 0 and 1.
-fn reduced_model(s1: &S1, modes: usize) -> RingedRotor<LinearRotor> {
+pub fn reduced_model(s1: &S1, modes: usize) -> RingedRotor<LinearRotor> {
     let full = s1.model(1.0);
     let station = full.rotor().station_dofs();
     let lateral = RotorMatrices::from_ross_mat(format!(
