@@ -668,9 +668,9 @@ impl SmoothRotor for LinearRotor {
         [2 * n, 2 * n + 1]
     }
 
-    /// [`LinearRotor::write_jacobian`], and in contact $-M^{-1}_{\cdot s}(F_r, F_v)$ in the
-    /// station's position and velocity columns ($M^{-1}_{\cdot s}$: the station's two
-    /// columns of $M^{-1}$, [`LinearRotor::station_compliance`]).
+    /// [`LinearRotor::write_jacobian`], and in contact $-M^{-1}E_s\thinspace(F_r, F_v)$ in the
+    /// station's position and velocity columns ($M^{-1}E_s$: the station's two columns of
+    /// $M^{-1}$, [`LinearRotor::station_compliance`]; $F_r$, $F_v$ the ring force's Jacobians).
     fn jacobian(
         &self,
         _t: f64,
