@@ -37,11 +37,9 @@ fn thousand_steps_with_events_of_a_dyn_system_allocate_nothing() {
     {
         let opts = match method {
             Method::Rk4 => Options::fixed(0.02),
-            _ => Options {
-                rtol: Tolerance::Scalar(1e-9),
-                atol: Tolerance::PerComponent(DVector::from_element(n, 1e-11)),
-                ..Options::default()
-            },
+            _ => Options::default()
+                .with_rtol(Tolerance::Scalar(1e-9))
+                .with_atol(Tolerance::PerComponent(DVector::from_element(n, 1e-11))),
         };
         let mut integ = AnyIntegrator::with_dim(method, Dyn(n), opts).unwrap();
         // A wall at x_0 = 0.1 (impact: the velocity is reversed), with the
@@ -68,10 +66,7 @@ fn thousand_steps_with_events_of_a_dyn_system_allocate_nothing() {
         )
         .terminal([true, false]);
         let mut state = EventState::with_dim(Dyn(n));
-        let ev_opts = EventOptions {
-            screen,
-            ..EventOptions::default()
-        };
+        let ev_opts = EventOptions::default().with_screen(screen);
         let y0 = DVector::from_fn(n, |i, _| 0.05 * (i as f64 + 1.0).sin());
         let mut y = y0.clone();
         let mut mid = y0.clone();

@@ -90,20 +90,20 @@ fn options_round_trip_through_json() {
     round_trip(&LocatorOptions::default().with_resolution(0.1 + 0.2));
     // JSON has no infinity (serde_json writes null and refuses to read it back): a finite
     // h_max here; formats with non-finite numbers take the default +inf as well.
-    let ode = Options::<U6> {
-        rtol: Tolerance::PerComponent(jeffcott::State::from_fn(|i, _| 1e-9 * (i + 1) as f64)),
-        atol: Tolerance::Scalar(1e-13),
-        h_max: 0.7,
-        beta: Some(0.04),
-        ..Options::default()
-    };
+    let ode = Options::<U6>::default()
+        .with_rtol(Tolerance::PerComponent(jeffcott::State::from_fn(|i, _| {
+            1e-9 * (i + 1) as f64
+        })))
+        .with_atol(Tolerance::Scalar(1e-13))
+        .with_h_max(0.7)
+        .with_beta(Some(0.04));
     round_trip(&ode);
-    round_trip(&EventOptions {
-        samples_per_step: 7,
-        root_tol: 1e-14,
-        screen: true,
-        ..EventOptions::default()
-    });
+    round_trip(
+        &EventOptions::default()
+            .with_samples_per_step(7)
+            .with_root_tol(1e-14)
+            .with_screen(true),
+    );
     let newton = NewtonOptions::default()
         .with_atol(3e-12)
         .with_rtol(1e-13)

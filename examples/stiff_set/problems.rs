@@ -379,10 +379,7 @@ pub fn run(
     atol: f64,
     max_steps: u64,
 ) -> Result<Run, OdeError> {
-    let opts = Options {
-        max_steps,
-        ..Options::with_tol(rtol, atol)
-    };
+    let opts = Options::with_tol(rtol, atol).with_max_steps(max_steps);
     let mut integ = AnyIntegrator::with_dim(method, Dyn(problem.dim()), opts)?;
     let t_end = problem.t_end();
     let start = Instant::now();

@@ -868,11 +868,9 @@ where
             obs,
             caches,
             fixed_step: opts.method == Method::Rk4,
-            ev_opts: EventOptions {
-                samples_per_step: opts.event_samples,
-                screen: opts.screen_events,
-                ..EventOptions::default()
-            },
+            ev_opts: EventOptions::default()
+                .with_samples_per_step(opts.event_samples)
+                .with_screen(opts.screen_events),
             integ,
             ev_state: EventState::with_dim(dim),
             w: Scratch::new(dim),
@@ -1158,15 +1156,13 @@ where
     } else {
         Tolerance::Scalar(opts.atol)
     };
-    let mut o = Options::<M::Dim> {
-        rtol: Tolerance::Scalar(opts.rtol),
-        atol,
-        h_max: opts.max_step_fraction * period,
-        max_steps: opts.max_steps,
-        ..Options::default()
-    };
+    let mut o = Options::<M::Dim>::default()
+        .with_rtol(opts.rtol)
+        .with_atol(atol)
+        .with_h_max(opts.max_step_fraction * period)
+        .with_max_steps(opts.max_steps);
     if opts.method == Method::Rk4 {
-        o.fixed_step = Some(period / f64::from(opts.steps_per_period));
+        o = o.with_fixed_step(period / f64::from(opts.steps_per_period));
     }
     Ok(AnyIntegrator::with_dim(opts.method, dim, o)?)
 }

@@ -112,8 +112,21 @@ where
     }
 }
 
-/// Integrator options. A plain struct: build it with struct-update syntax,
-/// e.g. `Options { rtol: 1e-10.into(), ..Options::default() }`.
+/// Integrator options. Start from [`Default`] (or [`Options::with_tol`],
+/// [`Options::fixed`]) and change fields with the `with_` builders, e.g.
+///
+/// ```
+/// use jeffcott::ode::Options;
+/// use nalgebra::U2;
+///
+/// let opts = Options::<U2>::default().with_rtol(1e-10).with_h_max(0.1);
+/// assert_eq!(opts.rtol.get(0), 1e-10);
+/// assert_eq!(opts.h_max, 0.1);
+/// ```
+///
+/// The fields are public for reading; the struct is `#[non_exhaustive]`, so
+/// it cannot be built by a struct literal outside the crate (a new field is
+/// then not a breaking change).
 ///
 /// Times and step sizes are in the time unit of the system. `Copy` for
 /// fixed dimensions, `Clone` for [`Dyn`](nalgebra::Dyn).
@@ -126,6 +139,7 @@ where
         deserialize = "nalgebra::OVector<f64, D>: serde::Deserialize<'de>"
     ))
 )]
+#[non_exhaustive]
 pub struct Options<D: Dim>
 where
     DefaultAllocator: Allocator<D>,
@@ -208,25 +222,102 @@ where
     }
 }
 
+/// Builders: each returns the options with one field changed (the value is
+/// checked by [`Options::validate`], as for every other construction).
+impl<D: Dim> Options<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// With [`rtol`](Self::rtol) = `value`. A scalar `f64` or a [`Tolerance`].
+    #[must_use]
+    pub fn with_rtol(mut self, value: impl Into<Tolerance<D>>) -> Self {
+        self.rtol = value.into();
+        self
+    }
+
+    /// With [`atol`](Self::atol) = `value`. A scalar `f64` or a [`Tolerance`].
+    #[must_use]
+    pub fn with_atol(mut self, value: impl Into<Tolerance<D>>) -> Self {
+        self.atol = value.into();
+        self
+    }
+
+    /// With [`h_init`](Self::h_init) = `value`. A step `h` or `None` (automatic).
+    #[must_use]
+    pub fn with_h_init(mut self, value: impl Into<Option<f64>>) -> Self {
+        self.h_init = value.into();
+        self
+    }
+
+    /// With [`h_max`](Self::h_max) = `value`.
+    #[must_use]
+    pub fn with_h_max(mut self, value: f64) -> Self {
+        self.h_max = value;
+        self
+    }
+
+    /// With [`h_min`](Self::h_min) = `value`.
+    #[must_use]
+    pub fn with_h_min(mut self, value: f64) -> Self {
+        self.h_min = value;
+        self
+    }
+
+    /// With [`max_steps`](Self::max_steps) = `value`.
+    #[must_use]
+    pub fn with_max_steps(mut self, value: u64) -> Self {
+        self.max_steps = value;
+        self
+    }
+
+    /// With [`safety`](Self::safety) = `value`.
+    #[must_use]
+    pub fn with_safety(mut self, value: f64) -> Self {
+        self.safety = value;
+        self
+    }
+
+    /// With [`fac_min`](Self::fac_min) = `value`.
+    #[must_use]
+    pub fn with_fac_min(mut self, value: f64) -> Self {
+        self.fac_min = value;
+        self
+    }
+
+    /// With [`fac_max`](Self::fac_max) = `value`.
+    #[must_use]
+    pub fn with_fac_max(mut self, value: f64) -> Self {
+        self.fac_max = value;
+        self
+    }
+
+    /// With [`beta`](Self::beta) = `value`. A value or `None` (the method's default).
+    #[must_use]
+    pub fn with_beta(mut self, value: impl Into<Option<f64>>) -> Self {
+        self.beta = value.into();
+        self
+    }
+
+    /// With [`fixed_step`](Self::fixed_step) = `value`. A step `h` or `None` (adaptive).
+    #[must_use]
+    pub fn with_fixed_step(mut self, value: impl Into<Option<f64>>) -> Self {
+        self.fixed_step = value.into();
+        self
+    }
+}
+
 impl<D: Dim> Options<D>
 where
     DefaultAllocator: Allocator<D>,
 {
     /// Options with the given scalar tolerances and defaults otherwise.
     pub fn with_tol(rtol: f64, atol: f64) -> Self {
-        Options {
-            rtol: Tolerance::Scalar(rtol),
-            atol: Tolerance::Scalar(atol),
-            ..Options::default()
-        }
+        Options::default().with_rtol(rtol).with_atol(atol)
     }
 
     /// Options for fixed steps of size `h` (see [`Options::fixed_step`]).
     pub fn fixed(h: f64) -> Self {
-        Options {
-            fixed_step: Some(h),
-            ..Options::default()
-        }
+        Options::default().with_fixed_step(h)
     }
 
     /// Number of components whose `atol` is finite, i.e. that are

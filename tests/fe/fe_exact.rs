@@ -281,11 +281,9 @@ fn random_stable_rotor_matches_a_high_accuracy_integration() {
     let x0: Vec<f64> = (0..2 * n).map(|_| rng.sym()).collect();
     let t0 = 0.3;
     let seg = form.segment(t0, &x0);
-    let opts = Options {
-        rtol: Tolerance::Scalar(1e-13),
-        atol: Tolerance::Scalar(1e-15),
-        ..Options::default()
-    };
+    let opts = Options::default()
+        .with_rtol(Tolerance::Scalar(1e-13))
+        .with_atol(Tolerance::Scalar(1e-15));
     let mut integ = Dop853::with_dim(Dyn(2 * n), opts).unwrap();
     let y0 = DVector::from_vec(x0.clone());
     integ.reset(&sys, t0, &y0, false).unwrap();
@@ -583,11 +581,9 @@ fn free_flight_cost_on_the_s1_rotor() {
         field.accel(t, q, v, &mut a);
         dy.as_mut_slice()[n..].copy_from_slice(&a);
     };
-    let opts = Options {
-        rtol: Tolerance::Scalar(1e-10),
-        atol: Tolerance::Scalar(1e-16),
-        ..Options::default()
-    };
+    let opts = Options::default()
+        .with_rtol(Tolerance::Scalar(1e-10))
+        .with_atol(Tolerance::Scalar(1e-16));
     let mut integ = Dop853::with_dim(Dyn(2 * n), opts).unwrap();
     let t = std::time::Instant::now();
     integ

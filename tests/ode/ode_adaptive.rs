@@ -180,10 +180,7 @@ fn stats_count_rhs_evaluations_exactly() {
 #[test]
 fn steps_respect_h_max_and_land_on_bound() {
     let sys = Kepler { e: 0.3 };
-    let opts = Options {
-        h_max: 0.05,
-        ..Options::with_tol(1e-6, 1e-6)
-    };
+    let opts = Options::with_tol(1e-6, 1e-6).with_h_max(0.05);
     for method in [Method::Dop853, Method::Dopri5] {
         let mut integ = AnyIntegrator::new(method, opts).unwrap();
         integ.reset(&sys, 0.0, &sys.exact(0.0), false).unwrap();
@@ -208,11 +205,9 @@ fn steps_respect_h_max_and_land_on_bound() {
 #[test]
 fn per_component_tolerance_and_outputs() {
     let sys = Kepler { e: 0.4 };
-    let opts = Options {
-        rtol: Tolerance::PerComponent(V4::new(1e-10, 1e-10, 1e-9, 1e-9)),
-        atol: Tolerance::Scalar(1e-12),
-        ..Options::default()
-    };
+    let opts = Options::default()
+        .with_rtol(Tolerance::PerComponent(V4::new(1e-10, 1e-10, 1e-9, 1e-9)))
+        .with_atol(Tolerance::Scalar(1e-12));
     let mut integ = Dop853::new(opts).unwrap();
     let grid: Vec<f64> = (0..=50).map(|i| i as f64 * 0.2).collect();
     let mut rec = Recorder::with_grid(grid.clone());
@@ -312,11 +307,9 @@ fn infinite_atol_excludes_a_component_from_error_control() {
     let y0 = V3::new(1.0, 0.0, 1.0);
     for method in [Method::Dop853, Method::Dopri5] {
         let run3 = |atol2: f64| {
-            let opts = Options {
-                rtol: Tolerance::Scalar(1e-10),
-                atol: Tolerance::PerComponent(V3::new(1e-12, 1e-12, atol2)),
-                ..Options::default()
-            };
+            let opts = Options::default()
+                .with_rtol(Tolerance::Scalar(1e-10))
+                .with_atol(Tolerance::PerComponent(V3::new(1e-12, 1e-12, atol2)));
             let mut rec = Recorder::default();
             rec.record_steps = true;
             let rep = solve(
@@ -395,10 +388,7 @@ fn atol_validation_allows_plus_infinity_only() {
         (per(f64::NAN), false),
         (per(-1e-12), false),
     ] {
-        let opts = Options {
-            atol,
-            ..Options::default()
-        };
+        let opts = Options::default().with_atol(atol);
         match Dop853::new(opts) {
             Ok(_) => assert!(ok, "{atol:?} accepted"),
             Err(e) => {
@@ -409,10 +399,7 @@ fn atol_validation_allows_plus_infinity_only() {
         }
     }
     // rtol stays finite.
-    let opts = Options::<nalgebra::U3> {
-        rtol: Tolerance::Scalar(f64::INFINITY),
-        ..Options::default()
-    };
+    let opts = Options::<nalgebra::U3>::default().with_rtol(Tolerance::Scalar(f64::INFINITY));
     assert!(matches!(
         Dop853::new(opts),
         Err(OdeError::InvalidOption { field: "rtol", .. })

@@ -172,10 +172,10 @@ proptest! {
         fac_max in prop::num::f64::ANY, bound in prop::num::f64::ANY,
         fixed in prop::option::of(prop::num::f64::ANY),
     ) {
-        let opts = Options::<U2> {
-            rtol: rtol.into(), atol: atol.into(), h_max, h_min, safety, fac_min, fac_max,
-            fixed_step: fixed, max_steps: 1000, ..Options::default()
-        };
+        let opts = Options::<U2>::default()
+            .with_rtol(rtol).with_atol(atol).with_h_max(h_max).with_h_min(h_min)
+            .with_safety(safety).with_fac_min(fac_min).with_fac_max(fac_max)
+            .with_fixed_step(fixed).with_max_steps(1000);
         for method in Method::ALL {
             if let Ok(mut integ) = AnyIntegrator::new(method, opts) {
                 if integ.reset(&osc, 0.0, &V2::new(1.0, 0.0), false).is_ok() {

@@ -104,11 +104,9 @@ where
                 U1,
                 (0..n).map(|i| if i == 1 { f64::INFINITY } else { 1e-11 }),
             );
-            Options {
-                rtol: Tolerance::Scalar(1e-9),
-                atol: Tolerance::PerComponent(atol),
-                ..Options::default()
-            }
+            Options::default()
+                .with_rtol(Tolerance::Scalar(1e-9))
+                .with_atol(Tolerance::PerComponent(atol))
         }
     }
 }
@@ -268,14 +266,7 @@ fn wrong_lengths_are_typed_errors() {
         dy[1] = -y[0];
     };
     let per = |n: usize| Tolerance::PerComponent(DVector::from_element(n, 1e-9));
-    let e = Dop853::with_dim(
-        Dyn(2),
-        Options {
-            atol: per(3),
-            ..Options::default()
-        },
-    )
-    .unwrap_err();
+    let e = Dop853::with_dim(Dyn(2), Options::default().with_atol(per(3))).unwrap_err();
     assert_eq!(
         e,
         OdeError::DimensionMismatch {
@@ -284,14 +275,7 @@ fn wrong_lengths_are_typed_errors() {
             found: 3
         }
     );
-    let e = Dopri5::with_dim(
-        Dyn(2),
-        Options {
-            rtol: per(1),
-            ..Options::default()
-        },
-    )
-    .unwrap_err();
+    let e = Dopri5::with_dim(Dyn(2), Options::default().with_rtol(per(1))).unwrap_err();
     assert!(matches!(
         e,
         OdeError::DimensionMismatch { field: "rtol", .. }

@@ -50,10 +50,7 @@ fn finite_time_blow_up_gives_step_size_underflow_with_last_good_state() {
         assert!(msg.contains("underflow") && msg.contains("event"), "{msg}");
     }
     // A user-set h_min triggers earlier.
-    let opts = Options {
-        h_min: 1e-6,
-        ..Options::with_tol(1e-8, 1e-8)
-    };
+    let opts = Options::with_tol(1e-8, 1e-8).with_h_min(1e-6);
     let mut integ = Dop853::new(opts).unwrap();
     let err = solve(
         &mut integ,
@@ -137,108 +134,37 @@ fn field_of(e: OdeError) -> &'static str {
 fn invalid_options_name_the_field() {
     let d = Options::<U2>::default();
     let cases: Vec<(Options<U2>, &str)> = vec![
+        (d.with_rtol(Tolerance::Scalar(-1.0)), "rtol"),
+        (d.with_rtol(Tolerance::Scalar(f64::NAN)), "rtol"),
         (
-            Options {
-                rtol: Tolerance::Scalar(-1.0),
-                ..d
-            },
-            "rtol",
-        ),
-        (
-            Options {
-                rtol: Tolerance::Scalar(f64::NAN),
-                ..d
-            },
-            "rtol",
-        ),
-        (
-            Options {
-                atol: Tolerance::PerComponent(V2::new(1e-9, f64::NAN)),
-                ..d
-            },
+            d.with_atol(Tolerance::PerComponent(V2::new(1e-9, f64::NAN))),
             "atol",
         ),
         (
-            Options {
-                rtol: Tolerance::Scalar(0.0),
-                atol: Tolerance::Scalar(0.0),
-                ..d
-            },
+            d.with_rtol(Tolerance::Scalar(0.0))
+                .with_atol(Tolerance::Scalar(0.0)),
             "atol",
         ),
-        (
-            Options {
-                h_init: Some(0.0),
-                ..d
-            },
-            "h_init",
-        ),
-        (
-            Options {
-                h_init: Some(f64::NAN),
-                ..d
-            },
-            "h_init",
-        ),
-        (Options { h_max: 0.0, ..d }, "h_max"),
-        (
-            Options {
-                h_max: f64::NAN,
-                ..d
-            },
-            "h_max",
-        ),
-        (Options { h_min: -1.0, ..d }, "h_min"),
-        (
-            Options {
-                h_min: 2.0,
-                h_max: 1.0,
-                ..d
-            },
-            "h_min",
-        ),
-        (Options { max_steps: 0, ..d }, "max_steps"),
-        (
-            Options {
-                h_init: Some(1e-9),
-                h_min: 1e-6,
-                ..d
-            },
-            "h_init",
-        ),
-        (Options { safety: 1.5, ..d }, "safety"),
-        (Options { safety: 0.0, ..d }, "safety"),
-        (Options { fac_min: 0.0, ..d }, "fac_min"),
-        (Options { fac_max: 0.5, ..d }, "fac_max"),
-        (
-            Options {
-                fac_max: f64::INFINITY,
-                ..d
-            },
-            "fac_max",
-        ),
-        (
-            Options {
-                beta: Some(0.5),
-                ..d
-            },
-            "beta",
-        ),
-        (
-            Options {
-                fixed_step: Some(-0.1),
-                ..d
-            },
-            "fixed_step",
-        ),
+        (d.with_h_init(Some(0.0)), "h_init"),
+        (d.with_h_init(Some(f64::NAN)), "h_init"),
+        (d.with_h_max(0.0), "h_max"),
+        (d.with_h_max(f64::NAN), "h_max"),
+        (d.with_h_min(-1.0), "h_min"),
+        (d.with_h_min(2.0).with_h_max(1.0), "h_min"),
+        (d.with_max_steps(0), "max_steps"),
+        (d.with_h_init(Some(1e-9)).with_h_min(1e-6), "h_init"),
+        (d.with_safety(1.5), "safety"),
+        (d.with_safety(0.0), "safety"),
+        (d.with_fac_min(0.0), "fac_min"),
+        (d.with_fac_max(0.5), "fac_max"),
+        (d.with_fac_max(f64::INFINITY), "fac_max"),
+        (d.with_beta(Some(0.5)), "beta"),
+        (d.with_fixed_step(Some(-0.1)), "fixed_step"),
     ];
     for (opts, field) in cases {
         for method in Method::ALL {
             let opts = if method == Method::Rk4 && opts.fixed_step.is_none() {
-                Options {
-                    fixed_step: Some(0.1),
-                    ..opts
-                }
+                opts.with_fixed_step(Some(0.1))
             } else {
                 opts
             };
@@ -264,10 +190,7 @@ fn invalid_event_options_and_too_many_events() {
         dy[1] = -y[0];
     };
     let mut integ = Dop853::new(Options::default()).unwrap();
-    let bad = EventOptions {
-        samples_per_step: 0,
-        ..EventOptions::default()
-    };
+    let bad = EventOptions::default().with_samples_per_step(0);
     let e = solve_with(
         &mut integ,
         &osc,
@@ -280,10 +203,7 @@ fn invalid_event_options_and_too_many_events() {
     )
     .unwrap_err();
     assert_eq!(field_of(e.error), "samples_per_step");
-    let bad = EventOptions {
-        root_tol: -1.0,
-        ..EventOptions::default()
-    };
+    let bad = EventOptions::default().with_root_tol(-1.0);
     let e = solve_with(
         &mut integ,
         &osc,
@@ -301,19 +221,10 @@ fn invalid_event_options_and_too_many_events() {
     // (they used to be clamped silently).
     for (bad, field) in [
         (
-            EventOptions {
-                samples_per_step: MAX_SAMPLES + 1,
-                ..EventOptions::default()
-            },
+            EventOptions::default().with_samples_per_step(MAX_SAMPLES + 1),
             "samples_per_step",
         ),
-        (
-            EventOptions {
-                max_iter: 0,
-                ..EventOptions::default()
-            },
-            "max_iter",
-        ),
+        (EventOptions::default().with_max_iter(0), "max_iter"),
     ] {
         let e = solve_with(
             &mut integ,
@@ -363,10 +274,7 @@ fn find_first_event_validates_its_options() {
         (MAX_SAMPLES, true),
         (MAX_SAMPLES + 1, false),
     ] {
-        let opts = EventOptions {
-            samples_per_step: samples,
-            ..EventOptions::default()
-        };
+        let opts = EventOptions::default().with_samples_per_step(samples);
         let before = *integ.stats();
         st.reset();
         let r = find_first_event(&mut integ, &osc, &X0, &opts, &mut st);
@@ -384,10 +292,7 @@ fn find_first_event_validates_its_options() {
             assert_eq!(*integ.stats(), before, "nothing evaluated");
         }
     }
-    let bad = EventOptions {
-        root_tol: f64::NAN,
-        ..EventOptions::default()
-    };
+    let bad = EventOptions::default().with_root_tol(f64::NAN);
     let e = find_first_event(&mut integ, &osc, &X0, &bad, &mut st).unwrap_err();
     assert_eq!(field_of(e), "root_tol");
 }
@@ -451,10 +356,7 @@ fn too_many_steps() {
         dy[0] = y[1];
         dy[1] = -y[0];
     };
-    let opts = Options {
-        max_steps: 10,
-        ..Options::with_tol(1e-12, 1e-12)
-    };
+    let opts = Options::with_tol(1e-12, 1e-12).with_max_steps(10);
     let mut integ = Dop853::new(opts).unwrap();
     let e = solve(
         &mut integ,

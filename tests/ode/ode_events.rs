@@ -529,11 +529,9 @@ fn inactive_events_are_ignored() {
 #[test]
 fn event_options_samples_and_tolerance() {
     // A coarse root tolerance is honoured; more samples still find the event.
-    let opts = EventOptions {
-        root_tol: 1e-6,
-        samples_per_step: 16,
-        ..EventOptions::default()
-    };
+    let opts = EventOptions::default()
+        .with_root_tol(1e-6)
+        .with_samples_per_step(16);
     let mut integ = Dop853::new(Options::with_tol(1e-14, 1e-15)).unwrap();
     let mut rec = Recorder::default();
     solve_with(
@@ -636,10 +634,7 @@ fn bouncing_ball(
         dy[1] = -1.0;
     };
     let e = 0.8;
-    let ev_opts = EventOptions {
-        screen,
-        ..EventOptions::default()
-    };
+    let ev_opts = EventOptions::default().with_screen(screen);
     let mut integ = AnyIntegrator::new(method, opts).unwrap();
     integ.reset(&ball, 0.0, &V2::new(0.5, 0.0), false).unwrap();
     let mut st = EventState::new();
@@ -678,11 +673,7 @@ fn bouncing_ball_forty_impacts_with_steps_spanning_flights() {
     let count = 40;
     let exact = ball_impacts(0.8, count);
     let tol = Options::<U2>::with_tol(1e-12, 1e-12);
-    let big = Options {
-        h_init: Some(10.0),
-        h_max: 100.0,
-        ..tol
-    };
+    let big = tol.with_h_init(Some(10.0)).with_h_max(100.0);
     let cases = [
         (Method::Dop853, tol, "default steps"),
         (Method::Dopri5, tol, "default steps"),
@@ -997,10 +988,7 @@ fn quartic_step(b: f64, a: f64, screen: bool) -> (Option<f64>, usize) {
     let ev = CountedLevel {
         calls: std::cell::Cell::new(0),
     };
-    let opts = EventOptions {
-        screen,
-        ..EventOptions::default()
-    };
+    let opts = EventOptions::default().with_screen(screen);
     let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
         .unwrap()
         .map(|h| h.t);
@@ -1119,10 +1107,7 @@ fn a_crossing_pair_the_interpolant_cannot_see_is_found() {
     let ev = CountedLevel {
         calls: std::cell::Cell::new(0),
     };
-    let opts = EventOptions {
-        samples_per_step: 1,
-        ..EventOptions::default()
-    };
+    let opts = EventOptions::default().with_samples_per_step(1);
     let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
         .unwrap()
         .copied()
@@ -1165,10 +1150,7 @@ fn a_crossing_pair_between_slopes_of_the_same_sign_is_found() {
     let ev = CountedLevel {
         calls: std::cell::Cell::new(0),
     };
-    let opts = EventOptions {
-        samples_per_step: 1,
-        ..EventOptions::default()
-    };
+    let opts = EventOptions::default().with_samples_per_step(1);
     let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
         .unwrap()
         .copied()
@@ -1207,10 +1189,7 @@ fn a_crossing_pair_off_the_interpolant_in_slope_only_is_found() {
     let ev = CountedLevel {
         calls: std::cell::Cell::new(0),
     };
-    let opts = EventOptions {
-        samples_per_step: 1,
-        ..EventOptions::default()
-    };
+    let opts = EventOptions::default().with_samples_per_step(1);
     let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
         .unwrap()
         .copied()

@@ -162,8 +162,14 @@ where
 /// Options of the event detector. Every entry point that takes them
 /// ([`find_first_event`], [`solve_with`](super::solve_with)) validates them
 /// first ([`EventOptions::validate`]).
+///
+/// Start from [`Default`] and change fields with the `with_` builders, e.g.
+/// `EventOptions::default().with_samples_per_step(8).with_screen(true)`. The
+/// fields are public for reading; the struct is `#[non_exhaustive]`, so it
+/// cannot be built by a struct literal outside the crate.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub struct EventOptions {
     /// Interior dense-output samples per step, in `1..=`[`MAX_SAMPLES`]
     /// (others are an [`OdeError::InvalidOption`]). Default `4`.
@@ -202,6 +208,52 @@ impl Default for EventOptions {
             max_iter: 200,
             screen: false,
         }
+    }
+}
+
+/// Builders: each returns the options with one field changed (the value is
+/// checked by [`EventOptions::validate`]).
+impl EventOptions {
+    /// With [`samples_per_step`](Self::samples_per_step) = `value`.
+    #[must_use]
+    pub fn with_samples_per_step(mut self, value: usize) -> Self {
+        self.samples_per_step = value;
+        self
+    }
+
+    /// With [`root_tol`](Self::root_tol) = `value`.
+    #[must_use]
+    pub fn with_root_tol(mut self, value: f64) -> Self {
+        self.root_tol = value;
+        self
+    }
+
+    /// With [`value_tol`](Self::value_tol) = `value`.
+    #[must_use]
+    pub fn with_value_tol(mut self, value: f64) -> Self {
+        self.value_tol = value;
+        self
+    }
+
+    /// With [`rearm_time`](Self::rearm_time) = `value`.
+    #[must_use]
+    pub fn with_rearm_time(mut self, value: f64) -> Self {
+        self.rearm_time = value;
+        self
+    }
+
+    /// With [`max_iter`](Self::max_iter) = `value`.
+    #[must_use]
+    pub fn with_max_iter(mut self, value: usize) -> Self {
+        self.max_iter = value;
+        self
+    }
+
+    /// With [`screen`](Self::screen) = `value`.
+    #[must_use]
+    pub fn with_screen(mut self, value: bool) -> Self {
+        self.screen = value;
+        self
     }
 }
 
