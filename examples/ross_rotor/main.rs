@@ -129,6 +129,16 @@ fn check<T, E: std::fmt::Display>(r: Result<T, E>, what: &str) -> T {
 
 fn main() {
     let f: Flags = parse();
+    let (model, kept) = model(&f);
+    let run = transient(&model, &f);
+    write_csv(&run.samples);
+    eprintln!("{}", summary(&f, &model, kept, &run));
+    draw(&f, &run.samples);
+}
+
+/// The rotor of the flags on the ring, full or reduced, and the highest kept mode's frequency
+/// (rad/s) of a reduction. Bad input exits with status 2.
+fn model(f: &Flags) -> (RingedRotor<LinearRotor>, Option<f64>) {
     let matrices = check(
         RotorMatrices::from_ross_mat(&f.mat),
         &f.mat.display().to_string(),
@@ -143,22 +153,13 @@ fn main() {
         );
     }
     let ring_x = check(lateral.x_dof(f.ring_node), "--ring-node");
-    let ring = check(
-        SnubberRing::from_units(
-            f.ring_stiffness,
-            f.ring_damping,
-            [f.preload_x, f.preload_y],
-            f.gap,
-        ),
-        "ring",
-    );
+    let preload = [f.preload_x, f.preload_y];
+    let units = SnubberRing::from_units(f.ring_stiffness, f.ring_damping, preload, f.gap);
+    let ring = check(units, "ring");
     let offset = [f.ring_offset_x, f.ring_offset_y];
     let (rotor, kept) = if f.modes == 0 {
-        let rotor = check(
-            LinearRotor::new(system, [ring_x, ring_x + 1], offset),
-            "rotor",
-        );
-        (rotor, None)
+        let full = LinearRotor::new(system, [ring_x, ring_x + 1], offset);
+        (check(full, "rotor"), None)
     } else {
         let modes = ModeSelection::Count(f.modes);
         let cb = check(
@@ -166,36 +167,33 @@ fn main() {
             "--modes",
         );
         let reduced = check(cb.reduce(&system), "--modes");
-        let kept = cb.frequencies().last().copied();
         // The reduced coordinates 0 and 1 are the ring node's x and y.
-        (
-            check(LinearRotor::new(reduced, [0, 1], offset), "rotor"),
-            kept,
-        )
+        let rotor = check(LinearRotor::new(reduced, [0, 1], offset), "rotor");
+        (rotor, cb.frequencies().last().copied())
     };
-    let model = check(rotor.ringed(ring), "ring");
-    let run = transient(&model, &f);
-    write_csv(&run.samples);
-    eprintln!(
-        "ross_rotor: {} DOFs{}, {:?}, free flight {}, {} contacts, {} steps ({} rejected), {} events, {:.3} s",
+    (check(rotor.ringed(ring), "ring"), kept)
+}
+
+/// The summary line: the model, the method, how free flight runs, the counts and the time.
+fn summary(f: &Flags, model: &RingedRotor<LinearRotor>, kept: Option<f64>, run: &Run) -> String {
+    let reduction = kept.map_or(String::new(), |w| {
+        format!(" ({} modes, highest {w:.4e} rad/s)", f.modes)
+    });
+    let free_flight = match model.closed_form() {
+        Some(Ok(_)) => "exact".to_string(),
+        Some(Err(e)) => format!("integrated ({e})"),
+        None => "integrated".to_string(),
+    };
+    format!(
+        "ross_rotor: {} DOFs{reduction}, {:?}, free flight {free_flight}, {} contacts, {} steps ({} rejected), {} events, {:.3} s",
         model.rotor().system().dofs(),
-        kept.map_or(String::new(), |w| format!(
-            " ({} modes, highest {w:.4e} rad/s)",
-            f.modes
-        )),
-        method(&f).method(),
-        match model.closed_form() {
-            Some(Ok(_)) => "exact".to_string(),
-            Some(Err(e)) => format!("integrated ({e})"),
-            None => "integrated".to_string(),
-        },
+        method(f).method(),
         run.contacts,
         run.steps,
         run.rejected,
         run.events,
         run.seconds
-    );
-    draw(&f, &run.samples);
+    )
 }
 
 /// What a run gives the outputs.
