@@ -3,6 +3,7 @@
 //! integration, and a rotor run with integrated free flight; and refusal of near-defective
 //! state matrices.
 
+use crate::rng::Rng;
 use std::sync::Arc;
 
 use jeffcott::hybrid::{OutputPlan, SimOptions, Trajectory};
@@ -176,22 +177,6 @@ fn critically_damped_jeffcott_rotor_is_refused_as_defective() {
         jeffcott_as_matrices(&p).prepare(),
         Err(RotorError::IllConditionedModes { .. } | RotorError::Eigen(_))
     ));
-}
-
-/// SplitMix64: deterministic cases.
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn sym(&mut self) -> f64 {
-        2.0 * self.unit() - 1.0
-    }
 }
 
 /// A random stable rotor of `n` coordinates: SPD mass and stiffness, light proportional-plus-

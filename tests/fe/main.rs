@@ -1,5 +1,8 @@
 //! Finite-element rotors (ROSS exports) on the ring.
 
+#[path = "../support/rng.rs"]
+mod rng;
+
 mod fe_eccentric;
 mod fe_energy;
 mod fe_exact;

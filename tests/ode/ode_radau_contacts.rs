@@ -15,20 +15,19 @@ use jeffcott::hybrid::{simulate, OutputPlan, RotorModel, SimOptions, Trajectory}
 use jeffcott::nalgebra::DVector;
 use jeffcott::ode::Method;
 use jeffcott::params::Preset;
+use jeffcott::rotor::RingedRotor;
 
 /// Rejected steps allowed per transition (measured: 26.8 before the fix, 13.6 after).
 const MAX_REJECTED_PER_TRANSITION: f64 = 20.0;
 /// LU decompositions (pairs) allowed per accepted step (measured: 0.47 before, 0.16 after).
 const MAX_LU_PER_STEP: f64 = 0.3;
 
-/// The 8-mode shaft with contacts at rtol 1e-8 over 6 forcing periods from rest: every
-/// period has a contact, and RADAU5's rejected steps per transition and decompositions per
-/// step stay below their bounds.
-#[test]
-fn radau5_rejects_few_steps_per_contact_event() {
+/// The shaft in `modes` modes with the ring at station 3 of 8 (every mode count meets it),
+/// eta 1.1, and its consistent start from rest.
+fn shaft_with_contacts(modes: usize) -> (RingedRotor<shaft::FlexibleShaft>, DVector<f64>) {
     let params = Preset::Fig8a.params().with_eta(1.1);
     let layout = Layout {
-        modes: 8,
+        modes,
         stations: 8,
         unbalance: 2,
         ring: 3,
@@ -36,6 +35,15 @@ fn radau5_rejects_few_steps_per_contact_event() {
     let model = shaft::on_ring(params, layout).expect("shaft");
     let mut y0 = DVector::zeros(model.rotor().state_len());
     model.make_consistent(&mut y0).expect("consistent start");
+    (model, y0)
+}
+
+/// The 8-mode shaft with contacts at rtol 1e-8 over 6 forcing periods from rest: every
+/// period has a contact, and RADAU5's rejected steps per transition and decompositions per
+/// step stay below their bounds.
+#[test]
+fn radau5_rejects_few_steps_per_contact_event() {
+    let (model, y0) = shaft_with_contacts(8);
     let opts = SimOptions::default()
         .with_method(Method::Radau5)
         .with_rtol(1e-8)
@@ -78,16 +86,7 @@ fn radau5_rejects_few_steps_per_contact_event() {
 fn shaft64_radau5_against_dop853() {
     use jeffcott::analysis::strobe_orbit;
     use std::time::Instant;
-    let params = Preset::Fig8a.params().with_eta(1.1);
-    let layout = Layout {
-        modes: 64,
-        stations: 8,
-        unbalance: 2,
-        ring: 3,
-    };
-    let model = shaft::on_ring(params, layout).expect("shaft");
-    let mut y0 = DVector::zeros(model.rotor().state_len());
-    model.make_consistent(&mut y0).expect("consistent start");
+    let (model, y0) = shaft_with_contacts(64);
     let atol: f64 = std::env::var("SHAFT_ATOL").map_or(1e-12, |v| v.parse().unwrap());
     let run = |method, rtol, atol| {
         let opts = SimOptions::default()

@@ -2,6 +2,9 @@
 //! one module per file: `cargo test --test ring`, or one module:
 //! `cargo test --test ring ring_locate::`.
 
+#[path = "../support/rng.rs"]
+mod rng;
+
 mod onset_bruteforce;
 mod onset_linear;
 mod ring_boundaries;

@@ -45,6 +45,7 @@
 //! form, so $|t_s - t_o| \le (\varepsilon_h + 2\delta_h)/h'(t_o) + 2\thinspace\mathrm{ulp}(t_o) +
 //! \mathrm{RES}$.
 
+use crate::rng::Rng;
 use jeffcott::paper::{FreeFlight, FreeOscillator};
 use jeffcott::params::{Params, Preset};
 use jeffcott::ring::onset::{find_onset, Onset, OnsetStats};
@@ -58,35 +59,6 @@ const RES: f64 = 1e-13;
 /// The search's stopping tolerance $\varepsilon_h$ relative to $\gamma^2$, as stated in
 /// `jeffcott::onset` (`H_TOLERANCE`).
 const EPS_H: f64 = 4.0 * f64::EPSILON;
-
-/// SplitMix64: a small deterministic generator, so that every run sees the same cases.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-    fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        (lo.ln() + (hi.ln() - lo.ln()) * self.unit()).exp()
-    }
-    fn sign(&mut self) -> f64 {
-        if self.unit() < 0.5 {
-            -1.0
-        } else {
-            1.0
-        }
-    }
-}
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Damping {

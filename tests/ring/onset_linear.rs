@@ -24,6 +24,7 @@
 //! **Checks.** No contact the oracle finds is missed or reported late, and no contact is
 //! reported on a window the oracle certifies clear.
 
+use crate::rng::Rng;
 use std::sync::Arc;
 
 use jeffcott::nalgebra::{Complex, DMatrix, DVector, Vector2};
@@ -32,21 +33,6 @@ use jeffcott::ring::{Relaxation, SnubberRing};
 use jeffcott::rotor::{LinearClosedForm, LinearFreeFlight, LinearSegment, LinearSystem};
 
 const RES: f64 = 1e-13;
-
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-}
 
 fn three_node_rotor() -> Arc<LinearClosedForm> {
     let n = 6;
