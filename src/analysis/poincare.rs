@@ -228,8 +228,8 @@ where
             (section(t0 + theta * dt, &x), x)
         };
         let opts = RootOptions::default()
-            .tol(THETA_TOL)
-            .max_evaluations(MAX_STEPS);
+            .with_tol(THETA_TOL)
+            .with_max_evaluations(MAX_STEPS);
         // `a`, `b` change sign (`sign_changes`); were they not a bracket, the interval's ends
         // are reported, not converged.
         let found = illinois((0.0, a), (1.0, b), &opts, |theta| eval(theta).0).unwrap_or(Bracket {

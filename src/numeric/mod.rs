@@ -28,7 +28,7 @@
 //!
 //! // The root of x^2 - 2 on [1, 2]: sqrt(2) to 1e-12.
 //! let g = |x: f64| x * x - 2.0;
-//! let r = illinois((1.0, g(1.0)), (2.0, g(2.0)), &RootOptions::default().tol(1e-12), g)?;
+//! let r = illinois((1.0, g(1.0)), (2.0, g(2.0)), &RootOptions::default().with_tol(1e-12), g)?;
 //! assert!(r.converged && r.hi - r.lo <= 1e-12);
 //! assert!((r.hi - 2f64.sqrt()).abs() <= 1e-12);
 //!

@@ -2,7 +2,7 @@
 
 use super::NumericError;
 
-/// Stopping rule and safeguard of [`illinois`]: `RootOptions::default().tol(1e-12)`.
+/// Stopping rule and safeguard of [`illinois`]: `RootOptions::default().with_tol(1e-12)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
 pub struct RootOptions {
@@ -33,21 +33,21 @@ impl Default for RootOptions {
 impl RootOptions {
     /// With this bracket width ([`RootOptions::tol`]).
     #[must_use]
-    pub fn tol(mut self, tol: f64) -> Self {
+    pub fn with_tol(mut self, tol: f64) -> Self {
         self.tol = tol;
         self
     }
 
     /// With at most this many evaluations ([`RootOptions::max_evaluations`]).
     #[must_use]
-    pub fn max_evaluations(mut self, max_evaluations: usize) -> Self {
+    pub fn with_max_evaluations(mut self, max_evaluations: usize) -> Self {
         self.max_evaluations = max_evaluations;
         self
     }
 
     /// With or without the bisection of slow steps ([`RootOptions::bisect_when_slow`]).
     #[must_use]
-    pub fn bisect_when_slow(mut self, on: bool) -> Self {
+    pub fn with_bisect_when_slow(mut self, on: bool) -> Self {
         self.bisect_when_slow = on;
         self
     }
@@ -125,7 +125,7 @@ pub struct Bracket {
 ///
 /// // The root of cos on [1, 2] (pi / 2) to 4 ulp.
 /// let tol = 4.0 * f64::EPSILON * 2.0;
-/// let opts = RootOptions::default().tol(tol).max_evaluations(100);
+/// let opts = RootOptions::default().with_tol(tol).with_max_evaluations(100);
 /// let r = illinois((1.0, 1f64.cos()), (2.0, 2f64.cos()), &opts, f64::cos)?;
 /// assert!(r.converged && r.hi - r.lo <= tol);
 /// assert!(r.g_lo > 0.0 && r.g_hi <= 0.0);
@@ -274,7 +274,13 @@ mod tests {
     use super::*;
 
     fn solve(g: impl Fn(f64) -> f64 + Copy, a: f64, b: f64, tol: f64) -> Bracket {
-        illinois((a, g(a)), (b, g(b)), &RootOptions::default().tol(tol), g).unwrap()
+        illinois(
+            (a, g(a)),
+            (b, g(b)),
+            &RootOptions::default().with_tol(tol),
+            g,
+        )
+        .unwrap()
     }
 
     /// Roots of functions known in closed form, to the asked width, with the sign invariant.
@@ -350,7 +356,9 @@ mod tests {
     #[test]
     fn capped_search_is_not_converged() {
         let g = |x: f64| x.exp() - 3.0;
-        let opts = RootOptions::default().tol(1e-15).max_evaluations(3);
+        let opts = RootOptions::default()
+            .with_tol(1e-15)
+            .with_max_evaluations(3);
         let r = illinois((0.0, g(0.0)), (2.0, g(2.0)), &opts, g).unwrap();
         assert!(!r.converged);
         assert_eq!(r.evaluations, 3);
@@ -369,7 +377,7 @@ mod tests {
         let r = illinois(
             (0.0, -0.5),
             (1.0, 0.5),
-            &RootOptions::default().tol(1e-12),
+            &RootOptions::default().with_tol(1e-12),
             g,
         )
         .unwrap();
@@ -386,7 +394,9 @@ mod tests {
         let g = |x: f64| x.powi(15) - 0.5;
         let root = 0.5f64.powf(1.0 / 15.0);
         for slow in [true, false] {
-            let opts = RootOptions::default().tol(1e-13).bisect_when_slow(slow);
+            let opts = RootOptions::default()
+                .with_tol(1e-13)
+                .with_bisect_when_slow(slow);
             let r = illinois((0.0, g(0.0)), (1.2, g(1.2)), &opts, g).unwrap();
             assert!(r.converged, "{slow}: {r:?}");
             assert!(r.lo - 1e-13 <= root && root <= r.hi + 1e-13);

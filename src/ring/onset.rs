@@ -222,9 +222,9 @@ fn last_negative(p: &impl Fn(f64) -> f64, lo: f64, hi: f64, p_hi: f64) -> f64 {
         }
     };
     let opts = RootOptions::default()
-        .tol((hi - lo) / 4096.0)
-        .max_evaluations(64)
-        .bisect_when_slow(false);
+        .with_tol((hi - lo) / 4096.0)
+        .with_max_evaluations(64)
+        .with_bisect_when_slow(false);
     illinois((lo, g(lo)), (hi, p_hi), &opts, g).map_or(lo, |b| b.lo)
 }
 

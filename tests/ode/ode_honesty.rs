@@ -22,7 +22,9 @@ fn illinois_nan_at_a_bracket_end_is_not_a_bracket() {
 }
 
 fn opts() -> RootOptions {
-    RootOptions::default().tol(1e-12).max_evaluations(100)
+    RootOptions::default()
+        .with_tol(1e-12)
+        .with_max_evaluations(100)
 }
 
 /// NaN in the middle of the search: $g(t) = t - 1/2$ except NaN on $(0.45, 0.55)$, bracket

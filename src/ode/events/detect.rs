@@ -373,8 +373,8 @@ where
         tol: f64,
     ) -> Result<(f64, f64), OdeError> {
         let opts = RootOptions::default()
-            .tol(tol)
-            .max_evaluations(self.max_iter);
+            .with_tol(tol)
+            .with_max_evaluations(self.max_iter);
         match illinois(lo, hi, &opts, |t| self.value(i, t)) {
             Ok(b) => match b.nan_at {
                 Some(t) => Err(OdeError::EventNotANumber { index: i, t }),
@@ -965,8 +965,8 @@ where
         let pos_g = g_a > 0.0;
         let mut evals = 0u64;
         let opts = RootOptions::default()
-            .tol(tol)
-            .max_evaluations(self.max_iter);
+            .with_tol(tol)
+            .with_max_evaluations(self.max_iter);
         let search = illinois((t_a, d_a), (t_b, d_b), &opts, |t| {
             if crossed.is_some() {
                 return 0.0; // terminate: bracket found
