@@ -200,7 +200,9 @@ where
     }
 
     /// One accepted step; `attempt` computes a trial step into
-    /// `io.y_new` (and `io.f_new` if it reports `f_new_done`).
+    /// `io.y_new` (and `io.f_new` if it reports `f_new_done`). A trial with non-finite values
+    /// is retried at `fac_min` times its size (an error at a fixed step), a trial whose error
+    /// exceeds 1 at the controller's smaller size.
     pub(crate) fn step<S, A>(
         &mut self,
         sys: &S,
@@ -214,133 +216,143 @@ where
         if self.check_bound(t_bound)? {
             return Ok(());
         }
-        let Core {
-            opts,
-            n_ctrl,
-            stats,
-            t: t_cur,
-            y,
-            f,
-            t_prev,
-            y_prev,
-            f_prev,
-            h: h_sugg,
-            has_step,
-            h_dense,
-            y_end,
-            f_end,
-            y_new,
-            f_new,
-            attempts,
-            pi,
-            ..
-        } = self;
-        let fixed = opts.fixed_step;
+        let fixed = self.opts.fixed_step;
         let mut h = match fixed {
             Some(hf) => hf,
-            None => h_sugg.min(opts.h_max),
+            None => self.h.min(self.opts.h_max),
         };
         let mut rejected_before = false;
         let mut nonfinite = false;
         loop {
-            if *attempts >= opts.max_steps {
-                return Err(OdeError::TooManySteps {
-                    t: *t_cur,
-                    h,
-                    max_steps: opts.max_steps,
-                });
-            }
-            let h_floor = opts.h_min.max(10.0 * f64::EPSILON * t_cur.abs());
-            if fixed.is_none() && (h < h_floor || h.is_nan()) {
-                return Err(if nonfinite {
-                    OdeError::NonFiniteRhs { t: *t_cur, h }
-                } else {
-                    OdeError::StepSizeUnderflow {
-                        t: *t_cur,
-                        h,
-                        h_min: h_floor,
-                    }
-                });
-            }
-            // Land exactly on the bound when it is within 1% beyond one step.
-            let (h_try, t_new, clipped) = if *t_cur + 1.01 * h >= t_bound {
-                (t_bound - *t_cur, t_bound, true)
-            } else {
-                (h, *t_cur + h, false)
-            };
-            *attempts += 1;
-            let trial = attempt(
-                sys,
-                TrialIo {
-                    opts,
-                    n_ctrl: *n_ctrl,
-                    t: *t_cur,
-                    y,
-                    f,
-                    h: h_try,
-                    y_new,
-                    f_new,
-                    stats,
-                },
-            );
-            let mut ok_values =
-                all_finite(y_new.as_slice()) && (fixed.is_some() || trial.err.is_finite());
-            if ok_values && (fixed.is_some() || trial.err <= 1.0) && !trial.f_new_done {
-                sys.rhs(t_new, y_new, f_new);
-                stats.rhs_evals += 1;
-            }
-            if ok_values {
-                ok_values = all_finite(f_new.as_slice()) || !(fixed.is_some() || trial.err <= 1.0);
-            }
-            if !ok_values {
-                if fixed.is_some() {
+            self.check_budget(h, nonfinite)?;
+            let (h_try, t_new, clipped) = land_on_bound(self.t, h, t_bound);
+            match self.try_step(sys, &mut attempt, h_try, t_new) {
+                Verdict::NonFinite if fixed.is_some() => {
                     return Err(OdeError::NonFiniteRhs {
-                        t: *t_cur,
+                        t: self.t,
                         h: h_try,
                     });
                 }
-                stats.rejected += 1;
-                rejected_before = true;
-                nonfinite = true;
-                h = h_try * opts.fac_min;
-                continue;
-            }
-            nonfinite = false;
-            if fixed.is_some() || trial.err <= 1.0 {
-                let mut h_next = match fixed {
-                    Some(hf) => hf,
-                    None => {
-                        let mut ratio = pi.accept(trial.err, opts);
-                        if rejected_before {
-                            ratio = ratio.min(1.0);
+                Verdict::NonFinite => {
+                    self.stats.rejected += 1;
+                    rejected_before = true;
+                    nonfinite = true;
+                    h = h_try * self.opts.fac_min;
+                }
+                Verdict::Accept(err) => {
+                    let h_next = match fixed {
+                        Some(hf) => hf,
+                        None => {
+                            let mut ratio = self.pi.accept(err, &self.opts);
+                            if rejected_before {
+                                ratio = ratio.min(1.0);
+                            }
+                            let hn = h_try * ratio;
+                            if clipped {
+                                hn.max(h)
+                            } else {
+                                hn
+                            }
                         }
-                        let hn = h_try * ratio;
-                        if clipped {
-                            hn.max(h)
-                        } else {
-                            hn
-                        }
-                    }
-                };
-                h_next = h_next.min(opts.h_max);
-                *t_prev = *t_cur;
-                y_prev.copy_from(y);
-                f_prev.copy_from(f);
-                *t_cur = t_new;
-                y.copy_from(y_new);
-                f.copy_from(f_new);
-                *h_dense = h_try;
-                y_end.copy_from(y_new);
-                f_end.copy_from(f_new);
-                *has_step = true;
-                *h_sugg = h_next;
-                stats.steps += 1;
-                return Ok(());
+                    };
+                    self.advance(t_new, h_try, h_next.min(self.opts.h_max));
+                    return Ok(());
+                }
+                Verdict::Reject(err) => {
+                    nonfinite = false;
+                    self.stats.rejected += 1;
+                    rejected_before = true;
+                    h = h_try * self.pi.reject(err, &self.opts);
+                }
             }
-            stats.rejected += 1;
-            rejected_before = true;
-            h = h_try * pi.reject(trial.err, opts);
         }
+    }
+
+    /// The attempt's budget (`max_steps`) and, for adaptive steps, the floor of the step size
+    /// ($\max(h_\text{min}, 10\varepsilon|t|)$): below it the step has underflowed, or, after
+    /// non-finite trials, the right-hand side cannot be evaluated near `t`.
+    #[inline]
+    fn check_budget(&self, h: f64, nonfinite: bool) -> Result<(), OdeError> {
+        if self.attempts >= self.opts.max_steps {
+            return Err(OdeError::TooManySteps {
+                t: self.t,
+                h,
+                max_steps: self.opts.max_steps,
+            });
+        }
+        let h_floor = self.opts.h_min.max(10.0 * f64::EPSILON * self.t.abs());
+        if self.opts.fixed_step.is_none() && (h < h_floor || h.is_nan()) {
+            return Err(if nonfinite {
+                OdeError::NonFiniteRhs { t: self.t, h }
+            } else {
+                OdeError::StepSizeUnderflow {
+                    t: self.t,
+                    h,
+                    h_min: h_floor,
+                }
+            });
+        }
+        Ok(())
+    }
+
+    /// One trial of size `h_try` to `t_new`, with $f$ at its end when it is to be accepted
+    /// (unless the method computed it). Counts the attempt.
+    #[inline]
+    fn try_step<S, A>(&mut self, sys: &S, attempt: &mut A, h_try: f64, t_new: f64) -> Verdict
+    where
+        S: OdeSystem<D>,
+        A: FnMut(&S, TrialIo<'_, D>) -> Trial,
+    {
+        self.attempts += 1;
+        let fixed = self.opts.fixed_step.is_some();
+        let trial = attempt(
+            sys,
+            TrialIo {
+                opts: &self.opts,
+                n_ctrl: self.n_ctrl,
+                t: self.t,
+                y: &self.y,
+                f: &self.f,
+                h: h_try,
+                y_new: &mut self.y_new,
+                f_new: &mut self.f_new,
+                stats: &mut self.stats,
+            },
+        );
+        let acceptable = fixed || trial.err <= 1.0;
+        let mut ok_values = all_finite(self.y_new.as_slice()) && (fixed || trial.err.is_finite());
+        if ok_values && acceptable && !trial.f_new_done {
+            sys.rhs(t_new, &self.y_new, &mut self.f_new);
+            self.stats.rhs_evals += 1;
+        }
+        if ok_values {
+            ok_values = all_finite(self.f_new.as_slice()) || !acceptable;
+        }
+        if !ok_values {
+            Verdict::NonFinite
+        } else if acceptable {
+            Verdict::Accept(trial.err)
+        } else {
+            Verdict::Reject(trial.err)
+        }
+    }
+
+    /// Accepts the trial point: the current point becomes the previous one, the trial the
+    /// current one and the end of the dense step; `h_next` is the next suggestion.
+    #[inline]
+    fn advance(&mut self, t_new: f64, h_try: f64, h_next: f64) {
+        self.t_prev = self.t;
+        self.y_prev.copy_from(&self.y);
+        self.f_prev.copy_from(&self.f);
+        self.t = t_new;
+        self.y.copy_from(&self.y_new);
+        self.f.copy_from(&self.f_new);
+        self.h_dense = h_try;
+        self.y_end.copy_from(&self.y_new);
+        self.f_end.copy_from(&self.f_new);
+        self.has_step = true;
+        self.h = h_next;
+        self.stats.steps += 1;
     }
 
     /// Validates a truncation time.
@@ -389,6 +401,27 @@ where
     pub(crate) fn copy_state(&self, out: &mut OVector<f64, D>) {
         fit(out, self.dim);
         out.copy_from(&self.y);
+    }
+}
+
+/// How a trial step ended ([`Core::step`]).
+enum Verdict {
+    /// Finite values and an error estimate of at most 1 (or a fixed step): taken.
+    Accept(f64),
+    /// Finite values, error estimate above 1: retried smaller.
+    Reject(f64),
+    /// The trial point, its error or $f$ there (when it would be taken) not finite.
+    NonFinite,
+}
+
+/// The trial `(h_try, t_new, clipped)` from `t` with step `h`: the step lands exactly on the
+/// bound when that is within 1% beyond one step (`clipped`).
+#[inline]
+fn land_on_bound(t: f64, h: f64, t_bound: f64) -> (f64, f64, bool) {
+    if t + 1.01 * h >= t_bound {
+        (t_bound - t, t_bound, true)
+    } else {
+        (h, t + h, false)
     }
 }
 

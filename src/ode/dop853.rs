@@ -362,78 +362,10 @@ where
                 ..
             } = io;
             k[0].copy_from(f);
-            axpy(yt.as_mut_slice(), y.as_slice(), k[0].as_slice(), h * A21);
-            sys.rhs(t + C2 * h, yt, &mut k[1]);
-            combo!(yt, y, h, [k[0] => A31, k[1] => A32]);
-            sys.rhs(t + C3 * h, yt, &mut k[2]);
-            combo!(yt, y, h, [k[0] => A41, k[2] => A43]);
-            sys.rhs(t + C4 * h, yt, &mut k[3]);
-            combo!(yt, y, h, [k[0] => A51, k[2] => A53, k[3] => A54]);
-            sys.rhs(t + C5 * h, yt, &mut k[4]);
-            combo!(yt, y, h, [k[0] => A61, k[3] => A64, k[4] => A65]);
-            sys.rhs(t + C6 * h, yt, &mut k[5]);
-            combo!(yt, y, h, [k[0] => A71, k[3] => A74, k[4] => A75, k[5] => A76]);
-            sys.rhs(t + C7 * h, yt, &mut k[6]);
-            combo!(yt, y, h, [
-                k[0] => A81, k[3] => A84, k[4] => A85, k[5] => A86, k[6] => A87,
-            ]);
-            sys.rhs(t + C8 * h, yt, &mut k[7]);
-            combo!(yt, y, h, [
-                k[0] => A91, k[3] => A94, k[4] => A95, k[5] => A96, k[6] => A97, k[7] => A98,
-            ]);
-            sys.rhs(t + C9 * h, yt, &mut k[8]);
-            combo!(yt, y, h, [
-                k[0] => A101, k[3] => A104, k[4] => A105, k[5] => A106, k[6] => A107,
-                k[7] => A108, k[8] => A109,
-            ]);
-            sys.rhs(t + C10 * h, yt, &mut k[9]);
-            combo!(yt, y, h, [
-                k[0] => A111, k[3] => A114, k[4] => A115, k[5] => A116, k[6] => A117,
-                k[7] => A118, k[8] => A119, k[9] => A1110,
-            ]);
-            sys.rhs(t + C11 * h, yt, &mut k[10]);
-            combo!(yt, y, h, [
-                k[0] => A121, k[3] => A124, k[4] => A125, k[5] => A126, k[6] => A127,
-                k[7] => A128, k[8] => A129, k[9] => A1210, k[10] => A1211,
-            ]);
-            sys.rhs(t + h, yt, &mut k[11]);
+            stages(sys, k, yt, t, y, h);
             stats.rhs_evals += 11;
-            // The new point and both error estimates in one pass.
-            let n = y.len();
-            let ys = &y.as_slice()[..n];
-            let yn = &mut y_new.as_mut_slice()[..n];
-            let ks: [&[f64]; 12] = std::array::from_fn(|j| &k[j].as_slice()[..n]);
-            let mut err5 = 0.0;
-            let mut err3 = 0.0;
-            for i in 0..n {
-                let incr = ks[0][i] * B1
-                    + ks[5][i] * B6
-                    + ks[6][i] * B7
-                    + ks[7][i] * B8
-                    + ks[8][i] * B9
-                    + ks[9][i] * B10
-                    + ks[10][i] * B11
-                    + ks[11][i] * B12;
-                yn[i] = ys[i] + incr * h;
-                let sk = scale(opts, i, ys[i], yn[i]);
-                let e3 = incr - BHH1 * ks[0][i] - BHH2 * ks[8][i] - BHH3 * ks[11][i];
-                err3 += (e3 / sk) * (e3 / sk);
-                let e5 = ER1 * ks[0][i]
-                    + ER6 * ks[5][i]
-                    + ER7 * ks[6][i]
-                    + ER8 * ks[7][i]
-                    + ER9 * ks[8][i]
-                    + ER10 * ks[9][i]
-                    + ER11 * ks[10][i]
-                    + ER12 * ks[11][i];
-                err5 += (e5 / sk) * (e5 / sk);
-            }
-            let mut deno = err5 + 0.01 * err3;
-            if deno <= 0.0 {
-                deno = 1.0;
-            }
             Trial {
-                err: h.abs() * err5 * (1.0 / (n_ctrl * deno)).sqrt(),
+                err: new_point_and_error(opts, n_ctrl, y, k, h, y_new),
                 f_new_done: false,
             }
         });
@@ -478,4 +410,108 @@ where
     fn name(&self) -> &'static str {
         "DOP853"
     }
+}
+
+/// The eleven stages $k_2 \dots k_{12}$ of a step of size `h` from `(t, y)`, with $k_1 = f(t, y)$
+/// already in `k[0]`; `yt` is the scratch argument. Stage order and sums as in Hairer's code.
+#[inline]
+fn stages<D, S>(
+    sys: &S,
+    k: &mut [OVector<f64, D>; 16],
+    yt: &mut OVector<f64, D>,
+    t: f64,
+    y: &OVector<f64, D>,
+    h: f64,
+) where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+{
+    axpy(yt.as_mut_slice(), y.as_slice(), k[0].as_slice(), h * A21);
+    sys.rhs(t + C2 * h, yt, &mut k[1]);
+    combo!(yt, y, h, [k[0] => A31, k[1] => A32]);
+    sys.rhs(t + C3 * h, yt, &mut k[2]);
+    combo!(yt, y, h, [k[0] => A41, k[2] => A43]);
+    sys.rhs(t + C4 * h, yt, &mut k[3]);
+    combo!(yt, y, h, [k[0] => A51, k[2] => A53, k[3] => A54]);
+    sys.rhs(t + C5 * h, yt, &mut k[4]);
+    combo!(yt, y, h, [k[0] => A61, k[3] => A64, k[4] => A65]);
+    sys.rhs(t + C6 * h, yt, &mut k[5]);
+    combo!(yt, y, h, [k[0] => A71, k[3] => A74, k[4] => A75, k[5] => A76]);
+    sys.rhs(t + C7 * h, yt, &mut k[6]);
+    combo!(yt, y, h, [
+        k[0] => A81, k[3] => A84, k[4] => A85, k[5] => A86, k[6] => A87,
+    ]);
+    sys.rhs(t + C8 * h, yt, &mut k[7]);
+    combo!(yt, y, h, [
+        k[0] => A91, k[3] => A94, k[4] => A95, k[5] => A96, k[6] => A97, k[7] => A98,
+    ]);
+    sys.rhs(t + C9 * h, yt, &mut k[8]);
+    combo!(yt, y, h, [
+        k[0] => A101, k[3] => A104, k[4] => A105, k[5] => A106, k[6] => A107,
+        k[7] => A108, k[8] => A109,
+    ]);
+    sys.rhs(t + C10 * h, yt, &mut k[9]);
+    combo!(yt, y, h, [
+        k[0] => A111, k[3] => A114, k[4] => A115, k[5] => A116, k[6] => A117,
+        k[7] => A118, k[8] => A119, k[9] => A1110,
+    ]);
+    sys.rhs(t + C11 * h, yt, &mut k[10]);
+    combo!(yt, y, h, [
+        k[0] => A121, k[3] => A124, k[4] => A125, k[5] => A126, k[6] => A127,
+        k[7] => A128, k[8] => A129, k[9] => A1210, k[10] => A1211,
+    ]);
+    sys.rhs(t + h, yt, &mut k[11]);
+}
+
+/// The 8th-order point into `y_new` and, in the same pass over the components, the combined
+/// error estimate (the struct docs' formula; 0 errors give a denominator of 1).
+#[inline]
+fn new_point_and_error<D>(
+    opts: &Options<D>,
+    n_ctrl: f64,
+    y: &OVector<f64, D>,
+    k: &[OVector<f64, D>; 16],
+    h: f64,
+    y_new: &mut OVector<f64, D>,
+) -> f64
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+{
+    // The new point and both error estimates in one pass.
+    let n = y.len();
+    let ys = &y.as_slice()[..n];
+    let yn = &mut y_new.as_mut_slice()[..n];
+    let ks: [&[f64]; 12] = std::array::from_fn(|j| &k[j].as_slice()[..n]);
+    let mut err5 = 0.0;
+    let mut err3 = 0.0;
+    for i in 0..n {
+        let incr = ks[0][i] * B1
+            + ks[5][i] * B6
+            + ks[6][i] * B7
+            + ks[7][i] * B8
+            + ks[8][i] * B9
+            + ks[9][i] * B10
+            + ks[10][i] * B11
+            + ks[11][i] * B12;
+        yn[i] = ys[i] + incr * h;
+        let sk = scale(opts, i, ys[i], yn[i]);
+        let e3 = incr - BHH1 * ks[0][i] - BHH2 * ks[8][i] - BHH3 * ks[11][i];
+        err3 += (e3 / sk) * (e3 / sk);
+        let e5 = ER1 * ks[0][i]
+            + ER6 * ks[5][i]
+            + ER7 * ks[6][i]
+            + ER8 * ks[7][i]
+            + ER9 * ks[8][i]
+            + ER10 * ks[9][i]
+            + ER11 * ks[10][i]
+            + ER12 * ks[11][i];
+        err5 += (e5 / sk) * (e5 / sk);
+    }
+    let mut deno = err5 + 0.01 * err3;
+    if deno <= 0.0 {
+        deno = 1.0;
+    }
+    h.abs() * err5 * (1.0 / (n_ctrl * deno)).sqrt()
 }

@@ -346,6 +346,13 @@ where
     /// (The length of per-component tolerances is checked by the
     /// integrators' constructors, which know the dimension.)
     pub fn validate(&self) -> Result<(), OdeError> {
+        self.validate_tolerances()?;
+        self.validate_step_sizes()?;
+        self.validate_controller()
+    }
+
+    /// `rtol`, `atol` valid, and not both zero for any component.
+    fn validate_tolerances(&self) -> Result<(), OdeError> {
         self.rtol.validate("rtol")?;
         self.atol.check("atol", true)?;
         let n = self
@@ -362,9 +369,11 @@ where
                 });
             }
         }
-        fn bad(field: &'static str, value: f64, hint: &'static str) -> Result<(), OdeError> {
-            Err(OdeError::InvalidOption { field, value, hint })
-        }
+        Ok(())
+    }
+
+    /// `h_init`, `h_max`, `h_min` and `max_steps`.
+    fn validate_step_sizes(&self) -> Result<(), OdeError> {
         if let Some(h) = self.h_init {
             if !(h.is_finite() && h > 0.0) {
                 return bad(
@@ -396,6 +405,11 @@ where
         if self.max_steps == 0 {
             return bad("max_steps", 0.0, "max_steps must be >= 1");
         }
+        Ok(())
+    }
+
+    /// The step-size controller (`safety`, `fac_min`, `fac_max`, `beta`), then `fixed_step`.
+    fn validate_controller(&self) -> Result<(), OdeError> {
         if !(self.safety > 0.0 && self.safety <= 1.0) {
             return bad(
                 "safety",
@@ -429,4 +443,9 @@ where
         }
         Ok(())
     }
+}
+
+/// An [`OdeError::InvalidOption`] naming the field, its value and the rule.
+fn bad(field: &'static str, value: f64, hint: &'static str) -> Result<(), OdeError> {
+    Err(OdeError::InvalidOption { field, value, hint })
 }

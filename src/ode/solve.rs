@@ -177,32 +177,60 @@ where
 {
 }
 
-/// Reports every pending output time `<= upto` on the last step.
-fn emit_outputs<D, S, I, O>(
-    integ: &mut I,
-    sys: &S,
-    upto: f64,
-    pending: &mut Option<f64>,
-    out: &mut O,
-    y_out: &mut OVector<f64, D>,
-) where
-    D: Dim,
+/// The observer's requested output times not yet reported, and the scratch the dense output
+/// is written into.
+struct Outputs<D: Dim>
+where
     DefaultAllocator: Allocator<D>,
-    S: OdeSystem<D>,
-    I: Integrator<D>,
-    O: Observer<D> + ?Sized,
 {
-    while let Some(to) = *pending {
-        if to > upto {
-            break;
+    /// The next requested time (`None`: no more).
+    pending: Option<f64>,
+    y: OVector<f64, D>,
+}
+
+impl<D: Dim> Outputs<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    /// Skips the requested times before `t0` (and NaN) and reports those at `t0` with `y0`.
+    fn start<O: Observer<D> + ?Sized>(out: &mut O, t0: f64, y0: &OVector<f64, D>, dim: D) -> Self {
+        let mut pending = out.next_output();
+        while let Some(to) = pending {
+            if to < t0 || to.is_nan() {
+                pending = out.next_output();
+            } else {
+                break;
+            }
         }
-        if to == integ.t() {
-            y_out.copy_from(integ.y());
-        } else {
-            integ.dense(sys, to, y_out);
+        while pending == Some(t0) {
+            out.on_output(t0, y0);
+            pending = out.next_output();
         }
-        out.on_output(to, y_out);
-        *pending = out.next_output();
+        Outputs {
+            pending,
+            y: zeros(dim),
+        }
+    }
+
+    /// Reports every pending output time `<= upto` on the last step.
+    fn emit<S, I, O>(&mut self, integ: &mut I, sys: &S, upto: f64, out: &mut O)
+    where
+        S: OdeSystem<D>,
+        I: Integrator<D>,
+        O: Observer<D> + ?Sized,
+    {
+        while let Some(to) = self.pending {
+            if to > upto {
+                break;
+            }
+            if to == integ.t() {
+                self.y.copy_from(integ.y());
+            } else {
+                integ.dense(sys, to, &mut self.y);
+            }
+            out.on_output(to, &self.y);
+            self.pending = out.next_output();
+        }
     }
 }
 
@@ -262,12 +290,6 @@ where
     I: Integrator<D>,
     E: EventSet<D> + ?Sized,
 {
-    let fail = |integ: &I, error: OdeError| SolveError {
-        error,
-        t: integ.t(),
-        y: integ.y().clone(),
-        stats: *integ.stats(),
-    };
     let stats0 = *integ.stats();
     let fail0 = |error: OdeError| SolveError {
         error,
@@ -284,56 +306,74 @@ where
     }
     integ.reset(sys, t0, y0, false).map_err(fail0)?;
     let mut state = EventState::with_dim(integ.dim());
-
-    let mut pending = out.next_output();
-    while let Some(to) = pending {
-        if to < t0 || to.is_nan() {
-            pending = out.next_output();
-        } else {
-            break;
-        }
-    }
-    if pending == Some(t0) {
-        out.on_output(t0, y0);
-        pending = out.next_output();
-        while pending == Some(t0) {
-            out.on_output(t0, y0);
-            pending = out.next_output();
-        }
-    }
+    let mut outputs = Outputs::start(out, t0, y0, integ.dim());
     out.on_step(t0, y0);
-
-    let mut y_out = zeros(integ.dim());
     while integ.t() < t_end {
-        integ.step(sys, t_end).map_err(|e| fail(integ, e))?;
-        loop {
-            let hit = match find_first_event(integ, sys, events, event_opts, &mut state) {
-                Ok(Some(hit)) => hit,
-                Ok(None) => break,
-                Err(e) => return Err(fail(integ, e)),
-            };
-            emit_outputs(integ, sys, hit.t, &mut pending, out, &mut y_out);
-            out.on_event(hit);
-            if events.terminal(hit.index) {
-                let (index, t_hit) = (hit.index, hit.t);
-                integ.truncate(sys, t_hit).map_err(|e| fail(integ, e))?;
-                out.on_step(integ.t(), integ.y());
-                return Ok(SolveReport {
-                    stopped: Stopped::Event(index, t_hit),
-                    t: integ.t(),
-                    y: integ.y().clone(),
-                    stats: *integ.stats(),
-                });
-            }
+        integ.step(sys, t_end).map_err(|e| failure(integ, e))?;
+        let scan = (events, event_opts, &mut state);
+        if let Some(stop) =
+            events_in_step(integ, sys, scan, &mut outputs, out).map_err(|e| failure(integ, e))?
+        {
+            return Ok(report(integ, stop));
         }
         let t_now = integ.t();
-        emit_outputs(integ, sys, t_now, &mut pending, out, &mut y_out);
+        outputs.emit(integ, sys, t_now, out);
         out.on_step(integ.t(), integ.y());
     }
-    Ok(SolveReport {
-        stopped: Stopped::Reached,
+    Ok(report(integ, Stopped::Reached))
+}
+
+/// The events of the step just taken, in time order, with the outputs before each; at a
+/// terminal event the integrator is truncated there and the stop returned.
+fn events_in_step<D, S, I, E>(
+    integ: &mut I,
+    sys: &S,
+    (events, event_opts, state): (&E, &EventOptions, &mut EventState<D>),
+    outputs: &mut Outputs<D>,
+    out: &mut impl Observer<D>,
+) -> Result<Option<Stopped>, OdeError>
+where
+    D: Dim,
+    DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
+    I: Integrator<D>,
+    E: EventSet<D> + ?Sized,
+{
+    while let Some(hit) = find_first_event(integ, sys, events, event_opts, state)? {
+        outputs.emit(integ, sys, hit.t, out);
+        out.on_event(hit);
+        if events.terminal(hit.index) {
+            let (index, t_hit) = (hit.index, hit.t);
+            integ.truncate(sys, t_hit)?;
+            out.on_step(integ.t(), integ.y());
+            return Ok(Some(Stopped::Event(index, t_hit)));
+        }
+    }
+    Ok(None)
+}
+
+/// The integrator's current point and counters as a [`SolveReport`].
+fn report<D: Dim, I: Integrator<D>>(integ: &I, stopped: Stopped) -> SolveReport<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    SolveReport {
+        stopped,
         t: integ.t(),
         y: integ.y().clone(),
         stats: *integ.stats(),
-    })
+    }
+}
+
+/// A failure at the integrator's last good point.
+fn failure<D: Dim, I: Integrator<D>>(integ: &I, error: OdeError) -> SolveError<D>
+where
+    DefaultAllocator: Allocator<D>,
+{
+    SolveError {
+        error,
+        t: integ.t(),
+        y: integ.y().clone(),
+        stats: *integ.stats(),
+    }
 }
