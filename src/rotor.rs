@@ -1173,16 +1173,11 @@ where
     ) -> ModelError {
         let guard = self.guard_of(&mode, i);
         let k = self.rotor.station(y);
-        match self.ring.try_guard_value(&mode, guard, t, &k, cache) {
-            Err(source) => ModelError::Ring {
-                t,
-                source: Box::new(source),
-            },
-            Ok(v) => ModelError::InvalidState {
-                t,
-                reason: format!("guard `{}` = {v}: the ring gave no error", guard.label()),
-            },
-        }
+        ModelError::of_ring_guard(
+            t,
+            guard.label(),
+            self.ring.try_guard_value(&mode, guard, t, &k, cache),
+        )
     }
 
     fn transition(

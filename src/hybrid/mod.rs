@@ -118,6 +118,25 @@ pub enum ModelError {
     },
 }
 
+impl ModelError {
+    /// The error behind a ring guard that a model could not evaluate at `t`, from the ring's
+    /// answer ([`SnubberRing::try_guard_value`](crate::ring::SnubberRing::try_guard_value)):
+    /// the ring's error, or, should the guard `label` have a value after all, an invalid state
+    /// saying so. The one mapping of every model on the ring.
+    pub(crate) fn of_ring_guard(t: f64, label: &str, value: Result<f64, RingError>) -> Self {
+        match value {
+            Err(source) => ModelError::Ring {
+                t,
+                source: Box::new(source),
+            },
+            Ok(v) => ModelError::InvalidState {
+                t,
+                reason: format!("guard `{label}` = {v}: the ring gave no error"),
+            },
+        }
+    }
+}
+
 /// The first guard crossing an [`ExactSegment`] finds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -409,16 +409,11 @@ impl RotorModel for JeffcottModel {
     fn guard_error(&self, mode: Mode, i: usize, t: f64, y: &State, cache: &Cache) -> ModelError {
         let guard = self.guard_of(&mode, i);
         let k = Self::kinematics(y);
-        match self.ring.try_guard_value(&mode, guard, t, &k, &cache.ring) {
-            Err(source) => ModelError::Ring {
-                t,
-                source: Box::new(source),
-            },
-            Ok(v) => ModelError::InvalidState {
-                t,
-                reason: format!("guard `{}` = {v}: the ring gave no error", guard.label()),
-            },
-        }
+        ModelError::of_ring_guard(
+            t,
+            guard.label(),
+            self.ring.try_guard_value(&mode, guard, t, &k, &cache.ring),
+        )
     }
 
     fn transition(
