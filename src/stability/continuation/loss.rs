@@ -368,6 +368,12 @@ where
     let mut step = opts.step.abs() * dir;
     let mut last: Solved<M::Dim> = (from, first);
     let mut before: Option<(f64, DVector<f64>)> = None;
+    // Its own stepping rule, not the arclength core's `follow`: each orbit is solved at a fixed
+    // parameter by `periodic_orbit` (the one Newton with its line search, and the minimal-period
+    // check), a failed step halves only down to `bracket_width`, and then the failure itself is
+    // bisected (a fold or grazing end is located from it). `follow` corrects in (z, p) with full
+    // Newton steps and F_p by central differences (two more period-n runs per iteration, unused
+    // on an e_p constraint) and stalls below `ds_min`: through it the path would move.
     for _ in 0..opts.max_steps {
         if (last.0 - to) * dir >= 0.0 {
             return Ok(c);
