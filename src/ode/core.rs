@@ -340,7 +340,7 @@ where
     /// Accepts the trial point: the current point becomes the previous one, the trial the
     /// current one and the end of the dense step; `h_next` is the next suggestion.
     #[inline]
-    fn advance(&mut self, t_new: f64, h_try: f64, h_next: f64) {
+    pub(crate) fn advance(&mut self, t_new: f64, h_try: f64, h_next: f64) {
         self.t_prev = self.t;
         self.y_prev.copy_from(&self.y);
         self.f_prev.copy_from(&self.f);
