@@ -191,10 +191,12 @@ where
         None
     }
 
-    /// The weight of each component's error in the integrator's error test, if the rotor
-    /// chooses one ([`RotorModel::error_scale`], which [`RingedRotor`] passes on): a run's
-    /// absolute tolerance of component $i$ is `atol * error_scale[i]`. Default `None`: the
-    /// state's scale ([`RotorModel::state_scale`]), and every run as before.
+    /// The weight of each component's error in an implicit integrator's error test, if the
+    /// rotor chooses one ([`RotorModel::error_scale`], which [`RingedRotor`] passes on): a
+    /// RADAU5 run's absolute tolerance of component $i$ is `atol * error_scale[i]` (the
+    /// explicit methods keep the state's scale: [`RotorModel::error_scale`] says why).
+    /// Default `None`: the state's scale ([`RotorModel::state_scale`]), and every run as
+    /// before.
     ///
     /// The choice the crate's models make (the flexible shaft of `examples/flexible_shaft`,
     /// [`LinearRotor`]) counts a velocity by the displacement it stands for. An error

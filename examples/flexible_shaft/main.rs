@@ -103,8 +103,9 @@ struct Flags {
     /// Integration method (rk4 takes 400 fixed steps per forcing period)
     #[arg(long, value_enum, default_value = "dop853")]
     method: MethodFlag,
-    /// Error weights: `modal` (a mode's velocity counted by the displacement it stands for,
-    /// `FlexibleShaft::error_scale_vector`) or `state` (the state's scale, as before)
+    /// RADAU5's error weights: `modal` (a mode's velocity counted by the displacement it
+    /// stands for, `FlexibleShaft::error_scale_vector`) or `state` (the state's scale, as
+    /// before; the explicit methods always use it)
     #[arg(long, default_value = "modal", value_parser = ["modal", "state"])]
     error_weight: String,
 }

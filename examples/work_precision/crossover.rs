@@ -38,6 +38,8 @@ struct Point {
     seconds: f64,
     rhs: u64,
     steps: u64,
+    /// The run's mode transitions and the reference's (0 for the stiff set).
+    transitions: [u64; 2],
 }
 
 /// The scenes' names, in the order they are run.
@@ -62,6 +64,8 @@ pub fn run(out: &Path, only: &str, repeat: usize) {
             "seconds",
             "rhs_evals",
             "steps",
+            "transitions",
+            "reference_transitions",
         ],
     ));
     let mut ratios = Vec::new();
@@ -71,28 +75,12 @@ pub fn run(out: &Path, only: &str, repeat: usize) {
         for (m, method) in METHODS.into_iter().enumerate() {
             let mut pts = Vec::new();
             for (k, tol) in TOLS.into_iter().enumerate() {
-                let row = match measure(scene, method, tol, repeat) {
-                    Ok(p) => {
-                        println!(
-                            "{scene:8} {:7} {tol:.0e}: error {:9.2e}, {:9.4} s, {:9} rhs, {:8} steps",
-                            method.name(),
-                            p.error,
-                            p.seconds,
-                            p.rhs,
-                            p.steps
-                        );
-                        pts.push((p.seconds, p.error.max(1e-16)));
-                        seconds[m][k] = p.seconds;
-                        [p.error, p.seconds, p.rhs as f64, p.steps as f64].map(|v| format!("{v:e}"))
-                    }
-                    Err(e) => {
-                        println!("{scene:8} {:7} {tol:.0e}: failed: {e}", method.name());
-                        ["NaN", "NaN", "0", "0"].map(String::from)
-                    }
-                };
-                let mut record = vec![scene.to_string(), method.name().into(), format!("{tol:e}")];
-                record.extend(row);
-                common::or_exit(csv.record(&record));
+                let result = measure(scene, method, tol, repeat);
+                common::or_exit(csv.record(&report(scene, method, tol, &result)));
+                if let Ok(p) = result {
+                    pts.push((p.seconds, p.error.max(1e-16)));
+                    seconds[m][k] = p.seconds;
+                }
             }
             by_time.push(plot::Series::new(method.name(), pts));
         }
@@ -125,6 +113,35 @@ pub fn run(out: &Path, only: &str, repeat: usize) {
     .with_markers()
     .with_legend(plot::LegendPosition::UpperRight);
     common::or_exit(plot::lines(out.join("crossover.png"), &fig, &ratios));
+}
+
+/// Prints one point and returns its CSV record.
+fn report(scene: &str, method: Method, tol: f64, result: &Result<Point, String>) -> Vec<String> {
+    let mut record = vec![scene.to_string(), method.name().into(), format!("{tol:e}")];
+    match result {
+        Ok(p) => {
+            println!(
+                "{scene:8} {:7} {tol:.0e}: error {:9.2e}, {:9.4} s, {:9} rhs, {:8} steps, \
+                 {} transitions (reference {})",
+                method.name(),
+                p.error,
+                p.seconds,
+                p.rhs,
+                p.steps,
+                p.transitions[0],
+                p.transitions[1]
+            );
+            record.extend([p.error, p.seconds].map(|v| format!("{v:e}")));
+            record.extend(
+                [p.rhs, p.steps, p.transitions[0], p.transitions[1]].map(|n| n.to_string()),
+            );
+        }
+        Err(e) => {
+            println!("{scene:8} {:7} {tol:.0e}: failed: {e}", method.name());
+            record.extend(["NaN", "NaN", "0", "0", "0", "0"].map(String::from));
+        }
+    }
+    record
 }
 
 /// One run of `scene` with `method` at `tol` against the scene's reference.
@@ -168,13 +185,13 @@ fn shaft_scene(modes: usize, method: Method, tol: f64, repeat: usize) -> Result<
     // The reference with the state's scale as error weights (the stricter ones).
     let strict = shaft::on_ring_with_weights(params, layout, false).map_err(|e| e.to_string())?;
     let reference_opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-12);
-    let (reference, _) = end_state(&strict, &y0, 10, &reference_opts)?;
+    let (reference, ref_stats) = end_state(&strict, &y0, 10, &reference_opts)?;
     let opts = SimOptions::default()
         .with_method(method)
         .with_rtol(tol)
         .with_atol(tol);
     timed(repeat, || end_state(&model, &y0, 10, &opts))
-        .map(|(y, stats, seconds)| point(distance(&y, &reference), stats, seconds))
+        .map(|(y, stats, seconds)| point(distance(&y, &reference), stats, ref_stats, seconds))
 }
 
 /// A rotor scene against DOP853 at `rtol = atol = 1e-12` over `periods` periods.
@@ -191,21 +208,22 @@ where
     DefaultAllocator: Allocator<M::Dim>,
 {
     let reference_opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-12);
-    let (reference, _) = end_state(model, y0, periods, &reference_opts)?;
+    let (reference, ref_stats) = end_state(model, y0, periods, &reference_opts)?;
     let opts = SimOptions::default()
         .with_method(method)
         .with_rtol(tol)
         .with_atol(tol);
     timed(repeat, || end_state(model, y0, periods, &opts))
-        .map(|(y, stats, seconds)| point(distance(&y, &reference), stats, seconds))
+        .map(|(y, stats, seconds)| point(distance(&y, &reference), stats, ref_stats, seconds))
 }
 
-fn point(error: f64, stats: SimStats, seconds: f64) -> Point {
+fn point(error: f64, stats: SimStats, reference: SimStats, seconds: f64) -> Point {
     Point {
         error,
         seconds,
         rhs: stats.rhs_evals,
         steps: stats.steps,
+        transitions: [stats.transitions, reference.transitions],
     }
 }
 
@@ -268,5 +286,6 @@ fn stiff(problem: Problem, method: Method, tol: f64, repeat: usize) -> Result<Po
         seconds,
         rhs: r.stats.rhs_evals,
         steps: r.stats.steps,
+        transitions: [0, 0],
     })
 }
