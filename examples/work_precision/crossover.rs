@@ -49,13 +49,13 @@ pub const SCENES: [&str; 12] = [
 ];
 
 /// Runs the crossover on the scenes `only` selects (`"all"` or one name), writes
-/// `crossover.csv`, a figure per scene (`xo_<scene>.png`, error against time) and
+/// `crossover_results.csv`, a figure per scene (`xo_<scene>.png`, error against time) and
 /// `crossover.png` (RADAU5's time over DOP853's against the tolerance, one line per scene) to
 /// `out`.
 pub fn run(out: &Path, only: &str, repeat: usize) {
     common::or_exit(std::fs::create_dir_all(out));
     let mut csv = common::or_exit(CsvWriter::create(
-        out.join("crossover.csv"),
+        out.join("crossover_results.csv"),
         &[
             "scene",
             "method",

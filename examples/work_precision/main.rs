@@ -20,7 +20,7 @@
 //! ```
 //!
 //! `--suite crossover` draws RADAU5 against DOP853 on the scenes of issue 19 instead
-//! (`crossover.rs`: `crossover.csv`, `xo_<scene>.png`, `crossover.png`).
+//! (`crossover.rs`: `crossover_results.csv`, `xo_<scene>.png`, `crossover.png`).
 //!
 //! Writes `results.csv`, `reference.csv` and per scene `wp_<scene>_time.png` and
 //! `wp_<scene>_rhs.png` (with the CSV of each figure beside it) to `--out`.
