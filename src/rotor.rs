@@ -202,14 +202,15 @@ where
     /// [`LinearRotor`]) counts a velocity by the displacement it stands for. An error
     /// $\delta v$ in the velocity of a mode of natural frequency $\omega_k$ becomes a free
     /// oscillation of displacement amplitude $\delta v/\omega_k$ (the mode's energy norm,
-    /// $	frac12(\delta v^2 + \omega_k^2\delta q^2)$, over $	frac12\omega_k^2$), so the
-    /// velocity's weight is its position's times $\max(\Omega, \omega_k)$ instead of times the
+    /// $\tfrac12(\delta v^2 + \omega_k^2\delta q^2)$, over $\tfrac12\omega_k^2$), so the
+    /// velocity's weight is its displacement's times $\max(\Omega, \omega_k)$ instead of times the
     /// forcing frequency $\Omega$: a velocity is accurate enough when it is small against its
     /// own steady amplitude $\Omega s_q$ or when the displacement it stands for is small
     /// against $s_q$. A high mode's velocity is then held to the accuracy its displacement
     /// needs, not $\omega_k/\Omega$ times more (a 64-mode shaft: 3 700 times), while the
-    /// slow coordinates ($\omega_k \le \Omega$) keep the state's scale. Positions and the
-    /// ring's slots keep the state's scale.
+    /// slow coordinates ($\omega_k \le \Omega$) keep the state's scale. Displacements and
+    /// the ring's slots keep their weights (the state's scale for [`LinearRotor`], the gap for
+    /// the shaft's modal displacements).
     fn error_scale(&self) -> Option<OVector<f64, Self::Dim>> {
         None
     }

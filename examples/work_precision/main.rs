@@ -28,8 +28,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 mod crossover;
-// The shaft's and the stiff set's other items serve their own examples and tests.
-#[allow(dead_code)]
+// The shaft's other items serve its example and tests (problems.rs allows its own).
 #[path = "../stiff_set/problems.rs"]
 mod problems;
 #[allow(dead_code)]
