@@ -230,6 +230,10 @@ fn main() {
         only,
         single,
     } = parse();
+    let crossover_scene = crossover::SCENES.contains(&only.as_str());
+    if only != "all" && crossover_scene != (suite == "crossover") {
+        common::cli::fail(format!("--scene {only} is not a scene of --suite {suite}"));
+    }
     if suite == "crossover" {
         crossover::run(&out, &only, repeat);
         return;
