@@ -191,6 +191,30 @@ where
         None
     }
 
+    /// The weight of each component's error in an implicit integrator's error test, if the
+    /// rotor chooses one ([`RotorModel::error_scale`], which [`RingedRotor`] passes on): a
+    /// RADAU5 run's absolute tolerance of component $i$ is `atol * error_scale[i]` (the
+    /// explicit methods keep the state's scale: [`RotorModel::error_scale`] says why).
+    /// Default `None`: the state's scale ([`RotorModel::state_scale`]), and every run as
+    /// before.
+    ///
+    /// The choice the crate's models make (the flexible shaft of `examples/flexible_shaft`,
+    /// [`LinearRotor`]) counts a velocity by the displacement it stands for. An error
+    /// $\delta v$ in the velocity of a mode of natural frequency $\omega_k$ becomes a free
+    /// oscillation of displacement amplitude $\delta v/\omega_k$ (the mode's energy norm,
+    /// $\tfrac12(\delta v^2 + \omega_k^2\delta q^2)$, over $\tfrac12\omega_k^2$), so the
+    /// velocity's weight is its displacement's times $\max(\Omega, \omega_k)$ instead of times the
+    /// forcing frequency $\Omega$: a velocity is accurate enough when it is small against its
+    /// own steady amplitude $\Omega s_q$ or when the displacement it stands for is small
+    /// against $s_q$. A high mode's velocity is then held to the accuracy its displacement
+    /// needs, not $\omega_k/\Omega$ times more (a 64-mode shaft: 3 700 times), while the
+    /// slow coordinates ($\omega_k \le \Omega$) keep the state's scale. Displacements and
+    /// the ring's slots keep their weights (the state's scale for [`LinearRotor`], the gap for
+    /// the shaft's modal displacements).
+    fn error_scale(&self) -> Option<OVector<f64, Self::Dim>> {
+        None
+    }
+
     /// The rotor's free flight in closed form, if it is linear with constant coefficients and
     /// harmonic forcing ([`LinearFreeFlight`]; the state must then be `[q (n), q' (n), x_s,
     /// y_s]`). [`RingedRotor`] then propagates free flight exactly and finds contact onsets by
@@ -1020,6 +1044,11 @@ where
                 gap
             }
         })
+    }
+
+    /// The rotor's [`SmoothRotor::error_scale`].
+    fn error_scale(&self) -> Option<OVector<f64, R::Dim>> {
+        self.rotor.error_scale()
     }
 
     fn new_cache(&self) -> RingCache {

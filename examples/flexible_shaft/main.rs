@@ -103,6 +103,11 @@ struct Flags {
     /// Integration method (rk4 takes 400 fixed steps per forcing period)
     #[arg(long, value_enum, default_value = "dop853")]
     method: MethodFlag,
+    /// RADAU5's error weights: `modal` (a mode's velocity counted by the displacement it
+    /// stands for, `FlexibleShaft::error_scale_vector`) or `state` (the state's scale, as
+    /// before; the explicit methods always use it)
+    #[arg(long, default_value = "modal", value_parser = ["modal", "state"])]
+    error_weight: String,
 }
 
 fn main() {
@@ -124,7 +129,9 @@ fn main() {
         record,
         tol,
         method,
+        error_weight,
     } = parse();
+    let frequency_weights = error_weight == "modal";
     let (rtol, atol) = tol.get();
     if eta_max < eta_min {
         fail(format!("--eta-max {eta_max} is below --eta-min {eta_min}"));
@@ -150,7 +157,11 @@ fn main() {
         .with_method(method.method())
         .with_rtol(rtol)
         .with_atol(atol);
-    let model = or_exit(shaft::on_ring(params, layout));
+    let model = or_exit(shaft::on_ring_with_weights(
+        params,
+        layout,
+        frequency_weights,
+    ));
     let s = model.rotor();
     // From rest on the shaft's line (the ring placed if the rest point is beyond the gap).
     let mut y0 = DVector::zeros(s.state_len());
@@ -271,7 +282,8 @@ fn main() {
         .with_record(record as u64)
         .with_sweep(SweepOptions::reset())
         .with_opts(opts);
-    let build = |eta: f64| shaft::on_ring(params.with_eta(eta), layout);
+    let build =
+        |eta: f64| shaft::on_ring_with_weights(params.with_eta(eta), layout, frequency_weights);
     let diagram = or_exit(bifurcation(
         &etas,
         build,

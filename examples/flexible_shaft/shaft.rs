@@ -151,6 +151,8 @@ pub struct FlexibleShaft {
     at_unbalance: Vec<f64>,
     /// $\phi_j$ at the ring.
     at_ring: Vec<f64>,
+    /// Whether [`SmoothRotor::error_scale`] gives [`FlexibleShaft::error_scale_vector`].
+    frequency_weights: bool,
 }
 
 impl FlexibleShaft {
@@ -197,7 +199,17 @@ impl FlexibleShaft {
             params,
             layout,
             omega,
+            frequency_weights: true,
         })
+    }
+
+    /// The shaft with every error weighed by the state's scale (`false`: the runs before the
+    /// modal weights, for comparison) or by [`FlexibleShaft::error_scale_vector`] (`true`, the
+    /// default).
+    #[must_use]
+    pub fn with_frequency_weights(mut self, modal: bool) -> Self {
+        self.frequency_weights = modal;
+        self
     }
 
     /// $\phi_j(\xi_i)$, with the integer product $j i$ formed first so that nodes come out at
@@ -332,6 +344,25 @@ impl FlexibleShaft {
         }
     }
 
+    /// The weight of each component's error ([`SmoothRotor::error_scale`]): 1 (the gap) for
+    /// every modal displacement and the ring's slots, $\max(\eta, \omega_j/\omega_1)$ for
+    /// mode $j$'s velocities. Mode $j$'s error is measured as the displacement amplitude it
+    /// stands for, $\max(|\delta a_j|, |\delta a_j^\prime|/\max(\eta, j^2))$: a velocity
+    /// error $\delta a^\prime$ rings as a free oscillation of amplitude $\delta a^\prime/j^2$
+    /// (the mode's energy over its stiffness), and a station moves by at most
+    /// $|\phi_j||\delta a_j| \le |\delta a_j|$. The slow modes ($j^2 \le \eta$) keep the
+    /// weight $\eta$ of the forced whirl's velocity (the state's scale $\gamma\Omega$).
+    pub fn error_scale_vector(&self) -> DVector<f64> {
+        let eta = self.params.eta;
+        let mut scale = DVector::from_element(self.state_len(), 1.0);
+        for (j, w) in self.omega.iter().enumerate() {
+            let v = self.velocity_index(j);
+            scale[v] = eta.max(*w);
+            scale[v + 1] = eta.max(*w);
+        }
+        scale
+    }
+
     /// Indices of the ring's position in the state, `4 modes` and `4 modes + 1`.
     pub fn ring_slots_of(&self) -> [usize; 2] {
         let n = 4 * self.layout.modes;
@@ -364,6 +395,10 @@ impl SmoothRotor for FlexibleShaft {
     fn second_order(&self) -> Option<usize> {
         Some(2 * self.layout.modes)
     }
+    /// [`FlexibleShaft::error_scale_vector`].
+    fn error_scale(&self) -> Option<DVector<f64>> {
+        self.frequency_weights.then(|| self.error_scale_vector())
+    }
 }
 
 /// The ring of `params` (stiffness, preload, damping; gap 1).
@@ -381,6 +416,19 @@ pub fn ring_of(params: &Params) -> Result<SnubberRing, RingError> {
 /// # Errors
 /// [`ShaftError`] from [`FlexibleShaft::new`] or the ring's.
 pub fn on_ring(params: Params, layout: Layout) -> Result<RingedRotor<FlexibleShaft>, ShaftError> {
-    let shaft = FlexibleShaft::new(params, layout)?;
+    on_ring_with_weights(params, layout, true)
+}
+
+/// [`on_ring`] with the errors weighed modally or by the state's scale
+/// ([`FlexibleShaft::with_frequency_weights`]).
+///
+/// # Errors
+/// As [`on_ring`].
+pub fn on_ring_with_weights(
+    params: Params,
+    layout: Layout,
+    frequency_weights: bool,
+) -> Result<RingedRotor<FlexibleShaft>, ShaftError> {
+    let shaft = FlexibleShaft::new(params, layout)?.with_frequency_weights(frequency_weights);
     Ok(RingedRotor::new(shaft, ring_of(&params)?)?)
 }

@@ -23,7 +23,9 @@ pub struct SimOptions {
     /// Relative tolerance of adaptive methods. Default `1e-10`.
     pub rtol: f64,
     /// Absolute tolerance of adaptive methods, in units of the model's
-    /// [`RotorModel::state_scale`] (component $i$'s is `atol * scale[i]`). Default `1e-12`.
+    /// [`RotorModel::error_scale`] if it gives one and the method is implicit
+    /// ([`Method::is_implicit`]), else of its [`RotorModel::state_scale`] (component $i$'s is
+    /// `atol * scale[i]`). Default `1e-12`.
     pub atol: f64,
     /// Fixed steps per forcing period for [`Method::Rk4`] (>= 1). Default 400. RK4 is stable
     /// only while $h\lambda \lesssim 2.8$ for the fastest rate $\lambda$ of the motion (in
@@ -1142,7 +1144,15 @@ where
 {
     let dim = model.dim();
     let any_algebraic = (0..dim.value()).any(|i| model.is_algebraic(i));
-    let scale = model.state_scale();
+    // The model's error weights for an implicit method only: an explicit one at its
+    // stability limit keeps its fast components stable through their error test, which the
+    // looser weights would weaken (`RotorModel::error_scale`).
+    let scale = opts
+        .method
+        .is_implicit()
+        .then(|| model.error_scale())
+        .flatten()
+        .unwrap_or_else(|| model.state_scale());
     // A scalar tolerance when nothing is algebraic or scaled keeps the arithmetic of a plain
     // run (and `atol * 1.0` is `atol`).
     let atol = if any_algebraic || scale.iter().any(|&s| s != 1.0) {

@@ -32,6 +32,12 @@ impl Method {
         }
     }
 
+    /// Whether the method is implicit and L-stable (RADAU5): its steps are not limited by the
+    /// fast components' stability, which an explicit method's error test guards.
+    pub fn is_implicit(self) -> bool {
+        matches!(self, Method::Radau5)
+    }
+
     /// Classical order of the propagating formula (8, 5, 4, 5).
     pub fn order(self) -> u32 {
         match self {

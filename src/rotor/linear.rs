@@ -291,6 +291,35 @@ impl LinearSystem {
         }
         Ok(x)
     }
+    /// Each coordinate's frequency: the rate at which an error in its velocity turns into
+    /// displacement, $\omega_i = \sqrt{M_{ii}/(M K_s^{-1} M)_{ii}}$ with $K_s$ the symmetric
+    /// part of $K$. A velocity error $\delta v\thinspace e_i$ starts free oscillations in the
+    /// mass-normalised modes $\phi_k$ ($K_s\phi_k = \omega_k^2 M\phi_k$) of amplitudes
+    /// $c_k = \phi_k^{\mathsf T}Me_i\thinspace\delta v/\omega_k$, whose mass-weighted sum of
+    /// squares is $\sum_k c_k^2 = (MK_s^{-1}M)_{ii}\thinspace\delta v^2$, against the
+    /// error's own $M_{ii}\thinspace\delta v^2$. For a modal coordinate ($M = I$, $K$
+    /// diagonal) it is the mode's natural frequency; a physical coordinate, which takes part in
+    /// the low modes, gets a frequency near the lowest. $\Omega$ (the speed) for every
+    /// coordinate when $K_s$ is singular or the ratio is not finite and positive for one of
+    /// them (a free rotor's rigid-body modes). One LU of $K_s$.
+    pub fn coordinate_frequencies(&self) -> DVector<f64> {
+        let n = self.dofs();
+        let fallback = DVector::from_element(n, self.speed);
+        let ks = (&self.stiffness + self.stiffness.transpose()) * 0.5;
+        let Some(x) = ks.lu().solve(&self.mass) else {
+            return fallback;
+        };
+        let w = DVector::from_fn(n, |i, _| {
+            let mkm = self.mass.row(i).dot(&x.column(i).transpose());
+            (self.mass[(i, i)] / mkm).sqrt()
+        });
+        if w.iter().all(|v| v.is_finite() && *v > 0.0) {
+            w
+        } else {
+            fallback
+        }
+    }
+
     /// $M^{-1} B$ for the columns of `b` (one LU of $M$). Error: a singular $M$
     /// ([`RotorError::Singular`]).
     pub fn solve_mass(&self, b: &DMatrix<f64>) -> Result<DMatrix<f64>, RotorError> {
@@ -421,6 +450,11 @@ pub struct LinearRotor {
     /// The columns of $M^{-1}$ at the station's coordinates.
     station_compliance: MatrixXx2<f64>,
     scale: DVector<f64>,
+    /// Each coordinate's frequency $\omega_i$ ([`LinearSystem::coordinate_frequencies`],
+    /// $\Omega$ where it has none), weighing its velocity's error
+    /// ([`SmoothRotor::error_scale`]); `None` with [`LinearRotor::with_frequency_weights`]
+    /// `(false)`.
+    frequencies: Option<DVector<f64>>,
     /// Row sums of $|M^{-1}K|$, of $|M^{-1}D|$ and of the station's columns of $|M^{-1}|$
     /// ([`SmoothRotor::max_rate`]).
     row_sums: [DVector<f64>; 3],
@@ -481,6 +515,7 @@ impl LinearRotor {
             has_constant: system.constant_force.iter().any(|&f| f != 0.0),
             station_compliance,
             scale: DVector::zeros(2 * n + 2),
+            frequencies: Some(system.coordinate_frequencies()),
             row_sums,
             system,
             station,
@@ -543,6 +578,15 @@ impl LinearRotor {
                 self.scale[i] = self.scale[i].max(gap);
             }
         }
+        self
+    }
+
+    /// The rotor with each velocity's error weighed by its coordinate's frequency (`true`,
+    /// the default: [`SmoothRotor::error_scale`]) or by the state's scale as every component's
+    /// (`false`: [`SmoothRotor::state_scale`], the runs before the weights).
+    #[must_use]
+    pub fn with_frequency_weights(mut self, on: bool) -> Self {
+        self.frequencies = on.then(|| self.system.coordinate_frequencies());
         self
     }
 
@@ -728,6 +772,22 @@ impl SmoothRotor for LinearRotor {
     /// error relative to its amplitude, as S1's reference did.
     fn state_scale(&self) -> Option<DVector<f64>> {
         Some(self.scale.clone())
+    }
+
+    /// The state's scale with the velocity of coordinate $i$ weighed by
+    /// $\max(\Omega, \omega_i)$ instead of $\Omega$: its displacement's scale times
+    /// $\max(\Omega, \omega_i)$, $\omega_i$ the coordinate's frequency
+    /// ([`LinearSystem::coordinate_frequencies`]; units: the displacement's per second).
+    /// Positions and the ring's slots keep the state's scale. See
+    /// [`SmoothRotor::error_scale`] for why.
+    fn error_scale(&self) -> Option<DVector<f64>> {
+        let n = self.system.dofs();
+        let w = self.system.speed;
+        let mut scale = self.scale.clone();
+        for (i, wi) in self.frequencies.as_ref()?.iter().enumerate() {
+            scale[n + i] *= wi.max(w) / w;
+        }
+        Some(scale)
     }
 
     /// A bound of the state matrix's spectral radius with a spring `stiffness` $k$ and a

@@ -5,6 +5,7 @@ mod rng;
 
 mod fe_eccentric;
 mod fe_energy;
+mod fe_error_weights;
 mod fe_exact;
 mod fe_jacobian;
 mod fe_linear;

@@ -404,18 +404,39 @@ where
         }
         self.update_scale();
         self.starting_values(h);
+        let iters = match self.newton(sys, h) {
+            Newton::Converged { iterations } => iterations,
+            Newton::Failed { factor, non_finite } => {
+                return Attempt::Rejected { factor, non_finite }
+            }
+        };
+        if self.core.opts.fixed_step.is_some() {
+            self.take_stages();
+            return Attempt::Accepted {
+                ratio: 1.0,
+                err: 0.0,
+            };
+        }
+        let err = self.estimate(sys, h, reject_before);
+        if !err.is_finite() {
+            return Attempt::Rejected {
+                factor: self.core.opts.fac_min,
+                non_finite: true,
+            };
+        }
+        self.control(h, err, iters)
+    }
+
+    /// The simplified Newton iteration of a step of size `h` from the starting values in `z`.
+    fn newton<S: OdeSystem<D>>(&mut self, sys: &S, h: f64) -> Newton {
         let Core {
             opts,
             n_ctrl,
             stats,
             t,
             y,
-            f,
-            y_new,
-            f_new,
             ..
         } = &mut self.core;
-        let (safety, fac_min, fac_max) = (opts.safety, opts.fac_min, opts.fac_max);
         let inp = StepInput {
             t: *t,
             h,
@@ -425,7 +446,7 @@ where
             fnewt: self.fnewt,
             patient: opts.fixed_step.is_some(),
         };
-        let it = iterate(
+        iterate(
             sys,
             &inp,
             &mut self.lin,
@@ -434,24 +455,32 @@ where
             &mut self.yt,
             &mut self.rate,
             stats,
-        );
-        let iters = match it {
-            Newton::Converged { iterations } => iterations,
-            Newton::Failed { factor, non_finite } => {
-                return Attempt::Rejected { factor, non_finite }
-            }
+        )
+    }
+
+    /// The scaled error of the converged step of size `h` ([`error_estimate`]).
+    fn estimate<S: OdeSystem<D>>(&mut self, sys: &S, h: f64, reject_before: bool) -> f64 {
+        let Core {
+            opts,
+            n_ctrl,
+            stats,
+            t,
+            y,
+            f,
+            f_new,
+            ..
+        } = &mut self.core;
+        let inp = StepInput {
+            t: *t,
+            h,
+            y,
+            scal: &self.scal,
+            n_ctrl: *n_ctrl,
+            fnewt: self.fnewt,
+            patient: opts.fixed_step.is_some(),
         };
-        if opts.fixed_step.is_some() {
-            for i in 0..y.len() {
-                y_new[i] = y[i] + self.z[2][i];
-            }
-            return Attempt::Accepted {
-                ratio: 1.0,
-                err: 0.0,
-            };
-        }
         // f_new is scratch here; the new point's f is computed after acceptance.
-        let err = error_estimate(
+        error_estimate(
             sys,
             &inp,
             f,
@@ -462,13 +491,15 @@ where
             f_new,
             &mut self.yt,
             stats,
-        );
-        if !err.is_finite() {
-            return Attempt::Rejected {
-                factor: fac_min,
-                non_finite: true,
-            };
-        }
+        )
+    }
+
+    /// Accepts or rejects a step of size `h` with scaled error `err` after `iters` Newton
+    /// iterations, with the step-size ratio or factor that follows (RADAU5's `FAC`, `QUOT`,
+    /// and Gustafsson's predictive controller after an accepted step).
+    fn control(&mut self, h: f64, err: f64, iters: usize) -> Attempt {
+        let opts = &self.core.opts;
+        let (safety, fac_min, fac_max) = (opts.safety, opts.fac_min, opts.fac_max);
         let fac = safety.min(safety * (1 + 2 * NIT) as f64 / (iters + 2 * NIT) as f64);
         let quot = (err.powf(0.25) / fac).clamp(1.0 / fac_max, 1.0 / fac_min);
         if err >= 1.0 {
@@ -487,12 +518,18 @@ where
             let gus = (self.h_acc / h) * (err * err / self.err_acc).powf(0.25) / safety;
             quot = quot.max(gus.clamp(1.0 / fac_max, 1.0 / fac_min));
         }
-        for i in 0..y.len() {
-            y_new[i] = y[i] + self.z[2][i];
-        }
+        self.take_stages();
         Attempt::Accepted {
             ratio: 1.0 / quot,
             err,
+        }
+    }
+
+    /// The new point $y + Z_3$ into `core.y_new`.
+    fn take_stages(&mut self) {
+        let Core { y, y_new, .. } = &mut self.core;
+        for i in 0..y.len() {
+            y_new[i] = y[i] + self.z[2][i];
         }
     }
 

@@ -286,89 +286,39 @@ pub(super) fn iterate<D: Dim, S: OdeSystem<D>>(
 where
     DefaultAllocator: Allocator<D>,
 {
-    let n = lin.n;
     rate.faccon = rate.faccon.max(f64::EPSILON).powf(0.8);
     rate.theta = super::THETA_JAC;
-    let (mut dynold, mut thqold) = (0.0f64, 0.0f64);
-    let c = [C1, C2, 1.0];
+    let mut history = Contraction {
+        dynold: 0.0,
+        thqold: 0.0,
+    };
     let nit = if inp.patient { NIT_FIXED } else { NIT };
+    let non_finite = Newton::Failed {
+        factor: 0.5,
+        non_finite: true,
+    };
     for newt in 1..=nit {
-        // F(y + Z_s) overwrites Z_s (Z is rebuilt from W below).
-        for s in 0..3 {
-            for i in 0..n {
-                yt[i] = inp.y[i] + z[s][i];
-            }
-            sys.rhs(inp.t + c[s] * inp.h, yt, &mut z[s]);
-        }
-        stats.rhs_evals += 3;
-        if !z.iter().all(|v| v.iter().all(|x| x.is_finite())) {
-            return Newton::Failed {
-                factor: 0.5,
-                non_finite: true,
-            };
+        if !stage_fields(sys, inp, z, yt, stats) {
+            return non_finite;
         }
         let [z0, z1, z2] = z;
         let (z0, z1, z2) = (z0.as_mut_slice(), z1.as_mut_slice(), z2.as_mut_slice());
-        for i in 0..n {
-            let (a1, a2, a3) = (z0[i], z1[i], z2[i]);
-            z0[i] = TI[0][0] * a1 + TI[0][1] * a2 + TI[0][2] * a3;
-            z1[i] = TI[1][0] * a1 + TI[1][1] * a2 + TI[1][2] * a3;
-            z2[i] = TI[2][0] * a1 + TI[2][1] * a2 + TI[2][2] * a3;
-        }
+        transform(&TI, [&mut *z0, &mut *z1, &mut *z2]);
         {
             let ws = [w[0].as_slice(), w[1].as_slice(), w[2].as_slice()];
             lin.solve(inp.h, &mut [&mut *z0, &mut *z1, &mut *z2], &ws);
         }
-        let sc = inp.scal.as_slice();
-        let mut sum = 0.0;
-        for i in 0..n {
-            sum += (z0[i] / sc[i]).powi(2) + (z1[i] / sc[i]).powi(2) + (z2[i] / sc[i]).powi(2);
-        }
-        let dyno = (sum / (3.0 * inp.n_ctrl)).sqrt();
+        let dyno = increment_norm([&*z0, &*z1, &*z2], inp.scal.as_slice(), inp.n_ctrl);
         if !dyno.is_finite() {
-            return Newton::Failed {
-                factor: 0.5,
-                non_finite: true,
-            };
+            return non_finite;
         }
-        // Contraction rate; predicted error after the remaining iterations.
         if newt > 1 && newt < nit {
-            let thq = dyno / dynold;
-            rate.theta = if newt == 2 {
-                thq
-            } else {
-                (thq * thqold).sqrt()
-            };
-            thqold = thq;
-            if rate.theta < 0.99 {
-                rate.faccon = rate.theta / (1.0 - rate.theta);
-                let left = (NIT.max(newt + 1) - 1 - newt) as i32;
-                let dyth = rate.faccon * dyno * rate.theta.powi(left) / inp.fnewt;
-                if dyth >= 1.0 && !inp.patient {
-                    let qnewt = dyth.clamp(1e-4, 20.0);
-                    return Newton::Failed {
-                        factor: 0.8 * qnewt.powf(-1.0 / (4.0 + left as f64)),
-                        non_finite: false,
-                    };
-                }
-            } else {
-                return Newton::Failed {
-                    factor: 0.5,
-                    non_finite: false,
-                };
+            if let Some(failed) = history.check(rate, inp, newt, dyno) {
+                return failed;
             }
         }
-        dynold = dyno.max(f64::EPSILON);
-        let [w0, w1, w2] = w;
-        let (w0, w1, w2) = (w0.as_mut_slice(), w1.as_mut_slice(), w2.as_mut_slice());
-        for i in 0..n {
-            w0[i] += z0[i];
-            w1[i] += z1[i];
-            w2[i] += z2[i];
-            z0[i] = T[0][0] * w0[i] + T[0][1] * w1[i] + T[0][2] * w2[i];
-            z1[i] = T[1][0] * w0[i] + T[1][1] * w1[i] + T[1][2] * w2[i];
-            z2[i] = T[2][0] * w0[i] + w1[i];
-        }
+        history.dynold = dyno.max(f64::EPSILON);
+        update_stages(w, [z0, z1, z2]);
         if rate.faccon * dyno <= inp.fnewt {
             return Newton::Converged { iterations: newt };
         }
@@ -376,6 +326,119 @@ where
     Newton::Failed {
         factor: 0.5,
         non_finite: false,
+    }
+}
+
+/// $F(y + Z_s)$ at the three stage times, written over $Z_s$ (rebuilt from $W$ after the
+/// solve); `false` if a value is not finite.
+fn stage_fields<D: Dim, S: OdeSystem<D>>(
+    sys: &S,
+    inp: &StepInput<'_, D>,
+    z: &mut [OVector<f64, D>; 3],
+    yt: &mut OVector<f64, D>,
+    stats: &mut Stats,
+) -> bool
+where
+    DefaultAllocator: Allocator<D>,
+{
+    let c = [C1, C2, 1.0];
+    for s in 0..3 {
+        for i in 0..yt.len() {
+            yt[i] = inp.y[i] + z[s][i];
+        }
+        sys.rhs(inp.t + c[s] * inp.h, yt, &mut z[s]);
+    }
+    stats.rhs_evals += 3;
+    z.iter().all(|v| v.iter().all(|x| x.is_finite()))
+}
+
+/// $(M \otimes I)\thinspace x$ in place for the three stage vectors (`m` is $T^{-1}$ here).
+fn transform(m: &[[f64; 3]; 3], x: [&mut [f64]; 3]) {
+    let [x0, x1, x2] = x;
+    for i in 0..x0.len() {
+        let (a1, a2, a3) = (x0[i], x1[i], x2[i]);
+        x0[i] = m[0][0] * a1 + m[0][1] * a2 + m[0][2] * a3;
+        x1[i] = m[1][0] * a1 + m[1][1] * a2 + m[1][2] * a3;
+        x2[i] = m[2][0] * a1 + m[2][1] * a2 + m[2][2] * a3;
+    }
+}
+
+/// The RMS norm of the Newton increment $\Delta W$ scaled by `scal`, over the `n_ctrl`
+/// error-controlled components of each stage.
+fn increment_norm(dw: [&[f64]; 3], scal: &[f64], n_ctrl: f64) -> f64 {
+    let [z0, z1, z2] = dw;
+    let mut sum = 0.0;
+    for i in 0..z0.len() {
+        sum += (z0[i] / scal[i]).powi(2) + (z1[i] / scal[i]).powi(2) + (z2[i] / scal[i]).powi(2);
+    }
+    (sum / (3.0 * n_ctrl)).sqrt()
+}
+
+/// $W \mathrel{+}= \Delta W$ and $Z = (T \otimes I) W$ (`dw` holds $\Delta W$ on entry, $Z$
+/// on return; $T$'s last row is $(T_{31}, 1, 0)$).
+fn update_stages<D: Dim>(w: &mut [OVector<f64, D>; 3], dw: [&mut [f64]; 3])
+where
+    DefaultAllocator: Allocator<D>,
+{
+    let [w0, w1, w2] = w;
+    let (w0, w1, w2) = (w0.as_mut_slice(), w1.as_mut_slice(), w2.as_mut_slice());
+    let [z0, z1, z2] = dw;
+    for i in 0..z0.len() {
+        w0[i] += z0[i];
+        w1[i] += z1[i];
+        w2[i] += z2[i];
+        z0[i] = T[0][0] * w0[i] + T[0][1] * w1[i] + T[0][2] * w2[i];
+        z1[i] = T[1][0] * w0[i] + T[1][1] * w1[i] + T[1][2] * w2[i];
+        z2[i] = T[2][0] * w0[i] + w1[i];
+    }
+}
+
+/// The previous increment's norm and contraction quotient of a Newton iteration.
+struct Contraction {
+    dynold: f64,
+    thqold: f64,
+}
+
+impl Contraction {
+    /// The contraction rate $\theta$ after iteration `newt` with increment norm `dyno`, and
+    /// the error predicted after the remaining iterations: a failure if the iteration
+    /// diverges ($\theta \ge 0.99$) or will not reach $\kappa$ in time.
+    fn check<D: Dim>(
+        &mut self,
+        rate: &mut Rate,
+        inp: &StepInput<'_, D>,
+        newt: usize,
+        dyno: f64,
+    ) -> Option<Newton>
+    where
+        DefaultAllocator: Allocator<D>,
+    {
+        let thq = dyno / self.dynold;
+        rate.theta = if newt == 2 {
+            thq
+        } else {
+            (thq * self.thqold).sqrt()
+        };
+        self.thqold = thq;
+        // Written so that a NaN rate fails as a diverging one.
+        if rate.theta < 0.99 {
+            rate.faccon = rate.theta / (1.0 - rate.theta);
+            let left = (NIT.max(newt + 1) - 1 - newt) as i32;
+            let dyth = rate.faccon * dyno * rate.theta.powi(left) / inp.fnewt;
+            if dyth >= 1.0 && !inp.patient {
+                let qnewt = dyth.clamp(1e-4, 20.0);
+                return Some(Newton::Failed {
+                    factor: 0.8 * qnewt.powf(-1.0 / (4.0 + left as f64)),
+                    non_finite: false,
+                });
+            }
+            None
+        } else {
+            Some(Newton::Failed {
+                factor: 0.5,
+                non_finite: false,
+            })
+        }
     }
 }
 

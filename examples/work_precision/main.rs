@@ -19,11 +19,21 @@
 //! cargo run --release --example work_precision -- --out target/figures/work_precision
 //! ```
 //!
+//! `--suite crossover` draws RADAU5 against DOP853 on the scenes of issue 19 instead
+//! (`crossover.rs`: `crossover_results.csv`, `xo_<scene>.png`, `crossover.png`).
+//!
 //! Writes `results.csv`, `reference.csv` and per scene `wp_<scene>_time.png` and
 //! `wp_<scene>_rhs.png` (with the CSV of each figure beside it) to `--out`.
 
-#[path = "common/mod.rs"]
+#[path = "../common/mod.rs"]
 mod common;
+mod crossover;
+// The shaft's other items serve its example and tests (problems.rs allows its own).
+#[path = "../stiff_set/problems.rs"]
+mod problems;
+#[allow(dead_code)]
+#[path = "../flexible_shaft/shaft.rs"]
+mod shaft;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -183,8 +193,14 @@ struct Flags {
     /// Runs per point; the minimum time is kept [range: 1..=1000]
     #[arg(long, value_name = "COUNT", default_value = "5", value_parser = usize_in(1, 1000))]
     repeat: usize,
-    /// One scene or all
-    #[arg(long = "scene", default_value = "all", value_parser = ["fig8a", "fig8b", "stiff", "chaos", "all"])]
+    /// Which diagrams: `methods` (the four methods on the four scenes above) or `crossover`
+    /// (RADAU5 against DOP853 on the paper's model, stiff rings, the flexible shaft in 8 to 64
+    /// modes and the stiff set: `crossover.rs`)
+    #[arg(long, default_value = "methods", value_parser = ["methods", "crossover"])]
+    suite: String,
+    /// One scene or all (methods: fig8a, fig8b, stiff, chaos; crossover: paper, ring1e4,
+    /// ring1e6, shaft8, shaft16, shaft32, shaft64, vdpol, rober, orego, hires, e5)
+    #[arg(long = "scene", default_value = "all", value_parser = scene_name)]
     only: String,
     /// Run once with METHOD:SETTING (dop853:1e-10, dopri5:1e-8, radau5:1e-8, rk4:400) and print the work
     /// done; no reference, no files (for instruction counts under valgrind)
@@ -192,13 +208,36 @@ struct Flags {
     single: Option<String>,
 }
 
+/// A `--scene` value: one of either suite's scenes, or `all`.
+fn scene_name(s: &str) -> Result<String, String> {
+    let methods = ["fig8a", "fig8b", "stiff", "chaos", "all"];
+    if methods.contains(&s) || crossover::SCENES.contains(&s) {
+        Ok(s.to_string())
+    } else {
+        Err(format!(
+            "expected all, one of {} (--suite methods) or one of {} (--suite crossover)",
+            methods[..4].join(", "),
+            crossover::SCENES.join(", ")
+        ))
+    }
+}
+
 fn main() {
     let Flags {
         out,
         repeat,
+        suite,
         only,
         single,
     } = parse();
+    let crossover_scene = crossover::SCENES.contains(&only.as_str());
+    if only != "all" && crossover_scene != (suite == "crossover") {
+        common::cli::fail(format!("--scene {only} is not a scene of --suite {suite}"));
+    }
+    if suite == "crossover" {
+        crossover::run(&out, &only, repeat);
+        return;
+    }
     if let Some(single) = single {
         run_single(&only, &single);
         return;
