@@ -40,7 +40,12 @@ const MAX_RESIDUAL: f64 = 1e-10;
 /// a backward error above $10^{-10}$ ([`RotorError::EigenResidual`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModalRotor {
-    linear: LinearRotor,
+    /// The physical rotor, when built from one ([`ModalRotor::new`]).
+    linear: Option<LinearRotor>,
+    speed: f64,
+    offset: [f64; 2],
+    /// The ring's gap once composed ([`ModalRotor::ringed`]); before, 1 mm.
+    gap: f64,
     values: DVector<Complex<f64>>,
     /// $T = \operatorname{diag}(d) V$ and $T^{-1}$.
     shapes: DMatrix<Complex<f64>>,
@@ -60,8 +65,51 @@ impl ModalRotor {
     /// $O(n^3)$). Errors: a singular $M$, a failed decomposition ([`RotorError::Eigen`]),
     /// ill-conditioned modes or a large backward error (as [`super::LinearFreeFlight::prepare`]).
     pub fn new(rotor: &LinearRotor) -> Result<Self, RotorError> {
-        let system = rotor.system();
+        let n = rotor.system().dofs();
+        let rows = rotor.station_dofs().map(|i| {
+            let mut row = DVector::zeros(n);
+            row[i] = 1.0;
+            row
+        });
+        let mut modal = Self::from_station_rows(rotor.system(), &rows, rotor.ring_offset())?;
+        modal.linear = Some(rotor.clone());
+        modal.scale = modal.modal_scale();
+        Ok(modal)
+    }
+
+    /// The modal form of `system` with the ring's station at the row combinations
+    /// $r = (c_x^{\mathsf T}q, c_y^{\mathsf T}q) - o$ (`rows` $= [c_x, c_y]$, $n$ entries each;
+    /// e.g. a modal shaft's mode shapes at the ring) and the ring's centre at `offset` $= o$.
+    /// The ring's force enters as $M^{-1}(c_x F_x + c_y F_y)$. Errors: as
+    /// [`ModalRotor::new`]; rows of another length ([`RotorError::VectorLength`]) or not
+    /// finite, an offset not finite ([`RotorError::Parameter`]).
+    pub fn from_station_rows(
+        system: &super::LinearSystem,
+        rows: &[DVector<f64>; 2],
+        offset: [f64; 2],
+    ) -> Result<Self, RotorError> {
         let n = system.dofs();
+        for row in rows {
+            if row.len() != n {
+                return Err(RotorError::VectorLength {
+                    vector: "station row",
+                    len: row.len(),
+                    expected: n,
+                });
+            }
+            if let Some(&value) = row.iter().find(|v| !v.is_finite()) {
+                return Err(RotorError::Parameter {
+                    field: "station row entry",
+                    value,
+                });
+            }
+        }
+        if let Some(&value) = offset.iter().find(|v| !v.is_finite()) {
+            return Err(RotorError::Parameter {
+                field: "ring offset",
+                value,
+            });
+        }
         let e = eigen_decomposition(&system.state_matrix()?).map_err(RotorError::Eigen)?;
         if e.condition.is_nan() || e.condition > DEFAULT_MAX_CONDITION {
             return Err(RotorError::IllConditionedModes {
@@ -78,8 +126,19 @@ impl ModalRotor {
         let d = &e.scale;
         let shapes = DMatrix::from_fn(2 * n, 2 * n, |i, k| e.vectors[(i, k)] * d[i]);
         let inverse = DMatrix::from_fn(2 * n, 2 * n, |k, i| e.inverse[(k, i)] / d[i]);
-        let [ix, iy] = rotor.station_dofs();
-        let rows = [ix, iy, n + ix, n + iy].map(|i| shapes.row(i).transpose());
+        let row_of = |c: &DVector<f64>, half: usize| {
+            DVector::from_fn(2 * n, |k, _| {
+                (0..n)
+                    .map(|i| shapes[(half + i, k)] * c[i])
+                    .sum::<Complex<f64>>()
+            })
+        };
+        let station_rows = [
+            row_of(&rows[0], 0),
+            row_of(&rows[1], 0),
+            row_of(&rows[0], n),
+            row_of(&rows[1], n),
+        ];
         let mut forces = DMatrix::zeros(n, 5);
         forces
             .column_mut(0)
@@ -88,8 +147,8 @@ impl ModalRotor {
             .column_mut(1)
             .copy_from(&system.harmonic_force().map(|f| -f.im));
         forces.column_mut(2).copy_from(system.constant_force());
-        forces[(ix, 3)] = 1.0;
-        forces[(iy, 4)] = 1.0;
+        forces.column_mut(3).copy_from(&rows[0]);
+        forces.column_mut(4).copy_from(&rows[1]);
         let accel = system.solve_mass(&forces)?;
         let inputs = std::array::from_fn(|j| {
             DVector::from_fn(2 * n, |k, _| {
@@ -111,11 +170,14 @@ impl ModalRotor {
             }
         })?;
         let mut modal = Self {
-            linear: rotor.clone(),
+            linear: None,
+            speed: system.speed(),
+            offset,
+            gap: 1e-3,
             values: e.values,
             shapes,
             inverse,
-            rows,
+            rows: station_rows,
             inputs,
             has_constant: system.constant_force().iter().any(|&f| f != 0.0),
             linear_part,
@@ -125,26 +187,37 @@ impl ModalRotor {
         Ok(modal)
     }
 
-    /// Each modal coordinate's scale: the largest amplitude that moves no physical component
-    /// by more than its scale ([`SmoothRotor::state_scale`] of the [`LinearRotor`]),
-    /// $\min_i s_i / |T_{ik}|$; the ring's slots keep theirs.
+    /// Each modal coordinate's scale. Built from a [`LinearRotor`]: the largest amplitude
+    /// that moves no physical component by more than its scale ([`SmoothRotor::state_scale`]
+    /// of the rotor), $\min_i s_i / |T_{ik}|$. From station rows: the amplitude that moves the
+    /// station by the gap, $\gamma/\max(|c_{x,k}|, |c_{y,k}|)$ (the modes are coupled only
+    /// through the station, so this is the error the contact sees), at most $10^3$ times the
+    /// smallest. The ring's slots: the gap.
     fn modal_scale(&self) -> DVector<f64> {
         let n2 = self.values.len();
-        let physical = self
-            .linear
-            .state_scale()
-            .unwrap_or_else(|| DVector::from_element(n2 + 2, 1.0));
-        let mut scale = DVector::zeros(2 * n2 + 2);
+        let mut scale = DVector::from_element(2 * n2 + 2, self.gap);
+        let physical = self.linear.as_ref().and_then(|l| l.state_scale());
+        let seen = |k: usize| self.rows[0][k].norm().max(self.rows[1][k].norm());
+        let largest = (0..n2).map(seen).fold(0.0, f64::max);
         for k in 0..n2 {
-            let s = (0..n2)
-                .map(|i| physical[i] / self.shapes[(i, k)].norm())
-                .fold(f64::INFINITY, f64::min);
-            let s = if s.is_finite() && s > 0.0 { s } else { 1.0 };
+            let s = match &physical {
+                Some(p) => (0..n2)
+                    .map(|i| p[i] / self.shapes[(i, k)].norm())
+                    .fold(f64::INFINITY, f64::min),
+                None => self.gap / seen(k).max(1e-3 * largest),
+            };
+            let s = if s.is_finite() && s > 0.0 {
+                s
+            } else {
+                self.gap
+            };
             scale[2 * k] = s;
             scale[2 * k + 1] = s;
         }
-        scale[2 * n2] = physical[n2];
-        scale[2 * n2 + 1] = physical[n2 + 1];
+        if let Some(p) = &physical {
+            scale[2 * n2] = p[n2];
+            scale[2 * n2 + 1] = p[n2 + 1];
+        }
         scale
     }
 
@@ -154,14 +227,15 @@ impl ModalRotor {
         mut self,
         ring: crate::ring::SnubberRing,
     ) -> Result<super::RingedRotor<Self>, RotorError> {
-        self.linear = self.linear.with_gap_scale(ring.gap);
+        self.gap = ring.gap;
+        self.linear = self.linear.map(|l| l.with_gap_scale(ring.gap));
         self.scale = self.modal_scale();
         super::RingedRotor::new(self, ring)
     }
 
-    /// The physical rotor.
-    pub fn linear(&self) -> &LinearRotor {
-        &self.linear
+    /// The physical rotor, when built from one ([`ModalRotor::new`]).
+    pub fn linear(&self) -> Option<&LinearRotor> {
+        self.linear.as_ref()
     }
 
     /// The eigenvalues $\lambda_k$ of the state matrix.
@@ -244,7 +318,7 @@ impl SmoothRotor for ModalRotor {
 
     /// $w_k^\prime = \lambda_k w_k + g_k(t)$: $O(n)$, no allocation.
     fn rhs(&self, t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
-        let (sin, cos) = (self.linear.system().speed() * t).sin_cos();
+        let (sin, cos) = (self.speed * t).sin_cos();
         let [gc, gs, g0, ..] = &self.inputs;
         for k in 0..self.values.len() {
             let w = Complex::new(y[2 * k], y[2 * k + 1]);
@@ -258,7 +332,7 @@ impl SmoothRotor for ModalRotor {
     }
 
     fn station(&self, y: &DVector<f64>) -> Kinematics {
-        let o = self.linear.ring_offset();
+        let o = self.offset;
         Kinematics::new(
             [self.row_value(0, y) - o[0], self.row_value(1, y) - o[1]],
             [self.row_value(2, y), self.row_value(3, y)],
@@ -280,10 +354,10 @@ impl SmoothRotor for ModalRotor {
     }
 
     fn forcing_period(&self) -> f64 {
-        self.linear.forcing_period()
+        std::f64::consts::TAU / self.speed
     }
 
-    /// The physical scales carried to the modes ($\min_i s_i/|T_{ik}|$).
+    /// The physical scales carried to the modes (see [`ModalRotor::ringed`]).
     fn state_scale(&self) -> Option<DVector<f64>> {
         Some(self.scale.clone())
     }

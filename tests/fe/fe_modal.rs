@@ -93,7 +93,11 @@ fn the_modal_form_is_the_physical_rotor_in_other_coordinates() {
         let w = modal.modal_state(&x).unwrap();
         let back = modal.physical_state(&w).unwrap();
         let size = x.amax();
-        assert!((&back - &x).amax() <= 1e-9 * size, "round trip {:e}", (&back - &x).amax());
+        assert!(
+            (&back - &x).amax() <= 1e-9 * size,
+            "round trip {:e}",
+            (&back - &x).amax()
+        );
         let (kp, km) = (linear.station(&x), modal.station(&w));
         assert!((kp.r - km.r).norm() <= 1e-9 * kp.r.norm().max(s1.gap));
         assert!((kp.v - km.v).norm() <= 1e-9 * kp.v.norm());
@@ -153,4 +157,30 @@ fn s1_full_model_in_modal_form_with_etd4() {
     assert_eq!(events.iter().filter(|e| e.0 == "onset").count(), 7);
     assert_eq!(events.iter().filter(|e| e.0 == "loss").count(), 6);
     assert!(err <= 1e-6, "{err:e}");
+}
+
+/// S1's cost per revolution and error against the modes kept, ETD4 on the modal form at rtol
+/// 1e-6 (the settings of docs/fe-rotors.md's table for DOP853 and Radau5).
+#[test]
+#[ignore = "a measurement: cargo test --release --test fe fe_modal -- --ignored --nocapture"]
+fn s1_cost_against_modes_with_etd4() {
+    let (s1, t_end) = (S1::load(), 0.5);
+    let revolutions = t_end * s1.params["speed_rad_s"].as_f64().unwrap() / std::f64::consts::TAU;
+    println!(
+        "modes | states | steps (rejected) | transitions | µs per revolution | max error / gap"
+    );
+    for modes in [Some(8), Some(16), Some(32), Some(64), Some(96), None] {
+        let model = modal_model(&s1, modes);
+        let (run, err) = run_modal(&s1, &model, Method::Etd4, 1e-6, t_end);
+        let s = &run.stats;
+        println!(
+            "{} | {} | {} ({}) | {} | {:.0} | {err:.1e}",
+            modes.map_or("full".to_string(), |m| m.to_string()),
+            model.rotor().rest_state().len(),
+            s.steps,
+            s.rejected,
+            s.transitions,
+            1e6 * run.seconds / revolutions
+        );
+    }
 }
