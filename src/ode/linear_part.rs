@@ -148,9 +148,10 @@ pub fn phi_functions(z: Complex<f64>) -> [Complex<f64>; 4] {
         [e, p1, p2, p3]
     } else {
         let e = z.exp();
-        let p1 = (e - one) / z;
-        let p2 = (p1 - one) / z;
-        let p3 = (p2 - Complex::new(0.5, 0.0)) / z;
+        let inv = one / z;
+        let p1 = (e - one) * inv;
+        let p2 = (p1 - one) * inv;
+        let p3 = (p2 - Complex::new(0.5, 0.0)) * inv;
         [e, p1, p2, p3]
     }
 }

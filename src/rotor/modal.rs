@@ -289,12 +289,19 @@ impl ModalRotor {
         Some(x)
     }
 
-    /// $\operatorname{Re}\sum_k c_k w_k$ for the station row `c`.
-    fn row_value(&self, row: usize, y: &DVector<f64>) -> f64 {
-        let c = &self.rows[row];
-        let mut sum = 0.0;
-        for k in 0..c.len() {
-            sum += c[k].re * y[2 * k] - c[k].im * y[2 * k + 1];
+    /// $\operatorname{Re}\sum_k c_k w_k$ for the four station rows (positions x, y,
+    /// velocities x, y) in one pass.
+    fn station_rows(&self, y: &DVector<f64>) -> [f64; 4] {
+        let n2 = self.values.len();
+        let w = y.as_slice()[..2 * n2].chunks_exact(2);
+        let [a, b, c, d] = self.rows.each_ref().map(|r| &r.as_slice()[..n2]);
+        let mut sum = [0.0; 4];
+        for (k, w) in w.enumerate() {
+            let (re, im) = (w[0], w[1]);
+            sum[0] += a[k].re * re - a[k].im * im;
+            sum[1] += b[k].re * re - b[k].im * im;
+            sum[2] += c[k].re * re - c[k].im * im;
+            sum[3] += d[k].re * re - d[k].im * im;
         }
         sum
     }
@@ -305,7 +312,8 @@ impl ModalRotor {
         if y.len() != 2 * self.values.len() + 2 {
             return [f64::NAN; 2];
         }
-        [self.row_value(0, y), self.row_value(1, y)]
+        let [x, y, ..] = self.station_rows(y);
+        [x, y]
     }
 }
 
@@ -333,10 +341,8 @@ impl SmoothRotor for ModalRotor {
 
     fn station(&self, y: &DVector<f64>) -> Kinematics {
         let o = self.offset;
-        Kinematics::new(
-            [self.row_value(0, y) - o[0], self.row_value(1, y) - o[1]],
-            [self.row_value(2, y), self.row_value(3, y)],
-        )
+        let [x, y, vx, vy] = self.station_rows(y);
+        Kinematics::new([x - o[0], y - o[1]], [vx, vy])
     }
 
     fn add_station_force(&self, _y: &DVector<f64>, force: &Vector2<f64>, dy: &mut DVector<f64>) {

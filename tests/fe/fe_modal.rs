@@ -160,7 +160,8 @@ fn s1_full_model_in_modal_form_with_etd4() {
 }
 
 /// S1's cost per revolution and error against the modes kept, ETD4 on the modal form at rtol
-/// 1e-6 (the settings of docs/fe-rotors.md's table for DOP853 and Radau5).
+/// 1e-6 (the settings of docs/fe-rotors.md's table for DOP853 and Radau5); the wall time the
+/// least of 3 runs (a shared machine).
 #[test]
 #[ignore = "a measurement: cargo test --release --test fe fe_modal -- --ignored --nocapture"]
 fn s1_cost_against_modes_with_etd4() {
@@ -172,6 +173,10 @@ fn s1_cost_against_modes_with_etd4() {
     for modes in [Some(8), Some(16), Some(32), Some(64), Some(96), None] {
         let model = modal_model(&s1, modes);
         let (run, err) = run_modal(&s1, &model, Method::Etd4, 1e-6, t_end);
+        let mut seconds = run.seconds;
+        for _ in 0..2 {
+            seconds = seconds.min(run_modal(&s1, &model, Method::Etd4, 1e-6, t_end).0.seconds);
+        }
         let s = &run.stats;
         println!(
             "{} | {} | {} ({}) | {} | {:.0} | {err:.1e}",
@@ -180,7 +185,7 @@ fn s1_cost_against_modes_with_etd4() {
             s.steps,
             s.rejected,
             s.transitions,
-            1e6 * run.seconds / revolutions
+            1e6 * seconds / revolutions
         );
     }
 }

@@ -13,15 +13,13 @@ use jeffcott::rotor::{ModalRotor, RingedRotor, SmoothRotor};
 
 use crate::shaft::{self, Layout};
 
+/// A run of a model: options and periods to the trajectory, its statistics and seconds.
+type BoxedRun = Box<dyn Fn(&SimOptions, f64) -> (Trajectory<Dyn>, SimStats, f64)>;
+
 /// The shaft in `modes` modes, ring at station 3 of 8, out-of-balance at 2, eta 1.1 (as
 /// `ode_radau_contacts`): the physical model and its modal form, each with its consistent
 /// start from rest.
-fn both(
-    modes: usize,
-) -> [(
-    Box<dyn Fn(&SimOptions, f64) -> (Trajectory<Dyn>, SimStats, f64)>,
-    &'static str,
-); 2] {
+fn both(modes: usize) -> [(BoxedRun, &'static str); 2] {
     let params = Preset::Fig8a.params().with_eta(1.1);
     let layout = Layout {
         modes,
