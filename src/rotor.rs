@@ -99,6 +99,7 @@ mod exact;
 mod linear;
 mod linearization;
 mod matrices;
+mod modal;
 mod reduction;
 #[cfg(feature = "mat")]
 mod ross;
@@ -110,6 +111,7 @@ pub use exact::{
 };
 pub use linear::{LinearRotor, LinearSystem};
 pub use matrices::{DofLayout, RotorMatrices};
+pub use modal::ModalRotor;
 pub use reduction::{CraigBampton, ModeSelection, ResponseError};
 pub use run_up::ProfiledJeffcott;
 pub use speed::SpeedProfile;
@@ -250,6 +252,15 @@ where
     /// ([`OdeSystem::second_order`](crate::ode::OdeSystem::second_order)). The ring's slots
     /// must then be among the others (index $\ge 2p$). Default `None`.
     fn second_order(&self) -> Option<usize> {
+        None
+    }
+
+    /// The linear part of [`SmoothRotor::rhs`], diagonal in the state's own coordinates
+    /// ([`DiagonalLinearPart`](crate::ode::DiagonalLinearPart): a rotor in modal coordinates,
+    /// [`ModalRotor`]), with nothing at the ring's slots. [`RingedRotor`] passes it on as
+    /// [`RotorModel::linear_part`], which the exponential integrator
+    /// [`Etd4`](crate::ode::Etd4) needs. Default `None`.
+    fn linear_part(&self) -> Option<&crate::ode::DiagonalLinearPart> {
         None
     }
 
@@ -1326,6 +1337,12 @@ where
             jac.row_mut(i).fill(0.0);
         }
         true
+    }
+
+    /// The rotor's [`SmoothRotor::linear_part`]: the ring's force and slots are the rest of
+    /// the field.
+    fn linear_part(&self) -> Option<&crate::ode::DiagonalLinearPart> {
+        self.rotor.linear_part()
     }
 
     fn second_order(&self) -> Option<usize> {

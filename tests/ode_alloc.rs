@@ -185,3 +185,73 @@ fn linear_rotor_rhs_allocates_nothing() {
     });
     assert_eq!(info.count_total, 0, "{info:?}");
 }
+
+/// The exponential integrator ETD4 (a system with a diagonal linear part: the chain's
+/// velocity damping), with events, truncations and resets, and `rotor::ModalRotor`'s field,
+/// station and force: nothing allocated.
+#[test]
+fn etd4_steps_and_the_modal_rotor_allocate_nothing() {
+    use jeffcott::nalgebra::{Complex, DMatrix, Vector2};
+    use jeffcott::ode::{DiagonalLinearPart, OdeSystem};
+    use jeffcott::rotor::{LinearRotor, LinearSystem, ModalRotor, SmoothRotor};
+    struct Split(DiagonalLinearPart);
+    impl OdeSystem<Dyn> for Split {
+        fn rhs(&self, t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
+            chain(t, y, dy)
+        }
+        fn linear_part(&self) -> Option<&DiagonalLinearPart> {
+            Some(&self.0)
+        }
+    }
+    let m = 6;
+    let n = 2 * m;
+    let damping: Vec<(usize, f64)> = (m..n).map(|i| (i, -0.05)).collect();
+    let sys = Split(DiagonalLinearPart::new(n, &damping, &[]).unwrap());
+    let opts = Options::default().with_rtol(1e-9).with_atol(1e-11);
+    let mut integ = AnyIntegrator::with_dim(Method::Etd4, Dyn(n), opts).unwrap();
+    let events = EventFns::new([Direction::Rising], |_i, _t, y: &DVector<f64>| y[0] - 0.1)
+        .with_derivative(|_i, _t, _y: &DVector<f64>, dy: &DVector<f64>| dy[0]);
+    let mut state = EventState::with_dim(Dyn(n));
+    let ev_opts = EventOptions::default();
+    let y0 = DVector::from_fn(n, |i, _| 0.05 * (i as f64 + 1.0).sin());
+    let (mut y, mut mid) = (y0.clone(), y0.clone());
+    integ.reset(&sys, 0.0, &y0, false).unwrap();
+    let mut impacts = 0;
+    let info = allocation_counter::measure(|| {
+        for _ in 0..1000 {
+            integ.step(&sys, 1e6).unwrap();
+            let tm = 0.5 * (integ.t_prev() + integ.t());
+            integ.dense(&sys, tm, &mut mid);
+            if let Some(hit) =
+                find_first_event(&mut integ, &sys, &events, &ev_opts, &mut state).unwrap()
+            {
+                impacts += 1;
+                y.copy_from(&hit.y);
+                integ.truncate(&sys, hit.t).unwrap();
+                y[m] *= -0.8;
+                integ.reset(&sys, hit.t, &y, true).unwrap();
+                state.reset();
+            }
+        }
+    });
+    assert!(impacts >= 5, "{impacts}");
+    assert_eq!(info.count_total, 0, "ETD4: {info:?}");
+
+    let k = DMatrix::from_fn(8, 8, |i, j| if i == j { 1e4 } else { -10.0 });
+    let system = LinearSystem::new(DMatrix::identity(8, 8) * 2.0, k.scale(1e-4), k, 50.0)
+        .unwrap()
+        .with_harmonic_force(2, Complex::new(1.0, -0.5))
+        .unwrap();
+    let rotor = ModalRotor::new(&LinearRotor::new(system, [2, 3], [1e-5, 0.0]).unwrap()).unwrap();
+    let y = DVector::from_fn(rotor.rest_state().len(), |i, _| 1e-4 * (i as f64).cos());
+    let mut dy = rotor.rest_state();
+    let force = Vector2::new(3.0, -1.0);
+    let info = allocation_counter::measure(|| {
+        for step in 0..100 {
+            rotor.rhs(step as f64 * 1e-3, &y, &mut dy);
+            rotor.add_station_force(&y, &force, &mut dy);
+            std::hint::black_box(rotor.station(&y));
+        }
+    });
+    assert_eq!(info.count_total, 0, "ModalRotor: {info:?}");
+}

@@ -30,6 +30,9 @@ pub enum MethodFlag {
     Rk4,
     /// Radau IIA of order 5, implicit, adaptive: for stiff models (many modes, stiff contacts)
     Radau5,
+    /// Exponential (ETDRK4), adaptive: for a model in modal coordinates (ross_rotor puts the
+    /// rotor in its modal form); other models refuse it
+    Etd4,
 }
 
 impl MethodFlag {
@@ -40,6 +43,7 @@ impl MethodFlag {
             MethodFlag::Dopri5 => Method::Dopri5,
             MethodFlag::Rk4 => Method::Rk4,
             MethodFlag::Radau5 => Method::Radau5,
+            MethodFlag::Etd4 => Method::Etd4,
         }
     }
 }

@@ -58,10 +58,11 @@
 
 use std::f64::consts::PI;
 
+use jeffcott::nalgebra::{Complex, DMatrix};
 use jeffcott::nalgebra::{DVector, Dyn, Vector2};
 use jeffcott::params::{ParamError, Params};
 use jeffcott::ring::{Kinematics, RingAxis, RingError, SnubberRing};
-use jeffcott::rotor::{RingedRotor, RotorError, SmoothRotor};
+use jeffcott::rotor::{LinearSystem, ModalRotor, RingedRotor, RotorError, SmoothRotor};
 
 /// Why a shaft could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -398,6 +399,53 @@ impl SmoothRotor for FlexibleShaft {
     /// [`FlexibleShaft::error_scale_vector`].
     fn error_scale(&self) -> Option<DVector<f64>> {
         self.frequency_weights.then(|| self.error_scale_vector())
+    }
+}
+
+impl FlexibleShaft {
+    /// The same shaft as a [`ModalRotor`] (the complex modal coordinates of its state matrix,
+    /// for the exponential integrator `Etd4`): the linear system $M = I$,
+    /// $D = \operatorname{diag}(2\zeta\omega_j)$, $K = \operatorname{diag}(\omega_j^2)$ in
+    /// the coordinates $(q_{x1}, q_{y1}, \dots)$, the out-of-balance as the harmonic force
+    /// $\phi_j(\xi_u)\beta\eta^2 e^{i\varphi_0}(1, -i)$, the ring's station at the rows
+    /// $\phi_j(\xi_r)$ and the ring's centre at $-e$ from the rest line.
+    ///
+    /// # Errors
+    /// [`RotorError`] from the system or the modal form.
+    pub fn modal_rotor(&self) -> Result<ModalRotor, RotorError> {
+        let n = 2 * self.layout.modes;
+        let p = &self.params;
+        let rate = |i: usize| self.omega[i / 2];
+        let diag = |f: &dyn Fn(usize) -> f64| {
+            DMatrix::from_fn(n, n, |i, j| if i == j { f(i) } else { 0.0 })
+        };
+        let amplitude = Complex::from_polar(p.forcing_amplitude(), p.phi0);
+        let harmonic = DVector::from_fn(n, |i, _| {
+            let f = amplitude * self.at_unbalance[i / 2];
+            if i % 2 == 0 {
+                f
+            } else {
+                f * Complex::new(0.0, -1.0)
+            }
+        });
+        let system = LinearSystem::from_parts(
+            diag(&|_| 1.0),
+            diag(&|i| 2.0 * p.nu1 * rate(i)),
+            diag(&|i| rate(i) * rate(i)),
+            p.eta,
+            harmonic,
+            DVector::zeros(n),
+        )?;
+        let row = |axis: usize| {
+            DVector::from_fn(n, |i, _| {
+                if i % 2 == axis {
+                    self.at_ring[i / 2]
+                } else {
+                    0.0
+                }
+            })
+        };
+        ModalRotor::from_station_rows(&system, &[row(0), row(1)], [-p.ex, -p.ey])
     }
 }
 

@@ -31,7 +31,8 @@ use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, SimOptions, Trajecto
 use jeffcott::nalgebra::{DVector, Dyn};
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{
-    CraigBampton, LinearRotor, LinearSystem, ModeSelection, RingedRotor, RotorMatrices,
+    CraigBampton, LinearRotor, LinearSystem, ModalRotor, ModeSelection, RingedRotor, RotorMatrices,
+    SmoothRotor,
 };
 
 /// One out-of-balance: node, magnitude (kg m), phase (rad).
@@ -114,7 +115,9 @@ struct Flags {
     #[arg(long, allow_hyphen_values = true, value_name = "R", default_value = "1e-8", value_parser = f64_in(1e-14, 1e-2))]
     rtol: f64,
     /// Integration method of contact phases; default: radau5 for the full model (stiff: its
-    /// highest modes reach 1e6 rad/s), dop853 for a reduced one (accuracy sets the step)
+    /// highest modes reach 1e6 rad/s), dop853 for a reduced one (accuracy sets the step);
+    /// etd4 runs the rotor in its modal coordinates (free flight and contact integrated, the
+    /// modes exactly: cost linear in the modes)
     #[arg(long, value_enum)]
     method: Option<MethodFlag>,
     /// Folder of the pictures
@@ -130,9 +133,26 @@ fn check<T, E: std::fmt::Display>(r: Result<T, E>, what: &str) -> T {
 fn main() {
     let f: Flags = parse();
     let (model, kept) = model(&f);
-    let run = transient(&model, &f);
+    let dofs = model.rotor().system().dofs();
+    let (run, free_flight) = if matches!(method(&f), MethodFlag::Etd4) {
+        let modal = check(ModalRotor::new(model.rotor()), "modal form");
+        let modal = check(modal.ringed(*model.ring()), "ring");
+        let at = |y: &DVector<f64>| modal.rotor().station_displacement(y);
+        (
+            transient(&modal, &f, at),
+            "integrated (modal coordinates)".to_string(),
+        )
+    } else {
+        let at = |y: &DVector<f64>| model.rotor().station_displacement(y);
+        let free_flight = match model.closed_form() {
+            Some(Ok(_)) => "exact".to_string(),
+            Some(Err(e)) => format!("integrated ({e})"),
+            None => "integrated".to_string(),
+        };
+        (transient(&model, &f, at), free_flight)
+    };
     write_csv(&run.samples);
-    eprintln!("{}", summary(&f, &model, kept, &run));
+    eprintln!("{}", summary(&f, dofs, kept, &free_flight, &run));
     draw(&f, &run.samples);
 }
 
@@ -175,18 +195,13 @@ fn model(f: &Flags) -> (RingedRotor<LinearRotor>, Option<f64>) {
 }
 
 /// The summary line: the model, the method, how free flight runs, the counts and the time.
-fn summary(f: &Flags, model: &RingedRotor<LinearRotor>, kept: Option<f64>, run: &Run) -> String {
+fn summary(f: &Flags, dofs: usize, kept: Option<f64>, free_flight: &str, run: &Run) -> String {
     let reduction = kept.map_or(String::new(), |w| {
         format!(" ({} modes, highest {w:.4e} rad/s)", f.modes)
     });
-    let free_flight = match model.closed_form() {
-        Some(Ok(_)) => "exact".to_string(),
-        Some(Err(e)) => format!("integrated ({e})"),
-        None => "integrated".to_string(),
-    };
     format!(
         "ross_rotor: {} DOFs{reduction}, {:?}, free flight {free_flight}, {} contacts, {} steps ({} rejected), {} events, {:.3} s",
-        model.rotor().system().dofs(),
+        dofs,
         method(f).method(),
         run.contacts,
         run.steps,
@@ -206,7 +221,12 @@ struct Run {
     seconds: f64,
 }
 
-fn transient(model: &RingedRotor<LinearRotor>, f: &Flags) -> Run {
+/// The transient of `model` from rest; `at` reads the ring node's displacement from a state.
+fn transient<R: SmoothRotor<Dim = Dyn>>(
+    model: &RingedRotor<R>,
+    f: &Flags,
+    at: impl Fn(&DVector<f64>) -> [f64; 2],
+) -> Run {
     let dt = f.t_end / f.samples as f64;
     let plan = OutputPlan {
         t_end: f.t_end,
@@ -219,13 +239,12 @@ fn transient(model: &RingedRotor<LinearRotor>, f: &Flags) -> Run {
         .with_rtol(f.rtol)
         .with_atol(f.rtol)
         .with_max_events_per_period(u32::MAX);
-    let mut y0 = model.rotor().rest_state();
+    let mut y0 = DVector::zeros(model.rotor().dim().0); // q = q' = 0, s = 0
     check(model.make_consistent(&mut y0), "initial state");
     let mut rec = Trajectory::<Dyn>::default();
     let clock = Instant::now();
     let stats = common::or_exit(simulate(model, 0.0, &y0, &plan, &opts, &mut rec));
     let seconds = clock.elapsed().as_secs_f64();
-    let at = |y: &DVector<f64>| model.rotor().station_displacement(y);
     let mut samples: Vec<[f64; 3]> = rec
         .samples
         .iter()

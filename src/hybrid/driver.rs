@@ -319,6 +319,10 @@ where
     fn second_order(&self) -> Option<usize> {
         self.model.second_order()
     }
+
+    fn linear_part(&self) -> Option<&crate::ode::DiagonalLinearPart> {
+        self.model.linear_part()
+    }
 }
 
 impl<M: RotorModel> EventSet<M::Dim> for ModeSystem<'_, M>

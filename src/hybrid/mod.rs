@@ -427,6 +427,14 @@ where
         None
     }
 
+    /// The linear part of every mode's field, diagonal in the state's own coordinates, passed
+    /// to the integrator as [`OdeSystem::linear_part`](crate::ode::OdeSystem::linear_part)
+    /// (the exponential integrator [`Etd4`](crate::ode::Etd4) needs it). The same for every
+    /// mode: what a mode adds (a contact force) is the rest of its field. Default `None`.
+    fn linear_part(&self) -> Option<&crate::ode::DiagonalLinearPart> {
+        None
+    }
+
     /// The Jacobian $\partial f/\partial y$ of `mode`'s field at $(t, y)$ written into `jac`
     /// (every entry), `true`; or `false` (the default) for finite differences. Passed to the
     /// integrator as [`OdeSystem::jacobian`](crate::ode::OdeSystem::jacobian) (only

@@ -1,6 +1,6 @@
 //! Run-time choice of the integration method.
 
-use super::{Dop853, Dopri5, Integrator, OdeError, OdeSystem, Options, Radau5, Rk4, Stats};
+use super::{Dop853, Dopri5, Etd4, Integrator, OdeError, OdeSystem, Options, Radau5, Rk4, Stats};
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, Dim, DimName, OVector};
 
@@ -16,10 +16,14 @@ pub enum Method {
     Rk4,
     /// [`Radau5`], implicit, for stiff problems (refuses [`Options::fixed_step`]).
     Radau5,
+    /// [`Etd4`], exponential, for systems with a diagonal linear part
+    /// ([`OdeSystem::linear_part`]; refuses [`Options::fixed_step`]). Not in
+    /// [`Method::ALL`], which lists the methods for any system.
+    Etd4,
 }
 
 impl Method {
-    /// All methods.
+    /// The methods for any system (every method but [`Method::Etd4`]).
     pub const ALL: [Method; 4] = [Method::Dop853, Method::Dopri5, Method::Rk4, Method::Radau5];
 
     /// Name for reports.
@@ -29,6 +33,7 @@ impl Method {
             Method::Dopri5 => "DOPRI5",
             Method::Rk4 => "RK4",
             Method::Radau5 => "RADAU5",
+            Method::Etd4 => "ETD4",
         }
     }
 
@@ -38,13 +43,14 @@ impl Method {
         matches!(self, Method::Radau5)
     }
 
-    /// Classical order of the propagating formula (8, 5, 4, 5).
+    /// Classical order of the propagating formula (8, 5, 4, 5, 4).
     pub fn order(self) -> u32 {
         match self {
             Method::Dop853 => 8,
             Method::Dopri5 => 5,
             Method::Rk4 => 4,
             Method::Radau5 => 5,
+            Method::Etd4 => 4,
         }
     }
 }
@@ -64,6 +70,8 @@ where
     Rk4(Rk4<D>),
     /// RADAU5 (boxed: its state is several times larger than the explicit methods').
     Radau5(Box<Radau5<D>>),
+    /// ETD4 (boxed, as RADAU5).
+    Etd4(Box<Etd4<D>>),
 }
 
 impl<D: DimName> AnyIntegrator<D>
@@ -89,6 +97,7 @@ where
             Method::Dopri5 => AnyIntegrator::Dopri5(Dopri5::with_dim(dim, options)?),
             Method::Rk4 => AnyIntegrator::Rk4(Rk4::with_dim(dim, options)?),
             Method::Radau5 => AnyIntegrator::Radau5(Box::new(Radau5::with_dim(dim, options)?)),
+            Method::Etd4 => AnyIntegrator::Etd4(Box::new(Etd4::with_dim(dim, options)?)),
         })
     }
 
@@ -99,6 +108,7 @@ where
             AnyIntegrator::Dopri5(_) => Method::Dopri5,
             AnyIntegrator::Rk4(_) => Method::Rk4,
             AnyIntegrator::Radau5(_) => Method::Radau5,
+            AnyIntegrator::Etd4(_) => Method::Etd4,
         }
     }
 }
@@ -110,6 +120,7 @@ macro_rules! dispatch {
             AnyIntegrator::Dopri5($i) => $e,
             AnyIntegrator::Rk4($i) => $e,
             AnyIntegrator::Radau5($i) => $e,
+            AnyIntegrator::Etd4($i) => $e,
         }
     };
 }

@@ -125,4 +125,17 @@ pub enum OdeError {
         /// The length given.
         found: usize,
     },
+    /// The exponential integrator ([`Etd4`](super::Etd4)) was given a system without a
+    /// diagonal linear part ([`OdeSystem::linear_part`](super::OdeSystem::linear_part)).
+    #[error("the system supplies no diagonal linear part (OdeSystem::linear_part): ETD4 needs one; use DOP853 or RADAU5, or a model in modal coordinates")]
+    NoLinearPart,
+    /// A [`DiagonalLinearPart`](super::DiagonalLinearPart) names a component out of range or
+    /// twice, or has a non-finite eigenvalue.
+    #[error("invalid linear part at component {component} (value {value}): each component in at most one block, within the dimension, with a finite eigenvalue")]
+    InvalidLinearPart {
+        /// The component.
+        component: usize,
+        /// The eigenvalue's part given for it.
+        value: f64,
+    },
 }

@@ -10,7 +10,10 @@
 //! * [`Radau5`] — the implicit three-stage Radau IIA method of order 5 (Hairer and
 //!   Wanner's RADAU5) for stiff problems, with its collocation polynomial as dense output
 //!   and the system's Jacobian ([`OdeSystem::jacobian`]) or finite differences,
-//! * [`AnyIntegrator`] — enum dispatch over the four, selected at run time by
+//! * [`Etd4`] — an exponential integrator (ETDRK4 with step doubling) for systems whose
+//!   linear part is diagonal in their own coordinates ([`OdeSystem::linear_part`]): exact for
+//!   the linear part, $O(N)$ a step, steps set by the rest of the right-hand side,
+//! * [`AnyIntegrator`] — enum dispatch over the five, selected at run time by
 //!   [`Method`],
 //! * [events](#events) — event functions $g_i(t, y)$ (as a trait, or from closures
 //!   with [`EventFns`]) and their detection on the dense output, including
@@ -345,8 +348,10 @@ mod core;
 mod dop853;
 mod dopri5;
 mod error;
+mod etd4;
 mod events;
 pub(crate) mod kernels;
+mod linear_part;
 mod options;
 mod radau5;
 mod rk4;
@@ -356,10 +361,12 @@ pub use any::{AnyIntegrator, Method};
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 pub use error::OdeError;
+pub use etd4::Etd4;
 pub use events::{
     find_first_event, EventDerivative, EventFns, EventHit, EventOptions, EventSet, EventState,
     NoDerivative, NoEvents, MAX_SAMPLES,
 };
+pub use linear_part::{phi_functions, DiagonalLinearPart};
 pub use options::{Options, Tolerance};
 pub use radau5::Radau5;
 pub use rk4::Rk4;
@@ -435,6 +442,19 @@ where
     /// wrong Newton matrix, which shows as slow convergence, never as a wrong step. A value
     /// with $2p > N$ is ignored.
     fn second_order(&self) -> Option<usize> {
+        None
+    }
+
+    /// The linear part $L$ of $f(t, y) = L y + N(t, y)$ when it is diagonal in real and
+    /// complex blocks in the system's own coordinates ([`DiagonalLinearPart`]; e.g. a linear
+    /// system in its modal coordinates), or `None` (the default).
+    ///
+    /// Only the exponential integrator [`Etd4`] uses it (and refuses a system without one,
+    /// [`OdeError::NoLinearPart`]): it propagates $L$ exactly and integrates only
+    /// $N = f - Ly$, so its steps follow $N$ (a contact force, a forcing) and not the fastest
+    /// mode of $L$. Any $L$ is *correct* (the split is exact: $N$ is computed as $f - Ly$);
+    /// the method is *efficient* when $N$ is smooth and mild where $L$ is stiff.
+    fn linear_part(&self) -> Option<&DiagonalLinearPart> {
         None
     }
 }

@@ -10,6 +10,7 @@ mod fe_exact;
 mod fe_jacobian;
 mod fe_linear;
 mod fe_matrices;
+mod fe_modal;
 mod fe_reduction;
 mod fe_reduction_s1;
 mod fe_reduction_table;

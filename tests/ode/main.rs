@@ -15,6 +15,8 @@ mod ode_convergence;
 mod ode_determinism;
 mod ode_dyn;
 mod ode_errors;
+mod ode_etd4;
+mod ode_etd4_shaft;
 mod ode_events;
 mod ode_honesty;
 mod ode_radau;

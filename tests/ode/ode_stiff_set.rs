@@ -25,6 +25,7 @@ fn within_reach(method: Method, problem: Problem) -> bool {
     match method {
         Method::Dop853 | Method::Dopri5 | Method::Rk4 => problem == Problem::Vdpol,
         Method::Radau5 => true,
+        Method::Etd4 => false,
     }
 }
 
