@@ -3,10 +3,6 @@ independent SciPy implementation, tests/data/rotors/README of the shared set), a
 tests/fe/fe_s1.rs checks it."""
 
 import json
-import subprocess
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -97,15 +93,3 @@ def test_fe_non_square_matrix_raises_value_error():
         jeffcott.fe_transient(m["M"][:, :-1], m["K"], m["C"], m["G"], 125.0, ring_node=12,
                               gap=7.95e-5, ring_stiffness=1.1e6, ring_damping=0.01,
                               unbalance=[], t_end=1e-3, samples=2)
-
-
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "ross_snubber.py"
-
-
-def test_ross_example_runs(tmp_path):
-    pytest.importorskip("ross")
-    pytest.importorskip("matplotlib")
-    out = subprocess.run([sys.executable, str(EXAMPLE), str(tmp_path / "ross_snubber.png")],
-                         capture_output=True, text=True, timeout=600)
-    assert out.returncode == 0, out.stderr
-    assert (tmp_path / "ross_snubber.png").stat().st_size > 10_000
