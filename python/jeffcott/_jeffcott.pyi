@@ -72,7 +72,28 @@ class FeTransient:
     dofs: int
     stats: dict[str, int]
 
+class Orbit:
+    period: int
+    state: npt.NDArray[np.float64]  # (6,)
+    point: npt.NDArray[np.float64]  # (4,)
+    multipliers: npt.NDArray[np.complex128]  # (4,), largest modulus first
+    spectral_radius: float
+    residual: float
+    iterations: int
+    minimal_period: int
+    grazing: bool
+
 def presets() -> list[str]: ...
+def periodic_orbit(
+    params: Params,
+    period: int = 1,
+    *,
+    transient: int = 300,
+    state0: Sequence[float] | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
+) -> Orbit: ...
 def simulate(
     params: Params,
     periods: int,

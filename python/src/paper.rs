@@ -66,11 +66,11 @@ pub struct Diagram {
     pub errors: Vec<Option<String>>,
 }
 
-fn model_of(params: &PyParams) -> PyResult<JeffcottModel> {
+pub fn model_of(params: &PyParams) -> PyResult<JeffcottModel> {
     JeffcottModel::new(params.checked()?).map_err(value_error)
 }
 
-fn start_state(state0: Option<Vec<f64>>) -> PyResult<State> {
+pub fn start_state(state0: Option<Vec<f64>>) -> PyResult<State> {
     match state0 {
         None => Ok(State::zeros()),
         Some(v) if v.len() == 6 && v.iter().all(|x| x.is_finite()) => {
