@@ -83,7 +83,24 @@ class Orbit:
     minimal_period: int
     grazing: bool
 
+class Section:
+    k: npt.NDArray[np.int64]  # (record,)
+    points: npt.NDArray[np.float64]  # (record, 6)
+    regimes: npt.NDArray[np.uint8]  # (record,)
+    period: int  # -1: none
+
 def presets() -> list[str]: ...
+def poincare(
+    params: Params,
+    *,
+    transient: int = 300,
+    record: int = 150,
+    state0: Sequence[float] | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
+    chunk: int = 100,
+) -> Section: ...
 def periodic_orbit(
     params: Params,
     period: int = 1,

@@ -9,6 +9,7 @@ mod fe;
 mod options;
 mod paper;
 mod params;
+mod poincare;
 mod stability;
 
 use pyo3::prelude::*;
@@ -27,6 +28,7 @@ fn _jeffcott(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<paper::Diagram>()?;
     m.add_class::<fe::FeTransient>()?;
     m.add_class::<stability::Orbit>()?;
+    m.add_class::<poincare::Section>()?;
     m.add_function(wrap_pyfunction!(params::presets, m)?)?;
     m.add_function(wrap_pyfunction!(paper::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(paper::simulate_dense, m)?)?;
@@ -35,5 +37,6 @@ fn _jeffcott(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(paper::regime, m)?)?;
     m.add_function(wrap_pyfunction!(fe::fe_transient, m)?)?;
     m.add_function(wrap_pyfunction!(stability::periodic_orbit, m)?)?;
+    m.add_function(wrap_pyfunction!(poincare::poincare, m)?)?;
     Ok(())
 }

@@ -203,3 +203,17 @@ def test_run_releases_the_gil():
     inside = [s for s in stamps if start + margin < s < end - margin]
     assert end - start > 0.1, "the run is too short to tell"
     assert len(inside) >= 10, f"{len(inside)} stamps in a {end - start:.3f} s run"
+
+
+def test_poincare_section_matches_the_reference():
+    # The same reference rows as above (k = 151..200 of Fig. 8b at eta = 3, period 2 there),
+    # and a chaotic scene (Fig. 9c) that has no period.
+    p, rows = load_reference("fig8b_eta3.0.csv")
+    s = jeffcott.poincare(p, transient=150, record=50, rtol=1e-12, atol=1e-14)
+    assert s.points.shape == (50, 6) and s.points.dtype == np.float64
+    assert np.array_equal(s.k, np.arange(151, 201)) and s.regimes.dtype == np.uint8
+    assert np.max(np.abs(s.points - rows[151:201, 1:7])) <= ALLOWED
+    assert s.period == reference_period(rows[151:201, 1:7]) == 2
+    assert jeffcott.poincare(jeffcott.Params.preset("fig9c"), record=100).period == -1
+    with pytest.raises(ValueError):
+        jeffcott.poincare(p, record=1)
