@@ -21,6 +21,10 @@
 //!   preload 0.1), throughput in integrator steps.
 //! * `sweep/*`: a reduced bifurcation sweep, 20 eta values in [2, 5] x 50 periods (Fig. 8b,
 //!   each value from rest), and 20 values x 200 periods, each with 1 and 2 worker threads.
+//! * `python_baseline/*`: 1000 forcing periods from rest, all 1001 stroboscopic states
+//!   recorded, default options: Fig. 8b (eta = 2, one contact a period) and Fig. 9c (chaotic).
+//!   The same calls from Python (`jeffcott.simulate(p, 1000)`) are timed by
+//!   `python/benches/overhead.py`: the difference is the bindings' overhead (issue 22: at most 5 %).
 //!
 //! Run: `cargo bench --bench simulation` (on a quiet machine; `uptime` for the load).
 
@@ -222,6 +226,22 @@ fn contact_hot_loop(c: &mut Criterion) {
     g.finish();
 }
 
+fn python_baseline(c: &mut Criterion) {
+    let mut g = c.benchmark_group("python_baseline");
+    g.sample_size(20);
+    let opts = SimOptions::default();
+    for (name, preset) in [("fig8b", Preset::Fig8b), ("fig9c", Preset::Fig9c)] {
+        let m = JeffcottModel::new(preset.params()).expect("preset");
+        g.bench_function(format!("strobe_1000_{name}"), |b| {
+            b.iter(|| {
+                m.strobe_range(black_box(&State::zeros()), 0, 1000, &opts)
+                    .expect("run")
+            })
+        });
+    }
+    g.finish();
+}
+
 /// One reset-mode sweep over `values` eta values of Fig. 8b with `periods` periods each;
 /// returns the number of points.
 fn run_sweep(values: usize, periods: u64, threads: usize) -> usize {
@@ -267,6 +287,6 @@ criterion_group! {
         .sample_size(20)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2));
-    targets = one_period, unused_features, contact_hot_loop, sweeps
+    targets = one_period, unused_features, contact_hot_loop, sweeps, python_baseline
 }
 criterion_main!(benches);

@@ -1,0 +1,49 @@
+//! Integration options from Python keywords.
+
+use jeffcott::hybrid::SimOptions;
+use jeffcott::ode::Method;
+use pyo3::PyResult;
+
+use crate::errors::value_error;
+
+/// The integration method of a name (case-insensitive): dop853, dopri5, radau5.
+pub fn method(name: &str) -> PyResult<Method> {
+    match name.to_ascii_lowercase().as_str() {
+        "dop853" => Ok(Method::Dop853),
+        "dopri5" => Ok(Method::Dopri5),
+        "radau5" => Ok(Method::Radau5),
+        other => Err(value_error(format!(
+            "method '{other}' is not one of dop853, dopri5, radau5"
+        ))),
+    }
+}
+
+/// [`SimOptions`] with the given tolerances and method; `None` keeps the crate's default.
+pub fn sim_options(
+    rtol: Option<f64>,
+    atol: Option<f64>,
+    name: Option<&str>,
+) -> PyResult<SimOptions> {
+    let mut o = SimOptions::default();
+    if let Some(r) = rtol {
+        o = o.with_rtol(positive("rtol", r)?);
+    }
+    if let Some(a) = atol {
+        o = o.with_atol(positive("atol", a)?);
+    }
+    if let Some(m) = name {
+        o = o.with_method(method(m)?);
+    }
+    Ok(o)
+}
+
+/// `value` if finite and > 0, else a `ValueError` naming it.
+pub fn positive(name: &str, value: f64) -> PyResult<f64> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(value_error(format!(
+            "{name} = {value} must be finite and > 0"
+        )))
+    }
+}

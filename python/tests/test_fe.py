@@ -1,0 +1,95 @@
+"""The finite-element rotor on the ring: case S1 against the shared reference (an
+independent SciPy implementation, tests/data/rotors/README of the shared set), as
+tests/fe/fe_s1.rs checks it."""
+
+import json
+import numpy as np
+import pytest
+
+import jeffcott
+from conftest import rotors_dir
+
+
+def s1_inputs():
+    d = rotors_dir()
+    params = json.loads((d / "S1_reference.json").read_text())["parameters"]
+    m = np.load(d / params["rotor_file"])
+    return params, m
+
+
+def s1_run(t_end, **kw):
+    p, m = s1_inputs()
+    unb = [(u["node"], u["magnitude_kg_m"], u["phase_rad"]) for u in p["unbalance"]]
+    samples = round(t_end / p["sample_spacing_s"])
+    return jeffcott.fe_transient(
+        m["M"], m["K"], m["C"], m["G"], p["speed_rad_s"], ring_node=p["ring_node"],
+        gap=p["gamma_m"], ring_stiffness=p["k_s_N_per_m"], ring_damping=p["c_s_N_s_per_m"],
+        preload=(p["Delta_x_m"], p["Delta_y_m"]), ring_offset=tuple(p["ring_offset_m"]),
+        unbalance=unb, t_end=t_end, samples=samples, **kw), p
+
+
+def reference(t_end):
+    ref = np.loadtxt(rotors_dir() / "S1_reference.csv", delimiter=",", skiprows=1)
+    return ref[ref[:, 0] <= t_end * (1 + 1e-12)]
+
+
+def events(t_end):
+    rows = [l.split(",") for l in (rotors_dir() / "S1_events.csv").read_text().splitlines()[1:]]
+    pick = lambda kind: np.array([float(r[1]) for r in rows if r[0] == kind and float(r[1]) <= t_end])
+    return pick("onset"), pick("loss")
+
+
+def test_s1_full_model_radau5():
+    # tests/fe/fe_s1.rs: all 1001 samples within 1e-6 of the gap, 7 onsets and 6 losses at
+    # the reference's times (within 1e-9 s).
+    run, p = s1_run(0.5, rtol=1e-8)
+    ref = reference(0.5)
+    assert run.t.shape == run.x.shape == run.y.shape == (1001,)
+    assert run.x.dtype == np.float64 and run.regimes.dtype == np.uint8
+    assert run.dofs == 136  # 34 nodes x 4 lateral DOFs
+    assert np.max(np.abs(run.t - ref[:, 0])) <= 1e-12
+    err = np.max(np.hypot(run.x - ref[:, 1], run.y - ref[:, 2])) / p["gamma_m"]
+    assert err <= 1e-6, f"{err:e} gap"
+    onsets, losses = events(0.5)
+    assert run.onsets.shape == (7,) and run.losses.shape == (6,)
+    assert np.max(np.abs(run.onsets - onsets)) <= 1e-9
+    assert np.max(np.abs(run.losses - losses)) <= 1e-9
+
+
+def test_s1_craig_bampton_reduction_follows_the_reference():
+    # A reduction to 16 modes is an approximation: the first contact at the reference's time
+    # within 1e-5 s and the orbit within a few percent of the gap until then.
+    run, p = s1_run(0.01, modes=16)
+    onsets, _ = events(0.01)
+    assert run.onsets.shape == onsets.shape == (1,)
+    assert abs(run.onsets[0] - onsets[0]) < 1e-5
+    ref = reference(0.01)
+    err = np.max(np.hypot(run.x - ref[:, 1], run.y - ref[:, 2])) / p["gamma_m"]
+    assert err < 0.05
+
+
+@pytest.mark.parametrize("change", [
+    {"ring_node": 99},
+    {"gap": -1.0},
+    {"ring_stiffness": 0.0},
+    {"unbalance": [(99, 1e-3, 0.0)]},
+    {"layout": "ross5"},
+    {"method": "euler"},
+    {"samples": 0},
+    {"modes": 10**6},
+])
+def test_fe_bad_input_raises_value_error(change):
+    p, m = s1_inputs()
+    kw = dict(ring_node=12, gap=7.95e-5, ring_stiffness=1.1e6, ring_damping=0.01,
+              unbalance=[(12, 2e-3, 0.0)], t_end=1e-3, samples=2)
+    kw.update(change)
+    with pytest.raises(ValueError):
+        jeffcott.fe_transient(m["M"], m["K"], m["C"], m["G"], 125.0, **kw)
+
+
+def test_fe_non_square_matrix_raises_value_error():
+    _, m = s1_inputs()
+    with pytest.raises(ValueError, match="square"):
+        jeffcott.fe_transient(m["M"][:, :-1], m["K"], m["C"], m["G"], 125.0, ring_node=12,
+                              gap=7.95e-5, ring_stiffness=1.1e6, ring_damping=0.01,
+                              unbalance=[], t_end=1e-3, samples=2)
