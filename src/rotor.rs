@@ -104,6 +104,7 @@ mod reduction;
 mod ross;
 mod run_up;
 mod speed;
+mod speed_law;
 
 pub use exact::{
     LinearClosedForm, LinearFreeFlight, LinearFreeSegment, LinearSegment, DEFAULT_MAX_CONDITION,
@@ -112,7 +113,7 @@ pub use linear::{LinearRotor, LinearSystem};
 pub use matrices::{DofLayout, RotorMatrices};
 pub use reduction::{CraigBampton, ModeSelection, ResponseError};
 pub use run_up::ProfiledJeffcott;
-pub use speed::SpeedProfile;
+pub use speed::{Segment, SpeedProfile};
 use std::sync::Arc;
 
 use nalgebra::allocator::Allocator;
