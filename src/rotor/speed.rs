@@ -329,7 +329,7 @@ impl SpeedProfile {
             ),
             Kind::Law(law) => (law.phase(self.end), (t < self.end).then(|| law.phase(t))),
         };
-        inside.unwrap_or_else(|| end_phase + self.eta_to * (t - self.end))
+        inside.unwrap_or(end_phase + self.eta_to * (t - self.end))
     }
 
     /// The first time at which the phase advanced reaches `phase` ($\Phi^{-1}$), or `None` if
