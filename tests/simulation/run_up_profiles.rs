@@ -55,7 +55,7 @@ fn worst_against_duhamel(
             ends.push(s.t);
             let q: f64 = ends
                 .windows(2)
-                .map(|w| gauss_legendre(&f, w[0], w[1], ((w[1] - w[0]) * 100.0).ceil() as usize))
+                .map(|w| gauss_legendre(f, w[0], w[1], ((w[1] - w[0]) * 100.0).ceil() as usize))
                 .sum();
             worst = worst.max((s.y[c] - q).abs());
         }
