@@ -126,9 +126,9 @@ pub(super) fn same_length(
         return Ok(());
     }
     Err(AnalysisError::LengthMismatch {
-        first: first.0.into(),
+        first: first.0,
         first_len: first.1.len(),
-        second: second.0.into(),
+        second: second.0,
         second_len: second.1.len(),
     })
 }
