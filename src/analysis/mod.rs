@@ -18,6 +18,8 @@
 //!   independent values or with the state carried from one value to the next, with results
 //!   that are bitwise independent of the number of threads.
 //! * [Bifurcation diagrams](#bifurcation-diagrams): bifurcation diagrams of a model family.
+//! * [Per-revolution outputs](per_revolution) of a run at a varying speed: the largest
+//!   radius, the time in contact and in each regime, revolution by revolution ([`Revolution`]).
 //! * [Spectra and order tracking](#spectra-and-order-tracking): whirl spectra of an orbit $x + iy$, spectra in
 //!   shaft orders, and order tracking through a run-up ([`order_track`]).
 //! * [Locating a change of period](#locating-a-change-of-period): where the detected period changes along a parameter, by bisection.
@@ -307,6 +309,7 @@ mod order_track;
 mod period;
 mod poincare;
 mod portrait;
+mod revolutions;
 mod sweep;
 
 pub use bifurcation::{bifurcation, start_from, Bifurcation, BifurcationOptions, Column, Failure};
@@ -321,6 +324,7 @@ pub use period::{
 };
 pub use poincare::{section_crossings, section_crossings_hermite, Crossing};
 pub use portrait::{phase_portrait, PhasePortrait};
+pub use revolutions::{per_revolution, Revolution};
 pub(crate) use sweep::on_pool;
 pub use sweep::{
     chunk_ranges, linspace, sweep, Progress, StderrProgress, SweepMode, SweepOptions, SweepResult,

@@ -9,3 +9,4 @@ mod analysis_poincare;
 mod analysis_sweep;
 mod figures_analysis;
 mod order;
+mod revolutions;
