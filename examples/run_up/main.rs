@@ -74,6 +74,10 @@ struct Flags {
     /// Print the samples as CSV tau,eta,x,y
     #[arg(long)]
     csv: bool,
+    /// Instead of one run: run up at each of these rates (|R|, the sign of B - A), print the
+    /// peak radius and its speed for each, and with --out draw peak_vs_rate.png
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = f64_in(1e-6, 1e3), conflicts_with = "csv")]
+    peak_rates: Vec<f64>,
     /// Without --csv: run up and back, draw the envelope, the orders and the waterfall here
     #[arg(long, value_name = "DIR", conflicts_with = "csv")]
     out: Option<PathBuf>,
@@ -196,6 +200,10 @@ fn write_summary(
 fn main() {
     let flags: Flags = parse();
     let scene = flags.scene.scene();
+    if !flags.peak_rates.is_empty() {
+        peak_against_rate(&flags, &scene);
+        return;
+    }
     if let Some(dir) = &flags.out {
         up_and_back(&flags, &scene, dir);
         return;
@@ -290,4 +298,56 @@ fn draw_legs(
     let leg = &legs[0].0;
     orders::draw_orders(dir, &format!("{preset} {ring}, {leg}: orders"), &up_rows)?;
     orders::draw_waterfall(dir, &format!("{preset} {ring}, {leg}: waterfall"), &up_rows)
+}
+
+/// The peak radius and its speed for a run up (or down) at each of `--peak-rates`; with `--out`
+/// the picture `peak_vs_rate.png` of both against the rate.
+fn peak_against_rate(flags: &Flags, scene: &Scene) {
+    let sign = (flags.eta_to - flags.eta_from).signum();
+    let mut peaks = Vec::new();
+    for &r in &flags.peak_rates {
+        let one = Flags {
+            rate: sign * r,
+            scene: flags.scene.clone(),
+            out: None,
+            peak_rates: Vec::new(),
+            ..*flags
+        };
+        let (rotor, traj, error) = run(&one, scene, ramp(&one));
+        if let Some(e) = error {
+            fail(format!("rate {r}: {e}"));
+        }
+        let peak = traj
+            .strobe
+            .iter()
+            .map(|p| (p.y[0].hypot(p.y[1]), rotor.profile().eta(p.t)))
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((radius, eta)) = peak {
+            println!("rate {r}: peak radius {radius} at eta {eta}");
+            peaks.push((r, radius, eta));
+        }
+    }
+    if let Some(dir) = &flags.out {
+        common::or_exit(
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display())),
+        );
+        let ring = if flags.no_ring {
+            "without the ring"
+        } else {
+            "on the ring"
+        };
+        let title = format!("{} {ring}: peak against the rate", flags.scene.preset);
+        let fig = common::plot::Figure::new(&title, "|R| = |dη/dτ|", "peak |r| and its η")
+            .with_columns("rate", "value")
+            .with_log(true, false)
+            .with_markers();
+        let series = [
+            common::plot::Series::new("peak radius", peaks.iter().map(|p| (p.0, p.1)).collect()),
+            common::plot::Series::new("η at the peak", peaks.iter().map(|p| (p.0, p.2)).collect()),
+        ];
+        common::or_exit(
+            common::plot::lines(dir.join("peak_vs_rate.png"), &fig, &series)
+                .map_err(|e| e.to_string()),
+        );
+    }
 }
