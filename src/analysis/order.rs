@@ -61,7 +61,7 @@ pub struct Spectrum {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FullSpectrum {
     /// The bins' frequencies $k/(N\Delta)$, $0 \le k < N/2$ (cycles per unit of the step: per
-    /// unit time, or shaft orders for [`AngleSamples`]).
+    /// unit time, or shaft orders for [`AngleSamples`](super::AngleSamples)).
     pub frequency: Vec<f64>,
     /// The radius of the forward (with the rotation) circular whirl at each frequency.
     pub forward: Vec<f64>,

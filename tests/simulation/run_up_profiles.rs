@@ -1,7 +1,8 @@
 //! The piecewise and user-law speed profiles ([`SpeedProfile::piecewise`],
 //! [`SpeedProfile::from_fn`]) driving the linear rotor without contact, against the Duhamel
 //! integral of the forcing written here from the profiles' closed forms (an up-then-down ramp;
-//! a sinusoidal speed whose phase is integrated by the crate and known in closed form here).
+//! a sinusoidal speed whose phase is integrated by the crate and known in closed form here),
+//! and a slow ramp against the steady amplitude in closed form (the quasi-static limit).
 
 use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, StrobeRange, Trajectory};
 use jeffcott::nalgebra::{SVector, U6};
@@ -127,4 +128,68 @@ fn a_user_law_matches_the_duhamel_integral() {
         worst / peak
     );
     assert!(worst <= 1e-9 * peak, "{worst:e}");
+}
+
+/// The worst relative difference between the radius at each strobe on a slow ramp of `rate`
+/// from 0.3 to 0.7 (no contact, rest at the ring's centre, started on the steady orbit at 0.3:
+/// a circular whirl) and the steady amplitude at the strobe's speed in closed form,
+/// $A(\eta) = \beta\eta^2/\sqrt{(1 - \eta^2)^2 + (2\nu_1\eta)^2}$.
+fn quasi_static_error(rate: f64) -> f64 {
+    let p = Params {
+        ex: 0.0,
+        ey: 0.0,
+        phi0: 0.0,
+        ..Preset::Fig8a.params()
+    };
+    let (eta0, s) = (0.3, 16);
+    let profile = SpeedProfile::ramp(eta0, 0.7, rate).unwrap();
+    let rotor = ProfiledJeffcott::new(p, profile.clone())
+        .unwrap()
+        .with_strobes_per_revolution(s as u32)
+        .unwrap();
+    let amplitude = |eta: f64| {
+        p.beta * eta * eta / ((1.0 - eta * eta).powi(2) + (2.0 * p.nu1 * eta).powi(2)).sqrt()
+    };
+    // The steady orbit at eta0: z = H e^{i phi}, H = beta eta^2 / (1 - eta^2 + 2 i nu eta).
+    let (re, im) = (1.0 - eta0 * eta0, 2.0 * p.nu1 * eta0);
+    let scale = p.beta * eta0 * eta0 / (re * re + im * im);
+    let (hx, hy) = (scale * re, -scale * im);
+    let start = SVector::<f64, 6>::from([hx, hy, -eta0 * hy, eta0 * hx, 0.0, 0.0]);
+    let opts = SimOptions::default().with_rtol(1e-10).with_atol(1e-12);
+    let plan = OutputPlan {
+        t_end: profile.ramp_time(),
+        strobe: Some(StrobeRange {
+            first: 0,
+            last: u64::MAX - 1,
+        }),
+        dense: None,
+        events: true,
+    };
+    let mut traj = Trajectory::<U6>::default();
+    let model = rotor.off_ring().unwrap();
+    simulate(&model, 0.0, &start, &plan, &opts, &mut traj).expect("run");
+    traj.strobe
+        .iter()
+        .map(|q| {
+            let a = amplitude(profile.eta(q.t));
+            (q.y[0].hypot(q.y[1]) - a).abs() / a
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn a_slow_ramp_follows_the_steady_amplitude() {
+    let errors: Vec<f64> = [4e-4, 2e-4, 1e-4]
+        .into_iter()
+        .map(quasi_static_error)
+        .collect();
+    println!("quasi-static: worst relative error at R = 4e-4, 2e-4, 1e-4: {errors:?}");
+    // First order in the rate: halving it halves the error.
+    for w in errors.windows(2) {
+        assert!((w[0] / w[1] - 2.0).abs() < 0.2, "{errors:?}");
+    }
+    // Extrapolated to R -> 0 (Richardson, first order) the steady amplitude is met.
+    let limit = (2.0 * errors[2] - errors[1]).abs();
+    println!("extrapolated to R -> 0: {limit:.2e}");
+    assert!(limit < 1e-4, "{limit:e}");
 }
