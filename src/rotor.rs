@@ -269,10 +269,12 @@ pub enum RotorError {
     /// The ring's parameters are invalid.
     #[error(transparent)]
     Ring(#[from] RingError),
-    /// A speed profile's parameter is invalid ([`SpeedProfile::ramp`]).
+    /// A speed profile's parameter is invalid ([`SpeedProfile::piecewise`],
+    /// [`SpeedProfile::from_fn`]).
     #[error("speed profile: {field} = {value}: {reason}")]
     SpeedProfile {
-        /// The parameter (`"eta_from"`, `"eta_to"`, `"rate"`, `"strobes_per_revolution"`).
+        /// The parameter (`"eta_from"`, `"eta_to"`, `"rate"`, `"duration"`, a user law's `"end"` or
+        /// `"eta"`, `"strobes_per_revolution"`).
         field: &'static str,
         /// Its value.
         value: f64,
