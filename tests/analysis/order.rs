@@ -186,3 +186,70 @@ fn bad_records_are_refused_with_their_reason() {
         Err(AnalysisError::InvalidValue { name: "orders", .. })
     ));
 }
+
+/// End to end: the linear rotor without contact at the constant speed 0.8, started on its
+/// steady orbit about the rest $e = (0.9, 0)$; its strobes at 16 phases a revolution, taken as
+/// angle samples, read the steady whirl radius in closed form
+/// $\beta\eta^2/\sqrt{(1 - \eta^2)^2 + (2\nu_1\eta)^2}$ forward at order 1, nothing backward,
+/// and the offset $|e|$ at order 0.
+#[test]
+fn a_steady_whirl_s_strobes_read_its_closed_form() {
+    use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, StrobeRange, Trajectory};
+    use jeffcott::nalgebra::{SVector, U6};
+    use jeffcott::params::{Params, Preset};
+    use jeffcott::rotor::{ProfiledJeffcott, SpeedProfile};
+
+    let p = Params {
+        ex: 0.9,
+        ey: 0.0,
+        phi0: 0.0,
+        ..Preset::Fig8a.params()
+    };
+    let (eta, s, revs) = (0.8, 16, 16);
+    let rotor = ProfiledJeffcott::new(p, SpeedProfile::constant(eta).unwrap())
+        .unwrap()
+        .with_strobes_per_revolution(s as u32)
+        .unwrap();
+    let (re, im) = (1.0 - eta * eta, 2.0 * p.nu1 * eta);
+    let scale = p.beta * eta * eta / (re * re + im * im);
+    let (hx, hy) = (scale * re, -scale * im);
+    let start = SVector::<f64, 6>::from([0.9 + hx, hy, -eta * hy, eta * hx, 0.0, 0.0]);
+    let plan = OutputPlan {
+        t_end: TAU * revs as f64 / eta * (1.0 - 1e-9),
+        strobe: Some(StrobeRange {
+            first: 0,
+            last: u64::MAX - 1,
+        }),
+        dense: None,
+        events: true,
+    };
+    let opts = SimOptions::default().with_rtol(1e-11).with_atol(1e-12);
+    let mut traj = Trajectory::<U6>::default();
+    simulate(
+        &rotor.off_ring().unwrap(),
+        0.0,
+        &start,
+        &plan,
+        &opts,
+        &mut traj,
+    )
+    .unwrap();
+    assert_eq!(traj.strobe.len(), s * revs);
+    let angle = AngleSamples::new(
+        s,
+        0.0,
+        traj.strobe.iter().map(|q| q.t).collect(),
+        traj.strobe.iter().map(|q| q.y[0]).collect(),
+        traj.strobe.iter().map(|q| q.y[1]).collect(),
+    )
+    .unwrap();
+    let spectrum = angle.order_spectrum(Window::Hann).unwrap();
+    let want = p.beta * eta * eta / (re * re + (2.0 * p.nu1 * eta).powi(2)).sqrt();
+    let errors = [
+        (spectrum.forward[revs] - want).abs(),
+        spectrum.backward[revs],
+        (spectrum.forward[0] - 0.9).abs(),
+    ];
+    println!("steady whirl {want:.6}: errors forward, backward, offset {errors:?}");
+    assert!(errors.iter().all(|&e| e < 1e-9), "{errors:?}");
+}
