@@ -16,6 +16,9 @@
 //! radius, time in contact and fraction of time in each regime; and for the up leg (with
 //! $S \ge 8$) `orders.png`, the whirl radii of the orders 1/2, 1, 3/2, 2 and 3 against the
 //! speed (windows of 8 revolutions, Hann), and `waterfall.png`, the windows' full spectra.
+//! With `--peak-rates LIST` the example runs from $A$ to $B$ at each rate instead (the sign
+//! of $B - A$; `--rate` is then not used), prints the peak radius and its speed for each, and
+//! with `--out DIR` draws `DIR/peak_vs_rate.png`.
 //!
 //! The scene flags are `simulate`'s (`--preset`, parameter overrides, `--rtol`, `--atol`,
 //! `--method`, the initial rotor state `--x0 --y0 --vx0 --vy0`, default at rest at the origin;
