@@ -105,6 +105,7 @@ mod reduction;
 mod ross;
 mod run_up;
 mod speed;
+mod speed_law;
 
 pub use exact::{
     LinearClosedForm, LinearFreeFlight, LinearFreeSegment, LinearSegment, DEFAULT_MAX_CONDITION,
@@ -114,7 +115,7 @@ pub use matrices::{DofLayout, RotorMatrices};
 pub use modal::ModalRotor;
 pub use reduction::{CraigBampton, ModeSelection, ResponseError};
 pub use run_up::ProfiledJeffcott;
-pub use speed::SpeedProfile;
+pub use speed::{Segment, SpeedProfile};
 use std::sync::Arc;
 
 use nalgebra::allocator::Allocator;
@@ -303,10 +304,12 @@ pub enum RotorError {
     /// The ring's parameters are invalid.
     #[error(transparent)]
     Ring(#[from] RingError),
-    /// A speed profile's parameter is invalid ([`SpeedProfile::ramp`]).
+    /// A speed profile's parameter is invalid ([`SpeedProfile::piecewise`],
+    /// [`SpeedProfile::from_fn`]).
     #[error("speed profile: {field} = {value}: {reason}")]
     SpeedProfile {
-        /// The parameter (`"eta_from"`, `"eta_to"`, `"rate"`, `"strobes_per_revolution"`).
+        /// The parameter (`"eta_from"`, `"eta_to"`, `"rate"`, `"duration"`, a user law's `"end"` or
+        /// `"eta"`, `"strobes_per_revolution"`).
         field: &'static str,
         /// Its value.
         value: f64,

@@ -1,37 +1,50 @@
-//! The envelope of a sweep: the largest radius from the ring's centre in each revolution of the
-//! out-of-balance, against the speed, drawn for the sweep and its reverse.
+//! The envelope of a sweep up and back: the largest radius from the ring's centre in each
+//! revolution of the out-of-balance against the speed (`analysis::per_revolution`), drawn for
+//! the two legs, and the per-revolution table.
 
+use std::io::Write;
 use std::path::Path;
 
-use jeffcott::hybrid::Trajectory;
-use jeffcott::nalgebra::U6;
-use jeffcott::rotor::SpeedProfile;
+use jeffcott::analysis::Revolution;
 
 use crate::common::plot::{self, Figure, Series};
 
-/// `(eta, largest |r|)` per revolution: `samples` strobes a revolution, the speed at the
-/// revolution's largest radius.
-pub fn per_revolution(
-    traj: &Trajectory<U6>,
-    profile: &SpeedProfile,
-    samples: usize,
-) -> Vec<(f64, f64)> {
-    traj.strobe
-        .chunks(samples)
-        .filter_map(|rev| {
-            rev.iter()
-                .map(|p| (profile.eta(p.t), p.y[0].hypot(p.y[1])))
-                .max_by(|a, b| a.1.total_cmp(&b.1))
-        })
-        .collect()
-}
-
-/// Draws `envelope.png` (and its `envelope.csv`) in `out`: the sweeps `(label, points)`.
-pub fn draw(out: &Path, title: &str, sweeps: Vec<(String, Vec<(f64, f64)>)>) -> Result<(), String> {
+/// Draws `envelope.png` (and its `envelope.csv`) in `out`: `(label, revolutions)` per leg,
+/// the largest radius against the revolution's mean speed.
+pub fn draw(out: &Path, title: &str, legs: &[(String, Vec<Revolution>)]) -> Result<(), String> {
     let fig = Figure::new(title, "η", "largest |r| per revolution").with_columns("eta", "radius");
-    let series: Vec<Series> = sweeps
-        .into_iter()
-        .map(|(label, points)| Series::new(&label, points))
+    let series: Vec<Series> = legs
+        .iter()
+        .map(|(label, revs)| {
+            Series::new(
+                label,
+                revs.iter().map(|r| (r.speed, r.max_radius)).collect(),
+            )
+        })
         .collect();
     plot::lines(out.join("envelope.png"), &fig, &series).map_err(|e| e.to_string())
+}
+
+/// Writes `revolutions.csv` in `out`: per leg and revolution, its start, mean speed, largest
+/// radius, time in contact and the fraction of time in each regime I..V.
+pub fn write_table(out: &Path, legs: &[(String, Vec<Revolution>)]) -> Result<(), String> {
+    let path = out.join("revolutions.csv");
+    let mut text =
+        String::from("leg,t_start,eta,max_radius,contact_time,occ_I,occ_II,occ_III,occ_IV,occ_V\n");
+    for (leg, (_, revs)) in legs.iter().enumerate() {
+        for r in revs {
+            let occ: Vec<String> = r.occupancy.iter().map(f64::to_string).collect();
+            text += &format!(
+                "{leg},{},{},{},{},{}\n",
+                r.t_start,
+                r.speed,
+                r.max_radius,
+                r.contact_time,
+                occ.join(",")
+            );
+        }
+    }
+    std::fs::File::create(&path)
+        .and_then(|mut f| f.write_all(text.as_bytes()))
+        .map_err(|e| format!("{}: {e}", path.display()))
 }

@@ -8,9 +8,17 @@
 //! $\varphi(\tau) = \varphi_0 + A\tau + R\tau^2/2$ reaches $\varphi_0 + 2\pi k/S$ (closed
 //! form), for every such time up to the end. Without `--csv`, prints one summary line: the
 //! largest radius $|r|$ from the ring's centre, the speed and time where it occurred, the number
-//! of samples and of contacts; with `--out DIR` also the sweep back (from $B$ to $A$ at
-//! $-R$) and its summary line, and draws `DIR/envelope.png` (with `envelope.csv`): the largest
-//! radius in each revolution against the speed, up and down.
+//! of samples and of contacts. With `--out DIR` the run goes up and comes back in one piecewise
+//! profile (from $A$ to $B$ at $R$, then to $A$ at $-R$: the down leg starts where the up leg
+//! ended, so the envelopes show the hysteresis), prints a summary line per leg, and writes in
+//! `DIR`: `envelope.png` (with `envelope.csv`), the largest radius in each revolution against
+//! the speed for both legs; `revolutions.csv`, per revolution its start, mean speed, largest
+//! radius, time in contact and fraction of time in each regime; and for the up leg (with
+//! $S \ge 8$) `orders.png`, the whirl radii of the orders 1/2, 1, 3/2, 2 and 3 against the
+//! speed (windows of 8 revolutions, Hann), and `waterfall.png`, the windows' full spectra.
+//! With `--peak-rates LIST` the example runs from $A$ to $B$ at each rate instead (the sign
+//! of $B - A$; `--rate` is then not used), prints the peak radius and its speed for each, and
+//! with `--out DIR` draws `DIR/peak_vs_rate.png`.
 //!
 //! The scene flags are `simulate`'s (`--preset`, parameter overrides, `--rtol`, `--atol`,
 //! `--method`, the initial rotor state `--x0 --y0 --vx0 --vy0`, default at rest at the origin;
@@ -29,17 +37,19 @@
 #[path = "../common/mod.rs"]
 mod common;
 mod envelope;
+mod orders;
 
 use std::io::{self, BufWriter, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Parser;
 use common::cli::{f64_in, fail, parse, usize_in};
 use common::csv::write_f64;
 use common::scene::{Scene, SceneFlags};
+use jeffcott::analysis::{per_revolution, Revolution};
 use jeffcott::hybrid::{simulate, OutputPlan, SimError, StrobeRange, Trajectory};
 use jeffcott::nalgebra::{SVector, U6};
-use jeffcott::rotor::{ProfiledJeffcott, SpeedProfile};
+use jeffcott::rotor::{ProfiledJeffcott, Segment, SpeedProfile};
 use jeffcott::JeffcottModel;
 
 /// A run-up or run-down of the paper's rotor at a constant rate R = d eta / d tau from eta = A
@@ -67,18 +77,30 @@ struct Flags {
     /// Print the samples as CSV tau,eta,x,y
     #[arg(long)]
     csv: bool,
-    /// Without --csv: also run the sweep back and draw the envelope of both in this folder
+    /// Instead of one run: run up at each of these rates (|R|, the sign of B - A), print the
+    /// peak radius and its speed for each, and with --out draw peak_vs_rate.png
+    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = f64_in(1e-6, 1e3), conflicts_with = "csv")]
+    peak_rates: Vec<f64>,
+    /// Without --csv: run up and back, draw the envelope, the orders and the waterfall here
     #[arg(long, value_name = "DIR", conflicts_with = "csv")]
     out: Option<PathBuf>,
 }
 
-/// The rotor and its consistent initial state, or exit with status 2.
-fn setup(flags: &Flags, scene: &Scene) -> (ProfiledJeffcott, SVector<f64, 6>) {
+/// The ramp of the flags, or exit with status 2.
+fn ramp(flags: &Flags) -> SpeedProfile {
     if flags.eta_from == flags.eta_to {
         fail("--eta-from and --eta-to must differ (a ramp)");
     }
-    let profile = SpeedProfile::ramp(flags.eta_from, flags.eta_to, flags.rate)
-        .unwrap_or_else(|e| fail(format!("--rate: {e}")));
+    SpeedProfile::ramp(flags.eta_from, flags.eta_to, flags.rate)
+        .unwrap_or_else(|e| fail(format!("--rate: {e}")))
+}
+
+/// The rotor at `profile` and its consistent initial state, or exit with status 2.
+fn setup(
+    flags: &Flags,
+    scene: &Scene,
+    profile: SpeedProfile,
+) -> (ProfiledJeffcott, SVector<f64, 6>) {
     let samples = u32::try_from(flags.samples_per_period).unwrap_or(u32::MAX);
     let rotor = ProfiledJeffcott::new(scene.params, profile)
         .unwrap_or_else(|e| fail(e))
@@ -96,9 +118,13 @@ fn setup(flags: &Flags, scene: &Scene) -> (ProfiledJeffcott, SVector<f64, 6>) {
     (rotor, start)
 }
 
-/// Runs the ramp to its end with the strobes at the sampled phases.
-fn run(flags: &Flags, scene: &Scene) -> (ProfiledJeffcott, Trajectory<U6>, Option<SimError<U6>>) {
-    let (rotor, start) = setup(flags, scene);
+/// Runs `profile` to its end with the strobes at the sampled phases.
+fn run(
+    flags: &Flags,
+    scene: &Scene,
+    profile: SpeedProfile,
+) -> (ProfiledJeffcott, Trajectory<U6>, Option<SimError<U6>>) {
+    let (rotor, start) = setup(flags, scene, profile);
     let model = if flags.no_ring {
         rotor.off_ring()
     } else {
@@ -140,22 +166,29 @@ fn write_csv(
     Ok(())
 }
 
+/// One summary line for the strobes and events within `[from, to]`.
 fn write_summary(
     out: &mut impl Write,
     rotor: &ProfiledJeffcott,
     traj: &Trajectory<U6>,
+    (from, to): (f64, f64),
 ) -> io::Result<()> {
-    let radius = |i: usize| traj.strobe[i].y[0].hypot(traj.strobe[i].y[1]);
-    let peak = (0..traj.strobe.len()).max_by(|&a, &b| radius(a).total_cmp(&radius(b)));
+    let strobes: Vec<_> = traj
+        .strobe
+        .iter()
+        .filter(|p| p.t >= from && p.t <= to)
+        .collect();
+    let radius = |i: usize| strobes[i].y[0].hypot(strobes[i].y[1]);
+    let peak = (0..strobes.len()).max_by(|&a, &b| radius(a).total_cmp(&radius(b)));
     let contacts = traj
         .events
         .iter()
-        .filter(|e| e.kind == "contact onset")
+        .filter(|e| e.kind == "contact onset" && e.t >= from && e.t <= to)
         .count();
-    let n = traj.strobe.len();
+    let n = strobes.len();
     match peak {
         Some(i) => {
-            let t = traj.strobe[i].t;
+            let t = strobes[i].t;
             let eta = rotor.profile().eta(t);
             writeln!(
                 out,
@@ -170,13 +203,21 @@ fn write_summary(
 fn main() {
     let flags: Flags = parse();
     let scene = flags.scene.scene();
-    let (rotor, traj, error) = run(&flags, &scene);
+    if !flags.peak_rates.is_empty() {
+        peak_against_rate(&flags, &scene);
+        return;
+    }
+    if let Some(dir) = &flags.out {
+        up_and_back(&flags, &scene, dir);
+        return;
+    }
+    let (rotor, traj, error) = run(&flags, &scene, ramp(&flags));
     let stdout = io::stdout();
     let mut out = BufWriter::new(stdout.lock());
     let written = if flags.csv {
         write_csv(&mut out, &rotor, &traj)
     } else {
-        write_summary(&mut out, &rotor, &traj)
+        write_summary(&mut out, &rotor, &traj, (0.0, f64::INFINITY))
     }
     .and_then(|_| out.flush());
     if let Err(e) = written {
@@ -190,54 +231,126 @@ fn main() {
         eprintln!("error: {e}");
         std::process::exit(1);
     }
-    if let Some(dir) = &flags.out {
-        sweep_back_and_draw(&flags, &scene, dir, &rotor, &traj);
-    }
 }
 
-/// The sweep from B back to A, its summary line, and the envelope of both sweeps.
-fn sweep_back_and_draw(
-    flags: &Flags,
-    scene: &Scene,
-    dir: &std::path::Path,
-    rotor: &ProfiledJeffcott,
-    traj: &Trajectory<U6>,
-) {
-    let back = Flags {
-        eta_from: flags.eta_to,
-        eta_to: flags.eta_from,
-        rate: -flags.rate,
-        out: None,
-        scene: flags.scene.clone(),
-        ..*flags
-    };
-    let (rotor_back, traj_back, error) = run(&back, scene);
+/// The sweep from A to B and back to A at the same rate, in one run (the down leg starts where
+/// the up leg ended): a summary line per leg, the envelope of both, the per-revolution table,
+/// and the order tracking and waterfall of each leg.
+fn up_and_back(flags: &Flags, scene: &Scene, dir: &Path) {
+    let up = ramp(flags);
+    let legs = [
+        Segment::Ramp {
+            to: flags.eta_to,
+            rate: flags.rate,
+        },
+        Segment::Ramp {
+            to: flags.eta_from,
+            rate: -flags.rate,
+        },
+    ];
+    let profile = SpeedProfile::piecewise(flags.eta_from, &legs).unwrap_or_else(|e| fail(e));
+    let (rotor, traj, error) = run(flags, scene, profile);
+    let turn = up.ramp_time();
     let mut out = io::stdout().lock();
-    if let Err(e) = write_summary(&mut out, &rotor_back, &traj_back) {
-        eprintln!("error: writing the output: {e}");
-        std::process::exit(1);
+    for span in [(0.0, turn), (turn, f64::INFINITY)] {
+        if let Err(e) = write_summary(&mut out, &rotor, &traj, span) {
+            eprintln!("error: writing the output: {e}");
+            std::process::exit(1);
+        }
     }
     if let Some(e) = error {
         eprintln!("error: {e}");
         std::process::exit(1);
     }
+    common::or_exit(std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display())));
+    common::or_exit(draw_legs(flags, dir, &rotor, &traj, turn));
+}
+
+/// The pictures and tables of the two legs, split at the turn.
+fn draw_legs(
+    flags: &Flags,
+    dir: &Path,
+    rotor: &ProfiledJeffcott,
+    traj: &Trajectory<U6>,
+    turn: f64,
+) -> Result<(), String> {
     let s = flags.samples_per_period;
-    let label = |f: &Flags| format!("{} → {} at R = {}", f.eta_from, f.eta_to, f.rate);
-    let sweeps = vec![
-        (
-            label(flags),
-            envelope::per_revolution(traj, rotor.profile(), s),
-        ),
-        (
-            label(&back),
-            envelope::per_revolution(&traj_back, rotor_back.profile(), s),
-        ),
+    let revs = per_revolution(traj, s, |y| [y[0], y[1]]).map_err(|e| e.to_string())?;
+    let (up, down): (Vec<Revolution>, Vec<Revolution>) =
+        revs.into_iter().partition(|r| r.t_start < turn);
+    let label = |a: f64, b: f64, r: f64| format!("{a} → {b} at R = {r}");
+    let legs = [
+        (label(flags.eta_from, flags.eta_to, flags.rate), up),
+        (label(flags.eta_to, flags.eta_from, -flags.rate), down),
     ];
     let ring = if flags.no_ring {
         "without the ring"
     } else {
         "on the ring"
     };
-    let title = format!("{} {ring}: envelope", flags.scene.preset);
-    common::or_exit(envelope::draw(dir, &title, sweeps));
+    let preset = &flags.scene.preset;
+    envelope::draw(dir, &format!("{preset} {ring}: envelope"), &legs)?;
+    envelope::write_table(dir, &legs)?;
+    if s < 8 {
+        eprintln!("note: order tracking up to order 3 needs --samples-per-period >= 8; skipped");
+        return Ok(());
+    }
+    let strobes: Vec<_> = traj.strobe.iter().map(|p| (p.t, p.y[0], p.y[1])).collect();
+    let rows = orders::track(s, rotor.params().phi0, &strobes)?;
+    let (up_rows, _): (Vec<_>, Vec<_>) = rows.into_iter().partition(|r| r.time < turn);
+    let leg = &legs[0].0;
+    orders::draw_orders(dir, &format!("{preset} {ring}, {leg}: orders"), &up_rows)?;
+    orders::draw_waterfall(dir, &format!("{preset} {ring}, {leg}: waterfall"), &up_rows)
+}
+
+/// The peak radius and its speed for a run up (or down) at each of `--peak-rates`; with `--out`
+/// the picture `peak_vs_rate.png` of both against the rate.
+fn peak_against_rate(flags: &Flags, scene: &Scene) {
+    let sign = (flags.eta_to - flags.eta_from).signum();
+    let mut peaks = Vec::new();
+    for &r in &flags.peak_rates {
+        let one = Flags {
+            rate: sign * r,
+            scene: flags.scene.clone(),
+            out: None,
+            peak_rates: Vec::new(),
+            ..*flags
+        };
+        let (rotor, traj, error) = run(&one, scene, ramp(&one));
+        if let Some(e) = error {
+            fail(format!("rate {r}: {e}"));
+        }
+        let peak = traj
+            .strobe
+            .iter()
+            .map(|p| (p.y[0].hypot(p.y[1]), rotor.profile().eta(p.t)))
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((radius, eta)) = peak {
+            println!("rate {r}: peak radius {radius} at eta {eta}");
+            peaks.push((r, radius, eta));
+        }
+    }
+    if let Some(dir) = &flags.out {
+        common::or_exit(
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display())),
+        );
+        let ring = if flags.no_ring {
+            "without the ring"
+        } else {
+            "on the ring"
+        };
+        let title = format!("{} {ring}: peak against the rate", flags.scene.preset);
+        let fig = common::plot::Figure::new(&title, "|R| = |dη/dτ|", "peak |r| and its η")
+            .with_columns("rate", "value")
+            .with_log(true, false)
+            .with_markers();
+        let series = [
+            common::plot::Series::new("peak radius", peaks.iter().map(|p| (p.0, p.1)).collect()),
+            common::plot::Series::new("η at the peak", peaks.iter().map(|p| (p.0, p.2)).collect()),
+        ];
+        common::or_exit(
+            common::plot::lines(dir.join("peak_vs_rate.png"), &fig, &series)
+                .map_err(|e| e.to_string()),
+        );
+    }
 }

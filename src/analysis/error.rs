@@ -117,6 +117,27 @@ pub enum AnalysisError {
         /// The offending time.
         time: f64,
     },
+    /// Sample times that should be equally spaced are not (a spectrum needs a uniform record:
+    /// resample it first, [`AngleSamples::resample`](super::AngleSamples::resample)).
+    #[error("samples must be equally spaced, but step {index} is {step} where the mean step is {expected}")]
+    NonUniformSamples {
+        /// Index of the offending step (between samples `index` and `index + 1`).
+        index: usize,
+        /// Its length.
+        step: f64,
+        /// The mean step of the record.
+        expected: f64,
+    },
+    /// Shaft angles (phases) that must increase strictly do not.
+    #[error("phases must increase strictly, but phases[{index}] = {phase} follows {previous}")]
+    PhaseNotIncreasing {
+        /// Index of the offending phase.
+        index: usize,
+        /// The phase before it.
+        previous: f64,
+        /// The offending phase.
+        phase: f64,
+    },
     /// The worker thread pool for a sweep could not be built.
     #[error("could not build a pool of {threads} worker threads: {message}")]
     ThreadPool {

@@ -36,7 +36,8 @@ use crate::ring::{Kinematics, RingAxis, SnubberRing};
 
 /// The paper's Jeffcott rotor driven by a [`SpeedProfile`]. State
 /// `[x, y, x', y', x_s, y_s]` (the ring's centre last), as the paper's model.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Cloned, not copied: the profile may share a user law.
+#[derive(Debug, Clone, PartialEq)]
 pub struct ProfiledJeffcott {
     params: Params,
     profile: SpeedProfile,
@@ -113,7 +114,8 @@ impl ProfiledJeffcott {
     ///
     /// # Errors
     /// [`RotorError`] if the ring or the composition refuses.
-    pub fn on_ring(self) -> Result<RingedRotor<Self>, RotorError> {
+    /// (A clone of the rotor: its profile is shared, not copied.)
+    pub fn on_ring(&self) -> Result<RingedRotor<Self>, RotorError> {
         self.with_gap(1.0)
     }
 
@@ -122,11 +124,11 @@ impl ProfiledJeffcott {
     ///
     /// # Errors
     /// [`RotorError`] if the ring or the composition refuses.
-    pub fn off_ring(self) -> Result<RingedRotor<Self>, RotorError> {
+    pub fn off_ring(&self) -> Result<RingedRotor<Self>, RotorError> {
         self.with_gap(Self::OUT_OF_REACH)
     }
 
-    fn with_gap(self, gap: f64) -> Result<RingedRotor<Self>, RotorError> {
+    fn with_gap(&self, gap: f64) -> Result<RingedRotor<Self>, RotorError> {
         let p = &self.params;
         let ring = SnubberRing::new(
             RingAxis::new(p.kx, p.dx),
@@ -134,7 +136,7 @@ impl ProfiledJeffcott {
             p.nu2,
             gap,
         )?;
-        RingedRotor::new(self, ring)
+        RingedRotor::new(self.clone(), ring)
     }
 }
 

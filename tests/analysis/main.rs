@@ -8,3 +8,5 @@ mod analysis_period;
 mod analysis_poincare;
 mod analysis_sweep;
 mod figures_analysis;
+mod order;
+mod revolutions;

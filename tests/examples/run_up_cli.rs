@@ -206,7 +206,7 @@ fn bad_input_is_status_2_with_one_line() {
 }
 
 #[test]
-fn out_draws_the_envelope_of_both_sweeps() {
+fn out_draws_the_envelope_of_both_legs_and_the_orders() {
     let dir = std::env::temp_dir().join(format!("run_up_cli_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let out = support::run_ok(
@@ -243,8 +243,12 @@ fn out_draws_the_envelope_of_both_sweeps() {
         .filter_map(|l| l.split(',').next())
         .collect();
     assert_eq!(series.len(), 2, "up and down: {series:?}");
-    // One row a revolution: the mean speed times the duration over 2 pi, per sweep.
-    let revolutions = (0.5 * 2.5 * 1.5 / 0.05 / TAU).ceil();
-    assert_eq!(csv.lines().count() as f64 - 1.0, 2.0 * revolutions);
+    // One row a whole revolution of the run up and back: the phase's closed form, the mean
+    // speed 1.25 times the duration 2 x 30, over 2 pi.
+    let revolutions = (1.25 * 60.0 / TAU).floor();
+    assert_eq!(csv.lines().count() as f64 - 1.0, revolutions);
+    for file in ["orders.png", "waterfall.png", "revolutions.csv"] {
+        assert!(dir.join(file).is_file(), "{file}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

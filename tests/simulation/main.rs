@@ -27,5 +27,6 @@ mod hard_cases;
 mod reference;
 mod rotor_checks;
 mod run_up;
+mod run_up_profiles;
 mod si_units;
 mod simulation;

@@ -45,7 +45,7 @@ fn linear_run_up_through_resonance_matches_the_duhamel_integral() {
     let (eta0, eta1, rate) = (0.3, 2.0, 0.02);
     let profile = SpeedProfile::ramp(eta0, eta1, rate).unwrap();
     let samples = 16;
-    let rotor = ProfiledJeffcott::new(p, profile)
+    let rotor = ProfiledJeffcott::new(p, profile.clone())
         .unwrap()
         .with_strobes_per_revolution(samples)
         .unwrap();
@@ -98,7 +98,7 @@ fn strobes_fall_on_the_phases_of_the_revolution() {
     let p = Preset::Fig8a.params();
     for (eta0, eta1, rate) in [(0.3, 3.0, 0.05), (3.0, 0.3, -0.05), (0.0, 1.0, 0.01)] {
         let profile = SpeedProfile::ramp(eta0, eta1, rate).unwrap();
-        let rotor = ProfiledJeffcott::new(p, profile)
+        let rotor = ProfiledJeffcott::new(p, profile.clone())
             .unwrap()
             .with_strobes_per_revolution(7)
             .unwrap();
