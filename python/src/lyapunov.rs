@@ -84,9 +84,9 @@ pub fn stability_error(py: Python<'_>, e: StabilityError) -> PyErr {
 /// rest): ``transient`` forcing periods run first, ``align`` periods of QR to align the frame,
 /// then ``periods`` recorded in batches of ``batch`` (batch means give the standard errors;
 /// use at least 20 batches). ``exponents``: how many, the largest first (None: all four).
-/// ``separation``: the initial distance of the two-trajectory check of the largest exponent,
-/// in gaps (None skips it). Exponents are per forcing period (``per_time``: per unit tau).
-/// Options as ``simulate``.
+/// ``separation`` (default 1e-8): the initial distance of the two-trajectory estimate of the
+/// largest exponent, Euclidean in [x, y, x', y'] (gaps, gaps per 1/omega_n; None skips it).
+/// Exponents are per forcing period (``per_time``: per unit tau). Options as ``simulate``.
 ///
 /// One library call with the GIL released: Ctrl-C is seen only when it returns.
 /// ``ValueError`` for bad input (e.g. ``batch > periods``); ``SimulationError`` if a run fails.
