@@ -89,7 +89,138 @@ class Section:
     regimes: npt.NDArray[np.uint8]  # (record,)
     period: int  # -1: none
 
+class Lyapunov:
+    exponents: npt.NDArray[np.float64]  # (p,) per forcing period, largest first
+    stderr: npt.NDArray[np.float64]  # (p,)
+    per_time: npt.NDArray[np.float64]  # (p,) per unit tau
+    per_time_stderr: npt.NDArray[np.float64]  # (p,)
+    running: npt.NDArray[np.float64]  # (batches, p)
+    batches: int
+    forcing_period: float
+    two_trajectory: float | None
+    two_trajectory_stderr: float | None
+    grazing_events: int
+    min_margin: float
+    open_sections: int
+    end: npt.NDArray[np.float64]  # (6,)
+
+class SpecialPoint:
+    kind: str  # "fold", "flip", "neimark-sacker", "grazing"
+    parameter: float
+    bracket: tuple[float, float]
+    converged: bool
+    unconverged: str | None
+    point: npt.NDArray[np.float64]  # (4,)
+    multipliers: npt.NDArray[np.complex128]  # (4,)
+    contacts: tuple[int, int]
+    after_point: int
+
+class Branch:
+    parameter_name: str
+    period: int
+    parameters: npt.NDArray[np.float64]  # (N,)
+    points: npt.NDArray[np.float64]  # (N, 4)
+    states: npt.NDArray[np.float64]  # (N, 6)
+    multipliers: npt.NDArray[np.complex128]  # (N, 4)
+    stable: npt.NDArray[np.bool_]  # (N,)
+    grazing: npt.NDArray[np.bool_]  # (N,)
+    contacts: npt.NDArray[np.int64]  # (N,)
+    arclength: npt.NDArray[np.float64]  # (N,)
+    specials: list[SpecialPoint]
+    end: str  # "reached", "max-points", "stalled"
+    end_reason: tuple[float, str] | None
+
+class BasinAttractor:
+    period: int  # 0: not periodic
+    cycle: npt.NDArray[np.float64]  # (period, 6)
+    count: int
+    first: int
+    contacts_per_period: float
+    contact_fraction: float
+    description: str
+
+class Basins:
+    x: npt.NDArray[np.float64]  # (nx,)
+    y: npt.NDArray[np.float64]  # (ny,)
+    names: tuple[str, str]
+    labels: npt.NDArray[np.int64]  # (ny, nx), -1: failed
+    attractors: list[BasinAttractor]
+    failures: list[tuple[int, str]]
+
+class RunUp:
+    tau: npt.NDArray[np.float64]  # (N,) 1/omega_n
+    eta: npt.NDArray[np.float64]  # (N,)
+    x: npt.NDArray[np.float64]  # (N,) gaps
+    y: npt.NDArray[np.float64]  # (N,) gaps
+    states: npt.NDArray[np.float64]  # (N, 6)
+    regimes: npt.NDArray[np.uint8]  # (N,)
+    event_t: npt.NDArray[np.float64]  # (E,)
+    event_kind: list[str]
+    ramp_time: float
+    stats: dict[str, int]
+
 def presets() -> list[str]: ...
+def lyapunov_exponents(
+    params: Params,
+    *,
+    transient: int = 300,
+    align: int = 100,
+    periods: int = 2000,
+    batch: int = 100,
+    separation: float | None = 1e-8,
+    exponents: int | None = None,
+    state0: Sequence[float] | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
+) -> Lyapunov: ...
+def continue_orbit(
+    params: Params,
+    start: float,
+    stop: float,
+    *,
+    parameter: str = "eta",
+    period: int = 1,
+    transient: int = 300,
+    state0: Sequence[float] | None = None,
+    ds: float | None = None,
+    ds_max: float | None = None,
+    max_points: int | None = None,
+    bracket_width: float | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
+) -> Branch: ...
+def basins(
+    params: Params,
+    x: Sequence[float],
+    y: Sequence[float],
+    *,
+    plane: str = "x-vx",
+    transient: int = 500,
+    record: int = 64,
+    max_transient: int = 4000,
+    match_state: float = 1e-3,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
+    threads: int | None = None,
+) -> Basins: ...
+def run_up(
+    params: Params,
+    eta_from: float,
+    eta_to: float,
+    rate: float,
+    *,
+    t_end: float | None = None,
+    dt: float = 0.05,
+    ring: bool = True,
+    state0: Sequence[float] | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
+    chunk: int = 100,
+) -> RunUp: ...
 def poincare(
     params: Params,
     *,

@@ -1,15 +1,20 @@
 //! Python bindings of `jeffcott` (the extension module `jeffcott._jeffcott`): the paper's
 //! model and finite-element rotors on the snubber ring, numpy arrays in and out. The loops
 //! stay compiled: Python hands over arrays and parameters once, never a callback per step.
-//! Long runs release the GIL and run in chunks, checking for Ctrl-C between them.
+//! Long runs release the GIL and run in chunks, checking for Ctrl-C between them (the
+//! Lyapunov exponents and the continuation are single library calls: Ctrl-C waits for them).
 
+mod basins;
 mod chunks;
+mod continuation;
 mod errors;
 mod fe;
+mod lyapunov;
 mod options;
 mod paper;
 mod params;
 mod poincare;
+mod run_up;
 mod stability;
 
 use pyo3::prelude::*;
@@ -29,6 +34,12 @@ fn _jeffcott(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<fe::FeTransient>()?;
     m.add_class::<stability::Orbit>()?;
     m.add_class::<poincare::Section>()?;
+    m.add_class::<lyapunov::Lyapunov>()?;
+    m.add_class::<continuation::ContinuedBranch>()?;
+    m.add_class::<continuation::SpecialPointPy>()?;
+    m.add_class::<basins::Basins>()?;
+    m.add_class::<basins::BasinAttractor>()?;
+    m.add_class::<run_up::RunUp>()?;
     m.add_function(wrap_pyfunction!(params::presets, m)?)?;
     m.add_function(wrap_pyfunction!(paper::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(paper::simulate_dense, m)?)?;
@@ -38,5 +49,9 @@ fn _jeffcott(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fe::fe_transient, m)?)?;
     m.add_function(wrap_pyfunction!(stability::periodic_orbit, m)?)?;
     m.add_function(wrap_pyfunction!(poincare::poincare, m)?)?;
+    m.add_function(wrap_pyfunction!(lyapunov::lyapunov_exponents, m)?)?;
+    m.add_function(wrap_pyfunction!(continuation::continue_orbit, m)?)?;
+    m.add_function(wrap_pyfunction!(basins::basins, m)?)?;
+    m.add_function(wrap_pyfunction!(run_up::run_up, m)?)?;
     Ok(())
 }

@@ -267,7 +267,7 @@ const SWEPT: [SweepParameter; 10] = [
     SweepParameter::Phi0,
 ];
 
-fn swept(name: &str) -> PyResult<SweepParameter> {
+pub fn swept(name: &str) -> PyResult<SweepParameter> {
     SWEPT
         .into_iter()
         .find(|p| p.symbol() == name)

@@ -3,6 +3,8 @@ tests (tests/data/stability_reference.csv: SciPy, Newton and Richardson central 
 the stroboscopic map, no code of the crate), with tests/stability/stability_orbits.rs' bounds."""
 
 import math
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -40,3 +42,89 @@ def test_period_one_orbit_and_multipliers(preset, case):
 def test_periodic_orbit_bad_input():
     with pytest.raises(ValueError):
         jeffcott.periodic_orbit(jeffcott.Params(), 1, state0=[1.0])
+
+
+def test_lyapunov_spectrum_of_a_stable_orbit_is_the_log_of_its_multipliers():
+    # As tests/stability/stability_lyapunov.rs: Fig. 8a at eta = 2, 500 + 100 + 2000 periods;
+    # the truth is ln|multiplier| of the independent reference, with that test's bounds.
+    ref = reference("fig8a_eta2")
+    l = jeffcott.lyapunov_exponents(jeffcott.Params.preset("fig8a"), transient=500, align=100,
+                                    periods=2000, batch=100)
+    assert l.exponents.shape == (4,) and l.exponents.dtype == np.float64
+    assert l.stderr.shape == l.per_time.shape == l.per_time_stderr.shape == (4,)
+    assert l.running.shape == (20, 4) and l.batches == 20 and l.end.shape == (6,)
+    m = l.exponents
+    assert abs(m[0] - math.log(ref["mult0_modulus"])) < 1e-6
+    # The complex pair's two exponents split over a finite run; their mean converges.
+    assert abs(0.5 * (m[1] + m[2]) - math.log(ref["mult1_modulus"])) < 1e-6
+    assert abs(m[3] - math.log(ref["mult3_modulus"])) < 1e-8
+    assert l.stderr[0] < 1e-6
+    assert l.forcing_period == pytest.approx(math.pi)
+    assert np.allclose(l.per_time, m / l.forcing_period, rtol=1e-15, atol=0)
+    # The two-trajectory estimate (plain runs, no variational code) against the same truth.
+    assert l.two_trajectory is not None
+    assert abs(l.two_trajectory - math.log(ref["mult0_modulus"])) < 1e-6
+    one = jeffcott.lyapunov_exponents(jeffcott.Params.preset("fig8a"), periods=200, batch=10,
+                                      exponents=1, separation=None)
+    assert one.exponents.shape == (1,) and one.two_trajectory is None
+
+
+@pytest.mark.parametrize("kw", [dict(periods=10, batch=20), dict(separation=0.0),
+                                dict(exponents=5), dict(state0=[0.0])])
+def test_lyapunov_bad_input(kw):
+    with pytest.raises(ValueError):
+        jeffcott.lyapunov_exponents(jeffcott.Params(), **kw)
+
+
+@pytest.mark.parametrize("preset,case", [("fig8a", "fig8a_flip"), ("fig8b", "fig8b_flip")])
+def test_continuation_finds_the_fig8_flip(preset, case):
+    # The period-1 orbit from eta = 2 to 2.3 (tests/global/global_continuation.rs): one flip,
+    # at the independent reference's eta* (stability_reference.csv) within that test's 3e-8.
+    flip_ref = reference(case)["flip_eta"]
+    b = jeffcott.continue_orbit(jeffcott.Params.preset(preset), 2.0, 2.3)
+    n = len(b.parameters)
+    assert b.end == "reached" and b.period == 1 and b.parameter_name == "eta"
+    assert b.points.shape == (n, 4) and b.states.shape == (n, 6)
+    assert b.multipliers.shape == (n, 4) and b.multipliers.dtype == np.complex128
+    assert b.stable.dtype == np.bool_ and b.contacts.dtype == np.int64
+    assert b.arclength.shape == (n,)
+    flips = [s for s in b.specials if s.kind == "flip"]
+    assert len(flips) == 1
+    f = flips[0]
+    assert f.converged and abs(f.parameter - flip_ref) < 3e-8, f.parameter
+    assert abs(f.multipliers[0].real + 1.0) < 1e-5 and abs(f.multipliers[0].imag) < 1e-9
+    assert f.bracket[0] <= f.parameter <= f.bracket[1] or f.bracket[1] <= f.parameter <= f.bracket[0]
+    # Stable before the flip, unstable after.
+    assert np.array_equal(b.stable, b.parameters < f.parameter)
+
+
+@pytest.mark.parametrize("args,kw", [((2.0, 2.0), {}), ((2.0, 2.3), dict(parameter="zeta")),
+                                     ((2.0, 2.3), dict(ds=-1.0)), ((2.0, 2.3), dict(period=0))])
+def test_continuation_bad_input(args, kw):
+    with pytest.raises(ValueError):
+        jeffcott.continue_orbit(jeffcott.Params.preset("fig8a"), *args, transient=0, **kw)
+
+
+def test_lyapunov_releases_the_gil():
+    # As test_paper's check: a Python thread leaves time stamps inside the call's window.
+    stamps, stop = [], threading.Event()
+
+    def spin():
+        while not stop.is_set():
+            stamps.append(time.monotonic())
+            time.sleep(0.001)
+
+    t = threading.Thread(target=spin)
+    t.start()
+    try:
+        time.sleep(0.05)
+        start = time.monotonic()
+        jeffcott.lyapunov_exponents(jeffcott.Params.preset("fig9c"), transient=0, periods=1500)
+        end = time.monotonic()
+    finally:
+        stop.set()
+        t.join()
+    margin = 0.1 * (end - start)
+    inside = [s for s in stamps if start + margin < s < end - margin]
+    assert end - start > 0.1, "the run is too short to tell"
+    assert len(inside) >= 10, f"{len(inside)} stamps in a {end - start:.3f} s run"

@@ -1,0 +1,226 @@
+//! The pseudo-arclength continuation of periodic orbits of the paper's model along one
+//! parameter, with its special points (fold, flip, Neimark-Sacker, grazing), from Python.
+
+use jeffcott::hybrid::Trajectory;
+use jeffcott::paper::{JeffcottModel, ParamSweep};
+use jeffcott::stability::{
+    Branch, BranchEnd, BranchPoint, ContinuationOptions, Multiplier, SpecialPoint,
+};
+use numpy::ndarray::{Array1, Array2};
+use numpy::{Complex64, IntoPyArray, PyArray1, PyArray2};
+use pyo3::prelude::*;
+
+use crate::chunks::{self, Output};
+use crate::errors::value_error;
+use crate::lyapunov::stability_error;
+use crate::options::{positive, sim_options};
+use crate::paper::{run_error, start_state, swept};
+use crate::params::PyParams;
+
+/// A special point of a continued branch.
+#[pyclass(name = "SpecialPoint", module = "jeffcott", frozen, get_all)]
+pub struct SpecialPointPy {
+    /// "fold", "flip", "neimark-sacker" or "grazing".
+    pub kind: String,
+    /// The parameter where it is (the final bracket's midpoint; meaningful if ``converged``).
+    pub parameter: f64,
+    /// The final bracket's parameters (near end, far end).
+    pub bracket: (f64, f64),
+    /// Whether the bracket narrowed to ``bracket_width``; if not, ``unconverged`` says why.
+    pub converged: bool,
+    /// Why the location stopped early, or None.
+    pub unconverged: Option<String>,
+    /// The periodic point [x, y, x', y'] at the bracket's near end, float64, shape (4,).
+    pub point: Py<PyArray1<f64>>,
+    /// The multipliers at the near end, largest modulus first, complex128, shape (4,).
+    pub multipliers: Py<PyArray1<Complex64>>,
+    /// Contact onsets per orbit before and after.
+    pub contacts: (usize, usize),
+    /// Index in the branch's points of the point before it.
+    pub after_point: usize,
+}
+
+/// A continued branch of period-``period`` orbits, points in order of arclength.
+#[pyclass(name = "Branch", module = "jeffcott", frozen, get_all)]
+pub struct ContinuedBranch {
+    /// The swept parameter's name.
+    pub parameter_name: String,
+    /// The period in forcing periods.
+    pub period: u64,
+    /// The parameter at each point, float64, shape (N,).
+    pub parameters: Py<PyArray1<f64>>,
+    /// The periodic points [x, y, x', y'] (gaps, gaps per 1/omega_n), float64, shape (N, 4).
+    pub points: Py<PyArray2<f64>>,
+    /// The full states [x, y, x', y', x_s, y_s] at the section, float64, shape (N, 6).
+    pub states: Py<PyArray2<f64>>,
+    /// The Floquet multipliers, largest modulus first, complex128, shape (N, 4).
+    pub multipliers: Py<PyArray2<Complex64>>,
+    /// Whether every multiplier is inside the unit circle, bool, shape (N,).
+    pub stable: Py<PyArray1<bool>>,
+    /// Whether an event is crossed at a grazing margin, bool, shape (N,).
+    pub grazing: Py<PyArray1<bool>>,
+    /// Contact onsets per orbit, int64, shape (N,).
+    pub contacts: Py<PyArray1<i64>>,
+    /// Arclength from the first point (scaled coordinates), float64, shape (N,).
+    pub arclength: Py<PyArray1<f64>>,
+    /// The special points, in order of arclength.
+    pub specials: Vec<Py<SpecialPointPy>>,
+    /// How the branch ended: "reached", "max-points" or "stalled".
+    pub end: String,
+    /// For a stalled branch, the last parameter and the corrector's last failure; else None.
+    pub end_reason: Option<(f64, String)>,
+}
+
+fn complex(m: &[Multiplier]) -> impl Iterator<Item = Complex64> + '_ {
+    m.iter().map(|m| Complex64::new(m.re, m.im))
+}
+
+/// The rows (each `width` long: 4 for the point and the multipliers, 6 for the state) as
+/// an array.
+fn table<T: Copy>(
+    rows: impl ExactSizeIterator<Item = Vec<T>>,
+    width: usize,
+) -> PyResult<Array2<T>> {
+    let n = rows.len();
+    let flat: Vec<T> = rows.flatten().collect();
+    Array2::from_shape_vec((n, width), flat).map_err(value_error)
+}
+
+fn special(py: Python<'_>, s: &SpecialPoint) -> PyResult<Py<SpecialPointPy>> {
+    let point = SpecialPointPy {
+        kind: s.kind.name().to_string(),
+        parameter: s.parameter,
+        bracket: s.bracket,
+        converged: s.converged,
+        unconverged: s.unconverged.as_ref().map(ToString::to_string),
+        point: Array1::from_vec(s.point.clone()).into_pyarray(py).unbind(),
+        multipliers: Array1::from_iter(complex(&s.multipliers))
+            .into_pyarray(py)
+            .unbind(),
+        contacts: s.contacts,
+        after_point: s.after_point,
+    };
+    Py::new(py, point)
+}
+
+fn column<T, F>(points: &[BranchPoint], f: F) -> Array1<T>
+where
+    F: Fn(&BranchPoint) -> T,
+{
+    points.iter().map(f).collect()
+}
+
+fn branch(py: Python<'_>, name: &str, b: &Branch) -> PyResult<ContinuedBranch> {
+    let p = &b.points;
+    let (end, end_reason) = match &b.end {
+        BranchEnd::Reached => ("reached", None),
+        BranchEnd::MaxPoints => ("max-points", None),
+        BranchEnd::Stalled { parameter, reason } => {
+            ("stalled", Some((*parameter, reason.to_string())))
+        }
+        _ => ("other", None),
+    };
+    Ok(ContinuedBranch {
+        parameter_name: name.to_string(),
+        period: b.period,
+        parameters: column(p, |q| q.parameter).into_pyarray(py).unbind(),
+        points: table(p.iter().map(|q| q.point.clone()), 4)?
+            .into_pyarray(py)
+            .unbind(),
+        states: table(p.iter().map(|q| q.state.clone()), 6)?
+            .into_pyarray(py)
+            .unbind(),
+        multipliers: table(p.iter().map(|q| complex(&q.multipliers).collect()), 4)?
+            .into_pyarray(py)
+            .unbind(),
+        stable: column(p, |q| q.stable).into_pyarray(py).unbind(),
+        grazing: column(p, |q| q.grazing).into_pyarray(py).unbind(),
+        contacts: column(p, |q| q.contacts as i64).into_pyarray(py).unbind(),
+        arclength: column(p, |q| q.arclength).into_pyarray(py).unbind(),
+        specials: b
+            .specials
+            .iter()
+            .map(|s| special(py, s))
+            .collect::<PyResult<_>>()?,
+        end: end.to_string(),
+        end_reason,
+    })
+}
+
+/// The continuation's options from the Python keywords (None keeps the crate's default).
+fn options(
+    ds: Option<f64>,
+    ds_max: Option<f64>,
+    max_points: Option<usize>,
+    bracket_width: Option<f64>,
+) -> PyResult<ContinuationOptions> {
+    let mut o = ContinuationOptions::default();
+    if let Some(v) = ds {
+        o = o.with_ds(positive("ds", v)?);
+    }
+    if let Some(v) = ds_max {
+        o = o.with_ds_max(positive("ds_max", v)?);
+    }
+    if let Some(n) = max_points {
+        o = o.with_max_points(n);
+    }
+    if let Some(v) = bracket_width {
+        o = o.with_bracket_width(positive("bracket_width", v)?);
+    }
+    Ok(o)
+}
+
+/// Continues the period-``period`` orbit of the paper's model in ``parameter`` (eta, D, Dx, K,
+/// nu1, nu2, beta, ex, ey, phi0; the others from ``params``) from ``start`` towards ``stop``
+/// by pseudo-arclength (the crate's ``stability::continue_orbit``: through folds, with folds,
+/// flips, Neimark-Sacker points and grazings located to ``bracket_width``, default 1e-8).
+///
+/// The first orbit is sought near the state reached after ``transient`` forcing periods
+/// from ``state0`` (default rest) at ``start``. ``ds`` (default 0.01), ``ds_max`` (0.02):
+/// arclength steps in scaled coordinates; ``max_points`` (5000). Options as ``simulate``.
+///
+/// The transient goes in chunks (Ctrl-C between them); the continuation itself is one
+/// library call with the GIL released: Ctrl-C is seen only when it returns. ``ValueError`` for
+/// bad input; ``SimulationError`` if no orbit is found at ``start`` or a run fails.
+#[pyfunction]
+#[pyo3(signature = (params, start, stop, *, parameter="eta", period=1, transient=300, state0=None, ds=None, ds_max=None, max_points=None, bracket_width=None, rtol=None, atol=None, method=None))]
+#[allow(clippy::too_many_arguments)] // Python keywords
+pub fn continue_orbit(
+    py: Python<'_>,
+    params: PyRef<'_, PyParams>,
+    start: f64,
+    stop: f64,
+    parameter: &str,
+    period: u64,
+    transient: u64,
+    state0: Option<Vec<f64>>,
+    ds: Option<f64>,
+    ds_max: Option<f64>,
+    max_points: Option<usize>,
+    bracket_width: Option<f64>,
+    rtol: Option<f64>,
+    atol: Option<f64>,
+    method: Option<&str>,
+) -> PyResult<ContinuedBranch> {
+    let family = ParamSweep::new(params.checked()?, swept(parameter)?);
+    let model: JeffcottModel = family.model(start).map_err(value_error)?;
+    let y0 = start_state(state0)?;
+    let sim = sim_options(rtol, atol, method)?;
+    let opts = options(ds, ds_max, max_points, bracket_width)?.with_sim(sim);
+    let output = Output::Strobe {
+        last: transient,
+        per_chunk: 100,
+    };
+    let mut traj = Trajectory::default();
+    if let Err(e) = chunks::run(py, &model, (0.0, y0), output, &sim, &mut traj)? {
+        return Err(run_error(py, e, py.None()));
+    }
+    let guess = traj.strobe.last().map_or(y0, |p| p.y);
+    let build = |value: f64| family.model(value);
+    let found = py
+        .detach(|| jeffcott::stability::continue_orbit(build, start, stop, &guess, period, &opts));
+    match found {
+        Ok(b) => branch(py, parameter, &b),
+        Err(e) => Err(stability_error(py, e)),
+    }
+}
