@@ -72,7 +72,7 @@ fn options_round_trip_through_json() {
         .with_rtol(3.3e-9)
         .with_atol(1.0 / 3.0)
         .with_steps_per_period(123)
-        .with_screen_events(true);
+        .with_event_samples(9);
     round_trip(&sim);
     let period_test = PeriodTest::default().with_max_period(7).with_tol(2.0e-7);
     round_trip(&period_test);
@@ -102,7 +102,7 @@ fn options_round_trip_through_json() {
         &EventOptions::default()
             .with_samples_per_step(7)
             .with_root_tol(1e-14)
-            .with_screen(true),
+            .with_max_iter(33),
     );
     let newton = NewtonOptions::default()
         .with_atol(3e-12)

@@ -46,16 +46,6 @@ pub struct SimOptions {
     pub max_events_per_period: u32,
     /// Step attempts allowed per integrated phase. Default 1e7.
     pub max_steps: u64,
-    /// Screen each step from the guards' values and derivatives at its ends before sampling
-    /// its dense output ([`crate::ode::EventOptions::screen`]): guards that the cubic Hermite
-    /// bound clears are not sampled, and a step where all are cleared costs no dense output.
-    /// Applies to guards with [`RotorModel::guard_derivative`]. Default `false`: every step
-    /// is sampled (`event_samples` points). The screen's guarantee is conditional (the
-    /// interpolant of a step's ends must be within half the smaller end value of the guard,
-    /// see [`ode`, Events](crate::ode#events)): a dip between the ends that this interpolant cannot see
-    /// is missed where the samples find it. `true` is faster (see `docs/performance.md`) and
-    /// is a choice to make knowingly.
-    pub screen_events: bool,
 }
 
 /// Builders: each returns the options with one field changed.
@@ -115,13 +105,6 @@ impl SimOptions {
         self.max_steps = value;
         self
     }
-
-    /// With [`screen_events`](Self::screen_events) = `value`.
-    #[must_use]
-    pub fn with_screen_events(mut self, value: bool) -> Self {
-        self.screen_events = value;
-        self
-    }
 }
 
 impl Default for SimOptions {
@@ -135,7 +118,6 @@ impl Default for SimOptions {
             event_samples: 4,
             max_events_per_period: 1000,
             max_steps: 10_000_000,
-            screen_events: false,
         }
     }
 }
@@ -874,9 +856,7 @@ where
             obs,
             caches,
             fixed_step: opts.method == Method::Rk4,
-            ev_opts: EventOptions::default()
-                .with_samples_per_step(opts.event_samples)
-                .with_screen(opts.screen_events),
+            ev_opts: EventOptions::default().with_samples_per_step(opts.event_samples),
             integ,
             ev_state: EventState::with_dim(dim),
             w: Scratch::new(dim),

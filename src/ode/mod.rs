@@ -213,48 +213,10 @@
 //! found with the derivative and missed by the plain sign check). At the
 //! start of a segment the rule below adds its own condition.
 //!
-//! ## Screening (opt-in: [`EventOptions::screen`])
-//!
-//! Before sampling, every active event is evaluated at the step's end, with its derivative
-//! (the state's derivative there is the integrator's own $f$, [`Integrator::dy`]; no
-//! right-hand side is evaluated). With the values and derivatives at both ends,
-//! $(g_a, \dot g_a)$ and $(g_b, \dot g_b)$, an event is **cleared** for the step when
-//!
-//! * it has a derivative, is armed as usual (not on zero at a segment origin, not the event
-//!   that just fired), and $g_a$, $g_b$ are non-zero of the same sign;
-//! * the cubic Hermite interpolant $p$ of the two ends stays on that side by at least half the
-//!   smaller end value on the whole step: $\operatorname{sign}(g_a)\thinspace p(t) \ge m/2$,
-//!   $m = \min(|g_a|, |g_b|)$ (checked at the interior extrema of $p$);
-//! * **the premise holds at the midpoint**: the event on the dense output there, $G(1/2)$, is
-//!   on that side and within $m/4$ of $p(1/2)$ (one dense-output point per step that has an
-//!   event passing the tests above, every such event's value there).
-//!
-//! A cleared event is not sampled on that step; a step where every active event is cleared
-//! is done after the end evaluations and the midpoint, without sampling. The others are sampled as
-//! described above. The end values are kept and reused as the start values of the next step
-//! when it starts at the same time with bitwise the same state (call
-//! [`EventState::reset`] when the event set changes).
-//!
-//! **Guarantee of the screen.** Relative to the dense output $u$, a cleared event has no root
-//! on the step provided the interpolant's error stays below half the smaller end value:
-//! $|g(t, u(t)) - p(t)| < m/2$ on the step. The error vanishes to second order at both ends,
-//! $G - p = s^2(1-s)^2 r(s)$ with $G(t) = g(t, u(t))$ and $s$ the fraction of the step, and
-//! the midpoint test bounds $|r(1/2)| \le 4m$: the premise holds whenever $r$ varies by less
-//! than a factor 2 over the step. The ends alone cannot show it: a step longer than the
-//! motion's time scale (a loose tolerance, a stiff contact) can have a dense output that
-//! swings through zero between quiet ends (issue 16's class S: a contact guard of $0.32$ and
-//! $0.25$ at the ends, $-0.10$ at mid-step, cleared by the ends' test alone). The error of a
-//! cubic Hermite interpolant over a step of length $h$ is at most $h^4 \max|G^{(4)}|/384$ with $G(t) = g(t, u(t))$ (at the
-//! ends, $u$ and its derivative are the integrator's $y$ and $f$, so $\dot g$ there is the
-//! derivative of $G$). **Conditions:** a derivative that is exact at the ends; a step over
-//! which $G$ is smooth; and the bound above. A dip that the interpolant cannot see by more
-//! than $m/2$ with an $r$ that varies by more than a factor 2 over the step can be missed
-//! where the samples would have found it; a constant $r$ (a quartic term) is caught (test
-//! `the_screen_checks_its_premise_at_mid_step`). An event whose end value
-//! is tiny (a guard just off zero) has a tiny $m$: the screen still clears it when the
-//! interpolant moves away from zero, outside the stated bound, as the first sample interval
-//! does without the screen. Events on zero at a segment origin are never cleared: they follow
-//! the start-of-segment rule below on the samples.
+//! Every step is sampled: there is no step-end screen (0.2.0 had one, `EventOptions::screen`,
+//! which skipped a guard whose cubic Hermite interpolant of the step's ends stayed away from
+//! zero; it was removed because nothing at a step's ends bounds the guard between them: on a
+//! step longer than the guard's time scale it cleared crossings, issue 16's class S).
 //!
 //! ## Start of a segment and re-arming (no immediate re-firing)
 //!

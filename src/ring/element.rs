@@ -754,29 +754,42 @@ impl SnubberRing {
             onset_margin,
         } = mode
         {
-            let (s, s_dot) = relax.at(self, t);
-            let q = k.r - s;
-            let rate = 2.0 * q.dot(&(k.v - s_dot));
-            let scale = 2.0 * q.norm() * (k.v.norm() + s_dot.norm());
-            // A rotor touching the ring at rest relative to it (rate zero to rounding) but
-            // accelerated into it, h'' = 2|r' - s'|^2 + 2 q.r'' > 0 (the ring's own
-            // acceleration left out: a touch that finds no load releases the ring anyway),
-            // crosses the margin within the detector's window late in long runs (a cubic
-            // bearing pulling at 1e7 towards a rest position 200 gaps out: 3e-11 at
-            // t = 1.3e5): it begins with the touch too.
-            let curvature =
-                2.0 * (k.v - s_dot).norm_squared() + 2.0 * q.dot(&accel(&Vector2::zeros()));
-            let moving_in = rate > 1e-9 * scale || (rate >= -1e-9 * scale && curvature > 0.0);
-            if onset_margin > 0.0 && moving_in {
+            if onset_margin > 0.0 && self.moves_in(t, k, &relax, &accel) {
                 return self.transition(&mode, RingGuard::Onset, t, k, accel);
             }
-            return Ok(RingTransition { mode, s });
+            return Ok(RingTransition {
+                mode,
+                s: relax.at(self, t).0,
+            });
         }
         let s = match mode {
             RingMode::Contact(b) => self.locate_on(&k.r, b, f64::NAN)?.s,
             RingMode::Free { relax, .. } => relax.s0,
         };
         Ok(RingTransition { mode, s })
+    }
+
+    /// Whether a rotor touching the ring relaxing from `relax` at time `t` moves into it:
+    /// $h^\prime = 2q\cdot(r^\prime - s^\prime) > 10^{-9}$ of its scale ($q = r - s$), or
+    /// at rest relative to the ring (the rate zero to that level) and accelerated into it,
+    /// $h^{\prime\prime} = 2|r^\prime - s^\prime|^2 + 2q\cdot r^{\prime\prime} > 0$ (the
+    /// ring's own acceleration left out: a touch that finds no load releases the ring anyway).
+    /// Such a start crosses the onset margin within the detector's window late in long runs (a
+    /// cubic bearing pulling at 1e7 towards a rest position 200 gaps out: 3e-11 at
+    /// $t = 1.3\times10^5$): it begins with the touch.
+    fn moves_in(
+        &self,
+        t: f64,
+        k: &Kinematics,
+        relax: &Relaxation,
+        accel: &impl Fn(&Vector2<f64>) -> Vector2<f64>,
+    ) -> bool {
+        let (s, s_dot) = relax.at(self, t);
+        let q = k.r - s;
+        let rate = 2.0 * q.dot(&(k.v - s_dot));
+        let scale = 2.0 * q.norm() * (k.v.norm() + s_dot.norm());
+        let curvature = 2.0 * (k.v - s_dot).norm_squared() + 2.0 * q.dot(&accel(&Vector2::zeros()));
+        rate > 1e-9 * scale || (rate >= -1e-9 * scale && curvature > 0.0)
     }
 
     /// The onset margin of a free flight that starts at time `t` with the rotor at `k` and the
@@ -936,7 +949,18 @@ impl SnubberRing {
             (RingMode::Free { .. }, RingGuard::Onset) => self.touch(t, k, accel),
             (RingMode::Contact(b), RingGuard::Loss | RingGuard::Gap) => {
                 let c = self.locate_on(&k.r, *b, f64::NAN)?;
-                Ok(self.release(t, k, c.s))
+                let parted = self.release(t, k, c.s);
+                // The gap guard falls through zero only with the rotor moving in: one moving
+                // out (or curving out) at its located root was on zero within rounding (a
+                // contact that began on the circle, the guard's ulp larger than its motion) or
+                // on an integration error. Releasing it as a parting one would let it run into
+                // the ring unseen (the onset search skips a separating start): it touches.
+                if let (RingGuard::Gap, RingMode::Free { relax, .. }) = (guard, parted.mode) {
+                    if self.moves_in(t, k, &relax, &accel) {
+                        return self.touch(t, k, accel);
+                    }
+                }
+                Ok(parted)
             }
             (RingMode::Contact(b), RingGuard::Preload { axis, .. }) => {
                 let c = self.locate_on(&k.r, *b, f64::NAN)?;

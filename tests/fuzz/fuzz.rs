@@ -19,7 +19,7 @@
 //! resolved integration ([`Resolution`]: RK4 runs with steps the library counts as unresolved,
 //! `SimStats::unresolved_steps`, and adaptive runs with `rtol > 1e-3` are counted apart).
 //! Every failure fails the test; its class is named when its mechanism is recognised: A and D
-//! (docs/reliability.md, fixed 7 and 8), S (consistent without the event screen).
+//! (docs/reliability.md, fixed 7 and 8).
 //!
 //! **Runs.** `cargo test --test fuzz fuzz::` runs a short version (a few seconds; failures
 //! shrink and are saved in `proptest-regressions/fuzz.txt`, replayed first on every run). The
@@ -196,10 +196,8 @@ fn options() -> impl Strategy<Value = SimOptions> {
         1 => Just(10_000u32),
     ];
     let max_steps = prop_oneof![1 => Just(1u64), 2 => 2u64..1000, 8 => 1000u64..100_000];
-    // Screening on three times in four (off is the default; the screen is the riskier path).
-    let screen = prop_oneof![3 => Just(true), 1 => Just(false)];
     (
-        method, rtol, atol, steps, fraction, samples, events, max_steps, screen,
+        method, rtol, atol, steps, fraction, samples, events, max_steps,
     )
         .prop_map(
             |(
@@ -211,7 +209,6 @@ fn options() -> impl Strategy<Value = SimOptions> {
                 event_samples,
                 max_events_per_period,
                 max_steps,
-                screen_events,
             )| {
                 SimOptions::default()
                     .with_method(method)
@@ -222,7 +219,6 @@ fn options() -> impl Strategy<Value = SimOptions> {
                     .with_event_samples(event_samples)
                     .with_max_events_per_period(max_events_per_period)
                     .with_max_steps(max_steps)
-                    .with_screen_events(screen_events)
             },
         )
 }
@@ -918,22 +914,7 @@ fn check_run(c: RunCase) -> Result<String, String> {
             }
             _ => "",
         };
-        // Class S: the same case without the event screen (`SimOptions::screen_events`,
-        // `ode` (Events), "Screening") is consistent: the screen cleared a guard over a step on
-        // which it crossed (its Hermite bound does not hold there).
-        let screen = if c.opts.screen_events {
-            let unscreened = RunCase {
-                opts: c.opts.with_screen_events(false),
-                ..c
-            };
-            match check_run(unscreened) {
-                Ok(_) => " (class S: the event screen cleared a crossing; consistent without it)",
-                Err(_) => "",
-            }
-        } else {
-            ""
-        };
-        return Err(format!("{msg}{class}{screen}"));
+        return Err(format!("{msg}{class}"));
     }
     match res {
         Ok(()) => {

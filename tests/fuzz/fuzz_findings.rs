@@ -200,17 +200,15 @@ fn event_on_a_non_finite_dense_output_is_non_finite_with_a_good_last_state() {
         )
         .unwrap();
     // The finding's options, but 8 samples per step: with 24 the run chatters before it
-    // reaches the overflow, without the screen and, since the screen checks its premise
-    // (issue 17), with it (the screen, the default when this was found, cleared the steps
-    // whose samples find the chattering). With 1 (this test until issue 16) the grazing
+    // reaches the overflow (the event screen of 0.2.0, the default when this was found and
+    // removed since, cleared the steps whose samples find the chattering). With 1 (this test until issue 16) the grazing
     // check of the samples' interpolant now finds a preload crossing first, at a state
     // already blown up: the typed error of a preload below its resolution.
     let opts = SimOptions::default()
         .with_rtol(1.0)
         .with_atol(8.572388403695387e-7)
         .with_max_step_fraction(0.17217850026456383)
-        .with_event_samples(8)
-        .with_screen_events(true);
+        .with_event_samples(8);
     let mut traj = Trajectory::default();
     let e = simulate(&model, 0.0, &y0, &plan(&p, 3), &opts, &mut traj).unwrap_err();
     assert_eq!(e.kind, SimErrorKind::NonFinite, "{e}");
@@ -713,8 +711,7 @@ fn a_ring_through_its_inner_region_within_the_time_resolution_takes_the_far_bran
         .with_atol(8.731740900609176e-5)
         .with_max_step_fraction(0.010815520387604064)
         .with_event_samples(14)
-        .with_max_events_per_period(10_000)
-        .with_screen_events(false);
+        .with_max_events_per_period(10_000);
     let mut traj = Trajectory::default();
     if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
         below_resolution_or_panic(&e.kind);
@@ -935,8 +932,7 @@ fn a_preload_below_the_rounding_of_the_ring_position_is_a_typed_error() {
         .with_max_step_fraction(0.001725827382784153)
         .with_event_samples(41)
         .with_max_events_per_period(1000)
-        .with_max_steps(48401)
-        .with_screen_events(true);
+        .with_max_steps(48401);
     let mut traj = Trajectory::default();
     let res = simulate(&m, 0.0, &y0, &plan(&p, 2), &opts, &mut traj);
     let worst = worst_inconsistency(m.ring(), &traj);
@@ -1002,8 +998,7 @@ fn a_touch_a_hair_inside_the_circle_moving_outward_starts_contact() {
         .with_max_step_fraction(0.21273644290132865)
         .with_event_samples(41)
         .with_max_events_per_period(1000)
-        .with_max_steps(65047)
-        .with_screen_events(true);
+        .with_max_steps(65047);
     let (traj, stats) = m
         .run(t0, &y0, &plan, &opts)
         .unwrap_or_else(|f| panic!("{}", f.error));
@@ -1016,17 +1011,17 @@ fn a_touch_a_hair_inside_the_circle_moving_outward_starts_contact() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 11. The event screen clears a crossing (issue 16's class S; fixed in issue 17).
+// 11. The event screen clears a crossing (issue 16's class S; the screen is removed).
 
 /// A fuzz case (seed 777, found by checking every event record): with the event screen on
-/// (`SimOptions::screen_events`, opt-in since issue 16), the paper model's contact guard was
-/// cleared over steps on which it crossed: a stiff contact (K = 303) under a loose `atol`
-/// (9e-4) takes steps of 0.8 of its oscillation period, whose dense output swings through
-/// zero (0.32 and 0.25 at the ends, -0.10 at mid-step) while the ends' values and
-/// derivatives look quiet, so the cubic Hermite interpolant of the ends is far from the
-/// guard and its bound proves nothing. The next onset found the rotor $1.7\times10^{-5}$
-/// beyond the ring; without the screen $5\times10^{-13}$. The screen now checks its premise
-/// at mid-step (`ode` (Events), *Screening*) and samples such steps.
+/// (`SimOptions::screen_events` of 0.2.0, removed in issue 16), the paper model's contact
+/// guard was cleared over steps on which it crossed: a stiff contact (K = 303) under a loose
+/// `atol` (9e-4) takes steps of 0.8 of its oscillation period, whose dense output swings
+/// through zero (0.32 and 0.25 at the ends, -0.10 at mid-step) while the ends' values and
+/// derivatives look quiet, so the cubic Hermite interpolant of the ends is far from the guard
+/// and its bound proves nothing. The next onset found the rotor $1.7\times10^{-5}$ beyond the
+/// ring; with every step sampled (the only path now) $5\times10^{-13}$. Kept as the
+/// regression test that the samples find these crossings.
 #[test]
 fn the_event_screen_does_not_clear_a_crossing() {
     let p = Params {
@@ -1066,23 +1061,20 @@ fn the_event_screen_does_not_clear_a_crossing() {
         dense: None,
         events: true,
     };
-    for screen_events in [false, true] {
-        let opts = SimOptions::default()
-            .with_method(Method::Dop853)
-            .with_rtol(2.4485229992722414e-11)
-            .with_atol(0.0008890410066892507)
-            .with_steps_per_period(10)
-            .with_max_step_fraction(0.09872976906416432)
-            .with_event_samples(18)
-            .with_max_events_per_period(48)
-            .with_max_steps(79607)
-            .with_screen_events(screen_events);
-        let (traj, _) = m
-            .run(t0, &y0, &plan, &opts)
-            .unwrap_or_else(|f| panic!("{}", f.error));
-        let worst = worst_inconsistency(m.ring(), &traj);
-        assert!(worst <= 1e-9, "screen {screen_events}: {worst:e} off");
-    }
+    let opts = SimOptions::default()
+        .with_method(Method::Dop853)
+        .with_rtol(2.4485229992722414e-11)
+        .with_atol(0.0008890410066892507)
+        .with_steps_per_period(10)
+        .with_max_step_fraction(0.09872976906416432)
+        .with_event_samples(18)
+        .with_max_events_per_period(48)
+        .with_max_steps(79607);
+    let (traj, _) = m
+        .run(t0, &y0, &plan, &opts)
+        .unwrap_or_else(|f| panic!("{}", f.error));
+    let worst = worst_inconsistency(m.ring(), &traj);
+    assert!(worst <= 1e-9, "{worst:e} off");
 }
 
 /// A fuzz case (seed 777): the custom rotor at rest on the gap circle at $t_0 = 1.3\times10^5$,
@@ -1131,8 +1123,7 @@ fn a_start_on_the_circle_accelerated_outward_touches_the_ring() {
         .with_max_step_fraction(0.1043659477653059)
         .with_event_samples(1)
         .with_max_events_per_period(1000)
-        .with_max_steps(83257)
-        .with_screen_events(false);
+        .with_max_steps(83257);
     let mut traj = Trajectory::default();
     if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
         below_resolution_or_panic(&e.kind);
@@ -1204,8 +1195,7 @@ fn a_preload_crossing_pair_the_interpolant_misses_is_found() {
         .with_max_step_fraction(0.13858953303811822)
         .with_event_samples(1)
         .with_max_events_per_period(1000)
-        .with_max_steps(61668)
-        .with_screen_events(false);
+        .with_max_steps(61668);
     let mut traj = Trajectory::default();
     if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
         panic!("{}", e.kind);
@@ -1213,4 +1203,68 @@ fn a_preload_crossing_pair_the_interpolant_misses_is_found() {
     let worst = worst_inconsistency(m.ring(), &traj);
     // The rotor moves 1e5 gaps per time unit: its event resolution there is ~1e-6 gaps.
     assert!(worst <= 1e-6, "ring {worst:e} off where the mode puts it");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 16. The gap guard fired by rounding on a rotor moving out (issue 16).
+
+/// A fuzz case (seed 12345, case 5406 of the run after the screen's removal): the paper's model
+/// from a start on the gap circle at $t_0 = 28.1$, the rotor moving out at $2r\cdot r^\prime =
+/// 9.2\times10^{-4}$ (an anisotropic ring, $K_y/K_x = 5\times10^5$, preloads beyond the gap).
+/// Contact starts at $t_0$; $8\times10^{-14}$ later the gap guard $|r|^2 - \gamma^2$, still
+/// within its rounding of zero ($7\times10^{-17}$ of motion against an ulp of $2.2\times10^{-16}$),
+/// was taken for a fall through zero, and the contact released the ring as a parting one
+/// while the rotor moved into it: the next onset found the rotor $2.1\times10^{-8}$ beyond the
+/// ring (with every method; Radau5 did the same in seed 777's case 5729, its step under a loose
+/// `atol` moving the rotor $10^{-12}$ inward while its velocity pointed out). A gap crossing
+/// whose rotor moves out is a touch, not a parting.
+#[test]
+fn a_gap_crossing_with_the_rotor_moving_out_is_not_a_parting() {
+    let p = Params {
+        eta: 0.9075839919299397,
+        nu1: 0.0,
+        nu2: 0.001023047776291775,
+        kx: 0.002308834501275947,
+        ky: 1110.779179406825,
+        beta: 4.47318395103082,
+        dx: 1.2506957122385163,
+        dy: 1.2506957122385163,
+        ex: 0.936703900764891,
+        ey: 0.43202242823351844,
+        phi0: -0.6431782592388696,
+    };
+    let m = JeffcottModel::new(p).unwrap();
+    let y0 = SVector::from([
+        -0.019061058692504313,
+        0.9998183215172249,
+        0.05902650523605695,
+        0.001585692447943762,
+        0.0,
+        0.0,
+    ]);
+    let t0 = 28.11850030041553;
+    let plan = OutputPlan {
+        t_end: t0 + 0.02,
+        strobe: None,
+        dense: None,
+        events: true,
+    };
+    for method in [Method::Dop853, Method::Dopri5] {
+        let opts = SimOptions::default()
+            .with_method(method)
+            .with_rtol(4.131320456574103e-12)
+            .with_atol(0.0)
+            .with_steps_per_period(13)
+            .with_max_step_fraction(5.047042980046361)
+            .with_event_samples(14);
+        let mut traj = Trajectory::default();
+        if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
+            panic!("{method:?}: {}", e.kind);
+        }
+        let worst = worst_inconsistency(m.ring(), &traj);
+        assert!(
+            worst <= 1e-9,
+            "{method:?}: rotor or ring {worst:e} off where the mode puts it"
+        );
+    }
 }

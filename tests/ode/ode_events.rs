@@ -627,14 +627,13 @@ fn bouncing_ball(
     opts: Options<U2>,
     events: &impl EventSet<U2>,
     count: usize,
-    screen: bool,
 ) -> Vec<f64> {
     let ball = |_t: f64, y: &V2, dy: &mut V2| {
         dy[0] = y[1];
         dy[1] = -1.0;
     };
     let e = 0.8;
-    let ev_opts = EventOptions::default().with_screen(screen);
+    let ev_opts = EventOptions::default();
     let mut integ = AnyIntegrator::new(method, opts).unwrap();
     integ.reset(&ball, 0.0, &V2::new(0.5, 0.0), false).unwrap();
     let mut st = EventState::new();
@@ -685,15 +684,15 @@ fn bouncing_ball_forty_impacts_with_steps_spanning_flights() {
     ];
     for (method, opts, label) in cases {
         for dir in [Direction::Falling, Direction::Either] {
-            for (with_derivative, screen) in [(false, false), (true, false), (true, true)] {
+            for with_derivative in [false, true] {
                 let ev = Comp0 {
                     dir,
                     terminal: true,
                     with_derivative,
                 };
-                let impacts = bouncing_ball(method, opts, &ev, count, screen);
+                let impacts = bouncing_ball(method, opts, &ev, count);
                 let what = format!(
-                    "{} {label} {dir:?} derivative {with_derivative} screen {screen}",
+                    "{} {label} {dir:?} derivative {with_derivative}",
                     method.name()
                 );
                 assert_eq!(impacts.len(), count, "{what}: {impacts:?}");
@@ -977,7 +976,7 @@ impl EventSet<U1> for CountedLevel {
 /// interpolant of the ends is $p = 1 - b\thinspace u$ (minimum $1 - b/4$) and the part it
 /// cannot see is $a\thinspace u^2$ (at most $a/16$). Returns the first crossing found and the
 /// number of guard evaluations.
-fn quartic_step(b: f64, a: f64, screen: bool) -> (Option<f64>, usize) {
+fn quartic_step(b: f64, a: f64) -> (Option<f64>, usize) {
     let sys = move |t: f64, _y: &V1, dy: &mut V1| {
         let u = t * (1.0 - t);
         dy[0] = -(b + 2.0 * a * u) * (1.0 - 2.0 * t);
@@ -988,7 +987,7 @@ fn quartic_step(b: f64, a: f64, screen: bool) -> (Option<f64>, usize) {
     let ev = CountedLevel {
         calls: std::cell::Cell::new(0),
     };
-    let opts = EventOptions::default().with_screen(screen);
+    let opts = EventOptions::default();
     let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
         .unwrap()
         .map(|h| h.t);
@@ -1001,56 +1000,21 @@ fn quartic_first_root(b: f64, a: f64) -> f64 {
     0.5 * (1.0 - (1.0 - 4.0 * u).sqrt())
 }
 
-/// The screen's threshold: a step whose cubic Hermite interpolant stays at least half the
-/// smaller end value ($m = 1$) away from zero, and whose guard at mid-step is where the
-/// interpolant puts it, costs the two end evaluations and the midpoint; one whose
-/// interpolant comes closer is sampled (4 interior samples, the midpoint not evaluated, and
-/// the guard at the interpolant's extremum in the sample interval that holds it), here just on
-/// either side of $m/2$.
+/// The dip that the step-end screen of 0.2.0 cleared (issue 16's class S; the screen is
+/// removed): the cubic Hermite interpolant of the step's ends sits at $1/2 + 5\cdot10^{-7}$
+/// ($b = 2(1 - 10^{-6})$), the part the ends cannot see, $a u^2$, takes the guard
+/// $5\cdot10^{-4}$ below zero ($a/16 = 1.001/2$). The samples find its first root at its
+/// closed-form time to $10^{-12}$; without the dip ($a = 0$, the same ends) nothing is found,
+/// after the 4 interior samples, the end and the guard at the interpolant's extremum.
 #[test]
-fn screen_samples_a_step_only_when_the_interpolant_comes_within_half_the_end_value() {
-    for (b, sampled) in [(2.0 * (1.0 - 1e-6), false), (2.0 * (1.0 + 1e-6), true)] {
-        let (hit, calls) = quartic_step(b, 0.0, true);
-        assert_eq!(hit, None, "b = {b}");
-        assert_eq!(calls, if sampled { 7 } else { 3 }, "b = {b}");
-        let (hit, calls) = quartic_step(b, 0.0, false);
-        assert_eq!((hit, calls), (None, 7), "b = {b} without the screen");
-    }
-}
-
-/// The screen checks its premise (issue 17; issue 16's class S): the interpolant here sits
-/// just beyond the ends' threshold ($b = 2(1 - 10^{-6})$, minimum $1/2 + 5\cdot10^{-7}$), so
-/// the ends alone clear the step whatever $a$ is; the part they cannot see, $a u^2$, is
-/// $a/16$ at mid-step. The screen keeps the step cleared only while that is within $m/4$
-/// ($a \le 4$, the guard staying above $1/4$), samples it beyond, and so finds the dip of
-/// $a/16 = 1.001/2$ ($5\cdot10^{-4}$ below zero) that it cleared before (returning `None`
-/// after 2 evaluations) to $10^{-12}$, as the sampling does without the screen.
-#[test]
-fn the_screen_checks_its_premise_at_mid_step() {
+fn a_dip_between_quiet_step_ends_is_found_by_the_samples() {
     let b = 2.0 * (1.0 - 1e-6);
-    let inside = 4.0 * (1.0 - 1e-3);
-    assert!(1.0 - b / 4.0 - inside / 16.0 > 0.2);
-    assert_eq!(quartic_step(b, inside, true), (None, 3));
-    assert_eq!(quartic_step(b, inside, false).0, None);
-
-    let beyond = 4.0 * (1.0 + 1e-3);
-    let (hit, calls) = quartic_step(b, beyond, true);
-    assert!(
-        hit.is_none() && calls > 6,
-        "{hit:?} after {calls}: sampled, nothing to find"
-    );
-
+    assert_eq!(quartic_step(b, 0.0), (None, 7));
     let outside = 8.0 * (1.0 + 1e-3);
     assert!(1.0 - b / 4.0 - outside / 16.0 < -4e-4);
     let exact = quartic_first_root(b, outside);
-    for screen in [true, false] {
-        let (found, _) = quartic_step(b, outside, screen);
-        let found = found.unwrap_or_else(|| panic!("screen {screen}: the dip is missed"));
-        assert!(
-            (found - exact).abs() < 1e-12,
-            "screen {screen}: {found} vs {exact}"
-        );
-    }
+    let found = quartic_step(b, outside).0.expect("the dip is missed");
+    assert!((found - exact).abs() < 1e-12, "{found} vs {exact}");
 }
 
 /// A guard on zero at the start, moving away from its crossing direction, that comes back

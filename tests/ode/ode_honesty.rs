@@ -142,14 +142,12 @@ fn quartic_events(b: f64, a: f64, base: SimOptions) -> Vec<f64> {
     traj.events.iter().map(|e| e.t).collect()
 }
 
-/// The driver's default is the sound event detection: every step sampled. The step-end screen
-/// is sound only while the cubic Hermite interpolant of the step's ends is within half the
-/// smaller end value of the guard; here (one step, $b = 2(1 - 10^{-6})$, $a/16 = 1.001/2$) the
-/// guard dips $5\cdot10^{-4}$ below zero between the ends, the interpolant stays at
-/// $1/2 + 5\cdot10^{-7}$: the ends' test clears the step. With the default options the first
-/// crossing is found at its closed-form time. (Before the fix the default had the screen on
-/// and the run reported no event.) The screen now checks its premise at mid-step and finds it
-/// too.
+/// The driver samples every step. The step-end screen of 0.2.0 (removed, issue 16) was sound
+/// only while the cubic Hermite interpolant of the step's ends is within half the smaller end
+/// value of the guard; here (one step, $b = 2(1 - 10^{-6})$, $a/16 = 1.001/2$) the guard dips
+/// $5\cdot10^{-4}$ below zero between the ends, the interpolant stays at $1/2 + 5\cdot10^{-7}$:
+/// the ends' test cleared the step. The first crossing is found at its closed-form time.
+/// (Before the fix the default had the screen on and the run reported no event.)
 #[test]
 fn the_driver_default_finds_a_dip_the_step_end_screen_misses() {
     let b = 2.0 * (1.0 - 1e-6);
@@ -163,14 +161,6 @@ fn the_driver_default_finds_a_dip_the_step_end_screen_misses() {
     let found = quartic_events(b, a, SimOptions::default());
     assert!(!found.is_empty(), "default options missed the dip");
     assert!((found[0] - exact).abs() < 1e-12, "{} vs {exact}", found[0]);
-
-    // The screen, asked for explicitly, checks its premise at mid-step since issue 17 and
-    // samples this step (before, it cleared it and reported no event).
-    let screened = quartic_events(b, a, SimOptions::default().with_screen_events(true));
-    assert!(
-        screened.first().is_some_and(|t| (t - exact).abs() < 1e-12),
-        "screen found {screened:?}, not {exact}"
-    );
 }
 
 use jeffcott::hybrid::{DenseSampling, StrobeRange};
@@ -299,30 +289,26 @@ fn a_guard_that_cannot_be_evaluated_stops_the_run_with_a_typed_error() {
         events: true,
     };
     for method in Method::ALL {
-        for screen_events in [false, true] {
-            let opts = SimOptions::default()
-                .with_method(method)
-                .with_screen_events(screen_events);
-            let mut traj = Trajectory::default();
-            let r = simulate(&NanWindow, 0.0, &V1::zeros(), &plan, &opts, &mut traj);
-            let e = match r {
-                Ok(_) => panic!(
-                    "{method:?} screen {screen_events}: no error, events at {:?}",
-                    traj.events.iter().map(|e| e.t).collect::<Vec<_>>()
-                ),
-                Err(e) => e,
-            };
-            match &e.kind {
-                SimErrorKind::Guard { guard, t, .. } => {
-                    assert_eq!(*guard, "window");
-                    assert!(*t > 0.3 && *t < 0.7, "{e}");
-                }
-                other => panic!("{method:?} screen {screen_events}: {other:?}"),
+        let opts = SimOptions::default().with_method(method);
+        let mut traj = Trajectory::default();
+        let r = simulate(&NanWindow, 0.0, &V1::zeros(), &plan, &opts, &mut traj);
+        let e = match r {
+            Ok(_) => panic!(
+                "{method:?}: no error, events at {:?}",
+                traj.events.iter().map(|e| e.t).collect::<Vec<_>>()
+            ),
+            Err(e) => e,
+        };
+        match &e.kind {
+            SimErrorKind::Guard { guard, t, .. } => {
+                assert_eq!(*guard, "window");
+                assert!(*t > 0.3 && *t < 0.7, "{e}");
             }
-            // The last good point: the start of the step with the NaN, before the window.
-            assert!(e.t <= 0.3 && (e.y[0] - e.t).abs() < 1e-12, "{e:?}");
-            assert!(traj.events.is_empty(), "{:?}", traj.events);
+            other => panic!("{method:?}: {other:?}"),
         }
+        // The last good point: the start of the step with the NaN, before the window.
+        assert!(e.t <= 0.3 && (e.y[0] - e.t).abs() < 1e-12, "{e:?}");
+        assert!(traj.events.is_empty(), "{:?}", traj.events);
     }
 }
 

@@ -455,8 +455,8 @@ fn zero_force_slide_ends_honestly() {
 
     // Touches without load follow at once. How soon depends on the rounding of the loss time
     // (the load vanishes there to second order): measured a few ulps apart, or 4e-10 apart
-    // from 5e-9 after the loss when the guard screen evaluated the loss guard in another order
-    // (loss time 2e-13 earlier); 1e-7 is a millionth of the forcing period.
+    // from 5e-9 after the loss when the guard screen of 0.2.0 evaluated the loss guard in
+    // another order (loss time 2e-13 earlier); 1e-7 is a millionth of the forcing period.
     let quick = ev[1..]
         .iter()
         .take_while(|e| e.kind == guard::ONSET && e.to == 1 && e.t - loss.t < 1e-7)

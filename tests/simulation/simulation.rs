@@ -447,8 +447,8 @@ fn the_first_output_is_the_initial_state_exactly() {
     assert_eq!(traj.strobe[0].y, State::zeros());
 }
 
-/// Grazing inside contact, where guards are located on the integrator's dense output behind the
-/// step-end screen: the ring's x coordinate reaching its preload by only $10^{-6}$ or
+/// Grazing inside contact, where guards are located on the integrator's dense output by the
+/// samples: the ring's x coordinate reaching its preload by only $10^{-6}$ or
 /// $10^{-9}$ of the gap in one contact gives both crossings (beyond, and back within); stopping
 /// $10^{-6}$ short of it gives none. The scene is Fig. 8b at eta = 2.0 on its period-1
 /// attractor, whose contacts stay inside the preload (0.1); the largest $|x_s|$ of a contact,
@@ -459,8 +459,7 @@ fn the_first_output_is_the_initial_state_exactly() {
 #[test]
 fn a_preload_graze_one_nanometre_of_the_gap_deep_is_found_in_contact() {
     let base = Preset::Fig8b.params().with_eta(2.0);
-    // The screen is off by default: this test is about the screen, so it asks for it.
-    let o = SimOptions::default().with_screen_events(true);
+    let o = SimOptions::default();
     let (traj, _) = JeffcottModel::new(base)
         .unwrap()
         .strobe_range(&State::zeros(), 300, 300, &o)

@@ -1,6 +1,6 @@
 //! The detector: [`find_first_event`].
 
-use super::state::{EndValue, Leave, Slot};
+use super::state::{Leave, Slot};
 use super::{Direction, EventHit, EventOptions, EventSet, EventState};
 use crate::numeric::{illinois, RootOptions};
 use crate::ode::{Integrator, OdeError, OdeSystem};
@@ -95,77 +95,6 @@ enum Confirmed {
     Search,
 }
 
-/// Whether two vectors hold the same bits.
-fn same_bits<D: Dim>(a: &OVector<f64, D>, b: &OVector<f64, D>) -> bool
-where
-    DefaultAllocator: Allocator<D>,
-{
-    a.len() == b.len()
-        && a.iter()
-            .zip(b.iter())
-            .all(|(x, y)| x.to_bits() == y.to_bits())
-}
-
-/// The step-end screen of one guard: values and derivatives `(g, g')` at both ends of a step of
-/// length `h`, of the same sign, and the cubic Hermite interpolant $p$ through them stays at
-/// least half of the smaller end value $m = \min(|g_a|, |g_b|)$ away from zero on the whole
-/// step (on its side). Then the guard has no root on the step as long as the interpolant's
-/// error is below $m/2$ (module docs, *Screening*). Non-finite input is never cleared.
-/// Usually decided by the convex hull of the Bernstein coefficients, else at the interior
-/// extrema.
-#[inline(always)]
-fn hermite_clear(a: (f64, f64), b: (f64, f64), h: f64) -> bool {
-    let (ga, da) = a;
-    let (gb, db) = b;
-    if !(ga != 0.0 && gb != 0.0 && (ga > 0.0) == (gb > 0.0)) {
-        return false;
-    }
-    // Signed so that the ends are positive.
-    let sign = ga.signum();
-    let margin = 0.5 * ga.abs().min(gb.abs());
-    // Quick sufficient test, the usual case of a guard far from zero: a cubic on [0, 1] lies
-    // above the smallest of its Bernstein coefficients, (g_a, g_a + h g_a'/3, g_b - h g_b'/3,
-    // g_b) signed, of which the ends are at least 2 margin.
-    const THIRD: f64 = 1.0 / 3.0;
-    let (b1, b2) = ((ga + h * da * THIRD) * sign, (gb - h * db * THIRD) * sign);
-    if b1.min(b2) >= margin {
-        return true;
-    }
-    // p(s) = c0 + c1 s + c2 s^2 + c3 s^3 on s in [0, 1].
-    let (c0, c1) = (ga * sign, h * da * sign);
-    let c2 = (3.0 * (gb - ga) - h * (2.0 * da + db)) * sign;
-    let c3 = (2.0 * (ga - gb) + h * (da + db)) * sign;
-    if !(c1.is_finite() && c2.is_finite() && c3.is_finite()) {
-        return false;
-    }
-    let p = |s: f64| c0 + s * (c1 + s * (c2 + s * c3));
-    // Interior extrema: roots of p'(s) = c1 + 2 c2 s + 3 c3 s^2 in (0, 1).
-    let (qa, qb, qc) = (3.0 * c3, 2.0 * c2, c1);
-    let mut ok = true;
-    let mut check = |s: f64| {
-        if s > 0.0 && s < 1.0 {
-            ok &= p(s) >= margin;
-        }
-    };
-    if qa == 0.0 {
-        if qb != 0.0 {
-            check(-qc / qb);
-        }
-    } else {
-        let disc = qb * qb - 4.0 * qa * qc;
-        if disc >= 0.0 {
-            let q = -0.5 * (qb + disc.sqrt().copysign(qb));
-            check(q / qa);
-            if q != 0.0 {
-                check(qc / q);
-            } else {
-                check(0.0);
-            }
-        }
-    }
-    ok
-}
-
 /// The time tolerance of a root near `t`: $\max(\text{root\\_tol}, 4\varepsilon|t|)$.
 fn tol_at(root_tol: f64, t: f64) -> f64 {
     root_tol.max(4.0 * f64::EPSILON * t.abs())
@@ -194,8 +123,6 @@ struct Step {
     span: f64,
     /// Interior samples (`samples_per_step`).
     samples: usize,
-    /// Whether the step-end screen runs ([`EventOptions::screen`]).
-    screen: bool,
     /// Whether `start` is the segment origin (start-of-segment rules).
     at_origin: bool,
     /// The event whose hit defined the origin (rule 2), if `at_origin`.
@@ -237,7 +164,6 @@ impl Step {
             t_end,
             span,
             samples: m,
-            screen: opts.screen,
             at_origin,
             fired: if at_origin {
                 last_hit.map(|(j, _)| j)
@@ -432,9 +358,7 @@ where
     }
 
     /// **The start values**: every active guard's value and derivative at the start of the
-    /// scan (`y_a`), into `g_ref` and `d_ref`. The end values of the last screened step are
-    /// reused when this step starts there with bitwise the same state (`reuse`); the others
-    /// are evaluated all at once, derivatives with the integrator's `f` at the start if
+    /// scan (`y_a`), into `g_ref` and `d_ref`, evaluated all at once, derivatives with the integrator's `f` at the start if
     /// known (`f_a`, `f_a_known`), else with zeros, which is exact unless the guard reads
     /// `dy`, which is then evaluated once. A guard with no value at the start is
     /// [`OdeError::EventNotANumber`]: nothing can be said about the step.
@@ -444,55 +368,40 @@ where
         y_a: &OVector<f64, D>,
         f_a: &mut OVector<f64, D>,
         f_a_known: bool,
-        reuse: bool,
     ) -> Result<(), OdeError> {
         let (events, start) = (self.events, self.step.start);
-        let mut fresh = false;
         for (i, s) in slots.iter_mut().enumerate() {
-            let e = s.end;
             *s = Slot {
                 active: events.active(i),
-                end: e,
                 ..Slot::default()
             };
-            if !s.active {
-                continue;
-            }
-            if reuse && e.known {
-                s.has_der = e.has_der;
-                s.needs_rhs = e.needs_rhs;
-                s.g_ref = e.g;
-                s.d_ref = e.d;
-            } else {
+            if s.active {
                 s.needs_rhs = events.derivative_needs_rhs_of(i);
-                fresh = true;
             }
         }
-        if fresh {
-            let dy: &OVector<f64, D> = if f_a_known { f_a } else { self.zero };
-            let mut start_rhs = false;
-            events.values_and_derivatives(start, y_a, dy, true, &mut |i, g, d| {
-                let s = &mut slots[i];
-                if reuse && s.end.known {
-                    return;
+        if !slots.iter().any(|s| s.active) {
+            return Ok(());
+        }
+        let dy: &OVector<f64, D> = if f_a_known { f_a } else { self.zero };
+        let mut start_rhs = false;
+        events.values_and_derivatives(start, y_a, dy, true, &mut |i, g, d| {
+            let s = &mut slots[i];
+            s.g_ref = g;
+            if let Some(d) = d {
+                s.has_der = true;
+                if f_a_known || !s.needs_rhs {
+                    s.d_ref = d;
+                } else {
+                    start_rhs = true;
                 }
-                s.g_ref = g;
-                if let Some(d) = d {
-                    s.has_der = true;
-                    if f_a_known || !s.needs_rhs {
-                        s.d_ref = d;
-                    } else {
-                        start_rhs = true;
-                    }
-                }
-            });
-            if start_rhs {
-                self.sys.rhs(start, y_a, f_a);
-                self.integ.stats_mut().rhs_evals += 1;
-                for (i, s) in slots.iter_mut().enumerate() {
-                    if s.active && s.has_der && s.needs_rhs && !(reuse && s.end.known) {
-                        s.d_ref = events.derivative(i, start, y_a, f_a).unwrap_or(0.0);
-                    }
+            }
+        });
+        if start_rhs {
+            self.sys.rhs(start, y_a, f_a);
+            self.integ.stats_mut().rhs_evals += 1;
+            for (i, s) in slots.iter_mut().enumerate() {
+                if s.active && s.has_der && s.needs_rhs {
+                    s.d_ref = events.derivative(i, start, y_a, f_a).unwrap_or(0.0);
                 }
             }
         }
@@ -511,104 +420,7 @@ where
     I: Integrator<D>,
     E: EventSet<D> + ?Sized,
 {
-    /// **The step-end screen** (module docs, *Screening*): every active guard's value and
-    /// derivative at the step's end (`y_b`, with the integrator's own `f` there in `f_b`
-    /// when it keeps it), kept in `end`; then each guard that [`clears`] is not sampled on
-    /// this step. Returns whether every active guard is cleared: the step is then done,
-    /// without dense output.
-    fn screen(
-        &mut self,
-        slots: &mut [Slot],
-        y_b: &mut OVector<f64, D>,
-        f_b: &mut OVector<f64, D>,
-    ) -> bool {
-        let (events, t_end) = (self.events, self.step.t_end);
-        y_b.copy_from(self.integ.y());
-        let f_b_known = copy_known(self.integ.dy(), f_b);
-        let need_f = !f_b_known && slots.iter().any(|s| s.active && s.has_der && s.needs_rhs);
-        if need_f {
-            self.sys.rhs(t_end, y_b, f_b);
-            self.integ.stats_mut().rhs_evals += 1;
-        }
-        let dy: &OVector<f64, D> = if f_b_known || need_f { f_b } else { self.zero };
-        let any_der = slots.iter().any(|s| s.active && s.has_der);
-        for s in slots.iter_mut() {
-            s.end.known = false;
-        }
-        events.values_and_derivatives(t_end, y_b, dy, any_der, &mut |i, g, d| {
-            let s = &mut slots[i];
-            s.end = EndValue {
-                known: true,
-                has_der: s.has_der,
-                needs_rhs: s.needs_rhs,
-                g,
-                d: if s.has_der { d.unwrap_or(0.0) } else { 0.0 },
-            };
-        });
-        for (i, s) in slots.iter_mut().enumerate() {
-            if !s.active {
-                continue;
-            }
-            if !s.end.known {
-                // Not reported by the set's batch evaluation: one by one.
-                let d = if s.has_der {
-                    events.derivative(i, t_end, y_b, dy).unwrap_or(0.0)
-                } else {
-                    0.0
-                };
-                s.end = EndValue {
-                    known: true,
-                    has_der: s.has_der,
-                    needs_rhs: s.needs_rhs,
-                    g: events.value(i, t_end, y_b),
-                    d,
-                };
-            }
-            s.cleared = clears(s, i, &self.step);
-        }
-        if slots.iter().any(|s| s.cleared) {
-            self.check_premise(slots);
-        }
-        slots.iter().all(|s| !s.active || s.cleared)
-    }
-
-    /// **The screen checks its premise** on the guards that [`clears`] cleared: the cubic
-    /// Hermite interpolant $p$ of a step's ends proves nothing where the guard along the
-    /// dense output, $G$, is not within $m/2$ of it (module docs, *Screening*), and nothing
-    /// at the step's ends can tell: a step longer than the motion's time scale (loose
-    /// tolerances, a stiff contact) has a dense output that swings between ends whose values
-    /// and derivatives look quiet. The interpolation error vanishes to second order at both
-    /// ends, $G - p = s^2(1-s)^2 r(s)$ on $s \in [0, 1]$; this evaluates $G$ at the midpoint
-    /// (one dense output, every cleared guard's value) and keeps a guard cleared only when
-    /// $|G - p| \le m/4$ there, i.e. $|r(1/2)| \le 4m$, so that $|G - p| \le m/2$ on the
-    /// whole step as long as $r$ varies by less than a factor 2 over it. The others are
-    /// sampled.
-    fn check_premise(&mut self, slots: &mut [Slot]) {
-        let step = self.step;
-        let t_mid = step.start + 0.5 * step.span;
-        y_at(self.integ, self.sys, t_mid, self.tmp);
-        for s in slots.iter_mut() {
-            s.g_mid = f64::NAN;
-        }
-        let events = self.events;
-        events.values_and_derivatives(t_mid, self.tmp, self.zero, false, &mut |i, g, _| {
-            slots[i].g_mid = g;
-        });
-        for (i, s) in slots.iter_mut().enumerate() {
-            if !s.cleared {
-                continue;
-            }
-            if s.g_mid.is_nan() {
-                // Not reported by the set's batch evaluation (or no value: then not cleared).
-                s.g_mid = events.value(i, t_mid, self.tmp);
-            }
-            s.cleared =
-                hermite_mid_within((s.g_ref, s.d_ref), (s.end.g, s.end.d), step.span, s.g_mid);
-        }
-    }
-
-    /// Samples the guards that the screen did not clear on the `samples` interior points and
-    /// the step's end, interval by interval in time order ([`Scan::guard_interval`] for each
+    /// Samples the guards on the `samples` interior points and the step's end, interval by interval in time order ([`Scan::guard_interval`] for each
     /// guard); the first interval with a located root ends the scan with its earliest root
     /// (ties: smallest index). Guards without a value at an interval's end are decided after
     /// the interval's others ([`Scan::nan_in_interval`]).
@@ -619,9 +431,7 @@ where
         f_b: &mut OVector<f64, D>,
     ) -> Result<Option<Best>, OdeError> {
         let step = self.step;
-        let need_rhs = slots
-            .iter()
-            .any(|s| s.active && !s.cleared && s.has_der && s.needs_rhs);
+        let need_rhs = slots.iter().any(|s| s.active && s.has_der && s.needs_rhs);
         let m = step.samples;
         let mut t_a = step.start;
         for k in 1..=m + 1 {
@@ -630,14 +440,10 @@ where
             } else {
                 step.start + step.span * (k as f64 / (m + 1) as f64)
             };
-            // The step's end was evaluated by the screen.
-            let screened_end = step.screen && k == m + 1;
-            if !screened_end {
-                y_at(self.integ, self.sys, t_b, y_b);
-                if need_rhs {
-                    self.sys.rhs(t_b, y_b, f_b);
-                    self.integ.stats_mut().rhs_evals += 1;
-                }
+            y_at(self.integ, self.sys, t_b, y_b);
+            if need_rhs {
+                self.sys.rhs(t_b, y_b, f_b);
+                self.integ.stats_mut().rhs_evals += 1;
             }
             let tol = tol_at(step.root_tol, t_a.abs().max(t_b.abs()));
             let mut iv = Interval {
@@ -650,20 +456,16 @@ where
             let mut any_nan = false;
             for (i, s) in slots.iter_mut().enumerate() {
                 s.nan = false;
-                if !s.active || s.cleared {
+                if !s.active {
                     continue;
                 }
-                let (g_b, d_b) = if screened_end {
-                    (s.end.g, s.end.d)
+                let dy_b: &OVector<f64, D> = if s.needs_rhs { f_b } else { self.zero };
+                let d_b = if s.has_der {
+                    self.events.derivative(i, t_b, y_b, dy_b).unwrap_or(0.0)
                 } else {
-                    let dy_b: &OVector<f64, D> = if s.needs_rhs { f_b } else { self.zero };
-                    let d_b = if s.has_der {
-                        self.events.derivative(i, t_b, y_b, dy_b).unwrap_or(0.0)
-                    } else {
-                        0.0
-                    };
-                    (self.events.value(i, t_b, y_b), d_b)
+                    0.0
                 };
+                let g_b = self.events.value(i, t_b, y_b);
                 if g_b.is_nan() {
                     // No sign at this sample: decided after the interval's other events.
                     s.nan = true;
@@ -1134,31 +936,6 @@ where
     }
 }
 
-/// **The screen's clearing rule** for guard `s` (index `i`), its values and derivatives at
-/// both ends known: only a guard armed as usual (not on zero at the origin, which follows the
-/// start-of-segment rule on the samples; not the event that just fired), with a derivative,
-/// can be cleared, and only when [`hermite_clear`] shows the cubic Hermite interpolant of its
-/// ends staying away from zero.
-fn clears(s: &Slot, i: usize, step: &Step) -> bool {
-    s.has_der
-        && s.armed
-        && s.leave == Leave::No
-        && step.fired != Some(i)
-        && hermite_clear((s.g_ref, s.d_ref), (s.end.g, s.end.d), step.span)
-}
-
-/// Whether `g_mid`, a guard's value at the midpoint of a step of length `h` whose ends are
-/// `a` and `b` (value, derivative; cleared by [`hermite_clear`]), is on the ends' side and
-/// within $m/4$ of their cubic Hermite interpolant, $p(1/2) = (g_a + g_b)/2 + h(\dot g_a -
-/// \dot g_b)/8$, with $m = \min(|g_a|, |g_b|)$ ([`Scan::check_premise`]). NaN is not within.
-fn hermite_mid_within(a: (f64, f64), b: (f64, f64), h: f64, g_mid: f64) -> bool {
-    let (ga, da) = a;
-    let (gb, db) = b;
-    let p_mid = 0.5 * (ga + gb) + 0.125 * h * (da - db);
-    let m = ga.abs().min(gb.abs());
-    (g_mid > 0.0) == (ga > 0.0) && g_mid != 0.0 && (g_mid - p_mid).abs() <= 0.25 * m
-}
-
 /// The root in $(0, 1)$ of the cubic Hermite interpolant on $s \in [0, 1]$ with $p(0) =$
 /// `ga`, $p(1) =$ `gb` (of opposite signs) and derivatives `da`, `db` over a step of length
 /// `h`, by bisection-safeguarded Newton on the polynomial (no guard evaluations), to
@@ -1205,9 +982,8 @@ fn hermite_root(ga: f64, (gb, da, db): (f64, f64, f64), h: f64, resolution: f64)
 /// evaluations made for event derivatives in `rhs_evals`.
 ///
 /// The rules, in order (private functions of this module, each documented with its rule):
-/// the start values and the per-guard arming and start rule (`Step::arm`), the step-end
-/// screen (`Scan::screen`, opt-in), and the location on the samples (`Scan::sample`: sign
-/// changes, grazing pairs, crossings back).
+/// the start values and the per-guard arming and start rule (`Step::arm`), and the location
+/// on the samples (`Scan::sample`: sign changes, grazing pairs, crossings back).
 ///
 /// # Errors
 /// [`OdeError::InvalidOption`] if `opts` is invalid
@@ -1242,12 +1018,6 @@ where
     y_at(integ, sys, start, &mut sc.y_a);
     // f at the start, when the integrator keeps it there.
     let f_a_known = start == t_prev && copy_known(integ.dy_prev(), &mut sc.f_a);
-    // The end values of the last screened step, if this step starts there with the same state.
-    let reuse = opts.screen
-        && start == t_prev
-        && state.end_at == Some(start)
-        && state.end_len == ne
-        && same_bits(&sc.y_a, &sc.y_e);
     let slots = &mut state.slots[..ne];
     let mut scan = Scan {
         integ,
@@ -1261,19 +1031,8 @@ where
         max_iter: opts.max_iter,
         step,
     };
-    scan.start_values(slots, &sc.y_a, &mut sc.f_a, f_a_known, reuse)?;
+    scan.start_values(slots, &sc.y_a, &mut sc.f_a, f_a_known)?;
     step.arm(slots);
-    if opts.screen {
-        let all_cleared = scan.screen(slots, &mut sc.y_b, &mut sc.f_b);
-        state.end_at = Some(t_end);
-        state.end_len = ne;
-        sc.y_e.copy_from(&sc.y_b);
-        if all_cleared {
-            return Ok(None);
-        }
-    } else {
-        state.end_at = None;
-    }
     let Some((r, i, d, _)) = scan.sample(slots, &mut sc.y_b, &mut sc.f_b)? else {
         return Ok(None);
     };

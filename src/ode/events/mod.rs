@@ -45,8 +45,7 @@ where
     /// sample interval without a sign change) and gives the direction of a
     /// guard that is zero at the start of a segment. Must return `None` for
     /// every argument when not available (the detector asks at the start of
-    /// a scanned step, and with the screen keeps the answer while it reuses
-    /// the previous step's end values).
+    /// every scanned step).
     fn derivative(
         &self,
         i: usize,
@@ -164,7 +163,7 @@ where
 /// first ([`EventOptions::validate`]).
 ///
 /// Start from [`Default`] and change fields with the `with_` builders, e.g.
-/// `EventOptions::default().with_samples_per_step(8).with_screen(true)`. The
+/// `EventOptions::default().with_samples_per_step(8)`. The
 /// fields are public for reading; the struct is `#[non_exhaustive]`, so it
 /// cannot be built by a struct literal outside the crate.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -188,14 +187,6 @@ pub struct EventOptions {
     pub rearm_time: f64,
     /// Maximum iterations of each root/extremum search (>= 1). Default `200`.
     pub max_iter: usize,
-    /// Screen each step from the guards' values and derivatives at its two ends before
-    /// sampling it (see the module docs, *Screening*): a guard whose cubic Hermite
-    /// interpolant stays well away from zero is not sampled, and a step where every guard is
-    /// so cleared costs no dense output at all. Applies to events with a derivative; the
-    /// others are sampled as without it. Default `false`, as in the hybrid driver
-    /// ([`SimOptions::screen_events`](crate::hybrid::SimOptions::screen_events)): the screen's
-    /// guarantee is conditional (module docs, *Guarantee of the screen*).
-    pub screen: bool,
 }
 
 impl Default for EventOptions {
@@ -206,7 +197,6 @@ impl Default for EventOptions {
             value_tol: 0.0,
             rearm_time: 0.0,
             max_iter: 200,
-            screen: false,
         }
     }
 }
@@ -246,13 +236,6 @@ impl EventOptions {
     #[must_use]
     pub fn with_max_iter(mut self, value: usize) -> Self {
         self.max_iter = value;
-        self
-    }
-
-    /// With [`screen`](Self::screen) = `value`.
-    #[must_use]
-    pub fn with_screen(mut self, value: bool) -> Self {
-        self.screen = value;
         self
     }
 }

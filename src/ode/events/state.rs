@@ -20,29 +20,10 @@ pub(super) struct Slot {
     pub g_origin: f64,
     /// How the guard may leave zero at the origin (start-of-segment rule).
     pub leave: Leave,
-    /// The step-end screen showed that the guard cannot cross zero on this step: it is not
-    /// sampled.
-    pub cleared: bool,
     /// Its derivative reads `dy` ([`EventSet::derivative_needs_rhs_of`](super::EventSet::derivative_needs_rhs_of)).
     pub needs_rhs: bool,
-    /// Value and derivative at the end of the last screened step (kept across calls).
-    pub end: EndValue,
     /// NaN at the right end of the current sample interval.
     pub nan: bool,
-    /// Value at the step's midpoint, for the screen's check of its premise (NaN: not
-    /// evaluated).
-    pub g_mid: f64,
-}
-
-/// A guard's value and derivative at the end of the last screened step (reused as the start
-/// values of the next step when it starts there with the same state).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub(super) struct EndValue {
-    pub known: bool,
-    pub has_der: bool,
-    pub needs_rhs: bool,
-    pub g: f64,
-    pub d: f64,
 }
 
 /// Whether a guard may have left zero at the segment origin.
@@ -66,11 +47,8 @@ impl Default for Slot {
             d_ref: 0.0,
             g_origin: f64::NAN,
             leave: Leave::No,
-            cleared: false,
             needs_rhs: false,
-            end: EndValue::default(),
             nan: false,
-            g_mid: f64::NAN,
         }
     }
 }
@@ -100,10 +78,6 @@ where
     /// Index and direction of the last hit (cleared by `reset`).
     pub(super) last_hit: Option<(usize, Direction)>,
     pub(super) slots: Vec<Slot>,
-    /// Time of the end values in the slots (the end of the last screened step), for
-    /// `end_len` events.
-    pub(super) end_at: Option<f64>,
-    pub(super) end_len: usize,
     pub(super) scratch: Scratch<D>,
     pub(super) hit: EventHit<D>,
 }
@@ -120,8 +94,6 @@ where
     pub f_b: OVector<f64, D>,
     /// The dense output at the probe point.
     pub y_p: OVector<f64, D>,
-    /// The state at `end_at` (the key of the reused end values).
-    pub y_e: OVector<f64, D>,
     pub tmp: OVector<f64, D>,
     pub f_c: OVector<f64, D>,
     /// Always zero: the `dy` passed to derivatives that do not need it.
@@ -140,7 +112,6 @@ where
             y_b: z.clone(),
             f_b: z.clone(),
             y_p: z.clone(),
-            y_e: z.clone(),
             tmp: z.clone(),
             f_c: z.clone(),
             zero: z,
@@ -177,8 +148,6 @@ where
             resume: None,
             last_hit: None,
             slots: Vec::with_capacity(4),
-            end_at: None,
-            end_len: 0,
             scratch: Scratch::new(dim),
             hit: EventHit {
                 index: 0,
@@ -196,7 +165,6 @@ where
         self.origin = None;
         self.resume = None;
         self.last_hit = None;
-        self.end_at = None;
     }
 
     /// The current segment origin, if fixed.
