@@ -82,7 +82,10 @@ impl SimFailureKind {
     pub fn of(kind: &SimErrorKind) -> Self {
         match kind {
             SimErrorKind::Model(_) | SimErrorKind::Guard { .. } => SimFailureKind::Model,
-            SimErrorKind::Integrator(_) => SimFailureKind::Integrator,
+            // The run's step budget, as the integrator's own bound of a phase.
+            SimErrorKind::Integrator(_) | SimErrorKind::TooManySteps { .. } => {
+                SimFailureKind::Integrator
+            }
             SimErrorKind::Chattering { .. } => SimFailureKind::Chattering,
             SimErrorKind::Stalled { .. } => SimFailureKind::Stalled,
             SimErrorKind::NonFinite => SimFailureKind::NonFinite,

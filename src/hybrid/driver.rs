@@ -44,7 +44,10 @@ pub struct SimOptions {
     /// Transitions that do not advance time are [`SimErrorKind::Stalled`] after 64 in a row,
     /// whatever this bound (a lower bound does not shorten the evidence for a stall).
     pub max_events_per_period: u32,
-    /// Step attempts allowed per integrated phase. Default 1e7.
+    /// Step attempts (accepted and rejected) allowed in a run, all integrated phases together
+    /// (each phase's integrator is held to it too). A run that needs more ends in
+    /// [`SimErrorKind::TooManySteps`] with what it computed: the bound on a run's work, however
+    /// many contacts split it into phases. Default 1e7.
     pub max_steps: u64,
 }
 
@@ -190,6 +193,16 @@ pub enum SimErrorKind {
             serde(deserialize_with = "crate::serde_util::label")
         )]
         last_guard: crate::StaticStr,
+    },
+    /// The run took more step attempts than [`SimOptions::max_steps`], all integrated phases
+    /// together (a phase alone that needs more is the integrator's
+    /// [`OdeError::TooManySteps`](crate::ode::OdeError::TooManySteps)).
+    #[error("too many steps: {attempts} step attempts in the run (SimOptions::max_steps = {max_steps}); raise it or loosen the tolerances")]
+    TooManySteps {
+        /// Attempts made (accepted and rejected).
+        attempts: u64,
+        /// The bound.
+        max_steps: u64,
     },
     /// The state became NaN or infinite.
     #[error("non-finite state")]
@@ -809,6 +822,8 @@ where
     caches: Caches<'a, M::Cache>,
     /// RK4: each step's resolution is checked ([`SimStats::unresolved_steps`]).
     fixed_step: bool,
+    /// Step attempts allowed in the run ([`SimOptions::max_steps`]).
+    max_steps: u64,
     ev_opts: EventOptions,
     integ: AnyIntegrator<M::Dim>,
     ev_state: EventState<M::Dim>,
@@ -856,6 +871,7 @@ where
             obs,
             caches,
             fixed_step: opts.method == Method::Rk4,
+            max_steps: opts.max_steps,
             ev_opts: EventOptions::default().with_samples_per_step(opts.event_samples),
             integ,
             ev_state: EventState::with_dim(dim),
@@ -979,6 +995,17 @@ where
     /// One accepted step (outputs never bound a step: they come from the dense output); RK4
     /// steps are checked against the model's fastest rate.
     fn step(&mut self, sys: &ModeSystem<'a, M>) -> Result<(), SimError<M::Dim>> {
+        let done = self.integ.stats();
+        let attempts = done.steps + done.rejected;
+        if attempts >= self.max_steps {
+            // The run's budget: the integrator's own bound counts one phase only.
+            let max_steps = self.max_steps;
+            let kind = SimErrorKind::TooManySteps {
+                attempts,
+                max_steps,
+            };
+            return Err(self.fail_on_step(kind, true));
+        }
         if let Err(e) = self.integ.step(sys, self.plan.t_end) {
             return Err(self.fail_on_step(e.into(), true));
         }

@@ -434,6 +434,7 @@ fn outcome_label(kind: &SimErrorKind) -> String {
         SimErrorKind::Integrator(OdeError::NonFiniteRhs { .. }) => {
             "Integrator: non-finite rhs".into()
         }
+        SimErrorKind::TooManySteps { .. } => "Too many steps in the run".into(),
         SimErrorKind::Chattering { .. } => "Chattering".into(),
         SimErrorKind::Stalled { .. } => "Stalled".into(),
         SimErrorKind::NonFinite => "NonFinite".into(),
@@ -462,7 +463,8 @@ fn runtime_error(kind: &SimErrorKind) -> bool {
                 OdeError::StepSizeUnderflow { .. }
                     | OdeError::TooManySteps { .. }
                     | OdeError::NonFiniteRhs { .. }
-            ) | SimErrorKind::Chattering { .. }
+            ) | SimErrorKind::TooManySteps { .. }
+                | SimErrorKind::Chattering { .. }
                 | SimErrorKind::Stalled { .. }
                 | SimErrorKind::NonFinite
                 | SimErrorKind::Model(ModelError::Transition { .. })
