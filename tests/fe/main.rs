@@ -16,3 +16,4 @@ mod fe_reduction_s1;
 mod fe_reduction_table;
 mod fe_s1;
 mod fe_steady;
+mod fe_modal_exact;
