@@ -220,7 +220,7 @@ where
 
     /// The rotor's free flight in closed form, if it is linear with constant coefficients and
     /// harmonic forcing ([`LinearFreeFlight`]; the state must then be `[q (n), q' (n), x_s,
-    /// y_s]`). [`RingedRotor`] then propagates free flight exactly and finds contact onsets by
+    /// y_s]`, or the modal coordinates of a [`ModalRotor`]). [`RingedRotor`] then propagates free flight exactly and finds contact onsets by
     /// the certified search of [`crate::ring::onset`] (no touch missed, however shallow),
     /// unless the closed form is refused as ill-conditioned
     /// ([`RingedRotor::closed_form`]). Default `None`: free flight is integrated.
@@ -736,11 +736,8 @@ where
         let len = form.state_len();
         // Compared in groups: positions' and velocities' derivatives for [q, q'], all at once
         // in modal coordinates (each column has one mode's two entries).
-        let groups = if form.is_modal() {
-            vec![0..len]
-        } else {
-            vec![0..len / 2, len / 2..len]
-        };
+        let split = if form.is_modal() { len } else { len / 2 };
+        let groups = [0..split, split..len];
         let period = self.rotor.forcing_period();
         for (m, y) in probes.iter().enumerate() {
             let t = if m == 0 { 0.0 } else { 0.37 * period };

@@ -21,7 +21,8 @@ const MAX_RESIDUAL: f64 = 1e-10;
 /// A linear rotor's free flight at constant speed, as a [`SmoothRotor`](super::SmoothRotor)
 /// describes it ([`SmoothRotor::linear_free_flight`](super::SmoothRotor::linear_free_flight)):
 /// $M q^{\prime\prime} + D q^\prime + K q = f_0 + \operatorname{Re}(\hat F e^{i\Omega t})$
-/// ([`LinearClosedForm`]). The rotor's state must be `[q (n), q' (n), x_s, y_s]`.
+/// ([`LinearClosedForm`]). The rotor's state must be `[q (n), q' (n), x_s, y_s]`, or, for a
+/// [`ModalRotor`](super::ModalRotor), its modal coordinates and the ring's slots.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearFreeFlight {
     /// The system: $M$, $D = C + \Omega G$, $K$, the speed $\Omega$, $\hat F$ and $f_0$.
@@ -76,6 +77,14 @@ pub struct LinearFreeFlight {
 /// $\tau_k = t_a$ for a decaying mode and $t_b$ for a growing one
 /// ([`RotorMotion::bounds_on`]): the high modes' huge jerk bound fades as they decay, and an
 /// unstable rotor gets bounds on finite windows (the search's chunks: one forcing period).
+///
+/// **In modal coordinates** ([`LinearClosedForm::is_modal`]: a
+/// [`ModalRotor`](super::ModalRotor), whose state is $w$ itself) the same form is built from
+/// the rotor's own decomposition: each coordinate is
+/// $w_k(t) = e^{\lambda_k(t - t_0)}(w_k(t_0) - p_k(t_0)) + p_k(t)$, $p_k$ its particular
+/// solution, the station the rotor's rows of $T$ applied to $w(t)$ in the rotor's own order
+/// (the search and the rotor see the same station to the last bit), and the bounds above
+/// unchanged. Segment ends cost $O(n)$ too.
 ///
 /// Computed once per model by [`LinearFreeFlight::prepare`].
 #[derive(Debug, Clone, PartialEq)]
@@ -355,7 +364,10 @@ impl LinearClosedForm {
 
     /// The real $4n\times 4n$ block-diagonal matrix of $f(\lambda_k)$ acting on
     /// $(\operatorname{Re}w_k, \operatorname{Im}w_k)$.
-    pub(crate) fn modal_block_matrix(&self, f: impl Fn(Complex<f64>) -> Complex<f64>) -> DMatrix<f64> {
+    pub(crate) fn modal_block_matrix(
+        &self,
+        f: impl Fn(Complex<f64>) -> Complex<f64>,
+    ) -> DMatrix<f64> {
         let n2 = self.values.len();
         let mut m = DMatrix::zeros(2 * n2, 2 * n2);
         for (k, &l) in self.values.iter().enumerate() {
@@ -625,10 +637,7 @@ impl RotorMotion for LinearSegment {
         let ph = Complex::new(c, s);
         let w = f.speed;
         let (px, py) = (f.station_harmonic[0] * ph, f.station_harmonic[1] * ph);
-        let mut r = Vector2::new(
-            f.station_static.x + px.re,
-            f.station_static.y + py.re,
-        );
+        let mut r = Vector2::new(f.station_static.x + px.re, f.station_static.y + py.re);
         let mut v = Vector2::new(-w * px.im, -w * py.im);
         let mut a = Vector2::new(-w * w * px.re, -w * w * py.re);
         let u = t - self.t0;

@@ -30,9 +30,12 @@ const MAX_RESIDUAL: f64 = 1e-10;
 /// exponential integrator [`Etd4`](crate::ode::Etd4) propagates it exactly and takes steps set
 /// by the contact, at $O(n)$ a step.
 ///
-/// Free flight is integrated (no closed form is offered in these coordinates): with
-/// [`Etd4`](crate::ode::Etd4) exact for the modes, its steps follow the forcing, and contact
-/// onsets are found by the event detector on its dense output, not by the certified search.
+/// Free flight is exact: [`SmoothRotor::linear_free_flight`] gives the closed form in these
+/// coordinates from the rotor's own decomposition, $w_k(t) = e^{\lambda_k(t - t_0)}(w_k(t_0) -
+/// p_k(t_0)) + p_k(t)$ with $p_k$ the particular solution of $g_k$
+/// ([`LinearClosedForm`](super::LinearClosedForm), $O(n)$ a station evaluation), and contact
+/// onsets are found by the certified search of [`crate::ring::onset`] (no touch missed,
+/// however shallow), as for [`LinearRotor`]; the integrator runs only the contact phases.
 /// Outputs: [`ModalRotor::station_displacement`] ($O(n)$), [`ModalRotor::physical_state`]
 /// ($O(n^2)$).
 ///

@@ -7,9 +7,9 @@ use std::sync::Arc;
 use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, Trajectory};
 use jeffcott::nalgebra::{DVector, Dyn, Vector2};
 use jeffcott::numeric::{illinois, RootOptions};
+use jeffcott::ode::DiagonalLinearPart;
 use jeffcott::ode::Method;
 use jeffcott::ring::onset::{find_onset, Onset, OnsetStats, RotorMotion};
-use jeffcott::ode::DiagonalLinearPart;
 use jeffcott::ring::{Kinematics, Relaxation, SnubberRing};
 use jeffcott::rotor::{LinearClosedForm, ModalRotor, RingedRotor, SmoothRotor};
 
@@ -118,7 +118,9 @@ fn modal_rotor_finds_a_touch_1e_9_of_the_gap_deep() {
     let integrated = RingedRotor::new(Integrated(modal), ring).unwrap();
     let integrated_onsets = etd4_onsets(&integrated, t_star + 2e-4);
     // The touch window's half-width: |r| - gamma = depth - |r|''/2 (t - t*)^2.
-    let (r, v, a) = pf.segment(0.0, &vec![0.0; pf.state_len()]).kinematics(t_star);
+    let (r, v, a) = pf
+        .segment(0.0, &vec![0.0; pf.state_len()])
+        .kinematics(t_star);
     let curvature = ((r.dot(&a) + v.norm_squared()) / r.norm()).abs();
     let half_width = (2.0 * (r_max - gap) / curvature).sqrt();
     eprintln!(
@@ -185,4 +187,56 @@ impl SmoothRotor for Integrated {
     fn linear_part(&self) -> Option<&DiagonalLinearPart> {
         self.0.linear_part()
     }
+}
+
+/// S1 (0.5 s) on the full model in modal form with ETD4 at rtol 1e-8, with the exact free
+/// flight and with it integrated (as before): error against the shared reference, steps,
+/// seconds, onsets. A measurement: `cargo test --test fe s1_modal_exact_against_integrated --
+/// --ignored --nocapture`.
+#[test]
+#[ignore = "a measurement (about a minute in debug)"]
+fn s1_modal_exact_against_integrated_free_flight() {
+    use super::fe_s1::{reference, S1};
+    use jeffcott::hybrid::DenseSampling;
+    use std::time::Instant;
+    let (s1, t_end) = (S1::load(), 0.5);
+    let exact = modal_model(&s1, None);
+    let integrated = RingedRotor::new(Integrated(exact.rotor().clone()), *exact.ring()).unwrap();
+    let plan = OutputPlan {
+        t_end,
+        strobe: None,
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: s1.params["sample_spacing_s"].as_f64().unwrap(),
+        }),
+        events: true,
+    };
+    let opts = SimOptions::default()
+        .with_method(Method::Etd4)
+        .with_rtol(1e-8)
+        .with_atol(1e-8);
+    let reference = reference(t_end);
+    let modal = exact.rotor();
+    let report = |name: &str, run: &dyn Fn(&mut Trajectory<Dyn>) -> jeffcott::hybrid::SimStats| {
+        let mut trajectory = Trajectory::<Dyn>::default();
+        let start = Instant::now();
+        let stats = run(&mut trajectory);
+        let seconds = start.elapsed().as_secs_f64();
+        let mut worst = 0.0f64;
+        for (s, r) in trajectory.samples.iter().zip(&reference) {
+            let [x, y] = modal.station_displacement(&s.y);
+            worst = worst.max(((x - r[1]).powi(2) + (y - r[2]).powi(2)).sqrt() / s1.gap);
+        }
+        eprintln!(
+            "S1 full, modal, ETD4 rtol 1e-8, {name}: {seconds:.2} s, {} steps ({} rejected), {} transitions, {worst:.2e} of the gap",
+            stats.steps, stats.rejected, stats.transitions
+        );
+    };
+    let y0 = modal.rest_state();
+    report("exact free flight", &|tr| {
+        simulate(&exact, 0.0, &y0, &plan, &opts, tr).unwrap()
+    });
+    report("integrated free flight", &|tr| {
+        simulate(&integrated, 0.0, &y0, &plan, &opts, tr).unwrap()
+    });
 }
