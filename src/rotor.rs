@@ -220,7 +220,7 @@ where
 
     /// The rotor's free flight in closed form, if it is linear with constant coefficients and
     /// harmonic forcing ([`LinearFreeFlight`]; the state must then be `[q (n), q' (n), x_s,
-    /// y_s]`). [`RingedRotor`] then propagates free flight exactly and finds contact onsets by
+    /// y_s]`, or the modal coordinates of a [`ModalRotor`]). [`RingedRotor`] then propagates free flight exactly and finds contact onsets by
     /// the certified search of [`crate::ring::onset`] (no touch missed, however shallow),
     /// unless the closed form is refused as ill-conditioned
     /// ([`RingedRotor::closed_form`]). Default `None`: free flight is integrated.
@@ -692,10 +692,10 @@ where
         let Some(linear) = self.rotor.linear_free_flight() else {
             return Ok(None);
         };
-        let n = linear.dofs();
+        let (n, len) = (linear.dofs(), linear.state_len());
         let dim = self.rotor.dim().value();
         let slots = self.rotor.ring_slots();
-        if dim != 2 * n + 2 || slots != [2 * n, 2 * n + 1] {
+        if dim != len + 2 || slots != [len, len + 1] {
             return Err(RotorError::LinearLayout {
                 dofs: n,
                 dim,
@@ -733,11 +733,15 @@ where
         form: &Arc<LinearClosedForm>,
         probes: &[OVector<f64, R::Dim>; 2],
     ) -> Result<(), RotorError> {
-        let n = form.dofs();
+        let len = form.state_len();
+        // Compared in groups: positions' and velocities' derivatives for [q, q'], all at once
+        // in modal coordinates (each column has one mode's two entries).
+        let split = if form.is_modal() { len } else { len / 2 };
+        let groups = [0..split, split..len];
         let period = self.rotor.forcing_period();
         for (m, y) in probes.iter().enumerate() {
             let t = if m == 0 { 0.0 } else { 0.37 * period };
-            let segment = form.segment(t, &y.as_slice()[..2 * n]);
+            let segment = form.segment(t, &y.as_slice()[..len]);
             let (r, v, _) = crate::ring::onset::RotorMotion::kinematics(&segment, t);
             let k = kin4(&self.rotor.station(y));
             let scale = amax(&k).max(amax(&[r.x, r.y, v.x, v.y]));
@@ -746,16 +750,16 @@ where
                 linear_agrees("station", t, index, a, b, tol)?;
             }
         }
-        let a = linear.system.state_matrix()?;
+        let a = linear.state_coordinates_matrix()?;
         let mut y = self.zero_state();
         let mut base = self.zero_state();
         let mut dy = self.zero_state();
         self.rotor.rhs(0.0, &y, &mut base);
-        for j in 0..2 * n {
+        for j in 0..len {
             y[j] = 1.0;
             self.rotor.rhs(0.0, &y, &mut dy);
             y[j] = 0.0;
-            for half in [0..n, n..2 * n] {
+            for half in groups.iter().cloned() {
                 let col: Vec<f64> = half.clone().map(|i| dy[i] - base[i]).collect();
                 let want: Vec<f64> = half.clone().map(|i| a[(i, j)]).collect();
                 let tol = 1e-8 * amax(&col).max(amax(&want));
@@ -764,20 +768,20 @@ where
                 }
             }
         }
-        let (mut xp, mut dxp) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
+        let (mut xp, mut dxp) = (vec![0.0; len], vec![0.0; len]);
         for t in [0.0, 0.37 * period] {
             xp.fill(0.0);
             dxp.fill(0.0);
             form.add_particular(t, &mut xp, &mut dxp);
             self.rotor.rhs(t, &self.zero_state(), &mut dy);
-            let terms: Vec<(f64, f64)> = (0..2 * n)
+            let terms: Vec<(f64, f64)> = (0..len)
                 .map(|i| {
-                    let ax: f64 = (0..2 * n).map(|j| a[(i, j)] * xp[j]).sum();
-                    let size: f64 = (0..2 * n).map(|j| (a[(i, j)] * xp[j]).abs()).sum();
+                    let ax: f64 = (0..len).map(|j| a[(i, j)] * xp[j]).sum();
+                    let size: f64 = (0..len).map(|j| (a[(i, j)] * xp[j]).abs()).sum();
                     (dxp[i] - ax, size + dxp[i].abs())
                 })
                 .collect();
-            for half in [0..n, n..2 * n] {
+            for half in groups.iter().cloned() {
                 let size = half
                     .clone()
                     .map(|i| terms[i].1.max(dy[i].abs()))
@@ -1262,7 +1266,7 @@ where
             _ => (Relaxation::at_rest(t), false),
         };
         let motion = match &self.exact {
-            Some(Ok(form)) => Some(form.segment(t, &y.as_slice()[..2 * form.dofs()])),
+            Some(Ok(form)) => Some(form.segment(t, &y.as_slice()[..form.state_len()])),
             _ => None,
         };
         LinearFreeSegment {

@@ -31,8 +31,8 @@ use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, SimOptions, Trajecto
 use jeffcott::nalgebra::{DVector, Dyn};
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{
-    CraigBampton, LinearRotor, LinearSystem, ModalRotor, ModeSelection, RingedRotor, RotorMatrices,
-    SmoothRotor,
+    CraigBampton, LinearClosedForm, LinearRotor, LinearSystem, ModalRotor, ModeSelection,
+    RingedRotor, RotorError, RotorMatrices, SmoothRotor,
 };
 
 /// One out-of-balance: node, magnitude (kg m), phase (rad).
@@ -116,8 +116,8 @@ struct Flags {
     rtol: f64,
     /// Integration method of contact phases; default: radau5 for the full model (stiff: its
     /// highest modes reach 1e6 rad/s), dop853 for a reduced one (accuracy sets the step);
-    /// etd4 runs the rotor in its modal coordinates (free flight and contact integrated, the
-    /// modes exactly: cost linear in the modes)
+    /// etd4 runs the rotor in its modal coordinates (free flight exact, contact integrated
+    /// with the modes propagated exactly: cost linear in the modes)
     #[arg(long, value_enum)]
     method: Option<MethodFlag>,
     /// Folder of the pictures
@@ -138,22 +138,24 @@ fn main() {
         let modal = check(ModalRotor::new(model.rotor()), "modal form");
         let modal = check(modal.ringed(*model.ring()), "ring");
         let at = |y: &DVector<f64>| modal.rotor().station_displacement(y);
-        (
-            transient(&modal, &f, at),
-            "integrated (modal coordinates)".to_string(),
-        )
+        let free_flight = format!("{} (modal coordinates)", free_flight(modal.closed_form()));
+        (transient(&modal, &f, at), free_flight)
     } else {
         let at = |y: &DVector<f64>| model.rotor().station_displacement(y);
-        let free_flight = match model.closed_form() {
-            Some(Ok(_)) => "exact".to_string(),
-            Some(Err(e)) => format!("integrated ({e})"),
-            None => "integrated".to_string(),
-        };
-        (transient(&model, &f, at), free_flight)
+        (transient(&model, &f, at), free_flight(model.closed_form()))
     };
     write_csv(&run.samples);
     eprintln!("{}", summary(&f, dofs, kept, &free_flight, &run));
     draw(&f, &run.samples);
+}
+
+/// How free flight runs: exact (closed form and certified onset search) or integrated, and why.
+fn free_flight(closed_form: Option<Result<&LinearClosedForm, &RotorError>>) -> String {
+    match closed_form {
+        Some(Ok(_)) => "exact".to_string(),
+        Some(Err(e)) => format!("integrated ({e})"),
+        None => "integrated".to_string(),
+    }
 }
 
 /// The rotor of the flags on the ring, full or reduced, and the highest kept mode's frequency

@@ -21,7 +21,8 @@ const MAX_RESIDUAL: f64 = 1e-10;
 /// A linear rotor's free flight at constant speed, as a [`SmoothRotor`](super::SmoothRotor)
 /// describes it ([`SmoothRotor::linear_free_flight`](super::SmoothRotor::linear_free_flight)):
 /// $M q^{\prime\prime} + D q^\prime + K q = f_0 + \operatorname{Re}(\hat F e^{i\Omega t})$
-/// ([`LinearClosedForm`]). The rotor's state must be `[q (n), q' (n), x_s, y_s]`.
+/// ([`LinearClosedForm`]). The rotor's state must be `[q (n), q' (n), x_s, y_s]`, or, for a
+/// [`ModalRotor`](super::ModalRotor), its modal coordinates and the ring's slots.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearFreeFlight {
     /// The system: $M$, $D = C + \Omega G$, $K$, the speed $\Omega$, $\hat F$ and $f_0$.
@@ -33,6 +34,9 @@ pub struct LinearFreeFlight {
     /// Largest accepted condition number of the eigenvector matrix
     /// ([`DEFAULT_MAX_CONDITION`]).
     pub max_condition: f64,
+    /// The closed form in the state's own modal coordinates, when the rotor already has it
+    /// ([`LinearFreeFlight::modal`]).
+    modal: Option<Result<LinearClosedForm, RotorError>>,
 }
 
 /// Exact free flight of a linear rotor at constant speed.
@@ -74,6 +78,14 @@ pub struct LinearFreeFlight {
 /// ([`RotorMotion::bounds_on`]): the high modes' huge jerk bound fades as they decay, and an
 /// unstable rotor gets bounds on finite windows (the search's chunks: one forcing period).
 ///
+/// **In modal coordinates** ([`LinearClosedForm::is_modal`]: a
+/// [`ModalRotor`](super::ModalRotor), whose state is $w$ itself) the same form is built from
+/// the rotor's own decomposition: each coordinate is
+/// $w_k(t) = e^{\lambda_k(t - t_0)}(w_k(t_0) - p_k(t_0)) + p_k(t)$, $p_k$ its particular
+/// solution, the station the rotor's rows of $T$ applied to $w(t)$ in the rotor's own order
+/// (the search and the rotor see the same station to the last bit), and the bounds above
+/// unchanged. Segment ends cost $O(n)$ too.
+///
 /// Computed once per model by [`LinearFreeFlight::prepare`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearClosedForm {
@@ -92,8 +104,57 @@ pub struct LinearClosedForm {
     harmonic_state: DVector<Complex<f64>>,
     station: [usize; 2],
     offset: Vector2<f64>,
+    /// The particular solution at the station: $P$ and $r_s$ (the offset subtracted).
+    station_harmonic: [Complex<f64>; 2],
+    station_static: Vector2<f64>,
+    /// In modal coordinates ([`LinearFreeFlight::modal`]): the modes' particular solutions.
+    modal: Option<ModalParticular>,
     condition: f64,
     residual: f64,
+}
+
+/// The particular solution of each modal coordinate of a rotor whose state is modal:
+/// $w_k^\prime = \lambda_k w_k + g_{c,k}\cos\Omega t + g_{s,k}\sin\Omega t + g_{0,k}$ has
+/// $p_k(t) = \alpha_k e^{i\Omega t} + \beta_k e^{-i\Omega t} + \sigma_k$ with
+/// $\alpha_k = \tfrac12(g_{c,k} - i g_{s,k})/(i\Omega - \lambda_k)$,
+/// $\beta_k = \tfrac12(g_{c,k} + i g_{s,k})/(-i\Omega - \lambda_k)$,
+/// $\sigma_k = -g_{0,k}/\lambda_k$.
+#[derive(Debug, Clone, PartialEq)]
+struct ModalParticular {
+    alpha: Vec<Complex<f64>>,
+    beta: Vec<Complex<f64>>,
+    sigma: Vec<Complex<f64>>,
+    /// The station's rows of $T$: positions x, y, velocities x, y.
+    rows: [DVector<Complex<f64>>; 4],
+}
+
+impl ModalParticular {
+    /// $p_k$ and $p_k^\prime$ at the phase $e^{i\Omega t}$ (`ph`), `iw` $= i\Omega$.
+    fn at(&self, k: usize, ph: Complex<f64>, iw: Complex<f64>) -> (Complex<f64>, Complex<f64>) {
+        let (a, b) = (self.alpha[k] * ph, self.beta[k] * ph.conj());
+        (a + b + self.sigma[k], iw * (a - b))
+    }
+}
+
+/// What a rotor in modal coordinates already has ([`LinearClosedForm::modal`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ModalData<'a> {
+    /// $\Omega$.
+    pub speed: f64,
+    /// $\lambda_k$.
+    pub values: &'a DVector<Complex<f64>>,
+    /// $T$ and $T^{-1}$.
+    pub shapes: &'a DMatrix<Complex<f64>>,
+    pub inverse: &'a DMatrix<Complex<f64>>,
+    /// The station's rows of $T$: positions x, y, velocities x, y.
+    pub rows: &'a [DVector<Complex<f64>>; 4],
+    /// $g_c$, $g_s$, $g_0$: the forcing's cosine, sine and constant parts in modal coordinates.
+    pub forcing: [&'a DVector<Complex<f64>>; 3],
+    /// The ring centre's offset $o$.
+    pub offset: Vector2<f64>,
+    /// $\kappa_1(V)$ and the backward error of the decomposition.
+    pub condition: f64,
+    pub residual: f64,
 }
 
 impl LinearFreeFlight {
@@ -105,6 +166,49 @@ impl LinearFreeFlight {
             station,
             offset,
             max_condition: DEFAULT_MAX_CONDITION,
+            modal: None,
+        }
+    }
+
+    /// The free flight of a rotor whose state is the modal coordinates of `system`'s state
+    /// matrix ([`ModalRotor`](super::ModalRotor): `[Re w_0, Im w_0, …, Re w_{2n-1},
+    /// Im w_{2n-1}, x_s, y_s]`), with its closed form already built from the rotor's own
+    /// decomposition (or the reason it has none). [`LinearFreeFlight::prepare`] returns it;
+    /// `station` and `max_condition` are not used.
+    pub(crate) fn modal(
+        system: LinearSystem,
+        offset: Vector2<f64>,
+        form: Result<LinearClosedForm, RotorError>,
+    ) -> Self {
+        Self {
+            system,
+            station: [0, 0],
+            offset,
+            max_condition: DEFAULT_MAX_CONDITION,
+            modal: Some(form),
+        }
+    }
+
+    /// Number of the state's components before the ring's slots: $2n$ for `[q, q']`, $4n$
+    /// in modal coordinates (a complex coordinate a mode).
+    pub fn state_len(&self) -> usize {
+        match self.modal {
+            Some(_) => 4 * self.dofs(),
+            None => 2 * self.dofs(),
+        }
+    }
+
+    /// The real state matrix in the state's own coordinates: $A$ for `[q, q']`, the
+    /// $2\times 2$ blocks $\begin{pmatrix}\operatorname{Re}\lambda_k & -\operatorname{Im}
+    /// \lambda_k\\\\ \operatorname{Im}\lambda_k & \operatorname{Re}\lambda_k\end{pmatrix}$ in modal
+    /// coordinates.
+    ///
+    /// # Errors
+    /// [`RotorError::Singular`] for a singular $M$.
+    pub(crate) fn state_coordinates_matrix(&self) -> Result<DMatrix<f64>, RotorError> {
+        match &self.modal {
+            Some(Ok(form)) => Ok(form.modal_block_matrix(|l| l)),
+            _ => self.system.state_matrix(),
         }
     }
 
@@ -123,6 +227,9 @@ impl LinearFreeFlight {
     /// [`RotorError::Eigen`] if the decomposition fails; [`RotorError::IllConditionedModes`]
     /// (near-defective $A$) or [`RotorError::EigenResidual`]: the closed form is refused.
     pub fn prepare(&self) -> Result<LinearClosedForm, RotorError> {
+        if let Some(form) = &self.modal {
+            return form.clone();
+        }
         let n = self.dofs();
         let fits = self.station.iter().all(|&i| i < n) && self.offset.iter().all(|v| v.is_finite());
         if !fits {
@@ -148,9 +255,13 @@ impl LinearFreeFlight {
         }
         let (static_state, harmonic_state) = self.particular()?;
         let shape = |i: usize| e.vectors.row(i).transpose() * Complex::new(e.scale[i], 0.0);
+        let [ix, iy] = self.station;
         Ok(LinearClosedForm {
             n,
             speed: self.system.speed(),
+            station_harmonic: [harmonic_state[ix], harmonic_state[iy]],
+            station_static: Vector2::new(static_state[ix], static_state[iy]) - self.offset,
+            modal: None,
             shape_x: shape(self.station[0]),
             shape_y: shape(self.station[1]),
             values: e.values,
@@ -184,6 +295,105 @@ impl LinearFreeFlight {
 }
 
 impl LinearClosedForm {
+    /// The closed form of a rotor whose state is its modal coordinates, from the modal data it
+    /// already has: each coordinate's particular solution ([`ModalParticular`]) and the station
+    /// rows of $T$; no second decomposition.
+    ///
+    /// # Errors
+    /// [`RotorError::Singular`] when a particular solution does not exist (a mode forced at
+    /// its eigenvalue: an undamped resonance $\lambda_k = \pm i\Omega$, or $\lambda_k = 0$
+    /// under a static force).
+    pub(crate) fn modal(data: ModalData<'_>) -> Result<Self, RotorError> {
+        let n2 = data.values.len();
+        let iw = Complex::new(0.0, data.speed);
+        let [gc, gs, g0] = data.forcing;
+        let i = Complex::new(0.0, 1.0);
+        let part = |g: Complex<f64>, den: Complex<f64>, name: &'static str| {
+            if g == Complex::new(0.0, 0.0) {
+                return Ok(g);
+            }
+            let p = g / den;
+            if p.re.is_finite() && p.im.is_finite() {
+                Ok(p)
+            } else {
+                Err(RotorError::Singular {
+                    matrix: name,
+                    hint: "a mode is forced at its eigenvalue: no particular solution",
+                })
+            }
+        };
+        let (mut alpha, mut beta, mut sigma) = (vec![], vec![], vec![]);
+        for (k, &l) in data.values.iter().enumerate() {
+            let harmonic = "K - W^2 M + i W D";
+            alpha.push(part(0.5 * (gc[k] - i * gs[k]), iw - l, harmonic)?);
+            beta.push(part(0.5 * (gc[k] + i * gs[k]), -iw - l, harmonic)?);
+            sigma.push(part(-g0[k], l, "K")?);
+        }
+        let sum = |row: &DVector<Complex<f64>>, c: &[Complex<f64>]| -> Complex<f64> {
+            row.iter().zip(c).map(|(a, b)| a * b).sum()
+        };
+        let [rx, ry, ..] = data.rows;
+        // Re(A e^{i W t}) + Re(B e^{-i W t}) = Re((A + conj B) e^{i W t}).
+        let harmonic = |row| sum(row, &alpha) + sum(row, &beta).conj();
+        let station_static = Vector2::new(sum(rx, &sigma).re, sum(ry, &sigma).re) - data.offset;
+        Ok(Self {
+            n: n2 / 2,
+            speed: data.speed,
+            values: data.values.clone(),
+            scale: DVector::from_element(n2, 1.0),
+            vectors: data.shapes.clone(),
+            inverse: data.inverse.clone(),
+            shape_x: rx.clone(),
+            shape_y: ry.clone(),
+            static_state: DVector::zeros(0),
+            harmonic_state: DVector::zeros(0),
+            station: [0, 0],
+            offset: data.offset,
+            station_harmonic: [harmonic(rx), harmonic(ry)],
+            station_static,
+            modal: Some(ModalParticular {
+                alpha,
+                beta,
+                sigma,
+                rows: data.rows.clone(),
+            }),
+            condition: data.condition,
+            residual: data.residual,
+        })
+    }
+
+    /// The real $4n\times 4n$ block-diagonal matrix of $f(\lambda_k)$ acting on
+    /// $(\operatorname{Re}w_k, \operatorname{Im}w_k)$.
+    pub(crate) fn modal_block_matrix(
+        &self,
+        f: impl Fn(Complex<f64>) -> Complex<f64>,
+    ) -> DMatrix<f64> {
+        let n2 = self.values.len();
+        let mut m = DMatrix::zeros(2 * n2, 2 * n2);
+        for (k, &l) in self.values.iter().enumerate() {
+            let e = f(l);
+            m[(2 * k, 2 * k)] = e.re;
+            m[(2 * k, 2 * k + 1)] = -e.im;
+            m[(2 * k + 1, 2 * k)] = e.im;
+            m[(2 * k + 1, 2 * k + 1)] = e.re;
+        }
+        m
+    }
+
+    /// Number of the state's components the closed form propagates (before the ring's
+    /// slots): $2n$ for `[q, q']`, $4n$ in modal coordinates.
+    pub fn state_len(&self) -> usize {
+        match self.modal {
+            Some(_) => 4 * self.n,
+            None => 2 * self.n,
+        }
+    }
+
+    /// Whether the state is the modal coordinates ([`ModalRotor`](super::ModalRotor)).
+    pub fn is_modal(&self) -> bool {
+        self.modal.is_some()
+    }
+
     /// Number of coordinates $n$.
     pub fn dofs(&self) -> usize {
         self.n
@@ -207,8 +417,12 @@ impl LinearClosedForm {
 
     /// The state-transition matrix $\partial x(t_0 + u)/\partial x(t_0) =
     /// \operatorname{diag}(d) V e^{\Lambda u} V^{-1} \operatorname{diag}(d)^{-1}$
-    /// ($2n\times 2n$; the forcing is additive, so it depends on $u$ only). $O(n^3)$.
+    /// ($2n\times 2n$; the forcing is additive, so it depends on $u$ only). $O(n^3)$. In
+    /// modal coordinates the blocks of $e^{\lambda_k u}$ ($4n\times 4n$).
     pub fn transition_matrix(&self, u: f64) -> DMatrix<f64> {
+        if self.modal.is_some() {
+            return self.modal_block_matrix(|l| (l * u).exp());
+        }
         let n2 = 2 * self.n;
         let mut left = self.vectors.clone();
         for (k, mut col) in left.column_iter_mut().enumerate() {
@@ -221,11 +435,21 @@ impl LinearClosedForm {
     }
 
     /// The particular solution's state and its derivative at `t`, added to `x`, `dx`
-    /// (each of length $2n$).
+    /// (each of length [`LinearClosedForm::state_len`]).
     pub(crate) fn add_particular(&self, t: f64, x: &mut [f64], dx: &mut [f64]) {
         let (s, c) = (self.speed * t).sin_cos();
         let ph = Complex::new(c, s);
         let iw = Complex::new(0.0, self.speed);
+        if let Some(m) = &self.modal {
+            for k in 0..2 * self.n {
+                let (p, dp) = m.at(k, ph, iw);
+                x[2 * k] += p.re;
+                x[2 * k + 1] += p.im;
+                dx[2 * k] += dp.re;
+                dx[2 * k + 1] += dp.im;
+            }
+            return;
+        }
         for i in 0..2 * self.n {
             let p = self.harmonic_state[i] * ph;
             x[i] += self.static_state[i] + p.re;
@@ -236,13 +460,21 @@ impl LinearClosedForm {
     /// Starts a segment at `t0` from the state `x0 = (q, q')` (length $2n$).
     pub fn segment(self: &Arc<Self>, t0: f64, x0: &[f64]) -> LinearSegment {
         let n2 = 2 * self.n;
-        let mut xp = vec![0.0; n2];
-        let mut dxp = vec![0.0; n2];
+        let len = self.state_len();
+        let mut xp = vec![0.0; len];
+        let mut dxp = vec![0.0; len];
         self.add_particular(t0, &mut xp, &mut dxp);
-        let z = DVector::from_fn(n2, |i, _| {
-            Complex::new((x0[i] - xp[i]) / self.scale[i], 0.0)
-        });
-        let w = &self.inverse * z;
+        let w = if self.modal.is_some() {
+            // The state is the modal coordinates: w = w(t0) - p(t0).
+            DVector::from_fn(n2, |k, _| {
+                Complex::new(x0[2 * k] - xp[2 * k], x0[2 * k + 1] - xp[2 * k + 1])
+            })
+        } else {
+            let z = DVector::from_fn(n2, |i, _| {
+                Complex::new((x0[i] - xp[i]) / self.scale[i], 0.0)
+            });
+            &self.inverse * z
+        };
         let coef: Vec<[Complex<f64>; 2]> = (0..n2)
             .map(|k| [self.shape_x[k] * w[k], self.shape_y[k] * w[k]])
             .collect();
@@ -250,18 +482,12 @@ impl LinearClosedForm {
             .iter()
             .map(|c| (c[0].norm_sqr() + c[1].norm_sqr()).sqrt())
             .collect();
-        let p = Vector2::new(
-            self.harmonic_state[self.station[0]],
-            self.harmonic_state[self.station[1]],
-        );
-        let rs = Vector2::new(
-            self.static_state[self.station[0]],
-            self.static_state[self.station[1]],
-        ) - self.offset;
+        let p = self.station_harmonic;
+        let rs = self.station_static;
         LinearSegment {
             form: Arc::clone(self),
             t0,
-            start: x0.to_vec(),
+            start: x0[..len].to_vec(),
             w,
             coef,
             magnitude,
@@ -302,6 +528,17 @@ impl LinearSegment {
     pub fn state(&self, t: f64, x: &mut [f64], dx: &mut [f64]) {
         let f = &*self.form;
         let n2 = 2 * f.n;
+        if let Some(m) = &f.modal {
+            let (ph, iw) = self.phase(t);
+            for k in 0..n2 {
+                let [w, dw, _] = self.modal_coordinate(m, k, t, ph, iw);
+                x[2 * k] = w.re;
+                x[2 * k + 1] = w.im;
+                dx[2 * k] = dw.re;
+                dx[2 * k + 1] = dw.im;
+            }
+            return;
+        }
         x[..n2].fill(0.0);
         dx[..n2].fill(0.0);
         f.add_particular(t, x, dx);
@@ -326,6 +563,64 @@ impl LinearSegment {
     }
 }
 
+impl LinearSegment {
+    /// $e^{i\Omega t}$ and $i\Omega$.
+    fn phase(&self, t: f64) -> (Complex<f64>, Complex<f64>) {
+        let (s, c) = (self.form.speed * t).sin_cos();
+        (Complex::new(c, s), Complex::new(0.0, self.form.speed))
+    }
+
+    /// The modal coordinate $w_k$ and its first two derivatives at `t`, $w_k =
+    /// e^{\lambda_k(t - t_0)}(w_k(t_0) - p_k(t_0)) + p_k(t)$ (the start state itself at $t_0$).
+    fn modal_coordinate(
+        &self,
+        m: &ModalParticular,
+        k: usize,
+        t: f64,
+        ph: Complex<f64>,
+        iw: Complex<f64>,
+    ) -> [Complex<f64>; 3] {
+        let lam = self.form.values[k];
+        let e = (lam * (t - self.t0)).exp() * self.w[k];
+        let (a, b) = (m.alpha[k] * ph, m.beta[k] * ph.conj());
+        let w = if t == self.t0 {
+            Complex::new(self.start[2 * k], self.start[2 * k + 1])
+        } else {
+            e + a + b + m.sigma[k]
+        };
+        [w, lam * e + iw * (a - b), lam * lam * e + iw * iw * (a + b)]
+    }
+
+    /// The station's kinematics in modal coordinates: the rows of $T$ applied to $w(t)$ in
+    /// the order and arithmetic of [`ModalRotor`](super::ModalRotor)'s station, so that the
+    /// onset search and the rotor see the same station to the last bit.
+    fn modal_kinematics(
+        &self,
+        m: &ModalParticular,
+        t: f64,
+    ) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>) {
+        let (ph, iw) = self.phase(t);
+        let dot = |c: Complex<f64>, w: Complex<f64>| c.re * w.re - c.im * w.im;
+        let [rx, ry, vx, vy] = &m.rows;
+        let (mut r, mut v, mut a) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+        for k in 0..2 * self.form.n {
+            let [w, dw, _] = self.modal_coordinate(m, k, t, ph, iw);
+            r[0] += dot(rx[k], w);
+            r[1] += dot(ry[k], w);
+            v[0] += dot(vx[k], w);
+            v[1] += dot(vy[k], w);
+            a[0] += dot(vx[k], dw);
+            a[1] += dot(vy[k], dw);
+        }
+        let o = self.form.offset;
+        (
+            Vector2::new(r[0] - o.x, r[1] - o.y),
+            Vector2::from(v),
+            Vector2::from(a),
+        )
+    }
+}
+
 impl RotorMotion for LinearSegment {
     fn start(&self) -> f64 {
         self.t0
@@ -333,16 +628,16 @@ impl RotorMotion for LinearSegment {
 
     fn kinematics(&self, t: f64) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>) {
         let f = &*self.form;
+        if let Some(m) = &f.modal {
+            return self.modal_kinematics(m, t);
+        }
         let [ix, iy] = f.station;
         let n = f.n;
         let (s, c) = (f.speed * t).sin_cos();
         let ph = Complex::new(c, s);
         let w = f.speed;
-        let (px, py) = (f.harmonic_state[ix] * ph, f.harmonic_state[iy] * ph);
-        let mut r = Vector2::new(
-            f.static_state[ix] - f.offset.x + px.re,
-            f.static_state[iy] - f.offset.y + py.re,
-        );
+        let (px, py) = (f.station_harmonic[0] * ph, f.station_harmonic[1] * ph);
+        let mut r = Vector2::new(f.station_static.x + px.re, f.station_static.y + py.re);
         let mut v = Vector2::new(-w * px.im, -w * py.im);
         let mut a = Vector2::new(-w * w * px.re, -w * w * py.re);
         let u = t - self.t0;
@@ -427,8 +722,17 @@ where
             return;
         };
         let f = &*motion.form;
-        let (n, n2, [ix, iy]) = (f.n, 2 * f.n, f.station);
+        let (n, n2, [ix, iy]) = (f.n, f.state_len(), f.station);
         motion.state(t, &mut y.as_mut_slice()[..n2], &mut dy.as_mut_slice()[..n2]);
+        let (s, sd) = self.relax.at(&self.ring, t);
+        y[n2] = s.x;
+        y[n2 + 1] = s.y;
+        dy[n2] = sd.x;
+        dy[n2 + 1] = sd.y;
+        if f.modal.is_some() {
+            // The rotor's station is computed from the modal state exactly as the search did.
+            return;
+        }
         // The station's coordinates as the onset search saw them (the station shapes' sums,
         // which differ from the full state's by rounding): a contact found there starts there.
         let (r, v, a) = motion.kinematics(t);
@@ -440,11 +744,6 @@ where
         dy[iy] = v.y;
         dy[n + ix] = a.x;
         dy[n + iy] = a.y;
-        let (s, sd) = self.relax.at(&self.ring, t);
-        y[n2] = s.x;
-        y[n2 + 1] = s.y;
-        dy[n2] = sd.x;
-        dy[n2 + 1] = sd.y;
     }
 
     fn next_guard(&mut self, t_from: f64, t_to: f64) -> Option<GuardCrossing> {

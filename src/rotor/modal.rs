@@ -3,7 +3,7 @@
 
 use nalgebra::{Complex, DMatrix, DVector, Dyn, Vector2};
 
-use super::exact::DEFAULT_MAX_CONDITION;
+use super::exact::{ModalData, DEFAULT_MAX_CONDITION};
 use super::{LinearRotor, RotorError, SmoothRotor};
 use crate::numeric::eigen_decomposition;
 use crate::ode::DiagonalLinearPart;
@@ -30,9 +30,12 @@ const MAX_RESIDUAL: f64 = 1e-10;
 /// exponential integrator [`Etd4`](crate::ode::Etd4) propagates it exactly and takes steps set
 /// by the contact, at $O(n)$ a step.
 ///
-/// Free flight is integrated (no closed form is offered in these coordinates): with
-/// [`Etd4`](crate::ode::Etd4) exact for the modes, its steps follow the forcing, and contact
-/// onsets are found by the event detector on its dense output, not by the certified search.
+/// Free flight is exact: [`SmoothRotor::linear_free_flight`] gives the closed form in these
+/// coordinates from the rotor's own decomposition, $w_k(t) = e^{\lambda_k(t - t_0)}(w_k(t_0) -
+/// p_k(t_0)) + p_k(t)$ with $p_k$ the particular solution of $g_k$
+/// ([`LinearClosedForm`](super::LinearClosedForm), $O(n)$ a station evaluation), and contact
+/// onsets are found by the certified search of [`crate::ring::onset`] (no touch missed,
+/// however shallow), as for [`LinearRotor`]; the integrator runs only the contact phases.
 /// Outputs: [`ModalRotor::station_displacement`] ($O(n)$), [`ModalRotor::physical_state`]
 /// ($O(n^2)$).
 ///
@@ -58,6 +61,11 @@ pub struct ModalRotor {
     has_constant: bool,
     linear_part: DiagonalLinearPart,
     scale: DVector<f64>,
+    /// The system, its decomposition's $\kappa_1(V)$ and backward error, for the closed form
+    /// ([`SmoothRotor::linear_free_flight`]).
+    system: super::LinearSystem,
+    condition: f64,
+    residual: f64,
 }
 
 impl ModalRotor {
@@ -182,6 +190,9 @@ impl ModalRotor {
             has_constant: system.constant_force().iter().any(|&f| f != 0.0),
             linear_part,
             scale: DVector::zeros(4 * n + 2),
+            system: system.clone(),
+            condition: e.condition,
+            residual: e.residual.max(e.reconstruction),
         };
         modal.scale = modal.modal_scale();
         Ok(modal)
@@ -371,5 +382,30 @@ impl SmoothRotor for ModalRotor {
     /// $\Lambda$: a complex block per eigenvalue, nothing at the ring's slots.
     fn linear_part(&self) -> Option<&DiagonalLinearPart> {
         Some(&self.linear_part)
+    }
+
+    /// The closed form in the rotor's own modal coordinates, from the data it already has
+    /// ([`LinearClosedForm`](super::LinearClosedForm): each coordinate
+    /// $w_k(t) = e^{\lambda_k(t - t_0)}(w_k(t_0) - p_k(t_0)) + p_k(t)$, the station $O(n)$ a
+    /// time), so that free flight is exact and onsets are found by the certified search.
+    fn linear_free_flight(&self) -> Option<super::LinearFreeFlight> {
+        let [gc, gs, g0, ..] = &self.inputs;
+        let offset = Vector2::from(self.offset);
+        let form = super::LinearClosedForm::modal(ModalData {
+            speed: self.speed,
+            values: &self.values,
+            shapes: &self.shapes,
+            inverse: &self.inverse,
+            rows: &self.rows,
+            forcing: [gc, gs, g0],
+            offset,
+            condition: self.condition,
+            residual: self.residual,
+        });
+        Some(super::LinearFreeFlight::modal(
+            self.system.clone(),
+            offset,
+            form,
+        ))
     }
 }

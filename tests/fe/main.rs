@@ -11,6 +11,7 @@ mod fe_jacobian;
 mod fe_linear;
 mod fe_matrices;
 mod fe_modal;
+mod fe_modal_exact;
 mod fe_reduction;
 mod fe_reduction_s1;
 mod fe_reduction_table;
