@@ -21,6 +21,7 @@ mod support;
 mod contact_loss;
 mod custom_model;
 mod custom_rotor;
+mod drive;
 mod dyn_models;
 mod flexible_shaft;
 mod hard_cases;
