@@ -3,6 +3,9 @@
 //! own; one module per file: `cargo test --test simulation`, or one module:
 //! `cargo test --test simulation hard_cases::`.
 
+/// Energy-balance helpers (with `tests/fe`).
+#[path = "../support/energy.rs"]
+mod energy;
 /// The Duhamel integral of the linear rotor by Gauss-Legendre quadrature.
 #[path = "../support/duhamel.rs"]
 mod duhamel;
@@ -22,6 +25,7 @@ mod contact_loss;
 mod custom_model;
 mod custom_rotor;
 mod drive;
+mod drive_energy;
 mod dyn_models;
 mod flexible_shaft;
 mod hard_cases;
