@@ -116,8 +116,8 @@ pub use linear::{LinearRotor, LinearSystem};
 pub use matrices::{DofLayout, RotorMatrices};
 pub use modal::ModalRotor;
 pub use reduction::{CraigBampton, ModeSelection, ResponseError};
-pub use run_up::ProfiledJeffcott;
 use run_up::paper_ring;
+pub use run_up::ProfiledJeffcott;
 pub use speed::{Segment, SpeedProfile};
 use std::sync::Arc;
 

@@ -28,10 +28,12 @@
 //! $x^{\prime\prime} = a_x + \beta\eta^\prime\sin\varphi$, $y^{\prime\prime} = a_y - \beta\eta^\prime\cos\varphi$.
 //! $j > \beta^2$ holds for any physical rotor ($J_p \ge m\rho^2$ and $M > m$) and is required.
 //!
-//! **Energy.** $E = \tfrac12|r^\prime|^2 + \tfrac12 j\eta^2 + \beta\eta\,r^\prime\cdot t_\varphi
-//! + \tfrac12|r - e|^2 + E_\text{ring}(s)$ (the out-of-balance's kinetic energy is the cross
+//! **Energy.** The energy
+//! $E = \tfrac12|r^\prime|^2 + \tfrac12 j\eta^2 + \beta\eta\,r^\prime\cdot t_\varphi +
+//! \tfrac12|r - e|^2 + E_\text{ring}(s)$ (the out-of-balance's kinetic energy is the cross
 //! term) changes by the motor's work $\int t(\eta)\eta\,d\tau$ minus the rotor's damping
-//! $\int 2\nu_1|r^\prime|^2$ and the ring's losses (`tests/simulation/drive.rs` checks it).
+//! $\int 2\nu_1|r^\prime|^2$ and the ring's losses (`tests/simulation/drive_energy.rs`
+//! checks it).
 //!
 //! The strobes are at equal times (the phase is a state): $2\pi k/\eta_\text{ref}$ with the
 //! reference speed of [`DrivenJeffcott::new`].
@@ -221,8 +223,7 @@ impl DrivenJeffcott {
     fn couple(&self, phase: f64, torque: f64, dy: &mut SVector<f64, 8>) -> f64 {
         let beta = self.params.beta;
         let (sin, cos) = phase.sin_cos();
-        let rate =
-            (torque + beta * (dy[2] * sin - dy[3] * cos)) / (self.inertia - beta * beta);
+        let rate = (torque + beta * (dy[2] * sin - dy[3] * cos)) / (self.inertia - beta * beta);
         dy[2] += beta * rate * sin;
         dy[3] -= beta * rate * cos;
         rate

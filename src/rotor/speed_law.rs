@@ -139,7 +139,9 @@ impl Law {
             return b;
         }
         let tol = 4.0 * f64::EPSILON * b.max(1.0);
-        let opts = RootOptions::default().with_tol(tol).with_max_evaluations(200);
+        let opts = RootOptions::default()
+            .with_tol(tol)
+            .with_max_evaluations(200);
         // A bracket with a sign change by the choice of k; a NaN speed is refused at build.
         illinois((a, ga), (b, gb), &opts, g).map_or(b, |r| r.hi)
     }

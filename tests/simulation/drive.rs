@@ -54,7 +54,12 @@ fn huge_inertia_reproduces_the_constant_speed_model() {
     let paper = JeffcottModel::new(p).unwrap();
     let y6 = paper.state_at([p.ex, p.ey], [0.0, 0.0]).unwrap();
     let (reference, _) = paper
-        .run(0.0, &y6, &OutputPlan::strobe(std::f64::consts::TAU / eta, 0, periods), &options())
+        .run(
+            0.0,
+            &y6,
+            &OutputPlan::strobe(std::f64::consts::TAU / eta, 0, periods),
+            &options(),
+        )
         .unwrap();
     assert_eq!(traj.strobe.len(), reference.strobe.len());
     let (mut worst, mut drift) = (0.0f64, 0.0f64);
@@ -83,7 +88,10 @@ fn mean_speed(stall: f64, t_end: f64) -> (f64, f64) {
         ..Preset::Fig8a.params()
     };
     let motor = MotorTorque::linear(stall, 3.0).unwrap();
-    let model = DrivenJeffcott::new(p, 10.0, motor).unwrap().off_ring().unwrap();
+    let model = DrivenJeffcott::new(p, 10.0, motor)
+        .unwrap()
+        .off_ring()
+        .unwrap();
     let dt = 0.05;
     let plan = OutputPlan {
         t_end,
@@ -133,7 +141,10 @@ fn sommerfeld_capture_and_passage() {
         "Sommerfeld: load peak {peak:.4}; stall 0.05: mean eta {captured:.4} (max {captured_max:.4}); \
          stall 0.2: mean eta {passed:.4}"
     );
-    assert!(captured < 1.1 && captured_max < 1.1, "not captured: {captured}");
+    assert!(
+        captured < 1.1 && captured_max < 1.1,
+        "not captured: {captured}"
+    );
     // With the rest at the centre the steady orbit is a circle: the reaction torque is
     // constant and the captured speed is where the motor's line meets the closed-form load.
     let g = |eta: f64| weak.torque(eta) - steady_load(&p, eta);

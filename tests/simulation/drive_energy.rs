@@ -112,7 +112,8 @@ struct Recorder<'a> {
 
 impl HybridObserver<U8> for Recorder<'_> {
     fn on_sample(&mut self, s: &Sample<U8>) {
-        self.samples.push(self.terms.point(s.t, &s.y, &s.dy, s.label));
+        self.samples
+            .push(self.terms.point(s.t, &s.y, &s.dy, s.label));
     }
     fn on_event(&mut self, e: &EventRecord<U8>) {
         let before = self.terms.event_point(e.t, &e.before, e.from);
@@ -145,7 +146,10 @@ fn energy_balance_of_a_driven_run_up_with_contact() {
     let plan = OutputPlan {
         t_end,
         strobe: None,
-        dense: Some(DenseSampling { t_start: 0.0, dt: h }),
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: h,
+        }),
         events: true,
     };
     let mut rec = Recorder {
@@ -208,7 +212,10 @@ fn energy_balance_of_a_driven_run_up_with_contact() {
         residual / scale,
     );
     assert!(contact_pieces >= 5, "{contact_pieces} contact pieces");
-    assert!(work[DAMPER] / scale > 1e-6, "the ring's dampers are too weak to test");
+    assert!(
+        work[DAMPER] / scale > 1e-6,
+        "the ring's dampers are too weak to test"
+    );
     assert!(
         (residual / scale).abs() < 1e-9,
         "the energy balance is off by {residual:e}, {:e} of the motor's work",

@@ -3,12 +3,12 @@
 //! own; one module per file: `cargo test --test simulation`, or one module:
 //! `cargo test --test simulation hard_cases::`.
 
-/// Energy-balance helpers (with `tests/fe`).
-#[path = "../support/energy.rs"]
-mod energy;
 /// The Duhamel integral of the linear rotor by Gauss-Legendre quadrature.
 #[path = "../support/duhamel.rs"]
 mod duhamel;
+/// Energy-balance helpers (with `tests/fe`).
+#[path = "../support/energy.rs"]
+mod energy;
 /// `examples/custom_rotor`'s rotor, tested as a user's model.
 #[allow(dead_code)] // the example uses what the tests do not
 #[path = "../../examples/custom_rotor/rotor.rs"]

@@ -141,4 +141,3 @@ pub fn free_ring_dissipation(ring: &SnubberRing, s0: Vector2<f64>, a: f64, b: f6
         })
         .sum()
 }
-
