@@ -25,7 +25,7 @@
 //! $j$ = INERTIA, from $\eta = A$ for `--duration` (default 1500); it prints $\eta(\tau)$ at
 //! every tenth of the run, the mean and largest speed over its last third and the contacts,
 //! and with `--out DIR` draws `DIR/speed.png` ($\eta(\tau)$) and `DIR/drive_envelope.png`
-//! (the largest radius in each revolution against its mean speed; data in `drive.csv`).
+//! (the largest radius in each revolution against its mean speed), each with its CSV.
 //!
 //! The scene flags are `simulate`'s (`--preset`, parameter overrides, `--rtol`, `--atol`,
 //! `--method`, the initial rotor state `--x0 --y0 --vx0 --vy0`, default at rest at the origin;
