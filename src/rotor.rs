@@ -95,6 +95,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod drive;
 mod exact;
 mod linear;
 mod linearization;
@@ -107,6 +108,7 @@ mod run_up;
 mod speed;
 mod speed_law;
 
+pub use drive::{DrivenJeffcott, MotorTorque, ETA, PHASE};
 pub use exact::{
     LinearClosedForm, LinearFreeFlight, LinearFreeSegment, LinearSegment, DEFAULT_MAX_CONDITION,
 };
@@ -114,6 +116,7 @@ pub use linear::{LinearRotor, LinearSystem};
 pub use matrices::{DofLayout, RotorMatrices};
 pub use modal::ModalRotor;
 pub use reduction::{CraigBampton, ModeSelection, ResponseError};
+use run_up::paper_ring;
 pub use run_up::ProfiledJeffcott;
 pub use speed::{Segment, SpeedProfile};
 use std::sync::Arc;

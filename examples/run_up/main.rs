@@ -20,6 +20,13 @@
 //! of $B - A$; `--rate` is then not used), prints the peak radius and its speed for each, and
 //! with `--out DIR` draws `DIR/peak_vs_rate.png`.
 //!
+//! With `--motor T0,OMEGA0,INERTIA` the speed is not prescribed but driven (the non-ideal drive,
+//! `rotor::DrivenJeffcott`): the DC motor $t = T_0(1 - \eta/\Omega_0)$ through the polar inertia
+//! $j$ = INERTIA, from $\eta = A$ for `--duration` (default 1500); it prints $\eta(\tau)$ at
+//! every tenth of the run, the mean and largest speed over its last third and the contacts,
+//! and with `--out DIR` draws `DIR/speed.png` ($\eta(\tau)$) and `DIR/drive_envelope.png`
+//! (the largest radius in each revolution against its mean speed), each with its CSV.
+//!
 //! The scene flags are `simulate`'s (`--preset`, parameter overrides, `--rtol`, `--atol`,
 //! `--method`, the initial rotor state `--x0 --y0 --vx0 --vy0`, default at rest at the origin;
 //! the ring starts at its centre, or at its minimum-energy position if the rotor starts in
@@ -36,6 +43,7 @@
 
 #[path = "../common/mod.rs"]
 mod common;
+mod drive;
 mod envelope;
 mod orders;
 
@@ -65,12 +73,19 @@ struct Flags {
     /// Speed A at the start [range: 0..=1000]
     #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3))]
     eta_from: f64,
-    /// Speed B at the end [range: 0..=1000]
-    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3))]
-    eta_to: f64,
-    /// Rate R = d eta / d tau, not 0, < 0 for a run-down [range: -1000..=1000]
-    #[arg(long, value_name = "NUMBER", value_parser = f64_in(-1e3, 1e3))]
-    rate: f64,
+    /// Speed B at the end [range: 0..=1000] (not with --motor)
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3), required_unless_present = "motor", conflicts_with = "motor")]
+    eta_to: Option<f64>,
+    /// Rate R = d eta / d tau, not 0, < 0 for a run-down [range: -1000..=1000] (not with --motor)
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(-1e3, 1e3), required_unless_present = "motor", conflicts_with = "motor")]
+    rate: Option<f64>,
+    /// A non-ideal drive instead of a ramp: the DC motor t = T0 (1 - eta/OMEGA0) with the polar
+    /// inertia j = INERTIA (non-dimensional), from eta = A for --duration
+    #[arg(long, value_name = "T0,OMEGA0,INERTIA", value_delimiter = ',', value_parser = f64_in(-1e6, 1e12), conflicts_with_all = ["csv", "peak_rates"])]
+    motor: Vec<f64>,
+    /// With --motor: how long the run lasts, tau [range: 0..=1000000]
+    #[arg(long, value_name = "NUMBER", default_value_t = 1500.0, value_parser = f64_in(0.0, 1e6))]
+    duration: f64,
     /// Samples S per revolution of the out-of-balance [range: 1..=1000000]
     #[arg(long, value_name = "COUNT", value_parser = usize_in(1, 1_000_000))]
     samples_per_period: usize,
@@ -86,12 +101,24 @@ struct Flags {
     out: Option<PathBuf>,
 }
 
+impl Flags {
+    /// `--eta-to` (clap requires it without `--motor`).
+    fn eta_to(&self) -> f64 {
+        self.eta_to.unwrap_or_else(|| fail("--eta-to is required"))
+    }
+
+    /// `--rate` (clap requires it without `--motor`).
+    fn rate(&self) -> f64 {
+        self.rate.unwrap_or_else(|| fail("--rate is required"))
+    }
+}
+
 /// The ramp of the flags, or exit with status 2.
 fn ramp(flags: &Flags) -> SpeedProfile {
-    if flags.eta_from == flags.eta_to {
+    if flags.eta_from == flags.eta_to() {
         fail("--eta-from and --eta-to must differ (a ramp)");
     }
-    SpeedProfile::ramp(flags.eta_from, flags.eta_to, flags.rate)
+    SpeedProfile::ramp(flags.eta_from, flags.eta_to(), flags.rate())
         .unwrap_or_else(|e| fail(format!("--rate: {e}")))
 }
 
@@ -203,6 +230,18 @@ fn write_summary(
 fn main() {
     let flags: Flags = parse();
     let scene = flags.scene.scene();
+    if !flags.motor.is_empty() {
+        drive::run(
+            &flags.motor,
+            flags.eta_from,
+            flags.duration,
+            flags.no_ring,
+            &scene,
+            flags.samples_per_period,
+            flags.out.as_deref(),
+        );
+        return;
+    }
     if !flags.peak_rates.is_empty() {
         peak_against_rate(&flags, &scene);
         return;
@@ -240,12 +279,12 @@ fn up_and_back(flags: &Flags, scene: &Scene, dir: &Path) {
     let up = ramp(flags);
     let legs = [
         Segment::Ramp {
-            to: flags.eta_to,
-            rate: flags.rate,
+            to: flags.eta_to(),
+            rate: flags.rate(),
         },
         Segment::Ramp {
             to: flags.eta_from,
-            rate: -flags.rate,
+            rate: -flags.rate(),
         },
     ];
     let profile = SpeedProfile::piecewise(flags.eta_from, &legs).unwrap_or_else(|e| fail(e));
@@ -280,8 +319,8 @@ fn draw_legs(
         revs.into_iter().partition(|r| r.t_start < turn);
     let label = |a: f64, b: f64, r: f64| format!("{a} → {b} at R = {r}");
     let legs = [
-        (label(flags.eta_from, flags.eta_to, flags.rate), up),
-        (label(flags.eta_to, flags.eta_from, -flags.rate), down),
+        (label(flags.eta_from, flags.eta_to(), flags.rate()), up),
+        (label(flags.eta_to(), flags.eta_from, -flags.rate()), down),
     ];
     let ring = if flags.no_ring {
         "without the ring"
@@ -306,12 +345,13 @@ fn draw_legs(
 /// The peak radius and its speed for a run up (or down) at each of `--peak-rates`; with `--out`
 /// the picture `peak_vs_rate.png` of both against the rate.
 fn peak_against_rate(flags: &Flags, scene: &Scene) {
-    let sign = (flags.eta_to - flags.eta_from).signum();
+    let sign = (flags.eta_to() - flags.eta_from).signum();
     let mut peaks = Vec::new();
     for &r in &flags.peak_rates {
         let one = Flags {
-            rate: sign * r,
+            rate: Some(sign * r),
             scene: flags.scene.clone(),
+            motor: Vec::new(),
             out: None,
             peak_rates: Vec::new(),
             ..*flags

@@ -129,15 +129,19 @@ impl ProfiledJeffcott {
     }
 
     fn with_gap(&self, gap: f64) -> Result<RingedRotor<Self>, RotorError> {
-        let p = &self.params;
-        let ring = SnubberRing::new(
-            RingAxis::new(p.kx, p.dx),
-            RingAxis::new(p.ky, p.dy),
-            p.nu2,
-            gap,
-        )?;
-        RingedRotor::new(self.clone(), ring)
+        RingedRotor::new(self.clone(), paper_ring(&self.params, gap)?)
     }
+}
+
+/// The paper's ring of `p` ($K$, $D$, $\nu_2$) with the gap `gap` (1, or out of reach): the
+/// ring of [`ProfiledJeffcott`] and [`super::DrivenJeffcott`].
+pub(super) fn paper_ring(p: &Params, gap: f64) -> Result<SnubberRing, RotorError> {
+    Ok(SnubberRing::new(
+        RingAxis::new(p.kx, p.dx),
+        RingAxis::new(p.ky, p.dy),
+        p.nu2,
+        gap,
+    )?)
 }
 
 impl SmoothRotor for ProfiledJeffcott {

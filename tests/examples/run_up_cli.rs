@@ -252,3 +252,51 @@ fn out_draws_the_envelope_of_both_legs_and_the_orders() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--motor`: the weak motor of `tests/simulation/drive.rs` without the ring (rest at the
+/// centre) is captured where its line meets the closed-form load, 0.931146 (computed there);
+/// a motor of two numbers, or with `--eta-to`, is status 2.
+#[test]
+fn motor_runs_the_non_ideal_drive() {
+    let args = [
+        "--preset",
+        "fig8a",
+        "--no-ring",
+        "--eta-from",
+        "0.1",
+        "--samples-per-period",
+        "8",
+        "--motor",
+        "0.05,3,10",
+        "--duration",
+        "900",
+    ];
+    let out = support::run_ok(Command::new(support::example_exe("run_up")).args(args));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let last = text.lines().last().unwrap();
+    let mean: f64 = last
+        .strip_prefix("last third: mean eta ")
+        .and_then(|r| r.split(',').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((mean - 0.931146).abs() < 1e-4, "{last}");
+    for bad in [
+        &["--motor", "1,2"][..],
+        &["--motor", "1,2,3", "--eta-to", "2"],
+    ] {
+        let mut a = vec![
+            "--preset",
+            "fig8a",
+            "--eta-from",
+            "0.1",
+            "--samples-per-period",
+            "8",
+        ];
+        a.extend_from_slice(bad);
+        let out = run(&a);
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(out.status.code(), Some(2), "{bad:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{bad:?}: {err}");
+    }
+}

@@ -1,5 +1,7 @@
 //! Finite-element rotors (ROSS exports) on the ring.
 
+#[path = "../support/energy.rs"]
+mod energy;
 #[path = "../support/rng.rs"]
 mod rng;
 

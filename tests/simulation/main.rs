@@ -6,6 +6,9 @@
 /// The Duhamel integral of the linear rotor by Gauss-Legendre quadrature.
 #[path = "../support/duhamel.rs"]
 mod duhamel;
+/// Energy-balance helpers (with `tests/fe`).
+#[path = "../support/energy.rs"]
+mod energy;
 /// `examples/custom_rotor`'s rotor, tested as a user's model.
 #[allow(dead_code)] // the example uses what the tests do not
 #[path = "../../examples/custom_rotor/rotor.rs"]
@@ -21,6 +24,8 @@ mod support;
 mod contact_loss;
 mod custom_model;
 mod custom_rotor;
+mod drive;
+mod drive_energy;
 mod dyn_models;
 mod flexible_shaft;
 mod hard_cases;
