@@ -33,7 +33,7 @@ type Coefficients = [Complex<f64>; 6];
 /// $$u_1 = E u + \tau\big[(\varphi_1 - 3\varphi_2 + 4\varphi_3) N_a + (2\varphi_2 - 4\varphi_3)
 /// (N_b + N_c) + (-\varphi_2 + 4\varphi_3) N_d\big],$$
 /// $\varphi_k = \varphi_k(\tau\lambda)$ ([`phi_functions`](super::phi_functions)). It is the
-/// variation-of-constants formula $u_1 = e^{\tau L}u + \int_0^\tau e^{(\tau - s)L}p(s)\,ds$
+/// variation-of-constants formula $u_1 = e^{\tau L}u + \int_0^\tau e^{(\tau - s)L}p(s)\thinspace ds$
 /// with $p$ the quadratic through $N_a$, $(N_b + N_c)/2$ and $N_d$ at $0$, $\tau/2$, $\tau$:
 /// **exact for the linear part whatever $|\lambda\tau|$, and for a forcing constant or linear
 /// in time**, of classical order 4. A stiff mode ($\tau\operatorname{Re}\lambda \ll -1$) costs

@@ -19,9 +19,11 @@ pub(crate) enum Slot {
 /// The linear part $L$ of a right-hand side $f(t, y) = L y + N(t, y)$, block-diagonal in the
 /// system's own coordinates ([`OdeSystem::linear_part`](super::OdeSystem::linear_part)):
 ///
-/// * a **real** block at component $i$: $(Ly)_i = \lambda y_i$, $\lambda \in \mathbb R$;
+/// with $\ell = L y$:
+///
+/// * a **real** block at component $i$: $\ell_i = \lambda y_i$, $\lambda \in \mathbb R$;
 /// * a **complex** block at components $(i, i + 1)$: the pair is the complex number
-///   $u = y_i + i\thinspace y_{i+1}$ and $(Ly)_i + i(Ly)_{i+1} = \lambda u$,
+///   $u = y_i + i\thinspace y_{i+1}$ and $\ell_i + i\thinspace\ell_{i+1} = \lambda u$,
 ///   $\lambda \in \mathbb C$, i.e. the real $2\times 2$ block
 ///   $\begin{pmatrix}\operatorname{Re}\lambda & -\operatorname{Im}\lambda\\\\
 ///   \operatorname{Im}\lambda & \operatorname{Re}\lambda\end{pmatrix}$;

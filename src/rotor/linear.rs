@@ -292,11 +292,11 @@ impl LinearSystem {
         Ok(x)
     }
     /// Each coordinate's frequency: the rate at which an error in its velocity turns into
-    /// displacement, $\omega_i = \sqrt{M_{ii}/(M K_s^{-1} M)_{ii}}$ with $K_s$ the symmetric
-    /// part of $K$. A velocity error $\delta v\thinspace e_i$ starts free oscillations in the
+    /// displacement, $\omega_i = \sqrt{M_{ii}/P_{ii}}$ with $P = M K_s^{-1} M$ and $K_s$ the
+    /// symmetric part of $K$. A velocity error $\delta v\thinspace e_i$ starts free oscillations in the
     /// mass-normalised modes $\phi_k$ ($K_s\phi_k = \omega_k^2 M\phi_k$) of amplitudes
     /// $c_k = \phi_k^{\mathsf T}Me_i\thinspace\delta v/\omega_k$, whose mass-weighted sum of
-    /// squares is $\sum_k c_k^2 = (MK_s^{-1}M)_{ii}\thinspace\delta v^2$, against the
+    /// squares is $\sum_k c_k^2 = P_{ii}\thinspace\delta v^2$, against the
     /// error's own $M_{ii}\thinspace\delta v^2$. For a modal coordinate ($M = I$, $K$
     /// diagonal) it is the mode's natural frequency; a physical coordinate, which takes part in
     /// the low modes, gets a frequency near the lowest. $\Omega$ (the speed) for every
