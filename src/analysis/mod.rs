@@ -282,7 +282,7 @@
 //! $\varphi_i = \varphi(t_i)$ there (from the speed profile: `SpeedProfile::phase`), is
 //! interpolated at the phases $2\pi k/S$ by 6-point Lagrange interpolation in the phase (the
 //! three samples each side; at the record's ends the six nearest): for a coordinate smooth in
-//! the phase its error is at most $\frac{225}{64\cdot720}h^6\max|f^{(6)}| = 0.0049\,h^6
+//! the phase its error is at most $\frac{225}{64\cdot720}h^6\max|f^{(6)}| = 0.0049\thinspace h^6
 //! \max|f^{(6)}|$ at an interval's middle, $h$ the local phase step (measured in
 //! `tests/analysis/order.rs`). Contact makes the orbit's velocity jump: the interpolation loses
 //! its order on the samples around a touch, so a record already at the phases (the strobes of
@@ -297,7 +297,7 @@
 //! linearly with the phase across the window is read exactly at the centre (a curvature of the
 //! envelope over the window is averaged). Its speed is the angular speed there, $1/t^\prime(\varphi)$
 //! by the fourth-order central difference of the samples' times,
-//! $t^\prime \approx (-t_{c+2} + 8t_{c+1} - 8t_{c-1} + t_{c-2})/(12\,\Delta\varphi)$ (the window's
+//! $t^\prime \approx (-t_{c+2} + 8t_{c+1} - 8t_{c-1} + t_{c-2})/(12\thinspace\Delta\varphi)$ (the window's
 //! mean speed would lag in a fast ramp).
 
 mod bifurcation;

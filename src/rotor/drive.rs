@@ -7,7 +7,7 @@
 //! included) at $X = (X, Y)$ carries $m$ at $X + \rho(\cos\varphi, \sin\varphi)$; its polar
 //! inertia about the shaft, $m$ included, is $J_p$; the motor's torque is $T(\dot\varphi)$.
 //! With the kinetic energy
-//! $\tfrac12 M|\dot X|^2 + \tfrac12 J_p\dot\varphi^2 + m\rho\dot\varphi\,\dot X\cdot t_\varphi$,
+//! $\tfrac12 M|\dot X|^2 + \tfrac12 J_p\dot\varphi^2 + m\rho\dot\varphi\thinspace\dot X\cdot t_\varphi$,
 //! $t_\varphi = (-\sin\varphi, \cos\varphi)$ (Lagrange's equations; the
 //! $\tfrac12 m\rho^2\dot\varphi^2$ is in $J_p$), the rotor's equations are the paper's with
 //! $\Omega = \dot\varphi$, and the spin's is
@@ -19,19 +19,19 @@
 //!
 //! $$x^{\prime\prime} + 2\nu_1 x^\prime + (x - e_x) + f_x = \beta(\eta^2\cos\varphi + \eta^\prime\sin\varphi),$$
 //! $$y^{\prime\prime} + 2\nu_1 y^\prime + (y - e_y) + f_y = \beta(\eta^2\sin\varphi - \eta^\prime\cos\varphi),$$
-//! $$j\,\eta^\prime = t(\eta) + \beta(x^{\prime\prime}\sin\varphi - y^{\prime\prime}\cos\varphi), \qquad \varphi^\prime = \eta,$$
+//! $$j\thinspace\eta^\prime = t(\eta) + \beta(x^{\prime\prime}\sin\varphi - y^{\prime\prime}\cos\varphi), \qquad \varphi^\prime = \eta,$$
 //!
 //! $f$ the ring's force, $\beta = m\rho/(M\gamma)$ as in the paper. The accelerations are
 //! coupled; with $a = (a_x, a_y)$ the rotor's acceleration without the $\eta^\prime$ terms
 //! (everything else on the right, $f$ included) they solve in closed form:
-//! $(j - \beta^2)\,\eta^\prime = t(\eta) + \beta(a_x\sin\varphi - a_y\cos\varphi)$, then
+//! $(j - \beta^2)\thinspace\eta^\prime = t(\eta) + \beta(a_x\sin\varphi - a_y\cos\varphi)$, then
 //! $x^{\prime\prime} = a_x + \beta\eta^\prime\sin\varphi$, $y^{\prime\prime} = a_y - \beta\eta^\prime\cos\varphi$.
 //! $j > \beta^2$ holds for any physical rotor ($J_p \ge m\rho^2$ and $M > m$) and is required.
 //!
 //! **Energy.** The energy
-//! $E = \tfrac12|r^\prime|^2 + \tfrac12 j\eta^2 + \beta\eta\,r^\prime\cdot t_\varphi +
+//! $E = \tfrac12|r^\prime|^2 + \tfrac12 j\eta^2 + \beta\eta\thinspace r^\prime\cdot t_\varphi +
 //! \tfrac12|r - e|^2 + E_\text{ring}(s)$ (the out-of-balance's kinetic energy is the cross
-//! term) changes by the motor's work $\int t(\eta)\eta\,d\tau$ minus the rotor's damping
+//! term) changes by the motor's work $\int t(\eta)\eta\thinspace d\tau$ minus the rotor's damping
 //! $\int 2\nu_1|r^\prime|^2$ and the ring's losses (`tests/simulation/drive_energy.rs`
 //! checks it).
 //!

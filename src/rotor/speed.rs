@@ -20,7 +20,7 @@
 //!
 //! The forcing phase is $\varphi(t) = \varphi_0 + \Phi(t)$ with $\Phi(t) = \int_0^t \eta$.
 //! The rate $\eta^\prime$ jumps where segments meet ([`SpeedProfile::breaks`]): the
-//! out-of-balance force jumps there (by $\beta\,\Delta R$), which an integrator crosses at a
+//! out-of-balance force jumps there (by $\beta\thinspace\Delta R$), which an integrator crosses at a
 //! lower order unless the run stops and restarts at each break.
 
 use std::fmt;
@@ -212,8 +212,8 @@ impl SpeedProfile {
     /// equal panels of width $h = T/n \le 1/8$ by 5-point Gauss-Legendre quadrature, and
     /// $\Phi(t)$ is the table's value at the panel's start plus the same quadrature over the
     /// rest of the panel. For a speed with ten continuous derivatives the error of one panel is
-    /// at most $3.95\times10^{-13}\,h^{11}\max|\eta^{(10)}|$ (the Gauss-Legendre remainder
-    /// $h^{11}(5!)^4/(11\,(10!)^3)$), so $|\Phi - \int_0^t\eta| \le 3.95\times10^{-13}\,t\,h^{10}
+    /// at most $3.95\times10^{-13}\thinspace h^{11}\max|\eta^{(10)}|$ (the Gauss-Legendre remainder
+    /// $h^{11}(5!)^4/(11\thinspace(10!)^3)$), so $|\Phi - \int_0^t\eta| \le 3.95\times10^{-13}\thinspace t\thinspace h^{10}
     /// \max|\eta^{(10)}|$ plus rounding (measured: $7\times10^{-15}$ of the phase for
     /// $\eta = 1.5 + \sin(0.3t)$ over 400 time units, `rotor::speed_law`'s tests). A speed with
     /// kinks (a rate that jumps) loses this order on the panel of the kink: use
