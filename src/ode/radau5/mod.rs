@@ -685,19 +685,8 @@ where
         self.first = false;
         self.t_end = t_new;
         self.update_dense();
-        let c = &mut self.core;
-        c.h = h_next.min(c.opts.h_max);
-        c.t_prev = c.t;
-        c.y_prev.copy_from(&c.y);
-        c.f_prev.copy_from(&c.f);
-        c.t = t_new;
-        c.y.copy_from(&c.y_new);
-        c.f.copy_from(&c.f_new);
-        c.h_dense = h_try;
-        c.y_end.copy_from(&c.y_new);
-        c.f_end.copy_from(&c.f_new);
-        c.has_step = true;
-        c.stats.steps += 1;
+        let h_next = h_next.min(self.core.opts.h_max);
+        self.core.advance(t_new, h_try, h_next);
     }
 }
 
