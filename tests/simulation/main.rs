@@ -33,5 +33,6 @@ mod reference;
 mod rotor_checks;
 mod run_up;
 mod run_up_profiles;
+mod run_up_quasi_static;
 mod si_units;
 mod simulation;
