@@ -32,6 +32,7 @@ mod hard_cases;
 mod reference;
 mod rotor_checks;
 mod run_up;
+mod run_up_passage;
 mod run_up_profiles;
 mod run_up_quasi_static;
 mod si_units;
