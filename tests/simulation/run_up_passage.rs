@@ -202,6 +202,14 @@ fn the_cornu_spiral_and_the_envelope_agree_on_the_undamped_peak() {
     assert!((v - 1.2172).abs() < 1e-4 && (m * m / 2.0 - 1.3704).abs() < 1e-4);
     // Two quadratures of the same integral.
     assert!((u - v * PI.sqrt()).abs() < 1e-7 && (j - m * PI.sqrt()).abs() < 1e-7);
+    // With damping, the peak over the steady one beta/(2 nu): d max|J|, a function of
+    // d = nu/sqrt(R) alone, tends to 1 as the passage slows (d large: quasi-static).
+    for d in [0.1, 0.3, 1.0, 3.0, 10.0] {
+        let (u, j) = envelope_peak(d);
+        println!("d = {d}: peak / steady peak = {:.6}, at U* = {u:.4}", d * j);
+    }
+    let (_, j) = envelope_peak(10.0);
+    assert!((10.0 * j - 1.0).abs() < 1e-3, "{}", 10.0 * j);
 }
 
 #[test]
