@@ -4,10 +4,11 @@
 //!
 //! **Sources.** The published estimates (Lewis 1932; Markert and Seidler 2001, Int. J. Solids
 //! Struct. 38) could not be read here: no trustworthy copy of their formulas was found in the
-//! reference search (pages, docs, code). The estimate is therefore derived below; it is the
-//! leading term of slow passage that both papers refine (Lewis's law: the undamped peak
-//! grows as $R^{-1/2}$ and lags the critical speed by $\propto R^{1/2}$; Markert and
-//! Seidler's ratio is a function of the one parameter $\nu/\sqrt R$ below).
+//! reference search (pages, docs, code). The estimate is therefore derived below: the
+//! leading term of slow passage, which gives the asymptotic law attributed to Lewis (the
+//! undamped peak grows as $R^{-1/2}$ and lags the critical speed by $\propto R^{1/2}$); with
+//! damping it is a function of the one parameter $\nu/\sqrt R$ (not checked against Markert
+//! and Seidler's closed forms, which were not available).
 //!
 //! **Derivation.** With $z = x + iy$, the rotor from rest is
 //! $z'' + 2\nu z' + z = \beta(\eta^2 - i\eta')e^{i\varphi}$, $\varphi = R\tau^2/2$ (ramp from
