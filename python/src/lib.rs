@@ -1,14 +1,16 @@
 //! Python bindings of `jeffcott` (the extension module `jeffcott._jeffcott`): the paper's
 //! model and finite-element rotors on the snubber ring, numpy arrays in and out. The loops
 //! stay compiled: Python hands over arrays and parameters once, never a callback per step.
-//! Long runs release the GIL and run in chunks, checking for Ctrl-C between them (the
-//! Lyapunov exponents and the continuation are single library calls: Ctrl-C waits for them).
+//! Long runs release the GIL and run in chunks, checking for Ctrl-C between them; the
+//! Lyapunov exponents and the continuation, single library calls, check for it through the
+//! crate's `Progress` observer (`interrupt`).
 
 mod basins;
 mod chunks;
 mod continuation;
 mod errors;
 mod fe;
+mod interrupt;
 mod lyapunov;
 mod options;
 mod paper;

@@ -2,6 +2,7 @@
 tests (tests/data/stability_reference.csv: SciPy, Newton and Richardson central differences of
 the stroboscopic map, no code of the crate), with tests/stability/stability_orbits.rs' bounds."""
 
+import _thread
 import math
 import threading
 import time
@@ -128,3 +129,40 @@ def test_lyapunov_releases_the_gil():
     inside = [s for s in stamps if start + margin < s < end - margin]
     assert end - start > 0.1, "the run is too short to tell"
     assert len(inside) >= 10, f"{len(inside)} stamps in a {end - start:.3f} s run"
+
+
+# The reference period-1 point of Fig. 8a at eta = 2 (tests/global/global_continuation.rs),
+# the ring at rest inside the gap: a start with no transient.
+FIG8A_POINT = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533, 0.0, 0.0]
+
+
+def interrupted_after(seconds, call):
+    """Raises Ctrl-C (`_thread.interrupt_main`) `seconds` into `call()`: the time until the
+    `KeyboardInterrupt` came out of it."""
+    timer = threading.Timer(seconds, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            call()
+    finally:
+        timer.cancel()
+    return time.monotonic() - start
+
+
+def test_ctrl_c_stops_lyapunov_exponents_between_periods():
+    # No transient: the periods of the library call itself (uninterrupted: 10 to 30 s, far
+    # past the bound).
+    p = jeffcott.Params.preset("fig9c")
+    elapsed = interrupted_after(
+        0.5, lambda: jeffcott.lyapunov_exponents(p, transient=0, periods=50_000))
+    assert elapsed < 5.0, f"KeyboardInterrupt after {elapsed:.2f} s"
+
+
+def test_ctrl_c_stops_a_continuation_between_steps():
+    # No transient: the continuation itself, in small steps (uninterrupted: about 30 s).
+    p = jeffcott.Params.preset("fig8a")
+    elapsed = interrupted_after(0.5, lambda: jeffcott.continue_orbit(
+        p, 2.0, 2.2, transient=0, state0=FIG8A_POINT, ds=1e-6, ds_max=1e-6,
+        max_points=10**6))
+    assert elapsed < 5.0, f"KeyboardInterrupt after {elapsed:.2f} s"
