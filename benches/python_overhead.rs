@@ -7,7 +7,9 @@
 //! one run of the preset's model from rest with default options, every stroboscopic state
 //! recorded (`JeffcottModel::strobe_range(&State::zeros(), 0, PERIODS, ..)`, what
 //! `jeffcott.simulate(p, PERIODS)` computes), and one line on standard output:
-//! `SECONDS STEPS` (wall time of the run alone, integrator steps). Ends at the end of input.
+//! `WALL CPU STEPS`: the run's wall time and the CPU time of its thread (`clock_gettime`'s
+//! thread CPU clock, the clock of Python's `time.thread_time`; NaN off Unix), in seconds, and
+//! its integrator steps. Ends at the end of input.
 //!
 //! Run: `python python/benches/overhead.py` (it starts
 //! `cargo bench --bench python_overhead` itself).
@@ -20,8 +22,21 @@ use jeffcott::hybrid::SimOptions;
 use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::Preset;
 
-/// One timed run of `line`'s request: `(seconds, steps)`, or why the line is not one.
-fn timed(line: &str) -> Result<(f64, u64), String> {
+/// The CPU time of this thread, in seconds (NaN where there is no such clock).
+fn thread_cpu() -> f64 {
+    #[cfg(unix)]
+    {
+        let t = rustix::time::clock_gettime(rustix::time::ClockId::ThreadCPUTime);
+        t.tv_sec as f64 + 1e-9 * t.tv_nsec as f64
+    }
+    #[cfg(not(unix))]
+    {
+        f64::NAN
+    }
+}
+
+/// One timed run of `line`'s request: `(wall, cpu, steps)`, or why the line is not one.
+fn timed(line: &str) -> Result<(f64, f64, u64), String> {
     let mut words = line.split_whitespace();
     let (Some(name), Some(periods), None) = (words.next(), words.next(), words.next()) else {
         return Err(format!("expected `PRESET PERIODS`, got `{line}`"));
@@ -29,14 +44,14 @@ fn timed(line: &str) -> Result<(f64, u64), String> {
     let preset: Preset = name.parse().map_err(|e| format!("{e}"))?;
     let periods: u64 = periods.parse().map_err(|e| format!("periods: {e}"))?;
     let opts = SimOptions::default();
-    let start = Instant::now();
+    let (start, cpu) = (Instant::now(), thread_cpu());
     // The model is built inside the timed part, as `jeffcott.simulate` builds it per call.
     let model = JeffcottModel::new(preset.params()).map_err(|e| e.to_string())?;
     let run = model.strobe_range(black_box(&State::zeros()), 0, periods, &opts);
-    let seconds = start.elapsed().as_secs_f64();
+    let (wall, cpu) = (start.elapsed().as_secs_f64(), thread_cpu() - cpu);
     let (traj, stats) = run.map_err(|e| e.to_string())?;
     black_box(&traj);
-    Ok((seconds, stats.steps))
+    Ok((wall, cpu, stats.steps))
 }
 
 fn main() {
@@ -47,7 +62,7 @@ fn main() {
             continue;
         }
         let reply = match timed(&line) {
-            Ok((seconds, steps)) => format!("{seconds:e} {steps}"),
+            Ok((wall, cpu, steps)) => format!("{wall:e} {cpu:e} {steps}"),
             Err(e) => format!("error {e}"),
         };
         let mut out = stdout.lock();
