@@ -24,6 +24,9 @@ use pyo3::prelude::*;
 /// The compiled part of the `jeffcott` package (its functions are re-exported there).
 #[pymodule]
 fn _jeffcott(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // numpy's C API, loaded now: loaded at a run's first array it runs Python code, and a
+    // Ctrl-C pending then (pressed during the run) made the loader panic.
+    numpy::PyArray1::<f64>::zeros(m.py(), 0, false);
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add(
         "SimulationError",

@@ -4,6 +4,8 @@ the stroboscopic map, no code of the crate), with tests/stability/stability_orbi
 
 import _thread
 import math
+import subprocess
+import sys
 import threading
 import time
 
@@ -166,3 +168,22 @@ def test_ctrl_c_stops_a_continuation_between_steps():
         p, 2.0, 2.2, transient=0, state0=FIG8A_POINT, ds=1e-6, ds_max=1e-6,
         max_points=10**6))
     assert elapsed < 5.0, f"KeyboardInterrupt after {elapsed:.2f} s"
+
+
+def test_a_ctrl_c_pending_at_the_first_array_is_a_keyboard_interrupt():
+    # A fresh interpreter whose first numpy array from the extension comes after a Ctrl-C
+    # pressed during a call that does not look for it (Newton on P^2000 of the stable orbit of
+    # Fig. 8a, seconds long): the KeyboardInterrupt comes when the call returns, and numpy's
+    # C API, loaded by the extension's import, is not loaded under it (that was a panic).
+    code = (
+        "import _thread, threading, jeffcott\n"
+        "threading.Timer(0.3, _thread.interrupt_main).start()\n"
+        "try:\n"
+        "    jeffcott.periodic_orbit(jeffcott.Params.preset('fig8a'), 2000, transient=0,\n"
+        f"                            state0={FIG8A_POINT})\n"
+        "except KeyboardInterrupt:\n"
+        "    print('KeyboardInterrupt')\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0 and out.stdout.strip() == "KeyboardInterrupt", out.stderr[-2000:]
