@@ -23,8 +23,9 @@
 //!   each value from rest), and 20 values x 200 periods, each with 1 and 2 worker threads.
 //! * `python_baseline/*`: 1000 forcing periods from rest, all 1001 stroboscopic states
 //!   recorded, default options: Fig. 8b (eta = 2, one contact a period) and Fig. 9c (chaotic).
-//!   The same calls from Python (`jeffcott.simulate(p, 1000)`) are timed by
-//!   `python/benches/overhead.py`: the difference is the bindings' overhead (issue 22: at most 5 %).
+//!   The bindings' overhead against the same run (issue 22: at most 5 %) is measured by
+//!   `python/benches/overhead.py`, with the Rust runs of `benches/python_overhead.rs`
+//!   interleaved with the Python ones.
 //!
 //! Run: `cargo bench --bench simulation` (on a quiet machine; `uptime` for the load).
 

@@ -3,8 +3,7 @@
 The Rust crate ``jeffcott`` from Python: numpy arrays in, numpy arrays out, the loops
 compiled. The paper's model works in non-dimensional units (time in 1/omega_n, lengths in
 gaps); the finite-element rotor in SI units. Long runs release the GIL and stop on Ctrl-C
-(``KeyboardInterrupt``), except ``lyapunov_exponents`` and ``continue_orbit``: single library
-calls, Ctrl-C waits for them to end. Bad input raises ``ValueError``; a failed run raises
+(``KeyboardInterrupt``). Bad input raises ``ValueError``; a failed run raises
 ``SimulationError`` (a ``RuntimeError``) whose ``partial`` attribute holds what was computed.
 """
 

@@ -9,6 +9,10 @@ use jeffcott::hybrid::{
 use jeffcott::nalgebra::allocator::Allocator;
 use jeffcott::nalgebra::{DefaultAllocator, OVector};
 use pyo3::prelude::*;
+use pyo3::pyclass_init::PyClassInitializer;
+use pyo3::PyClass;
+
+use crate::errors::run_error;
 
 /// A finished or failed chunked run: everything recorded is in the caller's trajectory.
 pub type Outcome<D> = Result<SimStats, SimError<D>>;
@@ -117,6 +121,60 @@ where
         py.check_signals()?;
     }
     Ok(Ok(stats))
+}
+
+/// Runs `model` from `y0` at t = 0 chunk by chunk ([`run`]) and makes `result` of what was
+/// recorded and the work done: the result, or a failed run's error ([`run_error`]) whose
+/// `partial` is the result of what was recorded before the failure.
+pub fn run_into<M, T, F>(
+    py: Python<'_>,
+    model: &M,
+    y0: OVector<f64, M::Dim>,
+    output: Output,
+    opts: &SimOptions,
+    result: F,
+) -> PyResult<T>
+where
+    M: RotorModel + Sync,
+    DefaultAllocator: Allocator<M::Dim>,
+    OVector<f64, M::Dim>: Send + Sync,
+    T: PyClass + Into<PyClassInitializer<T>>,
+    F: Fn(Python<'_>, &Trajectory<M::Dim>, &SimStats) -> PyResult<T>,
+{
+    let mut traj = Trajectory::default();
+    match run(py, model, (0.0, y0), output, opts, &mut traj)? {
+        Ok(stats) => result(py, &traj, &stats),
+        Err(e) => {
+            let partial = Py::new(py, result(py, &traj, &e.stats)?)?.into_any();
+            Err(run_error(py, e, partial))
+        }
+    }
+}
+
+/// The state after `periods` forcing periods from `y0` at t = 0, run 100 periods a chunk
+/// (Ctrl-C between them): where the analyses that seek an attractor start. A failed run is a
+/// `SimulationError` (`partial` None).
+pub fn settle<M>(
+    py: Python<'_>,
+    model: &M,
+    y0: OVector<f64, M::Dim>,
+    periods: u64,
+    opts: &SimOptions,
+) -> PyResult<OVector<f64, M::Dim>>
+where
+    M: RotorModel + Sync,
+    DefaultAllocator: Allocator<M::Dim>,
+    OVector<f64, M::Dim>: Send + Sync,
+{
+    let output = Output::Strobe {
+        last: periods,
+        per_chunk: 100,
+    };
+    let mut traj = Trajectory::default();
+    if let Err(e) = run(py, model, (0.0, y0.clone()), output, opts, &mut traj)? {
+        return Err(run_error(py, e, py.None()));
+    }
+    Ok(traj.strobe.pop().map_or(y0, |p| p.y))
 }
 
 /// Adds the work of one chunk.

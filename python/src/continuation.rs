@@ -1,20 +1,21 @@
 //! The pseudo-arclength continuation of periodic orbits of the paper's model along one
 //! parameter, with its special points (fold, flip, Neimark-Sacker, grazing), from Python.
 
-use jeffcott::hybrid::Trajectory;
 use jeffcott::paper::{JeffcottModel, ParamSweep};
 use jeffcott::stability::{
-    Branch, BranchEnd, BranchPoint, ContinuationOptions, Multiplier, SpecialPoint,
+    continue_orbit_with_progress, Branch, BranchEnd, BranchPoint, ContinuationOptions, Multiplier,
+    SpecialPoint,
 };
 use numpy::ndarray::{Array1, Array2};
 use numpy::{Complex64, IntoPyArray, PyArray1, PyArray2};
 use pyo3::prelude::*;
 
-use crate::chunks::{self, Output};
+use crate::chunks;
 use crate::errors::value_error;
+use crate::interrupt::CtrlC;
 use crate::lyapunov::stability_error;
 use crate::options::{positive, sim_options};
-use crate::paper::{run_error, start_state, swept};
+use crate::paper::{start_state, swept};
 use crate::params::PyParams;
 
 /// A special point of a continued branch.
@@ -115,6 +116,7 @@ fn branch(py: Python<'_>, name: &str, b: &Branch) -> PyResult<ContinuedBranch> {
     let (end, end_reason) = match &b.end {
         BranchEnd::Reached => ("reached", None),
         BranchEnd::MaxPoints => ("max-points", None),
+        BranchEnd::Stopped { .. } => ("stopped", None),
         BranchEnd::Stalled { parameter, reason } => {
             ("stalled", Some((*parameter, reason.to_string())))
         }
@@ -179,9 +181,10 @@ fn options(
 /// from ``state0`` (default rest) at ``start``. ``ds`` (default 0.01), ``ds_max`` (0.02):
 /// arclength steps in scaled coordinates; ``max_points`` (5000). Options as ``simulate``.
 ///
-/// The transient goes in chunks (Ctrl-C between them); the continuation itself is one
-/// library call with the GIL released: Ctrl-C is seen only when it returns. ``ValueError`` for
-/// bad input; ``SimulationError`` if no orbit is found at ``start`` or a run fails.
+/// Runs with the GIL released; the transient goes in chunks and the continuation looks for
+/// Ctrl-C between its steps (``KeyboardInterrupt``, within about one step or bisection step).
+/// ``ValueError`` for bad input; ``SimulationError`` if no orbit is found at ``start`` or a
+/// run fails.
 #[pyfunction]
 #[pyo3(signature = (params, start, stop, *, parameter="eta", period=1, transient=300, state0=None, ds=None, ds_max=None, max_points=None, bracket_width=None, rtol=None, atol=None, method=None))]
 #[allow(clippy::too_many_arguments)] // Python keywords
@@ -207,18 +210,13 @@ pub fn continue_orbit(
     let y0 = start_state(state0)?;
     let sim = sim_options(rtol, atol, method)?;
     let opts = options(ds, ds_max, max_points, bracket_width)?.with_sim(sim);
-    let output = Output::Strobe {
-        last: transient,
-        per_chunk: 100,
-    };
-    let mut traj = Trajectory::default();
-    if let Err(e) = chunks::run(py, &model, (0.0, y0), output, &sim, &mut traj)? {
-        return Err(run_error(py, e, py.None()));
-    }
-    let guess = traj.strobe.last().map_or(y0, |p| p.y);
+    let guess = chunks::settle(py, &model, y0, transient, &sim)?;
     let build = |value: f64| family.model(value);
-    let found = py
-        .detach(|| jeffcott::stability::continue_orbit(build, start, stop, &guess, period, &opts));
+    let ctrl_c = CtrlC::new();
+    let found = py.detach(|| {
+        continue_orbit_with_progress(build, start, stop, &guess, period, &opts, &ctrl_c)
+    });
+    ctrl_c.raised()?;
     match found {
         Ok(b) => branch(py, parameter, &b),
         Err(e) => Err(stability_error(py, e)),

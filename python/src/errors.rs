@@ -1,6 +1,9 @@
 //! The crate's errors as Python exceptions: bad input is a `ValueError`, a failed run a
 //! `SimulationError` (a `RuntimeError`) carrying what was computed before the failure.
 
+use jeffcott::hybrid::{SimError, SimErrorKind};
+use jeffcott::nalgebra::allocator::Allocator;
+use jeffcott::nalgebra::{DefaultAllocator, Dim};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
@@ -24,4 +27,17 @@ pub fn simulation_error(py: Python<'_>, message: String, partial: Py<PyAny>) -> 
     // The attribute is best effort: the message is what matters if it cannot be set.
     let _ = err.value(py).setattr("partial", partial);
     err
+}
+
+/// A failed run: `ValueError` for an invalid option, else `SimulationError` with `partial`.
+pub fn run_error<D: Dim>(py: Python<'_>, e: SimError<D>, partial: Py<PyAny>) -> PyErr
+where
+    DefaultAllocator: Allocator<D>,
+{
+    match e.kind {
+        SimErrorKind::InvalidOption { .. } | SimErrorKind::DimensionMismatch { .. } => {
+            value_error(&e)
+        }
+        _ => simulation_error(py, e.to_string(), partial),
+    }
 }

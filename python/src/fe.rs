@@ -16,7 +16,7 @@ use pyo3::types::PyDict;
 use crate::chunks;
 use crate::errors::value_error;
 use crate::options::sim_options;
-use crate::paper::{dense_output, run_error};
+use crate::paper::dense_output;
 
 /// A transient of a finite-element rotor on the ring: the ring node's displacement at uniform
 /// samples, and the contact events.
@@ -203,12 +203,7 @@ pub fn fe_transient(
     let output = dense_output(t_end, dt, chunk.max(1) as f64 * dt)?;
     let mut y0 = model.rotor().rest_state();
     model.make_consistent(&mut y0).map_err(value_error)?;
-    let mut traj = Trajectory::default();
-    match chunks::run(py, &model, (0.0, y0), output, &opts, &mut traj)? {
-        Ok(stats) => transient(py, &model, &traj, &stats),
-        Err(e) => {
-            let partial = Py::new(py, transient(py, &model, &traj, &e.stats)?)?.into_any();
-            Err(run_error(py, e, partial))
-        }
-    }
+    let result =
+        |py: Python<'_>, traj: &Trajectory<_>, stats: &SimStats| transient(py, &model, traj, stats);
+    chunks::run_into(py, &model, y0, output, &opts, result)
 }

@@ -1,14 +1,16 @@
 //! Python bindings of `jeffcott` (the extension module `jeffcott._jeffcott`): the paper's
 //! model and finite-element rotors on the snubber ring, numpy arrays in and out. The loops
 //! stay compiled: Python hands over arrays and parameters once, never a callback per step.
-//! Long runs release the GIL and run in chunks, checking for Ctrl-C between them (the
-//! Lyapunov exponents and the continuation are single library calls: Ctrl-C waits for them).
+//! Long runs release the GIL and run in chunks, checking for Ctrl-C between them; the
+//! Lyapunov exponents and the continuation, single library calls, check for it through the
+//! crate's `Progress` observer (`interrupt`).
 
 mod basins;
 mod chunks;
 mod continuation;
 mod errors;
 mod fe;
+mod interrupt;
 mod lyapunov;
 mod options;
 mod paper;
@@ -22,6 +24,9 @@ use pyo3::prelude::*;
 /// The compiled part of the `jeffcott` package (its functions are re-exported there).
 #[pymodule]
 fn _jeffcott(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // numpy's C API, loaded now: loaded at a run's first array it runs Python code, and a
+    // Ctrl-C pending then (pressed during the run) made the loader panic.
+    numpy::PyArray1::<f64>::zeros(m.py(), 0, false);
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add(
         "SimulationError",

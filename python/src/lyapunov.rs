@@ -1,11 +1,15 @@
 //! Lyapunov exponents of the paper's stroboscopic map, from Python.
 
-use jeffcott::stability::{LyapunovOptions, LyapunovSpectrum, StabilityError};
+use jeffcott::stability::{
+    lyapunov_exponents_with_progress, LyapunovOptions, LyapunovSpectrum, StabilityError,
+};
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::prelude::*;
 
+use crate::chunks;
 use crate::errors::{simulation_error, value_error};
+use crate::interrupt::CtrlC;
 use crate::options::sim_options;
 use crate::paper::{model_of, start_state};
 use crate::params::PyParams;
@@ -88,7 +92,8 @@ pub fn stability_error(py: Python<'_>, e: StabilityError) -> PyErr {
 /// largest exponent, Euclidean in [x, y, x', y'] (gaps, gaps per 1/omega_n; None skips it).
 /// Exponents are per forcing period (``per_time``: per unit tau). Options as ``simulate``.
 ///
-/// One library call with the GIL released: Ctrl-C is seen only when it returns.
+/// Runs with the GIL released; the transient goes in chunks (as ``simulate``), and Ctrl-C is
+/// looked for between periods (``KeyboardInterrupt``).
 /// ``ValueError`` for bad input (e.g. ``batch > periods``); ``SimulationError`` if a run fails.
 #[pyfunction]
 #[pyo3(signature = (params, *, transient=300, align=100, periods=2000, batch=100, separation=Some(1e-8), exponents=None, state0=None, rtol=None, atol=None, method=None))]
@@ -110,7 +115,7 @@ pub fn lyapunov_exponents(
     let model = model_of(&params)?;
     let y0 = start_state(state0)?;
     let mut opts = LyapunovOptions::default()
-        .with_transient(transient)
+        .with_transient(0)
         .with_align(align)
         .with_periods(periods)
         .with_batch(batch)
@@ -122,7 +127,10 @@ pub fn lyapunov_exponents(
         }
         opts = opts.with_exponents(n);
     }
-    let found = py.detach(|| jeffcott::stability::lyapunov_exponents(&model, &y0, &opts));
+    let start = chunks::settle(py, &model, y0, transient, &opts.sim)?;
+    let ctrl_c = CtrlC::new();
+    let found = py.detach(|| lyapunov_exponents_with_progress(&model, &start, &opts, &ctrl_c));
+    ctrl_c.raised()?;
     match found {
         Ok(l) => Ok(lyapunov(py, &l)),
         Err(e) => Err(stability_error(py, e)),

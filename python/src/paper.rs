@@ -3,16 +3,16 @@
 //! (one forcing period is $2\pi/\eta$), lengths in gaps, velocities in gaps times $\omega_n$.
 
 use jeffcott::analysis::{BifurcationOptions, SweepOptions};
-use jeffcott::hybrid::{SimError, SimErrorKind, SimOptions, Trajectory};
+use jeffcott::hybrid::{SimOptions, Trajectory};
 use jeffcott::nalgebra::{Vector2, U6};
 use jeffcott::paper::{JeffcottModel, ParamSweep, State, SweepParameter};
 use numpy::ndarray::{Array1, Array2, Array3};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
+use numpy::{Element, IntoPyArray, PyArray1, PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::chunks::{self, Output};
-use crate::errors::{simulation_error, value_error};
+use crate::errors::value_error;
 use crate::options::{positive, sim_options};
 use crate::params::PyParams;
 
@@ -82,12 +82,18 @@ pub fn start_state(state0: Option<Vec<f64>>) -> PyResult<State> {
     }
 }
 
-fn rows(states: impl ExactSizeIterator<Item = State>) -> Array2<f64> {
+/// The states as the rows of an (N, 6) array.
+pub fn rows(states: impl ExactSizeIterator<Item = State>) -> Array2<f64> {
     let n = states.len();
     let flat: Vec<f64> = states
         .flat_map(|y| y.iter().copied().collect::<Vec<_>>())
         .collect();
     Array2::from_shape_vec((n, 6), flat).expect("n rows of 6")
+}
+
+/// The values as a 1-D numpy array.
+pub fn array<T: Element>(py: Python<'_>, values: impl IntoIterator<Item = T>) -> Py<PyArray1<T>> {
+    Array1::from_iter(values).into_pyarray(py).unbind()
 }
 
 fn strobe_run(
@@ -97,16 +103,10 @@ fn strobe_run(
 ) -> PyResult<StrobeRun> {
     let s = &traj.strobe;
     Ok(StrobeRun {
-        k: Array1::from_iter(s.iter().map(|p| p.k as i64))
-            .into_pyarray(py)
-            .unbind(),
-        t: Array1::from_iter(s.iter().map(|p| p.t))
-            .into_pyarray(py)
-            .unbind(),
+        k: array(py, s.iter().map(|p| p.k as i64)),
+        t: array(py, s.iter().map(|p| p.t)),
         states: rows(s.iter().map(|p| p.y)).into_pyarray(py).unbind(),
-        regimes: Array1::from_iter(s.iter().map(|p| p.label))
-            .into_pyarray(py)
-            .unbind(),
+        regimes: array(py, s.iter().map(|p| p.label)),
         stats: chunks::stats_dict(py, stats)?.unbind(),
     })
 }
@@ -119,40 +119,15 @@ fn dense_run(
     let s = &traj.samples;
     let e = &traj.events;
     Ok(DenseRun {
-        t: Array1::from_iter(s.iter().map(|p| p.t))
-            .into_pyarray(py)
-            .unbind(),
+        t: array(py, s.iter().map(|p| p.t)),
         states: rows(s.iter().map(|p| p.y)).into_pyarray(py).unbind(),
         derivatives: rows(s.iter().map(|p| p.dy)).into_pyarray(py).unbind(),
-        regimes: Array1::from_iter(s.iter().map(|p| p.label))
-            .into_pyarray(py)
-            .unbind(),
-        event_t: Array1::from_iter(e.iter().map(|v| v.t))
-            .into_pyarray(py)
-            .unbind(),
+        regimes: array(py, s.iter().map(|p| p.label)),
+        event_t: array(py, e.iter().map(|v| v.t)),
         event_kind: e.iter().map(|v| v.kind.to_string()).collect(),
-        event_regime: Array1::from_iter(e.iter().map(|v| v.to))
-            .into_pyarray(py)
-            .unbind(),
+        event_regime: array(py, e.iter().map(|v| v.to)),
         stats: chunks::stats_dict(py, stats)?.unbind(),
     })
-}
-
-/// A failed run: `ValueError` for an invalid option, else `SimulationError` with `partial`.
-pub fn run_error<D: jeffcott::nalgebra::Dim>(
-    py: Python<'_>,
-    e: SimError<D>,
-    partial: Py<PyAny>,
-) -> PyErr
-where
-    jeffcott::nalgebra::DefaultAllocator: jeffcott::nalgebra::allocator::Allocator<D>,
-{
-    match e.kind {
-        SimErrorKind::InvalidOption { .. } | SimErrorKind::DimensionMismatch { .. } => {
-            value_error(&e)
-        }
-        _ => simulation_error(py, e.to_string(), partial),
-    }
 }
 
 /// Stroboscopic run of the paper's model: the states at t_k = 2 pi k / eta, k = 0..=periods,
@@ -186,14 +161,7 @@ pub fn simulate(
         last: periods,
         per_chunk: chunk.max(1),
     };
-    let mut traj = Trajectory::default();
-    match chunks::run(py, &model, (0.0, y0), output, &opts, &mut traj)? {
-        Ok(stats) => strobe_run(py, &traj, &stats),
-        Err(e) => {
-            let partial = Py::new(py, strobe_run(py, &traj, &e.stats)?)?.into_any();
-            Err(run_error(py, e, partial))
-        }
-    }
+    chunks::run_into(py, &model, y0, output, &opts, strobe_run)
 }
 
 /// Dense run of the paper's model: samples at t_i = i dt for t_i <= t_end (non-dimensional
@@ -218,14 +186,7 @@ pub fn simulate_dense(
     let y0 = start_state(state0)?;
     let opts = with_max_steps(sim_options(rtol, atol, method)?, max_steps);
     let output = dense_output(t_end, dt, chunk as f64 * params.forcing_period())?;
-    let mut traj = Trajectory::default();
-    match chunks::run(py, &model, (0.0, y0), output, &opts, &mut traj)? {
-        Ok(stats) => dense_run(py, &traj, &stats),
-        Err(e) => {
-            let partial = Py::new(py, dense_run(py, &traj, &e.stats)?)?.into_any();
-            Err(run_error(py, e, partial))
-        }
-    }
+    chunks::run_into(py, &model, y0, output, &opts, dense_run)
 }
 
 /// The options with a bound on the integrator's steps (per chunk), if given.

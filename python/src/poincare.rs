@@ -9,9 +9,9 @@ use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::prelude::*;
 
 use crate::chunks::{self, Output};
-use crate::errors::value_error;
+use crate::errors::{run_error, value_error};
 use crate::options::sim_options;
-use crate::paper::{model_of, run_error, start_state};
+use crate::paper::{model_of, start_state};
 use crate::params::PyParams;
 
 /// Recorded stroboscopic points k = transient + 1 ..= transient + record and their period.

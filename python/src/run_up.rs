@@ -6,7 +6,6 @@ use std::f64::consts::TAU;
 use jeffcott::hybrid::{SimStats, Trajectory};
 use jeffcott::nalgebra::U6;
 use jeffcott::rotor::{ProfiledJeffcott, SpeedProfile};
-use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -14,7 +13,7 @@ use pyo3::types::PyDict;
 use crate::chunks::{self, stats_dict};
 use crate::errors::value_error;
 use crate::options::sim_options;
-use crate::paper::{dense_output, run_error, start_state};
+use crate::paper::{array, dense_output, rows, start_state};
 use crate::params::PyParams;
 
 /// Dense samples of a run-up at t_i = i dt (non-dimensional time tau), and its events.
@@ -49,26 +48,16 @@ fn run_up_of(
     stats: &SimStats,
 ) -> PyResult<RunUp> {
     let s = &traj.samples;
-    let column = |c: usize| Array1::from_iter(s.iter().map(|p| p.y[c]));
-    let flat: Vec<f64> = s.iter().flat_map(|p| p.y.iter().copied()).collect();
-    let states = Array2::from_shape_vec((s.len(), 6), flat).map_err(value_error)?;
+    let column = |c: usize| array(py, s.iter().map(|p| p.y[c]));
     let e = &traj.events;
     Ok(RunUp {
-        tau: Array1::from_iter(s.iter().map(|p| p.t))
-            .into_pyarray(py)
-            .unbind(),
-        eta: Array1::from_iter(s.iter().map(|p| profile.eta(p.t)))
-            .into_pyarray(py)
-            .unbind(),
-        x: column(0).into_pyarray(py).unbind(),
-        y: column(1).into_pyarray(py).unbind(),
-        states: states.into_pyarray(py).unbind(),
-        regimes: Array1::from_iter(s.iter().map(|p| p.label))
-            .into_pyarray(py)
-            .unbind(),
-        event_t: Array1::from_iter(e.iter().map(|v| v.t))
-            .into_pyarray(py)
-            .unbind(),
+        tau: array(py, s.iter().map(|p| p.t)),
+        eta: array(py, s.iter().map(|p| profile.eta(p.t))),
+        x: column(0),
+        y: column(1),
+        states: rows(s.iter().map(|p| p.y)).into_pyarray(py).unbind(),
+        regimes: array(py, s.iter().map(|p| p.label)),
+        event_t: array(py, e.iter().map(|v| v.t)),
         event_kind: e.iter().map(|v| v.kind.to_string()).collect(),
         ramp_time: profile.ramp_time(),
         stats: stats_dict(py, stats)?.unbind(),
@@ -116,12 +105,8 @@ pub fn run_up(
     let t_end = t_end.unwrap_or(profile.ramp_time());
     let chunk_time = chunk.max(1) as f64 * TAU / profile.eta_max();
     let output = dense_output(t_end, dt, chunk_time)?;
-    let mut traj = Trajectory::default();
-    match chunks::run(py, &model, (0.0, y0), output, &opts, &mut traj)? {
-        Ok(stats) => run_up_of(py, &profile, &traj, &stats),
-        Err(e) => {
-            let partial = Py::new(py, run_up_of(py, &profile, &traj, &e.stats)?)?.into_any();
-            Err(run_error(py, e, partial))
-        }
-    }
+    let result = |py: Python<'_>, traj: &Trajectory<U6>, stats: &SimStats| {
+        run_up_of(py, &profile, traj, stats)
+    };
+    chunks::run_into(py, &model, y0, output, &opts, result)
 }

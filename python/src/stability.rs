@@ -1,16 +1,15 @@
 //! Periodic orbits of the paper's model and their Floquet multipliers, from Python.
 
-use jeffcott::hybrid::Trajectory;
 use jeffcott::nalgebra::U6;
 use jeffcott::stability::{OrbitOptions, PeriodicOrbit};
 use numpy::ndarray::Array1;
 use numpy::{Complex64, IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
-use crate::chunks::{self, Output};
+use crate::chunks;
 use crate::errors::simulation_error;
 use crate::options::sim_options;
-use crate::paper::{model_of, run_error, start_state};
+use crate::paper::{model_of, start_state};
 use crate::params::PyParams;
 
 /// A periodic orbit of the stroboscopic map and its stability (non-dimensional units).
@@ -78,15 +77,7 @@ pub fn periodic_orbit(
     let model = model_of(&params)?;
     let y0 = start_state(state0)?;
     let sim = sim_options(rtol, atol, method)?;
-    let output = Output::Strobe {
-        last: transient,
-        per_chunk: 100,
-    };
-    let mut traj = Trajectory::default();
-    if let Err(e) = chunks::run(py, &model, (0.0, y0), output, &sim, &mut traj)? {
-        return Err(run_error(py, e, py.None()));
-    }
-    let guess = traj.strobe.last().map_or(y0, |p| p.y);
+    let guess = chunks::settle(py, &model, y0, transient, &sim)?;
     let opts = OrbitOptions::default().with_sim(sim);
     let found = py.detach(|| jeffcott::stability::periodic_orbit(&model, &guess, period, &opts));
     match found {

@@ -2,7 +2,10 @@
 tests (tests/data/stability_reference.csv: SciPy, Newton and Richardson central differences of
 the stroboscopic map, no code of the crate), with tests/stability/stability_orbits.rs' bounds."""
 
+import _thread
 import math
+import subprocess
+import sys
 import threading
 import time
 
@@ -128,3 +131,59 @@ def test_lyapunov_releases_the_gil():
     inside = [s for s in stamps if start + margin < s < end - margin]
     assert end - start > 0.1, "the run is too short to tell"
     assert len(inside) >= 10, f"{len(inside)} stamps in a {end - start:.3f} s run"
+
+
+# The reference period-1 point of Fig. 8a at eta = 2 (tests/global/global_continuation.rs),
+# the ring at rest inside the gap: a start with no transient.
+FIG8A_POINT = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533, 0.0, 0.0]
+
+
+def interrupted_after(seconds, call):
+    """Raises Ctrl-C (`_thread.interrupt_main`) `seconds` into `call()`: the time until the
+    `KeyboardInterrupt` came out of it."""
+    timer = threading.Timer(seconds, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            call()
+    finally:
+        timer.cancel()
+    return time.monotonic() - start
+
+
+def test_ctrl_c_stops_lyapunov_exponents_between_periods():
+    # No transient: the periods of the library call itself (uninterrupted: 10 to 30 s, far
+    # past the bound).
+    p = jeffcott.Params.preset("fig9c")
+    elapsed = interrupted_after(
+        0.5, lambda: jeffcott.lyapunov_exponents(p, transient=0, periods=50_000))
+    assert elapsed < 5.0, f"KeyboardInterrupt after {elapsed:.2f} s"
+
+
+def test_ctrl_c_stops_a_continuation_between_steps():
+    # No transient: the continuation itself, in small steps (uninterrupted: about 30 s).
+    p = jeffcott.Params.preset("fig8a")
+    elapsed = interrupted_after(0.5, lambda: jeffcott.continue_orbit(
+        p, 2.0, 2.2, transient=0, state0=FIG8A_POINT, ds=1e-6, ds_max=1e-6,
+        max_points=10**6))
+    assert elapsed < 5.0, f"KeyboardInterrupt after {elapsed:.2f} s"
+
+
+def test_a_ctrl_c_pending_at_the_first_array_is_a_keyboard_interrupt():
+    # A fresh interpreter whose first numpy array from the extension comes after a Ctrl-C
+    # pressed during a call that does not look for it (Newton on P^2000 of the stable orbit of
+    # Fig. 8a, seconds long): the KeyboardInterrupt comes when the call returns, and numpy's
+    # C API, loaded by the extension's import, is not loaded under it (that was a panic).
+    code = (
+        "import _thread, threading, jeffcott\n"
+        "threading.Timer(0.3, _thread.interrupt_main).start()\n"
+        "try:\n"
+        "    jeffcott.periodic_orbit(jeffcott.Params.preset('fig8a'), 2000, transient=0,\n"
+        f"                            state0={FIG8A_POINT})\n"
+        "except KeyboardInterrupt:\n"
+        "    print('KeyboardInterrupt')\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0 and out.stdout.strip() == "KeyboardInterrupt", out.stderr[-2000:]

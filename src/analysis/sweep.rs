@@ -115,14 +115,26 @@ impl<T, E> SweepResult<T, E> {
     }
 }
 
-/// Observer of a sweep's progress. Object-safe; `()` does nothing.
+/// Observer of a long computation's progress, and its stop button. Object-safe; `()` does
+/// nothing and never stops.
 ///
-/// Implementations are called concurrently from the worker threads, hence `Sync`.
+/// A sweep calls it concurrently from the worker threads, hence `Sync`. The long single
+/// computations
+/// ([`lyapunov_exponents_with_progress`](crate::stability::lyapunov_exponents_with_progress),
+/// [`continue_orbit_with_progress`](crate::stability::continue_orbit_with_progress)) call it
+/// from their own thread after each unit of work, and ask [`should_stop`](Self::should_stop)
+/// between units: a caller's Ctrl-C or time limit ends them there, with what they computed.
 pub trait Progress: Sync {
-    /// Called once after each value finishes (successfully or not), with the number of values
-    /// finished so far and the total. Each `done` in `1..=total` is reported once, in no
-    /// guaranteed order.
+    /// Called once after each unit of work (a sweep's value, successfully or not), with the
+    /// number of units finished so far and the total. In a sweep each `done` in `1..=total` is
+    /// reported once, in no guaranteed order.
     fn update(&self, done: usize, total: usize);
+
+    /// Whether the computation should stop now. Asked between units of work by the long
+    /// single computations (not by the sweeps); default `false`, never.
+    fn should_stop(&self) -> bool {
+        false
+    }
 }
 
 impl Progress for () {

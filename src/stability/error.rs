@@ -4,6 +4,7 @@ use nalgebra::DVector;
 use thiserror::Error;
 
 use super::floquet::FloquetError;
+use super::lyapunov::LyapunovSpectrum;
 use crate::hybrid::SimErrorKind;
 
 /// Why a stability computation failed.
@@ -133,6 +134,20 @@ pub enum StabilityError {
     NoStroboscopicPoint {
         /// The map's number of forcing periods.
         periods: u64,
+    },
+    /// The caller's [`Progress`](crate::analysis::Progress) observer asked the computation to
+    /// stop ([`Progress::should_stop`](crate::analysis::Progress::should_stop)) after `done` of
+    /// `total` units of work (periods of Lyapunov exponents, points of a branch).
+    #[error("stopped by the caller after {done} of {total} units of work")]
+    Stopped {
+        /// Units finished.
+        done: u64,
+        /// Units planned.
+        total: u64,
+        /// What was computed by then: the Lyapunov exponents of the periods recorded so far
+        /// (`None` before the first recorded period, and for a branch, which comes back
+        /// whole with [`BranchEnd::Stopped`](crate::stability::BranchEnd::Stopped)).
+        partial: Option<Box<LyapunovSpectrum>>,
     },
     /// An option or an argument breaks its documented rule.
     #[error("invalid `{field}` = {value}: {hint}")]

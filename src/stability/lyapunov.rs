@@ -7,6 +7,7 @@ use super::error::StabilityError;
 use super::map::StroboscopicMap;
 use super::saltation::GRAZING_MARGIN;
 use super::statistics::{qr_step, BatchEstimate, BatchMeans};
+use crate::analysis::Progress;
 use crate::hybrid::{SimOptions, Variational, VariationalAlloc};
 
 /// Options of [`lyapunov_exponents`]. Start from `Default` and change fields with the `with_` builders.
@@ -175,7 +176,39 @@ where
     M: Variational,
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
+    lyapunov_exponents_with_progress(model, y0, opts, &())
+}
+
+/// [`lyapunov_exponents`] with an observer: `progress` is told `(k, align + periods)` after
+/// each period `k` of the alignment and the recording, and asked
+/// ([`Progress::should_stop`]) before the transient and before each of those periods whether
+/// to stop. The transient is one run, not asked inside: run a long one first and start from
+/// its end. The results are those of [`lyapunov_exponents`], bit for bit.
+///
+/// # Errors
+/// Those of [`lyapunov_exponents`], and [`StabilityError::Stopped`] when `progress` asks to
+/// stop, with the exponents of the periods recorded by then in `partial` (`None` before the
+/// first; its [`BatchEstimate::samples`] counts them).
+pub fn lyapunov_exponents_with_progress<M>(
+    model: &M,
+    y0: &OVector<f64, M::Dim>,
+    opts: &LyapunovOptions,
+    progress: &dyn Progress,
+) -> Result<LyapunovSpectrum, StabilityError>
+where
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
     check(opts)?;
+    let total = opts.align + opts.periods;
+    let stopped = |done, partial| StabilityError::Stopped {
+        done,
+        total,
+        partial,
+    };
+    if progress.should_stop() {
+        return Err(stopped(0, None));
+    }
     let mut y = y0.clone_owned();
     if opts.transient > 0 {
         y = StroboscopicMap::new(model, opts.transient, opts.sim)?
@@ -193,7 +226,12 @@ where
         // The second trajectory's separation is measured in units of the model's scale.
         scale: map.reduce(&model.state_scale()),
     });
-    for k in 0..opts.align + opts.periods {
+    for k in 0..total {
+        if progress.should_stop() {
+            let partial = (k > opts.align)
+                .then(|| Box::new(record.spectrum(model.forcing_period(), opts.separation, &y)));
+            return Err(stopped(k, partial));
+        }
         let recording = k >= opts.align;
         let lin = map.linearize_along(&y, &q)?;
         if let Some(second) = second.as_mut() {
@@ -208,8 +246,14 @@ where
         }
         q = qn;
         y = lin.y;
+        progress.update(units(k + 1), units(total));
     }
     Ok(record.spectrum(model.forcing_period(), opts.separation, &y))
+}
+
+/// A count of periods as the observer's `usize` (saturating on a 32-bit target).
+fn units(n: u64) -> usize {
+    usize::try_from(n).unwrap_or(usize::MAX)
 }
 
 fn check(opts: &LyapunovOptions) -> Result<(), StabilityError> {

@@ -22,6 +22,7 @@
 //! | [`periodic_orbit`] | Newton on $P^n(z) - z$: point, residual, multipliers, grazing margins |
 //! | [`lyapunov_exponents`] | QR (Benettin) spectrum with batch-means errors, two-trajectory check |
 //! | [`continue_orbit`], [`switch_at_flip`] | the continuation core: pseudo-arclength along a parameter (a closure builds the model) through folds, with fold, flip, Neimark–Sacker and grazing located, and branch switching at a flip |
+//! | [`lyapunov_exponents_with_progress`], [`continue_orbit_with_progress`] | the same with a [`Progress`](crate::analysis::Progress) observer, told of each period or point and asked between them whether to stop (Ctrl-C, a time limit): a stopped run returns what it computed ([`StabilityError::Stopped`], [`BranchEnd::Stopped`]) |
 //! | [`locate_loss`] | its natural-parameter case: where a stable orbit loses stability (flip, fold, Neimark–Sacker, grazing), or a failure with its error |
 //! | [`multipliers`], [`newton_fixed_point`], [`BatchEstimate`] | the numerics underneath, on plain matrices and closures ([Floquet multipliers](#floquet-multipliers), [Newton](#newton), [batch means and QR](#batch-means-and-qr)) |
 //!
@@ -339,13 +340,16 @@ mod statistics;
 
 pub use augmented::LinearEvent;
 pub use continuation::{
-    continue_orbit, locate_loss, switch_at_flip, Branch, BranchEnd, BranchFailure, BranchPoint,
-    Continuation, ContinuationOptions, ContinuationPoint, LossOptions, SpecialKind, SpecialPoint,
-    StabilityLoss,
+    continue_orbit, continue_orbit_with_progress, locate_loss, switch_at_flip, Branch, BranchEnd,
+    BranchFailure, BranchPoint, Continuation, ContinuationOptions, ContinuationPoint, LossOptions,
+    SpecialKind, SpecialPoint, StabilityLoss,
 };
 pub use error::StabilityError;
 pub use floquet::{multipliers, CrossingKind, FloquetError, Multiplier};
-pub use lyapunov::{lyapunov_exponents, LyapunovOptions, LyapunovSpectrum, TwoTrajectory};
+pub use lyapunov::{
+    lyapunov_exponents, lyapunov_exponents_with_progress, LyapunovOptions, LyapunovSpectrum,
+    TwoTrajectory,
+};
 pub use map::{Advanced, Linearization, StroboscopicMap};
 pub use newton::{newton_fixed_point, FixedPoint, MapValue, NewtonError, NewtonOptions};
 pub use orbit::{periodic_orbit, OrbitMargins, OrbitOptions, PeriodicOrbit};

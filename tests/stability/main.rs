@@ -12,4 +12,5 @@ mod stability_jacobian;
 mod stability_lyapunov;
 mod stability_models;
 mod stability_orbits;
+mod stability_progress;
 mod stability_saltation;

@@ -1,6 +1,9 @@
+use std::cell::Cell;
+
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 
 use super::{canonical, crossings, model, SpecialKind};
+use crate::analysis::Progress;
 use crate::hybrid::{SimOptions, Variational, VariationalAlloc};
 use crate::numeric::{bisect, Side};
 use crate::stability::newton::{self, NewtonOptions, Rule, System};
@@ -212,6 +215,12 @@ pub enum BranchEnd {
         /// The last corrector failure.
         reason: StabilityError,
     },
+    /// The caller's observer asked to stop
+    /// ([`continue_orbit_with_progress`]): the branch is what was computed by then.
+    Stopped {
+        /// The last parameter reached.
+        parameter: f64,
+    },
 }
 
 /// A continued branch of period-`period` orbits.
@@ -278,6 +287,10 @@ struct Solver<'a, B> {
     scale: DVector<f64>,
     /// $s_p$.
     param_scale: f64,
+    /// Told of each point, asked before each step and each bisection whether to stop.
+    progress: &'a dyn Progress,
+    /// Whether it said so: once it has, every later question is answered yes without it.
+    stopped: Cell<bool>,
 }
 
 impl<'a, B, M, E> Solver<'a, B>
@@ -306,8 +319,18 @@ where
             opts,
             scale,
             param_scale,
+            progress: &(),
+            stopped: Cell::new(false),
         };
         Ok((solver, model))
+    }
+
+    /// Whether to stop: the observer's answer, kept once it is yes.
+    fn stop_asked(&self) -> bool {
+        if !self.stopped.get() && self.progress.should_stop() {
+            self.stopped.set(true);
+        }
+        self.stopped.get()
     }
 
     /// The scaled coordinates of $(z, p)$.
@@ -622,7 +645,10 @@ where
         reason,
     };
     match solver.point(&first, 0.0) {
-        Ok(p) => branch.points.push(p),
+        Ok(p) => {
+            branch.points.push(p);
+            solver.progress.update(1, opts.max_points);
+        }
         Err(reason) => {
             branch.end = stalled(&first.w, reason);
             return branch;
@@ -632,6 +658,10 @@ where
     branch.end = loop {
         if branch.points.len() >= opts.max_points {
             break BranchEnd::MaxPoints;
+        }
+        if solver.stop_asked() {
+            let parameter = cur.w[k] * solver.param_scale;
+            break BranchEnd::Stopped { parameter };
         }
         let next = match step(solver, &cur, &t, ds) {
             Ok(s) => s,
@@ -657,6 +687,7 @@ where
             ds = (ds * 1.5).min(opts.ds_max);
         }
         branch.points.push(point);
+        solver.progress.update(branch.points.len(), opts.max_points);
         cur = next;
         if p_next < range.0 || p_next > range.1 {
             break BranchEnd::Reached;
@@ -705,6 +736,14 @@ where
     // (z, p) and stops the search (`Err`) once they are within the width or it fails.
     let probe = |_: f64| {
         if solver.width(&near.w, &far.w) <= width {
+            return Err(());
+        }
+        if solver.stop_asked() {
+            stopped = Some(StabilityError::Stopped {
+                done: after_point as u64 + 1,
+                total: solver.opts.max_points as u64,
+                partial: None,
+            });
             return Err(());
         }
         let mid = (&near.w + &far.w) * 0.5;
@@ -817,6 +856,35 @@ where
     M: Variational,
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
+    continue_orbit_with_progress(build, from, to, guess, period, opts, &())
+}
+
+/// [`continue_orbit`] with an observer: `progress` is told `(points, max_points)` after each
+/// point of the branch, and asked ([`Progress::should_stop`]) before each step and each
+/// bisection step of a special point's location whether to stop. Once it says yes (it is not
+/// asked again), the branch ends with [`BranchEnd::Stopped`] at the next point; a special
+/// point whose location it cut short is unconverged, with [`StabilityError::Stopped`]. The
+/// start's Newton is not cut short. Until the stop the results are those of
+/// [`continue_orbit`], bit for bit.
+///
+/// # Errors
+/// Those of [`continue_orbit`].
+#[allow(clippy::too_many_arguments)] // continue_orbit's arguments and the observer
+pub fn continue_orbit_with_progress<M, B, E>(
+    build: B,
+    from: f64,
+    to: f64,
+    guess: &OVector<f64, M::Dim>,
+    period: u64,
+    opts: &ContinuationOptions,
+    progress: &dyn Progress,
+) -> Result<Branch, StabilityError>
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
     check(opts)?;
     if !(from.is_finite() && to.is_finite() && from != to) || period == 0 {
         return Err(StabilityError::InvalidOption {
@@ -830,7 +898,8 @@ where
         parameter: from,
         source: Box::new(e),
     };
-    let (solver, model) = Solver::new(&build, period, opts, from).map_err(no_start)?;
+    let (mut solver, model) = Solver::new(&build, period, opts, from).map_err(no_start)?;
+    solver.progress = progress;
     let map = StroboscopicMap::new(&model, period, opts.sim).map_err(no_start)?;
     let w = solver.scaled(&map.reduce(guess), from);
     let k = w.len() - 1;

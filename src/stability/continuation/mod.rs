@@ -2,8 +2,8 @@ mod arclength;
 mod loss;
 
 pub use arclength::{
-    continue_orbit, switch_at_flip, Branch, BranchEnd, BranchPoint, ContinuationOptions,
-    SpecialPoint,
+    continue_orbit, continue_orbit_with_progress, switch_at_flip, Branch, BranchEnd, BranchPoint,
+    ContinuationOptions, SpecialPoint,
 };
 pub use loss::{
     locate_loss, BranchFailure, Continuation, ContinuationPoint, LossOptions, StabilityLoss,
