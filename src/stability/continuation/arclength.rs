@@ -720,7 +720,6 @@ where
     state: OVector<f64, D>,
 }
 
-
 /// Locates the special point `kind` between the solved points `a` and `b` (branch points
 /// `pa`, `pb`) by the one locator; `same` says whether a point is still like `pa`.
 fn locate<B, M, E>(

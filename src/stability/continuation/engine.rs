@@ -213,7 +213,10 @@ mod tests {
         };
         // Growth by 2 up to the largest step, 0.5: 0.25, then 0.5 twice reach 1.25.
         let end = march(&mut line, 0.0, &control(0.01, Growth::Grow(2.0)));
-        assert_eq!((end, line.tried.as_slice()), (1.25, [0.25, 0.5, 0.5].as_slice()));
+        assert_eq!(
+            (end, line.tried.as_slice()),
+            (1.25, [0.25, 0.5, 0.5].as_slice())
+        );
         // A failed step (limit 0.3) halved to 1/32, then back to 0.25 after the success; the
         // second time down to 1/64, the third time it stalls.
         let mut line = Line {
