@@ -467,7 +467,9 @@ where
     /// Locates what happened between the stable `last` and `far`: a loss or a failure that
     /// ends the continuation, or a grazing it goes on through.
     fn bracketed(&mut self, last: Solved<M::Dim>, far: Far<M::Dim>) -> NaturalFlow<M::Dim> {
-        match bisect_loss(&self.stepper, last, far, &self.structure) {
+        let (stepper, width) = (&self.stepper, self.stepper.opts.bracket_width);
+        let solve = |p, t: &_, z: &_| stepper.solve(p, t, z);
+        match bisect_with(&solve, last, far, &self.structure, width) {
             (End::Loss(loss), Some(next))
                 if self.stepper.opts.through_grazing
                     && loss.kind == SpecialKind::Grazing
@@ -531,30 +533,8 @@ const FOLD_MULTIPLIER: f64 = 0.95;
 /// The far end of a bracket: a parameter and the orbit there, or why there is none.
 type Far<D> = (f64, Result<PeriodicOrbit<D>, StabilityError>);
 
-/// Bisects `[a, b]` (stable with the reference structure at `a`, not at `b`) to the bracket
-/// width, by the one locator.
-fn bisect_loss<F, M, E>(
-    stepper: &Stepper<'_, F>,
-    a: Solved<M::Dim>,
-    b: Far<M::Dim>,
-    structure: &[&'static str],
-) -> (End<M::Dim>, Option<Solved<M::Dim>>)
-where
-    M: Variational,
-    F: Fn(f64) -> Result<M, E>,
-    E: std::fmt::Display,
-    DefaultAllocator: VariationalAlloc<M::Dim>,
-{
-    bisect_with(
-        &|p, t, z| stepper.solve(p, t, z),
-        a,
-        b,
-        structure,
-        stepper.opts.bracket_width,
-    )
-}
-
-/// [`bisect_loss`] with the orbit solver `solve` and the width `tol`.
+/// Bisects `[a, b]` (stable with the reference structure at `a`, not at `b`) to the width
+/// `tol` by the one locator, each orbit found by `solve`.
 fn bisect_with<D, S>(
     solve: &S,
     a: Solved<D>,
