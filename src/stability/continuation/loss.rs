@@ -418,7 +418,8 @@ where
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
     type Point = Solved<M::Dim>;
-    type Failure = (f64, StabilityError);
+    /// The far end of a bracket: no orbit, or one that is lost.
+    type Failure = Far<M::Dim>;
     /// `None`: `to` reached.
     type End = Option<End<M::Dim>>;
 
@@ -429,13 +430,13 @@ where
         ((cur.0 - self.to) * self.dir >= 0.0).then_some(None)
     }
 
-    fn step(&mut self, cur: &Solved<M::Dim>, ds: f64) -> Result<Solved<M::Dim>, Self::Failure> {
+    fn step(&mut self, cur: &Solved<M::Dim>, ds: f64) -> Result<Solved<M::Dim>, Far<M::Dim>> {
         self.steps += 1;
         let p = next_parameter(cur.0, ds * self.dir, self.to, self.dir);
         let z = predict(cur, &self.before, p);
         match self.stepper.solve(p, &cur.1.state, &z) {
             Ok(o) => Ok((p, o)),
-            Err(e) => Err((p, e)),
+            Err(e) => Err((p, Err(e))),
         }
     }
 
@@ -445,28 +446,16 @@ where
 
     fn accept(&mut self, cur: Self::Point, next: Self::Point) -> Flow<Self::Point, Self::End> {
         if is_lost(&next.1, &self.structure) {
-            return self.bracketed(cur, (next.0, Ok(next.1)));
+            return self.stall(cur, (next.0, Ok(next.1)));
         }
         self.c.path.push(point(next.0, &next.1));
         self.before = Some((cur.0, cur.1.point));
         Flow::Go(next)
     }
 
-    fn stall(&mut self, cur: Self::Point, (p, e): Self::Failure) -> Flow<Self::Point, Self::End> {
-        self.bracketed(cur, (p, Err(e)))
-    }
-}
-
-impl<F, M, E> Natural<'_, F, M::Dim>
-where
-    M: Variational,
-    F: Fn(f64) -> Result<M, E>,
-    E: std::fmt::Display,
-    DefaultAllocator: VariationalAlloc<M::Dim>,
-{
     /// Locates what happened between the stable `last` and `far`: a loss or a failure that
     /// ends the continuation, or a grazing it goes on through.
-    fn bracketed(&mut self, last: Solved<M::Dim>, far: Far<M::Dim>) -> NaturalFlow<M::Dim> {
+    fn stall(&mut self, last: Self::Point, far: Far<M::Dim>) -> Flow<Self::Point, Self::End> {
         let (stepper, width) = (&self.stepper, self.stepper.opts.bracket_width);
         let solve = |p, t: &_, z: &_| stepper.solve(p, t, z);
         match bisect_with(&solve, last, far, &self.structure, width) {
@@ -485,9 +474,6 @@ where
         }
     }
 }
-
-/// What the natural mode does after a step.
-type NaturalFlow<D> = Flow<Solved<D>, Option<End<D>>>;
 
 /// `last + step`, or `to` if that is beyond it (in the direction `dir`).
 fn next_parameter(last: f64, step: f64, to: f64, dir: f64) -> f64 {
