@@ -305,12 +305,17 @@
 //! [`StabilityLoss`] always has a bracket of at most the width (or two adjacent floats). The
 //! kinds are the one definition of the continuation above ([`SpecialKind`]).
 //!
-//! Why this loop and not [`continue_orbit`]'s: with the parameter held fixed (the constraint
-//! row $e_p$) the core's bordered corrector is Newton on $P^n(z) - z$, which is what
-//! [`periodic_orbit`] runs (the one Newton, with its step halvings), so the steps here call
-//! that directly. Through the core each solve would also evaluate $F_p$ (two more runs of the
-//! map per iteration, unused at a fixed parameter) and return a branch point without what this
-//! question needs at every step: the orbit's margins, minimal period and monodromy.
+//! **One core, two correctors.** [`locate_loss`] and [`continue_orbit`] run the same
+//! stepping loop (its step control, budget and stop rules) and the same locator; they differ
+//! in the corrector. With the parameter held fixed (the constraint row $e_p$) the bordered
+//! corrector is Newton on $P^n(z) - z$, which is what [`periodic_orbit`] runs (the one Newton,
+//! with its step halvings), so the natural mode's corrector calls that: through the bordered
+//! corrector each solve would also evaluate $F_p$ (two more runs of the map per iteration,
+//! unused at a fixed parameter) and return a branch point without what this question needs at
+//! every step: the orbit's margins, minimal period and monodromy. The step control has the
+//! natural mode's settings: a failed step is halved while it is wider than
+//! [`LossOptions::bracket_width`] (then the failure itself is bisected, a fold or grazing end
+//! located from it), a successful one goes back to [`LossOptions::step`].
 //!
 //! **A failure is not a bifurcation.** Where no orbit is found at the far end of the final
 //! bracket, the branch ends there; that is called a bifurcation only on positive evidence at

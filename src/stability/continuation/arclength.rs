@@ -2,10 +2,10 @@ use std::cell::Cell;
 
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 
+use super::engine::{march, narrow, Flow, Growth, Mode, Probe, StepControl};
 use super::{canonical, crossings, model, SpecialKind};
 use crate::analysis::Progress;
 use crate::hybrid::{SimOptions, Variational, VariationalAlloc};
-use crate::numeric::{bisect, Side};
 use crate::stability::newton::{self, NewtonOptions, Rule, System};
 use crate::stability::orbit::newton_error;
 use crate::stability::{multipliers, Multiplier, StabilityError, StroboscopicMap, GRAZING_MARGIN};
@@ -478,6 +478,14 @@ where
         })
     }
 
+    /// The end of a branch that stalled at the scaled point `w` for `reason`.
+    fn stalled(&self, w: &DVector<f64>, reason: StabilityError) -> BranchEnd {
+        BranchEnd::Stalled {
+            parameter: w[w.len() - 1] * self.param_scale,
+            reason,
+        }
+    }
+
     /// The bracket's width: in the parameter's units, and in $z$ relative to its scale.
     fn width(&self, a: &DVector<f64>, b: &DVector<f64>) -> f64 {
         let k = a.len() - 1;
@@ -616,7 +624,7 @@ where
 }
 
 /// Follows the branch from the solved point `first` (tangent initialised along `dir` in $p$),
-/// while the parameter stays in `range`.
+/// while the parameter stays in `range`: the continuation core in its arclength mode.
 fn follow<B, M, E>(
     solver: &Solver<'_, B>,
     first: Solved<M::Dim>,
@@ -633,16 +641,11 @@ where
     let k = first.w.len() - 1;
     let mut prev_t = DVector::<f64>::zeros(k + 1);
     prev_t[k] = dir;
-    let mut t = solver.tangent(&first.eval, &prev_t);
     let mut branch = Branch {
         period: solver.period,
         points: Vec::new(),
         specials: Vec::new(),
         end: BranchEnd::Reached,
-    };
-    let stalled = |w: &DVector<f64>, reason| BranchEnd::Stalled {
-        parameter: w[k] * solver.param_scale,
-        reason,
     };
     match solver.point(&first, 0.0) {
         Ok(p) => {
@@ -650,50 +653,97 @@ where
             solver.progress.update(1, opts.max_points);
         }
         Err(reason) => {
-            branch.end = stalled(&first.w, reason);
+            branch.end = solver.stalled(&first.w, reason);
             return branch;
         }
     }
-    let (mut cur, mut arclength, mut ds) = (first, 0.0, opts.ds);
-    branch.end = loop {
-        if branch.points.len() >= opts.max_points {
-            break BranchEnd::MaxPoints;
-        }
-        if solver.stop_asked() {
-            let parameter = cur.w[k] * solver.param_scale;
-            break BranchEnd::Stopped { parameter };
-        }
-        let next = match step(solver, &cur, &t, ds) {
-            Ok(s) => s,
-            Err(reason) => {
-                ds *= 0.5;
-                if ds < opts.ds_min {
-                    break stalled(&cur.w, reason);
-                }
-                continue;
-            }
-        };
-        arclength += (&next.w - &cur.w).norm();
-        let point = match solver.point(&next, arclength) {
-            Ok(p) => p,
-            Err(reason) => break stalled(&next.w, reason),
-        };
-        let last = branch.points.len() - 1;
-        let found = specials_between(solver, (&cur, &branch.points[last]), (&next, &point), last);
-        branch.specials.extend(found);
-        let p_next = point.parameter;
-        t = solver.tangent(&next.eval, &t);
-        if next.iterations <= 3 {
-            ds = (ds * 1.5).min(opts.ds_max);
-        }
-        branch.points.push(point);
-        solver.progress.update(branch.points.len(), opts.max_points);
-        cur = next;
-        if p_next < range.0 || p_next > range.1 {
-            break BranchEnd::Reached;
-        }
+    let mut mode = Arclength {
+        t: solver.tangent(&first.eval, &prev_t),
+        solver,
+        branch,
+        arclength: 0.0,
+        range,
     };
-    branch
+    let control = StepControl {
+        first: opts.ds,
+        min: opts.ds_min,
+        max: opts.ds_max,
+        growth: Growth::Grow(1.5),
+    };
+    mode.branch.end = march(&mut mode, first, &control);
+    mode.branch
+}
+
+/// The arclength mode of the continuation core: each step is corrected in $(z, p)$ on the
+/// hyperplane normal to the tangent, every special point met is located and passed.
+struct Arclength<'s, 'a, B> {
+    solver: &'s Solver<'a, B>,
+    /// The unit tangent at the current point.
+    t: DVector<f64>,
+    /// The branch so far.
+    branch: Branch,
+    /// Arclength of the current point.
+    arclength: f64,
+    /// The parameter's range.
+    range: (f64, f64),
+}
+
+impl<B, M, E> Mode for Arclength<'_, '_, B>
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    type Point = Solved<M::Dim>;
+    type Failure = StabilityError;
+    type End = BranchEnd;
+
+    fn stop(&mut self, cur: &Solved<M::Dim>) -> Option<BranchEnd> {
+        if self.branch.points.len() >= self.solver.opts.max_points {
+            return Some(BranchEnd::MaxPoints);
+        }
+        let k = cur.w.len() - 1;
+        let parameter = cur.w[k] * self.solver.param_scale;
+        self.solver
+            .stop_asked()
+            .then_some(BranchEnd::Stopped { parameter })
+    }
+
+    fn step(&mut self, cur: &Solved<M::Dim>, ds: f64) -> Result<Solved<M::Dim>, StabilityError> {
+        step(self.solver, cur, &self.t, ds)
+    }
+
+    fn easy(&self, next: &Solved<M::Dim>) -> bool {
+        next.iterations <= 3
+    }
+
+    fn accept(&mut self, cur: Self::Point, next: Self::Point) -> Flow<Self::Point, BranchEnd> {
+        self.arclength += (&next.w - &cur.w).norm();
+        let point = match self.solver.point(&next, self.arclength) {
+            Ok(p) => p,
+            Err(reason) => return Flow::Stop(self.solver.stalled(&next.w, reason)),
+        };
+        let points = &self.branch.points;
+        let last = points.len() - 1;
+        let found = specials_between(self.solver, (&cur, &points[last]), (&next, &point), last);
+        self.branch.specials.extend(found);
+        let p_next = point.parameter;
+        self.t = self.solver.tangent(&next.eval, &self.t);
+        self.branch.points.push(point);
+        let opts = self.solver.opts;
+        self.solver
+            .progress
+            .update(self.branch.points.len(), opts.max_points);
+        if p_next < self.range.0 || p_next > self.range.1 {
+            return Flow::Stop(BranchEnd::Reached);
+        }
+        Flow::Go(next)
+    }
+
+    fn stall(&mut self, cur: Self::Point, reason: StabilityError) -> Flow<Self::Point, BranchEnd> {
+        Flow::Stop(self.solver.stalled(&cur.w, reason))
+    }
 }
 
 /// One end of a locator's bracket: the corrected point, its branch point and its $DP^n$.
@@ -708,7 +758,7 @@ where
 }
 
 /// Locates the special point `kind` between the solved points `a` and `b` (branch points
-/// `pa`, `pb`) by the one bisection; `same` says whether a point is still like `pa`.
+/// `pa`, `pb`) by the one locator; `same` says whether a point is still like `pa`.
 fn locate<B, M, E>(
     solver: &Solver<'_, B>,
     kind: SpecialKind,
@@ -730,50 +780,38 @@ where
         state: s.eval.state.clone(),
     };
     let width = solver.opts.bracket_width;
-    let (mut near, mut far) = (end(a, pa), end(b, pb));
-    let mut stopped = None;
-    // The one bisection on the secant's fraction; the probe keeps the ends, bisects them in
-    // (z, p) and stops the search (`Err`) once they are within the width or it fails.
-    let probe = |_: f64| {
+    // The bisection on the secant's fraction; each probe bisects the ends in (z, p) and stops
+    // the search (`Err`) once they are within the width (`None`) or the corrector fails.
+    let ends = (end(a, pa), end(b, pb));
+    let (near, far, out) = narrow(ends, (0.0, 1.0), (0.0, 200), |_, near, far| {
         if solver.width(&near.w, &far.w) <= width {
-            return Err(());
+            return Err(None);
         }
         if solver.stop_asked() {
-            stopped = Some(StabilityError::Stopped {
+            return Err(Some(StabilityError::Stopped {
                 done: after_point as u64 + 1,
                 total: solver.opts.max_points as u64,
                 partial: None,
-            });
-            return Err(());
+            }));
         }
         let mid = (&near.w + &far.w) * 0.5;
         let normal = &far.w - &near.w;
-        let verdict = solver
+        match solver
             .correct(&mid, &normal, &mid, &near.state)
-            .and_then(|s| solver.point(&s, 0.0).map(|p| end(&s, &p)));
-        match verdict {
-            Ok(e) if same(&e.point) => {
-                near = e;
-                Ok(Side::Near)
-            }
-            Ok(e) => {
-                far = e;
-                Ok(Side::Far)
-            }
-            Err(error) => {
-                stopped = Some(error);
-                Err(())
-            }
+            .and_then(|s| solver.point(&s, 0.0).map(|p| end(&s, &p)))
+        {
+            Ok(e) if same(&e.point) => Ok(Probe::Near(e)),
+            Ok(e) => Ok(Probe::Far(e)),
+            Err(error) => Err(Some(error)),
         }
-    };
-    let _ = bisect(0.0, 1.0, 0.0, 200, probe);
+    });
     let k = near.w.len() - 1;
     let (pn, pf) = (
         near.w[k] * solver.param_scale,
         far.w[k] * solver.param_scale,
     );
     let unconverged = (solver.width(&near.w, &far.w) > width).then(|| {
-        stopped.unwrap_or(StabilityError::Budget {
+        out.err().flatten().unwrap_or(StabilityError::Budget {
             field: "bisections",
             limit: 200.0,
             parameter: 0.5 * (pn + pf),

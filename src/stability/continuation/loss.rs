@@ -1,8 +1,8 @@
 use nalgebra::{DVector, DefaultAllocator, OVector};
 
+use super::engine::{march, narrow, Flow, Growth, Mode, Probe, StepControl};
 use super::{canonical, crossings, largest_real_positive, model, SpecialKind};
 use crate::hybrid::{Variational, VariationalAlloc};
-use crate::numeric::{bisect, Side};
 use crate::stability::error::StabilityError;
 use crate::stability::floquet::{CrossingKind, Multiplier};
 use crate::stability::map::StroboscopicMap;
@@ -332,8 +332,8 @@ where
 }
 
 /// Continues the period-`period` orbit through the full state `guess` at parameter `from`
-/// towards `to` and locates its first loss of stability (module docs). `build(p)` makes the
-/// model at `p`.
+/// towards `to` and locates its first loss of stability (module docs): the continuation core
+/// in its natural-parameter mode. `build(p)` makes the model at `p`.
 ///
 /// # Errors
 /// [`StabilityError::InvalidOption`] for bad options, [`StabilityError::Model`] for a model
@@ -357,64 +357,122 @@ where
 {
     check(from, to, opts)?;
     let (stepper, first) = start(&build, from, guess, period, opts)?;
-    let mut c = Continuation {
-        loss: None,
-        failure: None,
-        path: vec![point(from, &first)],
-        grazings: Vec::new(),
+    let mut mode = Natural {
+        structure: canonical(&first.margins.structure),
+        c: Continuation {
+            loss: None,
+            failure: None,
+            path: vec![point(from, &first)],
+            grazings: Vec::new(),
+        },
+        stepper,
+        to,
+        dir: (to - from).signum(),
+        before: None,
+        steps: 0,
     };
-    let mut structure = canonical(&first.margins.structure);
-    let dir = (to - from).signum();
-    let mut step = opts.step.abs() * dir;
-    let mut last: Solved<M::Dim> = (from, first);
-    let mut before: Option<(f64, DVector<f64>)> = None;
-    // Its own stepping rule, not the arclength core's `follow`: each orbit is solved at a fixed
-    // parameter by `periodic_orbit` (the one Newton with its line search, and the minimal-period
-    // check), a failed step halves only down to `bracket_width`, and then the failure itself is
-    // bisected (a fold or grazing end is located from it). `follow` corrects in (z, p) with full
-    // Newton steps and F_p by central differences (two more period-n runs per iteration, unused
-    // on an e_p constraint) and stalls below `ds_min`: through it the path would move.
-    for _ in 0..opts.max_steps {
-        if (last.0 - to) * dir >= 0.0 {
-            return Ok(c);
+    // A failed step is halved while it is above the bracket width (the half at least the next
+    // float above half the width); then the failure itself is bisected.
+    let control = StepControl {
+        first: opts.step.abs(),
+        min: (0.5 * opts.bracket_width).next_up(),
+        max: opts.step.abs(),
+        growth: Growth::Reset,
+    };
+    let end = march(&mut mode, (from, first), &control);
+    let mut c = mode.c;
+    match end {
+        Some(End::Loss(loss)) => c.loss = Some(loss),
+        Some(End::Failure(f)) => c.failure = Some(f),
+        None => {}
+    }
+    Ok(c)
+}
+
+/// The natural-parameter mode of the continuation core: each step solves the orbit at a fixed
+/// parameter ([`Stepper::solve`]), the first loss of stability ends it (a grazing after which
+/// the orbit is still stable does not, with [`LossOptions::through_grazing`]).
+struct Natural<'a, F, D: nalgebra::Dim>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    stepper: Stepper<'a, F>,
+    /// The end of the range and the direction towards it ($\pm 1$).
+    to: f64,
+    dir: f64,
+    /// The event structure of the orbit followed.
+    structure: Vec<&'static str>,
+    /// The point before the current one, for the secant prediction.
+    before: Option<(f64, DVector<f64>)>,
+    /// Steps tried.
+    steps: usize,
+    /// The outcome so far.
+    c: Continuation<D>,
+}
+
+impl<F, M, E> Mode for Natural<'_, F, M::Dim>
+where
+    M: Variational,
+    F: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    type Point = Solved<M::Dim>;
+    /// The far end of a bracket: no orbit, or one that is lost.
+    type Failure = Far<M::Dim>;
+    /// `None`: `to` reached.
+    type End = Option<End<M::Dim>>;
+
+    fn stop(&mut self, cur: &Solved<M::Dim>) -> Option<Self::End> {
+        if self.steps >= self.stepper.opts.max_steps {
+            return Some(Some(End::Failure(out_of_steps(self.stepper.opts, cur))));
         }
-        let p = next_parameter(last.0, step, to, dir);
-        let z = predict(&last, &before, p);
-        let far = match stepper.solve(p, &last.1.state, &z) {
-            Ok(o) if !is_lost(&o, &structure) => {
-                c.path.push(point(p, &o));
-                before = Some((last.0, last.1.point.clone()));
-                last = (p, o);
-                step = opts.step.abs() * dir;
-                continue;
-            }
-            Err(_) if step.abs() > opts.bracket_width => {
-                step *= 0.5;
-                continue;
-            }
-            far => far,
-        };
-        match bisect_loss(&stepper, last, (p, far), &structure) {
+        ((cur.0 - self.to) * self.dir >= 0.0).then_some(None)
+    }
+
+    fn step(&mut self, cur: &Solved<M::Dim>, ds: f64) -> Result<Solved<M::Dim>, Far<M::Dim>> {
+        self.steps += 1;
+        let p = next_parameter(cur.0, ds * self.dir, self.to, self.dir);
+        let z = predict(cur, &self.before, p);
+        match self.stepper.solve(p, &cur.1.state, &z) {
+            Ok(o) => Ok((p, o)),
+            Err(e) => Err((p, Err(e))),
+        }
+    }
+
+    fn easy(&self, _: &Solved<M::Dim>) -> bool {
+        true
+    }
+
+    fn accept(&mut self, cur: Self::Point, next: Self::Point) -> Flow<Self::Point, Self::End> {
+        if is_lost(&next.1, &self.structure) {
+            return self.stall(cur, (next.0, Ok(next.1)));
+        }
+        self.c.path.push(point(next.0, &next.1));
+        self.before = Some((cur.0, cur.1.point));
+        Flow::Go(next)
+    }
+
+    /// Locates what happened between the stable `last` and `far`: a loss or a failure that
+    /// ends the continuation, or a grazing it goes on through.
+    fn stall(&mut self, last: Self::Point, far: Far<M::Dim>) -> Flow<Self::Point, Self::End> {
+        let (stepper, width) = (&self.stepper, self.stepper.opts.bracket_width);
+        let solve = |p, t: &_, z: &_| stepper.solve(p, t, z);
+        match bisect_with(&solve, last, far, &self.structure, width) {
             (End::Loss(loss), Some(next))
-                if opts.through_grazing
+                if self.stepper.opts.through_grazing
                     && loss.kind == SpecialKind::Grazing
                     && next.1.spectral_radius() < 1.0 =>
             {
-                structure = canonical(&next.1.margins.structure);
-                c.path.push(point(next.0, &next.1));
-                c.grazings.push(loss);
-                before = None;
-                last = next;
-                step = opts.step.abs() * dir;
-                continue;
+                self.structure = canonical(&next.1.margins.structure);
+                self.c.path.push(point(next.0, &next.1));
+                self.c.grazings.push(loss);
+                self.before = None;
+                Flow::Go(next)
             }
-            (End::Loss(loss), _) => c.loss = Some(loss),
-            (End::Failure(f), _) => c.failure = Some(f),
+            (end, _) => Flow::Stop(Some(end)),
         }
-        return Ok(c);
     }
-    c.failure = Some(out_of_steps(opts, last));
-    Ok(c)
 }
 
 /// `last + step`, or `to` if that is beyond it (in the direction `dir`).
@@ -427,7 +485,7 @@ fn next_parameter(last: f64, step: f64, to: f64, dir: f64) -> f64 {
 }
 
 /// The failure when `max_steps` run out at `last`.
-fn out_of_steps<D: nalgebra::Dim>(opts: &LossOptions, last: Solved<D>) -> BranchFailure<D>
+fn out_of_steps<D: nalgebra::Dim>(opts: &LossOptions, last: &Solved<D>) -> BranchFailure<D>
 where
     DefaultAllocator: VariationalAlloc<D>,
 {
@@ -440,7 +498,7 @@ where
         parameter: last.0,
         error,
         last_parameter: last.0,
-        last_orbit: last.1,
+        last_orbit: last.1.clone(),
     }
 }
 
@@ -461,30 +519,8 @@ const FOLD_MULTIPLIER: f64 = 0.95;
 /// The far end of a bracket: a parameter and the orbit there, or why there is none.
 type Far<D> = (f64, Result<PeriodicOrbit<D>, StabilityError>);
 
-/// Bisects `[a, b]` (stable with the reference structure at `a`, not at `b`) to the bracket
-/// width, by the one locator.
-fn bisect_loss<F, M, E>(
-    stepper: &Stepper<'_, F>,
-    a: Solved<M::Dim>,
-    b: Far<M::Dim>,
-    structure: &[&'static str],
-) -> (End<M::Dim>, Option<Solved<M::Dim>>)
-where
-    M: Variational,
-    F: Fn(f64) -> Result<M, E>,
-    E: std::fmt::Display,
-    DefaultAllocator: VariationalAlloc<M::Dim>,
-{
-    bisect_with(
-        &|p, t, z| stepper.solve(p, t, z),
-        a,
-        b,
-        structure,
-        stepper.opts.bracket_width,
-    )
-}
-
-/// [`bisect_loss`] with the orbit solver `solve` and the width `tol`.
+/// Bisects `[a, b]` (stable with the reference structure at `a`, not at `b`) to the width
+/// `tol` by the one locator, each orbit found by `solve`.
 fn bisect_with<D, S>(
     solve: &S,
     a: Solved<D>,
@@ -499,22 +535,15 @@ where
 {
     let start_real = largest_real_positive(&a.1.multipliers);
     let ends = (a.0, b.0);
-    let (mut a, mut b) = (a, b);
-    // The probe keeps the orbits at the ends: a solve at the midpoint, warm-started from the
-    // near end.
-    let probe = |mid: f64| {
+    // Each probe solves at the midpoint, warm-started from the near end; a failure there is
+    // like the far end (the bracket then holds the branch's end).
+    let (a, b, out) = narrow((a, b), ends, (tol, usize::MAX), |mid, a, _| {
         Ok::<_, std::convert::Infallible>(match solve(mid, &a.1.state, &a.1.point) {
-            Ok(o) if !is_lost(&o, structure) => {
-                a = (mid, o);
-                Side::Near
-            }
-            other => {
-                b = (mid, other);
-                Side::Far
-            }
+            Ok(o) if !is_lost(&o, structure) => Probe::Near((mid, o)),
+            other => Probe::Far((mid, other)),
         })
-    };
-    let Ok(_) = bisect(ends.0, ends.1, tol, usize::MAX, probe);
+    });
+    let Ok(_) = out;
     match b.1 {
         Ok(o) => {
             let l = crossing(a, b.0, &o, structure);

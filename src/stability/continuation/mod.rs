@@ -1,4 +1,5 @@
 mod arclength;
+mod engine;
 mod loss;
 
 pub use arclength::{
