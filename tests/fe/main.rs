@@ -9,6 +9,7 @@ mod energy;
 #[path = "../support/rng.rs"]
 mod rng;
 
+mod fe_drive;
 mod fe_eccentric;
 mod fe_energy;
 mod fe_error_weights;
