@@ -111,10 +111,10 @@ mod speed;
 mod speed_law;
 
 pub use drive::{DrivenJeffcott, MotorTorque, ETA, PHASE};
+pub use drive_linear::DrivenLinearRotor;
 pub use exact::{
     LinearClosedForm, LinearFreeFlight, LinearFreeSegment, LinearSegment, DEFAULT_MAX_CONDITION,
 };
-pub use drive_linear::DrivenLinearRotor;
 pub use linear::{LinearRotor, LinearSystem};
 pub use linear_profiled::ProfiledLinearRotor;
 pub use matrices::{DofLayout, RotorMatrices};

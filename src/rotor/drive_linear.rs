@@ -202,7 +202,12 @@ impl SmoothRotor for DrivenLinearRotor {
         dy.rows_mut(0, n).copy_from(&y.rows(n, n));
         let mut accel = dy.rows_mut(n, n);
         accel.gemv(1.0, &r.accel, &y.rows(0, 2 * n), 0.0);
-        accel.gemv(speed - r.system().speed(), &self.gyroscopic, &y.rows(n, n), 1.0);
+        accel.gemv(
+            speed - r.system().speed(),
+            &self.gyroscopic,
+            &y.rows(n, n),
+            1.0,
+        );
         ProfiledLinearRotor::add_unbalance(r, (speed, 0.0, phase), &mut accel);
         if r.has_constant {
             accel += &r.forcing_constant;

@@ -54,6 +54,12 @@ fn energy_balance_of_a_driven_fe_rotor_with_contact() {
         residual / ring_losses
     );
     assert!(b.contact_pieces >= 1, "the rotor must touch the ring");
-    assert!((residual / b.work[INPUT]).abs() < 1e-8, "off the motor's work");
-    assert!((residual / ring_losses).abs() < 1e-3, "the ring's losses must show");
+    assert!(
+        (residual / b.work[INPUT]).abs() < 1e-8,
+        "off the motor's work"
+    );
+    assert!(
+        (residual / ring_losses).abs() < 1e-3,
+        "the ring's losses must show"
+    );
 }

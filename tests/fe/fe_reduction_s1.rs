@@ -33,7 +33,13 @@ fn run_reduced(s1: &S1, modes: usize, rtol: f64, t_end: f64) -> (Run, f64) {
     let model = reduced_model(s1, modes);
     let y0: DVector<f64> = model.rotor().rest_state();
     let displacement = |y: &DVector<f64>| model.rotor().station_displacement(y);
-    run_sampled(s1, (&model, &y0), displacement, (Method::Dop853, rtol), t_end)
+    run_sampled(
+        s1,
+        (&model, &y0),
+        displacement,
+        (Method::Dop853, rtol),
+        t_end,
+    )
 }
 
 /// The mark: 24 modes within 1e-4 of the gap at every sample, with the reference's

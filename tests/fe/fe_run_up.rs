@@ -18,8 +18,7 @@ use jeffcott::numeric::eigen_decomposition;
 use jeffcott::ode::Method;
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{
-    LinearRotor, LinearSystem, ProfiledLinearRotor, RingedRotor, SmoothRotor,
-    SpeedProfile,
+    LinearRotor, LinearSystem, ProfiledLinearRotor, RingedRotor, SmoothRotor, SpeedProfile,
 };
 
 use super::fe_reduction_s1::reduction;
@@ -78,11 +77,24 @@ fn a_constant_profile_is_the_constant_speed_rotor_bit_for_bit() {
     let a = run(&constant, &y0, span, &dop853(1e-10));
     let b = run(&profiled, &y0, span, &dop853(1e-10));
     let onsets = a.events.iter().filter(|e| e.to > e.from).count();
-    println!("{} samples, {} events ({onsets} onsets)", a.samples.len(), a.events.len());
-    assert!(onsets >= 2, "the rotor must touch the ring: {onsets} onsets");
+    println!(
+        "{} samples, {} events ({onsets} onsets)",
+        a.samples.len(),
+        a.events.len()
+    );
+    assert!(
+        onsets >= 2,
+        "the rotor must touch the ring: {onsets} onsets"
+    );
     assert_eq!(a.samples.len(), b.samples.len());
     for (p, q) in a.samples.iter().zip(&b.samples) {
-        assert!(p.t == q.t && p.y == q.y, "at t = {}: {} vs {}", p.t, p.y[0], q.y[0]);
+        assert!(
+            p.t == q.t && p.y == q.y,
+            "at t = {}: {} vs {}",
+            p.t,
+            p.y[0],
+            q.y[0]
+        );
     }
     let times = |t: &Trajectory<Dyn>| t.events.iter().map(|e| e.t).collect::<Vec<_>>();
     assert_eq!(times(&a), times(&b));
@@ -137,7 +149,10 @@ fn a_constant_profile_off_the_reference_is_the_rotor_at_that_speed() {
         .iter()
         .zip(&b.events)
         .fold(0.0f64, |m, (e, f)| m.max((e.t - f.t).abs()));
-    println!("{} events; samples within {worst:.2e} of the gap, events within {dt:.1e} s", a.events.len());
+    println!(
+        "{} events; samples within {worst:.2e} of the gap, events within {dt:.1e} s",
+        a.events.len()
+    );
     assert!(worst < 1e-7, "{worst:e} of the gap");
     assert!(dt < 1e-8, "{dt:e} s");
 }
@@ -196,16 +211,26 @@ impl Modal {
         let mut out = [0.0; 2];
         for (k, &l) in self.values.iter().enumerate() {
             // Older forcing is forgotten below e^-40 (a strongly damped high mode).
-            let start = if l.re < 0.0 { (t + 40.0 / l.re).max(0.0) } else { 0.0 };
+            let start = if l.re < 0.0 {
+                (t + 40.0 / l.re).max(0.0)
+            } else {
+                0.0
+            };
             let width = t - start;
-            let panels = ((width * l.norm().max(w0 + rate * t)) * per_unit).ceil().max(8.0) as usize;
+            let panels = ((width * l.norm().max(w0 + rate * t)) * per_unit)
+                .ceil()
+                .max(8.0) as usize;
             let mut z = Complex::new(0.0, 0.0);
             for (c, input) in self.inputs.iter().enumerate() {
                 let part = |im: bool| {
                     let f = |s: f64| {
                         let e = (l * (t - s)).exp();
                         let w = ramp_weights(w0, rate, s, tangential)[c];
-                        if im { e.im * w } else { e.re * w }
+                        if im {
+                            e.im * w
+                        } else {
+                            e.re * w
+                        }
                     };
                     gauss_legendre(f, start, t, panels)
                 };
@@ -267,8 +292,15 @@ fn a_fe_run_up_without_contact_matches_the_modal_duhamel_integral() {
         without / amplitude
     );
     assert!(quadrature < 1e-11 * amplitude, "quadrature {quadrature:e}");
-    assert!(worst < 1e-9 * amplitude, "{:e} of the peak", worst / amplitude);
-    assert!(without > 1e-6 * amplitude, "the check must see the tangential terms");
+    assert!(
+        worst < 1e-9 * amplitude,
+        "{:e} of the peak",
+        worst / amplitude
+    );
+    assert!(
+        without > 1e-6 * amplitude,
+        "the check must see the tangential terms"
+    );
 }
 
 /// [`ProfiledLinearRotor`] keeps the strobes on the phases: output `k` where
