@@ -324,3 +324,49 @@ fn fe_strobes_fall_on_the_phases() {
         assert!((phase - want).abs() < 1e-12 * want, "{phase} vs {want}");
     }
 }
+
+/// A unit mass on a unit spring (no damping, no out-of-balance) as a [`LinearSystem`] on a
+/// ramp, the ring's centre 0.5 from the node's rest, started on the circle of radius
+/// $a = 0.5 + d$ about the rest: the largest distance from the ring's centre is $1 + d$ at
+/// $t = \pi$ (gap 1). The number of events of the run to $2\pi$ (`rtol` $10^{-12}$).
+fn fe_touch_run(depth: f64) -> usize {
+    let eye = DMatrix::<f64>::identity(2, 2);
+    let system = LinearSystem::new(eye.clone(), eye.clone() * 0.0, eye.clone(), 2.0).unwrap();
+    let ring = SnubberRing::from_units(30.0, 0.004, [0.0; 2], 1.0).unwrap();
+    let profile = SpeedProfile::ramp(1.0, 3.0, 0.5).unwrap();
+    let model = LinearRotor::new(system, [0, 1], [-0.5, 0.0])
+        .unwrap()
+        .with_speed_profile(&(eye * 0.0), profile)
+        .unwrap()
+        .ringed(ring)
+        .unwrap();
+    let a = 0.5 + depth;
+    let y0 = DVector::from_vec(vec![-a, 0.0, 0.0, -a, 0.0, 0.0]);
+    let opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-13);
+    let plan = OutputPlan {
+        t_end: std::f64::consts::TAU,
+        strobe: None,
+        dense: None,
+        events: true,
+    };
+    let mut traj = Trajectory::<Dyn>::default();
+    simulate(&model, 0.0, &y0, &plan, &opts, &mut traj).unwrap();
+    for e in &traj.events {
+        assert!((e.t - std::f64::consts::PI).abs() < 1e-3, "event at {}", e.t);
+    }
+    traj.events.len()
+}
+
+/// The onset guarantee of integrated free flight, measured for [`ProfiledLinearRotor`] as
+/// `tests/simulation/run_up.rs` measures it for the paper's model: a touch $10^{-9}$ of the
+/// gap deep is found, a miss by $10^{-9}$ is not taken for a touch; the depths found down to
+/// $10^{-13}$ are printed.
+#[test]
+fn a_fe_touch_of_a_billionth_of_the_gap_is_found_in_integrated_free_flight() {
+    assert!(fe_touch_run(1e-9) > 0, "a touch 1e-9 deep was missed");
+    assert_eq!(fe_touch_run(-1e-9), 0, "a miss by 1e-9 was taken for a touch");
+    let found: Vec<_> = (9..=13)
+        .map(|e| (e, fe_touch_run(10f64.powi(-e)) > 0))
+        .collect();
+    println!("touch depth 1e-N found (rtol 1e-12): {found:?}");
+}
