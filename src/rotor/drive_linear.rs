@@ -10,8 +10,7 @@
 //! $m e(-\sin, \cos)$ of $\varphi_0 + \varphi$ at its x and y). Lagrange's equations
 //! ([`spin_acceleration`](super::drive) writes them out) give, with $\Omega = \dot\varphi$,
 //!
-//! $$M q^{\prime\prime} + (C + \Omega G)\thinspace q^\prime + K q = \operatorname{Re}\big(\hat U(\Omega^2
-//! - i\Omega^\prime)e^{i\varphi}\big) + f_0 + E_s f,$$
+//! $$M q^{\prime\prime} + (C + \Omega G)\thinspace q^\prime + K q = \operatorname{Re}\big(\hat U(\Omega^2 - i\Omega^\prime)e^{i\varphi}\big) + f_0 + E_s f,$$
 //! $$J\Omega^\prime = T(\Omega) - b(\varphi)\cdot q^{\prime\prime}, \qquad \varphi^\prime = \Omega,$$
 //!
 //! $f$ the ring's force at the station, $C = D - \Omega_r G$ as in

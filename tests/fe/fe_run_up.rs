@@ -352,7 +352,11 @@ fn fe_touch_run(depth: f64) -> usize {
     let mut traj = Trajectory::<Dyn>::default();
     simulate(&model, 0.0, &y0, &plan, &opts, &mut traj).unwrap();
     for e in &traj.events {
-        assert!((e.t - std::f64::consts::PI).abs() < 1e-3, "event at {}", e.t);
+        assert!(
+            (e.t - std::f64::consts::PI).abs() < 1e-3,
+            "event at {}",
+            e.t
+        );
     }
     traj.events.len()
 }
@@ -364,7 +368,11 @@ fn fe_touch_run(depth: f64) -> usize {
 #[test]
 fn a_fe_touch_of_a_billionth_of_the_gap_is_found_in_integrated_free_flight() {
     assert!(fe_touch_run(1e-9) > 0, "a touch 1e-9 deep was missed");
-    assert_eq!(fe_touch_run(-1e-9), 0, "a miss by 1e-9 was taken for a touch");
+    assert_eq!(
+        fe_touch_run(-1e-9),
+        0,
+        "a miss by 1e-9 was taken for a touch"
+    );
     let found: Vec<_> = (9..=13)
         .map(|e| (e, fe_touch_run(10f64.powi(-e)) > 0))
         .collect();
