@@ -63,3 +63,56 @@ fn energy_balance_of_a_driven_fe_rotor_with_contact() {
         "the ring's losses must show"
     );
 }
+
+/// A huge polar inertia ($J = 10^{10}$ kg m²) and a motor holding the reference speed
+/// ($T = 10^{12}(1 - \Omega/\Omega_r)$ N m) make the driven rotor the constant-speed one:
+/// S1 on 8 modes on its ring for 0.15 s against [`jeffcott::rotor::LinearRotor`] at
+/// $\Omega_r$ with its free flight in closed form (an independent propagation).
+#[test]
+fn a_huge_inertia_is_the_constant_speed_fe_rotor() {
+    use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, Trajectory};
+    use jeffcott::nalgebra::Dyn;
+
+    let s1 = S1::load();
+    let (cb, exact) = reduction(&s1, 8);
+    let g = cb.project(s1.lateral().gyroscopic()).unwrap();
+    let speed = exact.rotor().system().speed();
+    let motor = MotorTorque::linear(1e12, speed).unwrap();
+    let driven = exact
+        .rotor()
+        .clone()
+        .with_drive(&g, 1e10, motor)
+        .unwrap()
+        .ringed(*exact.ring())
+        .unwrap();
+    let plan = OutputPlan {
+        t_end: 0.15,
+        strobe: None,
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: 5e-4,
+        }),
+        events: true,
+    };
+    let opts = options(Method::Dop853, 1e-12);
+    let mut a = Trajectory::<Dyn>::default();
+    let mut b = Trajectory::<Dyn>::default();
+    let y0 = exact.rotor().rest_state();
+    simulate(&exact, 0.0, &y0, &plan, &opts, &mut a).unwrap();
+    let y0 = driven.rotor().rest_state(speed);
+    simulate(&driven, 0.0, &y0, &plan, &opts, &mut b).unwrap();
+    assert!(a.events.len() >= 4, "{} events", a.events.len());
+    assert_eq!(a.events.len(), b.events.len());
+    let si = driven.rotor().speed_index();
+    let (mut worst, mut drift) = (0.0f64, 0.0f64);
+    for (p, q) in a.samples.iter().zip(&b.samples) {
+        worst = worst.max((p.y[0] - q.y[0]).hypot(p.y[1] - q.y[1]) / s1.gap);
+        drift = drift.max((q.y[si] / speed - 1.0).abs());
+    }
+    println!(
+        "{} events; samples within {worst:.2e} of the gap, the speed within {drift:.1e}",
+        a.events.len()
+    );
+    assert!(worst < 1e-7, "{worst:e} of the gap");
+    assert!(drift < 1e-9, "{drift:e}");
+}
