@@ -96,8 +96,10 @@
 //! ```
 
 mod drive;
+mod drive_linear;
 mod exact;
 mod linear;
+mod linear_profiled;
 mod linearization;
 mod matrices;
 mod modal;
@@ -109,10 +111,12 @@ mod speed;
 mod speed_law;
 
 pub use drive::{DrivenJeffcott, MotorTorque, ETA, PHASE};
+pub use drive_linear::DrivenLinearRotor;
 pub use exact::{
     LinearClosedForm, LinearFreeFlight, LinearFreeSegment, LinearSegment, DEFAULT_MAX_CONDITION,
 };
 pub use linear::{LinearRotor, LinearSystem};
+pub use linear_profiled::ProfiledLinearRotor;
 pub use matrices::{DofLayout, RotorMatrices};
 pub use modal::ModalRotor;
 pub use reduction::{CraigBampton, ModeSelection, ResponseError};
@@ -499,6 +503,15 @@ pub enum RotorError {
     Speed {
         /// The speed given, rad/s.
         value: f64,
+    },
+    /// A driven rotor's polar inertia is not finite or not above the out-of-balance's share
+    /// ([`LinearRotor::with_drive`]).
+    #[error("the polar inertia must be finite and above {required} (the out-of-balance's largest b M^-1 b; any physical rotor has more), got {inertia}")]
+    Inertia {
+        /// The polar inertia given.
+        inertia: f64,
+        /// $\max_\varphi b\cdot M^{-1}b$.
+        required: f64,
     },
     /// A scalar input is not finite.
     #[error("{field} must be finite, got {value}")]

@@ -27,6 +27,13 @@
 //! and with `--out DIR` draws `DIR/speed.png` ($\eta(\tau)$) and `DIR/drive_envelope.png`
 //! (the largest radius in each revolution against its mean speed), each with its CSV.
 //!
+//! With `--fe` a finite-element rotor runs instead (`rotor::ProfiledLinearRotor`): ROSS's
+//! 204-DOF `rotor_example_with_damping` (`--fe-mat`, default the repository's copy of
+//! `../shared/rotors/rotor_example_with_damping_1200rpm.mat`) with case S1's ring at node 12,
+//! reduced to 24 Craig-Bampton modes, from `--fe-from` (100) to `--fe-to` (260) rad/s at
+//! `--fe-rate` (50) rad/s² and back, with and without the ring: a line per run and leg, and
+//! `fe_envelope.png` (with its CSV) in `--out` (default `target/run_up`).
+//!
 //! The scene flags are `simulate`'s (`--preset`, parameter overrides, `--rtol`, `--atol`,
 //! `--method`, the initial rotor state `--x0 --y0 --vx0 --vy0`, default at rest at the origin;
 //! the ring starts at its centre, or at its minimum-energy position if the rotor starts in
@@ -45,6 +52,7 @@
 mod common;
 mod drive;
 mod envelope;
+mod fe;
 mod orders;
 
 use std::io::{self, BufWriter, Write};
@@ -70,14 +78,14 @@ struct Flags {
     /// Put the ring out of reach (no contact)
     #[arg(long)]
     no_ring: bool,
-    /// Speed A at the start [range: 0..=1000]
-    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3))]
-    eta_from: f64,
+    /// Speed A at the start [range: 0..=1000] (not with --fe)
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3), required_unless_present = "fe")]
+    eta_from: Option<f64>,
     /// Speed B at the end [range: 0..=1000] (not with --motor)
-    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3), required_unless_present = "motor", conflicts_with = "motor")]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3), required_unless_present_any = ["motor", "fe"], conflicts_with = "motor")]
     eta_to: Option<f64>,
     /// Rate R = d eta / d tau, not 0, < 0 for a run-down [range: -1000..=1000] (not with --motor)
-    #[arg(long, value_name = "NUMBER", value_parser = f64_in(-1e3, 1e3), required_unless_present = "motor", conflicts_with = "motor")]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(-1e3, 1e3), required_unless_present_any = ["motor", "fe"], conflicts_with = "motor")]
     rate: Option<f64>,
     /// A non-ideal drive instead of a ramp: the DC motor t = T0 (1 - eta/OMEGA0) with the polar
     /// inertia j = INERTIA (non-dimensional), from eta = A for --duration
@@ -86,9 +94,9 @@ struct Flags {
     /// With --motor: how long the run lasts, tau [range: 0..=1000000]
     #[arg(long, value_name = "NUMBER", default_value_t = 1500.0, value_parser = f64_in(0.0, 1e6))]
     duration: f64,
-    /// Samples S per revolution of the out-of-balance [range: 1..=1000000]
-    #[arg(long, value_name = "COUNT", value_parser = usize_in(1, 1_000_000))]
-    samples_per_period: usize,
+    /// Samples S per revolution of the out-of-balance [range: 1..=1000000] (not with --fe)
+    #[arg(long, value_name = "COUNT", value_parser = usize_in(1, 1_000_000), required_unless_present = "fe")]
+    samples_per_period: Option<usize>,
     /// Print the samples as CSV tau,eta,x,y
     #[arg(long)]
     csv: bool,
@@ -99,9 +107,39 @@ struct Flags {
     /// Without --csv: run up and back, draw the envelope, the orders and the waterfall here
     #[arg(long, value_name = "DIR", conflicts_with = "csv")]
     out: Option<PathBuf>,
+    /// Instead: a finite-element rotor (ROSS's 204-DOF rotor with S1's ring at node 12,
+    /// reduced to 24 modes) up from --fe-from to --fe-to and back, with and without the ring;
+    /// writes fe_envelope.png in --out (default target/run_up)
+    #[arg(long, conflicts_with_all = ["csv", "motor", "peak_rates"])]
+    fe: bool,
+    /// With --fe: the rotor's ROSS .mat [default: tests/data/rotors/rotor_example_with_damping_1200rpm.mat,
+    /// a copy of ../shared/rotors/]
+    #[arg(long, value_name = "FILE", requires = "fe")]
+    fe_mat: Option<PathBuf>,
+    /// With --fe: the speed at the start and end, rad/s [range: 1..=10000]
+    #[arg(long, value_name = "NUMBER", default_value_t = 100.0, value_parser = f64_in(1.0, 1e4))]
+    fe_from: f64,
+    /// With --fe: the top speed, rad/s [range: 1..=10000]
+    #[arg(long, value_name = "NUMBER", default_value_t = 260.0, value_parser = f64_in(1.0, 1e4))]
+    fe_to: f64,
+    /// With --fe: the rate, rad/s² [range: 1..=100000]
+    #[arg(long, value_name = "NUMBER", default_value_t = 50.0, value_parser = f64_in(1.0, 1e5))]
+    fe_rate: f64,
 }
 
 impl Flags {
+    /// `--eta-from` (clap requires it without `--fe`).
+    fn eta_from(&self) -> f64 {
+        self.eta_from
+            .unwrap_or_else(|| fail("--eta-from is required"))
+    }
+
+    /// `--samples-per-period` (clap requires it without `--fe`).
+    fn samples_per_period(&self) -> usize {
+        self.samples_per_period
+            .unwrap_or_else(|| fail("--samples-per-period is required"))
+    }
+
     /// `--eta-to` (clap requires it without `--motor`).
     fn eta_to(&self) -> f64 {
         self.eta_to.unwrap_or_else(|| fail("--eta-to is required"))
@@ -115,10 +153,10 @@ impl Flags {
 
 /// The ramp of the flags, or exit with status 2.
 fn ramp(flags: &Flags) -> SpeedProfile {
-    if flags.eta_from == flags.eta_to() {
+    if flags.eta_from() == flags.eta_to() {
         fail("--eta-from and --eta-to must differ (a ramp)");
     }
-    SpeedProfile::ramp(flags.eta_from, flags.eta_to(), flags.rate())
+    SpeedProfile::ramp(flags.eta_from(), flags.eta_to(), flags.rate())
         .unwrap_or_else(|e| fail(format!("--rate: {e}")))
 }
 
@@ -128,7 +166,7 @@ fn setup(
     scene: &Scene,
     profile: SpeedProfile,
 ) -> (ProfiledJeffcott, SVector<f64, 6>) {
-    let samples = u32::try_from(flags.samples_per_period).unwrap_or(u32::MAX);
+    let samples = u32::try_from(flags.samples_per_period()).unwrap_or(u32::MAX);
     let rotor = ProfiledJeffcott::new(scene.params, profile)
         .unwrap_or_else(|e| fail(e))
         .with_strobes_per_revolution(samples)
@@ -230,14 +268,34 @@ fn write_summary(
 fn main() {
     let flags: Flags = parse();
     let scene = flags.scene.scene();
+    if flags.fe {
+        let sweep = fe::Sweep {
+            from: flags.fe_from,
+            to: flags.fe_to,
+            rate: flags.fe_rate,
+        };
+        if sweep.to <= sweep.from {
+            fail("--fe-to must be above --fe-from");
+        }
+        let mat = flags.fe_mat.clone().unwrap_or_else(fe::default_mat);
+        let dir = flags
+            .out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("target/run_up"));
+        common::or_exit(
+            std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display())),
+        );
+        common::or_exit(fe::run(&mat, &sweep, &dir));
+        return;
+    }
     if !flags.motor.is_empty() {
         drive::run(
             &flags.motor,
-            flags.eta_from,
+            flags.eta_from(),
             flags.duration,
             flags.no_ring,
             &scene,
-            flags.samples_per_period,
+            flags.samples_per_period(),
             flags.out.as_deref(),
         );
         return;
@@ -283,11 +341,11 @@ fn up_and_back(flags: &Flags, scene: &Scene, dir: &Path) {
             rate: flags.rate(),
         },
         Segment::Ramp {
-            to: flags.eta_from,
+            to: flags.eta_from(),
             rate: -flags.rate(),
         },
     ];
-    let profile = SpeedProfile::piecewise(flags.eta_from, &legs).unwrap_or_else(|e| fail(e));
+    let profile = SpeedProfile::piecewise(flags.eta_from(), &legs).unwrap_or_else(|e| fail(e));
     let (rotor, traj, error) = run(flags, scene, profile);
     let turn = up.ramp_time();
     let mut out = io::stdout().lock();
@@ -313,14 +371,14 @@ fn draw_legs(
     traj: &Trajectory<U6>,
     turn: f64,
 ) -> Result<(), String> {
-    let s = flags.samples_per_period;
+    let s = flags.samples_per_period();
     let revs = per_revolution(traj, s, |y| [y[0], y[1]]).map_err(|e| e.to_string())?;
     let (up, down): (Vec<Revolution>, Vec<Revolution>) =
         revs.into_iter().partition(|r| r.t_start < turn);
     let label = |a: f64, b: f64, r: f64| format!("{a} → {b} at R = {r}");
     let legs = [
-        (label(flags.eta_from, flags.eta_to(), flags.rate()), up),
-        (label(flags.eta_to(), flags.eta_from, -flags.rate()), down),
+        (label(flags.eta_from(), flags.eta_to(), flags.rate()), up),
+        (label(flags.eta_to(), flags.eta_from(), -flags.rate()), down),
     ];
     let ring = if flags.no_ring {
         "without the ring"
@@ -345,7 +403,7 @@ fn draw_legs(
 /// The peak radius and its speed for a run up (or down) at each of `--peak-rates`; with `--out`
 /// the picture `peak_vs_rate.png` of both against the rate.
 fn peak_against_rate(flags: &Flags, scene: &Scene) {
-    let sign = (flags.eta_to() - flags.eta_from).signum();
+    let sign = (flags.eta_to() - flags.eta_from()).signum();
     let mut peaks = Vec::new();
     for &r in &flags.peak_rates {
         let one = Flags {
@@ -354,6 +412,7 @@ fn peak_against_rate(flags: &Flags, scene: &Scene) {
             motor: Vec::new(),
             out: None,
             peak_rates: Vec::new(),
+            fe_mat: None,
             ..*flags
         };
         let (rotor, traj, error) = run(&one, scene, ramp(&one));

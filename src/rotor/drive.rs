@@ -119,6 +119,20 @@ impl MotorTorque {
     }
 }
 
+/// The spin's acceleration of a rotor driven by the torque `torque` through the polar inertia
+/// `inertia` $J$, shared by every driven rotor ([`DrivenJeffcott`],
+/// [`super::DrivenLinearRotor`]). With the out-of-balance's kinetic energy
+/// $\dot\varphi\thinspace\dot q\cdot b(\varphi)$ in the Lagrangian (for a mass $m$ at $\rho$
+/// from a node: $b = m\rho(-\sin\varphi, \cos\varphi)$ at its x and y), the equations are
+/// $M\ddot q = F - \ddot\varphi\thinspace b + \dot\varphi^2 m\rho(\cos\varphi, \sin\varphi)$ and
+/// $J\ddot\varphi = T - b\cdot\ddot q$. With $a$ the acceleration without the
+/// $\ddot\varphi$ term (`b_dot_a` $= b\cdot a$, `b_minv_b` $= b\cdot M^{-1}b$) they solve in
+/// closed form: $(J - b\cdot M^{-1}b)\thinspace\ddot\varphi = T - b\cdot a$, then
+/// $\ddot q = a - \ddot\varphi\thinspace M^{-1}b$.
+pub(super) fn spin_acceleration(torque: f64, inertia: f64, b_dot_a: f64, b_minv_b: f64) -> f64 {
+    (torque - b_dot_a) / (inertia - b_minv_b)
+}
+
 /// The paper's Jeffcott rotor whose speed is driven by a [`MotorTorque`] (see the module's
 /// docs for the equations). State `[x, y, x', y', x_s, y_s, eta, phi]`
 /// (indices [`ETA`], [`PHASE`]).
@@ -220,10 +234,13 @@ impl DrivenJeffcott {
 
     /// Adds to the accelerations `(a_x, a_y)` already in `dy` the $\eta^\prime$ terms, with
     /// the motor's torque `torque` (0 for a force's share), and writes $\eta^\prime$'s share.
+    /// The out-of-balance's coupling is $b = \beta t_\varphi$ with unit mass:
+    /// $b\cdot M^{-1}b = \beta^2$ ([`spin_acceleration`]).
     fn couple(&self, phase: f64, torque: f64, dy: &mut SVector<f64, 8>) -> f64 {
         let beta = self.params.beta;
         let (sin, cos) = phase.sin_cos();
-        let rate = (torque + beta * (dy[2] * sin - dy[3] * cos)) / (self.inertia - beta * beta);
+        let b_dot_a = beta * (dy[3] * cos - dy[2] * sin);
+        let rate = spin_acceleration(torque, self.inertia, b_dot_a, beta * beta);
         dy[2] += beta * rate * sin;
         dy[3] -= beta * rate * cos;
         rate

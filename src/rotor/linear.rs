@@ -439,16 +439,16 @@ pub struct LinearRotor {
     station: [usize; 2],
     offset: [f64; 2],
     /// $[-M^{-1}K \mid -M^{-1}D]$, $n \times 2n$.
-    accel: DMatrix<f64>,
+    pub(super) accel: DMatrix<f64>,
     /// $\operatorname{Re}(M^{-1}\hat F)$ and $-\operatorname{Im}(M^{-1}\hat F)$: the forcing
     /// is `cos` times the first plus `sin` times the second.
-    forcing_cos: DVector<f64>,
-    forcing_sin: DVector<f64>,
+    pub(super) forcing_cos: DVector<f64>,
+    pub(super) forcing_sin: DVector<f64>,
     /// $M^{-1} f_0$.
-    forcing_constant: DVector<f64>,
-    has_constant: bool,
+    pub(super) forcing_constant: DVector<f64>,
+    pub(super) has_constant: bool,
     /// The columns of $M^{-1}$ at the station's coordinates.
-    station_compliance: MatrixXx2<f64>,
+    pub(super) station_compliance: MatrixXx2<f64>,
     scale: DVector<f64>,
     /// Each coordinate's frequency $\omega_i$ ([`LinearSystem::coordinate_frequencies`],
     /// $\Omega$ where it has none), weighing its velocity's error

@@ -300,3 +300,28 @@ fn motor_runs_the_non_ideal_drive() {
         assert_eq!(err.lines().count(), 1, "{bad:?}: {err}");
     }
 }
+
+/// `--fe`: ROSS's 204-DOF rotor (24 modes) up and back with and without the ring, fast
+/// (1000 rad/s²): a line per run and leg, `fe_envelope.png`, and one CSV row a whole
+/// revolution of each run (the phase's closed form: $2 \cdot 180 \cdot 0.16$ rad over
+/// $2\pi$, floored); `--fe-to` below `--fe-from` is status 2.
+#[test]
+fn fe_draws_the_envelope_of_a_finite_element_rotor() {
+    let dir = std::env::temp_dir().join(format!("run_up_fe_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = support::run_ok(
+        Command::new(support::example_exe("run_up"))
+            .args(["--fe", "--fe-rate", "1000", "--out"])
+            .arg(&dir),
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(text.lines().count(), 4, "{text}");
+    assert!(text.lines().all(|l| l.starts_with("fe ")), "{text}");
+    assert!(dir.join("fe_envelope.png").is_file());
+    let csv = std::fs::read_to_string(dir.join("fe_envelope.csv")).unwrap();
+    let revolutions = (2.0 * 180.0 * 0.16 / TAU).floor();
+    assert_eq!(csv.lines().count() as f64 - 1.0, 2.0 * revolutions, "{csv}");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = run(&["--fe", "--fe-from", "300", "--fe-to", "200"]);
+    assert_eq!(out.status.code(), Some(2));
+}

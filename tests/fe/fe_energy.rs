@@ -43,7 +43,7 @@ use jeffcott::ode::Method;
 use jeffcott::ring::{Branches, Relaxation, RingCache, RingMode, SnubberRing};
 
 use crate::energy::{axis_law, contact_branches, free_ring_dissipation, integrate_piece};
-use jeffcott::rotor::{LinearRotor, RingedRotor};
+use jeffcott::rotor::{LinearRotor, MotorTorque, RingedRotor, SmoothRotor};
 
 use super::fe_reduction_s1::reduced_model;
 use super::fe_s1::S1;
@@ -51,13 +51,13 @@ use super::fe_s1::S1;
 /// The integrands (W): $v\cdot F$, $v^{\mathsf T}D_s v$, $v^{\mathsf T}K_a q$, $f\cdot
 /// r^\prime$, $s^{\prime\mathsf T}Cs^\prime$, $g\cdot s^\prime$, $f\cdot(r^\prime - s^\prime)$.
 const POWERS: usize = 7;
-const INPUT: usize = 0;
+pub const INPUT: usize = 0;
 const VISCOUS: usize = 1;
 const SKEW: usize = 2;
 const CONTACT: usize = 3;
-const DAMPER: usize = 4;
+pub const DAMPER: usize = 4;
 const ELASTIC: usize = 5;
-const SLIP: usize = 6;
+pub const SLIP: usize = 6;
 
 /// The integrands and energies (kinetic, elastic of the rotor, of the ring) at one instant.
 #[derive(Debug, Clone, Copy)]
@@ -75,23 +75,47 @@ impl Point {
     }
 }
 
+/// A driven rotor's terms ([`jeffcott::rotor::DrivenLinearRotor`], `fe_drive`): the input is
+/// the motor's power $T(\Omega)\Omega$ instead of $v\cdot F$, and the kinetic energy has the
+/// spin's $\tfrac12 J\Omega^2$ and the out-of-balance's $\Omega\thinspace v\cdot b(\varphi)$,
+/// $b = -\operatorname{Im}(\hat U e^{i\varphi})$, $\hat U = \hat F/\Omega_r^2$.
+pub struct Drive {
+    pub motor: MotorTorque,
+    pub inertia: f64,
+    /// The state's indices of $\Omega$ and $\varphi$.
+    pub slots: [usize; 2],
+    /// The symmetric part of $G$ (its damping at $\Omega - \Omega_r$; zero for a skew $G$).
+    pub g_sym: DMatrix<f64>,
+}
+
 /// What the balance needs of a model: its matrices split into symmetric and skew parts.
-struct Terms<'a> {
-    model: &'a RingedRotor<LinearRotor>,
+pub struct Terms<'a, R> {
+    model: &'a RingedRotor<R>,
+    linear: &'a LinearRotor,
+    drive: Option<Drive>,
     mass: DMatrix<f64>,
     k_sym: DMatrix<f64>,
     k_skew: DMatrix<f64>,
     d_sym: DMatrix<f64>,
 }
 
-impl<'a> Terms<'a> {
-    fn new(model: &'a RingedRotor<LinearRotor>) -> Self {
-        let s = model.rotor().system();
+impl<'a> Terms<'a, LinearRotor> {
+    fn of(model: &'a RingedRotor<LinearRotor>) -> Self {
+        Self::new(model, model.rotor(), None)
+    }
+}
+
+impl<'a, R: SmoothRotor<Dim = Dyn>> Terms<'a, R> {
+    /// The terms of `model`, whose linear part is `linear` (and drive `drive`).
+    pub fn new(model: &'a RingedRotor<R>, linear: &'a LinearRotor, drive: Option<Drive>) -> Self {
+        let s = linear.system();
         let sym = |a: &DMatrix<f64>| (a + a.transpose()) * 0.5;
         // The kinetic energy's rate is v^T M v' only for a symmetric M.
         assert!(asymmetry(s.mass()) <= 1e-14, "M is not symmetric");
         Self {
             model,
+            linear,
+            drive,
             mass: sym(s.mass()),
             k_sym: sym(s.stiffness()),
             k_skew: (s.stiffness() - s.stiffness().transpose()) * 0.5,
@@ -101,7 +125,7 @@ impl<'a> Terms<'a> {
 
     /// $F(t) = \operatorname{Re}(\hat F e^{i\Omega t}) + f_0$.
     fn force(&self, t: f64) -> DVector<f64> {
-        let s = self.model.rotor().system();
+        let s = self.linear.system();
         let e = Complex::from_polar(1.0, s.speed() * t);
         s.harmonic_force().map(|f| (f * e).re) + s.constant_force()
     }
@@ -112,7 +136,7 @@ impl<'a> Terms<'a> {
         let n = self.mass.nrows();
         let ring = self.model.ring();
         let (q, v) = (y.rows(0, n), y.rows(n, n));
-        let [ix, iy] = self.model.rotor().station_dofs();
+        let [ix, iy] = self.linear.station_dofs();
         let r_dot = Vector2::new(v[ix], v[iy]);
         let s = Vector2::new(y[2 * n], y[2 * n + 1]);
         let s_dot = Vector2::new(dy[2 * n], dy[2 * n + 1]);
@@ -125,9 +149,21 @@ impl<'a> Terms<'a> {
         } else {
             g + c.component_mul(&s_dot)
         };
+        let (input, viscous, kinetic) = match &self.drive {
+            None => (v.dot(&self.force(t)), v.dot(&(&self.d_sym * v)), 0.0),
+            Some(d) => {
+                let (w, phase) = (y[d.slots[0]], y[d.slots[1]]);
+                let s = self.linear.system();
+                let e = Complex::from_polar(1.0 / (s.speed() * s.speed()), phase);
+                let b = s.harmonic_force().map(|u| -(u * e).im);
+                let damping = &self.d_sym + &d.g_sym * (w - s.speed());
+                let kinetic = 0.5 * d.inertia * w * w + w * v.dot(&b);
+                (d.motor.torque(w) * w, v.dot(&(damping * v)), kinetic)
+            }
+        };
         let power = [
-            v.dot(&self.force(t)),
-            v.dot(&(&self.d_sym * v)),
+            input,
+            viscous,
             v.dot(&(&self.k_skew * q)),
             f.dot(&r_dot),
             s_dot.dot(&c.component_mul(&s_dot)),
@@ -135,7 +171,7 @@ impl<'a> Terms<'a> {
             f.dot(&(r_dot - s_dot)),
         ];
         let energy = [
-            0.5 * v.dot(&(&self.mass * v)),
+            0.5 * v.dot(&(&self.mass * v)) + kinetic,
             0.5 * q.dot(&(&self.k_sym * q)),
             ex + ey,
         ];
@@ -166,14 +202,14 @@ impl<'a> Terms<'a> {
 }
 
 /// Records the points of a run's samples and events.
-struct Recorder<'a> {
-    terms: &'a Terms<'a>,
+struct Recorder<'a, R> {
+    terms: &'a Terms<'a, R>,
     samples: Vec<Point>,
     /// `(kind, before, after)`.
     events: Vec<(&'static str, Point, Point)>,
 }
 
-impl HybridObserver<Dyn> for Recorder<'_> {
+impl<R: SmoothRotor<Dim = Dyn>> HybridObserver<Dyn> for Recorder<'_, R> {
     fn on_sample(&mut self, s: &Sample<Dyn>) {
         self.samples
             .push(self.terms.point(s.t, &s.y, &s.dy, s.label));
@@ -187,10 +223,10 @@ impl HybridObserver<Dyn> for Recorder<'_> {
 
 /// The balance of a run: each term's integral (J) and the energies.
 #[derive(Debug, Default)]
-struct Balance {
-    work: [f64; POWERS],
+pub struct Balance {
+    pub work: [f64; POWERS],
     /// $\int s^{\prime\mathsf T}Cs^\prime$ over free flight (the relaxing ring).
-    free_damper: f64,
+    pub free_damper: f64,
     /// $\int |v\cdot F|$.
     input_abs: f64,
     /// $\sum$ over events of $E_\text{ring}$ after minus before.
@@ -200,7 +236,7 @@ struct Balance {
     end: [f64; 3],
     max_energy: f64,
     pieces: usize,
-    contact_pieces: usize,
+    pub contact_pieces: usize,
 }
 
 impl Balance {
@@ -253,7 +289,7 @@ impl Balance {
     }
 
     /// The balance of a recorded run, sampled every `h`.
-    fn of(rec: &Recorder, h: f64) -> Self {
+    fn of<R: SmoothRotor<Dim = Dyn>>(rec: &Recorder<R>, h: f64) -> Self {
         let (samples, ring) = (&rec.samples, rec.terms.model.ring());
         let (first, last) = (samples[0], samples[samples.len() - 1]);
         let mut b = Balance {
@@ -303,14 +339,14 @@ impl Balance {
 
     /// $\Delta E - (W_\text{in} - W_\text{visc} - W_\text{skew} - W_\text{damper} -
     /// W_\text{slip} + \text{jumps})$.
-    fn system_residual(&self) -> f64 {
+    pub fn system_residual(&self) -> f64 {
         let de: f64 = self.end.iter().sum::<f64>() - self.start.iter().sum::<f64>();
         let w = &self.work;
         let damper = w[DAMPER] + self.free_damper;
         de - (w[INPUT] - w[VISCOUS] - w[SKEW] - damper - w[SLIP] + self.ring_jumps)
     }
 
-    fn report(&self, name: &str, stats: &SimStats) {
+    pub fn report(&self, name: &str, stats: &SimStats) {
         let w = &self.work;
         println!(
             "{name}: {} steps, {} transitions, {} pieces ({} in contact)\n  \
@@ -346,15 +382,26 @@ impl Balance {
 /// Runs `model` from `y0` (made consistent) to `t_end`, sampled every `h`, and balances it.
 fn run(
     model: &RingedRotor<LinearRotor>,
+    y0: DVector<f64>,
+    t_end: f64,
+    h: f64,
+    opts: &SimOptions,
+) -> (Balance, SimStats, Vec<u8>) {
+    run_terms(&Terms::of(model), y0, t_end, h, opts)
+}
+
+/// [`run`] for any rotor's terms.
+pub fn run_terms<R: SmoothRotor<Dim = Dyn>>(
+    terms: &Terms<R>,
     mut y0: DVector<f64>,
     t_end: f64,
     h: f64,
     opts: &SimOptions,
 ) -> (Balance, SimStats, Vec<u8>) {
+    let model = terms.model;
     model.make_consistent(&mut y0).unwrap();
-    let terms = Terms::new(model);
     let mut rec = Recorder {
-        terms: &terms,
+        terms,
         samples: Vec::new(),
         events: Vec::new(),
     };
@@ -377,7 +424,7 @@ fn run(
     (Balance::of(&rec, h), stats, labels)
 }
 
-fn options(method: Method, rtol: f64) -> SimOptions {
+pub fn options(method: Method, rtol: f64) -> SimOptions {
     SimOptions::default()
         .with_method(method)
         .with_rtol(rtol)
@@ -393,7 +440,7 @@ const TOL: f64 = 1e-10;
 
 /// Asserts the rotor's, the ring's and the whole system's balance within [`TOL`] of the
 /// scale, and that the ring's terms are large enough for the balance to see them missing.
-fn check(name: &str, b: &Balance, stats: &SimStats) {
+pub fn check(name: &str, b: &Balance, stats: &SimStats) {
     b.report(name, stats);
     let scale = b.scale();
     for (what, r) in [

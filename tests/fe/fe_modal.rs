@@ -3,16 +3,14 @@
 //! `LinearRotor` it comes from (its field and station through the change of coordinates), and
 //! S1 against the shared independent reference (see `fe_s1`).
 
-use std::time::Instant;
-
-use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, SimOptions, SimStats, Trajectory};
-use jeffcott::nalgebra::{DVector, Dyn, Vector2};
+use jeffcott::hybrid::{simulate, OutputPlan, SimOptions};
+use jeffcott::nalgebra::{DVector, Vector2};
 use jeffcott::ode::Method;
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{LinearRotor, ModalRotor, RingedRotor, SmoothRotor};
 
 use super::fe_reduction_s1::reduced_model;
-use super::fe_s1::{contact_events, event_error, reference, Run, S1};
+use super::fe_s1::{contact_events, event_error, run_sampled, Run, S1};
 
 /// S1's rotor (full, or reduced to `modes` Craig-Bampton modes) in modal form, with the ring.
 pub fn modal_model(s1: &S1, modes: Option<usize>) -> RingedRotor<ModalRotor> {
@@ -37,36 +35,8 @@ pub fn run_modal(
     t_end: f64,
 ) -> (Run, f64) {
     let y0 = model.rotor().rest_state();
-    let plan = OutputPlan {
-        t_end,
-        strobe: None,
-        dense: Some(DenseSampling {
-            t_start: 0.0,
-            dt: s1.params["sample_spacing_s"].as_f64().unwrap(),
-        }),
-        events: true,
-    };
-    let opts = SimOptions::default()
-        .with_method(method)
-        .with_rtol(rtol)
-        .with_atol(rtol);
-    let mut trajectory = Trajectory::<Dyn>::default();
-    let start = Instant::now();
-    let stats: SimStats = simulate(model, 0.0, &y0, &plan, &opts, &mut trajectory).unwrap();
-    let seconds = start.elapsed().as_secs_f64();
-    let reference = reference(t_end);
-    assert_eq!(trajectory.samples.len(), reference.len(), "sample count");
-    let mut worst = 0.0f64;
-    for (s, r) in trajectory.samples.iter().zip(&reference) {
-        let [x, y] = model.rotor().station_displacement(&s.y);
-        worst = worst.max(((x - r[1]).powi(2) + (y - r[2]).powi(2)).sqrt() / s1.gap);
-    }
-    let run = Run {
-        trajectory,
-        stats,
-        seconds,
-    };
-    (run, worst)
+    let displacement = |y: &DVector<f64>| model.rotor().station_displacement(y);
+    run_sampled(s1, (model, &y0), displacement, (method, rtol), t_end)
 }
 
 /// The modal field is the physical one in other coordinates: at a few states $x$,

@@ -4,31 +4,27 @@
 //! LSODA to 7.8e-9 of the gap). The S1 parameters, the full model and the reference come from
 //! `fe_s1`.
 
-use std::time::Instant;
-
-use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, SimOptions, Trajectory};
-use jeffcott::nalgebra::{DVector, Dyn};
+use jeffcott::nalgebra::DVector;
 use jeffcott::ode::Method;
-use jeffcott::rotor::{CraigBampton, LinearRotor, ModeSelection, RingedRotor, RotorMatrices};
+use jeffcott::rotor::{CraigBampton, LinearRotor, ModeSelection, RingedRotor};
 
-use super::fe_s1::{event_error, reference, Run, S1};
+use super::fe_s1::{event_error, run_sampled, Run, S1};
 
 /// S1 with the rotor reduced to node 12's x, y and `modes` fixed-interface modes: the full
 /// model's system (unbalance included) projected, the ring at reduced coordinates 0 and 1.
 pub fn reduced_model(s1: &S1, modes: usize) -> RingedRotor<LinearRotor> {
+    reduction(s1, modes).1
+}
+
+/// [`reduced_model`] and its reduction (to project more matrices, e.g. $G$).
+pub fn reduction(s1: &S1, modes: usize) -> (CraigBampton, RingedRotor<LinearRotor>) {
     let full = s1.model(1.0);
     let station = full.rotor().station_dofs();
-    let lateral = RotorMatrices::from_ross_mat(format!(
-        "{}/tests/data/rotors/rotor_example_with_damping_1200rpm.mat",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-    .lateral()
-    .unwrap();
-    let cb = CraigBampton::from_rotor(&lateral, &station, ModeSelection::Count(modes)).unwrap();
+    let cb =
+        CraigBampton::from_rotor(&s1.lateral(), &station, ModeSelection::Count(modes)).unwrap();
     let system = cb.reduce(full.rotor().system()).unwrap();
     let rotor = LinearRotor::new(system, [0, 1], full.rotor().ring_offset()).unwrap();
-    rotor.ringed(*full.ring()).unwrap()
+    (cb, rotor.ringed(*full.ring()).unwrap())
 }
 
 /// One run of the reduced S1 to `t_end` with DOP853 at `rtol` (= atol), sampled as the
@@ -36,36 +32,14 @@ pub fn reduced_model(s1: &S1, modes: usize) -> RingedRotor<LinearRotor> {
 fn run_reduced(s1: &S1, modes: usize, rtol: f64, t_end: f64) -> (Run, f64) {
     let model = reduced_model(s1, modes);
     let y0: DVector<f64> = model.rotor().rest_state();
-    let plan = OutputPlan {
+    let displacement = |y: &DVector<f64>| model.rotor().station_displacement(y);
+    run_sampled(
+        s1,
+        (&model, &y0),
+        displacement,
+        (Method::Dop853, rtol),
         t_end,
-        strobe: None,
-        dense: Some(DenseSampling {
-            t_start: 0.0,
-            dt: s1.params["sample_spacing_s"].as_f64().unwrap(),
-        }),
-        events: true,
-    };
-    let opts = SimOptions::default()
-        .with_method(Method::Dop853)
-        .with_rtol(rtol)
-        .with_atol(rtol);
-    let mut trajectory = Trajectory::<Dyn>::default();
-    let start = Instant::now();
-    let stats = simulate(&model, 0.0, &y0, &plan, &opts, &mut trajectory).unwrap();
-    let seconds = start.elapsed().as_secs_f64();
-    let reference = reference(t_end);
-    assert_eq!(trajectory.samples.len(), reference.len(), "sample count");
-    let mut worst = 0.0f64;
-    for (s, r) in trajectory.samples.iter().zip(&reference) {
-        let [x, y] = model.rotor().station_displacement(&s.y);
-        worst = worst.max(((x - r[1]).powi(2) + (y - r[2]).powi(2)).sqrt() / s1.gap);
-    }
-    let run = Run {
-        trajectory,
-        stats,
-        seconds,
-    };
-    (run, worst)
+    )
 }
 
 /// The mark: 24 modes within 1e-4 of the gap at every sample, with the reference's

@@ -10,7 +10,7 @@ use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, SimOptions, SimStats
 use jeffcott::nalgebra::{DVector, Dyn};
 use jeffcott::ode::Method;
 use jeffcott::ring::SnubberRing;
-use jeffcott::rotor::{LinearRotor, LinearSystem, RingedRotor, RotorMatrices};
+use jeffcott::rotor::{LinearRotor, LinearSystem, RingedRotor, RotorMatrices, SmoothRotor};
 use serde_json::Value;
 
 fn data(name: &str) -> String {
@@ -32,18 +32,23 @@ impl S1 {
         Self { params, gap }
     }
 
-    fn f(&self, key: &str) -> f64 {
+    pub fn f(&self, key: &str) -> f64 {
         self.params[key].as_f64().unwrap()
+    }
+
+    /// The rotor's lateral matrices (ROSS's export at 1200 rpm).
+    pub fn lateral(&self) -> RotorMatrices {
+        RotorMatrices::from_ross_mat(data("rotor_example_with_damping_1200rpm.mat"))
+            .unwrap()
+            .lateral()
+            .unwrap()
     }
 
     /// The model with every length divided by `unit` (m): `unit = 1` is SI, `unit = gap`
     /// the gap's units (forces then in N/gap: the matrices unchanged, the unbalance and the
     /// ring's lengths divided by the unit).
     pub fn model(&self, unit: f64) -> RingedRotor<LinearRotor> {
-        let lateral = RotorMatrices::from_ross_mat(data("rotor_example_with_damping_1200rpm.mat"))
-            .unwrap()
-            .lateral()
-            .unwrap();
+        let lateral = self.lateral();
         let mut system = LinearSystem::from_matrices(&lateral, self.f("speed_rad_s")).unwrap();
         for u in self.params["unbalance"].as_array().unwrap() {
             system = system
@@ -131,6 +136,49 @@ pub fn run(s1: &S1, unit: f64, opts: &SimOptions, t_end: f64) -> Run {
         stats,
         seconds,
     }
+}
+
+/// One S1 run of `model` (any form of S1's rotor: full, reduced, modal) from `y0` with
+/// `method` at `rtol` (= atol) to `t_end`, sampled as the reference; the run and its largest
+/// sample error in gaps, the ring node's displacement read by `displacement`. The runner of
+/// `fe_reduction_s1` and `fe_modal`.
+pub fn run_sampled<R: SmoothRotor<Dim = Dyn>>(
+    s1: &S1,
+    (model, y0): (&RingedRotor<R>, &DVector<f64>),
+    displacement: impl Fn(&DVector<f64>) -> [f64; 2],
+    (method, rtol): (Method, f64),
+    t_end: f64,
+) -> (Run, f64) {
+    let plan = OutputPlan {
+        t_end,
+        strobe: None,
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: s1.f("sample_spacing_s"),
+        }),
+        events: true,
+    };
+    let opts = SimOptions::default()
+        .with_method(method)
+        .with_rtol(rtol)
+        .with_atol(rtol);
+    let mut trajectory = Trajectory::<Dyn>::default();
+    let start = Instant::now();
+    let stats = simulate(model, 0.0, y0, &plan, &opts, &mut trajectory).unwrap();
+    let seconds = start.elapsed().as_secs_f64();
+    let reference = reference(t_end);
+    assert_eq!(trajectory.samples.len(), reference.len(), "sample count");
+    let mut worst = 0.0f64;
+    for (s, r) in trajectory.samples.iter().zip(&reference) {
+        let [x, y] = displacement(&s.y);
+        worst = worst.max(((x - r[1]).powi(2) + (y - r[2]).powi(2)).sqrt() / s1.gap);
+    }
+    let run = Run {
+        trajectory,
+        stats,
+        seconds,
+    };
+    (run, worst)
 }
 
 /// Contact onsets and losses of a run: `(kind, t)` with the reference's names.

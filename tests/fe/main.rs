@@ -1,10 +1,15 @@
 //! Finite-element rotors (ROSS exports) on the ring.
 
+/// The Duhamel integral's Gauss-Legendre rule (run-up checks).
+#[path = "../support/duhamel.rs"]
+#[allow(dead_code)] // the Jeffcott rotor's helpers are not used here
+mod duhamel;
 #[path = "../support/energy.rs"]
 mod energy;
 #[path = "../support/rng.rs"]
 mod rng;
 
+mod fe_drive;
 mod fe_eccentric;
 mod fe_energy;
 mod fe_error_weights;
@@ -17,5 +22,6 @@ mod fe_modal_exact;
 mod fe_reduction;
 mod fe_reduction_s1;
 mod fe_reduction_table;
+mod fe_run_up;
 mod fe_s1;
 mod fe_steady;

@@ -1,0 +1,168 @@
+//! A finite-element rotor through its first critical speed (`--fe`): ROSS's 204-DOF
+//! `rotor_example_with_damping` (the shared rotors' `.mat`, first critical about 182 rad/s)
+//! with case S1's ring at node 12 (gap 79.5 µm, 1.1e6 N/m, the out-of-balance 2e-3 kg m at
+//! node 12), reduced to node 12's x, y and 24 Craig-Bampton modes, run up from `--fe-from` to
+//! `--fe-to` rad/s at `--fe-rate` rad/s² and back down (`rotor::ProfiledLinearRotor`: the
+//! damping $C + \Omega(t)G$, the force $m e(\Omega^2\cos\varphi + \Omega^\prime\sin\varphi,
+//! \ldots)$), with and without the ring. Prints a line per run and leg, and writes
+//! `fe_envelope.png` (with `fe_envelope.csv`): the largest radius of node 12 in each
+//! revolution against its mean speed.
+
+use std::f64::consts::FRAC_PI_2;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use jeffcott::analysis::{per_revolution, Revolution};
+use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, StrobeRange, Trajectory};
+use jeffcott::nalgebra::Dyn;
+use jeffcott::ode::Method;
+use jeffcott::ring::SnubberRing;
+use jeffcott::rotor::{
+    CraigBampton, LinearRotor, LinearSystem, ModeSelection, RingedRotor, RotorMatrices, Segment,
+    SpeedProfile,
+};
+
+use crate::common::plot::{self, Figure, Series};
+
+/// The rotor's file in the repository (a copy of `../shared/rotors/`, as the tests read it).
+pub fn default_mat() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/rotors/rotor_example_with_damping_1200rpm.mat")
+}
+
+/// Case S1's ring and out-of-balance (`tests/data/rotors/S1_reference.json`).
+const RING_NODE: usize = 12;
+const GAP: f64 = 7.95e-5;
+const RING_STIFFNESS: f64 = 1.1e6;
+const RING_DAMPING: f64 = 0.01;
+const UNBALANCE: f64 = 2e-3;
+const MODES: usize = 24;
+/// Strobes a revolution (the envelope's resolution).
+const SAMPLES: u32 = 16;
+
+/// The sweep: speeds (rad/s) and rate (rad/s²).
+pub struct Sweep {
+    pub from: f64,
+    pub to: f64,
+    pub rate: f64,
+}
+
+/// The reduced rotor at the sweep's profile, on the ring or without it (a gap of 1 m).
+fn model(
+    mat: &Path,
+    sweep: &Sweep,
+    ring: bool,
+) -> Result<RingedRotor<jeffcott::rotor::ProfiledLinearRotor>, String> {
+    let err = |e: jeffcott::rotor::RotorError| e.to_string();
+    let lateral = RotorMatrices::from_ross_mat(mat)
+        .and_then(|m| m.lateral())
+        .map_err(|e| format!("{}: {e}", mat.display()))?;
+    let x = lateral.x_dof(RING_NODE).map_err(err)?;
+    // The reference speed is the top one: it sets the state's scale.
+    let system = LinearSystem::from_matrices(&lateral, sweep.from.max(sweep.to))
+        .and_then(|s| s.with_unbalance(lateral.layout(), RING_NODE, UNBALANCE, -FRAC_PI_2))
+        .map_err(err)?;
+    let cb = CraigBampton::from_rotor(&lateral, &[x, x + 1], ModeSelection::Count(MODES))
+        .map_err(err)?;
+    let g = cb.project(lateral.gyroscopic()).map_err(err)?;
+    let legs = [
+        Segment::Ramp {
+            to: sweep.to,
+            rate: sweep.rate,
+        },
+        Segment::Ramp {
+            to: sweep.from,
+            rate: -sweep.rate,
+        },
+    ];
+    let profile = SpeedProfile::piecewise(sweep.from, &legs).map_err(err)?;
+    let gap = if ring { GAP } else { 1.0 };
+    let ring = SnubberRing::from_units(RING_STIFFNESS, RING_DAMPING, [0.0; 2], gap)
+        .map_err(|e| e.to_string())?;
+    LinearRotor::new(cb.reduce(&system).map_err(err)?, [0, 1], [0.0; 2])
+        .and_then(|r| r.with_speed_profile(&g, profile))
+        .and_then(|r| r.with_strobes_per_revolution(SAMPLES))
+        .and_then(|r| r.ringed(ring))
+        .map_err(err)
+}
+
+/// Runs the sweep up and back with and without the ring, prints a line per run and leg and
+/// draws `fe_envelope.png` in `out`.
+pub fn run(mat: &Path, sweep: &Sweep, out: &Path) -> Result<(), String> {
+    let turn = (sweep.to - sweep.from) / sweep.rate;
+    let mut legs = Vec::new();
+    for ring in [true, false] {
+        let model = model(mat, sweep, ring)?;
+        let start = Instant::now();
+        let plan = OutputPlan {
+            t_end: 2.0 * turn,
+            strobe: Some(StrobeRange {
+                first: 0,
+                last: u64::MAX - 1,
+            }),
+            dense: None,
+            events: true,
+        };
+        let opts = SimOptions::default()
+            .with_method(Method::Dop853)
+            .with_rtol(1e-9)
+            .with_atol(1e-9);
+        let mut traj = Trajectory::<Dyn>::default();
+        let y0 = model.rotor().rotor().rest_state();
+        simulate(&model, 0.0, &y0, &plan, &opts, &mut traj).map_err(|e| e.to_string())?;
+        let revs =
+            per_revolution(&traj, SAMPLES as usize, |y| [y[0], y[1]]).map_err(|e| e.to_string())?;
+        let (up, down): (Vec<Revolution>, Vec<Revolution>) =
+            revs.into_iter().partition(|r| r.t_start < turn);
+        let name = if ring {
+            "on the ring"
+        } else {
+            "without the ring"
+        };
+        for (leg, revs) in [("up", &up), ("down", &down)] {
+            summary(name, leg, revs, &traj, start.elapsed().as_secs_f64());
+        }
+        legs.push((format!("{name}, up"), up));
+        legs.push((format!("{name}, down"), down));
+    }
+    draw(out, sweep, &legs)
+}
+
+/// One line: the leg's peak radius, its speed, and the revolutions that touched.
+fn summary(name: &str, leg: &str, revs: &[Revolution], traj: &Trajectory<Dyn>, seconds: f64) {
+    let peak = revs
+        .iter()
+        .max_by(|a, b| a.max_radius.total_cmp(&b.max_radius));
+    let touched = revs.iter().filter(|r| r.touched()).count();
+    if let Some(p) = peak {
+        println!(
+            "fe {name}, {leg}: peak radius {:.4} µm ({:.3} gaps) at {:.1} rad/s; {touched} of {} revolutions touched; {} events in the run, {seconds:.1} s",
+            p.max_radius * 1e6,
+            p.max_radius / GAP,
+            p.speed,
+            revs.len(),
+            traj.events.len()
+        );
+    }
+}
+
+fn draw(out: &Path, sweep: &Sweep, legs: &[(String, Vec<Revolution>)]) -> Result<(), String> {
+    let title = format!(
+        "ROSS rotor (204 DOF, {MODES} modes), ring at node {RING_NODE}: {} ↔ {} rad/s at {} rad/s²",
+        sweep.from, sweep.to, sweep.rate
+    );
+    let fig = Figure::new(&title, "Ω (rad/s)", "largest |r| per revolution (µm)")
+        .with_columns("omega_rad_s", "radius_um")
+        .with_log(false, true)
+        .with_note(&format!("the ring's gap: {:.1} µm", GAP * 1e6));
+    let series: Vec<Series> = legs
+        .iter()
+        .map(|(label, revs)| {
+            Series::new(
+                label,
+                revs.iter().map(|r| (r.speed, r.max_radius * 1e6)).collect(),
+            )
+        })
+        .collect();
+    plot::lines(out.join("fe_envelope.png"), &fig, &series).map_err(|e| e.to_string())
+}
