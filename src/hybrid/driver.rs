@@ -318,6 +318,10 @@ where
     fn linear_part(&self) -> Option<&crate::ode::DiagonalLinearPart> {
         self.model.linear_part()
     }
+
+    fn diagonal_springs(&self) -> Option<crate::ode::DiagonalSprings<'_>> {
+        self.model.diagonal_springs()
+    }
 }
 
 impl<M: RotorModel> EventSet<M::Dim> for ModeSystem<'_, M>

@@ -4,6 +4,7 @@
 
 mod newton;
 mod tableau;
+mod woodbury;
 
 use self::newton::{error_estimate, iterate, Linear, Newton, Rate, StepInput, NIT};
 use self::tableau::{C1, C2};
@@ -667,9 +668,15 @@ where
         self.h_acc = h_try;
         self.err_acc = err.max(1e-2);
         let keep_jac = self.rate.theta <= THETA_JAC;
+        // Woodbury factors cost O(N): keep h only as for a small system.
+        let keep_h = if self.lin.structured {
+            KEEP_H_SMALL
+        } else {
+            self.keep_h
+        };
         let mut h_next = if no_growth {
             h_try * ratio.min(1.0)
-        } else if keep_jac && (self.keep_h.0..=self.keep_h.1).contains(&ratio) {
+        } else if keep_jac && (keep_h.0..=keep_h.1).contains(&ratio) {
             h_try
         } else {
             h_try * ratio
