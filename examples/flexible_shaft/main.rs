@@ -290,9 +290,8 @@ fn main() {
         .with_record(record as u64)
         .with_sweep(SweepOptions::reset())
         .with_opts(opts);
-    let build = |eta: f64| {
-        shaft::on_ring_with(params.with_eta(eta), layout, frequency_weights, springs)
-    };
+    let build =
+        |eta: f64| shaft::on_ring_with(params.with_eta(eta), layout, frequency_weights, springs);
     let diagram = or_exit(bifurcation(
         &etas,
         build,

@@ -60,8 +60,8 @@ use std::f64::consts::PI;
 
 use jeffcott::nalgebra::{Complex, DMatrix};
 use jeffcott::nalgebra::{DVector, Dyn, Vector2};
-use jeffcott::params::{ParamError, Params};
 use jeffcott::ode::{DiagonalSprings, JacobianMut};
+use jeffcott::params::{ParamError, Params};
 use jeffcott::ring::{ForceJacobian, Kinematics, RingAxis, RingError, SnubberRing};
 use jeffcott::rotor::{LinearSystem, ModalRotor, RingedRotor, RotorError, SmoothRotor};
 

@@ -476,6 +476,10 @@ pub struct Stats {
     /// decomposition as one). 0 for the explicit methods.
     #[cfg_attr(feature = "serde", serde(default))]
     pub lu_decompositions: u64,
+    /// Of `lu_decompositions`, those made as diagonal plus low rank, for the Woodbury formula
+    /// ([`OdeSystem::diagonal_springs`]): $O(N)$ each instead of $O(N^3)$.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub woodbury_decompositions: u64,
 }
 
 /// A one-step integrator with dense output (the explicit methods and [`Radau5`]).

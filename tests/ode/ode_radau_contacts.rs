@@ -213,8 +213,13 @@ fn shaft_against_reference(modes: usize, atol: f64) {
         let d = distance(&o);
         println!(
             "{modes} modes, {name} 1e-8 (atol {atol:e}): {} steps, {} rejected, {} Jacobians, \
-             {} LU, {} transitions, {t:.2} s, {d:.2e} gap from the reference",
-            st.steps, st.rejected, st.jacobians, st.lu_decompositions, st.transitions
+             {} LU ({} Woodbury), {} transitions, {t:.2} s, {d:.2e} gap from the reference",
+            st.steps,
+            st.rejected,
+            st.jacobians,
+            st.lu_decompositions,
+            st.woodbury_decompositions,
+            st.transitions
         );
         if method == Method::Radau5 && modal && springs {
             modal_radau = Some((o.stats.transitions, d));
@@ -305,6 +310,14 @@ fn woodbury_newton_keeps_the_dense_runs_orbit() {
     );
     assert_eq!(dense.transitions, reference.transitions);
     assert_eq!(woodbury.transitions, reference.transitions);
-    assert!(d_dense <= 1e-7 && d_woodbury <= 1e-7, "{d_dense:e} {d_woodbury:e}");
-    assert!(woodbury.steps < dense.steps, "{} >= {}", woodbury.steps, dense.steps);
+    assert!(
+        d_dense <= 1e-7 && d_woodbury <= 1e-7,
+        "{d_dense:e} {d_woodbury:e}"
+    );
+    assert!(
+        woodbury.steps < dense.steps,
+        "{} >= {}",
+        woodbury.steps,
+        dense.steps
+    );
 }

@@ -141,9 +141,12 @@ impl Linear {
         if self.p > 0 {
             let (n, p) = (self.n, self.p);
             let c = Complex::new(ar, ai);
-            if self.split && self.wb1.factor(&self.coupling, g) && self.wb2.factor(&self.coupling, c)
+            if self.split
+                && self.wb1.factor(&self.coupling, g)
+                && self.wb2.factor(&self.coupling, c)
             {
                 self.structured = true;
+                stats.woodbury_decompositions += 1;
                 return true;
             }
             condense(&self.jac, n, p, g, &mut self.e1);
@@ -709,7 +712,12 @@ mod tests {
         let want = full_solve(c);
         let scale = want.iter().map(|v| v.norm()).fold(0.0, f64::max);
         for i in 0..n {
-            assert!((got[i] - want[i]).norm() < 1e-12 * scale, "{i}: {} {}", got[i], want[i]);
+            assert!(
+                (got[i] - want[i]).norm() < 1e-12 * scale,
+                "{i}: {} {}",
+                got[i],
+                want[i]
+            );
         }
         let c = 3.7;
         let mut wb = Woodbury::<f64>::new(n);
@@ -729,7 +737,12 @@ mod tests {
             x
         };
         for i in 0..n {
-            assert!((got[i] - want[i].re).abs() < 1e-12 * scale, "{i}: {} {}", got[i], want[i]);
+            assert!(
+                (got[i] - want[i].re).abs() < 1e-12 * scale,
+                "{i}: {} {}",
+                got[i],
+                want[i]
+            );
         }
         // Coupled in every entry (a dense block of 12 velocity rows, beyond the largest
         // rank): not of low rank, the dense LU takes it.

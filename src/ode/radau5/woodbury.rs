@@ -100,7 +100,14 @@ impl Coupling {
         if !big.is_finite() {
             return false;
         }
-        match cross(&mut scratch[..m * n], m, n, DROP * big, &mut self.u, &mut self.w) {
+        match cross(
+            &mut scratch[..m * n],
+            m,
+            n,
+            DROP * big,
+            &mut self.u,
+            &mut self.w,
+        ) {
             Some(r) => {
                 self.rank = r;
                 true
@@ -143,8 +150,8 @@ fn cross(
     for k in 0..=MAX_RANK {
         let (mut best, mut at) = (0.0, 0);
         for (idx, x) in e.iter().enumerate() {
-            // Written so that NaN counts as too large.
-            if !(x.abs() <= best) {
+            // A NaN counts as too large (and stops the cross below).
+            if x.abs() > best || x.is_nan() {
                 best = x.abs();
                 at = idx;
             }
