@@ -440,7 +440,11 @@ impl SmoothRotor for FlexibleShaft {
         jac: &mut JacobianMut<'_, Dyn>,
     ) -> bool {
         let p = 2 * self.layout.modes;
-        jac.fill(0.0);
+        // Column by column as slices: nalgebra's element iterator over the whole view is
+        // several times slower (a fifth of RADAU5's time at 64 modes).
+        for j in 0..jac.ncols() {
+            jac.column_mut(j).as_mut_slice().fill(0.0);
+        }
         for i in 0..p {
             jac[(i, p + i)] = 1.0;
             jac[(p + i, i)] = -self.stiffness[i];
