@@ -272,6 +272,16 @@ where
         None
     }
 
+    /// The diagonal springs and dampers of [`SmoothRotor::rhs`] when it is of second order
+    /// ([`SmoothRotor::second_order`]) and its coordinates are coupled only through the
+    /// station's force (a rotor in real modal coordinates): [`RingedRotor`] passes it on as
+    /// [`RotorModel::diagonal_springs`], with which [`Radau5`](crate::ode::Radau5) solves its
+    /// Newton systems in $O(N)$ ([`OdeSystem::diagonal_springs`](crate::ode::OdeSystem::diagonal_springs)).
+    /// Default `None`.
+    fn diagonal_springs(&self) -> Option<crate::ode::DiagonalSprings<'_>> {
+        None
+    }
+
     /// The Jacobian of the rotor's field with a force at the station, written into `jac`:
     /// $\partial f/\partial y$ of [`SmoothRotor::rhs`] and, when `contact` is given (the
     /// ring's force $F(r, v)$ differentiated: [`ForceJacobian`]), of the force $-F(r(y), v(y))$
@@ -1372,5 +1382,11 @@ where
         let p = self.rotor.second_order()?;
         let slots_after = self.rotor.ring_slots().iter().all(|&i| i >= 2 * p);
         slots_after.then_some(p)
+    }
+
+    /// The rotor's [`SmoothRotor::diagonal_springs`], when it is of second order here.
+    fn diagonal_springs(&self) -> Option<crate::ode::DiagonalSprings<'_>> {
+        self.second_order()?;
+        self.rotor.diagonal_springs()
     }
 }

@@ -252,3 +252,88 @@ fn etd4_steps_and_the_modal_rotor_allocate_nothing() {
     });
     assert_eq!(info.count_total, 0, "ModalRotor: {info:?}");
 }
+
+/// RADAU5 on a second-order system that declares its diagonal springs
+/// (`OdeSystem::diagonal_springs`; 12 oscillators coupled by a cubic spring through one
+/// "station", rank 1, with an analytic Jacobian): its Woodbury decompositions and solves, with
+/// truncations and resets, allocate nothing.
+#[test]
+fn radau5_woodbury_solves_allocate_nothing() {
+    use jeffcott::ode::{DiagonalSprings, JacobianMut, OdeSystem};
+    struct Modes {
+        k: Vec<f64>,
+        d: Vec<f64>,
+        phi: Vec<f64>,
+    }
+    impl Modes {
+        fn station(&self, y: &DVector<f64>) -> f64 {
+            self.phi.iter().zip(y.iter()).map(|(p, x)| p * x).sum()
+        }
+    }
+    impl OdeSystem<Dyn> for Modes {
+        fn rhs(&self, t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
+            let p = self.k.len();
+            let s = self.station(y);
+            for i in 0..p {
+                dy[i] = y[p + i];
+                dy[p + i] =
+                    -self.k[i] * y[i] - self.d[i] * y[p + i] - self.phi[i] * 50.0 * s.powi(3)
+                        + self.phi[i] * (1.3 * t).cos();
+            }
+        }
+        fn jacobian(&self, _t: f64, y: &DVector<f64>, jac: &mut JacobianMut<'_, Dyn>) -> bool {
+            let p = self.k.len();
+            let g = 150.0 * self.station(y).powi(2);
+            jac.fill(0.0);
+            for i in 0..p {
+                jac[(i, p + i)] = 1.0;
+                jac[(p + i, i)] = -self.k[i];
+                jac[(p + i, p + i)] = -self.d[i];
+                for j in 0..p {
+                    jac[(p + i, j)] -= self.phi[i] * g * self.phi[j];
+                }
+            }
+            true
+        }
+        fn second_order(&self) -> Option<usize> {
+            Some(self.k.len())
+        }
+        fn diagonal_springs(&self) -> Option<DiagonalSprings<'_>> {
+            Some(DiagonalSprings {
+                stiffness: &self.k,
+                damping: &self.d,
+            })
+        }
+    }
+    let p = 12;
+    let sys = Modes {
+        k: (1..=p).map(|j| (j * j * j * j) as f64).collect(),
+        d: (1..=p).map(|j| 0.02 * (j * j) as f64).collect(),
+        phi: (1..=p).map(|j| (j as f64 * 1.1).sin()).collect(),
+    };
+    let n = 2 * p;
+    let opts = Options::default().with_rtol(1e-8).with_atol(1e-10);
+    let mut integ = AnyIntegrator::with_dim(Method::Radau5, Dyn(n), opts).unwrap();
+    let y0 = DVector::from_fn(n, |i, _| if i < p { 0.1 / (i + 1) as f64 } else { 0.0 });
+    let mut mid = y0.clone();
+    integ.reset(&sys, 0.0, &y0, false).unwrap();
+    let info = allocation_counter::measure(|| {
+        for step in 1..=1000 {
+            integ.step(&sys, 1e6).unwrap();
+            let tm = 0.5 * (integ.t_prev() + integ.t());
+            integ.dense(&sys, tm, &mut mid);
+            if step % 100 == 0 {
+                integ.truncate(&sys, tm).unwrap();
+                mid.copy_from(integ.y());
+                integ.reset(&sys, tm, &mid, true).unwrap();
+            }
+        }
+    });
+    let s = integ.stats();
+    println!("{s:?}, {info:?}");
+    assert!(
+        s.woodbury_decompositions > 10 && s.woodbury_decompositions == s.lu_decompositions,
+        "{s:?}"
+    );
+    assert_eq!(info.count_total, 0, "RADAU5 Woodbury: {info:?}");
+}

@@ -108,6 +108,11 @@ struct Flags {
     /// before; the explicit methods always use it)
     #[arg(long, default_value = "modal", value_parser = ["modal", "state"])]
     error_weight: String,
+    /// RADAU5's Newton solves: `woodbury` (the shaft declares its diagonal springs, the
+    /// contact couples the modes with rank 2: O(N) a solve) or `dense` (the LU of the
+    /// condensed matrix, as before)
+    #[arg(long, default_value = "woodbury", value_parser = ["woodbury", "dense"])]
+    newton_solve: String,
 }
 
 fn main() {
@@ -130,8 +135,10 @@ fn main() {
         tol,
         method,
         error_weight,
+        newton_solve,
     } = parse();
     let frequency_weights = error_weight == "modal";
+    let springs = newton_solve == "woodbury";
     let (rtol, atol) = tol.get();
     if eta_max < eta_min {
         fail(format!("--eta-max {eta_max} is below --eta-min {eta_min}"));
@@ -157,10 +164,11 @@ fn main() {
         .with_method(method.method())
         .with_rtol(rtol)
         .with_atol(atol);
-    let model = or_exit(shaft::on_ring_with_weights(
+    let model = or_exit(shaft::on_ring_with(
         params,
         layout,
         frequency_weights,
+        springs,
     ));
     let s = model.rotor();
     // From rest on the shaft's line (the ring placed if the rest point is beyond the gap).
@@ -283,7 +291,7 @@ fn main() {
         .with_sweep(SweepOptions::reset())
         .with_opts(opts);
     let build =
-        |eta: f64| shaft::on_ring_with_weights(params.with_eta(eta), layout, frequency_weights);
+        |eta: f64| shaft::on_ring_with(params.with_eta(eta), layout, frequency_weights, springs);
     let diagram = or_exit(bifurcation(
         &etas,
         build,

@@ -153,6 +153,10 @@ pub struct SimStats {
     /// its real and complex one counted as one; 0 for the explicit methods).
     #[cfg_attr(feature = "serde", serde(default))]
     pub lu_decompositions: u64,
+    /// Of `lu_decompositions`, those made as diagonal plus low rank (the model's
+    /// [`RotorModel::diagonal_springs`]): $O(N)$ each.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub woodbury_decompositions: u64,
 }
 
 /// What went wrong in a run.
@@ -317,6 +321,10 @@ where
 
     fn linear_part(&self) -> Option<&crate::ode::DiagonalLinearPart> {
         self.model.linear_part()
+    }
+
+    fn diagonal_springs(&self) -> Option<crate::ode::DiagonalSprings<'_>> {
+        self.model.diagonal_springs()
     }
 }
 
@@ -1141,6 +1149,7 @@ where
     stats.rhs_evals = s.rhs_evals;
     stats.jacobians = s.jacobians;
     stats.lu_decompositions = s.lu_decompositions;
+    stats.woodbury_decompositions = s.woodbury_decompositions;
 }
 
 /// The integrator of a run: the model's dimension, its algebraic components out of the error

@@ -435,6 +435,15 @@ where
         None
     }
 
+    /// The diagonal springs and dampers of every mode's field (second order, the same for
+    /// every mode: what a mode adds, a contact force, is of low rank), passed to the
+    /// integrator as [`OdeSystem::diagonal_springs`](crate::ode::OdeSystem::diagonal_springs),
+    /// with which [`Radau5`](crate::ode::Radau5) solves its Newton systems in $O(N)$.
+    /// Default `None`.
+    fn diagonal_springs(&self) -> Option<crate::ode::DiagonalSprings<'_>> {
+        None
+    }
+
     /// The Jacobian $\partial f/\partial y$ of `mode`'s field at $(t, y)$ written into `jac`
     /// (every entry), `true`; or `false` (the default) for finite differences. Passed to the
     /// integrator as [`OdeSystem::jacobian`](crate::ode::OdeSystem::jacobian) (only

@@ -1,5 +1,6 @@
-//! A system's linear part, diagonal in real and complex blocks ([`DiagonalLinearPart`]), and
-//! the $\varphi$-functions of the exponential integrator ([`phi_functions`]).
+//! A system's linear part, diagonal in real and complex blocks ([`DiagonalLinearPart`]), the
+//! diagonal springs and dampers of a second-order system ([`DiagonalSprings`]), and the
+//! $\varphi$-functions of the exponential integrator ([`phi_functions`]).
 
 use nalgebra::Complex;
 
@@ -118,6 +119,27 @@ impl DiagonalLinearPart {
             }
         }
     }
+}
+
+/// The diagonal springs $k_i$ and dampers $d_i$ of a second-order system's Jacobian
+/// ([`OdeSystem::diagonal_springs`](super::OdeSystem::diagonal_springs)): coordinate $i$'s
+/// velocity row holds $-k_i$ at its position and $-d_i$ at its velocity, apart from a part of
+/// low rank. For a modal model (unit modal masses) $k_i = \omega_i^2$, $d_i = 2\zeta_i\omega_i$.
+/// Both slices have the length $p$ of [`OdeSystem::second_order`](super::OdeSystem::second_order)
+/// (other lengths: the declaration is ignored).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DiagonalSprings<'a> {
+    /// $k_i$, the negated $\partial f_{p+i}/\partial q_i$.
+    pub stiffness: &'a [f64],
+    /// $d_i$, the negated $\partial f_{p+i}/\partial v_i$.
+    pub damping: &'a [f64],
+}
+
+impl DiagonalSprings<'_> {
+    /// The largest rank of the rest of the Newton matrix that [`Radau5`](super::Radau5)
+    /// handles by the Woodbury formula (a force through a station and the ring's two slots
+    /// need 4).
+    pub const MAX_RANK: usize = 8;
 }
 
 /// $1/k!$ for $k \le 20$.

@@ -328,7 +328,7 @@ pub use events::{
     find_first_event, EventDerivative, EventFns, EventHit, EventOptions, EventSet, EventState,
     NoDerivative, NoEvents, MAX_SAMPLES,
 };
-pub use linear_part::{phi_functions, DiagonalLinearPart};
+pub use linear_part::{phi_functions, DiagonalLinearPart, DiagonalSprings};
 pub use options::{Options, Tolerance};
 pub use radau5::Radau5;
 pub use rk4::Rk4;
@@ -419,6 +419,23 @@ where
     fn linear_part(&self) -> Option<&DiagonalLinearPart> {
         None
     }
+
+    /// For a system of second order ([`OdeSystem::second_order`] = $p$): the diagonal springs
+    /// and dampers $k$, $d \in \mathbb R^p$ of its Jacobian's velocity rows,
+    /// $A_q = -\mathrm{diag}(k) + \dots$, $A_v = -\mathrm{diag}(d) + \dots$, where the rest
+    /// of $J$ (the dots, with the rows and columns of the other components $z$) is of low rank:
+    /// a modal model whose modes are coupled only by a force acting through a few coordinates
+    /// (a contact at a station: rank 2). Default `None`.
+    ///
+    /// Only [`Radau5`] uses it: its condensed Newton matrix is then $D + UW^\top$, $D$
+    /// diagonal ($c + d_i + k_i/c$), and it solves with the Sherman-Morrison-Woodbury formula
+    /// at $O(Nr)$ a solve instead of a dense LU at $O(N^3)$. The rank $r$ is found from the
+    /// Jacobian at each factorisation (at most [`DiagonalSprings::MAX_RANK`]); where the
+    /// rest is not of low rank (the values are wrong, the coupling is full), Radau5 falls back
+    /// to the dense LU: a wrong value costs time, never accuracy.
+    fn diagonal_springs(&self) -> Option<DiagonalSprings<'_>> {
+        None
+    }
 }
 
 /// A mutable view of an $N\times N$ Jacobian (column-major, over storage the integrator
@@ -459,6 +476,10 @@ pub struct Stats {
     /// decomposition as one). 0 for the explicit methods.
     #[cfg_attr(feature = "serde", serde(default))]
     pub lu_decompositions: u64,
+    /// Of `lu_decompositions`, those made as diagonal plus low rank, for the Woodbury formula
+    /// ([`OdeSystem::diagonal_springs`]): $O(N)$ each instead of $O(N^3)$.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub woodbury_decompositions: u64,
 }
 
 /// A one-step integrator with dense output (the explicit methods and [`Radau5`]).

@@ -24,15 +24,27 @@ const MAX_REJECTED_PER_TRANSITION: f64 = 20.0;
 const MAX_LU_PER_STEP: f64 = 0.3;
 
 /// The shaft in `modes` modes with the ring at station 3 of 8 (every mode count meets it),
-/// eta 1.1, and its consistent start from rest.
+/// eta 1.1, and its consistent start from rest; its diagonal springs not declared, so that
+/// RADAU5 factors the dense condensed matrices (whose cost the bounds here are about).
 fn shaft_with_contacts(modes: usize) -> (RingedRotor<shaft::FlexibleShaft>, DVector<f64>) {
-    shaft_with_contacts_weighted(modes, true)
+    shaft_model(modes, true, false)
 }
 
-/// [`shaft_with_contacts`], the errors weighed modally (`true`) or by the state's scale.
+/// [`shaft_with_contacts`], the errors weighed modally (`true`) or by the state's scale, the
+/// diagonal springs declared (RADAU5's Woodbury solves).
 fn shaft_with_contacts_weighted(
     modes: usize,
     modal: bool,
+) -> (RingedRotor<shaft::FlexibleShaft>, DVector<f64>) {
+    shaft_model(modes, modal, true)
+}
+
+/// The shaft of [`shaft_with_contacts`] with the given error weights and springs declared
+/// or not ([`shaft::FlexibleShaft::with_diagonal_springs`]).
+fn shaft_model(
+    modes: usize,
+    modal: bool,
+    springs: bool,
 ) -> (RingedRotor<shaft::FlexibleShaft>, DVector<f64>) {
     let params = Preset::Fig8a.params().with_eta(1.1);
     let layout = Layout {
@@ -41,7 +53,7 @@ fn shaft_with_contacts_weighted(
         unbalance: 2,
         ring: 3,
     };
-    let model = shaft::on_ring_with_weights(params, layout, modal).expect("shaft");
+    let model = shaft::on_ring_with(params, layout, modal, springs).expect("shaft");
     let mut y0 = DVector::zeros(model.rotor().state_len());
     model.make_consistent(&mut y0).expect("consistent start");
     (model, y0)
@@ -161,8 +173,8 @@ fn shaft64_radau5_against_dop853() {
 fn shaft_against_reference(modes: usize, atol: f64) {
     use jeffcott::analysis::{strobe_orbit, StrobeOrbit};
     use std::time::Instant;
-    let run = |modal: bool, method, rtol, atol| {
-        let (model, y0) = shaft_with_contacts_weighted(modes, modal);
+    let run = |modal: bool, method, rtol, atol, springs| {
+        let (model, y0) = shaft_model(modes, modal, springs);
         let opts = SimOptions::default()
             .with_method(method)
             .with_rtol(rtol)
@@ -171,7 +183,7 @@ fn shaft_against_reference(modes: usize, atol: f64) {
         let orbit = strobe_orbit(&model, &y0, 30, 10, &opts).expect("orbit");
         (model, orbit, clock.elapsed().as_secs_f64())
     };
-    let (model, reference, t_ref) = run(false, Method::Dop853, 1e-12, 1e-12);
+    let (model, reference, t_ref) = run(false, Method::Dop853, 1e-12, 1e-12, true);
     let s = model.rotor();
     let distance = |o: &StrobeOrbit<jeffcott::nalgebra::Dyn>| {
         reference
@@ -190,20 +202,26 @@ fn shaft_against_reference(modes: usize, atol: f64) {
     );
     let mut modal_radau = None;
     // DOP853 keeps the state's scale whatever the model's weights (`RotorModel::error_scale`).
-    for (name, method, modal) in [
-        ("DOP853", Method::Dop853, true),
-        ("RADAU5 state", Method::Radau5, false),
-        ("RADAU5 weighted", Method::Radau5, true),
+    for (name, method, modal, springs) in [
+        ("DOP853", Method::Dop853, true, true),
+        ("RADAU5 state", Method::Radau5, false, true),
+        ("RADAU5 weighted, dense LU", Method::Radau5, true, false),
+        ("RADAU5 weighted", Method::Radau5, true, true),
     ] {
-        let (_, o, t) = run(modal, method, 1e-8, atol);
+        let (_, o, t) = run(modal, method, 1e-8, atol, springs);
         let st = &o.stats;
         let d = distance(&o);
         println!(
             "{modes} modes, {name} 1e-8 (atol {atol:e}): {} steps, {} rejected, {} Jacobians, \
-             {} LU, {} transitions, {t:.2} s, {d:.2e} gap from the reference",
-            st.steps, st.rejected, st.jacobians, st.lu_decompositions, st.transitions
+             {} LU ({} Woodbury), {} transitions, {t:.2} s, {d:.2e} gap from the reference",
+            st.steps,
+            st.rejected,
+            st.jacobians,
+            st.lu_decompositions,
+            st.woodbury_decompositions,
+            st.transitions
         );
-        if method == Method::Radau5 && modal {
+        if method == Method::Radau5 && modal && springs {
             modal_radau = Some((o.stats.transitions, d));
         }
     }
@@ -212,5 +230,94 @@ fn shaft_against_reference(modes: usize, atol: f64) {
     assert!(
         d <= 1e-7,
         "{modes} modes: {d:.2e} of the gap from the reference"
+    );
+}
+
+/// The shaft's analytic Jacobian (`SmoothRotor::jacobian`, in contact with a force Jacobian
+/// $(F_r, F_v)$) against forward differences of its field plus the linear force
+/// $-(F_r r + F_v v)$ at the ring's station (independent: the field and the station map only).
+#[test]
+fn shaft_jacobian_matches_differences() {
+    use jeffcott::nalgebra::{DMatrix, Matrix2};
+    use jeffcott::ring::ForceJacobian;
+    use jeffcott::rotor::SmoothRotor;
+    let (model, _) = shaft_model(5, true, true);
+    let s = model.rotor();
+    let n = s.state_len();
+    let fj = ForceJacobian {
+        position: Matrix2::new(30.0, -4.0, 2.5, 27.0),
+        velocity: Matrix2::new(0.7, 0.2, -0.1, 0.9),
+    };
+    let field = |y: &DVector<f64>| {
+        let mut dy = DVector::zeros(n);
+        s.rhs(0.3, y, &mut dy);
+        let k = s.station(y);
+        s.add_station_force(y, &-(fj.position * k.r + fj.velocity * k.v), &mut dy);
+        dy
+    };
+    let y = DVector::from_fn(n, |i, _| 0.1 * ((i * 7) % 11) as f64 - 0.4);
+    let mut jac = DMatrix::from_element(n, n, f64::NAN);
+    assert!(s.jacobian(0.3, &y, Some(&fj), &mut jac.as_view_mut()));
+    let f0 = field(&y);
+    let ring = s.ring_slots_of();
+    for j in 0..n {
+        let mut yj = y.clone();
+        let h = 1e-6;
+        yj[j] += h;
+        let col = (field(&yj) - &f0) / h;
+        for i in (0..n).filter(|i| !ring.contains(i)) {
+            let scale = 1.0 + jac[(i, j)].abs();
+            assert!(
+                (col[i] - jac[(i, j)]).abs() < 1e-5 * scale,
+                "({i}, {j}): differences {} analytic {}",
+                col[i],
+                jac[(i, j)]
+            );
+        }
+    }
+}
+
+/// RADAU5's Woodbury solves (the shaft's diagonal springs declared) against its dense LU on
+/// the 16-mode shaft with contacts at rtol 1e-8 over 6 periods: the same transitions, both
+/// within 1e-7 of the gap of DOP853 at rtol = atol = 1e-12, and fewer steps (the
+/// factorisations cost O(N), so the step size is not held to keep them).
+#[test]
+fn woodbury_newton_keeps_the_dense_runs_orbit() {
+    let run = |springs: bool, method, tol: f64| {
+        let (model, y0) = shaft_model(16, true, springs);
+        let opts = SimOptions::default()
+            .with_method(method)
+            .with_rtol(tol)
+            .with_atol(tol.min(1e-12));
+        let mut traj = Trajectory::default();
+        let plan = OutputPlan::strobe(model.forcing_period(), 1, 6);
+        let stats = simulate(&model, 0.0, &y0, &plan, &opts, &mut traj).expect("run");
+        let end = traj.strobe.last().expect("strobe").y.clone();
+        (stats, model.rotor().ring_kinematics(end.as_slice()).r)
+    };
+    let (reference, r_ref) = run(false, Method::Dop853, 1e-12);
+    let (dense, r_dense) = run(false, Method::Radau5, 1e-8);
+    let (woodbury, r_woodbury) = run(true, Method::Radau5, 1e-8);
+    let (d_dense, d_woodbury) = ((r_dense - r_ref).norm(), (r_woodbury - r_ref).norm());
+    println!(
+        "dense LU: {} steps, {} LU, {d_dense:.2e} gap; Woodbury: {} steps, {} LU, \
+         {d_woodbury:.2e} gap; {} transitions",
+        dense.steps,
+        dense.lu_decompositions,
+        woodbury.steps,
+        woodbury.lu_decompositions,
+        reference.transitions
+    );
+    assert_eq!(dense.transitions, reference.transitions);
+    assert_eq!(woodbury.transitions, reference.transitions);
+    assert!(
+        d_dense <= 1e-7 && d_woodbury <= 1e-7,
+        "{d_dense:e} {d_woodbury:e}"
+    );
+    assert!(
+        woodbury.steps < dense.steps,
+        "{} >= {}",
+        woodbury.steps,
+        dense.steps
     );
 }

@@ -2,6 +2,7 @@
 //! simplified Newton iteration on the transformed stage system, and the error estimate.
 
 use super::tableau::{C1, C2, DD1, DD2, DD3, T, TI};
+use super::woodbury::{Coupling, Woodbury};
 use crate::numeric::lu::{lu_factor, lu_solve, LuScalar};
 use crate::ode::{JacobianMut, OdeSystem, Stats};
 use nalgebra::allocator::Allocator;
@@ -14,7 +15,8 @@ pub(super) const NIT: usize = 7;
 ///
 /// For a second-order system ([`OdeSystem::second_order`] = $p$) the matrices factored are
 /// the condensed ones of size $N - p$ (see [`condensed_solve`]), stored in the leading
-/// part of the same buffers.
+/// part of the same buffers; with its diagonal springs ([`OdeSystem::diagonal_springs`])
+/// they are factored as diagonal plus low rank ([`Woodbury`]) when they are.
 #[derive(Debug, Clone)]
 pub(super) struct Linear {
     pub n: usize,
@@ -31,6 +33,15 @@ pub(super) struct Linear {
     pub piv2: Vec<usize>,
     /// Right-hand side of the complex solve.
     pub rc: Vec<Complex<f64>>,
+    /// $J$ split into the declared diagonal springs and a coupling of low rank, and whether
+    /// the current Jacobian is so split.
+    coupling: Coupling,
+    split: bool,
+    /// The Woodbury factors of the real and the complex matrix, when in use (else the LUs).
+    wb1: Woodbury<f64>,
+    wb2: Woodbury<Complex<f64>>,
+    /// The last decompositions are the Woodbury ones.
+    pub structured: bool,
     pub gamma: f64,
     pub alpha: f64,
     pub beta: f64,
@@ -48,6 +59,11 @@ impl Linear {
             e2: vec![Complex::new(0.0, 0.0); n * n],
             piv2: vec![0; n],
             rc: vec![Complex::new(0.0, 0.0); n],
+            coupling: Coupling::new(n),
+            split: false,
+            wb1: Woodbury::new(n),
+            wb2: Woodbury::new(n),
+            structured: false,
             gamma: super::tableau::gamma(),
             alpha,
             beta,
@@ -75,9 +91,31 @@ impl Linear {
         self.p = sys.second_order().filter(|&p| 2 * p <= n).unwrap_or(0);
         stats.jacobians += 1;
         let mut view = JacobianMut::from_slice_generic(&mut self.jac, dim, dim);
-        if sys.jacobian(t, y, &mut view) {
-            return;
+        if !sys.jacobian(t, y, &mut view) {
+            self.differences(sys, t, y, f0, yt, ft, stats);
         }
+        // e1 is free until the decompositions that follow.
+        self.split = match sys.diagonal_springs() {
+            Some(s) => self.coupling.split(&self.jac, (n, self.p), s, &mut self.e1),
+            None => false,
+        };
+    }
+
+    /// $J$ by forward differences (see [`Linear::jacobian`]).
+    #[allow(clippy::too_many_arguments)]
+    fn differences<D: Dim, S: OdeSystem<D>>(
+        &mut self,
+        sys: &S,
+        t: f64,
+        y: &OVector<f64, D>,
+        f0: &OVector<f64, D>,
+        yt: &mut OVector<f64, D>,
+        ft: &mut OVector<f64, D>,
+        stats: &mut Stats,
+    ) where
+        DefaultAllocator: Allocator<D>,
+    {
+        let n = self.n;
         yt.copy_from(y);
         for j in 0..n {
             let yj = y[j];
@@ -93,15 +131,26 @@ impl Linear {
         stats.rhs_evals += n as u64;
     }
 
-    /// Factors $(\gamma/h) I - J$ and $((\alpha + i\beta)/h) I - J$ (condensed when `p > 0`);
-    /// `false` if either is singular to working precision.
+    /// Factors $(\gamma/h) I - J$ and $((\alpha + i\beta)/h) I - J$ (condensed when `p > 0`,
+    /// diagonal plus low rank when it is: [`LowRank`]); `false` if either is singular to
+    /// working precision.
     pub(super) fn decompose(&mut self, h: f64, stats: &mut Stats) -> bool {
         let (g, ar, ai) = (self.gamma / h, self.alpha / h, self.beta / h);
         stats.lu_decompositions += 1;
+        self.structured = false;
         if self.p > 0 {
             let (n, p) = (self.n, self.p);
+            let c = Complex::new(ar, ai);
+            if self.split
+                && self.wb1.factor(&self.coupling, g)
+                && self.wb2.factor(&self.coupling, c)
+            {
+                self.structured = true;
+                stats.woodbury_decompositions += 1;
+                return true;
+            }
             condense(&self.jac, n, p, g, &mut self.e1);
-            condense(&self.jac, n, p, Complex::new(ar, ai), &mut self.e2);
+            condense(&self.jac, n, p, c, &mut self.e2);
             return lu_factor(&mut self.e1, n - p, &mut self.piv1).is_ok()
                 && lu_factor(&mut self.e2, n - p, &mut self.piv2).is_ok();
         }
@@ -121,7 +170,9 @@ impl Linear {
 
     /// Solves $((\gamma/h) I - J) x = b$ in place with the factors of [`Linear::decompose`].
     pub(super) fn solve_real(&self, h: f64, b: &mut [f64]) {
-        if self.p > 0 {
+        if self.structured {
+            split_solve(&self.coupling, self.p, self.gamma / h, &self.wb1, b);
+        } else if self.p > 0 {
             condensed_solve(
                 &self.jac,
                 self.n,
@@ -138,8 +189,10 @@ impl Linear {
 
     /// Solves $(((\alpha + i\beta)/h) I - J) x = b$ in place, `b` = `self.rc`.
     fn solve_complex(&mut self, h: f64) {
-        if self.p > 0 {
-            let c = Complex::new(self.alpha / h, self.beta / h);
+        let c = Complex::new(self.alpha / h, self.beta / h);
+        if self.structured {
+            split_solve(&self.coupling, self.p, c, &self.wb2, &mut self.rc);
+        } else if self.p > 0 {
             condensed_solve(
                 &self.jac,
                 self.n,
@@ -226,6 +279,19 @@ fn condensed_solve<T: LuScalar>(
         }
     }
     lu_solve(e, n - p, piv, bvz);
+    for (x, &v) in bq.iter_mut().zip(bvz.iter()) {
+        *x = (*x + v) * inv;
+    }
+}
+
+/// Solves $(cI - J)x = b$ in place with the Woodbury factors of the condensed matrix: the
+/// right-hand side $b_{vz} + \frac1c A_q b_q$ ([`Coupling::add_position_rhs`]), the
+/// condensed solve for $(x_v, x_z)$, then $x_q = (b_q + x_v)/c$ (as [`condensed_solve`]).
+fn split_solve<T: LuScalar>(cpl: &Coupling, p: usize, c: T, wb: &Woodbury<T>, b: &mut [T]) {
+    let inv = T::one() / c;
+    let (bq, bvz) = b.split_at_mut(p);
+    cpl.add_position_rhs(inv, bq, bvz);
+    wb.solve(bvz);
     for (x, &v) in bq.iter_mut().zip(bvz.iter()) {
         *x = (*x + v) * inv;
     }
@@ -349,7 +415,8 @@ where
         sys.rhs(inp.t + c[s] * inp.h, yt, &mut z[s]);
     }
     stats.rhs_evals += 3;
-    z.iter().all(|v| v.iter().all(|x| x.is_finite()))
+    // Over slices: nalgebra's element iterator is several times slower.
+    z.iter().all(|v| v.as_slice().iter().all(|x| x.is_finite()))
 }
 
 /// $(M \otimes I)\thinspace x$ in place for the three stage vectors (`m` is $T^{-1}$ here).
@@ -496,7 +563,7 @@ where
     DefaultAllocator: Allocator<D>,
 {
     let mut s = 0.0;
-    for (a, b) in e.iter().zip(scal.iter()) {
+    for (a, b) in e.as_slice().iter().zip(scal.as_slice()) {
         s += (a / b) * (a / b);
     }
     (s / n_ctrl).sqrt()
@@ -581,5 +648,121 @@ mod tests {
             }
             assert!(r.abs() < 1e-12 * n as f64, "row {i}: residual {r}");
         }
+    }
+
+    /// A second-order Jacobian with diagonal springs $k_i$, dampers $d_i$, a coupling of
+    /// rank 2 through a "station" and two dense rows and columns $z$: the Woodbury solve
+    /// against the full LU of $cI - J$ (independent: no condensation, no splitting), real
+    /// and complex; a full coupling refused.
+    #[test]
+    fn woodbury_solve_matches_the_full_system() {
+        use super::super::woodbury::{Coupling, Woodbury};
+        use crate::ode::DiagonalSprings;
+        let (p, mz) = (6, 2);
+        let n = 2 * p + mz;
+        let k: Vec<f64> = (0..p).map(|i| 1.0 + (i * i) as f64).collect();
+        let d: Vec<f64> = (0..p).map(|i| 0.1 * (i + 1) as f64).collect();
+        let phi = |i: usize| (1.0 + i as f64).sin();
+        let psi = |i: usize| (0.3 * i as f64).cos();
+        let mut jac = vec![0.0; n * n];
+        let at = |i: usize, j: usize| i + j * n;
+        for i in 0..p {
+            jac[at(i, p + i)] = 1.0;
+            jac[at(p + i, i)] = -k[i];
+            jac[at(p + i, p + i)] = -d[i];
+            for l in 0..p {
+                jac[at(p + i, l)] -= phi(i) * 2.0 * phi(l) + psi(i) * psi(l);
+                jac[at(p + i, p + l)] -= 0.5 * phi(i) * phi(l);
+            }
+            for z in 0..mz {
+                jac[at(p + i, 2 * p + z)] = phi(i) * (1.0 + z as f64);
+            }
+        }
+        for z in 2 * p..n {
+            for j in 0..n {
+                jac[at(z, j)] = ((z * 3 + j * 5) % 7) as f64 - 3.0;
+            }
+        }
+        let springs = DiagonalSprings {
+            stiffness: &k,
+            damping: &d,
+        };
+        let mut cpl = Coupling::new(n);
+        let mut scratch = vec![0.0; n * n];
+        assert!(cpl.split(&jac, (n, p), springs, &mut scratch));
+        assert!(cpl.rank() <= 5, "rank {}", cpl.rank());
+        let b: Vec<Complex<f64>> = (0..n)
+            .map(|i| Complex::new(1.0 + i as f64, 0.5 - i as f64))
+            .collect();
+        let full_solve = |c: Complex<f64>| {
+            let mut full: Vec<Complex<f64>> = jac.iter().map(|&v| Complex::new(-v, 0.0)).collect();
+            for i in 0..n {
+                full[i * n + i] += c;
+            }
+            let mut piv = vec![0; n];
+            lu_factor(&mut full, n, &mut piv).unwrap();
+            let mut x = b.clone();
+            lu_solve(&full, n, &piv, &mut x);
+            x
+        };
+        let c = Complex::new(2.1, 4.3);
+        let mut wb = Woodbury::new(n);
+        assert!(wb.factor(&cpl, c));
+        let mut got = b.clone();
+        split_solve(&cpl, p, c, &wb, &mut got);
+        let want = full_solve(c);
+        let scale = want.iter().map(|v| v.norm()).fold(0.0, f64::max);
+        for i in 0..n {
+            assert!(
+                (got[i] - want[i]).norm() < 1e-12 * scale,
+                "{i}: {} {}",
+                got[i],
+                want[i]
+            );
+        }
+        let c = 3.7;
+        let mut wb = Woodbury::<f64>::new(n);
+        assert!(wb.factor(&cpl, c));
+        let mut got: Vec<f64> = b.iter().map(|v| v.re).collect();
+        split_solve(&cpl, p, c, &wb, &mut got);
+        let want = {
+            let b_re: Vec<Complex<f64>> = b.iter().map(|v| Complex::new(v.re, 0.0)).collect();
+            let mut full: Vec<Complex<f64>> = jac.iter().map(|&v| Complex::new(-v, 0.0)).collect();
+            for i in 0..n {
+                full[i * n + i] += Complex::new(c, 0.0);
+            }
+            let mut piv = vec![0; n];
+            lu_factor(&mut full, n, &mut piv).unwrap();
+            let mut x = b_re;
+            lu_solve(&full, n, &piv, &mut x);
+            x
+        };
+        for i in 0..n {
+            assert!(
+                (got[i] - want[i].re).abs() < 1e-12 * scale,
+                "{i}: {} {}",
+                got[i],
+                want[i]
+            );
+        }
+        // Coupled in every entry (a dense block of 12 velocity rows, beyond the largest
+        // rank): not of low rank, the dense LU takes it.
+        let p = 12;
+        let n = 2 * p;
+        let mut jac = vec![0.0; n * n];
+        for i in 0..p {
+            jac[i + (p + i) * n] = 1.0;
+            for l in 0..n {
+                jac[p + i + l * n] = ((i * 7 + l * 11) % 13) as f64;
+            }
+        }
+        let (k, d) = (vec![1.0; p], vec![0.1; p]);
+        let springs = DiagonalSprings {
+            stiffness: &k,
+            damping: &d,
+        };
+        let mut cpl = Coupling::new(n);
+        let mut scratch = vec![0.0; n * n];
+        assert!(!cpl.split(&jac, (n, p), springs, &mut scratch));
     }
 }
