@@ -240,7 +240,10 @@
 //!    event is *on zero* at $t_o$ if $|g_i(t_o)| \le$ `value_tol`, or if it
 //!    reaches zero within the window: $g_i \dot g_i < 0$ and
 //!    $|g_i(t_o)| \le |\dot g_i|\thinspace w$ (the round-off left by a located
-//!    root or a reset map). Its direction of motion is the sign of
+//!    root or a reset map). A derivative of exactly zero is a derivative: such
+//!    a guard is on zero only within `value_tol`, and one off zero (offset by a
+//!    margin at a tangency) that curves through zero inside the window crosses.
+//!    Its direction of motion is the sign of
 //!    $\dot g_i(t_o)$ if the set supplies [`EventSet::derivative`] (and it is
 //!    non-zero); otherwise the sign of $g_i$ at the *probe time*
 //!    $t_p = t_o + \delta$ on the dense output, with

@@ -31,7 +31,8 @@
 //!
 //! (`FUZZ_SEEDS=a,b,c` sets the seeds, decimal or `0x` hex, default the three of
 //! docs/reliability.md; each seed's counts are printed as it finishes; `FUZZ_RING_CASES` sets
-//! the number of ring-element cases.) The short run takes its seed from `FUZZ_SEED`, or from
+//! the number of ring-element cases; `FUZZ_FROM=<n>` draws cases 1 to n - 1 without running
+//! them, so that case n of a long run's report is reached in seconds.) The short run takes its seed from `FUZZ_SEED`, or from
 //! the clock when that is unset, and prints it: a failure is reproduced with
 //! `FUZZ_SEED=<seed> cargo test --test fuzz fuzz::fuzz_short`. The counts are in
 //! docs/reliability.md.
@@ -1436,7 +1437,14 @@ where
     };
     let mut runner = TestRunner::new(config);
     let tally = RefCell::new(Tally::default());
+    // `FUZZ_FROM=<n>` draws the cases before case n without running them: the stream of
+    // cases depends on the seed only, so case n is the same as in a full run.
+    let from: u64 = env("FUZZ_FROM", 0);
     let result = runner.run(&strategy, |case| {
+        if tally.borrow().cases + 1 < from {
+            tally.borrow_mut().cases += 1;
+            return Ok(());
+        }
         let desc = format!("{case:?}");
         let clock = Instant::now();
         let verdict = guarded(CASE_LIMIT, move || check(case)).and_then(|v| v);

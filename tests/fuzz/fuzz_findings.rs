@@ -1268,3 +1268,81 @@ fn a_gap_crossing_with_the_rotor_moving_out_is_not_a_parting() {
         );
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// 17. An onset guard off zero by its margin, with a rate of exactly zero, taken for on zero.
+
+/// A fuzz case (seed `12345`, case 45235 of the $10^5$-case run): the custom rotor with a
+/// softening bearing ($k_3 = -0.087$), Radau5 at `rtol` $8.3\times10^{-4}$, one event sample a
+/// step, from a relaxing ring at $t_0 = 465296$. The rotor slides along the ring without load
+/// (contact losses and touches every $7\times10^{-8}$); at one loss it moves exactly
+/// tangentially, and the onset guard of the free flight, $h - m$, starts at $-m =
+/// -1.4\times10^{-14}$ with its rate rounded to exactly 0. The detector took that zero for "no
+/// derivative", hence a guard that may have left zero, and dropped its crossing (one ulp after
+/// the start, inside the start-of-segment window, the dense output moving the rotor outward)
+/// as the zero at the start: the free flight ran on with the rotor $5.6\times10^{-3}$ gaps
+/// beyond the ring at the next strobe (the truth: a free flight has $|r - s| \le \gamma$, the
+/// model's definition). A guard with a derivative of exactly zero is now on zero only within
+/// `value_tol` (`ode` (Events), rule 3): the crossing is an event and the slide goes on, until
+/// the chattering bound ends the run (a larger bound goes further).
+#[test]
+fn an_onset_guard_off_zero_with_a_zero_rate_is_not_taken_for_the_start() {
+    let p = Params {
+        eta: 0.934174959804055,
+        nu1: 0.1633519252738614,
+        nu2: 9856.217981886122,
+        kx: 1125.0505871808293,
+        ky: 0.010809457237127604,
+        beta: 0.0,
+        dx: 0.2972488150886696,
+        dy: 0.06204196761404997,
+        ex: -0.5739944688356172,
+        ey: -1.2263930124353026,
+        phi0: -0.16679672740532314,
+    };
+    let m = rotor::on_ring(p, -0.4697926230099876, -0.0873783684095446).unwrap();
+    // The fuzzer's `Relaxing` start: the rotor inside the ring, the ring displaced.
+    let r = 0.81251394509214 * Vector2::new(5.458757238982963f64.cos(), 5.458757238982963f64.sin());
+    let d =
+        0.9940051820535274 * Vector2::new(4.9629955550033955f64.cos(), 4.9629955550033955f64.sin());
+    let v =
+        4.4044613502609805e-5 * Vector2::new(4.58532522599548f64.cos(), 4.58532522599548f64.sin());
+    let y0 = SVector::from([r.x, r.y, v.x, v.y, r.x - d.x, r.y - d.y]);
+    let t0 = 465295.93139095145;
+    let period = p.forcing_period();
+    let t_end = t0 + 2.0 * period;
+    let plan = OutputPlan {
+        t_end,
+        strobe: Some(StrobeRange {
+            first: (t0 / period).ceil() as u64,
+            last: (t_end / period).floor() as u64,
+        }),
+        dense: Some(DenseSampling {
+            t_start: t0,
+            dt: period / 27.0,
+        }),
+        events: true,
+    };
+    let opts = SimOptions::default()
+        .with_method(Method::Radau5)
+        .with_rtol(0.0008320758574985395)
+        .with_atol(2.0056992341239783e-9)
+        .with_steps_per_period(694)
+        .with_max_step_fraction(99.91358253139299)
+        .with_event_samples(1)
+        .with_max_events_per_period(1000)
+        .with_max_steps(39757);
+    let mut traj = Trajectory::default();
+    if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
+        assert!(
+            matches!(e.kind, SimErrorKind::Chattering { .. }),
+            "{}",
+            e.kind
+        );
+    }
+    let worst = worst_inconsistency(m.ring(), &traj);
+    assert!(
+        worst <= 1e-6,
+        "rotor or ring {worst:e} off where the mode puts it"
+    );
+}

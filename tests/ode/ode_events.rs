@@ -1165,3 +1165,45 @@ fn a_crossing_pair_off_the_interpolant_in_slope_only_is_found() {
         .unwrap();
     assert!((hit.t - first).abs() <= 0.5e-4, "{} against {first}", hit.t);
 }
+
+/// A guard clearly off zero at the origin whose derivative there is exactly zero, curving
+/// into zero within the re-arm window (issue 16, the fuzzer's last class A: an integrated free
+/// flight released at a tangential contact loss, its onset guard $h - m$ offset by the onset
+/// margin, $h^\prime$ rounded to exactly 0, and the rotor curving into the ring). The detector
+/// took a derivative of exactly zero for no derivative, so the guard "may have left zero"
+/// (start-of-segment rule 3), and its root, inside the window, was dropped as the zero at the
+/// start: the rotor ran on 5.6e-3 gaps beyond the ring. Rule 3 calls a guard on zero only if
+/// $|g| \le$ `value_tol` or $g\dot g < 0$ within the window: with $\dot g = 0$ and $g \ne 0$
+/// it is armed, and its crossing is an event. Here $g = -m + c\tau^2/2$, $\tau = t - t_0$,
+/// exact on the dense output (a quadratic), $t_0 = 10^6$ (window $w \approx 1.8\times10^{-9}$),
+/// $m = 10^{-14}$, $c = 10^6$: the root $\tau^\ast = \sqrt{2m/c} = 1.4\times10^{-10}$ (closed
+/// form) lies inside the window.
+#[test]
+fn a_guard_off_zero_with_a_zero_derivative_crossing_inside_the_window_is_found() {
+    let (t0, m, c) = (1e6f64, 1e-14f64, 1e6f64);
+    let rhs = move |t: f64, _y: &V1, dy: &mut V1| {
+        dy[0] = c * (t - t0);
+    };
+    let events = Comp0 {
+        dir: Direction::Rising,
+        terminal: true,
+        with_derivative: true,
+    };
+    let mut integ = AnyIntegrator::new(Method::Dop853, Options::fixed(1.0)).unwrap();
+    integ.reset(&rhs, t0, &V1::new(-m), false).unwrap();
+    integ.step(&rhs, t0 + 1.0).unwrap();
+    let mut st = EventState::new();
+    let hit = find_first_event(&mut integ, &rhs, &events, &EventOptions::default(), &mut st)
+        .unwrap()
+        .copied()
+        .expect("the crossing 1.4e-10 after the origin");
+    assert_eq!(hit.direction, Direction::Rising);
+    let exact = t0 + (2.0 * m / c).sqrt();
+    // Located to the detector's time tolerance, 4 eps |t|.
+    assert!(
+        (hit.t - exact).abs() <= 4.0 * f64::EPSILON * t0,
+        "t - t0 = {:e}, exact {:e}",
+        hit.t - t0,
+        exact - t0
+    );
+}

@@ -220,14 +220,18 @@ impl Step {
                 }
             }
             if self.at_origin && self.fired != Some(i) && !g.is_nan() {
-                // How this guard may leave zero (start-of-segment rule).
-                s.leave = if s.d_ref != 0.0 && !s.d_ref.is_nan() {
-                    let on_zero =
-                        g.abs() <= vtol || (g * s.d_ref < 0.0 && g.abs() <= s.d_ref.abs() * window);
-                    if on_zero {
-                        Leave::Towards(s.d_ref.signum())
-                    } else {
-                        Leave::No
+                // How this guard may leave zero (start-of-segment rule). A derivative of
+                // exactly zero is a derivative: such a guard is on zero only within
+                // `value_tol` (a guard offset from zero at a tangency, then curving through it
+                // inside the window, crosses; it does not leave the start's zero).
+                let d = s.d_ref;
+                s.leave = if s.has_der && !d.is_nan() {
+                    let on_zero = g.abs() <= vtol || (g * d < 0.0 && g.abs() <= d.abs() * window);
+                    match (on_zero, d != 0.0) {
+                        (false, _) => Leave::No,
+                        (true, true) => Leave::Towards(d.signum()),
+                        // On zero at rest: the probe tells where it goes.
+                        (true, false) => Leave::Probe,
                     }
                 } else {
                     Leave::Probe
