@@ -44,7 +44,13 @@
 //! Exit status: 0 on success; 2 with one `error: ...` line on standard error for bad input;
 //! 1 with one line on standard error if the simulation fails (after the rows computed so far).
 //!
+//! Without arguments the example runs a tour, with a line of progress per run: Fig. 8a's rotor
+//! (`--x0 0.9`) from $\eta$ 0.3 to 3 and back at the rates 0.01 and 0.002, on the ring and
+//! without it, each run's pictures in `target/run_up/{ring,no_ring}_rate_R/`, then the
+//! finite-element rotor's `--fe` run into `target/run_up`.
+//!
 //! ```text
+//! cargo run --release --example run_up
 //! cargo run --release --example run_up -- --preset fig8a --eta-from 0.3 --eta-to 3 --rate 0.01 --samples-per-period 16 --csv
 //! ```
 
@@ -54,6 +60,7 @@ mod drive;
 mod envelope;
 mod fe;
 mod orders;
+mod tour;
 
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -266,26 +273,14 @@ fn write_summary(
 }
 
 fn main() {
+    if std::env::args_os().len() == 1 {
+        run_tour();
+        return;
+    }
     let flags: Flags = parse();
     let scene = flags.scene.scene();
     if flags.fe {
-        let sweep = fe::Sweep {
-            from: flags.fe_from,
-            to: flags.fe_to,
-            rate: flags.fe_rate,
-        };
-        if sweep.to <= sweep.from {
-            fail("--fe-to must be above --fe-from");
-        }
-        let mat = flags.fe_mat.clone().unwrap_or_else(fe::default_mat);
-        let dir = flags
-            .out
-            .clone()
-            .unwrap_or_else(|| PathBuf::from("target/run_up"));
-        common::or_exit(
-            std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display())),
-        );
-        common::or_exit(fe::run(&mat, &sweep, &dir));
+        fe_run(&flags);
         return;
     }
     if !flags.motor.is_empty() {
@@ -333,6 +328,41 @@ fn main() {
 /// The sweep from A to B and back to A at the same rate, in one run (the down leg starts where
 /// the up leg ended): a summary line per leg, the envelope of both, the per-revolution table,
 /// and the order tracking and waterfall of each leg.
+/// Without arguments: the tour of [`tour`], a line of progress before each run.
+fn run_tour() {
+    let runs = tour::paper_runs();
+    let total = runs.len() + 1;
+    for (i, args) in runs.iter().enumerate() {
+        println!("[{}/{total}] {}", i + 1, args[1..].join(" "));
+        let flags = Flags::try_parse_from(args).unwrap_or_else(|e| fail(e));
+        let scene = flags.scene.scene();
+        let dir = flags.out.clone().unwrap_or_default();
+        up_and_back(&flags, &scene, &dir);
+    }
+    println!("[{total}/{total}] --fe --out target/run_up");
+    let flags = Flags::try_parse_from(["run_up", "--fe"]).unwrap_or_else(|e| fail(e));
+    fe_run(&flags);
+}
+
+/// `--fe`: the finite-element rotor up and back, with and without the ring.
+fn fe_run(flags: &Flags) {
+    let sweep = fe::Sweep {
+        from: flags.fe_from,
+        to: flags.fe_to,
+        rate: flags.fe_rate,
+    };
+    if sweep.to <= sweep.from {
+        fail("--fe-to must be above --fe-from");
+    }
+    let mat = flags.fe_mat.clone().unwrap_or_else(fe::default_mat);
+    let dir = flags
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("target/run_up"));
+    common::or_exit(std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display())));
+    common::or_exit(fe::run(&mat, &sweep, &dir));
+}
+
 fn up_and_back(flags: &Flags, scene: &Scene, dir: &Path) {
     let up = ramp(flags);
     let legs = [
