@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use jeffcott::analysis::{per_revolution, Revolution};
-use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, StrobeRange, Trajectory};
+use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, Trajectory};
 use jeffcott::nalgebra::Dyn;
 use jeffcott::ode::Method;
 use jeffcott::ring::SnubberRing;
@@ -94,15 +94,7 @@ pub fn run(mat: &Path, sweep: &Sweep, out: &Path) -> Result<(), String> {
     for ring in [true, false] {
         let model = model(mat, sweep, ring)?;
         let start = Instant::now();
-        let plan = OutputPlan {
-            t_end: 2.0 * turn,
-            strobe: Some(StrobeRange {
-                first: 0,
-                last: u64::MAX - 1,
-            }),
-            dense: None,
-            events: true,
-        };
+        let plan = OutputPlan::every_strobe(2.0 * turn);
         let opts = SimOptions::default()
             .with_method(Method::Dop853)
             .with_rtol(1e-9)

@@ -70,7 +70,7 @@ use common::cli::{f64_in, fail, parse, usize_in};
 use common::csv::write_f64;
 use common::scene::{Scene, SceneFlags};
 use jeffcott::analysis::{per_revolution, Revolution};
-use jeffcott::hybrid::{simulate, OutputPlan, SimError, StrobeRange, Trajectory};
+use jeffcott::hybrid::{simulate, OutputPlan, SimError, Trajectory};
 use jeffcott::nalgebra::{SVector, U6};
 use jeffcott::rotor::{ProfiledJeffcott, Segment, SpeedProfile};
 use jeffcott::JeffcottModel;
@@ -203,15 +203,7 @@ fn run(
         rotor.on_ring()
     }
     .unwrap_or_else(|e| fail(e));
-    let plan = OutputPlan {
-        t_end: rotor.profile().ramp_time(),
-        strobe: Some(StrobeRange {
-            first: 0,
-            last: u64::MAX - 1,
-        }),
-        dense: None,
-        events: true,
-    };
+    let plan = OutputPlan::every_strobe(rotor.profile().ramp_time());
     let mut traj = Trajectory::default();
     let error = simulate(&model, 0.0, &start, &plan, &scene.opts, &mut traj).err();
     (rotor, traj, error)

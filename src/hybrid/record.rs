@@ -52,6 +52,28 @@ impl OutputPlan {
             events: false,
         }
     }
+
+    /// Every stroboscopic output from `k = 0` up to `t_end`, with the event log: the plan of
+    /// a run whose strobes are not equally spaced in time (a speed profile's revolutions,
+    /// [`super::RotorModel::strobe_time`]).
+    ///
+    /// ```
+    /// use jeffcott::hybrid::OutputPlan;
+    /// let plan = OutputPlan::every_strobe(100.0);
+    /// assert_eq!(plan.strobe.map(|s| s.first), Some(0));
+    /// assert!(plan.events && plan.dense.is_none());
+    /// ```
+    pub fn every_strobe(t_end: f64) -> Self {
+        Self {
+            t_end,
+            strobe: Some(StrobeRange {
+                first: 0,
+                last: u64::MAX - 1,
+            }),
+            dense: None,
+            events: true,
+        }
+    }
 }
 
 /// A stroboscopic output: index `k`, time $t_k = kP$, state, mode label.

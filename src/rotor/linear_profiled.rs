@@ -118,14 +118,7 @@ impl ProfiledLinearRotor {
     /// # Errors
     /// [`RotorError::SpeedProfile`] for `count` = 0.
     pub fn with_strobes_per_revolution(mut self, count: u32) -> Result<Self, RotorError> {
-        if count == 0 {
-            return Err(RotorError::SpeedProfile {
-                field: "strobes_per_revolution",
-                value: 0.0,
-                reason: "at least one output per revolution",
-            });
-        }
-        self.strobes_per_revolution = count;
+        self.strobes_per_revolution = super::run_up::strobes_per_revolution(count)?;
         Ok(self)
     }
 

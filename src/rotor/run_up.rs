@@ -73,14 +73,7 @@ impl ProfiledJeffcott {
     /// # Errors
     /// [`RotorError::SpeedProfile`] for `count` = 0.
     pub fn with_strobes_per_revolution(mut self, count: u32) -> Result<Self, RotorError> {
-        if count == 0 {
-            return Err(RotorError::SpeedProfile {
-                field: "strobes_per_revolution",
-                value: 0.0,
-                reason: "at least one output per revolution",
-            });
-        }
-        self.strobes_per_revolution = count;
+        self.strobes_per_revolution = strobes_per_revolution(count)?;
         Ok(self)
     }
 
@@ -131,6 +124,18 @@ impl ProfiledJeffcott {
     fn with_gap(&self, gap: f64) -> Result<RingedRotor<Self>, RotorError> {
         RingedRotor::new(self.clone(), paper_ring(&self.params, gap)?)
     }
+}
+
+/// `count` stroboscopic outputs per revolution, checked: at least one.
+pub(super) fn strobes_per_revolution(count: u32) -> Result<u32, RotorError> {
+    if count == 0 {
+        return Err(RotorError::SpeedProfile {
+            field: "strobes_per_revolution",
+            value: 0.0,
+            reason: "at least one output per revolution",
+        });
+    }
+    Ok(count)
 }
 
 /// The paper's ring of `p` ($K$, $D$, $\nu_2$) with the gap `gap` (1, or out of reach): the

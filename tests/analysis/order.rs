@@ -194,7 +194,7 @@ fn bad_records_are_refused_with_their_reason() {
 /// and the offset $|e|$ at order 0.
 #[test]
 fn a_steady_whirl_s_strobes_read_its_closed_form() {
-    use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, StrobeRange, Trajectory};
+    use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, Trajectory};
     use jeffcott::nalgebra::{SVector, U6};
     use jeffcott::params::{Params, Preset};
     use jeffcott::rotor::{ProfiledJeffcott, SpeedProfile};
@@ -214,15 +214,7 @@ fn a_steady_whirl_s_strobes_read_its_closed_form() {
     let scale = p.beta * eta * eta / (re * re + im * im);
     let (hx, hy) = (scale * re, -scale * im);
     let start = SVector::<f64, 6>::from([0.9 + hx, hy, -eta * hy, eta * hx, 0.0, 0.0]);
-    let plan = OutputPlan {
-        t_end: TAU * revs as f64 / eta * (1.0 - 1e-9),
-        strobe: Some(StrobeRange {
-            first: 0,
-            last: u64::MAX - 1,
-        }),
-        dense: None,
-        events: true,
-    };
+    let plan = OutputPlan::every_strobe(TAU * revs as f64 / eta * (1.0 - 1e-9));
     let opts = SimOptions::default().with_rtol(1e-11).with_atol(1e-12);
     let mut traj = Trajectory::<U6>::default();
     simulate(

@@ -4,9 +4,7 @@
 //! in contact is the sum of the onset-to-loss intervals of the event log).
 
 use jeffcott::analysis::{per_revolution, AnalysisError};
-use jeffcott::hybrid::{
-    simulate, EventRecord, OutputPlan, SimOptions, StrobePoint, StrobeRange, Trajectory,
-};
+use jeffcott::hybrid::{simulate, EventRecord, OutputPlan, SimOptions, StrobePoint, Trajectory};
 use jeffcott::nalgebra::{SVector, Vector2, U2, U6};
 use jeffcott::params::Preset;
 use jeffcott::rotor::{ProfiledJeffcott, SpeedProfile};
@@ -81,15 +79,7 @@ fn a_run_up_on_the_ring_adds_up() {
         .with_strobes_per_revolution(8)
         .unwrap();
     let model = rotor.on_ring().unwrap();
-    let plan = OutputPlan {
-        t_end: profile.ramp_time(),
-        strobe: Some(StrobeRange {
-            first: 0,
-            last: u64::MAX - 1,
-        }),
-        dense: None,
-        events: true,
-    };
+    let plan = OutputPlan::every_strobe(profile.ramp_time());
     let mut traj = Trajectory::<U6>::default();
     let start = SVector::<f64, 6>::from([0.9, 0.0, 0.0, 0.0, 0.0, 0.0]);
     simulate(

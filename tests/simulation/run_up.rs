@@ -8,7 +8,7 @@
 //! * the onset of a touch $10^{-9}$ of the gap deep in integrated free flight, on an undamped
 //!   circular orbit whose largest radius is known exactly.
 
-use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, StrobeRange, Trajectory};
+use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, Trajectory};
 use jeffcott::nalgebra::{SVector, U6};
 use jeffcott::params::{Params, Preset};
 use jeffcott::rotor::{ProfiledJeffcott, SpeedProfile};
@@ -17,15 +17,7 @@ use crate::duhamel::{duhamel, ramp_force};
 
 fn strobes(model: &impl jeffcott::hybrid::RotorModel<Dim = U6>, t_end: f64) -> Trajectory<U6> {
     let opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-13);
-    let plan = OutputPlan {
-        t_end,
-        strobe: Some(StrobeRange {
-            first: 0,
-            last: u64::MAX - 1,
-        }),
-        dense: None,
-        events: true,
-    };
+    let plan = OutputPlan::every_strobe(t_end);
     let mut traj = Trajectory::default();
     simulate(model, 0.0, &SVector::zeros(), &plan, &opts, &mut traj).expect("run");
     traj

@@ -38,7 +38,7 @@
 //! (`numeric::illinois`). The crate's run-up (64 strobes a revolution, `rtol` $10^{-12}$) is
 //! checked at its largest strobe against the Duhamel integral there.
 
-use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, StrobeRange, Trajectory};
+use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, Trajectory};
 use jeffcott::nalgebra::{Complex, Matrix3, SVector, Vector3, U6};
 use jeffcott::numeric::{illinois, RootOptions};
 use jeffcott::params::{Params, Preset};
@@ -135,15 +135,7 @@ fn peak(p: &Params, rate: f64) -> Peak {
         .with_strobes_per_revolution(64)
         .unwrap();
     let opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-13);
-    let plan = OutputPlan {
-        t_end: profile.ramp_time(),
-        strobe: Some(StrobeRange {
-            first: 0,
-            last: u64::MAX - 1,
-        }),
-        dense: None,
-        events: true,
-    };
+    let plan = OutputPlan::every_strobe(profile.ramp_time());
     let mut traj = Trajectory::<U6>::default();
     let model = rotor.off_ring().unwrap();
     simulate(&model, 0.0, &SVector::zeros(), &plan, &opts, &mut traj).expect("run");

@@ -4,7 +4,7 @@
 //! a sinusoidal speed whose phase is integrated by the crate and known in closed form here),
 //! and a slow ramp against the steady amplitude in closed form (the quasi-static limit).
 
-use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, StrobeRange, Trajectory};
+use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, Trajectory};
 use jeffcott::nalgebra::{SVector, U6};
 use jeffcott::params::{Params, Preset};
 use jeffcott::rotor::{ProfiledJeffcott, Segment, SpeedProfile};
@@ -31,15 +31,7 @@ fn worst_against_duhamel(
         .with_strobes_per_revolution(4)
         .unwrap();
     let opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-13);
-    let plan = OutputPlan {
-        t_end: profile.ramp_time(),
-        strobe: Some(StrobeRange {
-            first: 0,
-            last: u64::MAX - 1,
-        }),
-        dense: None,
-        events: true,
-    };
+    let plan = OutputPlan::every_strobe(profile.ramp_time());
     let mut traj = Trajectory::<U6>::default();
     let model = rotor.off_ring().unwrap();
     simulate(&model, 0.0, &SVector::zeros(), &plan, &opts, &mut traj).expect("run");
@@ -156,15 +148,7 @@ fn quasi_static_error(rate: f64) -> f64 {
     let (hx, hy) = (scale * re, -scale * im);
     let start = SVector::<f64, 6>::from([hx, hy, -eta0 * hy, eta0 * hx, 0.0, 0.0]);
     let opts = SimOptions::default().with_rtol(1e-10).with_atol(1e-12);
-    let plan = OutputPlan {
-        t_end: profile.ramp_time(),
-        strobe: Some(StrobeRange {
-            first: 0,
-            last: u64::MAX - 1,
-        }),
-        dense: None,
-        events: true,
-    };
+    let plan = OutputPlan::every_strobe(profile.ramp_time());
     let mut traj = Trajectory::<U6>::default();
     let model = rotor.off_ring().unwrap();
     simulate(&model, 0.0, &start, &plan, &opts, &mut traj).expect("run");

@@ -33,7 +33,7 @@
 //! $R^{2/3}$.
 
 use jeffcott::analysis::{per_revolution, Revolution};
-use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, StrobeRange, Trajectory};
+use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, Trajectory};
 use jeffcott::nalgebra::{SVector, U6};
 use jeffcott::params::{Params, Preset};
 use jeffcott::rotor::{ProfiledJeffcott, Segment, SpeedProfile};
@@ -75,15 +75,7 @@ fn revolutions(base: Params, profile: SpeedProfile, start: &[f64]) -> Vec<Revolu
         .with_strobes_per_revolution(S)
         .unwrap();
     let opts = SimOptions::default().with_rtol(1e-9).with_atol(1e-11);
-    let plan = OutputPlan {
-        t_end,
-        strobe: Some(StrobeRange {
-            first: 0,
-            last: u64::MAX - 1,
-        }),
-        dense: None,
-        events: true,
-    };
+    let plan = OutputPlan::every_strobe(t_end);
     let mut traj = Trajectory::<U6>::default();
     let y0 = SVector::<f64, 6>::from_column_slice(start);
     let model = rotor.on_ring().unwrap();
