@@ -561,4 +561,13 @@ where
     fn dy_prev(&self) -> Option<&OVector<f64, D>> {
         None
     }
+    /// Whether the dense output's derivative at the step's start is $f$ there, so that the
+    /// event detector may take a guard's rate along the flow for its rate along the dense
+    /// output. The explicit methods' interpolants are built on $f(y_{\text{prev}})$: `true`
+    /// (the default). [`Radau5`]'s collocation polynomial satisfies the ODE only at its
+    /// nodes $c_1, c_2, 1$, not at the start: `false`, and the detector measures the slope
+    /// on the dense output itself there ([`find_first_event`]).
+    fn dense_tangent_at_start(&self) -> bool {
+        true
+    }
 }
