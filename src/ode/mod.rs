@@ -213,6 +213,13 @@
 //! found with the derivative and missed by the plain sign check). At the
 //! start of a segment the rule below adds its own condition.
 //!
+//! The screens need the slope of $g_i(t, u(t))$; they take the event's rate along the flow
+//! (with $f(u)$), which is that slope where $u$ is tangent to $f$. At a step's start an
+//! integrator whose dense output is not (Radau5's collocation polynomial:
+//! [`Integrator::dense_tangent_at_start`]) has the slope measured on $u$ instead (a one-sided
+//! difference over $2^{-10}$ of the first sample interval): there a guard whose rate along
+//! the flow is 0 (a contact loss) can cross and come back on $u$ right after the start.
+//!
 //! Every step is sampled: there is no step-end screen (0.2.0 had one, `EventOptions::screen`,
 //! which skipped a guard whose cubic Hermite interpolant of the step's ends stayed away from
 //! zero; it was removed because nothing at a step's ends bounds the guard between them: on a
