@@ -439,7 +439,8 @@ where
     fn curve_slopes(&mut self, slots: &mut [Slot]) {
         let step = self.step;
         let delta = step.span / (step.samples + 1) as f64 * 2f64.powi(-10);
-        if !(delta > 0.0) || step.start + delta == step.start {
+        // The span is positive and finite (`scan_start`); a delta below the start's ulp is none.
+        if step.start + delta <= step.start {
             return;
         }
         for (i, s) in slots.iter_mut().enumerate() {
