@@ -1346,3 +1346,79 @@ fn an_onset_guard_off_zero_with_a_zero_rate_is_not_taken_for_the_start() {
         "rotor or ring {worst:e} off where the mode puts it"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// 18. A grazing pair of the onset guard on Radau5's dense output, right after a contact loss.
+
+/// A fuzz case (seed 777, case 54719 of the $10^5$-case run after fix 17): the custom rotor
+/// ($k_3 = 1.46$) from a start in contact, Radau5 at `rtol` $2.3\times10^{-5}$, `atol`
+/// $6.2\times10^{-4}$, one event sample a step. At the contact loss at $t = 1.5395$ the load is
+/// zero and the released flight's onset guard starts at $-m$ with a rate along the flow of
+/// exactly 0; Radau5's collocation polynomial is not tangent to $f$ at its step's start, and on
+/// it the guard rose through zero and back inside the first sample interval, whose cubic Hermite
+/// interpolant (slope 0 at the start, from $f$) has no interior extremum: the free flight ran
+/// with the rotor $1.6\times10^{-6}$ gaps beyond the ring at a dense sample (the truth: a free
+/// flight has $|r - s| \le \gamma$, the model's definition; $10^{-6}$ is the fuzzer's bound for
+/// the custom rotor). The detector now takes the slope at a step's start of an integrator whose
+/// dense output is not tangent there from the dense output itself: the pair is found, and the
+/// rotor slides along the ring without load (a loss and a touch again and again) until the
+/// run's chattering bound ends it, as in fix 17's case.
+#[test]
+fn a_grazing_onset_pair_on_radau5_dense_output_after_a_loss_is_found() {
+    let p = Params {
+        eta: 1.0182361437802403,
+        nu1: 0.0,
+        nu2: 578.6736522513077,
+        kx: 4.396350850875155,
+        ky: 1090.352331933907,
+        beta: 0.0643160993207508,
+        dx: 0.18949373100458725,
+        dy: 0.27920832096788345,
+        ex: -0.7038098091804259,
+        ey: -0.07628791105925231,
+        phi0: -2.811747357274671,
+    };
+    let m = rotor::on_ring(p, -0.009262477743905212, 1.4599735756097554).unwrap();
+    // The fuzzer's `Contact` start: the rotor 4.2e-4 beyond the gap circle, the ring placed.
+    let polar = |rad: f64, ang: f64| [rad * ang.cos(), rad * ang.sin()];
+    let paper = JeffcottModel::new(p).unwrap();
+    let y0 = paper
+        .state_at(
+            polar(1.0 + 0.0004221914351150468, 0.4017498168213691),
+            polar(0.04547012283351574, 5.876648034168278),
+        )
+        .unwrap();
+    let period = p.forcing_period();
+    let t_end = 3.0 * period;
+    let plan = OutputPlan {
+        t_end,
+        strobe: Some(StrobeRange { first: 0, last: 3 }),
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: period / 24.0,
+        }),
+        events: true,
+    };
+    let opts = SimOptions::default()
+        .with_method(Method::Radau5)
+        .with_rtol(2.3017109431585863e-5)
+        .with_atol(0.0006223066471539078)
+        .with_steps_per_period(1441)
+        .with_max_step_fraction(60.1167905476454)
+        .with_event_samples(1)
+        .with_max_events_per_period(1000)
+        .with_max_steps(3975);
+    let mut traj = Trajectory::default();
+    if let Err(e) = simulate(&m, 0.0, &y0, &plan, &opts, &mut traj) {
+        assert!(
+            matches!(e.kind, SimErrorKind::Chattering { .. }),
+            "{}",
+            e.kind
+        );
+    }
+    let worst = worst_inconsistency(m.ring(), &traj);
+    assert!(
+        worst <= 1e-6,
+        "rotor or ring {worst:e} off where the mode puts it"
+    );
+}

@@ -1207,3 +1207,54 @@ fn a_guard_off_zero_with_a_zero_derivative_crossing_inside_the_window_is_found()
         exact - t0
     );
 }
+
+/// Radau5's collocation polynomial satisfies the ODE at its nodes $c_1, c_2, 1$ only; at the
+/// step's start its slope is not $f(y_0)$. The oscillator $x^{\prime\prime} = 1 - x$ from its
+/// turning point $x(0) = m = 10^{-14}$, $x^\prime(0) = 0$ has the guard $g = x$ at $m$ with a rate
+/// along the flow of exactly 0; the exact solution $x = 1 - (1 - m)\cos t$ never reaches zero,
+/// but the polynomial of one long step (`rtol` = `atol` = $10^{-2}$, $h = 1$) starts off
+/// tangent, falls through zero and comes back within the first sample interval (checked
+/// independently on a grid of $2^{14}$ points of that interval: the premise). The guarantee is
+/// relative to the dense output, so the detector must report that crossing (at or before the
+/// grid's first point beyond it). Before the detector took the start's slope from the dense
+/// output, the cubic Hermite interpolant of the interval (slope 0 at the start, from $f$) had
+/// no interior extremum and the pair was missed.
+#[test]
+fn a_pair_on_radau5_dense_output_at_a_step_start_off_tangent_is_found() {
+    let m = 1e-14;
+    let rhs = |_t: f64, y: &V2, dy: &mut V2| {
+        dy[0] = y[1];
+        dy[1] = 1.0 - y[0];
+    };
+    let opts = Options::with_tol(1e-2, 1e-2).with_h_init(1.0);
+    let mut integ = AnyIntegrator::new(Method::Radau5, opts).unwrap();
+    integ.reset(&rhs, 0.0, &V2::new(m, 0.0), false).unwrap();
+    integ.step(&rhs, 10.0).unwrap();
+    let t1 = 0.5 * integ.t();
+    // The dense output on the first sample interval, on a grid: its first crossing.
+    let mut u = V2::zeros();
+    let first_crossing = (1..=1 << 14)
+        .map(|k| t1 * k as f64 / 16384.0)
+        .find(|&t| {
+            integ.dense(&rhs, t, &mut u);
+            u[0] <= 0.0
+        })
+        .expect("the premise: the dense output crosses zero near the start");
+    let events = Comp0 {
+        dir: Direction::Either,
+        terminal: true,
+        with_derivative: true,
+    };
+    let eo = EventOptions::default().with_samples_per_step(1);
+    let mut st = EventState::new();
+    let hit = find_first_event(&mut integ, &rhs, &events, &eo, &mut st)
+        .unwrap()
+        .copied()
+        .expect("no hit: the pair on the dense output was missed");
+    assert_eq!(hit.direction, Direction::Falling);
+    assert!(
+        hit.t > 0.0 && hit.t <= first_crossing,
+        "hit at {:e}, grid {first_crossing:e}",
+        hit.t
+    );
+}

@@ -782,4 +782,10 @@ where
     fn name(&self) -> &'static str {
         "RADAU5"
     }
+
+    /// The collocation polynomial matches $f$ at $c_1, c_2, 1$ only: at the start its slope
+    /// differs from $f(y_{\text{prev}})$ by the method's stage error.
+    fn dense_tangent_at_start(&self) -> bool {
+        false
+    }
 }
