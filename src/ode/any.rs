@@ -183,7 +183,4 @@ where
     fn dy_prev(&self) -> Option<&OVector<f64, D>> {
         dispatch!(self, i => i.dy_prev())
     }
-    fn dense_tangent_at_start(&self) -> bool {
-        dispatch!(self, i => i.dense_tangent_at_start())
-    }
 }

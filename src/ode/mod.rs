@@ -214,11 +214,13 @@
 //! start of a segment the rule below adds its own condition.
 //!
 //! The screens need the slope of $g_i(t, u(t))$; they take the event's rate along the flow
-//! (with $f(u)$), which is that slope where $u$ is tangent to $f$. At a step's start an
-//! integrator whose dense output is not (Radau5's collocation polynomial:
-//! [`Integrator::dense_tangent_at_start`]) has the slope measured on $u$ instead (a one-sided
-//! difference over $2^{-10}$ of the first sample interval): there a guard whose rate along
-//! the flow is 0 (a contact loss) can cross and come back on $u$ right after the start.
+//! (with $f(u)$), which is that slope where $u$ is tangent to $f$. The explicit methods'
+//! interpolants are built on $f$ at each step's start. [`Radau5`]'s dense output is made
+//! tangent to $f$ on the first step after a reset (the segment origin, where a guard can sit
+//! on zero with a rate of 0, as at a contact loss; its collocation polynomial alone leaves
+//! the start off tangent by the stage error, enough to cross such a guard and come back);
+//! on later steps it is the collocation polynomial, whose slope at the start differs from
+//! $f$ by the stage error, as its values do inside the step.
 //!
 //! Every step is sampled: there is no step-end screen (0.2.0 had one, `EventOptions::screen`,
 //! which skipped a guard whose cubic Hermite interpolant of the step's ends stayed away from
@@ -567,14 +569,5 @@ where
     /// $f$ at [`Integrator::t_prev`], if kept (see [`Integrator::dy`]). Default: `None`.
     fn dy_prev(&self) -> Option<&OVector<f64, D>> {
         None
-    }
-    /// Whether the dense output's derivative at the step's start is $f$ there, so that the
-    /// event detector may take a guard's rate along the flow for its rate along the dense
-    /// output. The explicit methods' interpolants are built on $f(y_{\text{prev}})$: `true`
-    /// (the default). [`Radau5`]'s collocation polynomial satisfies the ODE only at its
-    /// nodes $c_1, c_2, 1$, not at the start: `false`, and the detector measures the slope
-    /// on the dense output itself there ([`find_first_event`]).
-    fn dense_tangent_at_start(&self) -> bool {
-        true
     }
 }

@@ -1359,10 +1359,14 @@ fn an_onset_guard_off_zero_with_a_zero_rate_is_not_taken_for_the_start() {
 /// interpolant (slope 0 at the start, from $f$) has no interior extremum: the free flight ran
 /// with the rotor $1.6\times10^{-6}$ gaps beyond the ring at a dense sample (the truth: a free
 /// flight has $|r - s| \le \gamma$, the model's definition; $10^{-6}$ is the fuzzer's bound for
-/// the custom rotor). The detector now takes the slope at a step's start of an integrator whose
-/// dense output is not tangent there from the dense output itself: the pair is found, and the
-/// rotor slides along the ring without load (a loss and a touch again and again) until the
-/// run's chattering bound ends it, as in fix 17's case.
+/// the custom rotor). Fix 18 first made the detector take the slope at a step's start from the
+/// dense output: the pair was found, and the rotor slid along the ring without load (a loss and
+/// a touch again and again) until the run's chattering bound ended it; on the flexible shaft
+/// the same rule made spurious onsets after tangential losses
+/// (`radau5_has_the_reference_transitions_on_the_shaft_after_tangential_losses`). Now
+/// Radau5's first step after a reset leaves its start tangent to $f$: the polynomial no longer
+/// rises, and the run completes (15 transitions) with every dense sample consistent (measured
+/// $9\cdot10^{-15}$).
 #[test]
 fn a_grazing_onset_pair_on_radau5_dense_output_after_a_loss_is_found() {
     let p = Params {
@@ -1409,14 +1413,12 @@ fn a_grazing_onset_pair_on_radau5_dense_output_after_a_loss_is_found() {
         .with_max_events_per_period(1000)
         .with_max_steps(3975);
     let mut traj = Trajectory::default();
-    if let Err(e) = simulate(&m, 0.0, &y0, &plan, &opts, &mut traj) {
-        assert!(
-            matches!(e.kind, SimErrorKind::Chattering { .. }),
-            "{}",
-            e.kind
-        );
-    }
+    let stats = simulate(&m, 0.0, &y0, &plan, &opts, &mut traj).expect("the run");
     let worst = worst_inconsistency(m.ring(), &traj);
+    println!(
+        "{} transitions, the worst inconsistency {worst:e}",
+        stats.transitions
+    );
     assert!(
         worst <= 1e-6,
         "rotor or ring {worst:e} off where the mode puts it"

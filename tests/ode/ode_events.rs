@@ -1208,19 +1208,22 @@ fn a_guard_off_zero_with_a_zero_derivative_crossing_inside_the_window_is_found()
     );
 }
 
-/// Radau5's collocation polynomial satisfies the ODE at its nodes $c_1, c_2, 1$ only; at the
+/// Radau5's collocation polynomial satisfies the ODE at its nodes $c_1, c_2, 1$ only; at a
 /// step's start its slope is not $f(y_0)$. The oscillator $x^{\prime\prime} = 1 - x$ from its
 /// turning point $x(0) = m = 10^{-14}$, $x^\prime(0) = 0$ has the guard $g = x$ at $m$ with a rate
-/// along the flow of exactly 0; the exact solution $x = 1 - (1 - m)\cos t$ never reaches zero,
-/// but the polynomial of one long step (`rtol` = `atol` = $10^{-2}$, $h = 1$) starts off
-/// tangent, falls through zero and comes back within the first sample interval (checked
-/// independently on a grid of $2^{14}$ points of that interval: the premise). The guarantee is
-/// relative to the dense output, so the detector must report that crossing (at or before the
-/// grid's first point beyond it). Before the detector took the start's slope from the dense
-/// output, the cubic Hermite interpolant of the interval (slope 0 at the start, from $f$) had
-/// no interior extremum and the pair was missed.
+/// along the flow of exactly 0, as a released rotor's onset guard at a tangential contact loss;
+/// the exact solution $x = 1 - (1 - m)\cos t$ never reaches zero. On one long step
+/// (`rtol` = `atol` = $10^{-2}$, $h = 1$) the collocation polynomial alone started off tangent,
+/// fell through zero and came back within the first sample interval (a spurious pair; on the
+/// flexible shaft at the same kind of restart it made a contact onset $2\cdot10^{-11}$ after
+/// each loss, 1000 transitions and a chattering error where the run has 18). The first step
+/// after a reset now leaves the start tangent to $f$: its dense output has slope $f(y_0)$
+/// there (one-sided difference over $\delta = 10^{-7}$: within $\delta$, the curvature being
+/// about 1), stays positive on a grid of $2^{14}$ points of the first sample interval, as the
+/// exact solution does, and the detector reports no event. Before: the slope was
+/// $-1.3\cdot10^{-2}$ ("slope -1.33e-2 at the start") and the polynomial crossed zero.
 #[test]
-fn a_pair_on_radau5_dense_output_at_a_step_start_off_tangent_is_found() {
+fn radau5_dense_output_leaves_a_restart_tangent_to_the_flow() {
     let m = 1e-14;
     let rhs = |_t: f64, y: &V2, dy: &mut V2| {
         dy[0] = y[1];
@@ -1230,16 +1233,17 @@ fn a_pair_on_radau5_dense_output_at_a_step_start_off_tangent_is_found() {
     let mut integ = AnyIntegrator::new(Method::Radau5, opts).unwrap();
     integ.reset(&rhs, 0.0, &V2::new(m, 0.0), false).unwrap();
     integ.step(&rhs, 10.0).unwrap();
-    let t1 = 0.5 * integ.t();
-    // The dense output on the first sample interval, on a grid: its first crossing.
     let mut u = V2::zeros();
-    let first_crossing = (1..=1 << 14)
-        .map(|k| t1 * k as f64 / 16384.0)
-        .find(|&t| {
-            integ.dense(&rhs, t, &mut u);
-            u[0] <= 0.0
-        })
-        .expect("the premise: the dense output crosses zero near the start");
+    let delta = 1e-7;
+    integ.dense(&rhs, delta, &mut u);
+    let slope = (u[0] - m) / delta;
+    assert!(slope.abs() <= delta, "slope {slope:e} at the start, f = 0");
+    let t1 = 0.5 * integ.t();
+    let below = (1..=1 << 14).map(|k| t1 * k as f64 / 16384.0).find(|&t| {
+        integ.dense(&rhs, t, &mut u);
+        u[0] <= 0.0
+    });
+    assert_eq!(below, None, "the dense output crosses zero");
     let events = Comp0 {
         dir: Direction::Either,
         terminal: true,
@@ -1247,14 +1251,6 @@ fn a_pair_on_radau5_dense_output_at_a_step_start_off_tangent_is_found() {
     };
     let eo = EventOptions::default().with_samples_per_step(1);
     let mut st = EventState::new();
-    let hit = find_first_event(&mut integ, &rhs, &events, &eo, &mut st)
-        .unwrap()
-        .copied()
-        .expect("no hit: the pair on the dense output was missed");
-    assert_eq!(hit.direction, Direction::Falling);
-    assert!(
-        hit.t > 0.0 && hit.t <= first_crossing,
-        "hit at {:e}, grid {first_crossing:e}",
-        hit.t
-    );
+    let hit = find_first_event(&mut integ, &rhs, &events, &eo, &mut st).unwrap();
+    assert!(hit.is_none(), "a spurious event at {:e}", hit.unwrap().t);
 }

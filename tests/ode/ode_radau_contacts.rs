@@ -321,3 +321,36 @@ fn woodbury_newton_keeps_the_dense_runs_orbit() {
         dense.steps
     );
 }
+
+/// The crossover's shaft scene (`work_precision --suite crossover --scene shaft8`: 8 modes,
+/// frequency weights, diagonal springs declared, 10 periods from rest): RADAU5 at rtol = atol
+/// $10^{-6}$ and $10^{-8}$ has the transitions of DOP853 at $10^{-12}$ (an independent
+/// integrator: 18). With the event detector measuring the start's slope on the collocation
+/// polynomial (commit ba899c7) the polynomial's departure from the tangent after a contact
+/// loss made a spurious onset $2\cdot10^{-11}$ later, again and again: a chattering error at
+/// $10^{-6}$ ("1001 transitions within one forcing period") and 19 transitions at $10^{-8}$.
+#[test]
+fn radau5_has_the_reference_transitions_on_the_shaft_after_tangential_losses() {
+    let (model, y0) = shaft_with_contacts_weighted(8, true);
+    let plan = OutputPlan {
+        events: true,
+        ..OutputPlan::strobe(model.forcing_period(), 10, 10)
+    };
+    let transitions = |method, tol: f64| {
+        let opts = SimOptions::default()
+            .with_method(method)
+            .with_rtol(tol)
+            .with_atol(tol);
+        let mut traj = Trajectory::default();
+        match simulate(&model, 0.0, &y0, &plan, &opts, &mut traj) {
+            Ok(stats) => stats.transitions,
+            Err(e) => panic!("{} at {tol:e}: {}", method.name(), e.kind),
+        }
+    };
+    let reference = transitions(Method::Dop853, 1e-12);
+    for tol in [1e-6, 1e-8] {
+        let n = transitions(Method::Radau5, tol);
+        println!("RADAU5 at {tol:e}: {n} transitions, DOP853 at 1e-12: {reference}");
+        assert_eq!(n, reference, "RADAU5 at {tol:e}");
+    }
+}

@@ -424,38 +424,6 @@ where
     I: Integrator<D>,
     E: EventSet<D> + ?Sized,
 {
-    /// **The slope of the curve at the start**, for an integrator whose dense output is not
-    /// tangent to $f$ there ([`Integrator::dense_tangent_at_start`]: Radau5's collocation
-    /// polynomial satisfies the ODE only at its nodes). The screens of the first sample
-    /// interval (the cubic Hermite interpolant of grazing pairs and bracket narrowing) must
-    /// use the slope of the curve they search, $\frac{d}{dt} g_i(t, u(t))$, not the rate along
-    /// the flow: where the flow's rate is 0 (a contact loss), the polynomial can rise through
-    /// zero and back inside the interval while the interpolant sees none. Each guard with a
-    /// derivative gets the one-sided difference $(-3g_0 + 4g_1 - g_2)/(2\delta)$ on the dense
-    /// output, $\delta = 2^{-10}$ of the first sample interval (error
-    /// $O(\delta^2)$, below the interval's $2^{-20}$ of its scale). The arming rule has
-    /// already read the flow's rate (how a guard on zero leaves it is a property of the flow);
-    /// a guard without a value at the two points keeps it.
-    fn curve_slopes(&mut self, slots: &mut [Slot]) {
-        let step = self.step;
-        let delta = step.span / (step.samples + 1) as f64 * 2f64.powi(-10);
-        // The span is positive and finite (`scan_start`); a delta below the start's ulp is none.
-        if step.start + delta <= step.start {
-            return;
-        }
-        for (i, s) in slots.iter_mut().enumerate() {
-            if !(s.active && s.has_der) {
-                continue;
-            }
-            let g1 = self.value(i, step.start + delta);
-            let g2 = self.value(i, step.start + 2.0 * delta);
-            let slope = (-3.0 * s.g_origin + 4.0 * g1 - g2) / (2.0 * delta);
-            if slope.is_finite() {
-                s.d_ref = slope;
-            }
-        }
-    }
-
     /// Samples the guards on the `samples` interior points and the step's end, interval by interval in time order ([`Scan::guard_interval`] for each
     /// guard); the first interval with a located root ends the scan with its earliest root
     /// (ties: smallest index). Guards without a value at an interval's end are decided after
@@ -1069,9 +1037,6 @@ where
     };
     scan.start_values(slots, &sc.y_a, &mut sc.f_a, f_a_known)?;
     step.arm(slots);
-    if !scan.integ.dense_tangent_at_start() {
-        scan.curve_slopes(slots);
-    }
     let Some((r, i, d, _)) = scan.sample(slots, &mut sc.y_b, &mut sc.f_b)? else {
         return Ok(None);
     };
