@@ -118,6 +118,10 @@ const LARGE_SYSTEM: usize = 20;
 /// and $y_{\text{new}}$ are returned as stored), costs no evaluation of $f$, and gives the
 /// Newton starting values of the next step by extrapolation. Inside the step it is of order
 /// 3 (local error $O(h^4)$, as the error estimate), below the order 5 of the step's ends.
+/// On the first step after a reset one more term, $\theta(\theta - c_1)(\theta - c_2)(\theta - 1)
+/// d_4$ (zero at the four nodes), makes its slope at the start $f(t_{\text{prev}},
+/// y_{\text{prev}})$: events restart there, and a guard on zero with a rate of 0 (a contact
+/// loss) must not cross zero on the polynomial by its stage error (`eval_poly`).
 ///
 /// Every vector, the Jacobian and both LU factorisations are allocated by the constructor
 /// ($N^2$ reals and $N^2$ complex numbers): `reset`, `step`, `dense` and `truncate` never
