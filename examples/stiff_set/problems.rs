@@ -168,7 +168,9 @@ impl Problem {
     }
 
     /// The usual absolute tolerance for a relative tolerance `rtol`: `rtol` itself, except
-    /// ROBER ($10^{-6}\thinspace\mathrm{rtol}$) and E5 ($1.7 \cdot 10^{-24}$), as in Hairer's drivers.
+    /// ROBER ($10^{-6}\thinspace\mathrm{rtol}$) and E5 ($1.7 \cdot 10^{-24}$), as in Hairer's drivers
+    /// (which give HIRES $10^{-4}\thinspace\mathrm{rtol}$ and OREGO $10^{-6}\thinspace\mathrm{rtol}$;
+    /// issue 19 asks for atol = rtol there).
     pub fn usual_atol(self, rtol: f64) -> f64 {
         match self {
             Problem::Rober => 1.0e-6 * rtol,
