@@ -8,6 +8,11 @@
 //!   critical speed is captured below it, and one of more torque passes it (the load curve's
 //!   peak, $2\nu_1\eta A(\eta)^2$ with the steady amplitude in closed form, lies between the
 //!   two motors' lines near $\eta = 1$);
+//! * the Sommerfeld threshold, the stall torque between stuck and passing bisected by
+//!   `numeric::bisect`, against the quasi-static one where the motor's line touches the
+//!   closed-form load curve: below it with little inertia (the amplitude lags the speed),
+//!   nearing it with much (the slow-passage limit, with the finite horizon's bias up by the
+//!   law of a saddle-node's bottleneck); and on the ring, where only the number is reported;
 //! * the energy balance with contact (`drive_energy`).
 
 use std::convert::Infallible;
@@ -186,26 +191,33 @@ impl AllBelow for std::ops::Range<f64> {
 /// (0.016), so that a run which gets there is not captured again.
 const PASSED: f64 = 1.5;
 
-/// The rule: a run ([`centred_run`], dense samples every 0.5) passes ([`Side::Far`]) when a
-/// sample of its speed exceeds [`PASSED`] before `t_end`, and is stuck ([`Side::Near`])
-/// otherwise: captured below the resonance, or still in its bottleneck at `t_end`.
-fn stuck_or_passes(stall: f64, j: f64, t_end: f64) -> Side {
-    let traj = centred_run(stall, j, t_end, 0.5);
-    if traj.samples.iter().any(|s| s.y[ETA] > PASSED) {
+/// The rule: a run passes ([`Side::Far`]) when a dense sample of its speed exceeds `level`
+/// before its end, and is stuck ([`Side::Near`]) otherwise: captured below the resonance, or
+/// still in its bottleneck at the end.
+fn stuck_or_passes(traj: &Trajectory<U8>, level: f64) -> Side {
+    if traj.samples.iter().any(|s| s.y[ETA] > level) {
         Side::Far
     } else {
         Side::Near
     }
 }
 
-/// The stuck/passes threshold in stall torque at the inertia `j` and the horizon `t_end`,
-/// bisected by `numeric::bisect` to `tol` on the bracket `(stuck, passes)`, whose ends are
-/// run and checked first (two runs more than the bisection's evaluations).
-fn threshold(j: f64, t_end: f64, (stuck, passes): (f64, f64), tol: f64) -> Bisection {
-    let side = |stall| stuck_or_passes(stall, j, t_end);
-    assert_eq!(side(stuck), Side::Near, "{stuck} passes (j = {j})");
-    assert_eq!(side(passes), Side::Far, "{passes} is stuck (j = {j})");
-    let b = bisect(stuck, passes, tol, 60, |stall| Ok::<_, Infallible>(side(stall))).unwrap();
+/// Off the ring: [`centred_run`] with dense samples every 0.5, by [`stuck_or_passes`] at
+/// [`PASSED`].
+fn centred_side(stall: f64, j: f64, t_end: f64) -> Side {
+    stuck_or_passes(&centred_run(stall, j, t_end, 0.5), PASSED)
+}
+
+/// The stuck/passes threshold in stall torque of the classification `side`, bisected by
+/// `numeric::bisect` to `tol` on the bracket `(stuck, passes)`, whose ends are run and
+/// checked first (two runs more than the bisection's evaluations).
+fn threshold(side: impl Fn(f64) -> Side, (stuck, passes): (f64, f64), tol: f64) -> Bisection {
+    assert_eq!(side(stuck), Side::Near, "{stuck} passes");
+    assert_eq!(side(passes), Side::Far, "{passes} is stuck");
+    let b = bisect(stuck, passes, tol, 60, |stall| {
+        Ok::<_, Infallible>(side(stall))
+    })
+    .unwrap();
     assert!(b.converged, "{b:?}");
     b
 }
@@ -235,7 +247,10 @@ fn quasi_static_threshold(p: &Params) -> (f64, f64) {
     let root = illinois((a, slope(a)), (b, slope(b)), &opts, slope).unwrap();
     assert!(root.converged);
     let eta = 0.5 * (root.lo + root.hi);
-    assert!(ratio(eta) >= ratio(grid(top)), "the refined tangency is the top");
+    assert!(
+        ratio(eta) >= ratio(grid(top)),
+        "the refined tangency is the top"
+    );
     (eta, ratio(eta))
 }
 
@@ -247,7 +262,7 @@ fn quasi_static_threshold(p: &Params) -> (f64, f64) {
 /// slower the passage and the nearer the threshold to the quasi-static one.
 ///
 /// For $j$ = 0.3, 1, 3 (Fig. 8a off the ring, rest at the centre, no-load speed 3): the
-/// threshold bisected by [`threshold`] to $10^{-6}$ on the bracket 0.04 to
+/// threshold ([`centred_side`]) bisected by [`threshold`] to $10^{-6}$ on the bracket 0.04 to
 /// $1.02\thinspace t_{qs}$, horizon 2000, lies below $t_{qs}$, and the gap shrinks as $j$
 /// grows. The horizon: the final bracket's stuck end, run again for 8000, is still stuck, so
 /// the threshold at the horizon 8000 is in the same bracket (a run that passes by 2000
@@ -255,15 +270,15 @@ fn quasi_static_threshold(p: &Params) -> (f64, f64) {
 #[test]
 fn sommerfeld_threshold_with_little_inertia_is_below_the_quasi_static_one() {
     let (eta_star, qs) = quasi_static_threshold(&Preset::Fig8a.params());
-    println!("quasi-static threshold: stall {qs:.8} (the line touches the load at {eta_star:.6})");
+    println!("little inertia: quasi-static threshold {qs:.8} (tangency at {eta_star:.6})");
     let t_end = 2000.0;
     let mut last_gap = f64::INFINITY;
     for j in [0.3, 1.0, 3.0] {
-        let b = threshold(j, t_end, (0.04, 1.02 * qs), 1e-6);
-        let longer = stuck_or_passes(b.near, j, 4.0 * t_end);
+        let b = threshold(|t0| centred_side(t0, j, t_end), (0.04, 1.02 * qs), 1e-6);
+        let longer = centred_side(b.near, j, 4.0 * t_end);
         let gap = 1.0 - b.far / qs;
         println!(
-            "  j = {j}: threshold in [{:.7}, {:.7}] (horizon {t_end}; {} runs), \
+            "little inertia: j = {j}: threshold in [{:.7}, {:.7}] (horizon {t_end}; {} runs), \
              t0*/t_qs = {:.5}; stuck end for {}: {longer:?}",
             b.near,
             b.far,
@@ -295,7 +310,10 @@ fn sommerfeld_threshold_with_little_inertia_is_below_the_quasi_static_one() {
 /// $t_{qs}$ between $1/9$ and $1/4$ (the law above with $0 \le T_a \le T/2$; the climb from
 /// 0.1 at about $0.03/j$ takes near $30j$), with 0.02 of slack for the bisection's width.
 /// $K$ and $T_a$ fitted to the two horizons are printed with $K$ over the quasi-static
-/// estimate (not asserted: the estimate leaves out the orbit's own inertia).
+/// estimate: measured 1.22 at $j = 10$ and 1.12 at 20, as if the inertia were $j + 1.1$ (the
+/// estimate leaves out the inertia of the rotor's orbit and its lag, a correction of order
+/// $1/j$ in the slow-passage limit); asserted only that it nears 1 as $j$ grows (an assertion
+/// of the limit's form, added after seeing these numbers).
 #[test]
 fn sommerfeld_threshold_with_much_inertia_nears_the_quasi_static_one() {
     let p = Preset::Fig8a.params();
@@ -304,13 +322,15 @@ fn sommerfeld_threshold_with_much_inertia_nears_the_quasi_static_one() {
     let c = -(steady_load(&p, eta_star + h) - 2.0 * steady_load(&p, eta_star)
         + steady_load(&p, eta_star - h))
         / (h * h);
-    println!("quasi-static threshold: stall {qs:.8} at {eta_star:.6}, c = {c:.4}");
+    println!("much inertia: quasi-static threshold {qs:.8} at {eta_star:.6}, c = {c:.4}");
+    let mut last_miss = f64::INFINITY;
     for j in [10.0, 20.0] {
         let t_end = 400.0 * j;
         let [short, long] = [t_end, 2.0 * t_end].map(|t| {
-            let b = threshold(j, t, (0.98 * qs, 1.02 * qs), 2.5e-7);
+            let b = threshold(|t0| centred_side(t0, j, t), (0.98 * qs, 1.02 * qs), 2.5e-7);
             println!(
-                "  j = {j}, horizon {t}: threshold in [{:.8}, {:.8}] ({} runs), t0*/t_qs = {:.6}",
+                "much inertia: j = {j}, horizon {t}: threshold in [{:.8}, {:.8}] ({} runs), \
+                 t0*/t_qs = {:.6}",
                 b.near,
                 b.far,
                 b.evaluations + 2,
@@ -323,15 +343,81 @@ fn sommerfeld_threshold_with_much_inertia_nears_the_quasi_static_one() {
         let k = short * (t_end - t_a).powi(2);
         let k_qs = 2.0 * std::f64::consts::PI.powi(2) * j * j / (c * (1.0 - eta_star / 3.0));
         println!(
-            "  excess {short:.3e} -> {long:.3e}, ratio {ratio:.4}; T_a = {t_a:.0}, \
-             K = {k:.1} = {:.3} of 2 pi^2 j^2/(c (1 - eta*/3))",
+            "much inertia: j = {j}: excess {short:.3e} -> {long:.3e}, ratio {ratio:.4}; \
+             T_a = {t_a:.0}, K = {k:.1} = {:.3} of 2 pi^2 j^2/(c (1 - eta*/3))",
             k / k_qs
         );
-        assert!(short > 0.0 && long > 0.0, "below the quasi-static threshold");
-        assert!(long < short, "the longer horizon did not lower the threshold");
+        assert!(
+            short > 0.0 && long > 0.0,
+            "below the quasi-static threshold"
+        );
+        assert!(
+            long < short,
+            "the longer horizon did not lower the threshold"
+        );
         assert!(
             (1.0 / 9.0 - 0.02..=0.25 + 0.02).contains(&ratio),
             "the excesses' ratio {ratio}"
         );
+        let miss = (k / k_qs - 1.0).abs();
+        assert!(miss < last_miss, "K / K_qs - 1 = {miss} did not shrink");
+        last_miss = miss;
     }
+}
+
+/// On the ring (no closed form: the number is reported): Fig. 8a's rotor and ring from rest at
+/// $(0.9, 0)$, $j = 10$, the DC motor of no-load speed 3 (the drive of docs/run-up.md's
+/// table), from $\eta = 0.1$, dense samples every 0.5, passing when the speed
+/// exceeds 2.2: above the band where the ring holds the rotor (1.5 to 1.8) and below the
+/// speeds of the runs that pass (2.7 to 2.83, in contact all the while: the rest at 0.9 of
+/// the gap). Bisected to $10^{-5}$ on the bracket 0.2 (held, as in the table) to 0.3 at the
+/// horizons 3000 and 6000: a bottleneck as off the ring makes the longer horizon's threshold
+/// lower (by $5\times10^{-5}$; by the $T^{-2}$ law of the test above about a third of that is
+/// left at 6000). Asserted: the longer horizon's bracket is not above the shorter one's, and
+/// the threshold lies above the off-ring quasi-static one (the ring absorbs power besides the
+/// rotor's damping). Contact could make the answer change more than once with the torque; a
+/// sweep every $10^{-3}$ from 0.225 to 0.25 (made while writing this test, horizons 3000 and
+/// 12000) found one change, between 0.242 and 0.243.
+#[test]
+fn sommerfeld_threshold_on_the_ring() {
+    let (_, qs) = quasi_static_threshold(&Preset::Fig8a.params());
+    let side = |stall: f64, t_end: f64| {
+        let p = Params {
+            eta: 3.0,
+            ..Preset::Fig8a.params()
+        };
+        let motor = MotorTorque::linear(stall, 3.0).unwrap();
+        let rotor = DrivenJeffcott::new(p, 10.0, motor).unwrap();
+        let model = rotor.on_ring().unwrap();
+        let mut y0: SVector<f64, 8> = rotor.state_at([0.9, 0.0], [0.0, 0.0], 0.1);
+        model.make_consistent(&mut y0).unwrap();
+        let plan = OutputPlan {
+            t_end,
+            strobe: None,
+            dense: Some(DenseSampling {
+                t_start: 0.0,
+                dt: 0.5,
+            }),
+            events: true,
+        };
+        let mut traj = Trajectory::<U8>::default();
+        simulate(&model, 0.0, &y0, &plan, &SimOptions::default(), &mut traj).unwrap();
+        stuck_or_passes(&traj, 2.2)
+    };
+    let [short, long] = [3000.0, 6000.0].map(|t_end| {
+        let b = threshold(|t0| side(t0, t_end), (0.2, 0.3), 1e-5);
+        println!(
+            "on the ring, j = 10, horizon {t_end}: threshold in [{:.6}, {:.6}] ({} runs), \
+             {:.4} times the off-ring quasi-static {qs:.6}",
+            b.near,
+            b.far,
+            b.evaluations + 2,
+            b.midpoint() / qs
+        );
+        b
+    });
+    // A run that passes by 3000 passes by 6000: the longer horizon's bracket is not above.
+    assert!(long.near <= short.far, "{long:?} above {short:?}");
+    let b = long;
+    assert!(b.near > qs, "the ring lowered the threshold");
 }
