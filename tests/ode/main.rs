@@ -12,6 +12,7 @@ mod shaft;
 
 mod ode_adaptive;
 mod ode_convergence;
+mod ode_dense_tangent;
 mod ode_determinism;
 mod ode_dyn;
 mod ode_errors;
