@@ -43,10 +43,10 @@ impl OdeSystem<U2> for Drifting {
 fn methods() -> Vec<(Method, Options<U2>)> {
     let adaptive = Options::with_tol(1e-2, 1e-2).with_h_init(0.5);
     vec![
-        (Method::Dop853, adaptive.clone()),
-        (Method::Dopri5, adaptive.clone()),
+        (Method::Dop853, adaptive),
+        (Method::Dopri5, adaptive),
         (Method::Rk4, Options::fixed(0.5)),
-        (Method::Radau5, adaptive.clone()),
+        (Method::Radau5, adaptive),
         (Method::Etd4, adaptive),
     ]
 }
