@@ -54,7 +54,7 @@ fn methods() -> Vec<(Method, Options<U2>)> {
 /// The dense output's slope at the start of the step just taken, against $f$ there: the
 /// largest component's difference.
 fn slope_error<I: Integrator<U2>>(integ: &mut I, sys: &Drifting, delta: f64) -> f64 {
-    let (t0, y0) = (integ.t_prev(), integ.y_prev().clone());
+    let (t0, y0) = (integ.t_prev(), *integ.y_prev());
     let mut f0 = V2::zeros();
     sys.rhs(t0, &y0, &mut f0);
     let mut u = V2::zeros();
