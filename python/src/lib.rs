@@ -5,6 +5,7 @@
 //! Lyapunov exponents and the continuation, single library calls, check for it through the
 //! crate's `Progress` observer (`interrupt`).
 
+mod arrays;
 mod basins;
 mod chunks;
 mod continuation;

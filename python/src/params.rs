@@ -8,141 +8,106 @@ use pyo3::types::PyDict;
 
 use crate::errors::value_error;
 
-/// The paper's non-dimensional parameters (time in units of $1/\omega_n$, lengths in units of
-/// the radial gap $\gamma$). Every field of the crate's `jeffcott::params::Params`, with the
-/// same names and defaults (the paper's Fig. 8a set at eta = 2).
-///
-/// ``Params(**fields)`` builds and validates (``ValueError`` with the crate's message);
-/// ``Params.preset("fig8b")`` gives a named figure's set; ``to_dict``/``from_dict`` round trip.
-#[pyclass(
-    name = "Params",
-    module = "jeffcott",
-    get_all,
-    set_all,
-    eq,
-    from_py_object
-)]
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PyParams {
-    /// Frequency ratio eta = Omega / omega_n (> 0), dimensionless.
-    pub eta: f64,
-    /// Rotor damping ratio nu1 = c_r / (2 sqrt(k_r M)) (>= 0), dimensionless.
-    pub nu1: f64,
-    /// Ring damping ratio nu2 = c_s / (2 sqrt(k_r M)) per spring-damper unit (>= 0).
-    pub nu2: f64,
-    /// Ring unit stiffness ratio along x, K_x = k_sx / k_r (> 0).
-    pub kx: f64,
-    /// Ring unit stiffness ratio along y, K_y = k_sy / k_r (> 0).
-    pub ky: f64,
-    /// Out-of-balance beta = (m/M)(rho/gamma) (>= 0); the forcing amplitude is beta eta^2.
-    pub beta: f64,
-    /// Preload along x over the gap, D_x = Delta_x / gamma (>= 0).
-    pub dx: f64,
-    /// Preload along y over the gap, D_y = Delta_y / gamma (>= 0).
-    pub dy: f64,
-    /// Eccentricity of the rotor's rest position along x, in gaps.
-    pub ex: f64,
-    /// Eccentricity of the rotor's rest position along y, in gaps.
-    pub ey: f64,
-    /// Initial phase of the out-of-balance, rad.
-    pub phi0: f64,
+/// `PyParams` with one `f64` attribute (a Python getter and setter, its doc the field's) for
+/// each field named, and what goes field by field: the names in order ([`FIELDS`]), the
+/// conversions from and to the crate's [`Params`] (exhaustive destructuring, so a field the
+/// crate adds and the list lacks is a compile error), the values in order and the attribute
+/// of a name.
+macro_rules! py_params {
+    ($($(#[doc = $doc:literal])* $field:ident,)+) => {
+        /// The paper's non-dimensional parameters (time in units of $1/\omega_n$, lengths in
+        /// units of the radial gap $\gamma$). Every field of the crate's
+        /// `jeffcott::params::Params`, with the same names and defaults (the paper's Fig. 8a
+        /// set at eta = 2).
+        ///
+        /// ``Params(**fields)`` builds and validates (``ValueError`` with the crate's
+        /// message); ``Params.preset("fig8b")`` gives a named figure's set;
+        /// ``to_dict``/``from_dict`` round trip.
+        #[pyclass(
+            name = "Params",
+            module = "jeffcott",
+            get_all,
+            set_all,
+            eq,
+            from_py_object
+        )]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub struct PyParams {
+            $($(#[doc = $doc])* pub $field: f64,)+
+        }
+
+        /// The field names, in the order of the crate's struct.
+        const FIELDS: &[&str] = &[$(stringify!($field)),+];
+
+        impl From<Params> for PyParams {
+            fn from(p: Params) -> Self {
+                let Params { $($field),+ } = p;
+                Self { $($field),+ }
+            }
+        }
+
+        impl From<PyParams> for Params {
+            fn from(p: PyParams) -> Self {
+                let PyParams { $($field),+ } = p;
+                Self { $($field),+ }
+            }
+        }
+
+        impl PyParams {
+            /// The values, in the order of [`FIELDS`].
+            fn values(&self) -> [f64; FIELDS.len()] {
+                [$(self.$field),+]
+            }
+
+            /// The field of a name, if there is one.
+            fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
+                match name {
+                    $(stringify!($field) => Some(&mut self.$field),)+
+                    _ => None,
+                }
+            }
+        }
+    };
 }
 
-/// The field names, in the order of the crate's struct.
-const FIELDS: [&str; 11] = [
-    "eta", "nu1", "nu2", "kx", "ky", "beta", "dx", "dy", "ex", "ey", "phi0",
-];
-
-impl From<Params> for PyParams {
-    fn from(p: Params) -> Self {
-        let Params {
-            eta,
-            nu1,
-            nu2,
-            kx,
-            ky,
-            beta,
-            dx,
-            dy,
-            ex,
-            ey,
-            phi0,
-        } = p;
-        Self {
-            eta,
-            nu1,
-            nu2,
-            kx,
-            ky,
-            beta,
-            dx,
-            dy,
-            ex,
-            ey,
-            phi0,
-        }
-    }
+py_params! {
+    /// Frequency ratio eta = Omega / omega_n (> 0), dimensionless.
+    eta,
+    /// Rotor damping ratio nu1 = c_r / (2 sqrt(k_r M)) (>= 0), dimensionless.
+    nu1,
+    /// Ring damping ratio nu2 = c_s / (2 sqrt(k_r M)) per spring-damper unit (>= 0).
+    nu2,
+    /// Ring unit stiffness ratio along x, K_x = k_sx / k_r (> 0).
+    kx,
+    /// Ring unit stiffness ratio along y, K_y = k_sy / k_r (> 0).
+    ky,
+    /// Out-of-balance beta = (m/M)(rho/gamma) (>= 0); the forcing amplitude is beta eta^2.
+    beta,
+    /// Preload along x over the gap, D_x = Delta_x / gamma (>= 0).
+    dx,
+    /// Preload along y over the gap, D_y = Delta_y / gamma (>= 0).
+    dy,
+    /// Eccentricity of the rotor's rest position along x, in gaps.
+    ex,
+    /// Eccentricity of the rotor's rest position along y, in gaps.
+    ey,
+    /// Initial phase of the out-of-balance, rad.
+    phi0,
 }
 
 impl PyParams {
     /// The crate's parameters, validated (`ValueError` naming the bad field).
     pub fn checked(&self) -> PyResult<Params> {
-        let PyParams {
-            eta,
-            nu1,
-            nu2,
-            kx,
-            ky,
-            beta,
-            dx,
-            dy,
-            ex,
-            ey,
-            phi0,
-        } = *self;
-        let p = Params {
-            eta,
-            nu1,
-            nu2,
-            kx,
-            ky,
-            beta,
-            dx,
-            dy,
-            ex,
-            ey,
-            phi0,
-        };
-        p.validated().map_err(value_error)
-    }
-
-    fn values(&self) -> [f64; 11] {
-        let p = self;
-        [
-            p.eta, p.nu1, p.nu2, p.kx, p.ky, p.beta, p.dx, p.dy, p.ex, p.ey, p.phi0,
-        ]
+        Params::from(*self).validated().map_err(value_error)
     }
 
     fn set(&mut self, name: &str, v: f64) -> PyResult<()> {
-        let slot = match name {
-            "eta" => &mut self.eta,
-            "nu1" => &mut self.nu1,
-            "nu2" => &mut self.nu2,
-            "kx" => &mut self.kx,
-            "ky" => &mut self.ky,
-            "beta" => &mut self.beta,
-            "dx" => &mut self.dx,
-            "dy" => &mut self.dy,
-            "ex" => &mut self.ex,
-            "ey" => &mut self.ey,
-            "phi0" => &mut self.phi0,
-            other => {
-                return Err(value_error(format!(
-                    "unknown parameter '{other}' (the fields are {})",
-                    FIELDS.join(", ")
-                )))
-            }
-        };
+        let slot = self.field_mut(name).ok_or_else(|| {
+            value_error(format!(
+                "unknown parameter '{name}' (the fields are {})",
+                FIELDS.join(", ")
+            ))
+        })?;
         *slot = v;
         Ok(())
     }
