@@ -8,21 +8,19 @@ use pyo3::types::PyDict;
 
 use crate::errors::value_error;
 
-/// `PyParams` with one `f64` attribute (a Python getter and setter, its doc the field's) for
-/// each field named, and what goes field by field: the names in order ([`FIELDS`]), the
-/// conversions from and to the crate's [`Params`] (exhaustive destructuring, so a field the
-/// crate adds and the list lacks is a compile error), the values in order and the attribute
-/// of a name.
+/// The struct `PyParams` as written (the Python class `Params`: each field an attribute, a
+/// getter and setter with the field's doc), and what goes field by field: the names in order
+/// ([`FIELDS`]), the conversions from and to the crate's [`Params`] (exhaustive
+/// destructuring: a field the crate adds and the struct lacks is a compile error), the values
+/// in order and the field of a name.
 macro_rules! py_params {
-    ($($(#[doc = $doc:literal])* $field:ident,)+) => {
-        /// The paper's non-dimensional parameters (time in units of $1/\omega_n$, lengths in
-        /// units of the radial gap $\gamma$). Every field of the crate's
-        /// `jeffcott::params::Params`, with the same names and defaults (the paper's Fig. 8a
-        /// set at eta = 2).
-        ///
-        /// ``Params(**fields)`` builds and validates (``ValueError`` with the crate's
-        /// message); ``Params.preset("fig8b")`` gives a named figure's set;
-        /// ``to_dict``/``from_dict`` round trip.
+    (
+        $(#[doc = $class_doc:literal])*
+        pub struct PyParams {
+            $($(#[doc = $doc:literal])* pub $field:ident: f64,)+
+        }
+    ) => {
+        $(#[doc = $class_doc])*
         #[pyclass(
             name = "Params",
             module = "jeffcott",
@@ -70,29 +68,38 @@ macro_rules! py_params {
     };
 }
 
+// The class as a struct; the macro adds what goes field by field.
 py_params! {
+/// The paper's non-dimensional parameters (time in units of $1/\omega_n$, lengths in units of
+/// the radial gap $\gamma$). Every field of the crate's `jeffcott::params::Params`, with the
+/// same names and defaults (the paper's Fig. 8a set at eta = 2).
+///
+/// ``Params(**fields)`` builds and validates (``ValueError`` with the crate's message);
+/// ``Params.preset("fig8b")`` gives a named figure's set; ``to_dict``/``from_dict`` round trip.
+pub struct PyParams {
     /// Frequency ratio eta = Omega / omega_n (> 0), dimensionless.
-    eta,
+    pub eta: f64,
     /// Rotor damping ratio nu1 = c_r / (2 sqrt(k_r M)) (>= 0), dimensionless.
-    nu1,
+    pub nu1: f64,
     /// Ring damping ratio nu2 = c_s / (2 sqrt(k_r M)) per spring-damper unit (>= 0).
-    nu2,
+    pub nu2: f64,
     /// Ring unit stiffness ratio along x, K_x = k_sx / k_r (> 0).
-    kx,
+    pub kx: f64,
     /// Ring unit stiffness ratio along y, K_y = k_sy / k_r (> 0).
-    ky,
+    pub ky: f64,
     /// Out-of-balance beta = (m/M)(rho/gamma) (>= 0); the forcing amplitude is beta eta^2.
-    beta,
+    pub beta: f64,
     /// Preload along x over the gap, D_x = Delta_x / gamma (>= 0).
-    dx,
+    pub dx: f64,
     /// Preload along y over the gap, D_y = Delta_y / gamma (>= 0).
-    dy,
+    pub dy: f64,
     /// Eccentricity of the rotor's rest position along x, in gaps.
-    ex,
+    pub ex: f64,
     /// Eccentricity of the rotor's rest position along y, in gaps.
-    ey,
+    pub ey: f64,
     /// Initial phase of the out-of-balance, rad.
-    phi0,
+    pub phi0: f64,
+}
 }
 
 impl PyParams {
