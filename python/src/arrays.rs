@@ -14,7 +14,7 @@ pub fn array<T: Element>(py: Python<'_>, values: impl IntoIterator<Item = T>) ->
 }
 
 /// The rows, each `width` long (6 for a state, 4 for a periodic point), as an (N, width)
-/// numpy array; a row of another length is a `ValueError`.
+/// numpy array; rows that do not fill N × width exactly are a `ValueError`.
 pub fn table<T, R>(
     py: Python<'_>,
     rows: impl ExactSizeIterator<Item = R>,
