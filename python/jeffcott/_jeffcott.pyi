@@ -1,10 +1,7 @@
 """Type stubs of the compiled module (shapes and units in the docstrings)."""
 
 from collections.abc import Sequence
-from typing import Any, TypedDict
-
-# typing.Unpack is 3.11+; a stub is never run, so typing_extensions costs users nothing.
-from typing_extensions import Unpack
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -162,21 +159,6 @@ class RunUp:
     ramp_time: float
     stats: dict[str, int]
 
-class _Integration(TypedDict, total=False):
-    """The integration keywords of the runs (``**options``), each None by default: the
-    crate's ``SimOptions`` (rtol 1e-10, atol 1e-12, method "dop853"; also "dopri5",
-    "radau5", in any case)."""
-
-    rtol: float | None
-    atol: float | None
-    method: str | None
-
-class _RunFrom(_Integration, total=False):
-    """The integration keywords and ``state0``: the start [x, y, x', y', x_s, y_s] (gaps,
-    gaps per 1/omega_n); None by default, rest."""
-
-    state0: Sequence[float] | None
-
 def presets() -> list[str]: ...
 def lyapunov_exponents(
     params: Params,
@@ -187,7 +169,10 @@ def lyapunov_exponents(
     batch: int = 100,
     separation: float | None = 1e-8,
     exponents: int | None = None,
-    **options: Unpack[_RunFrom],
+    state0: Sequence[float] | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
 ) -> Lyapunov: ...
 def continue_orbit(
     params: Params,
@@ -197,11 +182,14 @@ def continue_orbit(
     parameter: str = "eta",
     period: int = 1,
     transient: int = 300,
+    state0: Sequence[float] | None = None,
     ds: float | None = None,
     ds_max: float | None = None,
     max_points: int | None = None,
     bracket_width: float | None = None,
-    **options: Unpack[_RunFrom],
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
 ) -> Branch: ...
 def basins(
     params: Params,
@@ -213,8 +201,10 @@ def basins(
     record: int = 64,
     max_transient: int = 4000,
     match_state: float = 1e-3,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
     threads: int | None = None,
-    **options: Unpack[_Integration],
 ) -> Basins: ...
 def run_up(
     params: Params,
@@ -225,40 +215,55 @@ def run_up(
     t_end: float | None = None,
     dt: float = 0.05,
     ring: bool = True,
+    state0: Sequence[float] | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
     chunk: int = 100,
-    **options: Unpack[_RunFrom],
 ) -> RunUp: ...
 def poincare(
     params: Params,
     *,
     transient: int = 300,
     record: int = 150,
+    state0: Sequence[float] | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
     chunk: int = 100,
-    **options: Unpack[_RunFrom],
 ) -> Section: ...
 def periodic_orbit(
     params: Params,
     period: int = 1,
     *,
     transient: int = 300,
-    **options: Unpack[_RunFrom],
+    state0: Sequence[float] | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
 ) -> Orbit: ...
 def simulate(
     params: Params,
     periods: int,
     *,
+    state0: Sequence[float] | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
     max_steps: int | None = None,
     chunk: int = 100,
-    **options: Unpack[_RunFrom],
 ) -> StrobeRun: ...
 def simulate_dense(
     params: Params,
     t_end: float,
     dt: float,
     *,
+    state0: Sequence[float] | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
     max_steps: int | None = None,
     chunk: int = 100,
-    **options: Unpack[_RunFrom],
 ) -> DenseRun: ...
 def bifurcation(
     params: Params,
@@ -267,8 +272,10 @@ def bifurcation(
     parameter: str = "eta",
     transient: int = 300,
     record: int = 150,
+    rtol: float | None = None,
+    atol: float | None = None,
+    method: str | None = None,
     threads: int | None = None,
-    **options: Unpack[_Integration],
 ) -> Diagram: ...
 def ring_position(params: Params, x: float, y: float) -> tuple[float, float]: ...
 def regime(params: Params, x: float, y: float) -> int: ...
