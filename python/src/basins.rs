@@ -6,10 +6,11 @@ use jeffcott::global::{
     PointLabel, RunOptions,
 };
 use jeffcott::paper::{BasinPlane, StartPlane};
-use numpy::ndarray::{Array1, Array2};
+use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::prelude::*;
 
+use crate::arrays::{array, table};
 use crate::errors::value_error;
 use crate::options::{positive, sim_options};
 use crate::params::PyParams;
@@ -70,11 +71,9 @@ fn attractor(
     first: usize,
 ) -> PyResult<BasinAttractor> {
     let width = a.cycle.first().map_or(6, Vec::len);
-    let flat: Vec<f64> = a.cycle.iter().flatten().copied().collect();
-    let cycle = Array2::from_shape_vec((a.cycle.len(), width), flat).map_err(value_error)?;
     Ok(BasinAttractor {
         period: a.period().unwrap_or(0),
-        cycle: cycle.into_pyarray(py).unbind(),
+        cycle: table(py, a.cycle.iter().map(|y| y.iter().copied()), width)?,
         count,
         first,
         contacts_per_period: a.stats.contacts_per_period,
@@ -184,8 +183,8 @@ fn basins_of(
         })
         .collect();
     Ok(Basins {
-        x: Array1::from_vec(grid.x.clone()).into_pyarray(py).unbind(),
-        y: Array1::from_vec(grid.y.clone()).into_pyarray(py).unbind(),
+        x: array(py, grid.x.iter().copied()),
+        y: array(py, grid.y.iter().copied()),
         names: (h.to_string(), v.to_string()),
         labels: labels.into_pyarray(py).unbind(),
         attractors,

@@ -3,13 +3,12 @@
 
 use jeffcott::paper::{JeffcottModel, ParamSweep};
 use jeffcott::stability::{
-    continue_orbit_with_progress, Branch, BranchEnd, BranchPoint, ContinuationOptions, Multiplier,
-    SpecialPoint,
+    continue_orbit_with_progress, Branch, BranchEnd, ContinuationOptions, SpecialPoint,
 };
-use numpy::ndarray::{Array1, Array2};
-use numpy::{Complex64, IntoPyArray, PyArray1, PyArray2};
+use numpy::{Complex64, PyArray1, PyArray2};
 use pyo3::prelude::*;
 
+use crate::arrays::{array, complex, table};
 use crate::chunks;
 use crate::errors::value_error;
 use crate::interrupt::CtrlC;
@@ -72,21 +71,6 @@ pub struct ContinuedBranch {
     pub end_reason: Option<(f64, String)>,
 }
 
-fn complex(m: &[Multiplier]) -> impl Iterator<Item = Complex64> + '_ {
-    m.iter().map(|m| Complex64::new(m.re, m.im))
-}
-
-/// The rows (each `width` long: 4 for the point and the multipliers, 6 for the state) as
-/// an array.
-fn table<T: Copy>(
-    rows: impl ExactSizeIterator<Item = Vec<T>>,
-    width: usize,
-) -> PyResult<Array2<T>> {
-    let n = rows.len();
-    let flat: Vec<T> = rows.flatten().collect();
-    Array2::from_shape_vec((n, width), flat).map_err(value_error)
-}
-
 fn special(py: Python<'_>, s: &SpecialPoint) -> PyResult<Py<SpecialPointPy>> {
     let point = SpecialPointPy {
         kind: s.kind.name().to_string(),
@@ -94,21 +78,12 @@ fn special(py: Python<'_>, s: &SpecialPoint) -> PyResult<Py<SpecialPointPy>> {
         bracket: s.bracket,
         converged: s.converged,
         unconverged: s.unconverged.as_ref().map(ToString::to_string),
-        point: Array1::from_vec(s.point.clone()).into_pyarray(py).unbind(),
-        multipliers: Array1::from_iter(complex(&s.multipliers))
-            .into_pyarray(py)
-            .unbind(),
+        point: array(py, s.point.iter().copied()),
+        multipliers: array(py, complex(&s.multipliers)),
         contacts: s.contacts,
         after_point: s.after_point,
     };
     Py::new(py, point)
-}
-
-fn column<T, F>(points: &[BranchPoint], f: F) -> Array1<T>
-where
-    F: Fn(&BranchPoint) -> T,
-{
-    points.iter().map(f).collect()
 }
 
 fn branch(py: Python<'_>, name: &str, b: &Branch) -> PyResult<ContinuedBranch> {
@@ -125,20 +100,14 @@ fn branch(py: Python<'_>, name: &str, b: &Branch) -> PyResult<ContinuedBranch> {
     Ok(ContinuedBranch {
         parameter_name: name.to_string(),
         period: b.period,
-        parameters: column(p, |q| q.parameter).into_pyarray(py).unbind(),
-        points: table(p.iter().map(|q| q.point.clone()), 4)?
-            .into_pyarray(py)
-            .unbind(),
-        states: table(p.iter().map(|q| q.state.clone()), 6)?
-            .into_pyarray(py)
-            .unbind(),
-        multipliers: table(p.iter().map(|q| complex(&q.multipliers).collect()), 4)?
-            .into_pyarray(py)
-            .unbind(),
-        stable: column(p, |q| q.stable).into_pyarray(py).unbind(),
-        grazing: column(p, |q| q.grazing).into_pyarray(py).unbind(),
-        contacts: column(p, |q| q.contacts as i64).into_pyarray(py).unbind(),
-        arclength: column(p, |q| q.arclength).into_pyarray(py).unbind(),
+        parameters: array(py, p.iter().map(|q| q.parameter)),
+        points: table(py, p.iter().map(|q| q.point.iter().copied()), 4)?,
+        states: table(py, p.iter().map(|q| q.state.iter().copied()), 6)?,
+        multipliers: table(py, p.iter().map(|q| complex(&q.multipliers)), 4)?,
+        stable: array(py, p.iter().map(|q| q.stable)),
+        grazing: array(py, p.iter().map(|q| q.grazing)),
+        contacts: array(py, p.iter().map(|q| q.contacts as i64)),
+        arclength: array(py, p.iter().map(|q| q.arclength)),
         specials: b
             .specials
             .iter()

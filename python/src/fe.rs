@@ -8,11 +8,11 @@ use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{
     CraigBampton, DofLayout, LinearRotor, LinearSystem, ModeSelection, RingedRotor, RotorMatrices,
 };
-use numpy::ndarray::Array1;
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2};
+use numpy::{PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::arrays::array;
 use crate::chunks;
 use crate::errors::value_error;
 use crate::options::sim_options;
@@ -104,21 +104,13 @@ fn transient(
             .events
             .iter()
             .filter(|e| e.from != e.to && (e.from == 1) == onset);
-        Array1::from_iter(e.map(|e| e.t)).into_pyarray(py).unbind()
+        array(py, e.map(|e| e.t))
     };
     Ok(FeTransient {
-        t: Array1::from_iter(s.iter().map(|p| p.t))
-            .into_pyarray(py)
-            .unbind(),
-        x: Array1::from_iter(s.iter().map(|p| at(&p.y)[0]))
-            .into_pyarray(py)
-            .unbind(),
-        y: Array1::from_iter(s.iter().map(|p| at(&p.y)[1]))
-            .into_pyarray(py)
-            .unbind(),
-        regimes: Array1::from_iter(s.iter().map(|p| p.label))
-            .into_pyarray(py)
-            .unbind(),
+        t: array(py, s.iter().map(|p| p.t)),
+        x: array(py, s.iter().map(|p| at(&p.y)[0])),
+        y: array(py, s.iter().map(|p| at(&p.y)[1])),
+        regimes: array(py, s.iter().map(|p| p.label)),
         onsets: changes(true),
         losses: changes(false),
         dofs: model.rotor().system().dofs(),

@@ -5,6 +5,7 @@
 //! Lyapunov exponents and the continuation, single library calls, check for it through the
 //! crate's `Progress` observer (`interrupt`).
 
+mod arrays;
 mod basins;
 mod chunks;
 mod continuation;
@@ -23,40 +24,37 @@ use pyo3::prelude::*;
 
 /// The compiled part of the `jeffcott` package (its functions are re-exported there).
 #[pymodule]
-fn _jeffcott(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    // numpy's C API, loaded now: loaded at a run's first array it runs Python code, and a
-    // Ctrl-C pending then (pressed during the run) made the loader panic.
-    numpy::PyArray1::<f64>::zeros(m.py(), 0, false);
-    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add(
-        "SimulationError",
-        m.py().get_type::<errors::SimulationError>(),
-    )?;
-    m.add_class::<params::PyParams>()?;
-    m.add_class::<paper::StrobeRun>()?;
-    m.add_class::<paper::DenseRun>()?;
-    m.add_class::<paper::Diagram>()?;
-    m.add_class::<fe::FeTransient>()?;
-    m.add_class::<stability::Orbit>()?;
-    m.add_class::<poincare::Section>()?;
-    m.add_class::<lyapunov::Lyapunov>()?;
-    m.add_class::<continuation::ContinuedBranch>()?;
-    m.add_class::<continuation::SpecialPointPy>()?;
-    m.add_class::<basins::Basins>()?;
-    m.add_class::<basins::BasinAttractor>()?;
-    m.add_class::<run_up::RunUp>()?;
-    m.add_function(wrap_pyfunction!(params::presets, m)?)?;
-    m.add_function(wrap_pyfunction!(paper::simulate, m)?)?;
-    m.add_function(wrap_pyfunction!(paper::simulate_dense, m)?)?;
-    m.add_function(wrap_pyfunction!(paper::bifurcation, m)?)?;
-    m.add_function(wrap_pyfunction!(paper::ring_position, m)?)?;
-    m.add_function(wrap_pyfunction!(paper::regime, m)?)?;
-    m.add_function(wrap_pyfunction!(fe::fe_transient, m)?)?;
-    m.add_function(wrap_pyfunction!(stability::periodic_orbit, m)?)?;
-    m.add_function(wrap_pyfunction!(poincare::poincare, m)?)?;
-    m.add_function(wrap_pyfunction!(lyapunov::lyapunov_exponents, m)?)?;
-    m.add_function(wrap_pyfunction!(continuation::continue_orbit, m)?)?;
-    m.add_function(wrap_pyfunction!(basins::basins, m)?)?;
-    m.add_function(wrap_pyfunction!(run_up::run_up, m)?)?;
-    Ok(())
+mod _jeffcott {
+    use pyo3::prelude::*;
+
+    #[pymodule_export]
+    use crate::basins::{basins, BasinAttractor, Basins};
+    #[pymodule_export]
+    use crate::continuation::{continue_orbit, ContinuedBranch, SpecialPointPy};
+    #[pymodule_export]
+    use crate::errors::SimulationError;
+    #[pymodule_export]
+    use crate::fe::{fe_transient, FeTransient};
+    #[pymodule_export]
+    use crate::lyapunov::{lyapunov_exponents, Lyapunov};
+    #[pymodule_export]
+    use crate::paper::{
+        bifurcation, regime, ring_position, simulate, simulate_dense, DenseRun, Diagram, StrobeRun,
+    };
+    #[pymodule_export]
+    use crate::params::{presets, PyParams};
+    #[pymodule_export]
+    use crate::poincare::{poincare, Section};
+    #[pymodule_export]
+    use crate::run_up::{run_up, RunUp};
+    #[pymodule_export]
+    use crate::stability::{periodic_orbit, Orbit};
+
+    #[pymodule_init]
+    fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+        // numpy's C API, loaded now: loaded at a run's first array it runs Python code, and a
+        // Ctrl-C pending then (pressed during the run) made the loader panic.
+        numpy::PyArray1::<f64>::zeros(m.py(), 0, false);
+        m.add("__version__", env!("CARGO_PKG_VERSION"))
+    }
 }

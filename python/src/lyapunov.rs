@@ -3,15 +3,14 @@
 use jeffcott::stability::{
     lyapunov_exponents_with_progress, LyapunovOptions, LyapunovSpectrum, StabilityError,
 };
-use numpy::ndarray::{Array1, Array2};
-use numpy::{IntoPyArray, PyArray1, PyArray2};
+use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
+use crate::arrays::{array, table};
 use crate::chunks;
 use crate::errors::{simulation_error, value_error};
 use crate::interrupt::CtrlC;
-use crate::options::sim_options;
-use crate::paper::{model_of, start_state};
+use crate::paper::run_setup;
 use crate::params::PyParams;
 
 /// Lyapunov exponents of the stroboscopic map (the crate's ``stability::lyapunov_exponents``).
@@ -48,22 +47,17 @@ pub struct Lyapunov {
     pub end: Py<PyArray1<f64>>,
 }
 
-fn lyapunov(py: Python<'_>, l: &LyapunovSpectrum) -> Lyapunov {
+fn lyapunov(py: Python<'_>, l: &LyapunovSpectrum) -> PyResult<Lyapunov> {
     let e = &l.per_period;
-    let p = e.mean.len();
-    let running: Vec<f64> = e.running.iter().flatten().copied().collect();
-    let running = Array2::from_shape_vec((e.running.len(), p), running).expect("p per batch");
+    let values = |v: &[f64]| array(py, v.iter().copied());
+    let running = e.running.iter().map(|r| r.iter().copied());
     let two = l.two_trajectory.as_ref();
-    Lyapunov {
-        exponents: Array1::from_vec(e.mean.clone()).into_pyarray(py).unbind(),
-        stderr: Array1::from_vec(e.stderr.clone()).into_pyarray(py).unbind(),
-        per_time: Array1::from_vec(l.per_time.clone())
-            .into_pyarray(py)
-            .unbind(),
-        per_time_stderr: Array1::from_vec(l.per_time_stderr.clone())
-            .into_pyarray(py)
-            .unbind(),
-        running: running.into_pyarray(py).unbind(),
+    Ok(Lyapunov {
+        exponents: values(&e.mean),
+        stderr: values(&e.stderr),
+        per_time: values(&l.per_time),
+        per_time_stderr: values(&l.per_time_stderr),
+        running: table(py, running, e.mean.len())?,
         batches: e.batches,
         forcing_period: l.forcing_period,
         two_trajectory: two.map(|t| t.lambda),
@@ -71,8 +65,8 @@ fn lyapunov(py: Python<'_>, l: &LyapunovSpectrum) -> Lyapunov {
         grazing_events: l.grazing_events,
         min_margin: l.min_margin,
         open_sections: l.open_sections,
-        end: Array1::from_vec(l.end.clone()).into_pyarray(py).unbind(),
-    }
+        end: values(&l.end),
+    })
 }
 
 /// A stability error as a Python exception: ``ValueError`` for a bad option, else
@@ -112,15 +106,14 @@ pub fn lyapunov_exponents(
     atol: Option<f64>,
     method: Option<&str>,
 ) -> PyResult<Lyapunov> {
-    let model = model_of(&params)?;
-    let y0 = start_state(state0)?;
+    let (model, y0, sim) = run_setup(&params, state0, rtol, atol, method)?;
     let mut opts = LyapunovOptions::default()
         .with_transient(0)
         .with_align(align)
         .with_periods(periods)
         .with_batch(batch)
         .with_separation(separation)
-        .with_sim(sim_options(rtol, atol, method)?);
+        .with_sim(sim);
     if let Some(n) = exponents {
         if !(1..=4).contains(&n) {
             return Err(value_error(format!("exponents = {n} must be 1..=4")));
@@ -132,7 +125,7 @@ pub fn lyapunov_exponents(
     let found = py.detach(|| lyapunov_exponents_with_progress(&model, &start, &opts, &ctrl_c));
     ctrl_c.raised()?;
     match found {
-        Ok(l) => Ok(lyapunov(py, &l)),
+        Ok(l) => lyapunov(py, &l),
         Err(e) => Err(stability_error(py, e)),
     }
 }

@@ -6,11 +6,12 @@ use jeffcott::analysis::{BifurcationOptions, SweepOptions};
 use jeffcott::hybrid::{SimOptions, Trajectory};
 use jeffcott::nalgebra::{Vector2, U6};
 use jeffcott::paper::{JeffcottModel, ParamSweep, State, SweepParameter};
-use numpy::ndarray::{Array1, Array2, Array3};
-use numpy::{Element, IntoPyArray, PyArray1, PyArray2, PyArray3};
+use numpy::ndarray::Array3;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::arrays::{array, table};
 use crate::chunks::{self, Output};
 use crate::errors::value_error;
 use crate::options::{positive, sim_options};
@@ -82,18 +83,29 @@ pub fn start_state(state0: Option<Vec<f64>>) -> PyResult<State> {
     }
 }
 
-/// The states as the rows of an (N, 6) array.
-pub fn rows(states: impl ExactSizeIterator<Item = State>) -> Array2<f64> {
-    let n = states.len();
-    let flat: Vec<f64> = states
-        .flat_map(|y| y.iter().copied().collect::<Vec<_>>())
-        .collect();
-    Array2::from_shape_vec((n, 6), flat).expect("n rows of 6")
+/// What a run of the paper's model starts from: the model of `params`, the state `state0`
+/// (default rest) and the integration options (`None` keeps the crate's default), checked in
+/// that order.
+pub fn run_setup(
+    params: &PyParams,
+    state0: Option<Vec<f64>>,
+    rtol: Option<f64>,
+    atol: Option<f64>,
+    method: Option<&str>,
+) -> PyResult<(JeffcottModel, State, SimOptions)> {
+    Ok((
+        model_of(params)?,
+        start_state(state0)?,
+        sim_options(rtol, atol, method)?,
+    ))
 }
 
-/// The values as a 1-D numpy array.
-pub fn array<T: Element>(py: Python<'_>, values: impl IntoIterator<Item = T>) -> Py<PyArray1<T>> {
-    Array1::from_iter(values).into_pyarray(py).unbind()
+/// The states as the rows of an (N, 6) numpy array.
+pub fn states<'a>(
+    py: Python<'_>,
+    states: impl ExactSizeIterator<Item = &'a State>,
+) -> PyResult<Py<PyArray2<f64>>> {
+    table(py, states.map(|y| y.iter().copied()), 6)
 }
 
 fn strobe_run(
@@ -105,7 +117,7 @@ fn strobe_run(
     Ok(StrobeRun {
         k: array(py, s.iter().map(|p| p.k as i64)),
         t: array(py, s.iter().map(|p| p.t)),
-        states: rows(s.iter().map(|p| p.y)).into_pyarray(py).unbind(),
+        states: states(py, s.iter().map(|p| &p.y))?,
         regimes: array(py, s.iter().map(|p| p.label)),
         stats: chunks::stats_dict(py, stats)?.unbind(),
     })
@@ -120,8 +132,8 @@ fn dense_run(
     let e = &traj.events;
     Ok(DenseRun {
         t: array(py, s.iter().map(|p| p.t)),
-        states: rows(s.iter().map(|p| p.y)).into_pyarray(py).unbind(),
-        derivatives: rows(s.iter().map(|p| p.dy)).into_pyarray(py).unbind(),
+        states: states(py, s.iter().map(|p| &p.y))?,
+        derivatives: states(py, s.iter().map(|p| &p.dy))?,
         regimes: array(py, s.iter().map(|p| p.label)),
         event_t: array(py, e.iter().map(|v| v.t)),
         event_kind: e.iter().map(|v| v.kind.to_string()).collect(),
@@ -154,9 +166,8 @@ pub fn simulate(
     max_steps: Option<u64>,
     chunk: u64,
 ) -> PyResult<StrobeRun> {
-    let model = model_of(&params)?;
-    let y0 = start_state(state0)?;
-    let opts = with_max_steps(sim_options(rtol, atol, method)?, max_steps);
+    let (model, y0, opts) = run_setup(&params, state0, rtol, atol, method)?;
+    let opts = with_max_steps(opts, max_steps);
     let output = Output::Strobe {
         last: periods,
         per_chunk: chunk.max(1),
@@ -182,9 +193,8 @@ pub fn simulate_dense(
     max_steps: Option<u64>,
     chunk: u64,
 ) -> PyResult<DenseRun> {
-    let model = model_of(&params)?;
-    let y0 = start_state(state0)?;
-    let opts = with_max_steps(sim_options(rtol, atol, method)?, max_steps);
+    let (model, y0, opts) = run_setup(&params, state0, rtol, atol, method)?;
+    let opts = with_max_steps(opts, max_steps);
     let output = dense_output(t_end, dt, chunk as f64 * params.forcing_period())?;
     chunks::run_into(py, &model, y0, output, &opts, dense_run)
 }
@@ -295,9 +305,9 @@ pub fn bifurcation(
         py.check_signals()?;
     }
     Ok(Diagram {
-        values: Array1::from_vec(values).into_pyarray(py).unbind(),
+        values: array(py, values),
         points: points.into_pyarray(py).unbind(),
-        periods: Array1::from_vec(periods).into_pyarray(py).unbind(),
+        periods: array(py, periods),
         errors,
     })
 }

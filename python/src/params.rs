@@ -8,21 +8,74 @@ use pyo3::types::PyDict;
 
 use crate::errors::value_error;
 
+/// The struct `PyParams` as written (the Python class `Params`: each field an attribute, a
+/// getter and setter with the field's doc), and what goes field by field: the names in order
+/// ([`FIELDS`]), the conversions from and to the crate's [`Params`] (exhaustive
+/// destructuring: a field the crate adds and the struct lacks is a compile error), the values
+/// in order and the field of a name.
+macro_rules! py_params {
+    (
+        $(#[doc = $class_doc:literal])*
+        pub struct PyParams {
+            $($(#[doc = $doc:literal])* pub $field:ident: f64,)+
+        }
+    ) => {
+        $(#[doc = $class_doc])*
+        #[pyclass(
+            name = "Params",
+            module = "jeffcott",
+            get_all,
+            set_all,
+            eq,
+            from_py_object
+        )]
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub struct PyParams {
+            $($(#[doc = $doc])* pub $field: f64,)+
+        }
+
+        /// The field names, in the order of the crate's struct.
+        const FIELDS: &[&str] = &[$(stringify!($field)),+];
+
+        impl From<Params> for PyParams {
+            fn from(p: Params) -> Self {
+                let Params { $($field),+ } = p;
+                Self { $($field),+ }
+            }
+        }
+
+        impl From<PyParams> for Params {
+            fn from(p: PyParams) -> Self {
+                let PyParams { $($field),+ } = p;
+                Self { $($field),+ }
+            }
+        }
+
+        impl PyParams {
+            /// The values, in the order of [`FIELDS`].
+            fn values(&self) -> [f64; FIELDS.len()] {
+                [$(self.$field),+]
+            }
+
+            /// The field of a name, if there is one.
+            fn field_mut(&mut self, name: &str) -> Option<&mut f64> {
+                match name {
+                    $(stringify!($field) => Some(&mut self.$field),)+
+                    _ => None,
+                }
+            }
+        }
+    };
+}
+
+// The class as a struct; the macro adds what goes field by field.
+py_params! {
 /// The paper's non-dimensional parameters (time in units of $1/\omega_n$, lengths in units of
 /// the radial gap $\gamma$). Every field of the crate's `jeffcott::params::Params`, with the
 /// same names and defaults (the paper's Fig. 8a set at eta = 2).
 ///
 /// ``Params(**fields)`` builds and validates (``ValueError`` with the crate's message);
 /// ``Params.preset("fig8b")`` gives a named figure's set; ``to_dict``/``from_dict`` round trip.
-#[pyclass(
-    name = "Params",
-    module = "jeffcott",
-    get_all,
-    set_all,
-    eq,
-    from_py_object
-)]
-#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PyParams {
     /// Frequency ratio eta = Omega / omega_n (> 0), dimensionless.
     pub eta: f64,
@@ -47,102 +100,21 @@ pub struct PyParams {
     /// Initial phase of the out-of-balance, rad.
     pub phi0: f64,
 }
-
-/// The field names, in the order of the crate's struct.
-const FIELDS: [&str; 11] = [
-    "eta", "nu1", "nu2", "kx", "ky", "beta", "dx", "dy", "ex", "ey", "phi0",
-];
-
-impl From<Params> for PyParams {
-    fn from(p: Params) -> Self {
-        let Params {
-            eta,
-            nu1,
-            nu2,
-            kx,
-            ky,
-            beta,
-            dx,
-            dy,
-            ex,
-            ey,
-            phi0,
-        } = p;
-        Self {
-            eta,
-            nu1,
-            nu2,
-            kx,
-            ky,
-            beta,
-            dx,
-            dy,
-            ex,
-            ey,
-            phi0,
-        }
-    }
 }
 
 impl PyParams {
     /// The crate's parameters, validated (`ValueError` naming the bad field).
     pub fn checked(&self) -> PyResult<Params> {
-        let PyParams {
-            eta,
-            nu1,
-            nu2,
-            kx,
-            ky,
-            beta,
-            dx,
-            dy,
-            ex,
-            ey,
-            phi0,
-        } = *self;
-        let p = Params {
-            eta,
-            nu1,
-            nu2,
-            kx,
-            ky,
-            beta,
-            dx,
-            dy,
-            ex,
-            ey,
-            phi0,
-        };
-        p.validated().map_err(value_error)
-    }
-
-    fn values(&self) -> [f64; 11] {
-        let p = self;
-        [
-            p.eta, p.nu1, p.nu2, p.kx, p.ky, p.beta, p.dx, p.dy, p.ex, p.ey, p.phi0,
-        ]
+        Params::from(*self).validated().map_err(value_error)
     }
 
     fn set(&mut self, name: &str, v: f64) -> PyResult<()> {
-        let slot = match name {
-            "eta" => &mut self.eta,
-            "nu1" => &mut self.nu1,
-            "nu2" => &mut self.nu2,
-            "kx" => &mut self.kx,
-            "ky" => &mut self.ky,
-            "beta" => &mut self.beta,
-            "dx" => &mut self.dx,
-            "dy" => &mut self.dy,
-            "ex" => &mut self.ex,
-            "ey" => &mut self.ey,
-            "phi0" => &mut self.phi0,
-            other => {
-                return Err(value_error(format!(
-                    "unknown parameter '{other}' (the fields are {})",
-                    FIELDS.join(", ")
-                )))
-            }
-        };
+        let slot = self.field_mut(name).ok_or_else(|| {
+            value_error(format!(
+                "unknown parameter '{name}' (the fields are {})",
+                FIELDS.join(", ")
+            ))
+        })?;
         *slot = v;
         Ok(())
     }

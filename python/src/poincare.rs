@@ -4,14 +4,13 @@
 use jeffcott::analysis::PeriodTest;
 use jeffcott::hybrid::{RotorModel, Trajectory};
 use jeffcott::paper::State;
-use numpy::ndarray::{Array1, Array2};
-use numpy::{IntoPyArray, PyArray1, PyArray2};
+use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
+use crate::arrays::array;
 use crate::chunks::{self, Output};
 use crate::errors::{run_error, value_error};
-use crate::options::sim_options;
-use crate::paper::{model_of, start_state};
+use crate::paper::{run_setup, states};
 use crate::params::PyParams;
 
 /// Recorded stroboscopic points k = transient + 1 ..= transient + record and their period.
@@ -49,9 +48,7 @@ pub fn poincare(
     if record < 2 {
         return Err(value_error("record must be at least 2"));
     }
-    let model = model_of(&params)?;
-    let y0 = start_state(state0)?;
-    let opts = sim_options(rtol, atol, method)?;
+    let (model, y0, opts) = run_setup(&params, state0, rtol, atol, method)?;
     let last = transient.saturating_add(record);
     let output = Output::Strobe {
         last,
@@ -60,29 +57,21 @@ pub fn poincare(
     let mut traj = Trajectory::default();
     let outcome = chunks::run(py, &model, (0.0, y0), output, &opts, &mut traj)?;
     let kept: Vec<_> = traj.strobe.iter().filter(|p| p.k > transient).collect();
-    let states: Vec<State> = kept.iter().map(|p| p.y).collect();
     let period = match &outcome {
-        Ok(_) => PeriodTest::default()
-            .detect_scaled(&states, &model.state_scale())
-            .map_err(value_error)?
-            .period()
-            .map_or(-1, |p| p as i64),
+        Ok(_) => {
+            let states: Vec<State> = kept.iter().map(|p| p.y).collect();
+            PeriodTest::default()
+                .detect_scaled(&states, &model.state_scale())
+                .map_err(value_error)?
+                .period()
+                .map_or(-1, |p| p as i64)
+        }
         Err(_) => -1,
     };
-    let mut points = Array2::zeros((states.len(), 6));
-    for (i, y) in states.iter().enumerate() {
-        for (j, v) in y.iter().enumerate() {
-            points[(i, j)] = *v;
-        }
-    }
     let section = Section {
-        k: Array1::from_iter(kept.iter().map(|p| p.k as i64))
-            .into_pyarray(py)
-            .unbind(),
-        points: points.into_pyarray(py).unbind(),
-        regimes: Array1::from_iter(kept.iter().map(|p| p.label))
-            .into_pyarray(py)
-            .unbind(),
+        k: array(py, kept.iter().map(|p| p.k as i64)),
+        points: states(py, kept.iter().map(|p| &p.y))?,
+        regimes: array(py, kept.iter().map(|p| p.label)),
         period,
     };
     match outcome {

@@ -6,14 +6,15 @@ use std::f64::consts::TAU;
 use jeffcott::hybrid::{SimStats, Trajectory};
 use jeffcott::nalgebra::U6;
 use jeffcott::rotor::{ProfiledJeffcott, SpeedProfile};
-use numpy::{IntoPyArray, PyArray1, PyArray2};
+use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::arrays::array;
 use crate::chunks::{self, stats_dict};
 use crate::errors::value_error;
 use crate::options::sim_options;
-use crate::paper::{array, dense_output, rows, start_state};
+use crate::paper::{dense_output, start_state, states};
 use crate::params::PyParams;
 
 /// Dense samples of a run-up at t_i = i dt (non-dimensional time tau), and its events.
@@ -55,7 +56,7 @@ fn run_up_of(
         eta: array(py, s.iter().map(|p| profile.eta(p.t))),
         x: column(0),
         y: column(1),
-        states: rows(s.iter().map(|p| p.y)).into_pyarray(py).unbind(),
+        states: states(py, s.iter().map(|p| &p.y))?,
         regimes: array(py, s.iter().map(|p| p.label)),
         event_t: array(py, e.iter().map(|v| v.t)),
         event_kind: e.iter().map(|v| v.kind.to_string()).collect(),

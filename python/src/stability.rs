@@ -2,14 +2,13 @@
 
 use jeffcott::nalgebra::U6;
 use jeffcott::stability::{OrbitOptions, PeriodicOrbit};
-use numpy::ndarray::Array1;
-use numpy::{Complex64, IntoPyArray, PyArray1};
+use numpy::{Complex64, PyArray1};
 use pyo3::prelude::*;
 
+use crate::arrays::{array, complex};
 use crate::chunks;
 use crate::errors::simulation_error;
-use crate::options::sim_options;
-use crate::paper::{model_of, start_state};
+use crate::paper::run_setup;
 use crate::params::PyParams;
 
 /// A periodic orbit of the stroboscopic map and its stability (non-dimensional units).
@@ -37,16 +36,11 @@ pub struct Orbit {
 }
 
 fn orbit(py: Python<'_>, o: &PeriodicOrbit<U6>) -> Orbit {
-    let m = o.multipliers.iter().map(|m| Complex64::new(m.re, m.im));
     Orbit {
         period: o.period,
-        state: Array1::from_iter(o.state.iter().copied())
-            .into_pyarray(py)
-            .unbind(),
-        point: Array1::from_iter(o.point.iter().copied())
-            .into_pyarray(py)
-            .unbind(),
-        multipliers: Array1::from_iter(m).into_pyarray(py).unbind(),
+        state: array(py, o.state.iter().copied()),
+        point: array(py, o.point.iter().copied()),
+        multipliers: array(py, complex(&o.multipliers)),
         spectral_radius: o.spectral_radius(),
         residual: o.residual,
         iterations: o.iterations,
@@ -74,9 +68,7 @@ pub fn periodic_orbit(
     atol: Option<f64>,
     method: Option<&str>,
 ) -> PyResult<Orbit> {
-    let model = model_of(&params)?;
-    let y0 = start_state(state0)?;
-    let sim = sim_options(rtol, atol, method)?;
+    let (model, y0, sim) = run_setup(&params, state0, rtol, atol, method)?;
     let guess = chunks::settle(py, &model, y0, transient, &sim)?;
     let opts = OrbitOptions::default().with_sim(sim);
     let found = py.detach(|| jeffcott::stability::periodic_orbit(&model, &guess, period, &opts));

@@ -1,6 +1,9 @@
 """Where the tests' truths are: the repository's tests/data (copies of the shared reference
 set, as the Rust tests read them), else the shared set beside the clone (../shared)."""
 
+import _thread
+import threading
+import time
 from pathlib import Path
 
 import pytest
@@ -20,3 +23,42 @@ def rotors_dir() -> Path:
         if (d / "S1_reference.json").exists() and (d / "rotor_example_with_damping_1200rpm.npz").exists():
             return d
     pytest.skip("no rotor data (tests/data/rotors or ../shared/rotors)")
+
+
+def interrupted_after(seconds, call):
+    """Raises Ctrl-C (`_thread.interrupt_main`) `seconds` into `call()`: the time until the
+    `KeyboardInterrupt` came out of it."""
+    timer = threading.Timer(seconds, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            call()
+    finally:
+        timer.cancel()
+    return time.monotonic() - start
+
+
+def stamps_during(call):
+    """Runs `call()` in the main thread while a Python thread leaves time stamps every
+    millisecond: the call's duration and the stamps left inside its window (but for a tenth
+    at each end). None could be there if the call held the GIL."""
+    stamps, stop = [], threading.Event()
+
+    def spin():
+        while not stop.is_set():
+            stamps.append(time.monotonic())
+            time.sleep(0.001)
+
+    t = threading.Thread(target=spin)
+    t.start()
+    try:
+        time.sleep(0.05)
+        start = time.monotonic()
+        call()
+        end = time.monotonic()
+    finally:
+        stop.set()
+        t.join()
+    margin = 0.1 * (end - start)
+    return end - start, [s for s in stamps if start + margin < s < end - margin]

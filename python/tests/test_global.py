@@ -2,14 +2,12 @@
 Fig. 8a model has a period-1 and a period-3 attractor on the grid (-1..1) x (-1.5..1.5) of
 (x0, x0'), and the run from rest reaches period 3 (the paper's 2.165: period 1 ends below 2.2)."""
 
-import threading
-import time
-import _thread
 
 import numpy as np
 import pytest
 
 import jeffcott
+from conftest import interrupted_after
 
 # That test's settings: 1000 periods of transient, up to 2000; 32 recorded.
 SETTINGS = dict(transient=1000, record=32, max_transient=2000)
@@ -51,11 +49,6 @@ def test_basins_bad_input(kw):
 def test_ctrl_c_stops_a_basin_scan_between_rows():
     p = jeffcott.Params.preset("fig8a")
     p.eta = 2.2
-    timer = threading.Timer(0.5, _thread.interrupt_main)
-    start = time.monotonic()
-    timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        jeffcott.basins(p, np.linspace(-1, 1, 8), np.linspace(-1.5, 1.5, 10000), threads=2)
-    elapsed = time.monotonic() - start
-    timer.cancel()
+    elapsed = interrupted_after(0.5, lambda: jeffcott.basins(
+        p, np.linspace(-1, 1, 8), np.linspace(-1.5, 1.5, 10000), threads=2))
     assert elapsed < 5.0, f"KeyboardInterrupt after {elapsed:.2f} s"

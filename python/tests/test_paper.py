@@ -1,15 +1,12 @@
 """The paper's model from Python, against the truths of the Rust tests."""
 
 import math
-import threading
-import time
-import _thread
 
 import numpy as np
 import pytest
 
 import jeffcott
-from conftest import data_dir
+from conftest import data_dir, interrupted_after, stamps_during
 
 FIELDS = ["eta", "nu1", "nu2", "kx", "ky", "beta", "dx", "dy", "ex", "ey", "phi0"]
 
@@ -169,40 +166,17 @@ def test_bifurcation_columns_match_the_reference_trajectories():
 
 def test_ctrl_c_stops_a_long_run():
     p = jeffcott.Params.preset("fig9c")  # chaotic: contacts every period
-    timer = threading.Timer(0.5, _thread.interrupt_main)
-    start = time.monotonic()
-    timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        jeffcott.simulate(p, 10**8, chunk=20)
-    elapsed = time.monotonic() - start
-    timer.cancel()
+    elapsed = interrupted_after(0.5, lambda: jeffcott.simulate(p, 10**8, chunk=20))
     assert elapsed < 5.0, f"KeyboardInterrupt after {elapsed:.2f} s"
 
 
 def test_run_releases_the_gil():
     # A Python thread keeps running while one chunk of a run goes on in the main thread: it
     # leaves time stamps inside the run's window (none could be there if the GIL were held).
-    stamps, stop = [], threading.Event()
-
-    def spin():
-        while not stop.is_set():
-            stamps.append(time.monotonic())
-            time.sleep(0.001)
-
-    t = threading.Thread(target=spin)
-    t.start()
-    try:
-        time.sleep(0.05)
-        start = time.monotonic()
-        jeffcott.simulate(jeffcott.Params.preset("fig9c"), 20000, chunk=20000)
-        end = time.monotonic()
-    finally:
-        stop.set()
-        t.join()
-    margin = 0.1 * (end - start)
-    inside = [s for s in stamps if start + margin < s < end - margin]
-    assert end - start > 0.1, "the run is too short to tell"
-    assert len(inside) >= 10, f"{len(inside)} stamps in a {end - start:.3f} s run"
+    p = jeffcott.Params.preset("fig9c")
+    duration, inside = stamps_during(lambda: jeffcott.simulate(p, 20000, chunk=20000))
+    assert duration > 0.1, "the run is too short to tell"
+    assert len(inside) >= 10, f"{len(inside)} stamps in a {duration:.3f} s run"
 
 
 def test_poincare_section_matches_the_reference():

@@ -4,14 +4,12 @@ out-of-balance force with its tangential term, evaluated here by composite 5-poi
 Gauss-Legendre quadrature (numpy's nodes; no code of the crate)."""
 
 import math
-import threading
-import time
-import _thread
 
 import numpy as np
 import pytest
 
 import jeffcott
+from conftest import interrupted_after
 
 NODES, WEIGHTS = np.polynomial.legendre.leggauss(5)
 
@@ -84,11 +82,6 @@ def test_run_up_bad_input(args, kw):
 
 
 def test_ctrl_c_stops_a_long_run_up():
-    timer = threading.Timer(0.5, _thread.interrupt_main)
-    start = time.monotonic()
-    timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        jeffcott.run_up(jeffcott.Params.preset("fig9c"), 0.5, 3.0, 1e-7, chunk=5)
-    elapsed = time.monotonic() - start
-    timer.cancel()
+    p = jeffcott.Params.preset("fig9c")
+    elapsed = interrupted_after(0.5, lambda: jeffcott.run_up(p, 0.5, 3.0, 1e-7, chunk=5))
     assert elapsed < 5.0, f"KeyboardInterrupt after {elapsed:.2f} s"

@@ -2,18 +2,15 @@
 tests (tests/data/stability_reference.csv: SciPy, Newton and Richardson central differences of
 the stroboscopic map, no code of the crate), with tests/stability/stability_orbits.rs' bounds."""
 
-import _thread
 import math
 import subprocess
 import sys
-import threading
-import time
 
 import numpy as np
 import pytest
 
 import jeffcott
-from conftest import data_dir
+from conftest import data_dir, interrupted_after, stamps_during
 
 
 def reference(case):
@@ -110,46 +107,16 @@ def test_continuation_bad_input(args, kw):
 
 def test_lyapunov_releases_the_gil():
     # As test_paper's check: a Python thread leaves time stamps inside the call's window.
-    stamps, stop = [], threading.Event()
-
-    def spin():
-        while not stop.is_set():
-            stamps.append(time.monotonic())
-            time.sleep(0.001)
-
-    t = threading.Thread(target=spin)
-    t.start()
-    try:
-        time.sleep(0.05)
-        start = time.monotonic()
-        jeffcott.lyapunov_exponents(jeffcott.Params.preset("fig9c"), transient=0, periods=1500)
-        end = time.monotonic()
-    finally:
-        stop.set()
-        t.join()
-    margin = 0.1 * (end - start)
-    inside = [s for s in stamps if start + margin < s < end - margin]
-    assert end - start > 0.1, "the run is too short to tell"
-    assert len(inside) >= 10, f"{len(inside)} stamps in a {end - start:.3f} s run"
+    p = jeffcott.Params.preset("fig9c")
+    duration, inside = stamps_during(
+        lambda: jeffcott.lyapunov_exponents(p, transient=0, periods=1500))
+    assert duration > 0.1, "the run is too short to tell"
+    assert len(inside) >= 10, f"{len(inside)} stamps in a {duration:.3f} s run"
 
 
 # The reference period-1 point of Fig. 8a at eta = 2 (tests/global/global_continuation.rs),
 # the ring at rest inside the gap: a start with no transient.
 FIG8A_POINT = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533, 0.0, 0.0]
-
-
-def interrupted_after(seconds, call):
-    """Raises Ctrl-C (`_thread.interrupt_main`) `seconds` into `call()`: the time until the
-    `KeyboardInterrupt` came out of it."""
-    timer = threading.Timer(seconds, _thread.interrupt_main)
-    start = time.monotonic()
-    timer.start()
-    try:
-        with pytest.raises(KeyboardInterrupt):
-            call()
-    finally:
-        timer.cancel()
-    return time.monotonic() - start
 
 
 def test_ctrl_c_stops_lyapunov_exponents_between_periods():
