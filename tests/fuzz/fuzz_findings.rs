@@ -8,11 +8,11 @@ use jeffcott::hybrid::{
     simulate, DenseSampling, ExactSegment, Flow, GuardCrossing, ModelError, OutputPlan, RotorModel,
     SimErrorKind, SimOptions, StrobeRange, Trajectory,
 };
-use jeffcott::nalgebra::{SVector, Vector2, U1};
+use jeffcott::nalgebra::{SVector, Vector2, U1, U6};
 use jeffcott::numeric::Direction;
 use jeffcott::ode::Method;
 use jeffcott::paper::FreeOscillator;
-use jeffcott::paper::{guard, JeffcottModel};
+use jeffcott::paper::{guard, JeffcottModel, State};
 use jeffcott::params::Params;
 use jeffcott::ring::onset::{find_onset, Onset, OnsetStats};
 use jeffcott::ring::{Kinematics, Relaxation, RingAxis, RingGuard, RingMode, SnubberRing};
@@ -28,6 +28,56 @@ fn plan(p: &Params, periods: u64) -> OutputPlan {
         dense: None,
         events: true,
     }
+}
+
+/// The fuzzer's plan (`check_run` in `fuzz.rs`): `periods` forcing periods from `t0`, a strobe
+/// at every whole period in that span, events, and dense samples `per_period` times a period
+/// from `t0` if asked.
+fn fuzzed_plan(p: &Params, t0: f64, periods: f64, per_period: Option<f64>) -> OutputPlan {
+    let period = p.forcing_period();
+    let t_end = t0 + periods * period;
+    OutputPlan {
+        t_end,
+        strobe: Some(StrobeRange {
+            first: (t0 / period).ceil() as u64,
+            last: (t_end / period).floor() as u64,
+        }),
+        dense: per_period.map(|n| DenseSampling {
+            t_start: t0,
+            dt: period / n,
+        }),
+        events: true,
+    }
+}
+
+/// `[rad cos(ang), rad sin(ang)]`: a position or velocity as the fuzzer draws it (`fuzz.rs`).
+fn polar(rad: f64, ang: f64) -> [f64; 2] {
+    [rad * ang.cos(), rad * ang.sin()]
+}
+
+/// The fuzzer's `Contact` start (`build_start` in `fuzz.rs`): the rotor $10^{-12}$ beyond the
+/// gap circle at the angle `ang`, moving at `speed` in the direction `dir`, the ring at its
+/// minimum-energy position.
+fn contact_start(m: &JeffcottModel, ang: f64, speed: f64, dir: f64) -> State {
+    m.state_at(polar(1.0 + 1e-12, ang), polar(speed, dir))
+        .unwrap()
+}
+
+/// Runs `model` from `(t0, y0)` into a new trajectory and returns what it recorded; an error
+/// ending goes to `on_error` first, which panics unless the test allows that error.
+fn run_recorded<M: RotorModel<Dim = U6>>(
+    model: &M,
+    t0: f64,
+    y0: &State,
+    plan: &OutputPlan,
+    opts: &SimOptions,
+    on_error: impl FnOnce(&SimErrorKind),
+) -> Trajectory<U6> {
+    let mut traj = Trajectory::default();
+    if let Err(e) = simulate(model, t0, y0, plan, opts, &mut traj) {
+        on_error(&e.kind);
+    }
+    traj
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -87,12 +137,10 @@ fn separating_start_at_the_rounding_of_large_closed_form_terms_does_not_fire() {
 fn far_rest_position_runs_without_a_false_stall() {
     let p = far_rest_position();
     let m = JeffcottModel::new(p).unwrap();
-    let (rad, ang) = (4.970798185389594e-7f64, 5.468350507140654f64);
-    let (speed, dir) = (8.060840684843925e-5f64, 3.2593507045458265f64);
     let y0 = m
         .state_at(
-            [rad * ang.cos(), rad * ang.sin()],
-            [speed * dir.cos(), speed * dir.sin()],
+            polar(4.970798185389594e-7, 5.468350507140654),
+            polar(8.060840684843925e-5, 3.2593507045458265),
         )
         .unwrap();
     let opts = SimOptions::default()
@@ -190,13 +238,11 @@ fn event_on_a_non_finite_dense_output_is_non_finite_with_a_good_last_state() {
         phi0: 0.5586127592113209,
     };
     let model = rotor::on_ring(p, 0.3516206767875111, 0.27446099680140623).unwrap();
-    let (rad, ang) = (1.1578483935240034e-9f64, 0.21918512356978062f64);
-    let (speed, dir) = (0.13298538077767158f64, 2.0009532603027576f64);
     let y0 = JeffcottModel::new(p)
         .unwrap()
         .state_at(
-            [rad * ang.cos(), rad * ang.sin()],
-            [speed * dir.cos(), speed * dir.sin()],
+            polar(1.1578483935240034e-9, 0.21918512356978062),
+            polar(0.13298538077767158, 2.0009532603027576),
         )
         .unwrap();
     // The finding's options, but 8 samples per step: with 24 the run chatters before it
@@ -438,20 +484,11 @@ fn free_excursion(
     periods: f64,
 ) -> (f64, usize) {
     let m = rotor::on_ring(p, q, k3).unwrap();
-    let period = p.forcing_period();
     let plan = OutputPlan {
-        t_end: t0 + periods * period,
         strobe: None,
-        dense: Some(DenseSampling {
-            t_start: t0,
-            dt: period / 400.0,
-        }),
-        events: true,
+        ..fuzzed_plan(&p, t0, periods, Some(400.0))
     };
-    let mut traj = Trajectory::default();
-    if let Err(e) = simulate(&m, t0, &SVector::from(y0), &plan, opts, &mut traj) {
-        below_resolution_or_panic(&e.kind);
-    }
+    let traj = run_recorded(&m, t0, &y0.into(), &plan, opts, below_resolution_or_panic);
     let beyond = traj
         .samples
         .iter()
@@ -637,16 +674,9 @@ fn preloads_crossed_within_one_ulp_of_the_onset_switch_the_branches() {
         0.0,
     ]);
     // The strobes as the fuzzer asked for them (DOPRI5 landed its steps on them then).
-    let period = p.forcing_period();
-    let t_end = t0 + 3.0 * period;
     let plan = OutputPlan {
-        t_end,
-        strobe: Some(StrobeRange {
-            first: (t0 / period).ceil() as u64,
-            last: (t_end / period).floor() as u64,
-        }),
-        dense: None,
         events: false,
+        ..fuzzed_plan(&p, t0, 3.0, None)
     };
     let opts = SimOptions::default()
         .with_method(Method::Dopri5)
@@ -695,15 +725,10 @@ fn a_ring_through_its_inner_region_within_the_time_resolution_takes_the_far_bran
         0.0001749394416662647,
         -8.02554528259491e-5,
     ]);
-    let period = p.forcing_period();
     let plan = OutputPlan {
-        t_end: t0 + period,
         strobe: None,
-        dense: Some(DenseSampling {
-            t_start: t0,
-            dt: period / 200.0,
-        }),
         events: false,
+        ..fuzzed_plan(&p, t0, 1.0, Some(200.0))
     };
     let opts = SimOptions::default()
         .with_method(Method::Dopri5)
@@ -712,10 +737,7 @@ fn a_ring_through_its_inner_region_within_the_time_resolution_takes_the_far_bran
         .with_max_step_fraction(0.010815520387604064)
         .with_event_samples(14)
         .with_max_events_per_period(10_000);
-    let mut traj = Trajectory::default();
-    if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
-        below_resolution_or_panic(&e.kind);
-    }
+    let traj = run_recorded(&m, t0, &y0, &plan, &opts, below_resolution_or_panic);
     let (worst, mislabelled) = contact_errors(m.ring(), &traj);
     assert!(worst <= 1e-6, "ring {worst:e} from s*(r)");
     assert_eq!(mislabelled, 0, "outputs in contact with the wrong regime");
@@ -859,17 +881,12 @@ fn unresolved_rk4_is_flagged_in_the_run_statistics() {
         phi0: 6233.100750082036,
     };
     let m = JeffcottModel::new(p).unwrap();
-    let (ang, speed, dir) = (
-        1.4949077148689516f64,
-        2.7384895452314577f64,
-        2.666265055456449f64,
+    let y0 = contact_start(
+        &m,
+        1.4949077148689516,
+        2.7384895452314577,
+        2.666265055456449,
     );
-    let y0 = m
-        .state_at(
-            [(1.0 + 1e-12) * ang.cos(), (1.0 + 1e-12) * ang.sin()],
-            [speed * dir.cos(), speed * dir.sin()],
-        )
-        .unwrap();
     let opts = SimOptions::default()
         .with_method(Method::Rk4)
         .with_steps_per_period(2)
@@ -966,30 +983,15 @@ fn a_touch_a_hair_inside_the_circle_moving_outward_starts_contact() {
         phi0: -2.9308844040897273,
     };
     let m = JeffcottModel::new(p).unwrap();
-    let (ang, speed, dir) = (
-        1.1356288715427505f64,
-        6.440870855099381e-5f64,
-        3.663708422489889f64,
+    let y0 = contact_start(
+        &m,
+        1.1356288715427505,
+        6.440870855099381e-5,
+        3.663708422489889,
     );
-    let y0 = m
-        .state_at(
-            [(1.0 + 1e-12) * ang.cos(), (1.0 + 1e-12) * ang.sin()],
-            [speed * dir.cos(), speed * dir.sin()],
-        )
-        .unwrap();
     let t0 = 42.85066978428691;
-    let period = p.forcing_period();
-    let t_end = t0 + 2.0 * period;
     // The strobes as the fuzzer asked for them (RK4 lands its steps on them).
-    let plan = OutputPlan {
-        t_end,
-        strobe: Some(StrobeRange {
-            first: (t0 / period).ceil() as u64,
-            last: (t_end / period).floor() as u64,
-        }),
-        dense: None,
-        events: true,
-    };
+    let plan = fuzzed_plan(&p, t0, 2.0, None);
     let opts = SimOptions::default()
         .with_method(Method::Rk4)
         .with_rtol(4.579066598091129e-6)
@@ -1038,29 +1040,14 @@ fn the_event_screen_does_not_clear_a_crossing() {
         phi0: 6313.669037864115,
     };
     let m = JeffcottModel::new(p).unwrap();
-    let (ang, speed, dir) = (
-        3.6679441733133755f64,
-        0.00043863967322860134f64,
-        0.26853541169432377f64,
+    let y0 = contact_start(
+        &m,
+        3.6679441733133755,
+        0.00043863967322860134,
+        0.26853541169432377,
     );
-    let y0 = m
-        .state_at(
-            [(1.0 + 1e-12) * ang.cos(), (1.0 + 1e-12) * ang.sin()],
-            [speed * dir.cos(), speed * dir.sin()],
-        )
-        .unwrap();
     let t0 = 91.92633304343948;
-    let period = p.forcing_period();
-    let t_end = t0 + 3.0 * period;
-    let plan = OutputPlan {
-        t_end,
-        strobe: Some(StrobeRange {
-            first: (t0 / period).ceil() as u64,
-            last: (t_end / period).floor() as u64,
-        }),
-        dense: None,
-        events: true,
-    };
+    let plan = fuzzed_plan(&p, t0, 3.0, None);
     let opts = SimOptions::default()
         .with_method(Method::Dop853)
         .with_rtol(2.4485229992722414e-11)
@@ -1104,17 +1091,7 @@ fn a_start_on_the_circle_accelerated_outward_touches_the_ring() {
     let ang = 3.9089143892087774f64;
     let y0 = SVector::from([ang.cos(), ang.sin(), 0.0, 0.0, 0.0, 0.0]);
     let t0 = 128274.73172044598;
-    let period = p.forcing_period();
-    let t_end = t0 + 3.0 * period;
-    let plan = OutputPlan {
-        t_end,
-        strobe: Some(StrobeRange {
-            first: (t0 / period).ceil() as u64,
-            last: (t_end / period).floor() as u64,
-        }),
-        dense: None,
-        events: true,
-    };
+    let plan = fuzzed_plan(&p, t0, 3.0, None);
     let opts = SimOptions::default()
         .with_method(Method::Dop853)
         .with_rtol(4.993687308337673e-13)
@@ -1124,10 +1101,7 @@ fn a_start_on_the_circle_accelerated_outward_touches_the_ring() {
         .with_event_samples(1)
         .with_max_events_per_period(1000)
         .with_max_steps(83257);
-    let mut traj = Trajectory::default();
-    if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
-        below_resolution_or_panic(&e.kind);
-    }
+    let traj = run_recorded(&m, t0, &y0, &plan, &opts, below_resolution_or_panic);
     let worst = worst_inconsistency(m.ring(), &traj);
     assert!(
         worst <= 1e-6,
@@ -1167,26 +1141,12 @@ fn a_preload_crossing_pair_the_interpolant_misses_is_found() {
     };
     let m = rotor::on_ring(p, 0.06737487464393964, 1.5571924493194058).unwrap();
     // A start inside contact, 1e-12 beyond the gap circle (the fuzzer's `Contact` start).
-    let (ang, speed, dir) = (
-        4.3319386480187f64,
-        0.003904002048656303f64,
-        1.819857677603437f64,
-    );
-    let r0 = (1.0 + 1e-12) * Vector2::new(ang.cos(), ang.sin());
+    let r0 = Vector2::from(polar(1.0 + 1e-12, 4.3319386480187));
+    let v0 = polar(0.003904002048656303, 1.819857677603437);
     let s0 = m.ring().locate(&r0).unwrap().s;
-    let y0 = SVector::from([r0.x, r0.y, speed * dir.cos(), speed * dir.sin(), s0.x, s0.y]);
+    let y0 = SVector::from([r0.x, r0.y, v0[0], v0[1], s0.x, s0.y]);
     let t0 = 29.118319541029813;
-    let period = p.forcing_period();
-    let t_end = t0 + 2.0 * period;
-    let plan = OutputPlan {
-        t_end,
-        strobe: Some(StrobeRange {
-            first: (t0 / period).ceil() as u64,
-            last: (t_end / period).floor() as u64,
-        }),
-        dense: None,
-        events: true,
-    };
+    let plan = fuzzed_plan(&p, t0, 2.0, None);
     let opts = SimOptions::default()
         .with_method(Method::Dopri5)
         .with_rtol(0.0002586272338551919)
@@ -1196,10 +1156,7 @@ fn a_preload_crossing_pair_the_interpolant_misses_is_found() {
         .with_event_samples(1)
         .with_max_events_per_period(1000)
         .with_max_steps(61668);
-    let mut traj = Trajectory::default();
-    if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
-        panic!("{}", e.kind);
-    }
+    let traj = run_recorded(&m, t0, &y0, &plan, &opts, |kind| panic!("{kind}"));
     let worst = worst_inconsistency(m.ring(), &traj);
     // The rotor moves 1e5 gaps per time unit: its event resolution there is ~1e-6 gaps.
     assert!(worst <= 1e-6, "ring {worst:e} off where the mode puts it");
@@ -1257,10 +1214,9 @@ fn a_gap_crossing_with_the_rotor_moving_out_is_not_a_parting() {
             .with_steps_per_period(13)
             .with_max_step_fraction(5.047042980046361)
             .with_event_samples(14);
-        let mut traj = Trajectory::default();
-        if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
-            panic!("{method:?}: {}", e.kind);
-        }
+        let traj = run_recorded(&m, t0, &y0, &plan, &opts, |kind| {
+            panic!("{method:?}: {kind}")
+        });
         let worst = worst_inconsistency(m.ring(), &traj);
         assert!(
             worst <= 1e-9,
@@ -1302,27 +1258,14 @@ fn an_onset_guard_off_zero_with_a_zero_rate_is_not_taken_for_the_start() {
     };
     let m = rotor::on_ring(p, -0.4697926230099876, -0.0873783684095446).unwrap();
     // The fuzzer's `Relaxing` start: the rotor inside the ring, the ring displaced.
-    let r = 0.81251394509214 * Vector2::new(5.458757238982963f64.cos(), 5.458757238982963f64.sin());
-    let d =
-        0.9940051820535274 * Vector2::new(4.9629955550033955f64.cos(), 4.9629955550033955f64.sin());
-    let v =
-        4.4044613502609805e-5 * Vector2::new(4.58532522599548f64.cos(), 4.58532522599548f64.sin());
-    let y0 = SVector::from([r.x, r.y, v.x, v.y, r.x - d.x, r.y - d.y]);
+    let [r, d, v] = [
+        polar(0.81251394509214, 5.458757238982963),
+        polar(0.9940051820535274, 4.9629955550033955),
+        polar(4.4044613502609805e-5, 4.58532522599548),
+    ];
+    let y0 = SVector::from([r[0], r[1], v[0], v[1], r[0] - d[0], r[1] - d[1]]);
     let t0 = 465295.93139095145;
-    let period = p.forcing_period();
-    let t_end = t0 + 2.0 * period;
-    let plan = OutputPlan {
-        t_end,
-        strobe: Some(StrobeRange {
-            first: (t0 / period).ceil() as u64,
-            last: (t_end / period).floor() as u64,
-        }),
-        dense: Some(DenseSampling {
-            t_start: t0,
-            dt: period / 27.0,
-        }),
-        events: true,
-    };
+    let plan = fuzzed_plan(&p, t0, 2.0, Some(27.0));
     let opts = SimOptions::default()
         .with_method(Method::Radau5)
         .with_rtol(0.0008320758574985395)
@@ -1332,14 +1275,9 @@ fn an_onset_guard_off_zero_with_a_zero_rate_is_not_taken_for_the_start() {
         .with_event_samples(1)
         .with_max_events_per_period(1000)
         .with_max_steps(39757);
-    let mut traj = Trajectory::default();
-    if let Err(e) = simulate(&m, t0, &y0, &plan, &opts, &mut traj) {
-        assert!(
-            matches!(e.kind, SimErrorKind::Chattering { .. }),
-            "{}",
-            e.kind
-        );
-    }
+    let traj = run_recorded(&m, t0, &y0, &plan, &opts, |kind| {
+        assert!(matches!(kind, SimErrorKind::Chattering { .. }), "{kind}")
+    });
     let worst = worst_inconsistency(m.ring(), &traj);
     assert!(
         worst <= 1e-6,
@@ -1384,7 +1322,6 @@ fn a_grazing_onset_pair_on_radau5_dense_output_after_a_loss_is_found() {
     };
     let m = rotor::on_ring(p, -0.009262477743905212, 1.4599735756097554).unwrap();
     // The fuzzer's `Contact` start: the rotor 4.2e-4 beyond the gap circle, the ring placed.
-    let polar = |rad: f64, ang: f64| [rad * ang.cos(), rad * ang.sin()];
     let paper = JeffcottModel::new(p).unwrap();
     let y0 = paper
         .state_at(
@@ -1392,17 +1329,7 @@ fn a_grazing_onset_pair_on_radau5_dense_output_after_a_loss_is_found() {
             polar(0.04547012283351574, 5.876648034168278),
         )
         .unwrap();
-    let period = p.forcing_period();
-    let t_end = 3.0 * period;
-    let plan = OutputPlan {
-        t_end,
-        strobe: Some(StrobeRange { first: 0, last: 3 }),
-        dense: Some(DenseSampling {
-            t_start: 0.0,
-            dt: period / 24.0,
-        }),
-        events: true,
-    };
+    let plan = fuzzed_plan(&p, 0.0, 3.0, Some(24.0));
     let opts = SimOptions::default()
         .with_method(Method::Radau5)
         .with_rtol(2.3017109431585863e-5)

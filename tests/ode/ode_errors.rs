@@ -4,9 +4,10 @@
 use jeffcott::numeric::Direction;
 use jeffcott::ode::{
     find_first_event, solve, solve_with, AnyIntegrator, Dop853, Dopri5, EventOptions, EventSet,
-    EventState, Integrator, Method, NoEvents, OdeError, Options, Rk4, Tolerance, MAX_SAMPLES,
+    EventState, Integrator, Method, NoEvents, OdeError, OdeSystem, Options, Rk4, SolveError,
+    Tolerance, MAX_SAMPLES,
 };
-use nalgebra::{SVector, U2};
+use nalgebra::{Const, SVector, U2};
 
 type V1 = SVector<f64, 1>;
 type V2 = SVector<f64, 2>;
@@ -16,20 +17,51 @@ fn blowup(_t: f64, y: &V1, dy: &mut V1) {
     dy[0] = y[0] * y[0];
 }
 
+/// Harmonic oscillator $x'' = -x$.
+fn osc(_t: f64, y: &V2, dy: &mut V2) {
+    dy[0] = y[1];
+    dy[1] = -y[0];
+}
+
+/// The error of a `solve` without events or observer from `(t0, y0)` to `t_end` that must fail.
+#[track_caller]
+fn solve_error<const N: usize>(
+    integ: &mut impl Integrator<Const<N>>,
+    sys: &impl OdeSystem<Const<N>>,
+    t0: f64,
+    y0: SVector<f64, N>,
+    t_end: f64,
+) -> SolveError<Const<N>> {
+    solve(integ, sys, t0, &y0, t_end, &NoEvents, &mut ()).unwrap_err()
+}
+
+/// The error of a `solve_with` of [`osc`] from $(1, 0)$ over $[0, 1]$ with `events` and the
+/// event options `bad`, which must fail.
+#[track_caller]
+fn event_options_error(
+    integ: &mut impl Integrator<U2>,
+    events: &impl EventSet<U2>,
+    bad: &EventOptions,
+) -> OdeError {
+    solve_with(
+        integ,
+        &osc,
+        0.0,
+        &V2::new(1.0, 0.0),
+        1.0,
+        events,
+        bad,
+        &mut (),
+    )
+    .unwrap_err()
+    .error
+}
+
 #[test]
 fn finite_time_blow_up_gives_step_size_underflow_with_last_good_state() {
     for method in [Method::Dop853, Method::Dopri5] {
         let mut integ = AnyIntegrator::new(method, Options::with_tol(1e-8, 1e-8)).unwrap();
-        let err = solve(
-            &mut integ,
-            &blowup,
-            0.0,
-            &V1::new(1.0),
-            2.0,
-            &NoEvents,
-            &mut (),
-        )
-        .unwrap_err();
+        let err = solve_error(&mut integ, &blowup, 0.0, V1::new(1.0), 2.0);
         println!("{}: {err}", method.name());
         match err.error {
             OdeError::StepSizeUnderflow { t, h, h_min } => {
@@ -52,16 +84,7 @@ fn finite_time_blow_up_gives_step_size_underflow_with_last_good_state() {
     // A user-set h_min triggers earlier.
     let opts = Options::with_tol(1e-8, 1e-8).with_h_min(1e-6);
     let mut integ = Dop853::new(opts).unwrap();
-    let err = solve(
-        &mut integ,
-        &blowup,
-        0.0,
-        &V1::new(1.0),
-        2.0,
-        &NoEvents,
-        &mut (),
-    )
-    .unwrap_err();
+    let err = solve_error(&mut integ, &blowup, 0.0, V1::new(1.0), 2.0);
     assert!(matches!(err.error, OdeError::StepSizeUnderflow { h_min, .. } if h_min == 1e-6));
     assert!(err.t < 1.0 - 1e-6);
 }
@@ -74,16 +97,7 @@ fn nan_in_rhs_gives_typed_error() {
     };
     for method in [Method::Dop853, Method::Dopri5] {
         let mut integ = AnyIntegrator::new(method, Options::with_tol(1e-8, 1e-8)).unwrap();
-        let err = solve(
-            &mut integ,
-            &nan_late,
-            0.0,
-            &V1::new(1.0),
-            2.0,
-            &NoEvents,
-            &mut (),
-        )
-        .unwrap_err();
+        let err = solve_error(&mut integ, &nan_late, 0.0, V1::new(1.0), 2.0);
         println!("{}: {err}", method.name());
         assert!(
             matches!(err.error, OdeError::NonFiniteRhs { .. }),
@@ -94,16 +108,7 @@ fn nan_in_rhs_gives_typed_error() {
     }
     // Fixed steps cannot shrink: immediate error.
     let mut integ = Rk4::new(Options::fixed(0.3)).unwrap();
-    let err = solve(
-        &mut integ,
-        &nan_late,
-        0.0,
-        &V1::new(1.0),
-        2.0,
-        &NoEvents,
-        &mut (),
-    )
-    .unwrap_err();
+    let err = solve_error(&mut integ, &nan_late, 0.0, V1::new(1.0), 2.0);
     assert!(matches!(err.error, OdeError::NonFiniteRhs { t, .. } if t == 0.3));
     // NaN already at the initial point.
     let nan_always = |_t: f64, _y: &V1, dy: &mut V1| dy[0] = f64::NAN;
@@ -185,37 +190,13 @@ fn invalid_options_name_the_field() {
 
 #[test]
 fn invalid_event_options_and_too_many_events() {
-    let osc = |_t: f64, y: &V2, dy: &mut V2| {
-        dy[0] = y[1];
-        dy[1] = -y[0];
-    };
     let mut integ = Dop853::new(Options::default()).unwrap();
     let bad = EventOptions::default().with_samples_per_step(0);
-    let e = solve_with(
-        &mut integ,
-        &osc,
-        0.0,
-        &V2::new(1.0, 0.0),
-        1.0,
-        &NoEvents,
-        &bad,
-        &mut (),
-    )
-    .unwrap_err();
-    assert_eq!(field_of(e.error), "samples_per_step");
+    let e = event_options_error(&mut integ, &NoEvents, &bad);
+    assert_eq!(field_of(e), "samples_per_step");
     let bad = EventOptions::default().with_root_tol(-1.0);
-    let e = solve_with(
-        &mut integ,
-        &osc,
-        0.0,
-        &V2::new(1.0, 0.0),
-        1.0,
-        &NoEvents,
-        &bad,
-        &mut (),
-    )
-    .unwrap_err();
-    assert_eq!(field_of(e.error), "root_tol");
+    let e = event_options_error(&mut integ, &NoEvents, &bad);
+    assert_eq!(field_of(e), "root_tol");
 
     // samples_per_step above MAX_SAMPLES and max_iter = 0 are errors too
     // (they used to be clamped silently).
@@ -226,18 +207,8 @@ fn invalid_event_options_and_too_many_events() {
         ),
         (EventOptions::default().with_max_iter(0), "max_iter"),
     ] {
-        let e = solve_with(
-            &mut integ,
-            &osc,
-            0.0,
-            &V2::new(1.0, 0.0),
-            1.0,
-            &X0,
-            &bad,
-            &mut (),
-        )
-        .unwrap_err();
-        assert_eq!(field_of(e.error), field);
+        let e = event_options_error(&mut integ, &X0, &bad);
+        assert_eq!(field_of(e), field);
     }
 }
 
@@ -260,10 +231,6 @@ impl EventSet<U2> for X0 {
 /// evaluates nothing.
 #[test]
 fn find_first_event_validates_its_options() {
-    let osc = |_t: f64, y: &V2, dy: &mut V2| {
-        dy[0] = y[1];
-        dy[1] = -y[0];
-    };
     let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
     integ.reset(&osc, 0.0, &V2::new(1.0, 0.0), false).unwrap();
     integ.step(&osc, 10.0).unwrap(); // x = cos t crosses 0 at pi/2 in [0, 2]
@@ -299,10 +266,6 @@ fn find_first_event_validates_its_options() {
 
 #[test]
 fn api_misuse_is_an_error_not_a_panic() {
-    let osc = |_t: f64, y: &V2, dy: &mut V2| {
-        dy[0] = y[1];
-        dy[1] = -y[0];
-    };
     for method in Method::ALL {
         let mut integ = AnyIntegrator::new(method, Options::fixed(0.1)).unwrap();
         assert!(matches!(
@@ -337,37 +300,15 @@ fn api_misuse_is_an_error_not_a_panic() {
     }
     // solve with t_end < t0
     let mut integ = Dop853::new(Options::default()).unwrap();
-    let e = solve(
-        &mut integ,
-        &osc,
-        1.0,
-        &V2::new(1.0, 0.0),
-        0.0,
-        &NoEvents,
-        &mut (),
-    )
-    .unwrap_err();
+    let e = solve_error(&mut integ, &osc, 1.0, V2::new(1.0, 0.0), 0.0);
     assert!(matches!(e.error, OdeError::InvalidBound { .. }));
 }
 
 #[test]
 fn too_many_steps() {
-    let osc = |_t: f64, y: &V2, dy: &mut V2| {
-        dy[0] = y[1];
-        dy[1] = -y[0];
-    };
     let opts = Options::with_tol(1e-12, 1e-12).with_max_steps(10);
     let mut integ = Dop853::new(opts).unwrap();
-    let e = solve(
-        &mut integ,
-        &osc,
-        0.0,
-        &V2::new(1.0, 0.0),
-        100.0,
-        &NoEvents,
-        &mut (),
-    )
-    .unwrap_err();
+    let e = solve_error(&mut integ, &osc, 0.0, V2::new(1.0, 0.0), 100.0);
     assert!(
         matches!(e.error, OdeError::TooManySteps { max_steps: 10, .. }),
         "{e:?}"
@@ -375,15 +316,6 @@ fn too_many_steps() {
     assert_eq!(e.stats.steps + e.stats.rejected, 10);
     assert!(e.to_string().contains("max_steps"));
     // The limit is per reset: a fresh solve can run again.
-    let e2 = solve(
-        &mut integ,
-        &osc,
-        0.0,
-        &V2::new(1.0, 0.0),
-        100.0,
-        &NoEvents,
-        &mut (),
-    )
-    .unwrap_err();
+    let e2 = solve_error(&mut integ, &osc, 0.0, V2::new(1.0, 0.0), 100.0);
     assert!(matches!(e2.error, OdeError::TooManySteps { .. }));
 }

@@ -2,8 +2,8 @@
 
 use jeffcott::numeric::Direction;
 use jeffcott::ode::{
-    find_first_event, solve, solve_with, AnyIntegrator, Dop853, EventFns, EventOptions, EventSet,
-    EventState, Integrator, Method, OdeSystem, Options, Recorder, Stopped,
+    find_first_event, solve, solve_with, AnyIntegrator, Dop853, EventFns, EventHit, EventOptions,
+    EventSet, EventState, Integrator, Method, OdeSystem, Options, Recorder, SolveReport, Stopped,
 };
 use nalgebra::{Const, SVector, U1, U2};
 use std::f64::consts::PI;
@@ -83,22 +83,72 @@ fn comp0(dir: Direction, terminal: bool) -> Comp0 {
     }
 }
 
+/// [`comp0`] with its derivative.
+fn comp0_with_derivative(dir: Direction, terminal: bool) -> Comp0 {
+    Comp0 {
+        with_derivative: true,
+        ..comp0(dir, terminal)
+    }
+}
+
+/// Solves [`quad_sin`] from $y(0) = 0$ over $[0, t_{end}]$ with `events`, recording into `rec`.
+#[track_caller]
+fn solve_quad_sin(
+    integ: &mut impl Integrator<U1>,
+    t_end: f64,
+    events: &impl EventSet<U1>,
+    rec: &mut Recorder<U1>,
+) -> SolveReport<U1> {
+    solve(integ, &quad_sin, 0.0, &V1::zeros(), t_end, events, rec).unwrap()
+}
+
+/// Solves [`osc`] from $(x, x^\prime) = (1, 0)$ ($x = \cos t$) over $[0, t_{end}]$ with
+/// `events`, recording into `rec`.
+#[track_caller]
+fn solve_osc(
+    integ: &mut impl Integrator<U2>,
+    t_end: f64,
+    events: &impl EventSet<U2>,
+    rec: &mut Recorder<U2>,
+) -> SolveReport<U2> {
+    solve(integ, &osc, 0.0, &V2::new(1.0, 0.0), t_end, events, rec).unwrap()
+}
+
+/// A DOP853 that has taken one fixed step $[0, h]$ from $y(0) = $ `y0`: a step whose dense
+/// output the detector then searches.
+#[track_caller]
+fn one_step<const N: usize>(
+    sys: &impl OdeSystem<Const<N>>,
+    y0: SVector<f64, N>,
+    h: f64,
+) -> Dop853<Const<N>> {
+    let mut integ = Dop853::new(Options::fixed(h)).unwrap();
+    integ.reset(sys, 0.0, &y0, false).unwrap();
+    integ.step(sys, h).unwrap();
+    integ
+}
+
+/// The first event of `events` on the last step of `integ`, searched with a fresh
+/// [`EventState`].
+#[track_caller]
+fn first_event<const N: usize>(
+    integ: &mut impl Integrator<Const<N>>,
+    sys: &impl OdeSystem<Const<N>>,
+    events: &impl EventSet<Const<N>>,
+    opts: &EventOptions,
+) -> Option<EventHit<Const<N>>> {
+    find_first_event(integ, sys, events, opts, &mut EventState::new())
+        .unwrap()
+        .copied()
+}
+
 #[test]
 fn sine_zero_crossings_located_to_machine_precision() {
     for method in [Method::Dop853, Method::Dopri5] {
         let mut integ = AnyIntegrator::new(method, Options::with_tol(1e-14, 1e-15)).unwrap();
         let mut rec = Recorder::default();
         let ev = comp0(Direction::Either, false);
-        let rep = solve(
-            &mut integ,
-            &quad_sin,
-            0.0,
-            &V1::zeros(),
-            10.0,
-            &ev,
-            &mut rec,
-        )
-        .unwrap();
+        let rep = solve_quad_sin(&mut integ, 10.0, &ev, &mut rec);
         assert_eq!(rep.stopped, Stopped::Reached);
         // g(0) = 0 at the start does not fire; crossings at pi, 2pi, 3pi.
         let times: Vec<f64> = rec.events.iter().map(|h| h.t).collect();
@@ -125,8 +175,7 @@ fn oscillator_crossings_with_adaptive_dop853() {
     let mut integ = Dop853::new(Options::with_tol(1e-13, 1e-13)).unwrap();
     let mut rec = Recorder::default();
     let ev = comp0(Direction::Either, false);
-    let y0 = V2::new(1.0, 0.0); // x = cos t
-    solve(&mut integ, &osc, 0.0, &y0, 20.0, &ev, &mut rec).unwrap();
+    solve_osc(&mut integ, 20.0, &ev, &mut rec);
     assert_eq!(rec.events.len(), 6);
     let mut worst = 0.0f64;
     for (k, h) in rec.events.iter().enumerate() {
@@ -141,31 +190,18 @@ fn oscillator_crossings_with_adaptive_dop853() {
 fn direction_filtering() {
     let mut integ = Dop853::new(Options::with_tol(1e-14, 1e-15)).unwrap();
     let mut rec = Recorder::default();
-    solve(
-        &mut integ,
-        &quad_sin,
-        0.0,
-        &V1::zeros(),
-        10.0,
-        &comp0(Direction::Rising, false),
-        &mut rec,
-    )
-    .unwrap();
+    solve_quad_sin(&mut integ, 10.0, &comp0(Direction::Rising, false), &mut rec);
     assert_eq!(rec.events.len(), 1);
     assert!((rec.events[0].t - 2.0 * PI).abs() < 1e-14);
     assert_eq!(rec.events[0].direction, Direction::Rising);
 
     let mut rec = Recorder::default();
-    solve(
+    solve_quad_sin(
         &mut integ,
-        &quad_sin,
-        0.0,
-        &V1::zeros(),
         10.0,
         &comp0(Direction::Falling, false),
         &mut rec,
-    )
-    .unwrap();
+    );
     let t: Vec<f64> = rec.events.iter().map(|h| h.t).collect();
     assert_eq!(t.len(), 2);
     assert!((t[0] - PI).abs() < 1e-14 && (t[1] - 3.0 * PI).abs() < 1e-14);
@@ -234,10 +270,7 @@ fn two_events_in_one_step_earliest_wins_and_ties_go_to_lower_index() {
     };
     for _ in 0..3 {
         let mut integ = one_big_step();
-        let hit = find_first_event(&mut integ, &unit, &ev, &opts, &mut EventState::new())
-            .unwrap()
-            .copied()
-            .unwrap();
+        let hit = first_event(&mut integ, &unit, &ev, &opts).unwrap();
         assert_eq!(hit.index, 0);
     }
 }
@@ -247,16 +280,7 @@ fn event_at_start_time_does_not_refire() {
     // g(0) = 0 exactly.
     let mut integ = Dop853::new(Options::with_tol(1e-14, 1e-15)).unwrap();
     let mut rec = Recorder::default();
-    solve(
-        &mut integ,
-        &quad_sin,
-        0.0,
-        &V1::zeros(),
-        4.0,
-        &comp0(Direction::Either, true),
-        &mut rec,
-    )
-    .unwrap();
+    solve_quad_sin(&mut integ, 4.0, &comp0(Direction::Either, true), &mut rec);
     assert_eq!(rec.events.len(), 1);
     assert!((rec.events[0].t - PI).abs() < 1e-14);
 
@@ -334,11 +358,7 @@ fn dip(t: f64, _y: &V1, dy: &mut V1) {
 fn grazing_dip_found_with_derivative_missed_without() {
     let depth = 1e-6;
     let make = || {
-        let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
-        integ
-            .reset(&dip, 0.0, &V1::new(1.0 - depth), false)
-            .unwrap();
-        integ.step(&dip, 2.0).unwrap();
+        let integ = one_step(&dip, V1::new(1.0 - depth), 2.0);
         assert_eq!((integ.t_prev(), integ.t()), (0.0, 2.0));
         integ
     };
@@ -352,25 +372,12 @@ fn grazing_dip_found_with_derivative_missed_without() {
 
     // Sampled detector without derivative: all samples positive -> missed.
     let mut integ = make();
-    let without = Comp0 {
-        dir: Direction::Either,
-        terminal: true,
-        with_derivative: false,
-    };
-    assert!(
-        find_first_event(&mut integ, &dip, &without, &opts, &mut EventState::new())
-            .unwrap()
-            .copied()
-            .is_none()
-    );
+    let without = comp0(Direction::Either, true);
+    assert!(first_event(&mut integ, &dip, &without, &opts).is_none());
 
     // With the derivative: found, both roots, to machine precision.
     let mut integ = make();
-    let with = Comp0 {
-        dir: Direction::Either,
-        terminal: true,
-        with_derivative: true,
-    };
+    let with = comp0_with_derivative(Direction::Either, true);
     let mut st = EventState::new();
     let h1 = find_first_event(&mut integ, &dip, &with, &opts, &mut st)
         .unwrap()
@@ -397,29 +404,13 @@ fn grazing_dip_found_with_derivative_missed_without() {
 
     // Only rising allowed: the second root of the pair is reported.
     let mut integ = make();
-    let rising = Comp0 {
-        dir: Direction::Rising,
-        terminal: true,
-        with_derivative: true,
-    };
-    let h = find_first_event(&mut integ, &dip, &rising, &opts, &mut EventState::new())
-        .unwrap()
-        .copied()
-        .unwrap();
+    let rising = comp0_with_derivative(Direction::Rising, true);
+    let h = first_event(&mut integ, &dip, &rising, &opts).unwrap();
     assert!((h.t - r2).abs() < 2e-12);
 
     // A dip that stays above zero is not an event.
-    let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
-    integ
-        .reset(&dip, 0.0, &V1::new(1.0 + depth), false)
-        .unwrap();
-    integ.step(&dip, 2.0).unwrap();
-    assert!(
-        find_first_event(&mut integ, &dip, &with, &opts, &mut EventState::new())
-            .unwrap()
-            .copied()
-            .is_none()
-    );
+    let mut integ = one_step(&dip, V1::new(1.0 + depth), 2.0);
+    assert!(first_event(&mut integ, &dip, &with, &opts).is_none());
 }
 
 #[test]
@@ -436,16 +427,7 @@ fn terminal_versus_non_terminal() {
     };
     let mut integ = Dop853::new(Options::with_tol(1e-12, 1e-12)).unwrap();
     let mut rec = Recorder::with_grid(vec![1.0, 4.0, 6.0]);
-    let rep = solve(
-        &mut integ,
-        &osc,
-        0.0,
-        &V2::new(1.0, 0.0),
-        10.0,
-        &ev,
-        &mut rec,
-    )
-    .unwrap();
+    let rep = solve_osc(&mut integ, 10.0, &ev, &mut rec);
     assert_eq!(rep.stopped, Stopped::Event(1, rep.t));
     assert!((rep.t - 5.0).abs() < 1e-14);
     assert_eq!(integ.t(), rep.t);
@@ -465,16 +447,7 @@ fn terminal_versus_non_terminal() {
         ],
     };
     let mut rec = Recorder::default();
-    let rep = solve(
-        &mut integ,
-        &osc,
-        0.0,
-        &V2::new(1.0, 0.0),
-        10.0,
-        &ev,
-        &mut rec,
-    )
-    .unwrap();
+    let rep = solve_osc(&mut integ, 10.0, &ev, &mut rec);
     assert_eq!(rep.stopped, Stopped::Reached);
     assert_eq!(rep.t, 10.0);
     assert_eq!(rec.events.len(), 4); // pi/2, 3pi/2, 5, 5pi/2
@@ -502,27 +475,9 @@ fn inactive_events_are_ignored() {
     }
     let mut integ = Dop853::new(Options::with_tol(1e-10, 1e-12)).unwrap();
     let mut rec = Recorder::default();
-    solve(
-        &mut integ,
-        &quad_sin,
-        0.0,
-        &V1::zeros(),
-        10.0,
-        &Switchable(false),
-        &mut rec,
-    )
-    .unwrap();
+    solve_quad_sin(&mut integ, 10.0, &Switchable(false), &mut rec);
     assert!(rec.events.is_empty());
-    solve(
-        &mut integ,
-        &quad_sin,
-        0.0,
-        &V1::zeros(),
-        10.0,
-        &Switchable(true),
-        &mut rec,
-    )
-    .unwrap();
+    solve_quad_sin(&mut integ, 10.0, &Switchable(true), &mut rec);
     assert_eq!(rec.events.len(), 3, "{:?}", rec.events);
 }
 
@@ -730,24 +685,15 @@ fn guard_on_zero_at_the_origin_takes_the_sign_of_its_motion() {
             (-1.0, Direction::Either, Some(Direction::Rising)),
             (-1.0, Direction::Falling, None),
         ] {
-            let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
             let ev = Comp0 {
                 dir,
                 terminal: true,
                 with_derivative,
             };
             let hit = if sign > 0.0 {
-                integ.reset(&up, 0.0, &V1::zeros(), false).unwrap();
-                integ.step(&up, 2.0).unwrap();
-                find_first_event(&mut integ, &up, &ev, &opts, &mut EventState::new())
-                    .unwrap()
-                    .copied()
+                first_event(&mut one_step(&up, V1::zeros(), 2.0), &up, &ev, &opts)
             } else {
-                integ.reset(&down, 0.0, &V1::zeros(), false).unwrap();
-                integ.step(&down, 2.0).unwrap();
-                find_first_event(&mut integ, &down, &ev, &opts, &mut EventState::new())
-                    .unwrap()
-                    .copied()
+                first_event(&mut one_step(&down, V1::zeros(), 2.0), &down, &ev, &opts)
             };
             let case = format!("sign {sign} {dir:?} derivative {with_derivative}");
             assert_eq!(hit.map(|h| h.direction), expect, "{case}");
@@ -801,11 +747,7 @@ fn event_fns_match_a_trait_implementation() {
     let closures = EventFns::new([Direction::Either], |_i, _t, y: &V2| y[0])
         .with_derivative(|_i, _t, _y: &V2, dy: &V2| dy[0])
         .non_terminal();
-    let with_trait = Comp0 {
-        dir: Direction::Either,
-        terminal: false,
-        with_derivative: true,
-    };
+    let with_trait = comp0_with_derivative(Direction::Either, false);
     let run = |ev: &dyn Fn(&mut Recorder<U2>, &mut Dop853<U2>)| {
         let mut integ = Dop853::new(Options::with_tol(1e-10, 1e-12)).unwrap();
         let mut rec = Recorder::default();
@@ -815,12 +757,11 @@ fn event_fns_match_a_trait_implementation() {
             .map(|h| (h.index, h.t.to_bits(), h.direction))
             .collect::<Vec<_>>()
     };
-    let y0 = V2::new(1.0, 0.0);
     let a = run(&|rec, integ| {
-        solve(integ, &osc, 0.0, &y0, 20.0, &closures, rec).unwrap();
+        solve_osc(integ, 20.0, &closures, rec);
     });
     let b = run(&|rec, integ| {
-        solve(integ, &osc, 0.0, &y0, 20.0, &with_trait, rec).unwrap();
+        solve_osc(integ, 20.0, &with_trait, rec);
     });
     assert_eq!(a.len(), 6);
     assert_eq!(a, b);
@@ -852,32 +793,14 @@ impl EventSet<U1> for DipFromState {
 fn derivatives_from_the_state_alone_save_right_hand_sides() {
     let depth = 1e-6;
     let run = |with_rhs: bool| {
-        let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
-        integ
-            .reset(&dip, 0.0, &V1::new(1.0 - depth), false)
-            .unwrap();
-        integ.step(&dip, 2.0).unwrap();
+        let mut integ = one_step(&dip, V1::new(1.0 - depth), 2.0);
         let before = integ.stats().rhs_evals;
         let opts = EventOptions::default();
         let hit = if with_rhs {
-            let ev = Comp0 {
-                dir: Direction::Either,
-                terminal: true,
-                with_derivative: true,
-            };
-            find_first_event(&mut integ, &dip, &ev, &opts, &mut EventState::new())
-                .unwrap()
-                .copied()
+            let ev = comp0_with_derivative(Direction::Either, true);
+            first_event(&mut integ, &dip, &ev, &opts)
         } else {
-            find_first_event(
-                &mut integ,
-                &dip,
-                &DipFromState,
-                &opts,
-                &mut EventState::new(),
-            )
-            .unwrap()
-            .copied()
+            first_event(&mut integ, &dip, &DipFromState, &opts)
         };
         (hit.expect("dip found").t, integ.stats().rhs_evals - before)
     };
@@ -918,24 +841,12 @@ impl EventSet<U1> for CountingLevel {
 fn extrema_far_from_zero_are_not_searched_near_ones_are() {
     // y = (t - 1)^2 + y0 - 1 over one step [0, 2]; minimum y0 - 1 at t = 1.
     let calls_for = |clearance: f64| {
-        let mut integ = Dop853::new(Options::fixed(2.0)).unwrap();
-        integ
-            .reset(&dip, 0.0, &V1::new(1.0 + clearance), false)
-            .unwrap();
-        integ.step(&dip, 2.0).unwrap();
+        let mut integ = one_step(&dip, V1::new(1.0 + clearance), 2.0);
         let ev = CountingLevel {
             level: 0.0,
             calls: std::cell::Cell::new(0),
         };
-        let hit = find_first_event(
-            &mut integ,
-            &dip,
-            &ev,
-            &EventOptions::default(),
-            &mut EventState::new(),
-        )
-        .unwrap()
-        .copied();
+        let hit = first_event(&mut integ, &dip, &ev, &EventOptions::default());
         (hit.is_some(), ev.calls.get())
     };
     let samples = EventOptions::default().samples_per_step as u32 + 2;
@@ -950,6 +861,7 @@ fn extrema_far_from_zero_are_not_searched_near_ones_are() {
 }
 
 /// The guard $g = y_0$ with its derivative, counting its evaluations.
+#[derive(Default)]
 struct CountedLevel {
     calls: std::cell::Cell<usize>,
 }
@@ -981,16 +893,10 @@ fn quartic_step(b: f64, a: f64) -> (Option<f64>, usize) {
         let u = t * (1.0 - t);
         dy[0] = -(b + 2.0 * a * u) * (1.0 - 2.0 * t);
     };
-    let mut integ = Dop853::new(Options::fixed(1.0)).unwrap();
-    integ.reset(&sys, 0.0, &V1::new(1.0), false).unwrap();
-    integ.step(&sys, 1.0).unwrap();
-    let ev = CountedLevel {
-        calls: std::cell::Cell::new(0),
-    };
+    let mut integ = one_step(&sys, V1::new(1.0), 1.0);
+    let ev = CountedLevel::default();
     let opts = EventOptions::default();
-    let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
-        .unwrap()
-        .map(|h| h.t);
+    let hit = first_event(&mut integ, &sys, &ev, &opts).map(|h| h.t);
     (hit, ev.calls.get())
 }
 
@@ -1029,22 +935,33 @@ fn a_return_through_zero_inside_the_probe_offset_is_found() {
     let rhs = move |t: f64, _y: &V1, dy: &mut V1| {
         dy[0] = -a + 2.0 * b * t;
     };
-    let events = Comp0 {
-        dir: Direction::Rising,
-        terminal: false,
-        with_derivative: true,
-    };
+    let events = comp0_with_derivative(Direction::Rising, false);
     let mut integ = AnyIntegrator::new(Method::Dop853, Options::fixed(1.0)).unwrap();
     integ.reset(&rhs, 0.0, &V1::zeros(), false).unwrap();
     integ.step(&rhs, 1.0).unwrap();
-    let mut st = EventState::new();
-    let hit = find_first_event(&mut integ, &rhs, &events, &EventOptions::default(), &mut st)
-        .unwrap()
-        .copied()
+    let hit = first_event(&mut integ, &rhs, &events, &EventOptions::default())
         .expect("the return through zero");
     assert_eq!(hit.direction, Direction::Rising);
     let exact = a / b;
     assert!((hit.t - exact).abs() <= 1e-9 * exact, "t = {:e}", hit.t);
+}
+
+/// The first crossing of [`CountedLevel`] ($g = y_0$) that the detector finds with one
+/// interior sample on one DOP853 step $[0, 1]$ of `sys` from $y(0) = 1$.
+#[track_caller]
+fn crossing_on_one_sampled_step(sys: &impl OdeSystem<U1>) -> EventHit<U1> {
+    let mut integ = one_step(sys, V1::new(1.0), 1.0);
+    let opts = EventOptions::default().with_samples_per_step(1);
+    first_event(&mut integ, sys, &CountedLevel::default(), &opts).expect("a crossing")
+}
+
+/// The first point of the grid $t_k = k \cdot 0.5\times10^{-4}$, $k < 10^4$, where
+/// $g(t_k) \le 0$: the first root of `g` to the grid's spacing.
+fn first_grid_point_not_above_zero(g: impl Fn(f64) -> f64) -> f64 {
+    (0..10_000)
+        .map(|k| f64::from(k) * 0.5e-4)
+        .find(|&t| g(t) <= 0.0)
+        .unwrap()
 }
 
 /// A crossing pair that the cubic Hermite interpolant of its sample interval cannot see
@@ -1065,17 +982,7 @@ fn a_crossing_pair_the_interpolant_cannot_see_is_found() {
         let u = s * (1.0 - s);
         dy[0] = (alpha - 2.0 * beta * u) * 2.0 * (1.0 - 2.0 * s);
     };
-    let mut integ = Dop853::new(Options::fixed(1.0)).unwrap();
-    integ.reset(&sys, 0.0, &V1::new(1.0), false).unwrap();
-    integ.step(&sys, 1.0).unwrap();
-    let ev = CountedLevel {
-        calls: std::cell::Cell::new(0),
-    };
-    let opts = EventOptions::default().with_samples_per_step(1);
-    let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
-        .unwrap()
-        .copied()
-        .expect("a crossing");
+    let hit = crossing_on_one_sampled_step(&sys);
     let u = (alpha + (alpha * alpha + 4.0 * beta).sqrt()) / (2.0 * beta);
     let t_root = 0.25 * (1.0 - (1.0 - 4.0 * u).sqrt());
     assert!(
@@ -1108,22 +1015,9 @@ fn a_crossing_pair_between_slopes_of_the_same_sign_is_found() {
         // d/ds, times ds/dt = 2.
         dy[0] = 2.0 * (-0.1 + du * (1.0 - 2.0 * s) - 2.0 * u - 2.0 * beta * u * du);
     };
-    let mut integ = Dop853::new(Options::fixed(1.0)).unwrap();
-    integ.reset(&sys, 0.0, &V1::new(1.0), false).unwrap();
-    integ.step(&sys, 1.0).unwrap();
-    let ev = CountedLevel {
-        calls: std::cell::Cell::new(0),
-    };
-    let opts = EventOptions::default().with_samples_per_step(1);
-    let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
-        .unwrap()
-        .copied()
-        .expect("a crossing");
+    let hit = crossing_on_one_sampled_step(&sys);
     assert!(g(hit.t).abs() <= 1e-12, "g = {:e} at {}", g(hit.t), hit.t);
-    let first = (0..10_000)
-        .map(|k| f64::from(k) * 0.5e-4)
-        .find(|&t| g(t) <= 0.0)
-        .unwrap();
+    let first = first_grid_point_not_above_zero(g);
     assert!((hit.t - first).abs() <= 0.5e-4, "{} against {first}", hit.t);
 }
 
@@ -1147,22 +1041,9 @@ fn a_crossing_pair_off_the_interpolant_in_slope_only_is_found() {
         let du = 1.0 - 2.0 * s;
         dy[0] = 2.0 * (du - beta * (2.0 * u * du * (s - 0.5) + u * u));
     };
-    let mut integ = Dop853::new(Options::fixed(1.0)).unwrap();
-    integ.reset(&sys, 0.0, &V1::new(1.0), false).unwrap();
-    integ.step(&sys, 1.0).unwrap();
-    let ev = CountedLevel {
-        calls: std::cell::Cell::new(0),
-    };
-    let opts = EventOptions::default().with_samples_per_step(1);
-    let hit = find_first_event(&mut integ, &sys, &ev, &opts, &mut EventState::new())
-        .unwrap()
-        .copied()
-        .expect("a crossing");
+    let hit = crossing_on_one_sampled_step(&sys);
     assert!(g(hit.t).abs() <= 1e-12, "g = {:e} at {}", g(hit.t), hit.t);
-    let first = (0..10_000)
-        .map(|k| f64::from(k) * 0.5e-4)
-        .find(|&t| g(t) <= 0.0)
-        .unwrap();
+    let first = first_grid_point_not_above_zero(g);
     assert!((hit.t - first).abs() <= 0.5e-4, "{} against {first}", hit.t);
 }
 
@@ -1184,18 +1065,11 @@ fn a_guard_off_zero_with_a_zero_derivative_crossing_inside_the_window_is_found()
     let rhs = move |t: f64, _y: &V1, dy: &mut V1| {
         dy[0] = c * (t - t0);
     };
-    let events = Comp0 {
-        dir: Direction::Rising,
-        terminal: true,
-        with_derivative: true,
-    };
+    let events = comp0_with_derivative(Direction::Rising, true);
     let mut integ = AnyIntegrator::new(Method::Dop853, Options::fixed(1.0)).unwrap();
     integ.reset(&rhs, t0, &V1::new(-m), false).unwrap();
     integ.step(&rhs, t0 + 1.0).unwrap();
-    let mut st = EventState::new();
-    let hit = find_first_event(&mut integ, &rhs, &events, &EventOptions::default(), &mut st)
-        .unwrap()
-        .copied()
+    let hit = first_event(&mut integ, &rhs, &events, &EventOptions::default())
         .expect("the crossing 1.4e-10 after the origin");
     assert_eq!(hit.direction, Direction::Rising);
     let exact = t0 + (2.0 * m / c).sqrt();
@@ -1244,13 +1118,8 @@ fn radau5_dense_output_leaves_a_restart_tangent_to_the_flow() {
         u[0] <= 0.0
     });
     assert_eq!(below, None, "the dense output crosses zero");
-    let events = Comp0 {
-        dir: Direction::Either,
-        terminal: true,
-        with_derivative: true,
-    };
+    let events = comp0_with_derivative(Direction::Either, true);
     let eo = EventOptions::default().with_samples_per_step(1);
-    let mut st = EventState::new();
-    let hit = find_first_event(&mut integ, &rhs, &events, &eo, &mut st).unwrap();
+    let hit = first_event(&mut integ, &rhs, &events, &eo);
     assert!(hit.is_none(), "a spurious event at {:e}", hit.unwrap().t);
 }
