@@ -308,7 +308,7 @@ impl SmoothRotor for DrivenLinearRotor {
     /// $\partial_\varphi b = b(\varphi + \pi/2)$ (the same for $M^{-1}b$) and
     /// $\partial_\varphi(b\cdot M^{-1}b) = u^{\prime\mathsf T}(Q + Q^{\mathsf T})u$,
     /// $u^\prime = (-\sin\varphi, \cos\varphi)$. The quotient is
-    /// [`spin_acceleration`](super::drive) again, with $T_j$ (plus the phase's terms) for the
+    /// the shared `spin_acceleration` again, with $T_j$ (plus the phase's terms) for the
     /// torque and $a_j$ for the acceleration: no second copy of the spin's equation. No
     /// allocation ($a$ is built in the phase column before that column is written).
     fn jacobian(

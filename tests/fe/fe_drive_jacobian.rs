@@ -138,3 +138,66 @@ fn driven_fe_rotor_jacobian_matches_differences_in_every_regime() {
         assert!(regimes.len() >= 4, "regimes reached: {regimes:?}");
     }
 }
+
+/// A report (Radau5's cost with the analytic Jacobian): case S1 reduced to node 12 and 8 or
+/// 24 Craig-Bampton modes, on its ring, driven from 100 rad/s by the DC motor
+/// $T = 1000(1 - \Omega/400)$ N m through $J = 0.5$ kg m² for 0.3 s (`fe_drive`'s run-up
+/// through the first critical speed, in contact on the way), Radau5 at `rtol` = `atol` =
+/// $10^{-8}$: steps, rhs evaluations, Jacobians, LU decompositions, wall time, and the
+/// final state (the station in gaps, the speed) to compare with a run that differences $f$.
+#[test]
+#[ignore = "a report: run with --release --ignored --nocapture"]
+fn radau5_driven_run_up_report() {
+    use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, Trajectory};
+    use jeffcott::nalgebra::Dyn;
+    use jeffcott::ode::Method;
+
+    use super::fe_reduction_s1::reduction;
+    use super::fe_s1::S1;
+
+    let s1 = S1::load();
+    for modes in [8, 24] {
+        let (cb, model) = reduction(&s1, modes);
+        let g = cb.project(s1.lateral().gyroscopic()).unwrap();
+        let motor = MotorTorque::linear(1000.0, 400.0).unwrap();
+        let driven = model
+            .rotor()
+            .clone()
+            .with_exact_free_flight(false)
+            .with_drive(&g, 0.5, motor)
+            .unwrap()
+            .ringed(*model.ring())
+            .unwrap();
+        let plan = OutputPlan {
+            t_end: 0.3,
+            strobe: None,
+            dense: Some(DenseSampling {
+                t_start: 0.0,
+                dt: 0.05,
+            }),
+            events: true,
+        };
+        let opts = super::fe_energy::options(Method::Radau5, 1e-8);
+        let y0 = driven.rotor().rest_state(100.0);
+        let mut traj = Trajectory::<Dyn>::default();
+        let start = std::time::Instant::now();
+        let stats = simulate(&driven, 0.0, &y0, &plan, &opts, &mut traj).unwrap();
+        let seconds = start.elapsed().as_secs_f64();
+        let last = &traj.samples.last().unwrap().y;
+        println!(
+            "{modes} modes (N = {}): {} steps ({} rejected), {} rhs, {} Jacobians, {} LU, \
+             {} transitions, {seconds:.3} s; at t = 0.3 s the station at ({:.9}, {:.9}) gaps, \
+             the speed {:.9} rad/s",
+            last.len(),
+            stats.steps,
+            stats.rejected,
+            stats.rhs_evals,
+            stats.jacobians,
+            stats.lu_decompositions,
+            stats.transitions,
+            last[0] / s1.gap,
+            last[1] / s1.gap,
+            last[driven.rotor().speed_index()]
+        );
+    }
+}
