@@ -292,14 +292,15 @@ impl SmoothRotor for DrivenLinearRotor {
 
     /// Analytic, every entry. With $a$ the acceleration without the spin's coupling (the
     /// ring's force $g = -F$ included: $a = a_0 + M^{-1}E_s g$), $u = (\cos\varphi,
-    /// \sin\varphi)$, $D = J - b\cdot M^{-1}b$ and $\dot\Omega = (T - b\cdot a)/D$ (`rhs`),
+    /// \sin\varphi)$, $b\cdot M^{-1}b = u^{\mathsf T}Qu$, $\Delta = J - b\cdot M^{-1}b$ and
+    /// $\dot\Omega = (T - b\cdot a)/\Delta$ (`rhs`),
     /// the field's rows are $q^{\prime\prime} = a - \dot\Omega\thinspace M^{-1}b$,
     /// $\dot\Omega$ and $\dot\varphi = \Omega$. For a state component $y_j$, with $a_j =
     /// \partial a/\partial y_j$ ([`LinearRotor`]'s blocks $-M^{-1}K$, $-M^{-1}D$ and its
     /// contact part $-M^{-1}E_s(F_r, F_v)$, plus $-(\Omega - \Omega_r)M^{-1}G$ in the velocity
     /// columns),
     ///
-    /// $$\frac{\partial\dot\Omega}{\partial y_j} = \frac{T_j - b\cdot a_j + \delta_{j\varphi}\big(\dot\Omega\thinspace\partial_\varphi(b\cdot M^{-1}b) - \partial_\varphi b\cdot a\big)}{D}, \qquad \frac{\partial q^{\prime\prime}}{\partial y_j} = a_j - \frac{\partial\dot\Omega}{\partial y_j}M^{-1}b - \delta_{j\varphi}\dot\Omega\thinspace\partial_\varphi M^{-1}b,$$
+    /// $$\frac{\partial\dot\Omega}{\partial y_j} = \frac{T_j - b\cdot a_j + \delta_{j\varphi}\big(\dot\Omega\thinspace\partial_\varphi(b\cdot M^{-1}b) - \partial_\varphi b\cdot a\big)}{\Delta}, \qquad \frac{\partial q^{\prime\prime}}{\partial y_j} = a_j - \frac{\partial\dot\Omega}{\partial y_j}M^{-1}b - \delta_{j\varphi}\dot\Omega\thinspace\partial_\varphi M^{-1}b,$$
     ///
     /// where $T_\Omega = T^\prime(\Omega)$ ([`MotorTorque::slope`]: exact for a linear motor,
     /// a central difference of $T$ alone for a user's closure) and $T_j = 0$ otherwise,
