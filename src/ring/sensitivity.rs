@@ -30,6 +30,9 @@ pub struct ForceJacobian {
     pub position: Matrix2<f64>,
     /// $\partial F/\partial v = C J$.
     pub velocity: Matrix2<f64>,
+    /// The force $F(r, v)$ itself, for a rotor whose force input depends on its state (a
+    /// driven rotor's, through the out-of-balance's phase).
+    pub force: Vector2<f64>,
 }
 
 /// Gradient of a guard of the ring (module docs) with respect to the rotor's kinematics at the
@@ -148,6 +151,7 @@ impl SnubberRing {
         ForceJacobian {
             position: slopes * c.jacobian + damping * hess.jacobian_times(v),
             velocity: damping * c.jacobian,
+            force: c.force(v),
         }
     }
 

@@ -117,6 +117,23 @@ impl MotorTorque {
             Self::User(t) => t(eta),
         }
     }
+
+    /// The torque's slope $t^\prime(\eta)$ at the speed `eta`: $-t_0/\eta_0$ for a linear
+    /// motor; for a user's characteristic (which gives no derivative) the central difference
+    /// $(t(\eta + h) - t(\eta - h))/2h$ with $h = \varepsilon^{1/3}\max(|\eta|, 1)$, whose
+    /// truncation and rounding errors balance at about $\varepsilon^{2/3} \approx 4\cdot 10^{-11}$
+    /// of the torque's scale for a smooth characteristic (in the units of `eta`, rad/s or the
+    /// paper's, a step of at least $6\cdot 10^{-6}$).
+    pub fn slope(&self, eta: f64) -> f64 {
+        match self {
+            Self::Linear { stall, no_load } => -stall / no_load,
+            Self::User(t) => {
+                let h = f64::EPSILON.cbrt() * eta.abs().max(1.0);
+                let (up, down) = (eta + h, eta - h);
+                (t(up) - t(down)) / (up - down)
+            }
+        }
+    }
 }
 
 /// The spin's acceleration of a rotor driven by the torque `torque` through the polar inertia

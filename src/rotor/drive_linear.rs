@@ -37,7 +37,8 @@ use nalgebra::{DMatrix, DVector, DVectorViewMut, Dyn, Matrix2, Vector2};
 use super::drive::spin_acceleration;
 use super::matrices::check_matrix;
 use super::{LinearRotor, MotorTorque, ProfiledLinearRotor, RingedRotor, RotorError, SmoothRotor};
-use crate::ring::{Kinematics, SnubberRing};
+use crate::ode::JacobianMut;
+use crate::ring::{ForceJacobian, Kinematics, SnubberRing};
 
 /// A [`LinearRotor`] whose speed is driven by a [`MotorTorque`] (the module's docs give the
 /// equations). State $[q\ (n), q^\prime\ (n), s_x, s_y, \Omega, \varphi]$
@@ -175,6 +176,48 @@ impl DrivenLinearRotor {
         RingedRotor::new(self, ring)
     }
 
+    /// Writes into `accel` the acceleration $a$ without the spin's coupling $-\Omega^\prime
+    /// M^{-1}b$ and without the ring:
+    /// $a = [-M^{-1}K \mid -M^{-1}D]\thinspace(q, q^\prime) - (\Omega - \Omega_r)M^{-1}G q^\prime + \Omega^2\operatorname{Re}(M^{-1}\hat U e^{i\varphi}) + M^{-1}f_0$.
+    fn uncoupled_acceleration(&self, y: &DVector<f64>, accel: &mut DVectorViewMut<'_, f64>) {
+        let r = &self.rotor;
+        let n = r.system().dofs();
+        let (speed, phase) = (y[self.speed_index()], y[self.phase_index()]);
+        accel.gemv(1.0, &r.accel, &y.rows(0, 2 * n), 0.0);
+        accel.gemv(
+            speed - r.system().speed(),
+            &self.gyroscopic,
+            &y.rows(n, n),
+            1.0,
+        );
+        ProfiledLinearRotor::add_unbalance(r, (speed, 0.0, phase), accel);
+        if r.has_constant {
+            *accel += &r.forcing_constant;
+        }
+    }
+
+    /// Writes into the columns of `jac`'s acceleration rows the uncoupled acceleration's
+    /// derivatives by the speed, $\partial a/\partial\Omega = -M^{-1}G q^\prime +
+    /// 2\Omega\operatorname{Re}(M^{-1}\hat U e^{i\varphi})$, and by the phase,
+    /// $\partial a/\partial\varphi = \Omega^2\operatorname{Re}(iM^{-1}\hat U e^{i\varphi})$.
+    fn speed_and_phase_columns(&self, y: &DVector<f64>, jac: &mut JacobianMut<'_, Dyn>) {
+        let r = &self.rotor;
+        let n = r.system().dofs();
+        let (speed, phase) = (y[self.speed_index()], y[self.phase_index()]);
+        let (sin, cos) = phase.sin_cos();
+        let w2 = r.system().speed() * r.system().speed();
+        let mut column = jac.column_mut(self.speed_index());
+        let mut d_speed = column.rows_mut(n, n);
+        d_speed.gemv(1.0, &self.gyroscopic, &y.rows(n, n), 0.0);
+        d_speed.axpy(2.0 * speed * cos / w2, &r.forcing_cos, 1.0);
+        d_speed.axpy(2.0 * speed * sin / w2, &r.forcing_sin, 1.0);
+        let radial = speed * speed / w2;
+        let mut column = jac.column_mut(self.phase_index());
+        let mut d_phase = column.rows_mut(n, n);
+        d_phase.axpy(radial * cos, &r.forcing_sin, 0.0);
+        d_phase.axpy(-radial * sin, &r.forcing_cos, 1.0);
+    }
+
     /// The state's scale with the speed's ($\Omega_r$) and the phase's (1) appended.
     fn extended(&self, inner: DVector<f64>) -> DVector<f64> {
         let n = inner.len();
@@ -194,23 +237,12 @@ impl SmoothRotor for DrivenLinearRotor {
     /// [`LinearRotor`]'s field at the state's speed and phase, with the spin's equation
     /// solved with it: no allocation.
     fn rhs(&self, _t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
-        let r = &self.rotor;
-        let n = r.system().dofs();
+        let n = self.rotor.system().dofs();
         let (speed, phase) = (y[self.speed_index()], y[self.phase_index()]);
         let (sin, cos) = phase.sin_cos();
         dy.rows_mut(0, n).copy_from(&y.rows(n, n));
         let mut accel = dy.rows_mut(n, n);
-        accel.gemv(1.0, &r.accel, &y.rows(0, 2 * n), 0.0);
-        accel.gemv(
-            speed - r.system().speed(),
-            &self.gyroscopic,
-            &y.rows(n, n),
-            1.0,
-        );
-        ProfiledLinearRotor::add_unbalance(r, (speed, 0.0, phase), &mut accel);
-        if r.has_constant {
-            accel += &r.forcing_constant;
-        }
+        self.uncoupled_acceleration(y, &mut accel);
         let b_dot_a = self.b_dot((cos, sin), &accel.rows(0, n));
         let torque = self.motor.torque(speed);
         let rate = spin_acceleration(torque, self.inertia, b_dot_a, self.b_minv_b((cos, sin)));
@@ -256,5 +288,89 @@ impl SmoothRotor for DrivenLinearRotor {
 
     fn second_order(&self) -> Option<usize> {
         self.rotor.second_order()
+    }
+
+    /// Analytic, every entry. With $a$ the acceleration without the spin's coupling (the
+    /// ring's force $g = -F$ included: $a = a_0 + M^{-1}E_s g$), $u = (\cos\varphi,
+    /// \sin\varphi)$, $b\cdot M^{-1}b = u^{\mathsf T}Qu$, $\Delta = J - b\cdot M^{-1}b$ and
+    /// $\dot\Omega = (T - b\cdot a)/\Delta$ (`rhs`),
+    /// the field's rows are $q^{\prime\prime} = a - \dot\Omega\thinspace M^{-1}b$,
+    /// $\dot\Omega$ and $\dot\varphi = \Omega$. For a state component $y_j$, with $a_j =
+    /// \partial a/\partial y_j$ ([`LinearRotor`]'s blocks $-M^{-1}K$, $-M^{-1}D$ and its
+    /// contact part $-M^{-1}E_s(F_r, F_v)$, plus $-(\Omega - \Omega_r)M^{-1}G$ in the velocity
+    /// columns),
+    ///
+    /// $$\frac{\partial\dot\Omega}{\partial y_j} = \frac{T_j - b\cdot a_j + \delta_{j\varphi}\big(\dot\Omega\thinspace\partial_\varphi(b\cdot M^{-1}b) - \partial_\varphi b\cdot a\big)}{\Delta}, \qquad \frac{\partial q^{\prime\prime}}{\partial y_j} = a_j - \frac{\partial\dot\Omega}{\partial y_j}M^{-1}b - \delta_{j\varphi}\dot\Omega\thinspace\partial_\varphi M^{-1}b,$$
+    ///
+    /// where $T_\Omega = T^\prime(\Omega)$ ([`MotorTorque::slope`]: exact for a linear motor,
+    /// a central difference of $T$ alone for a user's closure) and $T_j = 0$ otherwise,
+    /// $a_\Omega = -M^{-1}Gq^\prime + 2\Omega\operatorname{Re}(M^{-1}\hat U e^{i\varphi})$,
+    /// $a_\varphi = \Omega^2\operatorname{Re}(iM^{-1}\hat U e^{i\varphi})$,
+    /// $\partial_\varphi b = b(\varphi + \pi/2)$ (the same for $M^{-1}b$) and
+    /// $\partial_\varphi(b\cdot M^{-1}b) = u^{\prime\mathsf T}(Q + Q^{\mathsf T})u$,
+    /// $u^\prime = (-\sin\varphi, \cos\varphi)$. The quotient is
+    /// the shared `spin_acceleration` again, with $T_j$ (plus the phase's terms) for the
+    /// torque and $a_j$ for the acceleration: no second copy of the spin's equation. No
+    /// allocation ($a$ is built in the phase column before that column is written).
+    fn jacobian(
+        &self,
+        t: f64,
+        y: &DVector<f64>,
+        contact: Option<&ForceJacobian>,
+        jac: &mut JacobianMut<'_, Dyn>,
+    ) -> bool {
+        let r = &self.rotor;
+        let n = r.system().dofs();
+        let (iw, ip) = (self.speed_index(), self.phase_index());
+        if jac.nrows() != ip + 1 || jac.ncols() != ip + 1 {
+            return false;
+        }
+        jac.fill(0.0);
+        // LinearRotor's Jacobian (it reads nothing of y) is the top-left block.
+        if !r.jacobian(t, y, contact, &mut jac.view_mut((0, 0), (iw, iw))) {
+            return false;
+        }
+        let excess = y[iw] - r.system().speed();
+        for j in 0..n {
+            let mut column = jac.column_mut(n + j);
+            column
+                .rows_mut(n, n)
+                .axpy(excess, &self.gyroscopic.column(j), 1.0);
+        }
+        let (sin, cos) = y[ip].sin_cos();
+        let u = Vector2::new(cos, sin);
+        let (b_dot_a, db_dot_a) = {
+            let mut column = jac.column_mut(ip);
+            let mut a = column.rows_mut(n, n);
+            self.uncoupled_acceleration(y, &mut a);
+            if let Some(f) = contact {
+                a.gemv(-1.0, &r.station_compliance, &f.force, 1.0);
+            }
+            let a = a.rows(0, n);
+            (self.b_dot((cos, sin), &a), self.b_dot((-sin, cos), &a))
+        };
+        let b_minv_b = self.b_minv_b((cos, sin));
+        let rate = spin_acceleration(self.motor.torque(y[iw]), self.inertia, b_dot_a, b_minv_b);
+        let du = Vector2::new(-sin, cos);
+        let phase_torque = rate * du.dot(&((self.q + self.q.transpose()) * u)) - db_dot_a;
+        self.speed_and_phase_columns(y, jac);
+        for j in 0..=ip {
+            let torque = match j {
+                _ if j == iw => self.motor.slope(y[iw]),
+                _ if j == ip => phase_torque,
+                _ => 0.0,
+            };
+            let mut column = jac.column_mut(j);
+            let mut accel = column.rows_mut(n, n);
+            let b_dot_aj = self.b_dot((cos, sin), &accel.rows(0, n));
+            let d_rate = spin_acceleration(torque, self.inertia, b_dot_aj, b_minv_b);
+            self.add_coupling((cos, sin), d_rate, &mut accel);
+            if j == ip {
+                self.add_coupling((-sin, cos), rate, &mut accel);
+            }
+            jac[(iw, j)] = d_rate;
+        }
+        jac[(ip, iw)] = 1.0;
+        true
     }
 }

@@ -10,6 +10,7 @@ mod energy;
 mod rng;
 
 mod fe_drive;
+mod fe_drive_jacobian;
 mod fe_eccentric;
 mod fe_energy;
 mod fe_error_weights;

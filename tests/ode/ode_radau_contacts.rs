@@ -247,6 +247,7 @@ fn shaft_jacobian_matches_differences() {
     let fj = ForceJacobian {
         position: Matrix2::new(30.0, -4.0, 2.5, 27.0),
         velocity: Matrix2::new(0.7, 0.2, -0.1, 0.9),
+        force: jeffcott::nalgebra::Vector2::zeros(),
     };
     let field = |y: &DVector<f64>| {
         let mut dy = DVector::zeros(n);
