@@ -1351,3 +1351,66 @@ fn a_grazing_onset_pair_on_radau5_dense_output_after_a_loss_is_found() {
         "rotor or ring {worst:e} off where the mode puts it"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// 19. The restart's tangency term of Radau5's dense output, spread over the whole step.
+
+/// A fuzz case (seed 777, case 21024 of the $10^5$-case run after fix 19's first form): the
+/// custom rotor ($k_3 = 0.90$) from a start $4.6\times10^{-4}$ beyond the gap circle at rest,
+/// Radau5 at `rtol` $8.9\times10^{-11}$, `atol` $1.9\times10^{-4}$, one event sample a step. The
+/// rotor slides along the ring without load (a touch and a loss every $10^{-3}$ or less), then
+/// leaves it; the first step after the last restart is 0.33 long. Fix 19 first made Radau5's
+/// dense output tangent at a restart by the quartic $\theta(\theta - c_1)(\theta - c_2)
+/// (\theta - 1)d_4$, which reaches 0.18 of the slope mismatch inside the step: on it the free
+/// flight went $3.75\times10^{-6}$ beyond the ring at $t = 109.8126$, 0.04 after the restart, and
+/// back, inside one sample interval, with nothing for the screen to see (the truth: a free
+/// flight has $|r - s| \le \gamma$; $10^{-6}$ is the fuzzer's bound). The collocation
+/// polynomial alone (before fix 19) has no such excursion here; the term is now local to
+/// $[0, c_1]$ of the step and at most 0.0163 of the mismatch.
+#[test]
+fn the_restart_tangency_of_radau5_stays_local_to_the_start() {
+    let p = Params {
+        eta: 1.000001,
+        nu1: 0.0,
+        nu2: 327.68554669498775,
+        kx: 814.9285375348251,
+        ky: 814.9285375348251,
+        beta: 0.1272470436293462,
+        dx: 1.2542529156313191,
+        dy: 1.2542529156313191,
+        ex: 0.4386065194363236,
+        ey: -0.08749098343380324,
+        phi0: 9310.70024583924,
+    };
+    let m = rotor::on_ring(p, -0.3979442931159012, 0.9000655272445862).unwrap();
+    // The fuzzer's `Contact` start: 4.6e-4 beyond the gap circle, at rest.
+    let paper = JeffcottModel::new(p).unwrap();
+    let y0 = paper
+        .state_at(
+            polar(1.0 + 0.0004561695685422969, 1.5707963267948966),
+            polar(0.0, 4.310903264865449),
+        )
+        .unwrap();
+    let t0 = 99.69821629030982;
+    let plan = fuzzed_plan(&p, t0, 2.0, Some(41.0));
+    let opts = SimOptions::default()
+        .with_method(Method::Radau5)
+        .with_rtol(8.876046138168863e-11)
+        .with_atol(0.00018628557203949694)
+        .with_steps_per_period(362)
+        .with_max_step_fraction(0.8857818020838881)
+        .with_event_samples(1)
+        .with_max_events_per_period(1000)
+        .with_max_steps(69415);
+    let mut traj = Trajectory::default();
+    let stats = simulate(&m, t0, &y0, &plan, &opts, &mut traj).expect("the run");
+    let worst = worst_inconsistency(m.ring(), &traj);
+    println!(
+        "{} transitions, the worst inconsistency {worst:e}",
+        stats.transitions
+    );
+    assert!(
+        worst <= 1e-6,
+        "rotor or ring {worst:e} off where the mode puts it"
+    );
+}
