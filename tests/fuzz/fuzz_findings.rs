@@ -1387,7 +1387,7 @@ fn the_restart_tangency_of_radau5_stays_local_to_the_start() {
     let paper = JeffcottModel::new(p).unwrap();
     let y0 = paper
         .state_at(
-            polar(1.0 + 0.0004561695685422969, 1.5707963267948966),
+            polar(1.0 + 0.0004561695685422969, std::f64::consts::FRAC_PI_2),
             polar(0.0, 4.310903264865449),
         )
         .unwrap();
