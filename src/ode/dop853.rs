@@ -3,11 +3,11 @@
 #![allow(clippy::excessive_precision)]
 
 use super::core::{Core, Trial, TrialIo};
-use super::erk::{explicit_rk_integrator, ExplicitRk, RkTableau};
+use super::erk::{explicit_rk_impls, ExplicitRk, RkTableau};
 use super::kernels::{axpy, combo};
 use super::{controller::scale, Integrator, OdeError, OdeSystem, Options, Stats};
 use nalgebra::allocator::Allocator;
-use nalgebra::{DefaultAllocator, Dim, DimName, OVector};
+use nalgebra::{DefaultAllocator, Dim, OVector};
 
 // Nodes.
 const C2: f64 = 0.526001519587677318785587544488e-01;
@@ -222,38 +222,7 @@ where
 #[derive(Debug, Clone)]
 struct Tableau;
 
-impl<D: DimName> Dop853<D>
-where
-    DefaultAllocator: Allocator<D>,
-{
-    /// Creates the integrator for a fixed dimension (`U6`, `Const<6>`),
-    /// validating `options` (typed error naming the offending field). Call
-    /// [`Integrator::reset`] before stepping.
-    pub fn new(options: Options<D>) -> Result<Self, OdeError> {
-        Self::with_dim(D::name(), options)
-    }
-}
-
-impl<D: Dim> Dop853<D>
-where
-    DefaultAllocator: Allocator<D>,
-{
-    /// Creates the integrator for dimension `dim` (e.g. `Dyn(n)` for a size
-    /// known at run time), validating `options` (per-component tolerances
-    /// must have `dim` components). Allocates every vector it will use.
-    pub fn with_dim(dim: D, options: Options<D>) -> Result<Self, OdeError> {
-        Ok(Dop853 {
-            rk: ExplicitRk::with_dim(dim, options)?,
-        })
-    }
-}
-
-impl<D: Dim> Integrator<D> for Dop853<D>
-where
-    DefaultAllocator: Allocator<D>,
-{
-    explicit_rk_integrator!();
-}
+explicit_rk_impls!(Dop853);
 
 impl RkTableau<16, 4> for Tableau {
     const NAME: &'static str = "DOP853";

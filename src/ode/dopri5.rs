@@ -1,9 +1,9 @@
 use super::core::{Core, Trial, TrialIo};
-use super::erk::{explicit_rk_integrator, ExplicitRk, RkTableau};
+use super::erk::{explicit_rk_impls, ExplicitRk, RkTableau};
 use super::kernels::{axpy, combo};
 use super::{controller::scale, Integrator, OdeError, OdeSystem, Options, Stats};
 use nalgebra::allocator::Allocator;
-use nalgebra::{DefaultAllocator, Dim, DimName, OVector};
+use nalgebra::{DefaultAllocator, Dim, OVector};
 
 const C2: f64 = 1.0 / 5.0;
 const C3: f64 = 3.0 / 10.0;
@@ -75,37 +75,7 @@ where
 #[derive(Debug, Clone)]
 struct Tableau;
 
-impl<D: DimName> Dopri5<D>
-where
-    DefaultAllocator: Allocator<D>,
-{
-    /// Creates the integrator for a fixed dimension, validating `options`
-    /// (typed error naming the offending field). Call [`Integrator::reset`]
-    /// before stepping.
-    pub fn new(options: Options<D>) -> Result<Self, OdeError> {
-        Self::with_dim(D::name(), options)
-    }
-}
-
-impl<D: Dim> Dopri5<D>
-where
-    DefaultAllocator: Allocator<D>,
-{
-    /// Creates the integrator for dimension `dim` (e.g. `Dyn(n)`),
-    /// validating `options`. Allocates every vector it will use.
-    pub fn with_dim(dim: D, options: Options<D>) -> Result<Self, OdeError> {
-        Ok(Dopri5 {
-            rk: ExplicitRk::with_dim(dim, options)?,
-        })
-    }
-}
-
-impl<D: Dim> Integrator<D> for Dopri5<D>
-where
-    DefaultAllocator: Allocator<D>,
-{
-    explicit_rk_integrator!();
-}
+explicit_rk_impls!(Dopri5);
 
 impl RkTableau<7, 1> for Tableau {
     const NAME: &'static str = "DOPRI5";

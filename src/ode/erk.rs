@@ -233,37 +233,69 @@ where
 /// The common and the method's dense-output rows.
 type Rows<'a, D, const R: usize> = (&'a [OVector<f64, D>; 4], &'a [OVector<f64, D>; R]);
 
-/// Implements [`Integrator`](super::Integrator) for a type whose field `rk` is an
-/// [`ExplicitRk`], by delegation.
-macro_rules! explicit_rk_integrator {
-    () => {
-        fn reset<S: OdeSystem<D>>(
-            &mut self,
-            sys: &S,
-            t: f64,
-            y: &OVector<f64, D>,
-            keep_step: bool,
-        ) -> Result<(), OdeError> {
-            self.rk.reset(sys, t, y, keep_step)
+/// The constructors `new` and `with_dim` and the [`Integrator`](super::Integrator) impl of a
+/// public method type `$name<D>` whose one field `rk` is an [`ExplicitRk`], by delegation.
+/// Used in the method's module, where the names of [`super`] used below are imported.
+macro_rules! explicit_rk_impls {
+    ($name:ident) => {
+        impl<D: nalgebra::DimName> $name<D>
+        where
+            DefaultAllocator: Allocator<D>,
+        {
+            /// Creates the integrator for a fixed dimension (`U6`, `Const<6>`),
+            /// validating `options` (typed error naming the offending field). Call
+            /// [`Integrator::reset`] before stepping.
+            pub fn new(options: Options<D>) -> Result<Self, OdeError> {
+                Self::with_dim(D::name(), options)
+            }
         }
 
-        fn step<S: OdeSystem<D>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError> {
-            self.rk.step(sys, t_bound)
+        impl<D: Dim> $name<D>
+        where
+            DefaultAllocator: Allocator<D>,
+        {
+            /// Creates the integrator for dimension `dim` (e.g. `Dyn(n)` for a size
+            /// known at run time), validating `options` (per-component tolerances
+            /// must have `dim` components). Allocates every vector it will use.
+            pub fn with_dim(dim: D, options: Options<D>) -> Result<Self, OdeError> {
+                Ok($name {
+                    rk: $crate::ode::erk::ExplicitRk::with_dim(dim, options)?,
+                })
+            }
         }
 
-        fn dense<S: OdeSystem<D>>(&mut self, sys: &S, t: f64, out: &mut OVector<f64, D>) {
-            self.rk.dense(sys, t, out)
-        }
+        impl<D: Dim> Integrator<D> for $name<D>
+        where
+            DefaultAllocator: Allocator<D>,
+        {
+            fn reset<S: OdeSystem<D>>(
+                &mut self,
+                sys: &S,
+                t: f64,
+                y: &OVector<f64, D>,
+                keep_step: bool,
+            ) -> Result<(), OdeError> {
+                self.rk.reset(sys, t, y, keep_step)
+            }
 
-        fn truncate<S: OdeSystem<D>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError> {
-            self.rk.truncate(sys, t_new)
-        }
+            fn step<S: OdeSystem<D>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError> {
+                self.rk.step(sys, t_bound)
+            }
 
-        fn name(&self) -> &'static str {
-            self.rk.name()
-        }
+            fn dense<S: OdeSystem<D>>(&mut self, sys: &S, t: f64, out: &mut OVector<f64, D>) {
+                self.rk.dense(sys, t, out)
+            }
 
-        $crate::ode::core::core_accessors!(rk.core);
+            fn truncate<S: OdeSystem<D>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError> {
+                self.rk.truncate(sys, t_new)
+            }
+
+            fn name(&self) -> &'static str {
+                self.rk.name()
+            }
+
+            $crate::ode::core::core_accessors!(rk.core);
+        }
     };
 }
-pub(crate) use explicit_rk_integrator;
+pub(crate) use explicit_rk_impls;
