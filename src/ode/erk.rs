@@ -121,7 +121,9 @@ where
     }
 
     /// [`Integrator::step`](super::Integrator::step): the method's trial steps driven by
-    /// [`Core::step`]; an accepted step makes the dense output stale.
+    /// [`Core::step`]; an accepted step makes the dense output stale. A step that fails after
+    /// trials has overwritten the stages of the last accepted step: they are computed again
+    /// if its dense output still needs them.
     pub(crate) fn step<Sys: OdeSystem<D>>(
         &mut self,
         sys: &Sys,
@@ -134,15 +136,36 @@ where
             dense_ready,
             ..
         } = self;
-        let before = core.stats.steps;
+        let (steps, attempts) = (core.stats.steps, core.attempts);
         let r = core.step(sys, t_bound, |sys, io| {
             k[0].copy_from(io.f);
             T::trial(sys, k, yt, io)
         });
-        if core.stats.steps != before {
+        if core.stats.steps != steps {
             *dense_ready = false;
+        } else if core.attempts != attempts && core.has_step && !*dense_ready {
+            self.restage(sys);
         }
         r
+    }
+
+    /// Computes the stages of the last accepted step again (the same trial, so the same
+    /// values) into `k`, its new point into the scratch `y_new` (counted in the statistics).
+    fn restage<Sys: OdeSystem<D>>(&mut self, sys: &Sys) {
+        let ExplicitRk { core: c, k, yt, .. } = self;
+        k[0].copy_from(&c.f_prev);
+        let io = TrialIo {
+            opts: &c.opts,
+            n_ctrl: c.n_ctrl,
+            t: c.t_prev,
+            y: &c.y_prev,
+            f: &c.f_prev,
+            h: c.h_dense,
+            y_new: &mut c.y_new,
+            f_new: &mut c.f_new,
+            stats: &mut c.stats,
+        };
+        T::trial(sys, k, yt, io);
     }
 
     /// [`Integrator::dense`](super::Integrator::dense): the current state before the first
