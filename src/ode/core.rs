@@ -438,41 +438,45 @@ where
 }
 
 /// Implements the state accessors of [`Integrator`](super::Integrator) for a
-/// type with a `core: Core<D>` field.
+/// type with a `core: Core<D>` field, or with the [`Core`] at the field path given
+/// (`core_accessors!(rk.core)`).
 macro_rules! core_accessors {
     () => {
+        $crate::ode::core::core_accessors!(core);
+    };
+    ($($field:ident).+) => {
         fn t(&self) -> f64 {
-            self.core.t
+            self.$($field).+.t
         }
         fn y(&self) -> &OVector<f64, D> {
-            &self.core.y
+            &self.$($field).+.y
         }
         fn t_prev(&self) -> f64 {
-            self.core.t_prev
+            self.$($field).+.t_prev
         }
         fn y_prev(&self) -> &OVector<f64, D> {
-            &self.core.y_prev
+            &self.$($field).+.y_prev
         }
         fn stats(&self) -> &Stats {
-            &self.core.stats
+            &self.$($field).+.stats
         }
         fn stats_mut(&mut self) -> &mut Stats {
-            &mut self.core.stats
+            &mut self.$($field).+.stats
         }
         fn options(&self) -> &Options<D> {
-            &self.core.opts
+            &self.$($field).+.opts
         }
         fn h_next(&self) -> f64 {
-            self.core.h
+            self.$($field).+.h
         }
         fn dim(&self) -> D {
-            self.core.dim
+            self.$($field).+.dim
         }
         fn dy(&self) -> Option<&OVector<f64, D>> {
-            Some(&self.core.f)
+            Some(&self.$($field).+.f)
         }
         fn dy_prev(&self) -> Option<&OVector<f64, D>> {
-            Some(&self.core.f_prev)
+            Some(&self.$($field).+.f_prev)
         }
     };
 }

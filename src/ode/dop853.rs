@@ -2,11 +2,12 @@
 // they can be checked against the source; Rust rounds them correctly.
 #![allow(clippy::excessive_precision)]
 
-use super::core::{core_accessors, fit, zeros, Core, Trial, TrialIo};
+use super::core::{Core, Trial, TrialIo};
+use super::erk::{explicit_rk_impls, ExplicitRk, RkTableau};
 use super::kernels::{axpy, combo};
 use super::{controller::scale, Integrator, OdeError, OdeSystem, Options, Stats};
 use nalgebra::allocator::Allocator;
-use nalgebra::{DefaultAllocator, Dim, DimName, OVector};
+use nalgebra::{DefaultAllocator, Dim, OVector};
 
 // Nodes.
 const C2: f64 = 0.526001519587677318785587544488e-01;
@@ -211,95 +212,70 @@ pub struct Dop853<D: Dim>
 where
     DefaultAllocator: Allocator<D>,
 {
-    core: Core<D>,
-    /// Stages k1..k16 of the last step (k13 = f(t, y), k14..k16 lazily).
-    k: [OVector<f64, D>; 16],
-    cont: [OVector<f64, D>; 8],
-    /// Scratch: the argument of the stages.
-    yt: OVector<f64, D>,
-    dense_ready: bool,
+    /// The shared explicit Runge–Kutta driver with this method's stages $k_1 \dots k_{16}$
+    /// ($k_{13} = f(t, y)$ at the step end, $k_{14} \dots k_{16}$ lazily) and dense-output rows
+    /// $r_5 \dots r_8$.
+    rk: ExplicitRk<D, Tableau, 16, 4>,
 }
 
-impl<D: DimName> Dop853<D>
-where
-    DefaultAllocator: Allocator<D>,
-{
-    /// Creates the integrator for a fixed dimension (`U6`, `Const<6>`),
-    /// validating `options` (typed error naming the offending field). Call
-    /// [`Integrator::reset`] before stepping.
-    pub fn new(options: Options<D>) -> Result<Self, OdeError> {
-        Self::with_dim(D::name(), options)
-    }
-}
+/// The method's own part: stages, error estimate, the extra stages and rows of dense output.
+#[derive(Debug, Clone)]
+struct Tableau;
 
-impl<D: Dim> Dop853<D>
-where
-    DefaultAllocator: Allocator<D>,
-{
-    /// Creates the integrator for dimension `dim` (e.g. `Dyn(n)` for a size
-    /// known at run time), validating `options` (per-component tolerances
-    /// must have `dim` components). Allocates every vector it will use.
-    pub fn with_dim(dim: D, options: Options<D>) -> Result<Self, OdeError> {
-        let z = zeros(dim);
-        Ok(Dop853 {
-            core: Core::new(dim, options, 8.0, 0.2, 8.0)?,
-            k: std::array::from_fn(|_| z.clone()),
-            cont: std::array::from_fn(|_| z.clone()),
-            yt: z,
-            dense_ready: false,
-        })
-    }
+explicit_rk_impls!(Dop853);
 
-    /// Computes the three extra stages and the dense-output coefficients of
-    /// the last step (once per step).
-    fn prepare_dense<S: OdeSystem<D>>(&mut self, sys: &S) {
-        if self.dense_ready {
-            return;
-        }
-        let Dop853 {
-            core: c,
-            k,
-            cont,
-            yt,
+impl RkTableau<16, 4> for Tableau {
+    const NAME: &'static str = "DOP853";
+    const CONTROL: (f64, f64, f64) = (8.0, 0.2, 8.0);
+
+    #[inline(always)]
+    fn trial<D, Sys>(
+        sys: &Sys,
+        k: &mut [OVector<f64, D>; 16],
+        yt: &mut OVector<f64, D>,
+        io: TrialIo<'_, D>,
+    ) -> Trial
+    where
+        D: Dim,
+        DefaultAllocator: Allocator<D>,
+        Sys: OdeSystem<D>,
+    {
+        let TrialIo {
+            opts,
+            n_ctrl,
+            t,
+            y,
+            h,
+            y_new,
+            stats,
             ..
-        } = self;
-        let h = c.h_dense;
-        let t = c.t_prev;
-        let y = &c.y_prev;
-        k[12].copy_from(&c.f_end);
-        combo!(yt, y, h, [
-            k[0] => A141, k[6] => A147, k[7] => A148, k[8] => A149,
-            k[9] => A1410, k[10] => A1411, k[11] => A1412, k[12] => A1413,
-        ]);
-        sys.rhs(t + C14 * h, yt, &mut k[13]);
-        combo!(yt, y, h, [
-            k[0] => A151, k[5] => A156, k[6] => A157, k[7] => A158,
-            k[10] => A1511, k[11] => A1512, k[12] => A1513, k[13] => A1514,
-        ]);
-        sys.rhs(t + C15 * h, yt, &mut k[14]);
-        combo!(yt, y, h, [
-            k[0] => A161, k[5] => A166, k[6] => A167, k[7] => A168,
-            k[8] => A169, k[12] => A1613, k[13] => A1614, k[14] => A1615,
-        ]);
-        sys.rhs(t + C16 * h, yt, &mut k[15]);
-        c.stats.rhs_evals += 3;
-
-        let n = y.len();
-        let (y0, y1) = (&y.as_slice()[..n], &c.y_end.as_slice()[..n]);
-        let (k1, k13) = (&k[0].as_slice()[..n], &k[12].as_slice()[..n]);
-        let [r1, r2, r3, r4, r5, r6, r7, r8] = cont;
-        let (r1, r2) = (&mut r1.as_mut_slice()[..n], &mut r2.as_mut_slice()[..n]);
-        let (r3, r4) = (&mut r3.as_mut_slice()[..n], &mut r4.as_mut_slice()[..n]);
-        for i in 0..n {
-            let ydiff = y1[i] - y0[i];
-            let bspl = k1[i] * h - ydiff;
-            r1[i] = y0[i];
-            r2[i] = ydiff;
-            r3[i] = bspl;
-            r4[i] = ydiff - k13[i] * h - bspl;
+        } = io;
+        stages(sys, k, yt, t, y, h);
+        stats.rhs_evals += 11;
+        Trial {
+            err: new_point_and_error(opts, n_ctrl, y, k, h, y_new),
+            f_new_done: false,
         }
-        for (r, d) in [r5, r6, r7, r8].into_iter().zip([D4, D5, D6, D7].iter()) {
-            let r = r.as_mut_slice();
+    }
+
+    /// The three extra stages $k_{14}, k_{15}, k_{16}$, then $r_5 \dots r_8$.
+    fn higher_rows<D, Sys>(
+        sys: &Sys,
+        c: &mut Core<D>,
+        k: &mut [OVector<f64, D>; 16],
+        yt: &mut OVector<f64, D>,
+        rows: &mut [OVector<f64, D>; 4],
+    ) where
+        D: Dim,
+        DefaultAllocator: Allocator<D>,
+        Sys: OdeSystem<D>,
+    {
+        let h = c.h_dense;
+        extra_stages(sys, k, yt, c.t_prev, &c.y_prev, &c.f_end, h);
+        c.stats.rhs_evals += 3;
+        let n = c.y.len();
+        for (r, d) in rows.iter_mut().zip([D4, D5, D6, D7].iter()) {
+            let r = &mut r.as_mut_slice()[..n];
             for i in 0..n {
                 // Summed from 0 in stage order, as the vector sum it replaces.
                 let mut acc = 0.0;
@@ -309,107 +285,46 @@ where
                 r[i] = acc * h;
             }
         }
-        self.dense_ready = true;
     }
 
-    /// Evaluates the prepared dense output at `t` into `out`.
-    fn eval_dense(cont: &[OVector<f64, D>; 8], t_prev: f64, h: f64, t: f64, out: &mut [f64]) {
-        let s = (t - t_prev) / h;
-        let s1 = 1.0 - s;
-        let n = out.len();
-        let c: [&[f64]; 8] = std::array::from_fn(|r| &cont[r].as_slice()[..n]);
-        for i in 0..n {
-            let conpar = c[4][i] + (c[5][i] + (c[6][i] + c[7][i] * s) * s1) * s;
-            out[i] = c[0][i] + (c[1][i] + (c[2][i] + (c[3][i] + conpar * s1) * s) * s1) * s;
-        }
+    #[inline(always)]
+    fn higher(r: &[&[f64]; 4], i: usize, s: f64, s1: f64) -> f64 {
+        r[0][i] + (r[1][i] + (r[2][i] + r[3][i] * s) * s1) * s
     }
 }
 
-impl<D: Dim> Integrator<D> for Dop853<D>
-where
+/// The extra stages $k_{14}, k_{15}, k_{16}$ of dense output for the step of size `h` from
+/// `(t, y)`, with $k_{13}$ = `f_end` $= f(t + h, y_1)$.
+#[inline]
+fn extra_stages<D, S>(
+    sys: &S,
+    k: &mut [OVector<f64, D>; 16],
+    yt: &mut OVector<f64, D>,
+    t: f64,
+    y: &OVector<f64, D>,
+    f_end: &OVector<f64, D>,
+    h: f64,
+) where
+    D: Dim,
     DefaultAllocator: Allocator<D>,
+    S: OdeSystem<D>,
 {
-    fn reset<S: OdeSystem<D>>(
-        &mut self,
-        sys: &S,
-        t: f64,
-        y: &OVector<f64, D>,
-        keep_step: bool,
-    ) -> Result<(), OdeError> {
-        self.dense_ready = false;
-        self.core.reset(sys, t, y, keep_step)
-    }
-
-    fn step<S: OdeSystem<D>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError> {
-        let Dop853 {
-            core,
-            k,
-            yt,
-            dense_ready,
-            ..
-        } = self;
-        let before = core.stats.steps;
-        let r = core.step(sys, t_bound, |sys, io| {
-            let TrialIo {
-                opts,
-                n_ctrl,
-                t,
-                y,
-                f,
-                h,
-                y_new,
-                stats,
-                ..
-            } = io;
-            k[0].copy_from(f);
-            stages(sys, k, yt, t, y, h);
-            stats.rhs_evals += 11;
-            Trial {
-                err: new_point_and_error(opts, n_ctrl, y, k, h, y_new),
-                f_new_done: false,
-            }
-        });
-        if core.stats.steps != before {
-            *dense_ready = false;
-        }
-        r
-    }
-
-    fn dense<S: OdeSystem<D>>(&mut self, sys: &S, t: f64, out: &mut OVector<f64, D>) {
-        if !self.core.has_step {
-            self.core.copy_state(out);
-            return;
-        }
-        fit(out, self.core.dim);
-        self.prepare_dense(sys);
-        let c = &self.core;
-        Self::eval_dense(&self.cont, c.t_prev, c.h_dense, t, out.as_mut_slice());
-    }
-
-    fn truncate<S: OdeSystem<D>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError> {
-        self.core.check_truncate(t_new)?;
-        // Prepared even when t_new is the step end (then nothing moves), so
-        // that the counted work does not depend on where the event fell.
-        self.prepare_dense(sys);
-        if t_new == self.core.t {
-            return Ok(());
-        }
-        let c = &mut self.core;
-        Self::eval_dense(
-            &self.cont,
-            c.t_prev,
-            c.h_dense,
-            t_new,
-            c.y_new.as_mut_slice(),
-        );
-        c.apply_truncate(sys, t_new)
-    }
-
-    core_accessors!();
-
-    fn name(&self) -> &'static str {
-        "DOP853"
-    }
+    k[12].copy_from(f_end);
+    combo!(yt, y, h, [
+        k[0] => A141, k[6] => A147, k[7] => A148, k[8] => A149,
+        k[9] => A1410, k[10] => A1411, k[11] => A1412, k[12] => A1413,
+    ]);
+    sys.rhs(t + C14 * h, yt, &mut k[13]);
+    combo!(yt, y, h, [
+        k[0] => A151, k[5] => A156, k[6] => A157, k[7] => A158,
+        k[10] => A1511, k[11] => A1512, k[12] => A1513, k[13] => A1514,
+    ]);
+    sys.rhs(t + C15 * h, yt, &mut k[14]);
+    combo!(yt, y, h, [
+        k[0] => A161, k[5] => A166, k[6] => A167, k[7] => A168,
+        k[8] => A169, k[12] => A1613, k[13] => A1614, k[14] => A1615,
+    ]);
+    sys.rhs(t + C16 * h, yt, &mut k[15]);
 }
 
 /// The eleven stages $k_2 \dots k_{12}$ of a step of size `h` from `(t, y)`, with $k_1 = f(t, y)$

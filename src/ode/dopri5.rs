@@ -1,8 +1,9 @@
-use super::core::{core_accessors, fit, zeros, Core, Trial, TrialIo};
+use super::core::{Core, Trial, TrialIo};
+use super::erk::{explicit_rk_impls, ExplicitRk, RkTableau};
 use super::kernels::{axpy, combo};
 use super::{controller::scale, Integrator, OdeError, OdeSystem, Options, Stats};
 use nalgebra::allocator::Allocator;
-use nalgebra::{DefaultAllocator, Dim, DimName, OVector};
+use nalgebra::{DefaultAllocator, Dim, OVector};
 
 const C2: f64 = 1.0 / 5.0;
 const C3: f64 = 3.0 / 10.0;
@@ -65,63 +66,84 @@ pub struct Dopri5<D: Dim>
 where
     DefaultAllocator: Allocator<D>,
 {
-    core: Core<D>,
-    k: [OVector<f64, D>; 7],
-    cont: [OVector<f64, D>; 5],
-    /// Scratch: the argument of the stages.
-    yt: OVector<f64, D>,
-    dense_ready: bool,
+    /// The shared explicit Runge–Kutta driver with this method's stages $k_1 \dots k_7$ and
+    /// dense-output row $r_5$.
+    rk: ExplicitRk<D, Tableau, 7, 1>,
 }
 
-impl<D: DimName> Dopri5<D>
-where
-    DefaultAllocator: Allocator<D>,
-{
-    /// Creates the integrator for a fixed dimension, validating `options`
-    /// (typed error naming the offending field). Call [`Integrator::reset`]
-    /// before stepping.
-    pub fn new(options: Options<D>) -> Result<Self, OdeError> {
-        Self::with_dim(D::name(), options)
-    }
-}
+/// The method's own part: stages, error estimate and $r_5$.
+#[derive(Debug, Clone)]
+struct Tableau;
 
-impl<D: Dim> Dopri5<D>
-where
-    DefaultAllocator: Allocator<D>,
-{
-    /// Creates the integrator for dimension `dim` (e.g. `Dyn(n)`),
-    /// validating `options`. Allocates every vector it will use.
-    pub fn with_dim(dim: D, options: Options<D>) -> Result<Self, OdeError> {
-        let z = zeros(dim);
-        Ok(Dopri5 {
-            core: Core::new(dim, options, 5.0, 0.75, 5.0)?,
-            k: std::array::from_fn(|_| z.clone()),
-            cont: std::array::from_fn(|_| z.clone()),
-            yt: z,
-            dense_ready: false,
-        })
-    }
+explicit_rk_impls!(Dopri5);
 
-    fn prepare_dense(&mut self) {
-        if self.dense_ready {
-            return;
+impl RkTableau<7, 1> for Tableau {
+    const NAME: &'static str = "DOPRI5";
+    const CONTROL: (f64, f64, f64) = (5.0, 0.75, 5.0);
+
+    #[inline(always)]
+    fn trial<D, Sys>(
+        sys: &Sys,
+        k: &mut [OVector<f64, D>; 7],
+        yt: &mut OVector<f64, D>,
+        io: TrialIo<'_, D>,
+    ) -> Trial
+    where
+        D: Dim,
+        DefaultAllocator: Allocator<D>,
+        Sys: OdeSystem<D>,
+    {
+        let TrialIo {
+            opts,
+            n_ctrl,
+            t,
+            y,
+            h,
+            y_new,
+            f_new,
+            stats,
+            ..
+        } = io;
+        axpy(yt.as_mut_slice(), y.as_slice(), k[0].as_slice(), h * A21);
+        sys.rhs(t + C2 * h, yt, &mut k[1]);
+        combo!(yt, y, h, [k[0] => A31, k[1] => A32]);
+        sys.rhs(t + C3 * h, yt, &mut k[2]);
+        combo!(yt, y, h, [k[0] => A41, k[1] => A42, k[2] => A43]);
+        sys.rhs(t + C4 * h, yt, &mut k[3]);
+        combo!(yt, y, h, [k[0] => A51, k[1] => A52, k[2] => A53, k[3] => A54]);
+        sys.rhs(t + C5 * h, yt, &mut k[4]);
+        combo!(yt, y, h, [
+            k[0] => A61, k[1] => A62, k[2] => A63, k[3] => A64, k[4] => A65,
+        ]);
+        sys.rhs(t + h, yt, &mut k[5]);
+        combo!(y_new, y, h, [
+            k[0] => A71, k[2] => A73, k[3] => A74, k[4] => A75, k[5] => A76,
+        ]);
+        sys.rhs(t + h, y_new, &mut k[6]);
+        f_new.copy_from(&k[6]);
+        stats.rhs_evals += 6;
+        Trial {
+            err: error_norm(opts, n_ctrl, y, y_new, k, h),
+            f_new_done: true,
         }
-        let c = &self.core;
+    }
+
+    fn higher_rows<D, Sys>(
+        _sys: &Sys,
+        c: &mut Core<D>,
+        k: &mut [OVector<f64, D>; 7],
+        _yt: &mut OVector<f64, D>,
+        rows: &mut [OVector<f64, D>; 1],
+    ) where
+        D: Dim,
+        DefaultAllocator: Allocator<D>,
+        Sys: OdeSystem<D>,
+    {
         let h = c.h_dense;
         let n = c.y.len();
-        let (y0, y1) = (&c.y_prev.as_slice()[..n], &c.y_end.as_slice()[..n]);
-        let ks: [&[f64]; 7] = std::array::from_fn(|j| &self.k[j].as_slice()[..n]);
-        let [r1, r2, r3, r4, r5] = &mut self.cont;
-        let (r1, r2) = (&mut r1.as_mut_slice()[..n], &mut r2.as_mut_slice()[..n]);
-        let (r3, r4) = (&mut r3.as_mut_slice()[..n], &mut r4.as_mut_slice()[..n]);
-        let r5 = &mut r5.as_mut_slice()[..n];
+        let ks: [&[f64]; 7] = std::array::from_fn(|j| &k[j].as_slice()[..n]);
+        let r5 = &mut rows[0].as_mut_slice()[..n];
         for i in 0..n {
-            let ydiff = y1[i] - y0[i];
-            let bspl = ks[0][i] * h - ydiff;
-            r1[i] = y0[i];
-            r2[i] = ydiff;
-            r3[i] = bspl;
-            r4[i] = ydiff - ks[6][i] * h - bspl;
             r5[i] = (ks[0][i] * D1
                 + ks[2][i] * D3
                 + ks[3][i] * D4
@@ -130,133 +152,43 @@ where
                 + ks[6][i] * D7)
                 * h;
         }
-        self.dense_ready = true;
     }
 
-    /// Evaluates the prepared dense output at `t` into `out`.
-    fn eval_dense(cont: &[OVector<f64, D>; 5], t_prev: f64, h: f64, t: f64, out: &mut [f64]) {
-        let s = (t - t_prev) / h;
-        let s1 = 1.0 - s;
-        let n = out.len();
-        let c: [&[f64]; 5] = std::array::from_fn(|r| &cont[r].as_slice()[..n]);
-        for i in 0..n {
-            out[i] = c[0][i] + (c[1][i] + (c[2][i] + (c[3][i] + c[4][i] * s1) * s) * s1) * s;
-        }
+    #[inline(always)]
+    fn higher(r: &[&[f64]; 1], i: usize, _s: f64, _s1: f64) -> f64 {
+        r[0][i]
     }
 }
 
-impl<D: Dim> Integrator<D> for Dopri5<D>
+/// The scaled RMS norm of the local error estimate $h \sum_j e_j k_j$ of the step from `y`
+/// to `y_new`.
+#[inline(always)]
+fn error_norm<D>(
+    opts: &Options<D>,
+    n_ctrl: f64,
+    y: &OVector<f64, D>,
+    y_new: &OVector<f64, D>,
+    k: &[OVector<f64, D>; 7],
+    h: f64,
+) -> f64
 where
+    D: Dim,
     DefaultAllocator: Allocator<D>,
 {
-    fn reset<S: OdeSystem<D>>(
-        &mut self,
-        sys: &S,
-        t: f64,
-        y: &OVector<f64, D>,
-        keep_step: bool,
-    ) -> Result<(), OdeError> {
-        self.dense_ready = false;
-        self.core.reset(sys, t, y, keep_step)
+    let n = y.len();
+    let (ys, yn) = (&y.as_slice()[..n], &y_new.as_slice()[..n]);
+    let ks: [&[f64]; 7] = std::array::from_fn(|j| &k[j].as_slice()[..n]);
+    let mut sum = 0.0;
+    for i in 0..n {
+        let e = h
+            * (E1 * ks[0][i]
+                + E3 * ks[2][i]
+                + E4 * ks[3][i]
+                + E5 * ks[4][i]
+                + E6 * ks[5][i]
+                + E7 * ks[6][i]);
+        let sk = scale(opts, i, ys[i], yn[i]);
+        sum += (e / sk) * (e / sk);
     }
-
-    fn step<S: OdeSystem<D>>(&mut self, sys: &S, t_bound: f64) -> Result<(), OdeError> {
-        let Dopri5 {
-            core,
-            k,
-            yt,
-            dense_ready,
-            ..
-        } = self;
-        let before = core.stats.steps;
-        let r = core.step(sys, t_bound, |sys, io| {
-            let TrialIo {
-                opts,
-                n_ctrl,
-                t,
-                y,
-                f,
-                h,
-                y_new,
-                f_new,
-                stats,
-            } = io;
-            k[0].copy_from(f);
-            axpy(yt.as_mut_slice(), y.as_slice(), k[0].as_slice(), h * A21);
-            sys.rhs(t + C2 * h, yt, &mut k[1]);
-            combo!(yt, y, h, [k[0] => A31, k[1] => A32]);
-            sys.rhs(t + C3 * h, yt, &mut k[2]);
-            combo!(yt, y, h, [k[0] => A41, k[1] => A42, k[2] => A43]);
-            sys.rhs(t + C4 * h, yt, &mut k[3]);
-            combo!(yt, y, h, [k[0] => A51, k[1] => A52, k[2] => A53, k[3] => A54]);
-            sys.rhs(t + C5 * h, yt, &mut k[4]);
-            combo!(yt, y, h, [
-                k[0] => A61, k[1] => A62, k[2] => A63, k[3] => A64, k[4] => A65,
-            ]);
-            sys.rhs(t + h, yt, &mut k[5]);
-            combo!(y_new, y, h, [
-                k[0] => A71, k[2] => A73, k[3] => A74, k[4] => A75, k[5] => A76,
-            ]);
-            sys.rhs(t + h, y_new, &mut k[6]);
-            f_new.copy_from(&k[6]);
-            stats.rhs_evals += 6;
-            let n = y.len();
-            let (ys, yn) = (&y.as_slice()[..n], &y_new.as_slice()[..n]);
-            let ks: [&[f64]; 7] = std::array::from_fn(|j| &k[j].as_slice()[..n]);
-            let mut sum = 0.0;
-            for i in 0..n {
-                let e = h
-                    * (E1 * ks[0][i]
-                        + E3 * ks[2][i]
-                        + E4 * ks[3][i]
-                        + E5 * ks[4][i]
-                        + E6 * ks[5][i]
-                        + E7 * ks[6][i]);
-                let sk = scale(opts, i, ys[i], yn[i]);
-                sum += (e / sk) * (e / sk);
-            }
-            Trial {
-                err: (sum / n_ctrl).sqrt(),
-                f_new_done: true,
-            }
-        });
-        if core.stats.steps != before {
-            *dense_ready = false;
-        }
-        r
-    }
-
-    fn dense<S: OdeSystem<D>>(&mut self, _sys: &S, t: f64, out: &mut OVector<f64, D>) {
-        if !self.core.has_step {
-            self.core.copy_state(out);
-            return;
-        }
-        fit(out, self.core.dim);
-        self.prepare_dense();
-        let c = &self.core;
-        Self::eval_dense(&self.cont, c.t_prev, c.h_dense, t, out.as_mut_slice());
-    }
-
-    fn truncate<S: OdeSystem<D>>(&mut self, sys: &S, t_new: f64) -> Result<(), OdeError> {
-        self.core.check_truncate(t_new)?;
-        if t_new == self.core.t {
-            return Ok(());
-        }
-        self.prepare_dense();
-        let c = &mut self.core;
-        Self::eval_dense(
-            &self.cont,
-            c.t_prev,
-            c.h_dense,
-            t_new,
-            c.y_new.as_mut_slice(),
-        );
-        c.apply_truncate(sys, t_new)
-    }
-
-    core_accessors!();
-
-    fn name(&self) -> &'static str {
-        "DOPRI5"
-    }
+    (sum / n_ctrl).sqrt()
 }

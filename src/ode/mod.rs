@@ -321,6 +321,7 @@ mod controller;
 mod core;
 mod dop853;
 mod dopri5;
+mod erk;
 mod error;
 mod etd4;
 mod events;

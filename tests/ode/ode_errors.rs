@@ -319,3 +319,52 @@ fn too_many_steps() {
     let e2 = solve_error(&mut integ, &osc, 0.0, V2::new(1.0, 0.0), 100.0);
     assert!(matches!(e2.error, OdeError::TooManySteps { .. }));
 }
+
+/// $y'' = -y$ up to $t = 1$ (solution $\cos t$ from $(1, 0)$), then a violent forcing that
+/// makes the next trial step fail.
+fn calm_then_violent(t: f64, y: &V2, dy: &mut V2) {
+    dy[0] = y[1];
+    dy[1] = -y[0] + if t > 1.0 { 1e6 * (1e3 * t).sin() } else { 0.0 };
+}
+
+/// A step that fails after a rejected trial (here: the attempt budget runs out) leaves the last
+/// accepted step's dense output as it was: the truth is $\cos t$ inside that step, and the same
+/// integrator's dense output without the failed step.
+#[test]
+fn dense_output_survives_a_failed_step() {
+    fn check<I: Integrator<U2>>(build: impl Fn(u64) -> I) {
+        let y0 = V2::new(1.0, 0.0);
+        let to_calm_end = |integ: &mut I| {
+            integ.reset(&calm_then_violent, 0.0, &y0, false).unwrap();
+            while integ.t() < 0.99 {
+                integ.step(&calm_then_violent, 0.99).unwrap();
+            }
+        };
+        let mut clean = build(1_000_000);
+        to_calm_end(&mut clean);
+        let attempts = clean.stats().steps + clean.stats().rejected;
+        let mid = 0.5 * (clean.t_prev() + clean.t());
+        let mut expected = V2::zeros();
+        clean.dense(&calm_then_violent, mid, &mut expected);
+
+        // One attempt more than the calm part needs: the first trial past t = 1 is rejected,
+        // and the step ends with the budget spent.
+        let mut failed = build(attempts + 1);
+        to_calm_end(&mut failed);
+        let r = failed.step(&calm_then_violent, 5.0);
+        assert!(matches!(r, Err(OdeError::TooManySteps { .. })), "{r:?}");
+        assert!(failed.stats().rejected > clean.stats().rejected);
+        let mut out = V2::zeros();
+        failed.dense(&calm_then_violent, mid, &mut out);
+        let name = failed.name();
+        assert!(
+            (out[0] - mid.cos()).abs() < 1e-8,
+            "{name}: {out:?} vs cos {}",
+            mid.cos()
+        );
+        assert_eq!(out, expected, "{name}");
+    }
+    let opts = |m| Options::with_tol(1e-10, 1e-10).with_max_steps(m);
+    check(|m| Dop853::<U2>::new(opts(m)).unwrap());
+    check(|m| Dopri5::<U2>::new(opts(m)).unwrap());
+}
