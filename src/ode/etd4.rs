@@ -66,10 +66,15 @@ where
     DefaultAllocator: Allocator<D>,
 {
     core: Core<D>,
-    /// The full step's stages and the two half steps' (kept for the dense output).
+    /// The full step's stages and the two half steps' of the trial.
     full: Stages<D>,
+    halves_trial: [Stages<D>; 2],
+    /// The state at mid-step (after the first half step) of the trial.
+    u_mid_trial: OVector<f64, D>,
+    /// The accepted step's half steps and mid-step state, for the dense output: swapped in
+    /// from the trial's on acceptance, so that a step failing after a rejected trial leaves
+    /// them as they were.
     halves: [Stages<D>; 2],
-    /// The state at mid-step (after the first half step).
     u_mid: OVector<f64, D>,
     /// The full step's result.
     u_full: OVector<f64, D>,
@@ -255,6 +260,8 @@ where
         Ok(Etd4 {
             core: Core::new(dim, options, 5.0, 0.75, 4.0)?,
             full: stages(dim),
+            halves_trial: [stages(dim), stages(dim)],
+            u_mid_trial: z.clone(),
             halves: [stages(dim), stages(dim)],
             u_mid: z.clone(),
             u_full: z.clone(),
@@ -339,15 +346,17 @@ where
         let Etd4 {
             core,
             full,
-            halves,
-            u_mid,
+            halves_trial: halves,
+            u_mid_trial: u_mid,
             u_full,
             stage,
             fk,
             coef_full,
             coef_half,
+            ..
         } = self;
-        core.step(sys, t_bound, |sys, io| {
+        let t_before = core.t;
+        let result = core.step(sys, t_bound, |sys, io| {
             let TrialIo {
                 opts,
                 n_ctrl,
@@ -406,7 +415,12 @@ where
                 err: (sum / n_ctrl).sqrt(),
                 f_new_done: false,
             }
-        })
+        });
+        if self.core.t != t_before {
+            std::mem::swap(&mut self.halves, &mut self.halves_trial);
+            std::mem::swap(&mut self.u_mid, &mut self.u_mid_trial);
+        }
+        result
     }
 
     fn dense<S: OdeSystem<D>>(&mut self, sys: &S, t: f64, out: &mut OVector<f64, D>) {
