@@ -230,7 +230,7 @@ fn main() {
         let legend: Vec<Category> = classes
             .into_iter()
             .zip(&counts)
-            .filter(|(_, &n)| n > 0)
+            .filter(|&(_, &n)| n > 0)
             .map(|(c, n)| Category {
                 label: format!("{} ({n})", c.label),
                 ..c
@@ -350,10 +350,10 @@ fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f6
                 let Some(guess) = traj.strobe.last().map(|s| s.y) else {
                     continue;
                 };
-                if let Ok(b) = continue_orbit(build, eta0, to, &guess, period, &config) {
-                    if let Some(e) = first(&b, SpecialKind::Flip) {
-                        out.push((e, d));
-                    }
+                if let Ok(b) = continue_orbit(build, eta0, to, &guess, period, &config)
+                    && let Some(e) = first(&b, SpecialKind::Flip)
+                {
+                    out.push((e, d));
                 }
             }
         }
@@ -389,10 +389,10 @@ fn overlays(map: &str, base: &Params, grid: &Grid2) -> Vec<(String, Vec<(f64, f6
             let Some(guess) = traj.strobe.last().map(|s| s.y) else {
                 continue;
             };
-            if let Ok(b) = continue_orbit(build, y0, y1, &guess, 1, &config) {
-                if let Some(e) = first(&b, SpecialKind::Grazing) {
-                    graze.push((eta, e));
-                }
+            if let Ok(b) = continue_orbit(build, y0, y1, &guess, 1, &config)
+                && let Some(e) = first(&b, SpecialKind::Grazing)
+            {
+                graze.push((eta, e));
             }
         }
         println!("ecc: grazing of the orbit without contact, continuation vs 1 - A(eta):");

@@ -51,7 +51,7 @@
 //!
 //! Layers, bottom to top: [`ode`] and [`ring`]; [`hybrid`] and [`rotor`]; the analyses
 //! ([`analysis`], [`stability`], [`global`]), which name no concrete model; [`paper`] on top;
-//! [`params`] is used by all. No module uses a higher one (`tests/layers.rs`): a model's
+//! [`params`] is used by all. No module uses a higher one (`tests/suite/layers.rs`): a model's
 //! linearisation lives with the model, the shared ring parts of it with the ring.
 //!
 //! The most used items are re-exported here: [`JeffcottModel`], [`State`], and [`nalgebra`]

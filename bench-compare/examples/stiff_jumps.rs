@@ -1,4 +1,4 @@
-//! The stiff problem with 100 jumps (issue 19 item 5; `tests/ode/ode_stiff_jumps.rs`) with
+//! The stiff problem with 100 jumps (issue 19 item 5; `tests/suite/ode/ode_stiff_jumps.rs`) with
 //! diffsol's stiff solvers, as diffsol's book runs it (its example
 //! `performance-solver-events`: `set_stop_time` at each jump time, the jump applied to the
 //! state and its derivative, dense nalgebra matrices with an LU solver), against the crate's
@@ -17,7 +17,7 @@
 //! them), 2.9e-12 at the last.
 
 #[allow(dead_code)] // the test's constants and its test function are not used here
-#[path = "../../tests/ode/ode_stiff_jumps.rs"]
+#[path = "../../tests/suite/ode/ode_stiff_jumps.rs"]
 mod jumps;
 
 use diffsol::{

@@ -359,10 +359,12 @@ fn csv_path(path: &Path) -> PathBuf {
 
 /// The range of finite values, padded by 3 % (or ±0.5 around a single value).
 fn auto_range(values: impl Iterator<Item = f64>, fixed: Option<(f64, f64)>) -> Range<f64> {
-    if let Some((a, b)) = fixed {
-        if a.is_finite() && b.is_finite() && a < b {
-            return a..b;
-        }
+    if let Some((a, b)) = fixed
+        && a.is_finite()
+        && b.is_finite()
+        && a < b
+    {
+        return a..b;
     }
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values.filter(|v| v.is_finite()) {
@@ -920,10 +922,10 @@ fn split_curve(
             prev = None;
             continue;
         };
-        if let Some(pr) = prev {
-            if max_jump.is_some_and(|limit| dist(q, pr) > limit * std::f64::consts::SQRT_2) {
-                close(&mut cur, &mut pending, &mut pieces);
-            }
+        if let Some(pr) = prev
+            && max_jump.is_some_and(|limit| dist(q, pr) > limit * std::f64::consts::SQRT_2)
+        {
+            close(&mut cur, &mut pending, &mut pieces);
         }
         prev = Some(q);
         match cur.last() {

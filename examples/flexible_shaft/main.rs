@@ -22,7 +22,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 // `Layout::jeffcott` and `FlexibleShaft::energy` serve the tests
-// (tests/simulation/flexible_shaft.rs).
+// (tests/suite/simulation/flexible_shaft.rs).
 #[allow(dead_code)]
 mod shaft;
 

@@ -188,13 +188,13 @@ impl FlexibleShaft {
             }
         }
         let omega: Vec<f64> = (1..=layout.modes).map(natural_frequency).collect();
-        if params.nu1 == 0.0 {
-            if let Some(j) = omega.iter().position(|w| (w - params.eta).abs() < 1e-9 * w) {
-                return Err(ShaftError::UndampedResonance {
-                    mode: j + 1,
-                    eta: params.eta,
-                });
-            }
+        if params.nu1 == 0.0
+            && let Some(j) = omega.iter().position(|w| (w - params.eta).abs() < 1e-9 * w)
+        {
+            return Err(ShaftError::UndampedResonance {
+                mode: j + 1,
+                eta: params.eta,
+            });
         }
         let shapes = |station: usize| -> Vec<f64> {
             (1..=layout.modes)

@@ -4,7 +4,7 @@
 //! reference end values, with the test set's measure of accuracy (`scd`).
 //!
 //! Shared by the example `stiff_set` (its `main.rs`) and the tests
-//! (`tests/ode/ode_stiff_set.rs`, which include this file with `#[path = ...] mod`).
+//! (`tests/suite/ode/ode_stiff_set.rs`, which include this file with `#[path = ...] mod`).
 //!
 //! Sources (Fortran files of the test set, as stored in public repositories):
 //! * VDPOL: `volpatto/pside`, `problems/VdPol/vdpol.f` (revision `vdpol.F,v 1.2`), `solut`;

@@ -275,7 +275,7 @@ fn stiff(problem: Problem, method: Method, tol: f64, repeat: usize) -> Result<Po
             .map_err(|e| e.to_string())
     })?;
     // E5's components are below its atol: its relative scd is atol's, the mixed one is what
-    // the tolerances control (as `tests/ode/ode_stiff_set.rs` asserts).
+    // the tolerances control (as `tests/suite/ode/ode_stiff_set.rs` asserts).
     let scd = if problem == Problem::E5 {
         problems::mescd(r.y.as_slice(), problem.reference(), tol, atol)
     } else {

@@ -1,6 +1,6 @@
 """The finite-element rotor on the ring: case S1 against the shared reference (an
 independent SciPy implementation, tests/data/rotors/README of the shared set), as
-tests/fe/fe_s1.rs checks it."""
+tests/suite/fe/fe_s1.rs checks it."""
 
 import json
 import numpy as np
@@ -40,7 +40,7 @@ def events(t_end):
 
 
 def test_s1_full_model_radau5():
-    # tests/fe/fe_s1.rs: all 1001 samples within 1e-6 of the gap, 7 onsets and 6 losses at
+    # tests/suite/fe/fe_s1.rs: all 1001 samples within 1e-6 of the gap, 7 onsets and 6 losses at
     # the reference's times (within 1e-9 s).
     run, p = s1_run(0.5, rtol=1e-8)
     ref = reference(0.5)

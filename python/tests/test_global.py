@@ -1,4 +1,4 @@
-"""Basins of attraction against the truths of tests/global/global_scan.rs: at eta = 2.2 the
+"""Basins of attraction against the truths of tests/suite/global/global_scan.rs: at eta = 2.2 the
 Fig. 8a model has a period-1 and a period-3 attractor on the grid (-1..1) x (-1.5..1.5) of
 (x0, x0'), and the run from rest reaches period 3 (the paper's 2.165: period 1 ends below 2.2)."""
 

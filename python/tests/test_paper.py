@@ -29,7 +29,7 @@ def load_reference(name):
     return p, rows
 
 
-# The Rust test's bound (tests/simulation/reference.rs measures 5.3e-13 to 1.4e-12 in one
+# The Rust test's bound (tests/suite/simulation/reference.rs measures 5.3e-13 to 1.4e-12 in one
 # run); the chunked run restarts the integrator every `chunk` periods, so the 1e-10.
 ALLOWED = 1e-10
 

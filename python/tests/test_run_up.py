@@ -1,4 +1,4 @@
-"""The run-up against the truth of tests/simulation/run_up.rs: the linear rotor (ring out of
+"""The run-up against the truth of tests/suite/simulation/run_up.rs: the linear rotor (ring out of
 reach) through its resonance at constant acceleration equals the Duhamel integral of the
 out-of-balance force with its tangential term, evaluated here by composite 5-point
 Gauss-Legendre quadrature (numpy's nodes; no code of the crate)."""
@@ -33,7 +33,7 @@ def duhamel(nu, beta, phi0, eta0, rate, tau, panels, tangential=True):
 
 
 def test_linear_run_up_matches_the_duhamel_integral():
-    # tests/simulation/run_up.rs' case: Fig. 8a with nu1 = 0.05, rest at the ring's centre,
+    # tests/suite/simulation/run_up.rs' case: Fig. 8a with nu1 = 0.05, rest at the ring's centre,
     # phi0 = 0.3, eta 0.3 -> 2.0 at 0.02, rtol 1e-12; that test's bound 1e-9 of the peak.
     p = jeffcott.Params.preset("fig8a")
     p.nu1, p.ex, p.ey, p.phi0 = 0.05, 0.0, 0.0, 0.3

@@ -1,6 +1,6 @@
 """Periodic orbits and Floquet multipliers against the independent reference of the Rust
 tests (tests/data/stability_reference.csv: SciPy, Newton and Richardson central differences of
-the stroboscopic map, no code of the crate), with tests/stability/stability_orbits.rs' bounds."""
+the stroboscopic map, no code of the crate), with tests/suite/stability/stability_orbits.rs' bounds."""
 
 import math
 import subprocess
@@ -45,7 +45,7 @@ def test_periodic_orbit_bad_input():
 
 
 def test_lyapunov_spectrum_of_a_stable_orbit_is_the_log_of_its_multipliers():
-    # As tests/stability/stability_lyapunov.rs: Fig. 8a at eta = 2, 500 + 100 + 2000 periods;
+    # As tests/suite/stability/stability_lyapunov.rs: Fig. 8a at eta = 2, 500 + 100 + 2000 periods;
     # the truth is ln|multiplier| of the independent reference, with that test's bounds.
     ref = reference("fig8a_eta2")
     l = jeffcott.lyapunov_exponents(jeffcott.Params.preset("fig8a"), transient=500, align=100,
@@ -78,7 +78,7 @@ def test_lyapunov_bad_input(kw):
 
 @pytest.mark.parametrize("preset,case", [("fig8a", "fig8a_flip"), ("fig8b", "fig8b_flip")])
 def test_continuation_finds_the_fig8_flip(preset, case):
-    # The period-1 orbit from eta = 2 to 2.3 (tests/global/global_continuation.rs): one flip,
+    # The period-1 orbit from eta = 2 to 2.3 (tests/suite/global/global_continuation.rs): one flip,
     # at the independent reference's eta* (stability_reference.csv) within that test's 3e-8.
     flip_ref = reference(case)["flip_eta"]
     b = jeffcott.continue_orbit(jeffcott.Params.preset(preset), 2.0, 2.3)
@@ -114,7 +114,7 @@ def test_lyapunov_releases_the_gil():
     assert len(inside) >= 10, f"{len(inside)} stamps in a {duration:.3f} s run"
 
 
-# The reference period-1 point of Fig. 8a at eta = 2 (tests/global/global_continuation.rs),
+# The reference period-1 point of Fig. 8a at eta = 2 (tests/suite/global/global_continuation.rs),
 # the ring at rest inside the gap: a start with no transient.
 FIG8A_POINT = [0.5781094858, -0.0232587983, 0.0944197873, -0.3099208533, 0.0, 0.0]
 

@@ -174,15 +174,15 @@ where
         let mut out = Vec::new();
         let mut prev: Option<(f64, Periodicity)> = None;
         for col in self.columns.iter().flatten() {
-            if let Some((v, p)) = prev {
-                if !p.agrees_with(&col.periodicity) {
-                    out.push(PeriodChange {
-                        from: v,
-                        to: col.value,
-                        at_from: p,
-                        at_to: col.periodicity,
-                    });
-                }
+            if let Some((v, p)) = prev
+                && !p.agrees_with(&col.periodicity)
+            {
+                out.push(PeriodChange {
+                    from: v,
+                    to: col.value,
+                    at_from: p,
+                    at_to: col.periodicity,
+                });
             }
             prev = Some((col.value, col.periodicity));
         }

@@ -284,7 +284,7 @@
 //! three samples each side; at the record's ends the six nearest): for a coordinate smooth in
 //! the phase its error is at most $\frac{225}{64\cdot720}h^6\max|f^{(6)}| = 0.0049\thinspace h^6
 //! \max|f^{(6)}|$ at an interval's middle, $h$ the local phase step (measured in
-//! `tests/analysis/order.rs`). Contact makes the orbit's velocity jump: the interpolation loses
+//! `tests/suite/analysis/order.rs`). Contact makes the orbit's velocity jump: the interpolation loses
 //! its order on the samples around a touch, so a record already at the phases (the strobes of
 //! `ProfiledJeffcott::with_strobes_per_revolution`) is better taken as it is
 //! ([`AngleSamples::new`]).

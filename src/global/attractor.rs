@@ -494,7 +494,7 @@ where
         .time_in
         .iter()
         .enumerate()
-        .filter(|(_, &t)| t > 0.0)
+        .filter(|&(_, &t)| t > 0.0)
         .map(|(label, &t)| (label as u8, t / span))
         .collect();
     let free = obs.time_in[usize::from(obs.free_label)];

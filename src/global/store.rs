@@ -578,15 +578,15 @@ fn check_manifest(path: &Path, text: &str, expected: &Manifest) -> Result<String
     let json: Value = serde_json::from_str(text).map_err(corrupt)?;
     // The format first, read leniently: format 2 wrote it as `2.0`.
     let format = json.get("format").and_then(Value::as_f64);
-    if format != Some(FORMAT_VERSION as f64) {
-        if let Some(found) = format.filter(|f| f.fract() == 0.0 && *f >= 0.0) {
-            return Err(StoreError::Format {
-                path: path.to_path_buf(),
-                found: found as u64,
-                expected: FORMAT_VERSION,
-                crate_version: CRATE_VERSION,
-            });
-        }
+    if format != Some(FORMAT_VERSION as f64)
+        && let Some(found) = format.filter(|f| f.fract() == 0.0 && *f >= 0.0)
+    {
+        return Err(StoreError::Format {
+            path: path.to_path_buf(),
+            found: found as u64,
+            expected: FORMAT_VERSION,
+            crate_version: CRATE_VERSION,
+        });
     }
     let found: ManifestFile = serde_json::from_value(json).map_err(corrupt)?;
     let mismatch = |field, expected: String, found: String| StoreError::Mismatch {

@@ -588,14 +588,14 @@ fn check_options(
             "use 1..=ode::MAX_SAMPLES (64) interior samples per step, e.g. 4",
         );
     }
-    if let Some(r) = plan.strobe {
-        if r.first > r.last {
-            return bad(
-                "strobe.first",
-                r.first as f64,
-                "the stroboscopic range is reversed: first must not exceed last",
-            );
-        }
+    if let Some(r) = plan.strobe
+        && r.first > r.last
+    {
+        return bad(
+            "strobe.first",
+            r.first as f64,
+            "the stroboscopic range is reversed: first must not exceed last",
+        );
     }
     if let Some(d) = plan.dense {
         if !d.t_start.is_finite() {
@@ -1117,15 +1117,15 @@ where
         if let Err(k) = self.stall.record(t, kind) {
             return Err(fail(k, t, &self.y, self.stats));
         }
-        if self.stall.count == 0 {
-            if let Some(e) = self.chattering.take() {
-                return Err(e);
-            }
+        if self.stall.count == 0
+            && let Some(e) = self.chattering.take()
+        {
+            return Err(e);
         }
-        if let Err(k) = self.chatter.record(t) {
-            if self.chattering.is_none() {
-                self.chattering = Some(fail(k, t, &self.y, self.stats));
-            }
+        if let Err(k) = self.chatter.record(t)
+            && self.chattering.is_none()
+        {
+            self.chattering = Some(fail(k, t, &self.y, self.stats));
         }
         if self.plan.events {
             let e = &mut self.w.event;

@@ -329,14 +329,14 @@ where
     /// Checks that per-component tolerances have `dim` components.
     pub(crate) fn check_dim(&self, dim: usize) -> Result<(), OdeError> {
         for (field, tol) in [("rtol", &self.rtol), ("atol", &self.atol)] {
-            if let Some(found) = tol.components() {
-                if found != dim {
-                    return Err(OdeError::DimensionMismatch {
-                        field,
-                        expected: dim,
-                        found,
-                    });
-                }
+            if let Some(found) = tol.components()
+                && found != dim
+            {
+                return Err(OdeError::DimensionMismatch {
+                    field,
+                    expected: dim,
+                    found,
+                });
             }
         }
         Ok(())
@@ -374,14 +374,14 @@ where
 
     /// `h_init`, `h_max`, `h_min` and `max_steps`.
     fn validate_step_sizes(&self) -> Result<(), OdeError> {
-        if let Some(h) = self.h_init {
-            if !(h.is_finite() && h > 0.0) {
-                return bad(
-                    "h_init",
-                    h,
-                    "use a finite h_init > 0, or None for automatic",
-                );
-            }
+        if let Some(h) = self.h_init
+            && !(h.is_finite() && h > 0.0)
+        {
+            return bad(
+                "h_init",
+                h,
+                "use a finite h_init > 0, or None for automatic",
+            );
         }
         if self.h_max.is_nan() || self.h_max <= 0.0 {
             return bad(
@@ -397,10 +397,10 @@ where
                 "h_min must be finite, >= 0 and <= h_max",
             );
         }
-        if let Some(h) = self.h_init {
-            if h < self.h_min {
-                return bad("h_init", h, "h_init must be >= h_min");
-            }
+        if let Some(h) = self.h_init
+            && h < self.h_min
+        {
+            return bad("h_init", h, "h_init must be >= h_min");
         }
         if self.max_steps == 0 {
             return bad("max_steps", 0.0, "max_steps must be >= 1");
@@ -431,15 +431,15 @@ where
                 "fac_max must be finite and >= 1; typical 10",
             );
         }
-        if let Some(b) = self.beta {
-            if !(0.0..=0.2).contains(&b) {
-                return bad("beta", b, "beta must be in [0, 0.2]; typical 0.04");
-            }
+        if let Some(b) = self.beta
+            && !(0.0..=0.2).contains(&b)
+        {
+            return bad("beta", b, "beta must be in [0, 0.2]; typical 0.04");
         }
-        if let Some(h) = self.fixed_step {
-            if !(h.is_finite() && h > 0.0) {
-                return bad("fixed_step", h, "fixed_step must be finite and > 0");
-            }
+        if let Some(h) = self.fixed_step
+            && !(h.is_finite() && h > 0.0)
+        {
+            return bad("fixed_step", h, "fixed_step must be finite and > 0");
         }
         Ok(())
     }

@@ -467,14 +467,13 @@ impl RotorModel for JeffcottModel {
     }
 
     fn project(&self, mode: Mode, t: f64, y: &mut State, cache: &Cache) {
-        if mode.is_contact() {
-            if let Ok(ring) = self
+        if mode.is_contact()
+            && let Ok(ring) = self
                 .ring
                 .ring_state(&mode, t, &Self::kinematics(y), &cache.ring)
-            {
-                y[4] = ring.s.x;
-                y[5] = ring.s.y;
-            }
+        {
+            y[4] = ring.s.x;
+            y[5] = ring.s.y;
         }
     }
 

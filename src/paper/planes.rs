@@ -81,7 +81,7 @@ impl BasinPlane {
     /// state (ring placed by [`JeffcottModel::state_at`]) at a grid point.
     pub fn setup(
         &self,
-    ) -> impl Fn(&[f64; 2]) -> Result<(JeffcottModel, State), PointFailure> + Sync + Send + Clone
+    ) -> impl Fn(&[f64; 2]) -> Result<(JeffcottModel, State), PointFailure> + Sync + Send + Clone + use<>
     {
         let this = *self;
         move |point: &[f64; 2]| {
@@ -130,7 +130,7 @@ impl ParamPlane {
     /// The setup closure of [`crate::global::scan_grid`].
     pub fn setup(
         &self,
-    ) -> impl Fn(&[f64; 2]) -> Result<(JeffcottModel, State), PointFailure> + Sync + Send + Clone
+    ) -> impl Fn(&[f64; 2]) -> Result<(JeffcottModel, State), PointFailure> + Sync + Send + Clone + use<>
     {
         let this = *self;
         move |point: &[f64; 2]| {

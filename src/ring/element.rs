@@ -558,7 +558,7 @@ impl SnubberRing {
     /// `out(i, value, rate)` for each, with the value of [`SnubberRing::guard_value`] and, if
     /// `accel` is given ($r^{\prime\prime}$ of the station), the rate of
     /// [`SnubberRing::guard_rate_with_accel`] (`None` without it). Bitwise the same numbers as
-    /// the one-guard methods (both evaluate the same formulas; `tests/ring/ring_element.rs` checks
+    /// the one-guard methods (both evaluate the same formulas; `tests/suite/ring/ring_element.rs` checks
     /// it), for one ring location instead of one per guard.
     pub fn guard_values(
         &self,
@@ -955,10 +955,10 @@ impl SnubberRing {
                 // contact that began on the circle, the guard's ulp larger than its motion) or
                 // on an integration error. Releasing it as a parting one would let it run into
                 // the ring unseen (the onset search skips a separating start): it touches.
-                if let (RingGuard::Gap, RingMode::Free { relax, .. }) = (guard, parted.mode) {
-                    if self.moves_in(t, k, &relax, &accel) {
-                        return self.touch(t, k, accel);
-                    }
+                if let (RingGuard::Gap, RingMode::Free { relax, .. }) = (guard, parted.mode)
+                    && self.moves_in(t, k, &relax, &accel)
+                {
+                    return self.touch(t, k, accel);
                 }
                 Ok(parted)
             }

@@ -100,7 +100,7 @@
 //!   [`Onset::At`] at that node: nothing is certified past it, and the caller meets the
 //!   non-finite state there.
 //!
-//! `tests/ring/onset_bruteforce.rs` checks this against dense sampling of the closed form on $10^4$
+//! `tests/suite/ring/onset_bruteforce.rs` checks this against dense sampling of the closed form on $10^4$
 //! (and, ignored by default, $10^5$) constructed near-grazing cases.
 
 use nalgebra::Vector2;

@@ -304,18 +304,19 @@ pub mod boundaries {
                 })
                 .filter(|p| p.x <= limit && p.y <= limit)
                 .collect();
-            if b != Boundary::IContact && !pts.is_empty() {
-                if let Some(c) = self.corner() {
-                    if c.x <= limit && c.y <= limit {
-                        // Order along the curve: insert at the end nearest to the corner.
-                        let first = (pts[0] - c).norm();
-                        let last = (pts[pts.len() - 1] - c).norm();
-                        if first < last {
-                            pts.insert(0, c);
-                        } else {
-                            pts.push(c);
-                        }
-                    }
+            if b != Boundary::IContact
+                && !pts.is_empty()
+                && let Some(c) = self.corner()
+                && c.x <= limit
+                && c.y <= limit
+            {
+                // Order along the curve: insert at the end nearest to the corner.
+                let first = (pts[0] - c).norm();
+                let last = (pts[pts.len() - 1] - c).norm();
+                if first < last {
+                    pts.insert(0, c);
+                } else {
+                    pts.push(c);
                 }
             }
             pts

@@ -294,11 +294,11 @@ impl<'a> Station<'a> {
             }
         }
         let r = self.kinematics(&y).r;
-        if r.norm() > self.ring.gap {
-            if let Ok(c) = self.ring.locate(&r) {
-                y[self.slots[0]] = c.s.x;
-                y[self.slots[1]] = c.s.y;
-            }
+        if r.norm() > self.ring.gap
+            && let Ok(c) = self.ring.locate(&r)
+        {
+            y[self.slots[0]] = c.s.x;
+            y[self.slots[1]] = c.s.y;
         }
         y
     }

@@ -32,7 +32,7 @@
 //! $E = \tfrac12|r^\prime|^2 + \tfrac12 j\eta^2 + \beta\eta\thinspace r^\prime\cdot t_\varphi +
 //! \tfrac12|r - e|^2 + E_\text{ring}(s)$ (the out-of-balance's kinetic energy is the cross
 //! term) changes by the motor's work $\int t(\eta)\eta\thinspace d\tau$ minus the rotor's damping
-//! $\int 2\nu_1|r^\prime|^2$ and the ring's losses (`tests/simulation/drive_energy.rs`
+//! $\int 2\nu_1|r^\prime|^2$ and the ring's losses (`tests/suite/simulation/drive_energy.rs`
 //! checks it).
 //!
 //! The strobes are at equal times (the phase is a state): $2\pi k/\eta_\text{ref}$ with the

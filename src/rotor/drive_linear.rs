@@ -24,7 +24,7 @@
 //! \Omega\thinspace q^\prime\cdot b + \tfrac12 q^{\mathsf T}K_s q - f_0\cdot q + E_\text{ring}$
 //! ($K_s$ the symmetric part of $K$) changes by the motor's work $\int T\Omega$ minus
 //! $\int q^{\prime\mathsf T}C q^\prime$, the circulatory $\int q^{\prime\mathsf T}K_a q$ ($K_a$
-//! the skew part: cross-coupled bearings) and the ring's losses (`tests/fe/fe_drive.rs`
+//! the skew part: cross-coupled bearings) and the ring's losses (`tests/suite/fe/fe_drive.rs`
 //! checks it).
 //!
 //! Free flight is integrated, with [`super::RingedRotor`]'s onset guarantee (see

@@ -25,14 +25,14 @@
 //! ([`ProfiledLinearRotor::with_acceleration_stiffness`]).
 //!
 //! At a constant profile at $\Omega_r$ the field is [`LinearRotor`]'s, bit for bit (the
-//! corrections are skipped where they are zero; `tests/fe/fe_run_up.rs` checks it).
+//! corrections are skipped where they are zero; `tests/suite/fe/fe_run_up.rs` checks it).
 //!
 //! **Free flight is integrated** (no closed form at varying speed), so contact onsets are found
 //! by the event detector on the dense output, with [`super::RingedRotor`]'s onset guarantee,
 //! the same as for [`super::ProfiledJeffcott`]: every touch of the integrated trajectory's
 //! dense output is found, and whether the exact orbit touches is decided to that
 //! trajectory's own error. Measured on an undamped circular orbit whose largest distance from
-//! the ring's centre is $1 + d$ gaps (`tests/fe/fe_run_up.rs`): at `rtol` $10^{-12}$ touches
+//! the ring's centre is $1 + d$ gaps (`tests/suite/fe/fe_run_up.rs`): at `rtol` $10^{-12}$ touches
 //! of depth $d = 10^{-9}$ down to $10^{-12}$ are found ($10^{-13}$ is not: the paper's model
 //! finds it), and a miss by $10^{-9}$ is not taken for a touch.
 

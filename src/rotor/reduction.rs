@@ -65,7 +65,7 @@ pub enum ModeSelection {
 /// list of speeds, and [`CraigBampton::fewest_modes`] the fewest modes within a tolerance.
 /// The error is not monotone mode by mode but falls fast overall; on the 204-DOF rotor with
 /// the ring at node 12, at 1200 rpm: 2.2e-2 with no mode (Guyan), 6.7e-6 with 12, 1.5e-7
-/// with 24, 1.8e-9 with 48; the contact transient of case S1 (`tests/fe/fe_reduction_s1.rs`)
+/// with 24, 1.8e-9 with 48; the contact transient of case S1 (`tests/suite/fe/fe_reduction_s1.rs`)
 /// is then within 6.6e-4, 4.7e-5 and 1.0e-6 of the gap.
 ///
 /// # Example
@@ -114,10 +114,10 @@ impl CraigBampton {
         let n = mass.nrows();
         check_matrix("M", mass, n)?;
         check_matrix("K", stiffness, n)?;
-        if let ModeSelection::Below(cutoff) = modes {
-            if cutoff.is_nan() || cutoff < 0.0 {
-                return Err(RotorError::ModeCutoff { cutoff });
-            }
+        if let ModeSelection::Below(cutoff) = modes
+            && (cutoff.is_nan() || cutoff < 0.0)
+        {
+            return Err(RotorError::ModeCutoff { cutoff });
         }
         let interior = interior_dofs(n, boundary)?;
         let pick = |a: &DMatrix<f64>, rows: &[usize], cols: &[usize]| {

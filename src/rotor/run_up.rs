@@ -22,7 +22,7 @@
 //! by the event detector on the dense output, with [`RingedRotor`]'s onset guarantee: every
 //! touch of the integrated trajectory's dense output is found, and whether the exact orbit
 //! touches is decided to that trajectory's own error. Measured on an undamped circular orbit
-//! whose largest radius is $1 + d$ (`tests/simulation/run_up.rs`): at `rtol` $10^{-12}$
+//! whose largest radius is $1 + d$ (`tests/suite/simulation/run_up.rs`): at `rtol` $10^{-12}$
 //! touches of depth $d = 10^{-9}$ down to $10^{-13}$ are found, and a miss by $10^{-9}$ is not
 //! taken for a touch.
 

@@ -264,14 +264,14 @@ fn check(opts: &LyapunovOptions) -> Result<(), StabilityError> {
             hint: "periods >= 1 and 1 <= batch <= periods (at least 20 batches for an error)",
         });
     }
-    if let Some(d0) = opts.separation {
-        if !(d0.is_finite() && d0 > 0.0) {
-            return Err(StabilityError::InvalidOption {
-                field: "separation",
-                value: d0,
-                hint: "a finite separation > 0, e.g. 1e-8",
-            });
-        }
+    if let Some(d0) = opts.separation
+        && !(d0.is_finite() && d0 > 0.0)
+    {
+        return Err(StabilityError::InvalidOption {
+            field: "separation",
+            value: d0,
+            hint: "a finite separation > 0, e.g. 1e-8",
+        });
     }
     Ok(())
 }

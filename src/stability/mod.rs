@@ -144,7 +144,7 @@
 //!   $\ln|\det DP(z_k)|$ by construction (the product of the QR's diagonal), so it is no check
 //!   of $DP$. The check is Liouville's formula along the trajectory, independent of the
 //!   variational code: $\ln|\det DP| = \int\operatorname{tr}(\partial f/\partial y)\thinspace d\tau +
-//!   \sum_e\ln|\det S_e|$ over the period (`tests/stability/stability_lyapunov.rs`,
+//!   \sum_e\ln|\det S_e|$ over the period (`tests/suite/stability/stability_lyapunov.rs`,
 //!   docs/stability.md).
 //!
 //! Every event of the fiducial trajectory is crossed through its saltation matrix; the result

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Independent reference for the stability tests (tests/stability/stability_orbits.rs,
+"""Independent reference for the stability tests (tests/suite/stability/stability_orbits.rs,
 stability_lyapunov.rs).
 
 Computes, for the paper's model (shared/MODEL.md) with the Fig. 8 values, WITHOUT the crate:

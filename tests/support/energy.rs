@@ -1,5 +1,5 @@
 //! Energy-balance helpers shared by the tests that close an energy balance with contact
-//! (`tests/fe/fe_energy.rs`, `tests/simulation/drive_energy.rs`): the ring's laws written out
+//! (`tests/suite/fe/fe_energy.rs`, `tests/suite/simulation/drive_energy.rs`): the ring's laws written out
 //! again from `../shared/MODEL.md` (not the crate's force), a local degree-5 quadrature of
 //! sampled integrands, and the free ring's dissipation from its closed-form relaxation.
 

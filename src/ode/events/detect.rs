@@ -206,18 +206,18 @@ impl Step {
             } else {
                 g != 0.0 && !g.is_nan()
             };
-            if self.at_origin && !s.armed {
-                if let Some((j, d)) = self.last_hit {
-                    if j == i {
-                        // The event that just fired keeps its post-crossing sign.
-                        s.armed = true;
-                        s.g_ref = if d == Direction::Falling {
-                            -f64::MIN_POSITIVE
-                        } else {
-                            f64::MIN_POSITIVE
-                        };
-                    }
-                }
+            if self.at_origin
+                && !s.armed
+                && let Some((j, d)) = self.last_hit
+                && j == i
+            {
+                // The event that just fired keeps its post-crossing sign.
+                s.armed = true;
+                s.g_ref = if d == Direction::Falling {
+                    -f64::MIN_POSITIVE
+                } else {
+                    f64::MIN_POSITIVE
+                };
             }
             if self.at_origin && self.fired != Some(i) && !g.is_nan() {
                 // How this guard may leave zero (start-of-segment rule). A derivative of
@@ -476,10 +476,10 @@ where
                     any_nan = true;
                     continue;
                 }
-                if let Some((r, d, l)) = self.guard_interval(s, i, &iv, (g_b, d_b))? {
-                    if iv.best.is_none_or(|(tb, _, _, _)| r < tb) {
-                        iv.best = Some((r, i, d, l));
-                    }
+                if let Some((r, d, l)) = self.guard_interval(s, i, &iv, (g_b, d_b))?
+                    && iv.best.is_none_or(|(tb, _, _, _)| r < tb)
+                {
+                    iv.best = Some((r, i, d, l));
                 }
             }
             if any_nan {

@@ -378,10 +378,11 @@ where
         if !dyno.is_finite() {
             return non_finite;
         }
-        if newt > 1 && newt < nit {
-            if let Some(failed) = history.check(rate, inp, newt, dyno) {
-                return failed;
-            }
+        if newt > 1
+            && newt < nit
+            && let Some(failed) = history.check(rate, inp, newt, dyno)
+        {
+            return failed;
         }
         history.dynold = dyno.max(f64::EPSILON);
         update_stages(w, [z0, z1, z2]);
