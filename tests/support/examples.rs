@@ -1,13 +1,34 @@
 //! The built example programs, for the tests of their command-line contracts.
 
+use std::collections::HashMap;
 use std::path::PathBuf;
 use std::process::{Command, Output};
+use std::sync::Mutex;
+
+/// The examples this test process has built (or found fresh), by name.
+static BUILT: Mutex<Option<HashMap<String, PathBuf>>> = Mutex::new(None);
 
 /// Path of example `name`, built by `cargo build --example name` with the profile the test
 /// itself was built with (a no-op after a plain `cargo test`, which builds the examples), so
-/// that the test never runs a stale binary. Panics, failing the test, if the example cannot be
-/// built: a test of an example that does not build must fail, not pass as skipped.
+/// that the test never runs a stale binary. Each example is built once a process: a no-op
+/// `cargo build` still costs a third of a second of CPU, and the tests that ask for the same
+/// example wait for one build instead of queueing on Cargo's lock. Panics, failing the test, if
+/// the example cannot be built: a test of an example that does not build must fail, not pass
+/// as skipped.
 pub fn example_exe(name: &str) -> PathBuf {
+    // A test that panicked while holding the lock left the map as it was: still valid.
+    let mut built = BUILT.lock().unwrap_or_else(|e| e.into_inner());
+    let built = built.get_or_insert_with(HashMap::new);
+    if let Some(bin) = built.get(name) {
+        return bin.clone();
+    }
+    let bin = build_example(name);
+    built.insert(name.to_owned(), bin.clone());
+    bin
+}
+
+/// Builds example `name` (see [`example_exe`]) and returns its path.
+fn build_example(name: &str) -> PathBuf {
     let exe = std::env::current_exe().expect("the test's own path");
     // target/<profile>/deps/<test> -> target/<profile>
     let profile_dir = exe
