@@ -10,13 +10,20 @@
 # The runs write into target/figures/regenerate (removed first, so that the resumable sweeps of
 # basins and param_map start over; REUSE=1 keeps it, and an interrupted sweep resumes). NICE=0
 # runs without `nice`; BUILD=0 uses the example binaries already built; DEST=DIR copies the
-# pictures there instead of docs/figures (CI: .ci/commands). Run from anywhere inside the repository.
+# pictures there instead of docs/figures (CI: .ci/commands); PROFILE=test builds and runs the
+# examples in Cargo's test profile (target/debug: in CI, the builds `cargo test` made) instead of
+# release. Run from anywhere inside the repository.
 set -euo pipefail
 
 cd "$(git rev-parse --show-toplevel)"
 out=target/figures/regenerate
 dest=${DEST:-docs/figures}
-bin=target/release/examples
+profile=${PROFILE:-release}
+case $profile in
+release) bin=target/release/examples ;;
+dev | test) bin=target/debug/examples ;;
+*) bin=target/$profile/examples ;;
+esac
 nice_cmd=(nice)
 [[ "${NICE:-1}" == 0 ]] && nice_cmd=()
 [[ "${REUSE:-0}" == 1 ]] || rm -rf "$out"
@@ -29,7 +36,7 @@ for g in "${groups[@]}"; do
     [[ " ${all[*]} " == *" $g "* ]] || { echo "unknown group: $g (one of: ${all[*]})" >&2; exit 2; }
 done
 
-[[ "${BUILD:-1}" == 0 ]] || "${nice_cmd[@]}" cargo build --release --examples
+[[ "${BUILD:-1}" == 0 ]] || "${nice_cmd[@]}" cargo build --profile "$profile" --examples
 
 # `run NAME ARGS...`: runs an example, timed, its output in $out/NAME.log.
 run() {
