@@ -1,7 +1,8 @@
 //! The example programs as a user runs them: their command line, `--help`, exit statuses and
 //! outputs, and the examples' shared CSV and figure helpers; one module per file:
-//! `cargo test --test suite examples::`, or one module: `cargo test --test suite examples::examples_help::`.
-//! Each test builds the example it runs (`tests/support/examples.rs`).
+//! `cargo test --test suite examples::`, or one module:
+//! `cargo test --test suite examples::examples_help::`. Each test builds the example it runs,
+//! once a process (`tests/support/examples.rs`).
 
 mod analysis_cli;
 mod analysis_plot;

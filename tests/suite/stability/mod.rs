@@ -1,6 +1,7 @@
 //! Integration tests of the stability tools (`jeffcott::stability`): Jacobians, saltation,
 //! periodic orbits and multipliers, Lyapunov exponents; one module per file:
-//! `cargo test --test suite stability::`, or one module: `cargo test --test suite stability::stability_orbits::`.
+//! `cargo test --test suite stability::`, or one module:
+//! `cargo test --test suite stability::stability_orbits::`.
 
 mod stability_honesty;
 mod stability_jacobian;
