@@ -1,12 +1,12 @@
 //! The built example programs, for the tests of their command-line contracts.
 
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::process::{Command, Output};
 use std::sync::Mutex;
 
 /// The examples this test process has built (or found fresh), by name.
-static BUILT: Mutex<Option<HashMap<String, PathBuf>>> = Mutex::new(None);
+static BUILT: Mutex<BTreeMap<String, PathBuf>> = Mutex::new(BTreeMap::new());
 
 /// Path of example `name`, built by `cargo build --example name` with the profile the test
 /// itself was built with (a no-op after a plain `cargo test`, which builds the examples), so
@@ -18,7 +18,6 @@ static BUILT: Mutex<Option<HashMap<String, PathBuf>>> = Mutex::new(None);
 pub fn example_exe(name: &str) -> PathBuf {
     // A test that panicked while holding the lock left the map as it was: still valid.
     let mut built = BUILT.lock().unwrap_or_else(|e| e.into_inner());
-    let built = built.get_or_insert_with(HashMap::new);
     if let Some(bin) = built.get(name) {
         return bin.clone();
     }
