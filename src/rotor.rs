@@ -490,6 +490,19 @@ pub enum RotorError {
         /// [`SmoothRotor::ring_slots`].
         slots: [usize; 2],
     },
+    /// A linear rotor's closed form would lose the contact to rounding: from rest, its
+    /// station is the sum of a forced response and transients that cancel it, each far larger
+    /// than the gap (a soft mount's static deflection). Free flight is integrated instead
+    /// (the check of [`RingedRotor::new`]).
+    #[error("LinearFreeFlight: the closed form's station sums terms of {terms:e} (forced response and transients from rest), whose rounding {rounding:e} is above 1e-10 of the gap {gap:e}: closed-form free flight refused, free flight is integrated")]
+    ClosedFormRounding {
+        /// The station's sum of magnitudes over a forcing period from rest.
+        terms: f64,
+        /// Its rounding, $16\epsilon$ times that.
+        rounding: f64,
+        /// The ring's gap.
+        gap: f64,
+    },
     /// A rotor's linear closed form disagrees with its own vector field or station.
     #[error("SmoothRotor::linear_free_flight disagrees with SmoothRotor::{method} (t = {t}): component {index} is {closed_form} by the closed form, {rotor} by the rotor (difference {difference:e} above the tolerance {tolerance:e})")]
     LinearMismatch {
@@ -581,6 +594,45 @@ pub enum RotorError {
         /// The DOF repeated.
         dof: usize,
     },
+    /// A matrix that must be symmetric is not: the mass matrix `M` ([`LinearSystem::new`],
+    /// [`RotorMatrices::new`], [`CraigBampton::new`]). The pair differs by more than
+    /// $10^{-10}\sqrt{|M_{ii} M_{jj}|}$ (rounding of an assembled or projected matrix is far
+    /// below).
+    #[error("matrix {matrix} must be symmetric: entry ({row}, {col}) is {value} but ({col}, {row}) is {transposed}")]
+    NotSymmetric {
+        /// `"M"`.
+        matrix: &'static str,
+        /// Row of the first entry found (0-based).
+        row: usize,
+        /// Its column.
+        col: usize,
+        /// The entry at (`row`, `col`).
+        value: f64,
+        /// The entry at (`col`, `row`).
+        transposed: f64,
+    },
+    /// The gyroscopic matrix `G` is not skew-symmetric ($G^{\mathsf T} = -G$: the gyroscopic
+    /// moments do no work) ([`RotorMatrices::new`]).
+    #[error("matrix G must be skew-symmetric (G^T = -G): entry ({row}, {col}) is {value} but ({col}, {row}) is {transposed}")]
+    NotSkewSymmetric {
+        /// Row of the first entry found (0-based).
+        row: usize,
+        /// Its column.
+        col: usize,
+        /// The entry at (`row`, `col`).
+        value: f64,
+        /// The entry at (`col`, `row`).
+        transposed: f64,
+    },
+    /// The mass matrix is not positive definite: some motion has no kinetic energy, or a
+    /// negative one ([`LinearSystem::new`], [`RotorMatrices::new`], [`CraigBampton::new`]).
+    #[error("the mass matrix M must be positive definite: its lowest eigenvalue is {eigenvalue}, its eigenvector largest at DOF {dof} (a DOF without mass, or with a negative one: condense massless DOFs first)")]
+    MassNotPositiveDefinite {
+        /// The lowest eigenvalue of $M$.
+        eigenvalue: f64,
+        /// The DOF where that eigenvalue's eigenvector is largest: the DOF to look at.
+        dof: usize,
+    },
     /// The interior mass of a reduction (the rotor's mass with the boundary DOFs held) is not
     /// positive definite ([`CraigBampton::new`]).
     #[error("the interior mass matrix M_ii (symmetric part) is not positive definite: its lowest eigenvalue is {eigenvalue}; every DOF not on the boundary needs mass (condense massless DOFs first)")]
@@ -630,6 +682,8 @@ const AFFINE_RTOL: f64 = 1e-8;
 const VELOCITY_RTOL: f64 = 1e-6;
 /// Absolute tolerances, as a fraction of the ring's gap (per unit time for velocities).
 const GAP_ATOL: f64 = 1e-12;
+/// The largest rounding of a closed form's station accepted, as a fraction of the gap.
+const CLOSED_FORM_ROUNDING: f64 = 1e-10;
 
 fn kin4(k: &Kinematics) -> [f64; 4] {
     [k.r.x, k.r.y, k.v.x, k.v.y]
@@ -743,13 +797,45 @@ where
             Err(e) => return Err(e),
         };
         self.check_closed_form(&linear, &form, probes)?;
+        if let Err(e) = self.check_rounding(&form) {
+            return Ok(Some(Err(e)));
+        }
         Ok(Some(Ok(form)))
+    }
+
+    /// The closed form's rounding against the gap: the station is a sum of the particular
+    /// solution and the modes' transients, which from rest cancel it; where those terms are
+    /// far larger than the gap (a soft mount's static deflection, $10^{12}$ gaps), the sum's
+    /// rounding, about $16\epsilon$ times their sum of magnitudes (the position bound of the
+    /// segment from rest over a forcing period, [`RotorMotion::bounds_on`]), is an error in the
+    /// contact itself. Above [`CLOSED_FORM_ROUNDING`] of the gap the closed form is refused
+    /// ([`RotorError::ClosedFormRounding`]) and free flight is integrated.
+    ///
+    /// [`RotorMotion::bounds_on`]: crate::ring::onset::RotorMotion::bounds_on
+    fn check_rounding(&self, form: &Arc<LinearClosedForm>) -> Result<(), RotorError> {
+        let rest = vec![0.0; form.state_len()];
+        let period = self.rotor.forcing_period();
+        let size =
+            crate::ring::onset::RotorMotion::bounds_on(&form.segment(0.0, &rest), 0.0, period)
+                .position;
+        let rounding = 16.0 * f64::EPSILON * size;
+        if size.is_finite() && rounding > CLOSED_FORM_ROUNDING * self.ring.gap {
+            return Err(RotorError::ClosedFormRounding {
+                terms: size,
+                rounding,
+                gap: self.ring.gap,
+            });
+        }
+        Ok(())
     }
 
     /// The closed form against the rotor's own `station` and `rhs`: the station at the probe
     /// states (to the affinity tolerance); the state matrix $A$ column by column against
-    /// `rhs(0, e_j) - rhs(0, 0)` (exact up to rounding for a linear field: relative $10^{-8}$
-    /// of each column's largest entry in each half, positions' and velocities' derivatives);
+    /// `(rhs(0, s_j e_j) - rhs(0, 0)) / s_j` (exact up to rounding for a linear field:
+    /// relative $10^{-8}$ of each column's largest entry in each half, positions' and
+    /// velocities' derivatives, plus the rounding of the two evaluations; $s_j$ raises the
+    /// probe to the forcing's size where the column is smaller, so that a small column is not
+    /// lost to cancellation against the forcing);
     /// the forcing `rhs(t, 0)` against $x_p^\prime - A x_p$ at two times (relative
     /// $10^{-8}$ of the terms). A probe's derivative is not compared through the modes: the
     /// stiff modes amplify its rounding by $|\lambda|_\text{max}\kappa$.
@@ -781,14 +867,30 @@ where
         let mut base = self.zero_state();
         let mut dy = self.zero_state();
         self.rotor.rhs(0.0, &y, &mut base);
+        let forcing = amax(base.as_slice());
         for j in 0..len {
-            y[j] = 1.0;
+            // The probe along e_j at the column's own scale: large enough that the forcing
+            // (in both evaluations) does not cancel it away (a soft mount under gravity, a
+            // light damping column against the unbalance), 1 when the column is the larger.
+            let column = amax(&(0..len).map(|i| a[(i, j)]).collect::<Vec<_>>());
+            let size = if column > 0.0 && forcing > column {
+                forcing / column
+            } else {
+                1.0
+            };
+            y[j] = size;
             self.rotor.rhs(0.0, &y, &mut dy);
             y[j] = 0.0;
             for half in groups.iter().cloned() {
-                let col: Vec<f64> = half.clone().map(|i| dy[i] - base[i]).collect();
+                let col: Vec<f64> = half.clone().map(|i| (dy[i] - base[i]) / size).collect();
                 let want: Vec<f64> = half.clone().map(|i| a[(i, j)]).collect();
-                let tol = 1e-8 * amax(&col).max(amax(&want));
+                // Relative to the column, plus the rounding of the two evaluations' terms.
+                let rounding = half
+                    .clone()
+                    .map(|i| dy[i].abs() + base[i].abs())
+                    .fold(0.0, f64::max);
+                let tol =
+                    1e-8 * amax(&col).max(amax(&want)) + 64.0 * f64::EPSILON * rounding / size;
                 for (k, i) in half.enumerate() {
                     linear_agrees("rhs", 0.0, i, want[k], col[k], tol)?;
                 }

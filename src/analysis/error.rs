@@ -53,6 +53,23 @@ pub enum AnalysisError {
         )]
         expected: crate::StaticStr,
     },
+    /// A record resampled in the shaft's angle ([`AngleSamples::resample`]) too coarsely for a
+    /// tracked order: the interpolation's error bound for that order
+    /// ([`AngleSamples::interpolation_error`]) is above the tolerance
+    /// ([`OrderTrackOptions::max_interpolation_error`]).
+    ///
+    /// [`AngleSamples::resample`]: super::AngleSamples::resample
+    /// [`AngleSamples::interpolation_error`]: super::AngleSamples::interpolation_error
+    /// [`OrderTrackOptions::max_interpolation_error`]: super::OrderTrackOptions::max_interpolation_error
+    #[error("order {order} is resolved only to {bound:.1e} of its amplitude by the angle resampling (tolerance {tolerance:.1e}): record more samples a revolution (the bound falls as the phase step to the 6th power)")]
+    OrderUnresolved {
+        /// The highest order tracked.
+        order: f64,
+        /// Its relative interpolation error bound.
+        bound: f64,
+        /// The tolerance.
+        tolerance: f64,
+    },
     /// Too few samples to run the requested test.
     #[error("too few samples: got {got}, need at least {needed} ({why})")]
     TooFewSamples {

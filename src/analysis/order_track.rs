@@ -21,6 +21,13 @@ pub struct AngleSamples {
     pub x: Vec<f64>,
     /// The coordinate $y$ of each sample.
     pub y: Vec<f64>,
+    /// The resampling's node constant $P = \max_k \prod_{i=1}^{6}|\varphi_k - \varphi_{k,i}|$
+    /// over the resampled phases $\varphi_k$ and the six recorded phases each is interpolated
+    /// from ([`AngleSamples::resample`]; 0 for a record taken as it is,
+    /// [`AngleSamples::new`]). It sets [`AngleSamples::interpolation_error`]; equal steps $h$
+    /// give $P = (15/8)^2 h^6 \approx 3.5 h^6$.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub node_constant: f64,
 }
 
 impl AngleSamples {
@@ -62,12 +69,27 @@ impl AngleSamples {
             times,
             x,
             y,
+            node_constant: 0.0,
         })
+    }
+
+    /// The bound on the resampling's error for a whirl component of order `order`,
+    /// $A e^{i m \varphi}$, relative to its amplitude $A$: the remainder of 6-point Lagrange
+    /// interpolation, $|f^{(6)}| P/6!$ for the real and imaginary parts each, with
+    /// $|f^{(6)}| \le m^6 A$:
+    /// $$\epsilon_m = \sqrt2\thinspace m^6 P/720$$
+    /// ([`AngleSamples::node_constant`] $P$). At 4 recorded samples a revolution it is 10 % for
+    /// order 1 (measured 3 %), at 8 0.16 %, at 16 2.5e-5: it falls as the phase step to the
+    /// sixth power and rises as the order to the sixth. 0 for a record taken as it is.
+    pub fn interpolation_error(&self, order: f64) -> f64 {
+        std::f64::consts::SQRT_2 * order.abs().powi(6) * self.node_constant / 720.0
     }
 
     /// Resamples a record at any `times` with the shaft's `phases` there (increasing) at the
     /// phases $2\pi k/S$ within the record, by 6-point Lagrange interpolation in the phase
-    /// (the module's docs); the times are interpolated alike.
+    /// (the module's docs); the times are interpolated alike. The result carries the
+    /// interpolation's error bound ([`AngleSamples::interpolation_error`]), which
+    /// [`order_track`] checks against its tolerance.
     ///
     /// # Errors
     /// `InvalidCount` for `per_revolution` < 4, `TooFewSamples` for fewer than 6 samples,
@@ -104,6 +126,7 @@ impl AngleSamples {
         let last = (phases[phases.len() - 1] / step).floor() as i64;
         let (mut t, mut xs, mut ys) = (Vec::new(), Vec::new(), Vec::new());
         let mut j = 0;
+        let mut node_constant = 0.0f64;
         for k in first..=last {
             let target = k as f64 * step;
             while j + 2 < phases.len() && phases[j + 1] <= target {
@@ -111,11 +134,14 @@ impl AngleSamples {
             }
             let lo = j.saturating_sub(2).min(phases.len() - POINTS);
             let at = &phases[lo..lo + POINTS];
+            node_constant = node_constant.max(at.iter().map(|p| (target - p).abs()).product());
             t.push(lagrange(at, &times[lo..lo + POINTS], target));
             xs.push(lagrange(at, &x[lo..lo + POINTS], target));
             ys.push(lagrange(at, &y[lo..lo + POINTS], target));
         }
-        Self::new(per_revolution, first as f64 * step, t, xs, ys)
+        let mut samples = Self::new(per_revolution, first as f64 * step, t, xs, ys)?;
+        samples.node_constant = node_constant;
+        Ok(samples)
     }
 
     /// The full spectrum of the whole record in shaft orders (the frequency axis in cycles
@@ -166,6 +192,9 @@ pub struct OrderTrackOptions {
     pub hop_revolutions: usize,
     /// The window. Default Hann.
     pub window: Window,
+    /// The largest resampling error accepted for the highest tracked order, relative to its
+    /// amplitude ([`AngleSamples::interpolation_error`]). Default 0.01 (0.09 dB).
+    pub max_interpolation_error: f64,
 }
 
 impl Default for OrderTrackOptions {
@@ -175,6 +204,7 @@ impl Default for OrderTrackOptions {
             revolutions_per_window: 8,
             hop_revolutions: 2,
             window: Window::Hann,
+            max_interpolation_error: 1e-2,
         }
     }
 }
@@ -201,8 +231,10 @@ pub struct OrderRow {
 ///
 /// # Errors
 /// `InvalidCount` for a window or hop of 0 revolutions; `InvalidValue` (`"orders"`) for an
-/// order that is not a multiple of $1/W$ or not in $[0, S/2)$; `TooFewSamples` for a record
-/// shorter than one window.
+/// order that is not a multiple of $1/W$ or not in $[0, S/2)$, or for a
+/// `max_interpolation_error` that is NaN or not positive; `OrderUnresolved` for a record
+/// resampled too coarsely for the highest order; `TooFewSamples` for a record shorter than
+/// one window.
 pub fn order_track(
     samples: &AngleSamples,
     options: &OrderTrackOptions,
@@ -221,6 +253,7 @@ pub fn order_track(
         }
     }
     let bins = order_bins(&options.orders, w, s)?;
+    check_resolution(samples, options)?;
     let n = w * s;
     if n < 8 {
         return Err(AnalysisError::InvalidCount {
@@ -261,6 +294,31 @@ pub fn order_track(
         })
         .collect();
     Ok(rows)
+}
+
+/// The resampling's error bound for the highest tracked order against the tolerance.
+fn check_resolution(
+    samples: &AngleSamples,
+    options: &OrderTrackOptions,
+) -> Result<(), AnalysisError> {
+    let tolerance = options.max_interpolation_error;
+    if tolerance.is_nan() || tolerance <= 0.0 {
+        return Err(AnalysisError::InvalidValue {
+            name: "max_interpolation_error",
+            value: tolerance,
+            expected: "a relative error > 0",
+        });
+    }
+    let order = options.orders.iter().fold(0.0, |m: f64, o| m.max(o.abs()));
+    let bound = samples.interpolation_error(order);
+    if bound > tolerance {
+        return Err(AnalysisError::OrderUnresolved {
+            order,
+            bound,
+            tolerance,
+        });
+    }
+    Ok(())
 }
 
 /// The bin of each order, checked: a multiple of $1/W$ in $[0, S/2)$.

@@ -6,7 +6,7 @@
 
 use nalgebra::{Complex, DMatrix, DVector, Dyn, MatrixXx2, Vector2};
 
-use super::matrices::check_matrix;
+use super::matrices::{check_mass, check_matrix};
 use super::{DofLayout, LinearFreeFlight, RotorError, RotorMatrices, SmoothRotor};
 use crate::ode::JacobianMut;
 use crate::ring::{ForceJacobian, Kinematics};
@@ -56,8 +56,10 @@ impl LinearSystem {
     /// The unforced system $M q^{\prime\prime} + D q^\prime + K q = 0$ at the speed
     /// `speed` (rad/s). Errors: a matrix not square or not of `M`'s size
     /// ([`RotorError::MatrixShape`], `D` named `"D"`), a non-finite entry
-    /// ([`RotorError::MatrixEntry`]), a speed not finite and positive ([`RotorError::Speed`]),
-    /// no coordinate at all ([`RotorError::DofCount`]).
+    /// ([`RotorError::MatrixEntry`]), an `M` that is not symmetric positive definite
+    /// ([`RotorError::NotSymmetric`], [`RotorError::MassNotPositiveDefinite`]), a speed not
+    /// finite and positive ([`RotorError::Speed`]), no coordinate at all
+    /// ([`RotorError::DofCount`]). `D` and `K` may be non-symmetric (cross-coupled bearings).
     pub fn new(
         mass: DMatrix<f64>,
         damping: DMatrix<f64>,
@@ -75,6 +77,7 @@ impl LinearSystem {
         check_matrix("M", &mass, n)?;
         check_matrix("D", &damping, n)?;
         check_matrix("K", &stiffness, n)?;
+        check_mass(&mass)?;
         if !(speed.is_finite() && speed > 0.0) {
             return Err(RotorError::Speed { value: speed });
         }
@@ -557,12 +560,23 @@ impl LinearRotor {
         })
     }
 
-    /// The rotor with the state's scale of the station and of the ring's slots raised to at
-    /// least `gap` (m) (and $\Omega$ `gap` for the station's velocities): the ring's gap is
-    /// the length the contact resolves, so a run that sees the ring should not measure the
-    /// station's error against a smaller steady amplitude. [`RingedRotor`] runs take the
-    /// scale as it is; call this with the ring's gap before composing (the helper
-    /// [`LinearRotor::ringed`] does).
+    /// The rotor with the state's scale in the contact's units: the ring's gap `gap` (m) is
+    /// the length the contact resolves, so an error at the tolerance should move the station
+    /// by about the tolerance times the gap, whatever the free response.
+    ///
+    /// 1. Where the station's scale (its steady unbalance response plus static deflection,
+    ///    [`SmoothRotor::state_scale`]) exceeds the gap, every component's scale is divided
+    ///    by the same factor, so that the station's is the gap: each coordinate keeps its
+    ///    share of the free response's shape (rotations and distant nodes in proportion),
+    ///    at the station's accuracy. Near a critical speed, or on a soft mount under gravity,
+    ///    the free response is many gaps (thousands to $10^{12}$) and that scale would let
+    ///    the absolute tolerance pass contacts by.
+    /// 2. The station's scale and the ring's slots are raised to at least the gap (and
+    ///    $\Omega$ `gap` for the station's velocities): a run that sees the ring should not
+    ///    measure the station's error against a smaller steady amplitude either.
+    ///
+    /// [`RingedRotor`] runs take the scale as it is; call this with the ring's gap before
+    /// composing (the helper [`LinearRotor::ringed`] does). Idempotent.
     ///
     /// [`RingedRotor`]: super::RingedRotor
     #[must_use]
@@ -570,6 +584,10 @@ impl LinearRotor {
         let n = self.system.dofs();
         let w = self.system.speed;
         if gap.is_finite() && gap > 0.0 {
+            let station = self.scale[self.station[0]].max(self.scale[self.station[1]]);
+            if station > gap {
+                self.scale *= gap / station;
+            }
             for i in self.station {
                 self.scale[i] = self.scale[i].max(gap);
                 self.scale[n + i] = self.scale[n + i].max(gap * w);

@@ -1,6 +1,6 @@
 //! A finite-element rotor's matrices, as a rotordynamics code exports them.
 
-use nalgebra::DMatrix;
+use nalgebra::{Cholesky, DMatrix, SymmetricEigen};
 
 use super::RotorError;
 
@@ -51,7 +51,11 @@ const LATERAL_OF_ROSS6: [usize; 4] = [0, 1, 3, 4];
 impl RotorMatrices {
     /// The rotor from its mass, damping, gyroscopic and stiffness matrices (`M`, `C`, `G`,
     /// `K`), in the given layout. Errors: a matrix that is not square, of another size than
-    /// `M`, not a whole number of nodes, or with a non-finite entry.
+    /// `M`, not a whole number of nodes, or with a non-finite entry; an `M` that is not
+    /// symmetric positive definite ([`RotorError::NotSymmetric`],
+    /// [`RotorError::MassNotPositiveDefinite`]) or a `G` that is not skew-symmetric
+    /// ([`RotorError::NotSkewSymmetric`]). `C` and `K` may be non-symmetric (cross-coupled
+    /// bearings).
     pub fn new(
         mass: DMatrix<f64>,
         damping: DMatrix<f64>,
@@ -72,6 +76,8 @@ impl RotorMatrices {
         ] {
             check_matrix(name, m, n)?;
         }
+        check_mass(&mass)?;
+        check_gyroscopic(&gyroscopic)?;
         Ok(Self {
             mass,
             damping,
@@ -194,4 +200,70 @@ pub(super) fn check_matrix(
         }),
         None => Ok(()),
     }
+}
+
+/// Relative tolerance of the symmetry checks: far above the rounding of an assembled or
+/// projected matrix ($T^{\mathsf T} M T$: about $10^{-16}$ of its entries), far below a
+/// modelling mistake.
+const SYMMETRY_RTOL: f64 = 1e-10;
+
+/// Checks that the mass matrix `m` (square, finite: [`check_matrix`] first) is symmetric,
+/// each pair to [`SYMMETRY_RTOL`] of $\sqrt{|m_{ii} m_{jj}|}$ (the bound of $|m_{ij}|$ for a
+/// positive definite matrix, in the units of the pair's DOFs) or of the pair itself
+/// ([`RotorError::NotSymmetric`]), and positive definite: a Cholesky factorisation, and on
+/// failure the lowest eigenvalue and the DOF where its mode is largest
+/// ([`RotorError::MassNotPositiveDefinite`]).
+pub(super) fn check_mass(m: &DMatrix<f64>) -> Result<(), RotorError> {
+    let n = m.nrows();
+    for j in 0..n {
+        for i in j + 1..n {
+            let (value, transposed) = (m[(i, j)], m[(j, i)]);
+            let size = (m[(i, i)] * m[(j, j)])
+                .abs()
+                .sqrt()
+                .max(value.abs())
+                .max(transposed.abs());
+            if (value - transposed).abs() > SYMMETRY_RTOL * size {
+                return Err(RotorError::NotSymmetric {
+                    matrix: "M",
+                    row: i,
+                    col: j,
+                    value,
+                    transposed,
+                });
+            }
+        }
+    }
+    if Cholesky::new(m.clone()).is_some() {
+        return Ok(());
+    }
+    let eigen = SymmetricEigen::new(m.clone());
+    let lowest = eigen.eigenvalues.imin();
+    Err(RotorError::MassNotPositiveDefinite {
+        eigenvalue: eigen.eigenvalues[lowest],
+        dof: eigen.eigenvectors.column(lowest).iamax(),
+    })
+}
+
+/// Checks that the gyroscopic matrix `g` (square, finite) is skew-symmetric, each pair to
+/// [`SYMMETRY_RTOL`] of the pair's larger entry plus $10^{-14}$ of the largest entry
+/// ([`RotorError::NotSkewSymmetric`]; the diagonal must then vanish to the same tolerance).
+pub(super) fn check_gyroscopic(g: &DMatrix<f64>) -> Result<(), RotorError> {
+    let floor = 1e-14 * g.amax();
+    for j in 0..g.ncols() {
+        for i in j..g.nrows() {
+            let (value, transposed) = (g[(i, j)], g[(j, i)]);
+            if (value + transposed).abs()
+                > SYMMETRY_RTOL * value.abs().max(transposed.abs()) + floor
+            {
+                return Err(RotorError::NotSkewSymmetric {
+                    row: i,
+                    col: j,
+                    value,
+                    transposed,
+                });
+            }
+        }
+    }
+    Ok(())
 }

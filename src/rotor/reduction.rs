@@ -2,7 +2,7 @@
 
 use nalgebra::{Cholesky, ComplexField, DMatrix, DVector, SymmetricEigen};
 
-use super::matrices::check_matrix;
+use super::matrices::{check_mass, check_matrix};
 use super::{RotorError, RotorMatrices};
 
 mod response;
@@ -98,7 +98,9 @@ impl CraigBampton {
     /// coordinate `j` is `boundary[j]`) and the fixed-interface modes chosen by `modes`.
     ///
     /// Errors: a matrix not square or of another size ([`RotorError::MatrixShape`]), a
-    /// non-finite entry ([`RotorError::MatrixEntry`]), a boundary DOF out of range or repeated
+    /// non-finite entry ([`RotorError::MatrixEntry`]), a mass matrix that is not symmetric
+    /// positive definite as a whole ([`RotorError::NotSymmetric`],
+    /// [`RotorError::MassNotPositiveDefinite`]), a boundary DOF out of range or repeated
     /// ([`RotorError::DofOutOfRange`], [`RotorError::DuplicateBoundaryDof`]), an interior mass
     /// that is not positive definite ([`RotorError::InteriorMass`]), an interior stiffness
     /// that does not hold the rotor, e.g. rigid-body or axial/torsional DOFs left free
@@ -114,6 +116,7 @@ impl CraigBampton {
         let n = mass.nrows();
         check_matrix("M", mass, n)?;
         check_matrix("K", stiffness, n)?;
+        check_mass(mass)?;
         if let ModeSelection::Below(cutoff) = modes
             && (cutoff.is_nan() || cutoff < 0.0)
         {

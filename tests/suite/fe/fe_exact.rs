@@ -871,3 +871,52 @@ fn a_refused_closed_form_leaves_free_flight_integrated() {
             .unwrap();
     assert!(stats.transitions > 0 && stats.exact_evals == 0);
 }
+
+/// A two-DOF rotor (mass `m`, damping `c`, stiffness `k` per axis) with an unbalance force
+/// `f` (N, forward at the speed) and a constant force `g` along y, the ring at both DOFs.
+fn forced_pair(m: f64, c: f64, k: f64, speed: f64, f: f64, g: f64) -> jeffcott::rotor::LinearRotor {
+    let eye = DMatrix::<f64>::identity(2, 2);
+    let system = LinearSystem::from_parts(
+        &eye * m,
+        &eye * c,
+        &eye * k,
+        speed,
+        DVector::from_vec(vec![Complex::new(f, 0.0), Complex::new(0.0, -f)]),
+        DVector::from_vec(vec![0.0, g]),
+    )
+    .unwrap();
+    jeffcott::rotor::LinearRotor::new(system, [0, 1], [0.0, 0.0]).unwrap()
+}
+
+/// Issue 31, finding 3: valid rotors whose forcing dwarfs a column of the state matrix are
+/// accepted with their closed form (before: `LinearMismatch`, 2.8e-17 against a tolerance of
+/// 1e-17, the column lost to cancellation against the forcing), as `ModalRotor` accepts them:
+/// mass 10, stiffness 1e6 and damping 1e-8 and 1e-10 per axis with an unbalance of 1e-4 kg m
+/// at 300 rad/s (9 N), gap 1e-4; and a stiffness of 1e-13 under a constant force, whose
+/// closed form then passes the self-check but is refused for its rounding (a static deflection
+/// of 2e12 gaps: `ClosedFormRounding`, free flight integrated).
+#[test]
+fn forcing_that_dwarfs_a_column_is_accepted() {
+    let ring = SnubberRing::from_units(1e6, 10.0, [0.0, 0.0], 1e-4).unwrap();
+    let light = |c: f64| forced_pair(10.0, c, 1e6, 300.0, 1e-4 * 300.0 * 300.0, 0.0);
+    let soft = forced_pair(1.0, 0.5, 1e-13, 1.0, 0.1, 0.2);
+    let soft_ring = SnubberRing::from_units(10.0, 0.1, [0.0, 0.0], 1.0).unwrap();
+    for (name, rotor, ring, rounded) in [
+        ("damping 1e-8", light(1e-8), ring, false),
+        ("damping 1e-10", light(1e-10), ring, false),
+        ("stiffness 1e-13", soft, soft_ring, true),
+    ] {
+        jeffcott::rotor::ModalRotor::new(&rotor)
+            .unwrap_or_else(|e| panic!("{name}: modal form {e}"))
+            .ringed(ring)
+            .unwrap_or_else(|e| panic!("{name}: modal {e}"));
+        let model = rotor.ringed(ring).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let form = model.closed_form();
+        let ok = if rounded {
+            matches!(form, Some(Err(RotorError::ClosedFormRounding { .. })))
+        } else {
+            matches!(form, Some(Ok(_)))
+        };
+        assert!(ok, "{name}: {:?}", form.map(|r| r.err()));
+    }
+}

@@ -5,7 +5,9 @@ use jeffcott::hybrid::SimOptions;
 use jeffcott::nalgebra::{Complex, DMatrix, DVector};
 use jeffcott::ode::Method;
 use jeffcott::ring::{RingError, SnubberRing};
-use jeffcott::rotor::{DofLayout, LinearRotor, LinearSystem, RotorError};
+use jeffcott::rotor::{
+    CraigBampton, DofLayout, LinearRotor, LinearSystem, ModeSelection, RotorError, RotorMatrices,
+};
 
 use crate::fe::fe_s1::{contact_events, run, sample_error, S1};
 
@@ -144,10 +146,10 @@ fn bad_input_is_a_clear_error() {
         .with_unbalance(DofLayout::Lateral4, 1, 1e-3, 0.0)
         .unwrap_err();
     assert_eq!(node, RotorError::NodeOutOfRange { node: 1, nodes: 1 });
-    let singular = LinearSystem::new(DMatrix::zeros(2, 2), eye.clone(), eye.clone(), 1.0).unwrap();
+    // A zero mass: refused at the door (not positive definite), not later by the LU of M.
     assert!(matches!(
-        LinearRotor::new(singular, [0, 1], [0.0; 2]),
-        Err(RotorError::Singular { matrix: "M", .. })
+        LinearSystem::new(DMatrix::zeros(2, 2), eye.clone(), eye.clone(), 1.0),
+        Err(RotorError::MassNotPositiveDefinite { .. })
     ));
     let ring = SnubberRing::from_units(1e6, -1.0, [0.0; 2], 1e-4).unwrap_err();
     assert_eq!(
@@ -296,4 +298,88 @@ fn the_linear_jacobian_is_the_derivative_of_rhs() {
     assert!(storage.rows(2 * n, 2).iter().all(|&v| v == 0.0));
     let mut wrong = DMatrix::zeros(3, 3);
     assert!(!rotor.write_jacobian(&mut wrong.view_mut((0, 0), (3, 3))));
+}
+
+/// Issue 31, finding 4: matrices checked at the door, naming the entry. A non-symmetric or
+/// indefinite mass (a negative mass on a reduction's boundary DOF) and a gyroscopic matrix
+/// that is not skew-symmetric are refused; cross-coupled (non-symmetric) stiffness and damping
+/// are accepted.
+#[test]
+fn bad_matrices_are_refused_naming_the_entry() {
+    let n = 4;
+    let eye = DMatrix::<f64>::identity(n, n);
+    let mut k = DMatrix::<f64>::from_fn(n, n, |i, j| match i.abs_diff(j) {
+        0 => 2e6,
+        1 => -1e6,
+        _ => 0.0,
+    });
+    // A cross-coupled bearing: K and C not symmetric, accepted.
+    k[(0, 1)] += 3e5;
+    k[(1, 0)] -= 3e5;
+    let mut c = &eye * 10.0;
+    c[(2, 3)] = 4.0;
+    assert!(LinearSystem::new(eye.clone(), c.clone(), k.clone(), 100.0).is_ok());
+    // M not symmetric: the first pair named, (row, col) below the diagonal.
+    let mut m = eye.clone();
+    m[(2, 1)] = 0.1;
+    let err = LinearSystem::new(m.clone(), c.clone(), k.clone(), 100.0).unwrap_err();
+    assert_eq!(
+        err,
+        RotorError::NotSymmetric {
+            matrix: "M",
+            row: 2,
+            col: 1,
+            value: 0.1,
+            transposed: 0.0
+        }
+    );
+    assert!(err.to_string().contains("(2, 1)"), "{err}");
+    // Rounding-level asymmetry (an assembled matrix) is accepted.
+    let mut m = eye.clone();
+    m[(2, 1)] = 1e-14;
+    m[(1, 2)] = 1e-14 * (1.0 + 1e-12);
+    assert!(LinearSystem::new(m, c.clone(), k.clone(), 100.0).is_ok());
+    // A negative mass at DOF 3: not positive definite, the DOF named.
+    let mut m = eye.clone();
+    m[(3, 3)] = -0.5;
+    let err = LinearSystem::new(m.clone(), c.clone(), k.clone(), 100.0).unwrap_err();
+    assert!(
+        matches!(err, RotorError::MassNotPositiveDefinite { eigenvalue, dof: 3 } if eigenvalue == -0.5),
+        "{err}"
+    );
+    // The same on a reduction's boundary DOF (before: accepted, only M_ii was checked).
+    let err = CraigBampton::new(&m, &k, &[3], ModeSelection::Count(1)).unwrap_err();
+    assert!(
+        matches!(err, RotorError::MassNotPositiveDefinite { dof: 3, .. }),
+        "{err}"
+    );
+    let mut skewed = eye.clone();
+    skewed[(0, 3)] = 0.2;
+    assert!(matches!(
+        CraigBampton::new(&skewed, &k, &[0, 1], ModeSelection::Count(1)),
+        Err(RotorError::NotSymmetric { row: 3, col: 0, .. })
+    ));
+    // G must be skew-symmetric (gyroscopic moments do no work).
+    let mut g = DMatrix::<f64>::zeros(n, n);
+    g[(2, 3)] = 0.7;
+    g[(3, 2)] = -0.7;
+    let ok = RotorMatrices::new(
+        eye.clone(),
+        c.clone(),
+        g.clone(),
+        k.clone(),
+        DofLayout::Lateral4,
+    );
+    assert!(ok.is_ok(), "{ok:?}");
+    g[(3, 2)] = 0.7;
+    let err = RotorMatrices::new(eye.clone(), c, g, k, DofLayout::Lateral4).unwrap_err();
+    assert_eq!(
+        err,
+        RotorError::NotSkewSymmetric {
+            row: 3,
+            col: 2,
+            value: 0.7,
+            transposed: 0.7
+        }
+    );
 }

@@ -432,13 +432,13 @@ fn bad_input_is_a_clear_error() {
         Err(RotorError::InteriorStiffness { eigenvalue }) => assert!(eigenvalue.abs() < 1e-3),
         other => panic!("{other:?}"),
     }
-    // A massless interior DOF.
+    // A massless interior DOF: the mass as a whole is refused, naming the DOF.
     let mut m = rotor.mass().clone();
     m.row_mut(5).fill(0.0);
     m.column_mut(5).fill(0.0);
     assert!(matches!(
         CraigBampton::new(&m, rotor.stiffness(), &[0, 1], c0),
-        Err(RotorError::InteriorMass { .. })
+        Err(RotorError::MassNotPositiveDefinite { dof: 5, .. })
     ));
     // Finite entries whose products overflow.
     let huge = rotor.stiffness() * 1e300;
