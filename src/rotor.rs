@@ -265,7 +265,10 @@ where
 
     /// The linear part of [`SmoothRotor::rhs`], diagonal in the state's own coordinates
     /// ([`DiagonalLinearPart`](crate::ode::DiagonalLinearPart): a rotor in modal coordinates,
-    /// [`ModalRotor`]), with nothing at the ring's slots. [`RingedRotor`] passes it on as
+    /// [`ModalRotor`]), with the forcing of `rhs` declared on it if it has one
+    /// ([`DiagonalLinearPart::with_forcing`](crate::ode::DiagonalLinearPart::with_forcing):
+    /// the unbalance at the spin speed, a constant load), and nothing at the ring's slots.
+    /// [`RingedRotor`] passes it on as
     /// [`RotorModel::linear_part`], which the exponential integrator
     /// [`Etd4`](crate::ode::Etd4) needs. Default `None`.
     fn linear_part(&self) -> Option<&crate::ode::DiagonalLinearPart> {
@@ -1474,8 +1477,9 @@ where
         true
     }
 
-    /// The rotor's [`SmoothRotor::linear_part`]: the ring's force and slots are the rest of
-    /// the field.
+    /// The rotor's [`SmoothRotor::linear_part`], with its forcing: the ring's force and slots
+    /// are the rest of the field (a force on the rotor in contact, which moves with the
+    /// unbalance, is resolved by the steps).
     fn linear_part(&self) -> Option<&crate::ode::DiagonalLinearPart> {
         self.rotor.linear_part()
     }

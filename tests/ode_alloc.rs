@@ -184,12 +184,12 @@ fn linear_rotor_rhs_allocates_nothing() {
 }
 
 /// The exponential integrator ETD4 (a system with a diagonal linear part: the chain's
-/// velocity damping), with events, truncations and resets, and `rotor::ModalRotor`'s field,
-/// station and force: nothing allocated.
+/// velocity damping; without and with its forcing declared), with events, truncations and
+/// resets, and `rotor::ModalRotor`'s field, station and force: nothing allocated.
 #[test]
 fn etd4_steps_and_the_modal_rotor_allocate_nothing() {
     use jeffcott::nalgebra::{Complex, DMatrix, Vector2};
-    use jeffcott::ode::{DiagonalLinearPart, OdeSystem};
+    use jeffcott::ode::{BlockForcing, DiagonalLinearPart, OdeSystem};
     use jeffcott::rotor::{LinearRotor, LinearSystem, ModalRotor, SmoothRotor};
     struct Split(DiagonalLinearPart);
     impl OdeSystem<Dyn> for Split {
@@ -203,36 +203,46 @@ fn etd4_steps_and_the_modal_rotor_allocate_nothing() {
     let m = 6;
     let n = 2 * m;
     let damping: Vec<(usize, f64)> = (m..n).map(|i| (i, -0.05)).collect();
-    let sys = Split(DiagonalLinearPart::new(n, &damping, &[]).unwrap());
-    let opts = Options::default().with_rtol(1e-9).with_atol(1e-11);
-    let mut integ = AnyIntegrator::with_dim(Method::Etd4, Dyn(n), opts).unwrap();
-    let events = EventFns::new([Direction::Rising], |_i, _t, y: &DVector<f64>| y[0] - 0.1)
-        .with_derivative(|_i, _t, _y: &DVector<f64>, dy: &DVector<f64>| dy[0]);
-    let mut state = EventState::with_dim(Dyn(n));
-    let ev_opts = EventOptions::default();
-    let y0 = DVector::from_fn(n, |i, _| 0.05 * (i as f64 + 1.0).sin());
-    let (mut y, mut mid) = (y0.clone(), y0.clone());
-    integ.reset(&sys, 0.0, &y0, false).unwrap();
-    let mut impacts = 0;
-    let info = allocation_counter::measure(|| {
-        for _ in 0..1000 {
-            integ.step(&sys, 1e6).unwrap();
-            let tm = 0.5 * (integ.t_prev() + integ.t());
-            integ.dense(&sys, tm, &mut mid);
-            if let Some(hit) =
-                find_first_event(&mut integ, &sys, &events, &ev_opts, &mut state).unwrap()
-            {
-                impacts += 1;
-                y.copy_from(&hit.y);
-                integ.truncate(&sys, hit.t).unwrap();
-                y[m] *= -0.8;
-                integ.reset(&sys, hit.t, &y, true).unwrap();
-                state.reset();
+    let plain = DiagonalLinearPart::new(n, &damping, &[]).unwrap();
+    // The chain's forcing 0.3 cos 1.3t at the first mass's velocity, declared: the forced
+    // stepping path (its increments and the dense output's response).
+    let drive = BlockForcing {
+        cos: Complex::new(0.3, 0.0),
+        ..BlockForcing::default()
+    };
+    let forced = plain.clone().with_forcing(1.3, &[(m, drive)]).unwrap();
+    for (lp, label) in [(plain, "ETD4"), (forced, "ETD4 with a declared forcing")] {
+        let sys = Split(lp);
+        let opts = Options::default().with_rtol(1e-9).with_atol(1e-11);
+        let mut integ = AnyIntegrator::with_dim(Method::Etd4, Dyn(n), opts).unwrap();
+        let events = EventFns::new([Direction::Rising], |_i, _t, y: &DVector<f64>| y[0] - 0.1)
+            .with_derivative(|_i, _t, _y: &DVector<f64>, dy: &DVector<f64>| dy[0]);
+        let mut state = EventState::with_dim(Dyn(n));
+        let ev_opts = EventOptions::default();
+        let y0 = DVector::from_fn(n, |i, _| 0.05 * (i as f64 + 1.0).sin());
+        let (mut y, mut mid) = (y0.clone(), y0.clone());
+        integ.reset(&sys, 0.0, &y0, false).unwrap();
+        let mut impacts = 0;
+        let info = allocation_counter::measure(|| {
+            for _ in 0..1000 {
+                integ.step(&sys, 1e6).unwrap();
+                let tm = 0.5 * (integ.t_prev() + integ.t());
+                integ.dense(&sys, tm, &mut mid);
+                if let Some(hit) =
+                    find_first_event(&mut integ, &sys, &events, &ev_opts, &mut state).unwrap()
+                {
+                    impacts += 1;
+                    y.copy_from(&hit.y);
+                    integ.truncate(&sys, hit.t).unwrap();
+                    y[m] *= -0.8;
+                    integ.reset(&sys, hit.t, &y, true).unwrap();
+                    state.reset();
+                }
             }
-        }
-    });
-    assert!(impacts >= 5, "{impacts}");
-    assert_eq!(info.count_total, 0, "ETD4: {info:?}");
+        });
+        assert!(impacts >= 5, "{label}: {impacts}");
+        assert_eq!(info.count_total, 0, "{label}: {info:?}");
+    }
 
     let k = DMatrix::from_fn(8, 8, |i, j| if i == j { 1e4 } else { -10.0 });
     let system = LinearSystem::new(DMatrix::identity(8, 8) * 2.0, k.scale(1e-4), k, 50.0)

@@ -429,8 +429,9 @@ where
 
     /// The linear part of every mode's field, diagonal in the state's own coordinates, passed
     /// to the integrator as [`OdeSystem::linear_part`](crate::ode::OdeSystem::linear_part)
-    /// (the exponential integrator [`Etd4`](crate::ode::Etd4) needs it). The same for every
-    /// mode: what a mode adds (a contact force) is the rest of its field. Default `None`.
+    /// (the exponential integrator [`Etd4`](crate::ode::Etd4) needs it), with the forcing of
+    /// the field declared on it if it has one. The same for every mode: what a mode adds (a
+    /// contact force) is the rest of its field. Default `None`.
     fn linear_part(&self) -> Option<&crate::ode::DiagonalLinearPart> {
         None
     }

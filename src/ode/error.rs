@@ -138,4 +138,28 @@ pub enum OdeError {
         /// The eigenvalue's part given for it.
         value: f64,
     },
+    /// A forcing declared on a [`DiagonalLinearPart`](super::DiagonalLinearPart)
+    /// ([`DiagonalLinearPart::with_forcing`](super::DiagonalLinearPart::with_forcing)) is
+    /// invalid: a frequency or an amplitude not finite, a component that is not a block's
+    /// first or is forced twice, an imaginary part on a real block.
+    #[error("invalid forcing `{field}` = {value} (component {component:?}): {hint}")]
+    InvalidForcing {
+        /// `"frequency"`, `"component"`, or the amplitude: `"cos"`, `"sin"`, `"constant"`.
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
+        /// The block's first component (`None` for the frequency).
+        component: Option<usize>,
+        /// The offending value (the component itself for `"component"`, the offending part
+        /// of an amplitude).
+        value: f64,
+        /// What to do instead.
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        hint: crate::StaticStr,
+    },
 }

@@ -17,8 +17,10 @@ pub(crate) enum Slot {
     PairIm,
 }
 
-/// The linear part $L$ of a right-hand side $f(t, y) = L y + N(t, y)$, block-diagonal in the
-/// system's own coordinates ([`OdeSystem::linear_part`](super::OdeSystem::linear_part)):
+/// The linear part $L$ of a right-hand side $f(t, y) = L y + g(t) + N(t, y)$, block-diagonal
+/// in the system's own coordinates ([`OdeSystem::linear_part`](super::OdeSystem::linear_part)),
+/// with an optional forcing $g$ of the blocks at one angular frequency
+/// ([`DiagonalLinearPart::with_forcing`]):
 ///
 /// with $\ell = L y$:
 ///
@@ -30,13 +32,63 @@ pub(crate) enum Slot {
 ///   \operatorname{Im}\lambda & \operatorname{Re}\lambda\end{pmatrix}$;
 /// * every other component has $L_{ii} = 0$ (the rest of its right-hand side is $N$).
 ///
+/// The forcing of a block (at its first component, [`BlockForcing`]) is
+/// $g(t) = a\cos\omega t + b\sin\omega t + c$, the same $\omega$ for every block; a real
+/// block's $a$, $b$, $c$ are real, a complex block's the complex numbers of its pair. The
+/// system's right-hand side still returns the whole $f$: $N$ is what is left,
+/// $N = f - Ly - g(t)$.
+///
 /// A linear system's modal coordinates (the eigen-decomposition of its state matrix) have this
-/// form; the exponential integrator [`Etd4`](super::Etd4) treats $L$ exactly and only $N$
-/// (the forcing, a contact force) by quadrature, at $O(N)$ a step.
+/// form, its unbalance and constant loads a forcing; the exponential integrator
+/// [`Etd4`](super::Etd4) treats $L$ and $g$ exactly and only $N$ (a contact force) by
+/// quadrature, at $O(N)$ a step. Any split is *correct* ($N$ is computed as
+/// $f - Ly - g$, whatever $L$ and $g$ were declared); it is *efficient* when what is left in
+/// $N$ is smooth and slow.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DiagonalLinearPart {
     values: Vec<Complex<f64>>,
     slots: Vec<Slot>,
+    forcing: Option<Forcing>,
+}
+
+/// The forcing $g(t) = a\cos\omega t + b\sin\omega t + c$ of one block of a
+/// [`DiagonalLinearPart`] ([`DiagonalLinearPart::with_forcing`]): for a complex block, $a$, $b$,
+/// $c$ are the complex amplitudes of its pair $u = y_i + i\thinspace y_{i+1}$ (so
+/// $a = A$, $b = iA$ is the rotating forcing $A e^{i\omega t}$); for a real block, real
+/// numbers (imaginary parts 0).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BlockForcing {
+    /// $a$, the amplitude of $\cos\omega t$.
+    pub cos: Complex<f64>,
+    /// $b$, the amplitude of $\sin\omega t$.
+    pub sin: Complex<f64>,
+    /// $c$, the constant.
+    pub constant: Complex<f64>,
+}
+
+/// The declared forcing: its angular frequency and, per component (at a block's first, zero
+/// elsewhere), the block's amplitudes.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Forcing {
+    pub(crate) frequency: f64,
+    pub(crate) blocks: Vec<BlockForcing>,
+    /// The components that carry a forcing (a block's first), in order.
+    pub(crate) forced: Vec<usize>,
+}
+
+impl BlockForcing {
+    /// The exponential amplitudes $[A_+, A_-, c]$ of
+    /// $g(t) = A_+ e^{i\omega t} + A_- e^{-i\omega t} + c$: $A_\pm = (a \mp i b)/2$.
+    pub(crate) fn exponential(&self) -> [Complex<f64>; 3] {
+        let ib = Complex::new(-self.sin.im, self.sin.re);
+        [(self.cos - ib) * 0.5, (self.cos + ib) * 0.5, self.constant]
+    }
+
+    /// $g$ with $(\cos\omega t, \sin\omega t)$ given.
+    #[inline(always)]
+    fn at(&self, cos: f64, sin: f64) -> Complex<f64> {
+        self.cos * cos + self.sin * sin + self.constant
+    }
 }
 
 impl DiagonalLinearPart {
@@ -77,7 +129,102 @@ impl DiagonalLinearPart {
             slots[i] = Slot::PairRe;
             slots[i + 1] = Slot::PairIm;
         }
-        Ok(Self { values, slots })
+        Ok(Self {
+            values,
+            slots,
+            forcing: None,
+        })
+    }
+
+    /// The same linear part with the forcing $g(t) = a\cos\omega t + b\sin\omega t + c$ of
+    /// the blocks in `blocks` (first component of the block, its [`BlockForcing`]), at the
+    /// angular frequency `frequency` $= \omega$ (rad per unit of time; any finite value, 0
+    /// included); the other blocks unforced. Replaces any forcing declared before. A
+    /// component outside every block ($\lambda = 0$) may be forced too (a constant there
+    /// grows linearly, and is integrated exactly all the same).
+    ///
+    /// # Errors
+    /// [`OdeError::InvalidForcing`] naming the field and value: a `frequency` or an amplitude
+    /// that is not finite; a component out of range, forced twice or inside a pair (the
+    /// second component of a complex block); an imaginary part on a real block.
+    pub fn with_forcing(
+        mut self,
+        frequency: f64,
+        blocks: &[(usize, BlockForcing)],
+    ) -> Result<Self, OdeError> {
+        let invalid = |field, component, value, hint| OdeError::InvalidForcing {
+            field,
+            component,
+            value,
+            hint,
+        };
+        if !frequency.is_finite() {
+            return Err(invalid(
+                "frequency",
+                None,
+                frequency,
+                "give a finite angular frequency",
+            ));
+        }
+        let dim = self.dim();
+        let mut table = vec![BlockForcing::default(); dim];
+        let mut taken = vec![false; dim];
+        let mut forced = Vec::with_capacity(blocks.len());
+        for &(i, block) in blocks {
+            let placed = i < dim && self.slots[i] != Slot::PairIm && !taken[i];
+            if !placed {
+                return Err(invalid(
+                    "component",
+                    Some(i),
+                    i as f64,
+                    "name each block once, by its first component, within the dimension",
+                ));
+            }
+            let parts = [
+                ("cos", block.cos),
+                ("sin", block.sin),
+                ("constant", block.constant),
+            ];
+            for (field, a) in parts {
+                if let Some(value) = [a.re, a.im].into_iter().find(|v| !v.is_finite()) {
+                    return Err(invalid(field, Some(i), value, "give finite amplitudes"));
+                }
+                if self.slots[i] == Slot::Scalar && a.im != 0.0 {
+                    return Err(invalid(
+                        field,
+                        Some(i),
+                        a.im,
+                        "a real block's amplitudes are real (imaginary part 0)",
+                    ));
+                }
+            }
+            table[i] = block;
+            taken[i] = true;
+            forced.push(i);
+        }
+        forced.sort_unstable();
+        self.forcing = Some(Forcing {
+            frequency,
+            blocks: table,
+            forced,
+        });
+        Ok(self)
+    }
+
+    /// The forcing's angular frequency $\omega$, `None` without a forcing.
+    pub fn forcing_frequency(&self) -> Option<f64> {
+        self.forcing.as_ref().map(|f| f.frequency)
+    }
+
+    /// The forcing of the block whose first component is `i`, `None` if it has none (or
+    /// `i` is not a block's first component).
+    pub fn block_forcing(&self, i: usize) -> Option<BlockForcing> {
+        let f = self.forcing.as_ref()?;
+        f.forced.binary_search(&i).ok().map(|_| f.blocks[i])
+    }
+
+    pub(crate) fn forcing(&self) -> Option<&Forcing> {
+        self.forcing.as_ref()
     }
 
     /// The state's dimension.
@@ -97,6 +244,48 @@ impl DiagonalLinearPart {
 
     pub(crate) fn values(&self) -> &[Complex<f64>] {
         &self.values
+    }
+
+    /// `out` $= g(t)$, the declared forcing (zero where none is declared; $O(N)$).
+    ///
+    /// # Errors
+    /// [`OdeError::DimensionMismatch`] for an `out` of another length than [`Self::dim`].
+    pub fn forcing_at(&self, t: f64, out: &mut [f64]) -> Result<(), OdeError> {
+        if out.len() != self.dim() {
+            return Err(OdeError::DimensionMismatch {
+                field: "out",
+                expected: self.dim(),
+                found: out.len(),
+            });
+        }
+        out.fill(0.0);
+        self.each_forced(t, |i, pair, g| {
+            out[i] = g.re;
+            if pair {
+                out[i + 1] = g.im;
+            }
+        });
+        Ok(())
+    }
+
+    /// `out -= g(t)` at the forced components (nothing without a forcing).
+    pub(crate) fn subtract_forcing(&self, t: f64, out: &mut [f64]) {
+        self.each_forced(t, |i, pair, g| {
+            out[i] -= g.re;
+            if pair {
+                out[i + 1] -= g.im;
+            }
+        });
+    }
+
+    /// Calls `op(i, pair, g_i(t))` for each forced block (its first component, whether it
+    /// is a complex pair, its forcing at `t`).
+    fn each_forced(&self, t: f64, mut op: impl FnMut(usize, bool, Complex<f64>)) {
+        let Some(f) = &self.forcing else { return };
+        let (sin, cos) = (f.frequency * t).sin_cos();
+        for &i in &f.forced {
+            op(i, self.slots[i] == Slot::PairRe, f.blocks[i].at(cos, sin));
+        }
     }
 
     /// `out = L y` ($O(N)$).

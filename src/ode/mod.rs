@@ -12,7 +12,8 @@
 //!   and the system's Jacobian ([`OdeSystem::jacobian`]) or finite differences,
 //! * [`Etd4`] — an exponential integrator (ETDRK4 with step doubling) for systems whose
 //!   linear part is diagonal in their own coordinates ([`OdeSystem::linear_part`]): exact for
-//!   the linear part, $O(N)$ a step, steps set by the rest of the right-hand side,
+//!   the linear part and a forcing declared with it, $O(N)$ a step, steps set by the rest of
+//!   the right-hand side,
 //! * [`AnyIntegrator`] — enum dispatch over the five, selected at run time by
 //!   [`Method`],
 //! * [events](#events) — event functions $g_i(t, y)$ (as a trait, or from closures
@@ -341,7 +342,7 @@ pub use events::{
     find_first_event, EventDerivative, EventFns, EventHit, EventOptions, EventSet, EventState,
     NoDerivative, NoEvents, MAX_SAMPLES,
 };
-pub use linear_part::{phi_functions, DiagonalLinearPart, DiagonalSprings};
+pub use linear_part::{phi_functions, BlockForcing, DiagonalLinearPart, DiagonalSprings};
 pub use options::{Options, Tolerance};
 pub use radau5::Radau5;
 pub use rk4::Rk4;
@@ -420,15 +421,17 @@ where
         None
     }
 
-    /// The linear part $L$ of $f(t, y) = L y + N(t, y)$ when it is diagonal in real and
+    /// The linear part $L$ of $f(t, y) = L y + g(t) + N(t, y)$ when it is diagonal in real and
     /// complex blocks in the system's own coordinates ([`DiagonalLinearPart`]; e.g. a linear
-    /// system in its modal coordinates), or `None` (the default).
+    /// system in its modal coordinates), with the forcing $g$ of its blocks at one frequency
+    /// if declared ([`DiagonalLinearPart::with_forcing`]), or `None` (the default).
     ///
     /// Only the exponential integrator [`Etd4`] uses it (and refuses a system without one,
-    /// [`OdeError::NoLinearPart`]): it propagates $L$ exactly and integrates only
-    /// $N = f - Ly$, so its steps follow $N$ (a contact force, a forcing) and not the fastest
-    /// mode of $L$. Any $L$ is *correct* (the split is exact: $N$ is computed as $f - Ly$);
-    /// the method is *efficient* when $N$ is smooth and mild where $L$ is stiff.
+    /// [`OdeError::NoLinearPart`]): it propagates $L$ and $g$ exactly and integrates only
+    /// $N = f - Ly - g$, so its steps follow $N$ (a contact force, a forcing not declared) and
+    /// not the fastest mode of $L$ or the declared forcing. Any $L$ and $g$ are *correct* (the
+    /// split is exact: $N$ is computed as $f - Ly - g$); the method is *efficient* when $N$ is
+    /// smooth and mild where $L$ is stiff.
     fn linear_part(&self) -> Option<&DiagonalLinearPart> {
         None
     }

@@ -6,7 +6,7 @@ use nalgebra::{Complex, DMatrix, DVector, Dyn, Vector2};
 use super::exact::{ModalData, DEFAULT_MAX_CONDITION};
 use super::{LinearRotor, RotorError, SmoothRotor};
 use crate::numeric::eigen_decomposition;
-use crate::ode::DiagonalLinearPart;
+use crate::ode::{BlockForcing, DiagonalLinearPart, OdeError};
 use crate::ring::Kinematics;
 
 /// Largest accepted backward error of the eigenpairs and of the rebuilt matrix (relative), as
@@ -26,9 +26,9 @@ const MAX_RESIDUAL: f64 = 1e-10;
 /// of the $2n$ eigenvalues keeps its own complex coordinate, so that no pairing of conjugates
 /// is needed); the station is the row combination $r = \operatorname{Re}\sum_k T_{i_x k}w_k - o$
 /// (and $T_{n + i_x, k}$ for its velocity). The right-hand side, the station and the force
-/// cost $O(n)$; the linear part $\Lambda$ is diagonal ([`SmoothRotor::linear_part`]), so the
-/// exponential integrator [`Etd4`](crate::ode::Etd4) propagates it exactly and takes steps set
-/// by the contact, at $O(n)$ a step.
+/// cost $O(n)$; the linear part $\Lambda$ is diagonal and carries the forcing $g$
+/// ([`SmoothRotor::linear_part`]), so the exponential integrator [`Etd4`](crate::ode::Etd4)
+/// propagates both exactly and takes steps set by the contact, at $O(n)$ a step.
 ///
 /// Free flight is exact: [`SmoothRotor::linear_free_flight`] gives the closed form in these
 /// coordinates from the rotor's own decomposition, $w_k(t) = e^{\lambda_k(t - t_0)}(w_k(t_0) -
@@ -171,12 +171,13 @@ impl ModalRotor {
             .enumerate()
             .map(|(k, &l)| (2 * k, l))
             .collect();
-        let linear_part = DiagonalLinearPart::new(4 * n + 2, &[], &blocks).map_err(|_| {
-            RotorError::Parameter {
+        let has_constant = system.constant_force().iter().any(|&f| f != 0.0);
+        let linear_part = DiagonalLinearPart::new(4 * n + 2, &[], &blocks)
+            .map_err(|_| RotorError::Parameter {
                 field: "state matrix eigenvalue",
                 value: f64::NAN,
-            }
-        })?;
+            })
+            .and_then(|lp| modal_forcing(lp, system.speed(), &inputs, has_constant))?;
         let mut modal = Self {
             linear: None,
             speed: system.speed(),
@@ -187,7 +188,7 @@ impl ModalRotor {
             inverse,
             rows: station_rows,
             inputs,
-            has_constant: system.constant_force().iter().any(|&f| f != 0.0),
+            has_constant,
             linear_part,
             scale: DVector::zeros(4 * n + 2),
             system: system.clone(),
@@ -328,6 +329,42 @@ impl ModalRotor {
     }
 }
 
+/// `lp` with the modal forcing declared ([`DiagonalLinearPart::with_forcing`]): coordinate
+/// $w_k$'s $g_k(t) = g_{c,k}\cos\Omega t + g_{s,k}\sin\Omega t + g_{0,k}$, as
+/// [`SmoothRotor::rhs`] adds it (`inputs[0..3]`; the constant only when there is one, as
+/// there).
+fn modal_forcing(
+    lp: DiagonalLinearPart,
+    speed: f64,
+    inputs: &[DVector<Complex<f64>>; 5],
+    has_constant: bool,
+) -> Result<DiagonalLinearPart, RotorError> {
+    let [gc, gs, g0, ..] = inputs;
+    let blocks: Vec<(usize, BlockForcing)> = (0..gc.len())
+        .map(|k| {
+            let constant = if has_constant {
+                g0[k]
+            } else {
+                Complex::new(0.0, 0.0)
+            };
+            let block = BlockForcing {
+                cos: gc[k],
+                sin: gs[k],
+                constant,
+            };
+            (2 * k, block)
+        })
+        .collect();
+    lp.with_forcing(speed, &blocks)
+        .map_err(|e| RotorError::Parameter {
+            field: "modal forcing",
+            value: match e {
+                OdeError::InvalidForcing { value, .. } => value,
+                _ => f64::NAN,
+            },
+        })
+}
+
 impl SmoothRotor for ModalRotor {
     type Dim = Dyn;
 
@@ -379,7 +416,9 @@ impl SmoothRotor for ModalRotor {
         Some(self.scale.clone())
     }
 
-    /// $\Lambda$: a complex block per eigenvalue, nothing at the ring's slots.
+    /// $\Lambda$: a complex block per eigenvalue, with the forcing $g_k(t)$ of the field
+    /// declared on it (exact in [`Etd4`](crate::ode::Etd4)), nothing at the ring's slots:
+    /// the ring's force and motion are the rest, left to the steps.
     fn linear_part(&self) -> Option<&DiagonalLinearPart> {
         Some(&self.linear_part)
     }
