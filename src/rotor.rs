@@ -875,7 +875,7 @@ where
             // The probe along e_j at the column's own scale: large enough that the forcing
             // (in both evaluations) does not cancel it away (a soft mount under gravity, a
             // light damping column against the unbalance), 1 when the column is the larger.
-            let column = amax(&(0..len).map(|i| a[(i, j)]).collect::<Vec<_>>());
+            let column = a.column(j).amax();
             let size = if column > 0.0 && forcing > column {
                 forcing / column
             } else {
