@@ -14,7 +14,7 @@ use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, SimOptions, Trajecto
 use jeffcott::nalgebra::{Complex, DMatrix, DVector, Dyn};
 use jeffcott::ode::Method;
 use jeffcott::ring::SnubberRing;
-use jeffcott::rotor::{LinearRotor, LinearSystem, ModalRotor};
+use jeffcott::rotor::{LinearRotor, LinearSystem, ModalRotor, RingedRotor, SmoothRotor};
 
 /// A two-DOF rotor (mass 1 per axis), the ring at its two coordinates.
 struct Case {
@@ -120,17 +120,9 @@ fn physical(case: &Case, method: Method, tol: f64, integrated: bool) -> Run {
         .ringed(case.ring)
         .unwrap();
     let y0 = model.rotor().rest_state();
-    let mut trajectory = Trajectory::<Dyn>::default();
-    simulate(
-        &model,
-        0.0,
-        &y0,
-        &plan(case.t_end),
-        &options(method, tol),
-        &mut trajectory,
-    )
-    .unwrap();
-    collect(&trajectory, |y| model.rotor().station_displacement(y))
+    run(case, &model, &y0, (method, tol), |y| {
+        model.rotor().station_displacement(y)
+    })
 }
 
 /// The modal model with `method`.
@@ -140,17 +132,31 @@ fn modal(case: &Case, method: Method, tol: f64) -> Run {
         .ringed(case.ring)
         .unwrap();
     let y0 = model.rotor().rest_state();
+    run(case, &model, &y0, (method, tol), |y| {
+        model.rotor().station_displacement(y)
+    })
+}
+
+/// One run of `model` from `y0` over the case's time, its station read by `displacement`.
+fn run<R: SmoothRotor<Dim = Dyn>>(
+    case: &Case,
+    model: &RingedRotor<R>,
+    y0: &DVector<f64>,
+    (method, tol): (Method, f64),
+    displacement: impl Fn(&DVector<f64>) -> [f64; 2],
+) -> Run {
     let mut trajectory = Trajectory::<Dyn>::default();
+    let plan = plan(case.t_end);
     simulate(
-        &model,
+        model,
         0.0,
-        &y0,
-        &plan(case.t_end),
+        y0,
+        &plan,
         &options(method, tol),
         &mut trajectory,
     )
     .unwrap();
-    collect(&trajectory, |y| model.rotor().station_displacement(y))
+    collect(&trajectory, displacement)
 }
 
 /// The same events as `truth` (kinds in order, times within `dt`) and samples within `dx`
