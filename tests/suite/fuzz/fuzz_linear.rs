@@ -31,6 +31,18 @@
 //! of the circle on the reference are grazes; when the sequences agree without them the case
 //! is counted as `graze`, not a defect.
 //!
+//! **Ties.** Where the sequences still differ without the grazes, each stretch of time where
+//! the run's regime is not the reference's is measured on the reference: how far it is, over
+//! the stretch, from the boundary between the two regimes (the ring's distance from the
+//! preload the two disagree on; between free flight and contact, the station's clearance or
+//! how far the contact moved the ring). A stretch shorter than the time the reference needs to
+//! move `100 rtol` gaps (its largest speed around it, from the fine samples) is within that
+//! outright; a longer one is sampled densely enough that the reference moves at most that much
+//! between samples. Where every stretch stays within `100 rtol` gaps of its boundary (two
+//! boundaries crossed within the allowed error of each other, in either order: a corner of
+//! the preloads, a loss beside a preload crossing) and the samples agree as below, the case is
+//! counted as `tie`, not a defect.
+//!
 //! **Sensitivity.** Where a run is off, the reference is also run from the station nudged by
 //! `rtol` gaps: if that changes the reference's transitions, or moves its samples by
 //! `A rtol` gaps with `A > 1` and the run is within `100 A rtol` gaps, the case is counted as
@@ -415,13 +427,13 @@ fn run_model<M: RotorModel<Dim = Dyn>>(
     y0: &DVector<f64>,
     station: impl Fn(&DVector<f64>) -> [f64; 2],
     probe: impl Fn(&DVector<f64>) -> (f64, [f64; 2]),
-    (t_end, dt): (f64, f64),
+    (t_start, t_end, dt): (f64, f64, f64),
     (method, tol): (Method, f64),
 ) -> Result<Run, String> {
     let plan = OutputPlan {
         t_end,
         strobe: None,
-        dense: Some(DenseSampling { t_start: 0.0, dt }),
+        dense: Some(DenseSampling { t_start, dt }),
         events: true,
     };
     let opts = SimOptions::default()
@@ -496,6 +508,22 @@ fn run_form(
     run_from(s, form, (method, tol), dt, 0.0)
 }
 
+/// The reference (free flight integrated, DOP853 at [`REFERENCE_TOL`]) from rest to `b`,
+/// sampled every `dt` from `a` on.
+fn run_window(s: &Setup, (a, b): (f64, f64), dt: f64) -> Result<Run, String> {
+    let rotor = s.rotor.clone().with_exact_free_flight(false);
+    let model = rotor.ringed(s.ring).map_err(|e| e.to_string())?;
+    let r = model.rotor();
+    run_model(
+        &model,
+        &r.rest_state(),
+        |y| r.station_displacement(y),
+        |y| probe_ring(r, &s.ring, y),
+        (a, b, dt),
+        (Method::Dop853, REFERENCE_TOL),
+    )
+}
+
 /// [`run_form`] from rest but for the station displaced by `nudge` along x (the physical
 /// forms; the perturbation that measures a case's sensitivity).
 fn run_from(
@@ -505,7 +533,7 @@ fn run_from(
     dt: f64,
     nudge: f64,
 ) -> Result<Run, Result<String, String>> {
-    let span = (s.t_end, dt);
+    let span = (0.0, s.t_end, dt);
     match form {
         Form::Integrated | Form::Physical => {
             let rotor = s
@@ -634,13 +662,19 @@ fn without(events: &[(u8, u8, f64)], shallow: &[(f64, f64)]) -> Vec<(u8, u8)> {
 /// Whether `run`'s and the reference's transitions differ only by grazes: every episode of
 /// either that is not in both with the same transitions lies within `allowed` (a length) of
 /// the ring's circle on the finely sampled reference `fine`.
-fn only_grazes(
+fn only_grazes(run: &Run, reference: &[(u8, u8, f64)], shallow: &[(f64, f64)]) -> bool {
+    without(&run.events, shallow) == without(reference, shallow)
+}
+
+/// The contact episodes of either run within `allowed` (a length) of the ring's circle on the
+/// finely sampled reference `fine`: the grazes.
+fn shallow_episodes(
     run: &Run,
     reference: &[(u8, u8, f64)],
     fine: &Run,
     (t_end, period): (f64, f64),
     allowed: f64,
-) -> bool {
+) -> Vec<(f64, f64)> {
     let dt = period / GRAZE_SAMPLES_PER_PERIOD;
     let mut shallow: Vec<(f64, f64)> = episodes(&run.events, t_end)
         .into_iter()
@@ -648,7 +682,134 @@ fn only_grazes(
         .filter(|&e| reference_depth(fine, e, dt).abs() <= allowed)
         .collect();
     shallow.sort_by(|a, b| a.0.total_cmp(&b.0));
-    without(&run.events, &shallow) == without(reference, &shallow)
+    shallow
+}
+
+/// The regime label of a run from `t` on: its transitions' labels as a step function, from
+/// the first transition's `from` (a run that never moves between regimes stays `FREE`).
+fn label_at(events: &[(u8, u8, f64)], t: f64) -> u8 {
+    let first = events.first().map_or(FREE, |e| e.0);
+    events
+        .iter()
+        .take_while(|e| e.2 <= t)
+        .last()
+        .map_or(first, |e| e.1)
+}
+
+/// The reference's largest speed (station or ring, whichever is faster) between its fine
+/// samples over `[t0 - 2 dt, t1 + 2 dt]`: difference quotients of consecutive samples.
+fn reference_speed(fine: &Run, (t0, t1): (f64, f64), dt: f64) -> f64 {
+    let near: Vec<(&[f64; 2], &Probe)> = fine
+        .samples
+        .iter()
+        .zip(&fine.probes)
+        .filter(|(_, p)| p.t >= t0 - 2.0 * dt && p.t <= t1 + 2.0 * dt)
+        .collect();
+    if near.len() < 2 {
+        return f64::INFINITY;
+    }
+    near.windows(2)
+        .map(|w| {
+            let ((ra, pa), (rb, pb)) = (w[0], w[1]);
+            let h = pb.t - pa.t;
+            let station = (rb[0] - ra[0]).hypot(rb[1] - ra[1]);
+            let ring = (pb.ring[0] - pa.ring[0]).hypot(pb.ring[1] - pa.ring[1]);
+            station.max(ring) / h
+        })
+        .fold(
+            0.0,
+            |m, v| if v.is_nan() { f64::INFINITY } else { m.max(v) },
+        )
+}
+
+/// Whether the regime labels `a` and `b` say the ring is beyond its preload on each axis
+/// differently (II both inside, III `x` beyond, IV `y` beyond, V both beyond).
+fn axes_differ(a: u8, b: u8) -> [bool; 2] {
+    let beyond = |l: u8| [l == 3 || l == 5, l == 4 || l == 5];
+    let (a, b) = (beyond(a), beyond(b));
+    [a[0] != b[0], a[1] != b[1]]
+}
+
+/// How far the reference is from the boundary between its regime `theirs` and the run's
+/// `ours` at the dense samples of `window` (the reference over a stretch where they differ):
+/// the ring's distance from each preload the two disagree on, or, between free flight and
+/// contact, the station's clearance (free) or how far the contact moved the ring since the
+/// stretch began (contact).
+fn boundary_distance(window: &Run, ring: &SnubberRing, theirs: u8, ours: u8) -> f64 {
+    let Some(first) = window.probes.first() else {
+        return f64::INFINITY;
+    };
+    let preload = [ring.x.preload, ring.y.preload];
+    let differ = axes_differ(theirs, ours);
+    window
+        .probes
+        .iter()
+        .map(|p| {
+            if theirs == FREE || ours == FREE {
+                if p.contact {
+                    (p.ring[0] - first.ring[0]).hypot(p.ring[1] - first.ring[1])
+                } else {
+                    p.clearance.abs()
+                }
+            } else {
+                (0..2)
+                    .filter(|&i| differ[i])
+                    .map(|i| (p.ring[i].abs() - preload[i]).abs())
+                    .fold(0.0, f64::max)
+            }
+        })
+        .fold(
+            0.0,
+            |m, d| if d.is_nan() { f64::INFINITY } else { m.max(d) },
+        )
+}
+
+/// Whether the transitions of `run` and the reference, once the `shallow` episodes are taken
+/// out of both, differ only by ties: in every stretch where their regimes differ, the
+/// reference stays within `allowed` (a length) of the boundary between the two regimes.
+/// A stretch so short that the reference cannot move that far in it (its length times the
+/// reference's largest speed around it, station or ring) is a tie outright; a longer one is
+/// measured on the reference sampled densely enough over it that it moves at most `allowed`
+/// between samples.
+fn only_ties(
+    run: &[(u8, u8, f64)],
+    shallow: &[(f64, f64)],
+    r: &mut Reference,
+    allowed: f64,
+) -> Result<bool, String> {
+    let keep = |events: &[(u8, u8, f64)]| -> Vec<(u8, u8, f64)> {
+        events
+            .iter()
+            .copied()
+            .filter(|e| !shallow.iter().any(|&(a, b)| e.2 >= a && e.2 <= b))
+            .collect()
+    };
+    let (run, reference) = (keep(run), keep(&r.run.events));
+    let mut times: Vec<f64> = run.iter().chain(&reference).map(|e| e.2).collect();
+    times.push(0.0);
+    times.push(r.s.t_end);
+    times.sort_by(f64::total_cmp);
+    let dt = r.s.period / GRAZE_SAMPLES_PER_PERIOD;
+    for w in times.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let mid = 0.5 * (a + b);
+        let (ours, theirs) = (label_at(&run, mid), label_at(&reference, mid));
+        if b <= a || ours == theirs {
+            continue;
+        }
+        let speed = reference_speed(r.fine()?, (a, b), dt);
+        let reach = (b - a) * speed;
+        if reach <= allowed {
+            continue;
+        }
+        // Samples close enough that the reference moves at most `allowed` between two.
+        let samples = (reach / allowed).ceil().min(1e5);
+        let window = r.window((a, b), (b - a) / samples)?;
+        if boundary_distance(&window, &r.s.ring, theirs, ours) > allowed {
+            return Ok(false);
+        }
+    }
+    Ok(true)
 }
 
 /// The largest sample error in gaps.
@@ -695,6 +856,13 @@ impl Reference<'_> {
         Ok(self.fine.as_ref().expect("just set"))
     }
 
+    /// The reference sampled every `dt` over `[a, b]` only (a stretch where a run's regime
+    /// differs from it).
+    fn window(&self, (a, b): (f64, f64), dt: f64) -> Result<Run, String> {
+        run_window(self.s, (a, b), dt)
+            .map_err(|e| format!("reference over [{a}, {b}] failed: {e:?}"))
+    }
+
     /// The reference with the station nudged by `tol` gaps at the start: how far one error
     /// of the run's tolerance carries by the case's own dynamics.
     fn nudged(&mut self, tol: f64) -> Result<&Run, String> {
@@ -720,6 +888,9 @@ enum Verdict {
     Agree,
     /// The transitions differ by grazes only.
     Graze,
+    /// The transitions differ by ties only (boundaries crossed within the allowed error of
+    /// each other), and the samples agree.
+    Tie,
     /// The case is ill-conditioned at this tolerance: the nudged reference changes its
     /// transitions, or moves by more than the allowed error and the run stays within that
     /// movement times 100 (amplification `A`).
@@ -755,13 +926,22 @@ fn compare(run: &Run, r: &mut Reference, tol: f64) -> Result<Verdict, String> {
         gap,
     ) / tol;
     if !same_events {
-        let t_end = r.s.t_end;
-        let period = r.s.period;
+        let span = (r.s.t_end, r.s.period);
         let fine = r.fine()?;
-        if !only_grazes(run, &reference, fine, (t_end, period), allowed * gap) {
+        let shallow = shallow_episodes(run, &reference, fine, span, allowed * gap);
+        if only_grazes(run, &reference, &shallow) {
+            return Ok(Verdict::Graze);
+        }
+        if !only_ties(&run.events, &shallow, r, allowed * gap)? {
             return Err(first_difference(&run.events, &reference));
         }
-        return Ok(Verdict::Graze);
+        if err <= allowed * amplification.max(1.0) {
+            return Ok(Verdict::Tie);
+        }
+        return Err(format!(
+            "{SAMPLES_OFF} {err:.2e} gaps after a tie (allowed {allowed:.1e}, amplification {amplification:.2}); {}",
+            first_difference(&run.events, &reference)
+        ));
     }
     if err <= allowed * amplification {
         return Ok(Verdict::Sensitive);
@@ -833,6 +1013,8 @@ fn label(reference: &Run, verdicts: &[Verdict], refused: &[String]) -> String {
         "sensitive (a start nudged by rtol gaps moves the reference as far)"
     } else if any(|v| matches!(v, Verdict::Graze)) {
         "graze (a contact within the allowed error seen by some runs)"
+    } else if any(|v| matches!(v, Verdict::Tie)) {
+        "tie (boundaries crossed within the allowed error of each other, in another order)"
     } else {
         "agree"
     };
