@@ -109,6 +109,27 @@ mod tests {
         assert!((got - want).amax() < 1e-12, "{got} vs {want}");
     }
 
+    /// The error estimate's right-hand side $hf + \sum_i d_i Z_i$ is the collocation cubic's
+    /// slope mismatch at the start, $hf - u^\prime(0)$ (what the dense output's order-raising
+    /// term uses): $d_i = -\ell_i^\prime(0)$ for the Lagrange basis $\ell_i$ over the nodes
+    /// $0, c_1, c_2, 1$ (the cubic through $0$ and the $Z_i$).
+    #[test]
+    fn error_estimate_is_the_cubics_slope_mismatch() {
+        let x = [C1, C2, 1.0];
+        for (i, want) in [DD1, DD2, DD3].into_iter().enumerate() {
+            let (mut num, mut den) = (1.0, x[i]);
+            for j in (0..3).filter(|&j| j != i) {
+                num *= -x[j];
+                den *= x[i] - x[j];
+            }
+            assert!(
+                (want + num / den).abs() < 1e-13,
+                "{i}: {want} vs {}",
+                -num / den
+            );
+        }
+    }
+
     /// The collocation conditions $\sum_j a_{ij} c_j^{k-1} = c_i^k / k$, $k = 1, 2, 3$.
     #[test]
     fn tableau_is_the_collocation_method() {

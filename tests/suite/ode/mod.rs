@@ -15,5 +15,6 @@ mod ode_events;
 mod ode_honesty;
 mod ode_radau;
 mod ode_radau_contacts;
+mod ode_radau_dense;
 mod ode_stiff_jumps;
 mod ode_stiff_set;
