@@ -103,7 +103,7 @@ struct Forced<'a> {
 /// $\theta \in [0, 1]$: the variation-of-constants formula with $N$ replaced by the quartic
 /// $p$ through $N$ at the step's $0, h/4, h/2, 3h/4, h$,
 /// $$u(t_j + \theta\tau) = e^{\theta\tau L}u_j + F(t_j, \theta\tau) + \theta\tau\sum_{k=0}^4
-/// k!\thinspace c_k\theta^k\varphi_{k+1}(\theta\tau L) + \theta^2\delta_j,$$
+/// k!\thinspace c_k\theta^k\varphi_{k+1}(\theta\tau L) + \theta^3\delta_j,$$
 /// $c_k$ the coefficients of $p(t_j + \theta\tau)$ in powers of $\theta$
 /// ([`phi_functions_to`](super::phi_functions_to)). $N$ at $0$ and $h/2$ are the half steps'
 /// first stages, at $h$ it comes from the $f$ kept at the step's end, and at $h/4$, $3h/4$ it
@@ -112,8 +112,12 @@ struct Forced<'a> {
 /// the output multiplied by $h$). $\delta_j$, the difference between the half step's end
 /// ($u_{j+1}$: the midpoint state, or the step's extrapolated end) and the quartic's value
 /// there, of the size of the local error, makes the output continuous; entering as
-/// $\theta^2$, it leaves the slope at each half step's start $L u_j + g + N(u_j) = f$, so a
-/// restart is tangent to the flow (`tests/suite/ode/ode_dense_tangent.rs`). So the output's
+/// $\theta^3$, it leaves the slope at each half step's start $L u_j + g + N(u_j) = f$, so a
+/// restart is tangent to the flow (`tests/suite/ode/ode_dense_tangent.rs`), and its curvature
+/// the quartic's: a guard at zero with a zero rate at a restart (a ring axis held at its
+/// preload) is decided by the flow, not by $\delta_j$. (As $\theta^2$ it fired such a guard at
+/// once on the linear-rotor fuzzer's case 3461 of seed `0x00F02210`: a III episode of length
+/// 0, 3 150 `rtol` off afterwards.) So the output's
 /// local error is $O(h^5)$, of the size of the step's error estimate, and it is exact for the
 /// linear part and the forcing. (Before issue 31's class L1 it was the quadrature of the
 /// quadratic through the stages alone, $O(h^4)$: 2.9 times the steps' error on
@@ -160,8 +164,8 @@ where
     quarters: [OVector<f64, D>; 2],
     n_end: OVector<f64, D>,
     /// Per half step, what the dense output's quartic misses of the half step's end (added
-    /// in proportion to $\theta^2$, so that the output is continuous and its slope at the
-    /// half step's start is $f$).
+    /// in proportion to $\theta^3$, so that the output is continuous and its slope and
+    /// curvature at the half step's start are the quartic's).
     jumps: [OVector<f64, D>; 2],
     /// Whether `quarters`, `n_end` and `jumps` are those of the accepted step (computed at its
     /// first dense output).
@@ -634,7 +638,7 @@ impl<'a> DenseStep<'a> {
 
     /// The dense output at $\theta$ of half step `half` into `out`: from its start $u_j$,
     /// $e^{\theta\tau L}u_j + F(t_j, \theta\tau) + \theta\tau\sum_k k!\thinspace c_k\theta^k
-    /// \varphi_{k+1}(\theta\tau L) + \theta^2\delta_j$ with $c_k$ the quartic's coefficients
+    /// \varphi_{k+1}(\theta\tau L) + \theta^3\delta_j$ with $c_k$ the quartic's coefficients
     /// ([`QUARTIC`]) and $\delta_j$ the half step's jump (if known).
     fn on_half(&self, lp: &DiagonalLinearPart, half: usize, theta: f64, out: &mut [f64]) {
         let tau = 0.5 * self.h;
@@ -652,7 +656,7 @@ impl<'a> DenseStep<'a> {
             }
             let mut value = phi[0] * get(u0, i, p) + sum * (theta * tau);
             if let Some(jumps) = self.jumps {
-                value += get(jumps[half], i, p) * (theta * theta);
+                value += get(jumps[half], i, p) * (theta * theta * theta);
             }
             put(out, i, p, value);
         });

@@ -975,3 +975,39 @@ fn fuzz_linear_long() {
         "defects: {summary:#?}"
     );
 }
+
+/// The long run's case 3461 of seed `0x00F02210` (issue 31, class L1): at a III-V-III-V
+/// sequence the ring's y axis (preload 0.001 gaps) is held at its preload after the V-to-III
+/// transition, its guard at zero with a zero rate at the restart. With the jump that makes
+/// ETD4's dense output continuous entering as $\theta^2$, its curvature there fired the
+/// III-to-V guard at once (a III episode of length 0, then 3 150 `rtol` off); as $\theta^3$
+/// every run agrees with the reference.
+#[test]
+fn etd4_restarts_at_a_held_preload() {
+    let c = Case {
+        nodes: 4,
+        station: 3,
+        unbalance: (1, 5.76691464530933),
+        shape: 10451969539903470699,
+        mass_spread: 8.667751645447348,
+        mass_coupling: 0.34551204089497267,
+        shaft: 45.7990330687755,
+        mount_decades: 1.390013381532074,
+        stiffness_coupling: 0.7754603959286549,
+        cross: 0.0,
+        zeta_min: 0.02990645739780187,
+        damping_coupling: 0.9412512824441953,
+        gyro: 0.19982697154268586,
+        gravity: None,
+        critical: 2,
+        speed_ratio: 1.0920994634601793,
+        reach: 5.676232444199187,
+        ring_stiffness: 1.214466782501285,
+        ring_zeta: 0.07329407985210357,
+        preload: [0.5036047809287417, 0.0010516754748558337],
+        offset: (0.0, 1.8380809794676354),
+        periods: 2,
+        tol: 6.30613983161492e-7,
+    };
+    assert_eq!(check(c).as_deref(), Ok("contact, agree"));
+}
