@@ -2,7 +2,7 @@ use nalgebra::allocator::Allocator;
 use nalgebra::{Complex, DefaultAllocator, Dim, DimName, OVector};
 
 use super::core::{core_accessors, fit, zeros, Core, Trial, TrialIo};
-use super::linear_part::{phi_functions, DiagonalLinearPart, Forcing, Slot};
+use super::linear_part::{phi_functions, phi_functions_to, DiagonalLinearPart, Forcing, Slot};
 use super::{controller::scale, Integrator, OdeError, OdeSystem, Options, Stats};
 
 /// The four nonlinear stage values of one ETDRK4 step: $N_a$ at $t$, $N_b$, $N_c$ at
@@ -39,7 +39,7 @@ struct Forced<'a> {
 /// $y^\prime = L y + g(t) + N(t, y)$ with $L$ diagonal in real and complex blocks and $g$ an
 /// optional harmonic and constant forcing of those blocks ([`OdeSystem::linear_part`],
 /// [`DiagonalLinearPart`], [`DiagonalLinearPart::with_forcing`]), with step doubling for the
-/// error and a dense output from the same $\varphi$-functions.
+/// error, local extrapolation, and a dense output from the same $\varphi$-functions.
 ///
 /// **The step** of length $\tau$ from $(t, u)$, per block of eigenvalue $\lambda$
 /// ($E = e^{\tau\lambda}$, $E_2 = e^{\tau\lambda/2}$, $Q = \tfrac\tau2\varphi_1(\tau\lambda/2)$,
@@ -72,7 +72,14 @@ struct Forced<'a> {
 ///
 /// **Error and step size.** Each step is taken once with $h$ and twice with $h/2$; the error
 /// of the two half steps is $(u_{h/2,h/2} - u_h)/15$ (Richardson, order 4), measured in the
-/// usual RMS norm, and the two half steps are kept. A trial costs 10 evaluations of $f$, plus
+/// usual RMS norm, and the step keeps the extrapolated $u_{h/2,h/2} + (u_{h/2,h/2} - u_h)/15$
+/// (local extrapolation, as DOPRI5 and DOP853 keep their higher order): of order 5, exact
+/// where both are (the linear part, the declared forcing), its error well below the estimate,
+/// so the global error follows the tolerance. (Keeping the two half steps, as before issue
+/// 31's class L1, made each step's error the size of the estimate and the global error grow
+/// with the number of steps, like $\mathrm{tol}^{4/5}$: on `tests/suite/ode/ode_etd4_dense.rs`'s
+/// rotor in contact, 8.9 to 85 tol at the steps' ends for tol from $10^{-5}$ to $10^{-10}$,
+/// against 0.18 to 0.32 tol extrapolated.) A trial costs 10 evaluations of $f$, plus
 /// one at the accepted point; the controller is the PI controller of the explicit methods
 /// with the exponent of an order-5 local error. The estimate sees what the stages integrate
 /// by quadrature, $N$, and nothing else: the linear part and the **declared forcing are exact
@@ -84,23 +91,43 @@ struct Forced<'a> {
 /// at $t + kh/4$ only, so when $\omega h/4$ is near a multiple of $2\pi$ every sample sees
 /// the same phase and the estimate vanishes while the step is wrong. Measured (issue 31) on
 /// $u^\prime = (-0.1 + i)u + e^{10^4 it}$, $u(0) = 0.5$, rtol = atol $= 10^{-4}$ on
-/// $[0, 20]$: the forcing in $N$, steps with $\omega h$ up to 9 900 and the solution up to
-/// 1.19 off; declared, 4e-15 of its size in 5 steps. With a rest $N = (-0.3 + 0.2i)u$ and
-/// $\omega = 100$, declared: 8.5e-3 of the size (85 tol), 6e-8 with the steps capped at a
-/// quarter period. So declare the forcing, and where the rest depends on the forced motion
+/// $[0, 20]$ (`tests/suite/ode/ode_etd4_forcing.rs`, with the local extrapolation): the
+/// forcing in $N$, the solution 0.40 of its size off in 5 905 steps (1.19 off, with $\omega h$
+/// up to 9 900, before it); declared, 4e-15 of its size in 5 steps. With a rest
+/// $N = (-0.3 + 0.2i)u$ and $\omega = 100$, declared: 9.7e-3 of the size (97 tol; 8.5e-3
+/// before), 6.4e-9 with the steps capped at a quarter period (6e-8 before). So declare the forcing, and where the rest depends on the forced motion
 /// cap the steps at a fraction of its period ([`Options::h_max`];
 /// [`crate::hybrid::simulate`] caps them at a quarter of the model's forcing period).
 ///
-/// **Dense output** on each half step $[t_j, t_j + \tau]$ with $\theta \in [0, 1]$:
-/// $u(t_j + \theta\tau) = e^{\theta\tau L}u_j + F(t_j, \theta\tau) + \theta\tau\big[\varphi_1
-/// N_a + \theta\varphi_2 (-3N_a + 4N_m - N_d) + \theta^2\varphi_3(4N_a - 8N_m + 4N_d)\big]$,
-/// $N_m = (N_b + N_c)/2$, $\varphi_k = \varphi_k(\theta\tau L)$: the same quadrature to
-/// $\theta\tau$, equal to the step at $\theta = 1$, exact for the linear part and the forcing.
+/// **Dense output** on each half step $[t_j, t_j + \tau]$ ($\tau = h/2$, $u_j$ its start) with
+/// $\theta \in [0, 1]$: the variation-of-constants formula with $N$ replaced by the quartic
+/// $p$ through $N$ at the step's $0, h/4, h/2, 3h/4, h$,
+/// $$u(t_j + \theta\tau) = e^{\theta\tau L}u_j + F(t_j, \theta\tau) + \theta\tau\sum_{k=0}^4
+/// k!\thinspace c_k\theta^k\varphi_{k+1}(\theta\tau L) + \theta^3\delta_j,$$
+/// $c_k$ the coefficients of $p(t_j + \theta\tau)$ in powers of $\theta$
+/// ([`phi_functions_to`](super::phi_functions_to)). $N$ at $0$ and $h/2$ are the half steps'
+/// first stages, at $h$ it comes from the $f$ kept at the step's end, and at $h/4$, $3h/4$ it
+/// is evaluated (once per step, at its first dense output: two evaluations of $f$) at states
+/// given by the quadratic through one half step's stages (local error $O(h^4)$, which enters
+/// the output multiplied by $h$). $\delta_j$, the difference between the half step's end
+/// ($u_{j+1}$: the midpoint state, or the step's extrapolated end) and the quartic's value
+/// there, of the size of the local error, makes the output continuous; entering as
+/// $\theta^3$, it leaves the slope at each half step's start $L u_j + g + N(u_j) = f$, so a
+/// restart is tangent to the flow (`tests/suite/ode/ode_dense_tangent.rs`), and its curvature
+/// the quartic's: a guard at zero with a zero rate at a restart (a ring axis held at its
+/// preload) is decided by the flow, not by $\delta_j$. (As $\theta^2$ it fired such a guard at
+/// once on the linear-rotor fuzzer's case 3461 of seed `0x00F02210`: a III episode of length
+/// 0, 3 150 `rtol` off afterwards.) So the output's
+/// local error is $O(h^5)$, of the size of the step's error estimate, and it is exact for the
+/// linear part and the forcing. (Before issue 31's class L1 it was the quadrature of the
+/// quadratic through the stages alone, $O(h^4)$: 2.9 times the steps' error on
+/// `ode_etd4_dense.rs`'s rotor at tol $10^{-5}$, and growing as the tolerance tightened.)
 ///
 /// **Cost.** Every operation is per block: $O(N)$ a step besides the evaluations of $f$
-/// (three $\varphi$ evaluations per block and trial, one per block and dense point; a forced
-/// block six more a trial and three more a dense point). Nothing is allocated after
-/// construction. The steps are set by $N$ (a contact, an undeclared forcing), not by the
+/// (three $\varphi$ evaluations per block and trial; a forced block six more a trial). A dense
+/// output costs one evaluation of $\varphi_0, \dots, \varphi_5$ per block (a forced block three
+/// more), and the first one of a step two evaluations of $f$ and the quartic's ends. Nothing
+/// is allocated after construction. The steps are set by $N$ (a contact, an undeclared forcing), not by the
 /// fastest mode of $L$ or the declared forcing.
 ///
 /// A system without [`OdeSystem::linear_part`] (or with one of another dimension) is refused
@@ -132,6 +159,17 @@ where
     /// Per forced block: the declared forcing's increments of the full step and of the two
     /// half steps of the trial.
     increments: [Vec<Increments>; 3],
+    /// The dense output's nodes of $N$ besides the half steps' first stages: at a quarter and
+    /// three quarters of the accepted step (on the stages' quadratic) and at its end.
+    quarters: [OVector<f64, D>; 2],
+    n_end: OVector<f64, D>,
+    /// Per half step, what the dense output's quartic misses of the half step's end (added
+    /// in proportion to $\theta^3$, so that the output is continuous and its slope and
+    /// curvature at the half step's start are the quartic's).
+    jumps: [OVector<f64, D>; 2],
+    /// Whether `quarters`, `n_end` and `jumps` are those of the accepted step (computed at its
+    /// first dense output).
+    dense_ready: bool,
 }
 
 impl<D: DimName> Etd4<D>
@@ -267,6 +305,23 @@ fn put_add(v: &mut [f64], i: usize, pair: bool, c: Complex<f64>) {
     }
 }
 
+/// `out = f - L y - g(t)`: the rest $N$ at `(t, y)` from $f(t, y)$.
+fn rest<D: Dim>(
+    lp: &DiagonalLinearPart,
+    t: f64,
+    y: &OVector<f64, D>,
+    f: &OVector<f64, D>,
+    out: &mut OVector<f64, D>,
+) where
+    DefaultAllocator: Allocator<D>,
+{
+    lp.apply(y.as_slice(), out.as_mut_slice());
+    for (o, fi) in out.iter_mut().zip(f.iter()) {
+        *o = fi - *o;
+    }
+    lp.subtract_forcing(t, out.as_mut_slice());
+}
+
 /// `out = f(t, y) - L y - g(t)`, with `fk` the scratch for $f$.
 fn nonlinear<D: Dim, S: OdeSystem<D>>(
     sys: &S,
@@ -279,11 +334,7 @@ fn nonlinear<D: Dim, S: OdeSystem<D>>(
     DefaultAllocator: Allocator<D>,
 {
     sys.rhs(t, y, fk);
-    lp.apply(y.as_slice(), out.as_mut_slice());
-    for (o, f) in out.iter_mut().zip(fk.iter()) {
-        *o = f - *o;
-    }
-    lp.subtract_forcing(t, out.as_mut_slice());
+    rest(lp, t, y, fk, out);
 }
 
 /// One ETDRK4 step of length `tau` from `(t, u)` with the coefficients `cf` and the forcing's
@@ -381,10 +432,14 @@ where
             u_mid: z.clone(),
             u_full: z.clone(),
             stage: std::array::from_fn(|_| z.clone()),
-            fk: z,
+            fk: z.clone(),
             coef_full: vec![unit; n],
             coef_half: vec![unit; n],
             increments: std::array::from_fn(|_| vec![[Complex::new(0.0, 0.0); 3]; n]),
+            quarters: [z.clone(), z.clone()],
+            n_end: z.clone(),
+            jumps: [z.clone(), z],
+            dense_ready: false,
         })
     }
 
@@ -403,12 +458,60 @@ where
         }
         Ok(lp)
     }
+
+    /// The dense output's nodes and jumps of the accepted step, once per step (two
+    /// evaluations of $f$): $N$ at a quarter and three quarters of the step, at states placed
+    /// by the stages' interpolant ([`quadratic_at`]; their $O(h^4)$ error enters the output
+    /// multiplied by $h$), $N$ at the step's end from the kept $f$, and per half step the
+    /// difference $\delta_j$ between its end and the quartic's output there, of the size of
+    /// the local error.
+    fn prepare_dense<S: OdeSystem<D>>(&mut self, sys: &S, lp: &DiagonalLinearPart) {
+        if self.dense_ready {
+            return;
+        }
+        let Etd4 {
+            core,
+            halves,
+            u_mid,
+            stage,
+            fk,
+            quarters,
+            n_end,
+            jumps,
+            ..
+        } = self;
+        let (t0, h) = (core.t_prev, core.h_dense);
+        for (j, q) in quarters.iter_mut().enumerate() {
+            let t = t0 + (0.25 + 0.5 * j as f64) * h;
+            let u = &mut stage[0];
+            quadratic_at(lp, halves, &core.y_prev, u_mid, t0, h, t, u.as_mut_slice());
+            nonlinear(sys, lp, t, u, fk, q);
+        }
+        core.stats.rhs_evals += 2;
+        rest(lp, t0 + h, &core.y_end, &core.f_end, n_end);
+        let [jump0, jump1] = jumps;
+        let starts = [&core.y_prev, &*u_mid];
+        let dense = DenseStep::new(halves, (quarters, n_end), starts, t0, h);
+        for (half, (jump, end)) in [(jump0, &*u_mid), (jump1, &core.y_end)]
+            .into_iter()
+            .enumerate()
+        {
+            dense.on_half(lp, half, 1.0, jump.as_mut_slice());
+            for (d, e) in jump.iter_mut().zip(end.iter()) {
+                *d = e - *d;
+            }
+        }
+        self.dense_ready = true;
+    }
 }
 
-/// The dense output at `t` into `out`: the half step of `[t_prev, t_prev + h]` that holds `t`
-/// (extrapolated outside the step), from its start state and stages.
+/// The stages' interpolant at `t` into `out`: on the half step of `[t_prev, t_prev + h]` that
+/// holds `t` (extrapolated outside the step), the quadrature of the quadratic through the half
+/// step's stages ($N_a$, $N_m = (N_b + N_c)/2$, $N_d$) to $\theta\tau$. Its local error is
+/// $O(\tau^4)$, one order short of the step's (the stages are of order 4 only in the step's
+/// weights): it places the dense output's nodes ([`Etd4::prepare_dense`]), which need no more.
 #[allow(clippy::too_many_arguments)]
-fn dense_at<D: Dim>(
+fn quadratic_at<D: Dim>(
     lp: &DiagonalLinearPart,
     halves: &[Stages<D>; 2],
     y_prev: &OVector<f64, D>,
@@ -443,6 +546,124 @@ fn dense_at<D: Dim>(
     if let Some(forcing) = lp.forcing() {
         let t0 = if s <= 1.0 { t_prev } else { t_prev + tau };
         add_forced_response(lp, forcing, t0, theta * tau, out);
+    }
+}
+
+/// Six times the coefficients of the quartic through the dense output's nodes of $N$ at
+/// $0, \tau/2, \tau, 3\tau/2, 2\tau$ (an accepted step of two half steps of length $\tau$), in
+/// powers of $\theta$ on the first half step ($t = t_{\text{prev}} + \theta\tau$, `[0]`) and
+/// on the second ($t = t_{\text{prev}} + (1 + \theta)\tau$, `[1]`): row $k$ gives the
+/// coefficient of $\theta^k$, column $j$ the weight of node $j$ (Lagrange's basis on the
+/// nodes $0, 1/2, 1, 3/2, 2$ in units of $\tau$, shifted by 0 or 1; exact rationals).
+const QUARTIC: [[[f64; 5]; 5]; 2] = [
+    [
+        [6.0, 0.0, 0.0, 0.0, 0.0],
+        [-25.0, 48.0, -36.0, 16.0, -3.0],
+        [35.0, -104.0, 114.0, -56.0, 11.0],
+        [-20.0, 72.0, -96.0, 56.0, -12.0],
+        [4.0, -16.0, 24.0, -16.0, 4.0],
+    ],
+    [
+        [0.0, 0.0, 6.0, 0.0, 0.0],
+        [1.0, -8.0, 0.0, 8.0, -1.0],
+        [-1.0, 16.0, -30.0, 16.0, -1.0],
+        [-4.0, 8.0, 0.0, -8.0, 4.0],
+        [4.0, -16.0, 24.0, -16.0, 4.0],
+    ],
+];
+
+/// $k!/6$ for $k < 5$: the factor of $\theta^k$'s coefficient in [`QUARTIC`] in the dense
+/// output ($\int_0^{\theta\tau} e^{(\theta\tau - r)\lambda}(r/\tau)^k\thinspace dr =
+/// k!\thinspace\theta^{k+1}\tau\thinspace\varphi_{k+1}(\theta\tau\lambda)$).
+const FACTORIAL_SIXTH: [f64; 5] = [1.0 / 6.0, 1.0 / 6.0, 2.0 / 6.0, 1.0, 4.0];
+
+/// The dense output's data of one accepted step of length `h` from `t_prev`: the five nodes
+/// of $N$ ([`QUARTIC`]), the states at the half steps' starts, and, once computed, the
+/// half steps' jumps.
+#[derive(Clone, Copy)]
+struct DenseStep<'a> {
+    nodes: [&'a [f64]; 5],
+    starts: [&'a [f64]; 2],
+    jumps: Option<[&'a [f64]; 2]>,
+    t_prev: f64,
+    h: f64,
+}
+
+impl<'a> DenseStep<'a> {
+    /// The dense output's data from the accepted step's stages, nodes and starts, without
+    /// jumps.
+    fn new<D: Dim>(
+        halves: &'a [Stages<D>; 2],
+        (quarters, n_end): (&'a [OVector<f64, D>; 2], &'a OVector<f64, D>),
+        starts: [&'a OVector<f64, D>; 2],
+        t_prev: f64,
+        h: f64,
+    ) -> Self
+    where
+        DefaultAllocator: Allocator<D>,
+    {
+        DenseStep {
+            nodes: [
+                halves[0].n[0].as_slice(),
+                quarters[0].as_slice(),
+                halves[1].n[0].as_slice(),
+                quarters[1].as_slice(),
+                n_end.as_slice(),
+            ],
+            starts: starts.map(|u| u.as_slice()),
+            jumps: None,
+            t_prev,
+            h,
+        }
+    }
+
+    /// With the half steps' jumps.
+    fn with_jumps<D: Dim>(self, jumps: &'a [OVector<f64, D>; 2]) -> Self
+    where
+        DefaultAllocator: Allocator<D>,
+    {
+        DenseStep {
+            jumps: Some([jumps[0].as_slice(), jumps[1].as_slice()]),
+            ..self
+        }
+    }
+
+    /// The dense output at `t` into `out` (extrapolated outside the step): on the half step
+    /// that holds it, [`DenseStep::on_half`].
+    fn at(&self, lp: &DiagonalLinearPart, t: f64, out: &mut [f64]) {
+        let s = (t - self.t_prev) / (0.5 * self.h);
+        let half = usize::from(s > 1.0);
+        self.on_half(lp, half, s - half as f64, out);
+    }
+
+    /// The dense output at $\theta$ of half step `half` into `out`: from its start $u_j$,
+    /// $e^{\theta\tau L}u_j + F(t_j, \theta\tau) + \theta\tau\sum_k k!\thinspace c_k\theta^k
+    /// \varphi_{k+1}(\theta\tau L) + \theta^3\delta_j$ with $c_k$ the quartic's coefficients
+    /// ([`QUARTIC`]) and $\delta_j$ the half step's jump (if known).
+    fn on_half(&self, lp: &DiagonalLinearPart, half: usize, theta: f64, out: &mut [f64]) {
+        let tau = 0.5 * self.h;
+        let (u0, rows) = (self.starts[half], &QUARTIC[half]);
+        let values = lp.values();
+        let zero = Complex::new(0.0, 0.0);
+        for_blocks(lp.slots(), |i, p| {
+            let phi = phi_functions_to::<6>(values[i] * (theta * tau));
+            let v = self.nodes.map(|n| get(n, i, p));
+            let (mut sum, mut power) = (zero, 1.0);
+            for (k, row) in rows.iter().enumerate() {
+                let c = row.iter().zip(&v).fold(zero, |a, (w, x)| a + x * *w);
+                sum += phi[k + 1] * c * (FACTORIAL_SIXTH[k] * power);
+                power *= theta;
+            }
+            let mut value = phi[0] * get(u0, i, p) + sum * (theta * tau);
+            if let Some(jumps) = self.jumps {
+                value += get(jumps[half], i, p) * (theta * theta * theta);
+            }
+            put(out, i, p, value);
+        });
+        if let Some(forcing) = lp.forcing() {
+            let t0 = self.t_prev + half as f64 * tau;
+            add_forced_response(lp, forcing, t0, theta * tau, out);
+        }
     }
 }
 
@@ -525,11 +746,7 @@ where
                 })
             };
             // N_a = f(t, y) - L y - g(t), shared by the full and the first half step.
-            lp.apply(y.as_slice(), halves[0].n[0].as_mut_slice());
-            for (o, fi) in halves[0].n[0].iter_mut().zip(f.iter()) {
-                *o = fi - *o;
-            }
-            lp.subtract_forcing(t, halves[0].n[0].as_mut_slice());
+            rest(lp, t, y, f, &mut halves[0].n[0]);
             full.n[0].copy_from(&halves[0].n[0]);
             let plan = (coef_full.as_slice(), forced(0));
             substep(sys, lp, plan, t, h, y, full, stage, fk, u_full);
@@ -561,12 +778,14 @@ where
                 y_new,
             );
             stats.rhs_evals += 10;
-            let (ys, yn, yf) = (y.as_slice(), y_new.as_slice(), u_full.as_slice());
+            let (ys, yn, yf) = (y.as_slice(), y_new.as_mut_slice(), u_full.as_slice());
             let mut sum = 0.0;
             for i in 0..ys.len() {
                 let e = (yn[i] - yf[i]) / 15.0;
                 let sk = scale(opts, i, ys[i], yn[i]);
                 sum += (e / sk) * (e / sk);
+                // Local extrapolation: the step keeps the order-5 combination.
+                yn[i] += e;
             }
             Trial {
                 err: (sum / n_ctrl).sqrt(),
@@ -576,6 +795,7 @@ where
         if self.core.t != t_before {
             std::mem::swap(&mut self.halves, &mut self.halves_trial);
             std::mem::swap(&mut self.u_mid, &mut self.u_mid_trial);
+            self.dense_ready = false;
         }
         result
     }
@@ -584,18 +804,20 @@ where
         fit(out, self.core.dim);
         match (self.core.has_step, sys.linear_part()) {
             (true, Some(lp)) if lp.dim() == self.core.dim.value() => {
-                let c = &self.core;
-                let (y0, h) = (&c.y_prev, c.h_dense);
-                dense_at(
-                    lp,
-                    &self.halves,
-                    y0,
-                    &self.u_mid,
-                    c.t_prev,
-                    h,
-                    t,
-                    out.as_mut_slice(),
-                )
+                self.prepare_dense(sys, lp);
+                let Etd4 {
+                    core,
+                    halves,
+                    u_mid,
+                    quarters,
+                    n_end,
+                    jumps,
+                    ..
+                } = self;
+                let starts = [&core.y_prev, &*u_mid];
+                DenseStep::new(halves, (quarters, n_end), starts, core.t_prev, core.h_dense)
+                    .with_jumps(jumps)
+                    .at(lp, t, out.as_mut_slice());
             }
             _ => self.core.copy_state(out),
         }
@@ -607,23 +829,32 @@ where
             return Ok(());
         }
         let lp = self.linear_part(sys)?;
+        self.prepare_dense(sys, lp);
         let Etd4 {
             core,
             halves,
             u_mid,
+            quarters,
+            n_end,
+            jumps,
             ..
         } = self;
-        let (y0, t0, h) = (&core.y_prev, core.t_prev, core.h_dense);
-        dense_at(
-            lp,
+        let Core {
+            y_prev,
+            y_new,
+            t_prev,
+            h_dense,
+            ..
+        } = core;
+        DenseStep::new(
             halves,
-            y0,
-            u_mid,
-            t0,
-            h,
-            t_new,
-            core.y_new.as_mut_slice(),
-        );
+            (quarters, n_end),
+            [y_prev, u_mid],
+            *t_prev,
+            *h_dense,
+        )
+        .with_jumps(jumps)
+        .at(lp, t_new, y_new.as_mut_slice());
         core.apply_truncate(sys, t_new)
     }
 

@@ -342,7 +342,9 @@ pub use events::{
     find_first_event, EventDerivative, EventFns, EventHit, EventOptions, EventSet, EventState,
     NoDerivative, NoEvents, MAX_SAMPLES,
 };
-pub use linear_part::{phi_functions, BlockForcing, DiagonalLinearPart, DiagonalSprings};
+pub use linear_part::{
+    phi_functions, phi_functions_to, BlockForcing, DiagonalLinearPart, DiagonalSprings,
+};
 pub use options::{Options, Tolerance};
 pub use radau5::Radau5;
 pub use rk4::Rk4;

@@ -650,6 +650,56 @@ fn reference_depth(fine: &Run, (t0, t1): (f64, f64), dt: f64) -> f64 {
         .fold(f64::NEG_INFINITY, f64::max)
 }
 
+/// Whether `axis` (0 x, 1 y) of the ring is beyond its preload in contact regime `label`
+/// (III: x beyond, IV: y beyond, V: both).
+fn beyond(label: u8, axis: usize) -> bool {
+    matches!((label, axis), (3 | 5, 0) | (4 | 5, 1))
+}
+
+/// Preload excursions of a run inside contact: `(start, end, axis, beyond)` from a transition
+/// between contact regimes that takes `axis` across its preload (`beyond`: outwards) to the
+/// next that takes it back, or a loss of contact, or the end.
+fn excursions(events: &[(u8, u8, f64)], t_end: f64) -> Vec<(f64, f64, usize, bool)> {
+    let mut out = Vec::new();
+    let mut open: [Option<(f64, bool)>; 2] = [None, None];
+    for &(from, to, t) in events {
+        for (axis, slot) in open.iter_mut().enumerate() {
+            if to == FREE || (slot.is_some() && beyond(from, axis) != beyond(to, axis)) {
+                if let Some((t0, out_bound)) = slot.take() {
+                    out.push((t0, t, axis, out_bound));
+                }
+            } else if from != FREE && beyond(from, axis) != beyond(to, axis) {
+                *slot = Some((t, beyond(to, axis)));
+            }
+        }
+    }
+    for (axis, slot) in open.iter().enumerate() {
+        if let Some((t0, out_bound)) = *slot {
+            out.push((t0, t_end, axis, out_bound));
+        }
+    }
+    out
+}
+
+/// A preload excursion's depth on the finely sampled reference over `[t0, t1]` (widened by
+/// one sample either side), from the samples in contact: how far the ring's `axis` goes
+/// beyond its preload (`beyond`), or back inside it, at most; negative where the reference
+/// does not cross (its closest approach). Infinite without a sample in contact.
+fn excursion_depth(
+    fine: &Run,
+    (t0, t1, axis, beyond): (f64, f64, usize, bool),
+    preload: [f64; 2],
+    dt: f64,
+) -> f64 {
+    let sign = if beyond { 1.0 } else { -1.0 };
+    fine.probes
+        .iter()
+        .filter(|p| p.contact && p.t >= t0 - dt && p.t <= t1 + dt)
+        .map(|p| sign * (p.ring[axis].abs() - preload[axis]))
+        .reduce(f64::max)
+        .unwrap_or(f64::INFINITY)
+}
+
 /// The transitions left once the episodes in `shallow` are taken out.
 fn without(events: &[(u8, u8, f64)], shallow: &[(f64, f64)]) -> Vec<(u8, u8)> {
     events
@@ -661,26 +711,34 @@ fn without(events: &[(u8, u8, f64)], shallow: &[(f64, f64)]) -> Vec<(u8, u8)> {
 
 /// Whether `run`'s and the reference's transitions differ only by grazes: every episode of
 /// either that is not in both with the same transitions lies within `allowed` (a length) of
-/// the ring's circle on the finely sampled reference `fine`.
+/// the ring's circle on the finely sampled reference `fine`, or, for a preload excursion
+/// inside contact, of the preload: the `shallow` episodes.
 fn only_grazes(run: &Run, reference: &[(u8, u8, f64)], shallow: &[(f64, f64)]) -> bool {
     without(&run.events, shallow) == without(reference, shallow)
 }
 
-/// The contact episodes of either run within `allowed` (a length) of the ring's circle on the
-/// finely sampled reference `fine`: the grazes.
+/// The episodes of either run within `allowed` (a length) of the boundary they cross on the
+/// finely sampled reference `fine`: contact episodes within it of the ring's circle, preload
+/// excursions inside contact within it of the preload (`preload`, the axes' preloads). The
+/// grazes.
 fn shallow_episodes(
     run: &Run,
     reference: &[(u8, u8, f64)],
     fine: &Run,
-    (t_end, period): (f64, f64),
+    (t_end, period, preload): (f64, f64, [f64; 2]),
     allowed: f64,
 ) -> Vec<(f64, f64)> {
     let dt = period / GRAZE_SAMPLES_PER_PERIOD;
-    let mut shallow: Vec<(f64, f64)> = episodes(&run.events, t_end)
+    let contact = episodes(&run.events, t_end)
         .into_iter()
         .chain(episodes(reference, t_end))
-        .filter(|&e| reference_depth(fine, e, dt).abs() <= allowed)
-        .collect();
+        .filter(|&e| reference_depth(fine, e, dt).abs() <= allowed);
+    let preloads = excursions(&run.events, t_end)
+        .into_iter()
+        .chain(excursions(reference, t_end))
+        .filter(|&e| excursion_depth(fine, e, preload, dt).abs() <= allowed)
+        .map(|(t0, t1, ..)| (t0, t1));
+    let mut shallow: Vec<(f64, f64)> = contact.chain(preloads).collect();
     shallow.sort_by(|a, b| a.0.total_cmp(&b.0));
     shallow
 }
@@ -926,7 +984,11 @@ fn compare(run: &Run, r: &mut Reference, tol: f64) -> Result<Verdict, String> {
         gap,
     ) / tol;
     if !same_events {
-        let span = (r.s.t_end, r.s.period);
+        let span = (
+            r.s.t_end,
+            r.s.period,
+            [r.s.ring.x.preload, r.s.ring.y.preload],
+        );
         let fine = r.fine()?;
         let shallow = shallow_episodes(run, &reference, fine, span, allowed * gap);
         if only_grazes(run, &reference, &shallow) {
@@ -1012,7 +1074,7 @@ fn label(reference: &Run, verdicts: &[Verdict], refused: &[String]) -> String {
     } else if any(|v| matches!(v, Verdict::Sensitive)) {
         "sensitive (a start nudged by rtol gaps moves the reference as far)"
     } else if any(|v| matches!(v, Verdict::Graze)) {
-        "graze (a contact within the allowed error seen by some runs)"
+        "graze (a contact or a preload excursion within the allowed error seen by some runs)"
     } else if any(|v| matches!(v, Verdict::Tie)) {
         "tie (boundaries crossed within the allowed error of each other, in another order)"
     } else {
@@ -1033,7 +1095,7 @@ fn report(t: &Tally, seed: u64) -> String {
 
 /// Sample-error defects (open: docs/reliability.md) the short run's default seed gives, at
 /// most: a ratchet, so that a fix shows and a new one fails.
-const SHORT_SAMPLES_OFF: usize = 6;
+const SHORT_SAMPLES_OFF: usize = 2;
 
 /// The short version (CI): 150 cases from a fixed seed (`FUZZ_SEED` to change it). Every
 /// defect is printed; any but the open class [`SAMPLES_OFF`] fails the test, and that class
@@ -1135,4 +1197,40 @@ fn fuzz_linear_tolerance_sweep() {
         fuzz(REGRESSIONS, case(), case_n, seed, false, sweep)
             .unwrap_or_else(|e| panic!("seed {seed:#x}: {e}"));
     }
+}
+
+/// The long run's case 3461 of seed `0x00F02210` (issue 31, class L1): at a III-V-III-V
+/// sequence the ring's y axis (preload 0.001 gaps) is held at its preload after the V-to-III
+/// transition, its guard at zero with a zero rate at the restart. With the jump that makes
+/// ETD4's dense output continuous entering as $\theta^2$, its curvature there fired the
+/// III-to-V guard at once (a III episode of length 0, then 3 150 `rtol` off); as $\theta^3$
+/// every run agrees with the reference.
+#[test]
+fn etd4_restarts_at_a_held_preload() {
+    let c = Case {
+        nodes: 4,
+        station: 3,
+        unbalance: (1, 5.76691464530933),
+        shape: 10451969539903470699,
+        mass_spread: 8.667751645447348,
+        mass_coupling: 0.34551204089497267,
+        shaft: 45.7990330687755,
+        mount_decades: 1.390013381532074,
+        stiffness_coupling: 0.7754603959286549,
+        cross: 0.0,
+        zeta_min: 0.02990645739780187,
+        damping_coupling: 0.9412512824441953,
+        gyro: 0.19982697154268586,
+        gravity: None,
+        critical: 2,
+        speed_ratio: 1.0920994634601793,
+        reach: 5.676232444199187,
+        ring_stiffness: 1.214466782501285,
+        ring_zeta: 0.07329407985210357,
+        preload: [0.5036047809287417, 0.0010516754748558337],
+        offset: (0.0, 1.8380809794676354),
+        periods: 2,
+        tol: 6.30613983161492e-7,
+    };
+    assert_eq!(check(c).as_deref(), Ok("contact, agree"));
 }

@@ -9,6 +9,7 @@ mod ode_determinism;
 mod ode_dyn;
 mod ode_errors;
 mod ode_etd4;
+mod ode_etd4_dense;
 mod ode_etd4_forcing;
 mod ode_etd4_shaft;
 mod ode_events;

@@ -6,8 +6,8 @@
 use jeffcott::nalgebra::{Complex, SVector, U2};
 use jeffcott::numeric::Direction;
 use jeffcott::ode::{
-    find_first_event, phi_functions, DiagonalLinearPart, Etd4, EventFns, EventOptions, EventState,
-    Integrator, OdeError, OdeSystem, Options,
+    find_first_event, phi_functions, phi_functions_to, DiagonalLinearPart, Etd4, EventFns,
+    EventOptions, EventState, Integrator, OdeError, OdeSystem, Options,
 };
 
 type V2 = SVector<f64, 2>;
@@ -120,10 +120,12 @@ fn observed_orders(sys: &Pair, u0: C, h0: f64) -> Vec<f64> {
     errs.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
 }
 
-/// A harmonic force on a lightly damped fast mode ($\lambda = -2 + 30i$, $\omega = 5$):
-/// fourth order (the error falls 16-fold per halved step).
+/// A harmonic force on a lightly damped fast mode ($\lambda = -2 + 30i$, $\omega = 5$): at
+/// least fifth order (the error falls 32-fold or more per halved step). The step keeps the
+/// local extrapolation of its two half steps (order 5; issue 31, class L1); measured 7.3,
+/// 6.2, 6.05 (then 6.0 and 5.5 at two more halvings, near rounding). Before, fourth order.
 #[test]
-fn a_harmonic_force_is_integrated_at_fourth_order() {
+fn a_harmonic_force_is_integrated_at_fifth_order() {
     let sys = Pair::new(
         C::new(-2.0, 30.0),
         C::new(0.0, 0.0),
@@ -134,14 +136,16 @@ fn a_harmonic_force_is_integrated_at_fourth_order() {
     let orders = observed_orders(&sys, C::new(0.3, 0.0), 0.2);
     println!("orders {orders:?}");
     for p in &orders {
-        assert!((3.6..=4.6).contains(p), "orders {orders:?}");
+        assert!((4.6..=7.5).contains(p), "orders {orders:?}");
     }
 }
 
 /// A rest that depends on the state ($N = \mu u$, $\mu = 3 - 2i$) beside a stiff linear part
-/// ($\lambda = -50$): fourth order, the truth $e^{(\lambda + \mu)t}u_0$.
+/// ($\lambda = -50$): fifth order, the truth $e^{(\lambda + \mu)t}u_0$. Measured 6.2, 5.1,
+/// 4.70 (then 4.83 and 4.92 at two more halvings: tending to 5 as $h\lambda$ shrinks).
+/// Before the local extrapolation (issue 31, class L1), fourth order.
 #[test]
-fn a_state_dependent_rest_is_integrated_at_fourth_order() {
+fn a_state_dependent_rest_is_integrated_at_fifth_order() {
     let sys = Pair::new(
         C::new(-50.0, 0.0),
         C::new(0.0, 0.0),
@@ -152,7 +156,7 @@ fn a_state_dependent_rest_is_integrated_at_fourth_order() {
     let orders = observed_orders(&sys, C::new(1.0, 0.5), 0.05);
     println!("orders {orders:?}");
     for p in &orders {
-        assert!((3.6..=4.6).contains(p), "orders {orders:?}");
+        assert!((4.6..=7.5).contains(p), "orders {orders:?}");
     }
 }
 
@@ -309,4 +313,32 @@ fn phi_functions_are_accurate_across_their_switch() {
             );
         }
     }
+}
+
+/// $\varphi_4$ and $\varphi_5$ of `phi_functions_to::<6>` (ETD4's dense output) on both sides
+/// of the switch, against the series as above, and the first four equal to `phi_functions`'
+/// (the same code). The recurrence downwards loses more near $|z| = 1$ for higher $k$: the
+/// largest relative error is printed (measured 3.7e-14) and bounded by `5e-14`.
+#[test]
+fn higher_phi_functions_are_accurate_across_their_switch() {
+    let series = |z: f64, k: usize| {
+        let mut term: f64 = (1..=k).map(|j| 1.0 / j as f64).product();
+        let mut sum = 0.0;
+        for j in 0..60 {
+            sum += term;
+            term *= z / (j + k + 1) as f64;
+        }
+        sum
+    };
+    let mut worst = 0.0f64;
+    for z in [0.3, 0.999_999, 1.000_001, 2.5, 10.0] {
+        let p = phi_functions_to::<6>(C::new(z, 0.0));
+        assert_eq!(p[..4], phi_functions(C::new(z, 0.0)));
+        for (k, pk) in p.iter().enumerate() {
+            let want = series(z, k);
+            worst = worst.max((pk.re - want).abs() / want);
+        }
+    }
+    println!("largest relative error {worst:.1e}");
+    assert!(worst <= 5e-14, "{worst:e}");
 }
