@@ -6,8 +6,8 @@ use nalgebra::{Complex, DMatrix, DVector, Dyn, Vector2};
 use super::exact::{ModalData, DEFAULT_MAX_CONDITION};
 use super::{LinearRotor, RotorError, SmoothRotor};
 use crate::numeric::eigen_decomposition;
-use crate::ode::{BlockForcing, DiagonalLinearPart, OdeError};
-use crate::ring::Kinematics;
+use crate::ode::{BlockForcing, DiagonalLinearPart, JacobianMut, OdeError};
+use crate::ring::{ForceJacobian, Kinematics};
 
 /// Largest accepted backward error of the eigenpairs and of the rebuilt matrix (relative), as
 /// for the closed form.
@@ -318,6 +318,29 @@ impl ModalRotor {
         sum
     }
 
+    /// Subtracts the ring force's part $B(F_r R + F_v V)$ from `jac` (see
+    /// [`SmoothRotor::jacobian`]): column by column, the force's derivative along the column's
+    /// modal component, then its image through the inputs $b_x$, $b_y$.
+    fn add_contact_jacobian(&self, f: &ForceJacobian, jac: &mut JacobianMut<'_, Dyn>) {
+        let [.., bx, by] = &self.inputs;
+        let [rx, ry, vx, vy] = &self.rows;
+        // Re(c w) = Re c Re w - Im c Im w: its derivative along Re w (j = 0) or Im w (j = 1).
+        let along = |c: Complex<f64>, j: usize| if j == 0 { c.re } else { -c.im };
+        for m in 0..self.values.len() {
+            for j in 0..2 {
+                let col = 2 * m + j;
+                let r = Vector2::new(along(rx[m], j), along(ry[m], j));
+                let v = Vector2::new(along(vx[m], j), along(vy[m], j));
+                let force = f.position * r + f.velocity * v;
+                for k in 0..self.values.len() {
+                    let g = bx[k] * force.x + by[k] * force.y;
+                    jac[(2 * k, col)] -= g.re;
+                    jac[(2 * k + 1, col)] -= g.im;
+                }
+            }
+        }
+    }
+
     /// The ring node's displacement $(q_{i_x}, q_{i_y})$ in a modal state `y` (m, from its
     /// undeflected position), $O(n)$. NaN for a state of another length.
     pub fn station_displacement(&self, y: &DVector<f64>) -> [f64; 2] {
@@ -405,6 +428,40 @@ impl SmoothRotor for ModalRotor {
     fn ring_slots(&self) -> [usize; 2] {
         let n2 = self.values.len();
         [2 * n2, 2 * n2 + 1]
+    }
+
+    /// Exact: the blocks $\begin{pmatrix}\operatorname{Re}\lambda_k &
+    /// -\operatorname{Im}\lambda_k\\\\ \operatorname{Im}\lambda_k &
+    /// \operatorname{Re}\lambda_k\end{pmatrix}$ and, in contact, $-B(F_r R + F_v V)$ with $B$ the
+    /// inputs $b_x$, $b_y$ and $R$, $V$ the station's rows of $T$ (the derivatives of
+    /// $\operatorname{Re}\sum_k c_k w_k$ along $\operatorname{Re}w_k$ and
+    /// $\operatorname{Im}w_k$: $\operatorname{Re}c_k$ and $-\operatorname{Im}c_k$). $O(n^2)$, no
+    /// allocation. Finite differences cannot stand in: a growing mode's coordinates far above
+    /// $1/\varepsilon$ times a decayed one's (an unstable rotor late in a run) lose every
+    /// column, the large coordinates' increments below their last bit and the small ones'
+    /// changes of $f$ below the rounding of the contact force's terms.
+    fn jacobian(
+        &self,
+        _t: f64,
+        _y: &DVector<f64>,
+        contact: Option<&ForceJacobian>,
+        jac: &mut JacobianMut<'_, Dyn>,
+    ) -> bool {
+        let n2 = self.values.len();
+        if jac.nrows() != 2 * n2 + 2 || jac.ncols() != 2 * n2 + 2 {
+            return false;
+        }
+        jac.fill(0.0);
+        for (k, l) in self.values.iter().enumerate() {
+            jac[(2 * k, 2 * k)] = l.re;
+            jac[(2 * k, 2 * k + 1)] = -l.im;
+            jac[(2 * k + 1, 2 * k)] = l.im;
+            jac[(2 * k + 1, 2 * k + 1)] = l.re;
+        }
+        if let Some(f) = contact {
+            self.add_contact_jacobian(f, jac);
+        }
+        true
     }
 
     fn forcing_period(&self) -> f64 {

@@ -1,14 +1,15 @@
 //! The analytic Jacobian of a linear rotor on a preloaded ring (`RotorModel::jacobian` of
-//! `RingedRotor<LinearRotor>`, which Radau5 uses) against central differences of the model's
-//! own right-hand side, in free flight and in every contact regime the states below reach.
+//! `RingedRotor<LinearRotor>` and of `RingedRotor<ModalRotor>`, which Radau5 uses) against
+//! central differences of the model's own right-hand side, in free flight and in every contact
+//! regime the states below reach.
 
 use jeffcott::hybrid::RotorModel;
-use jeffcott::nalgebra::{Complex, DMatrix, DVector};
+use jeffcott::nalgebra::{Complex, DMatrix, DVector, Dyn};
 use jeffcott::ring::{RingAxis, SnubberRing};
-use jeffcott::rotor::{LinearRotor, LinearSystem};
+use jeffcott::rotor::{LinearRotor, LinearSystem, ModalRotor, RingedRotor, SmoothRotor};
 
-/// An 8-DOF rotor with the station at DOFs 2, 3 on an anisotropic preloaded ring (gap 1).
-fn model() -> jeffcott::rotor::RingedRotor<LinearRotor> {
+/// An 8-DOF rotor with the station at DOFs 2, 3 (gap 1).
+fn rotor() -> LinearRotor {
     let n = 8;
     let m = DMatrix::from_fn(n, n, |i, j| if i == j { 2.0 } else { 0.1 });
     let k = DMatrix::from_fn(n, n, |i, j| if i == j { 50.0 } else { -2.0 });
@@ -16,15 +17,23 @@ fn model() -> jeffcott::rotor::RingedRotor<LinearRotor> {
         .unwrap()
         .with_harmonic_force(2, Complex::new(1.0, -0.5))
         .unwrap();
-    let rotor = LinearRotor::new(system, [2, 3], [0.0, 0.0]).unwrap();
-    let ring = SnubberRing::new(
+    LinearRotor::new(system, [2, 3], [0.0, 0.0]).unwrap()
+}
+
+/// The anisotropic preloaded ring of the tests.
+fn ring() -> SnubberRing {
+    SnubberRing::new(
         RingAxis::new(30.0, 0.15),
         RingAxis::new(60.0, 0.05),
         0.05,
         1.0,
     )
-    .unwrap();
-    rotor.ringed(ring).unwrap()
+    .unwrap()
+}
+
+/// [`rotor`] on [`ring`].
+fn model() -> RingedRotor<LinearRotor> {
+    rotor().ringed(ring()).unwrap()
 }
 
 /// A state with the station at `r` and the rest of the state of order one.
@@ -35,19 +44,24 @@ fn state(r: [f64; 2], seed: usize) -> DVector<f64> {
     y
 }
 
-#[test]
-fn ringed_linear_rotor_jacobian_matches_differences_in_every_regime() {
-    let model = model();
+/// Checks `model`'s Jacobian against central differences of its right-hand side at the
+/// states `state(r, seed)` (physical, `[q, q', s]`) carried to the model's coordinates by
+/// `coordinates`, over depths and angles of the station that reach free flight and the
+/// contact regimes; returns the regimes checked.
+fn check_jacobian<R: SmoothRotor<Dim = Dyn>>(
+    model: &RingedRotor<R>,
+    coordinates: impl Fn(DVector<f64>) -> DVector<f64>,
+) -> Vec<u8> {
     let cache = model.new_cache();
-    let dim = 18;
-    let slots = [16, 17];
+    let dim = model.dim().0;
+    let slots = model.rotor().ring_slots();
     let t = 0.37;
     let mut regimes = Vec::new();
     let mut checked = 0;
     for (seed, depth) in [0.5, 1.01, 1.05, 1.15, 1.3, 1.6].into_iter().enumerate() {
         for a in 0..16 {
             let angle = 0.1 + a as f64 * std::f64::consts::TAU / 16.0;
-            let mut y = state([depth * angle.cos(), depth * angle.sin()], seed + a);
+            let mut y = coordinates(state([depth * angle.cos(), depth * angle.sin()], seed + a));
             model.make_consistent(&mut y).unwrap();
             let Ok(mode) = model.initial_mode(t, &y) else {
                 continue;
@@ -88,4 +102,22 @@ fn ringed_linear_rotor_jacobian_matches_differences_in_every_regime() {
     // Free flight (1) and the contact regimes of a preloaded anisotropic ring.
     assert!(regimes.len() >= 4, "regimes reached: {regimes:?}");
     println!("regimes checked: {regimes:?} in {checked} states");
+    regimes
+}
+
+#[test]
+fn ringed_linear_rotor_jacobian_matches_differences_in_every_regime() {
+    check_jacobian(&model(), |y| y);
+}
+
+/// The modal form's Jacobian (issue 31, L3): without its own, Radau5 took forward differences,
+/// which lose every column once the modal coordinates span more than $1/\varepsilon$ (a
+/// growing mode at $10^{22}$ beside decayed ones at $10^{-2}$, seed `0x00F02210` case 6772's
+/// first contact: each column exactly 0, and the simplified Newton diverged at every step size).
+#[test]
+fn ringed_modal_rotor_jacobian_matches_differences_in_every_regime() {
+    let modal = ModalRotor::new(&rotor()).unwrap();
+    let to_modal = modal.clone();
+    let model = modal.ringed(ring()).unwrap();
+    check_jacobian(&model, |y| to_modal.modal_state(&y).unwrap());
 }
