@@ -2,6 +2,7 @@
 set, as the Rust tests read them), else the shared set beside the clone (../shared)."""
 
 import _thread
+import signal
 import threading
 import time
 from pathlib import Path
@@ -9,6 +10,12 @@ from pathlib import Path
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
+
+# The Ctrl-C tests raise it with `_thread.interrupt_main`, which does nothing where SIGINT is
+# ignored, as a shell starts a background job (`nohup ... &`): there, Python installs no
+# handler and the interrupted runs went on (a run of 10^8 periods: hours). Python's own
+# handler, whatever the tests were started from.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def data_dir() -> Path:
