@@ -8,7 +8,7 @@ use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{
     CraigBampton, DofLayout, LinearRotor, LinearSystem, ModeSelection, RingedRotor, RotorMatrices,
 };
-use numpy::{PyArray1, PyReadonlyArray2};
+use numpy::{AllowTypeChange, PyArray1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -40,7 +40,11 @@ pub struct FeTransient {
     pub stats: Py<PyDict>,
 }
 
-fn matrix(name: &str, a: &PyReadonlyArray2<'_, f64>) -> PyResult<DMatrix<f64>> {
+/// A matrix from any array-like that numpy reads as 2-D numbers (arrays of any float or int
+/// type, any memory order, nested lists), as float64.
+type ArrayLike<'py> = PyArrayLike2<'py, f64, AllowTypeChange>;
+
+fn matrix(name: &str, a: &ArrayLike<'_>) -> PyResult<DMatrix<f64>> {
     let v = a.as_array();
     let (r, c) = v.dim();
     if r != c {
@@ -134,14 +138,18 @@ fn transient(
 /// the GIL released, Ctrl-C checked between chunks. ``ValueError`` for bad input (the
 /// crate's message), ``SimulationError`` (``partial``: an ``FeTransient``) for a failed run.
 #[pyfunction]
-#[pyo3(signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, rtol=1e-8, atol=None, method=None, layout="ross6", chunk=50))]
+#[pyo3(
+    signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, rtol=1e-8, atol=None, method=None, layout="ross6", chunk=50),
+    // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
+    text_signature = "(M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, rtol=1e-08, atol=None, method=None, layout='ross6', chunk=50)"
+)]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_transient(
     py: Python<'_>,
-    M: PyReadonlyArray2<'_, f64>,
-    K: PyReadonlyArray2<'_, f64>,
-    C: PyReadonlyArray2<'_, f64>,
-    G: PyReadonlyArray2<'_, f64>,
+    M: ArrayLike<'_>,
+    K: ArrayLike<'_>,
+    C: ArrayLike<'_>,
+    G: ArrayLike<'_>,
     speed: f64,
     ring_node: usize,
     gap: f64,

@@ -90,7 +90,11 @@ pub fn stability_error(py: Python<'_>, e: StabilityError) -> PyErr {
 /// looked for between periods (``KeyboardInterrupt``).
 /// ``ValueError`` for bad input (e.g. ``batch > periods``); ``SimulationError`` if a run fails.
 #[pyfunction]
-#[pyo3(signature = (params, *, transient=300, align=100, periods=2000, batch=100, separation=Some(1e-8), exponents=None, state0=None, rtol=None, atol=None, method=None))]
+#[pyo3(
+    signature = (params, *, transient=300, align=100, periods=2000, batch=100, separation=Some(1e-8), exponents=None, state0=None, rtol=None, atol=None, method=None),
+    // Written out: pyo3 shows the `Some(..)` default as `...` (Python's Ellipsis) in help().
+    text_signature = "(params, *, transient=300, align=100, periods=2000, batch=100, separation=1e-08, exponents=None, state0=None, rtol=None, atol=None, method=None)"
+)]
 #[allow(clippy::too_many_arguments)] // Python keywords
 pub fn lyapunov_exponents(
     py: Python<'_>,

@@ -93,3 +93,27 @@ def test_fe_non_square_matrix_raises_value_error():
         jeffcott.fe_transient(m["M"][:, :-1], m["K"], m["C"], m["G"], 125.0, ring_node=12,
                               gap=7.95e-5, ring_stiffness=1.1e6, ring_damping=0.01,
                               unbalance=[], t_end=1e-3, samples=2)
+
+
+def test_fe_matrices_as_any_array_like():
+    # What numpy users pass: nested lists, float32, Fortran order (the stubs say ArrayLike).
+    # Each gives bit for bit the run on the same values as C-ordered float64; float32 values
+    # are those of the float32 matrices widened, so that run is the truth for them.
+    p, m = s1_inputs()
+    short = dict(ring_node=p["ring_node"], gap=p["gamma_m"], ring_stiffness=p["k_s_N_per_m"],
+                 ring_damping=p["c_s_N_s_per_m"], preload=(p["Delta_x_m"], p["Delta_y_m"]),
+                 unbalance=[(u["node"], u["magnitude_kg_m"], u["phase_rad"])
+                            for u in p["unbalance"]], t_end=0.01, samples=20, modes=8)
+    names = ("M", "K", "C", "G")
+
+    def run(convert):
+        r = jeffcott.fe_transient(*(convert(m[n]) for n in names), p["speed_rad_s"], **short)
+        return np.concatenate([r.x, r.y, r.onsets, r.losses])
+
+    base = run(np.ascontiguousarray)
+    assert np.array_equal(run(lambda a: a.tolist()), base)
+    assert np.array_equal(run(np.asfortranarray), base)
+    widened = run(lambda a: a.astype(np.float32).astype(np.float64))
+    assert np.array_equal(run(lambda a: a.astype(np.float32)), widened)
+    with pytest.raises((ValueError, TypeError)):
+        jeffcott.fe_transient([["a"]], m["K"], m["C"], m["G"], 125.0, **short)

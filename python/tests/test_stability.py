@@ -137,7 +137,7 @@ def test_ctrl_c_stops_a_continuation_between_steps():
     assert elapsed < 5.0, f"KeyboardInterrupt after {elapsed:.2f} s"
 
 
-def test_a_ctrl_c_pending_at_the_first_array_is_a_keyboard_interrupt():
+def test_a_ctrl_c_pending_at_the_first_array_is_a_keyboard_interrupt(tmp_path):
     # A fresh interpreter whose first numpy array from the extension comes after a Ctrl-C
     # pressed during a call that does not look for it (Newton on P^2000 of the stable orbit of
     # Fig. 8a, seconds long): the KeyboardInterrupt comes when the call returns, and numpy's
@@ -151,6 +151,8 @@ def test_a_ctrl_c_pending_at_the_first_array_is_a_keyboard_interrupt():
         "except KeyboardInterrupt:\n"
         "    print('KeyboardInterrupt')\n"
     )
+    # Run from an empty folder: `-c` puts the working directory first on sys.path, and from
+    # python/ that is the package's sources without the compiled extension.
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         timeout=120)
+                         timeout=120, cwd=tmp_path)
     assert out.returncode == 0 and out.stdout.strip() == "KeyboardInterrupt", out.stderr[-2000:]

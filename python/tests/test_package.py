@@ -1,0 +1,29 @@
+"""The package as a Python user meets it: its version, and help() on every function."""
+
+import inspect
+import re
+
+import jeffcott
+from conftest import REPO
+
+
+def test_version_is_the_crates():
+    # The truth: the crate's own manifest (the bindings are released with it).
+    manifest = (REPO / "Cargo.toml").read_text()
+    version = re.search(r'^\[package\][^\[]*?^version = "([^"]+)"', manifest, re.M | re.S)
+    assert version, "no [package] version in Cargo.toml"
+    assert jeffcott.__version__ == version.group(1)
+
+
+def test_every_signature_shows_its_defaults():
+    # help() and inspect show each default as Python would write it, never `...` (Ellipsis:
+    # what pyo3 shows for a default it cannot print, e.g. a tuple).
+    shown = {}
+    for name in jeffcott.__all__:
+        f = getattr(jeffcott, name)
+        if inspect.isbuiltin(f) or inspect.isfunction(f):
+            shown[name] = str(inspect.signature(f))
+    assert "fe_transient" in shown and "lyapunov_exponents" in shown
+    assert not [n for n, s in shown.items() if "Ellipsis" in s or "..." in s], shown
+    assert "preload=(0.0, 0.0)" in shown["fe_transient"]
+    assert "separation=1e-08" in shown["lyapunov_exponents"]
