@@ -13,13 +13,13 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use jeffcott::analysis::{per_revolution, Revolution};
-use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, Trajectory};
+use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, SimOptions, Trajectory};
 use jeffcott::nalgebra::Dyn;
 use jeffcott::ode::Method;
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{
     CraigBampton, LinearRotor, LinearSystem, ModeSelection, RingedRotor, RotorMatrices, Segment,
-    SpeedProfile,
+    SmoothRotor, SpeedProfile,
 };
 
 use crate::common::plot::{self, Figure, Series};
@@ -94,7 +94,12 @@ pub fn run(mat: &Path, sweep: &Sweep, out: &Path) -> Result<(), String> {
     for ring in [true, false] {
         let model = model(mat, sweep, ring)?;
         let start = Instant::now();
-        let plan = OutputPlan::every_strobe(2.0 * turn);
+        let mut plan = OutputPlan::every_strobe(2.0 * turn);
+        // Dense samples 256 a revolution at the top speed: knots of the per-revolution peak.
+        plan.dense = Some(DenseSampling {
+            t_start: 0.0,
+            dt: std::f64::consts::TAU / sweep.from.max(sweep.to) / 256.0,
+        });
         let opts = SimOptions::default()
             .with_method(Method::Dop853)
             .with_rtol(1e-9)
@@ -102,8 +107,8 @@ pub fn run(mat: &Path, sweep: &Sweep, out: &Path) -> Result<(), String> {
         let mut traj = Trajectory::<Dyn>::default();
         let y0 = model.rotor().rotor().rest_state();
         simulate(&model, 0.0, &y0, &plan, &opts, &mut traj).map_err(|e| e.to_string())?;
-        let revs =
-            per_revolution(&traj, SAMPLES as usize, |y| [y[0], y[1]]).map_err(|e| e.to_string())?;
+        let revs = per_revolution(&traj, SAMPLES as usize, |y| model.rotor().station(y))
+            .map_err(|e| e.to_string())?;
         let (up, down): (Vec<Revolution>, Vec<Revolution>) =
             revs.into_iter().partition(|r| r.t_start < turn);
         let name = if ring {

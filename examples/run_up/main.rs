@@ -70,9 +70,9 @@ use common::cli::{f64_in, fail, parse, usize_in};
 use common::csv::write_f64;
 use common::scene::{Scene, SceneFlags};
 use jeffcott::analysis::{per_revolution, Revolution};
-use jeffcott::hybrid::{simulate, OutputPlan, SimError, Trajectory};
+use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, SimError, Trajectory};
 use jeffcott::nalgebra::{SVector, U6};
-use jeffcott::rotor::{ProfiledJeffcott, Segment, SpeedProfile};
+use jeffcott::rotor::{ProfiledJeffcott, Segment, SmoothRotor, SpeedProfile};
 use jeffcott::JeffcottModel;
 
 /// A run-up or run-down of the paper's rotor at a constant rate R = d eta / d tau from eta = A
@@ -203,7 +203,13 @@ fn run(
         rotor.on_ring()
     }
     .unwrap_or_else(|e| fail(e));
-    let plan = OutputPlan::every_strobe(rotor.profile().ramp_time());
+    let mut plan = OutputPlan::every_strobe(rotor.profile().ramp_time());
+    // Dense samples 256 a revolution at the top speed: knots of the per-revolution peak (on
+    // the ring the station moves faster than the strobes resolve; analysis::per_revolution).
+    plan.dense = Some(DenseSampling {
+        t_start: 0.0,
+        dt: std::f64::consts::TAU / rotor.profile().eta_max() / 256.0,
+    });
     let mut traj = Trajectory::default();
     let error = simulate(&model, 0.0, &start, &plan, &scene.opts, &mut traj).err();
     (rotor, traj, error)
@@ -394,7 +400,7 @@ fn draw_legs(
     turn: f64,
 ) -> Result<(), String> {
     let s = flags.samples_per_period();
-    let revs = per_revolution(traj, s, |y| [y[0], y[1]]).map_err(|e| e.to_string())?;
+    let revs = per_revolution(traj, s, |y| rotor.station(y)).map_err(|e| e.to_string())?;
     let (up, down): (Vec<Revolution>, Vec<Revolution>) =
         revs.into_iter().partition(|r| r.t_start < turn);
     let label = |a: f64, b: f64, r: f64| format!("{a} → {b} at R = {r}");

@@ -1,5 +1,5 @@
 use super::AnalysisError;
-use crate::numeric::{illinois, Bracket, Direction, RootOptions};
+use crate::numeric::{hermite_weights, illinois, Bracket, Direction, RootOptions};
 
 /// Width of the final bracket of the Hermite search, in the interval's parameter `θ ∈ [0, 1]`.
 const THETA_TOL: f64 = 1e-14;
@@ -164,11 +164,7 @@ where
 
 /// Cubic Hermite interpolation of one interval at `theta ∈ [0, 1]`.
 fn hermite(x0: &[f64], x1: &[f64], d0: &[f64], d1: &[f64], dt: f64, theta: f64) -> Vec<f64> {
-    let s = theta;
-    let h00 = (1.0 + 2.0 * s) * (1.0 - s) * (1.0 - s);
-    let h10 = s * (1.0 - s) * (1.0 - s);
-    let h01 = s * s * (3.0 - 2.0 * s);
-    let h11 = s * s * (s - 1.0);
+    let [h00, h10, h01, h11] = hermite_weights(theta);
     (0..x0.len())
         .map(|c| h00 * x0[c] + h10 * dt * d0[c] + h01 * x1[c] + h11 * dt * d1[c])
         .collect()

@@ -1,6 +1,6 @@
 //! The crate's scalar numerical tools, below every other layer (it imports nothing of the
 //! crate): one bracketing root finder, one bisection helper, one non-symmetric
-//! eigen-decomposition, and the direction type of a sign change.
+//! eigen-decomposition, the cubic Hermite interpolant, and the direction type of a sign change.
 //!
 //! * [`illinois`] — the bracketing root finder (Illinois-modified regula falsi with a bisection
 //!   safeguard) for a continuous scalar function with a sign change on a bracket: the event
@@ -17,6 +17,10 @@
 //!   non-symmetric matrix (balancing, nalgebra's complex Schur form, back-substitution), with
 //!   the eigenvector matrix's condition number and the backward error: the modal closed form of
 //!   a linear rotor's free flight ([`crate::rotor::LinearClosedForm`]) rests on it.
+//! * [`hermite_weights`], [`hermite_slope_weights`] — the cubic Hermite interpolant of an
+//!   interval from the values and slopes at its ends: Poincaré sections located between samples
+//!   ([`analysis::section_crossings_hermite`](crate::analysis::section_crossings_hermite)) and
+//!   the per-revolution peak radius ([`analysis::per_revolution`](crate::analysis::per_revolution)).
 //! * [`Direction`] — the direction of a sign change (`Rising`, `Falling`, `Either`), used by
 //!   event functions, the guards of hybrid models, the ring element and Poincaré sections.
 //!
@@ -41,11 +45,13 @@
 
 mod bisect;
 mod eigen;
+mod hermite;
 pub(crate) mod lu;
 mod roots;
 
 pub use bisect::{bisect, Bisection, Side};
 pub use eigen::{eigen_decomposition, EigenDecomposition};
+pub use hermite::{hermite_slope_weights, hermite_weights};
 pub use roots::{illinois, Bracket, RootOptions};
 
 /// Errors of the numerical tools.
