@@ -52,7 +52,7 @@ impl Revolution {
 /// events' states (before and after) are knots, and between two knots $t_0 < t_1$ the station's
 /// path is the cubic Hermite interpolant of its positions and velocities there
 /// ([`crate::numeric::hermite_weights`]), whose largest radius is found where
-/// $\tfrac{d}{dt}|p|^2 = 2\,p \cdot p^\prime$ falls through zero
+/// $\tfrac{d}{dt}|p|^2 = 2\thinspace p \cdot p^\prime$ falls through zero
 /// ([`crate::numeric::illinois`], after 16 samples of the interval). Its error is that of the
 /// interpolant, at most $h^4 \max|r^{(4)}|/384$ with $h = t_1 - t_0$. In free flight, for a
 /// whirl at the rotation speed and $S$ strobes a revolution, that is about $(2\pi/S)^4/384$ of
