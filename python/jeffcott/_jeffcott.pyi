@@ -70,6 +70,8 @@ class FeTransient:
     onsets: npt.NDArray[np.float64]  # s
     losses: npt.NDArray[np.float64]  # s
     dofs: int
+    least_damping_ratio: float  # min -Re(lambda)/|lambda|; NaN if not computed
+    linearly_unstable: bool  # least_damping_ratio < 0 (a RuntimeWarning too)
     stats: dict[str, int]
 
 class Orbit:

@@ -2,13 +2,17 @@
 //! (``rotor.M()``, ``rotor.K(w)``, ``rotor.C(w)``, ``rotor.G()``): the transient from rest at
 //! the ring node, in SI units.
 
+use std::ffi::CString;
+
 use jeffcott::hybrid::{SimStats, Trajectory};
-use jeffcott::nalgebra::{DMatrix, DVector, Dyn};
+use jeffcott::nalgebra::{DMatrix, DVector, Dyn, Vector2};
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{
-    CraigBampton, DofLayout, LinearRotor, LinearSystem, ModeSelection, RingedRotor, RotorMatrices,
+    CraigBampton, DofLayout, LinearFreeFlight, LinearRotor, LinearSystem, ModeSelection,
+    RingedRotor, RotorMatrices,
 };
 use numpy::{AllowTypeChange, PyArray1, PyArrayLike2};
+use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -36,6 +40,14 @@ pub struct FeTransient {
     pub losses: Py<PyArray1<f64>>,
     /// Degrees of freedom integrated (after dropping z, theta and any reduction).
     pub dofs: usize,
+    /// The least damping ratio of the integrated rotor's modes without contact,
+    /// min -Re(lambda)/|lambda| over its nonzero eigenvalues (NaN if the eigen-decomposition
+    /// was refused as ill-conditioned).
+    pub least_damping_ratio: f64,
+    /// Whether a mode grows without contact (``least_damping_ratio < 0``): the rotor is
+    /// linearly unstable, its free response grows whatever the ring does (a RuntimeWarning
+    /// says so when the run starts).
+    pub linearly_unstable: bool,
     /// The work done (steps, rejected, rhs_evals, ..., jacobians, lu_decompositions).
     pub stats: Py<PyDict>,
 }
@@ -95,9 +107,33 @@ fn build(
         .map_err(value_error)
 }
 
+/// The least damping ratio of the integrated rotor without contact (NaN if its eigen-
+/// decomposition is refused).
+fn least_damping_ratio(model: &RingedRotor<LinearRotor>) -> f64 {
+    let system = model.rotor().system().clone();
+    LinearFreeFlight::new(system, [0, 1], Vector2::zeros())
+        .prepare()
+        .map_or(f64::NAN, |form| form.least_damping_ratio())
+}
+
+/// A RuntimeWarning that the rotor is linearly unstable (`zeta` < 0).
+fn warn_if_unstable(py: Python<'_>, zeta: f64) -> PyResult<()> {
+    if zeta >= 0.0 || zeta.is_nan() {
+        return Ok(());
+    }
+    let message = format!(
+        "the rotor is linearly unstable without contact (least damping ratio {:.3} %): its \
+         free response grows whatever the ring does; check the bearings' cross-coupling",
+        100.0 * zeta
+    );
+    let message = CString::new(message).map_err(value_error)?;
+    PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &message, 1)
+}
+
 fn transient(
     py: Python<'_>,
     model: &RingedRotor<LinearRotor>,
+    zeta: f64,
     traj: &Trajectory<Dyn>,
     stats: &SimStats,
 ) -> PyResult<FeTransient> {
@@ -118,6 +154,8 @@ fn transient(
         onsets: changes(true),
         losses: changes(false),
         dofs: model.rotor().system().dofs(),
+        least_damping_ratio: zeta,
+        linearly_unstable: zeta < 0.0,
         stats: chunks::stats_dict(py, stats)?.unbind(),
     })
 }
@@ -189,6 +227,8 @@ pub fn fe_transient(
         offset: [ring_offset.0, ring_offset.1],
     };
     let model = py.detach(|| build(&lateral, system, at, modes))?;
+    let zeta = py.detach(|| least_damping_ratio(&model));
+    warn_if_unstable(py, zeta)?;
     let default_method = if modes == 0 { "radau5" } else { "dop853" };
     let opts = sim_options(
         Some(rtol),
@@ -203,7 +243,8 @@ pub fn fe_transient(
     let output = dense_output(t_end, dt, chunk.max(1) as f64 * dt)?;
     let mut y0 = model.rotor().rest_state();
     model.make_consistent(&mut y0).map_err(value_error)?;
-    let result =
-        |py: Python<'_>, traj: &Trajectory<_>, stats: &SimStats| transient(py, &model, traj, stats);
+    let result = |py: Python<'_>, traj: &Trajectory<_>, stats: &SimStats| {
+        transient(py, &model, zeta, traj, stats)
+    };
     chunks::run_into(py, &model, y0, output, &opts, result)
 }

@@ -3,6 +3,7 @@ independent SciPy implementation, tests/data/rotors/README of the shared set), a
 tests/suite/fe/fe_s1.rs checks it."""
 
 import json
+import warnings
 import numpy as np
 import pytest
 
@@ -47,6 +48,7 @@ def test_s1_full_model_radau5():
     assert run.t.shape == run.x.shape == run.y.shape == (1001,)
     assert run.x.dtype == np.float64 and run.regimes.dtype == np.uint8
     assert run.dofs == 136  # 34 nodes x 4 lateral DOFs
+    assert not run.linearly_unstable and run.least_damping_ratio > 0
     assert np.max(np.abs(run.t - ref[:, 0])) <= 1e-12
     err = np.max(np.hypot(run.x - ref[:, 1], run.y - ref[:, 2])) / p["gamma_m"]
     assert err <= 1e-6, f"{err:e} gap"
@@ -117,3 +119,40 @@ def test_fe_matrices_as_any_array_like():
     assert np.array_equal(run(lambda a: a.astype(np.float32)), widened)
     with pytest.raises((ValueError, TypeError)):
         jeffcott.fe_transient([["a"]], m["K"], m["C"], m["G"], 125.0, **short)
+
+
+def one_node(q, c=0.02, k=1.0):
+    # One node (layout lateral4: x, y, alpha, beta), cross-coupled stiffness q in x-y.
+    M = np.eye(4)
+    K = np.diag([k, k, 1.0, 1.0])
+    K[0, 1], K[1, 0] = q, -q
+    return M, K, c * np.eye(4), np.zeros((4, 4))
+
+
+def numpy_least_damping_ratio(M, K, C):
+    # The truth, independent of the crate: numpy's eigenvalues of the first-order form.
+    n = len(M)
+    Minv = np.linalg.inv(M)
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ K, -Minv @ C]])
+    lam = np.linalg.eigvals(A)
+    return np.min(-lam.real / np.abs(lam))
+
+
+@pytest.mark.parametrize("q, unstable", [(0.01, False), (0.05, True)])
+def test_fe_linearly_unstable_rotor_is_flagged(q, unstable):
+    # Cross-coupling q against the threshold c sqrt(k) = 0.02: below it stable, above it a
+    # forward mode grows (the ring out of reach: the free response alone).
+    M, K, C, G = one_node(q)
+    kw = dict(ring_node=0, gap=1e6, ring_stiffness=1.0, ring_damping=0.0,
+              unbalance=[(0, 1e-3, 0.0)], t_end=1.0, samples=10, layout="lateral4")
+    truth = numpy_least_damping_ratio(M, K, C)
+    assert (truth < 0) == unstable
+    if unstable:
+        with pytest.warns(RuntimeWarning, match="linearly unstable"):
+            run = jeffcott.fe_transient(M, K, C, G, 1.0, **kw)
+    else:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            run = jeffcott.fe_transient(M, K, C, G, 1.0, **kw)
+    assert run.linearly_unstable == unstable
+    assert abs(run.least_damping_ratio - truth) <= 1e-12

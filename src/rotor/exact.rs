@@ -404,6 +404,33 @@ impl LinearClosedForm {
         &self.values
     }
 
+    /// The least damping ratio of the rotor's modes without contact,
+    /// $\zeta_{\min} = \min_k -\operatorname{Re}\lambda_k / |\lambda_k|$ over the eigenvalues
+    /// with $|\lambda_k| > 10^{-12} \max_j |\lambda_j|$ (a rigid-body mode, $\lambda = 0$, has
+    /// none). Negative when a mode grows: the rotor is linearly unstable (e.g. cross-coupled
+    /// bearings past the threshold), its free response grows without bound and contact is not
+    /// what limits it. `f64::INFINITY` when every eigenvalue is zero.
+    ///
+    /// ```
+    /// use jeffcott::nalgebra::{DMatrix, Vector2};
+    /// use jeffcott::rotor::{LinearFreeFlight, LinearSystem};
+    /// // One node, x and y: k = 1, cross-coupling q = 0.05 past its threshold c sqrt(k) = 0.02.
+    /// let (m, c) = (DMatrix::identity(2, 2), DMatrix::identity(2, 2) * 0.02);
+    /// let k = DMatrix::from_row_slice(2, 2, &[1.0, 0.05, -0.05, 1.0]);
+    /// let system = LinearSystem::new(m, c, k, 1.0)?;
+    /// let form = LinearFreeFlight::new(system, [0, 1], Vector2::zeros()).prepare()?;
+    /// assert!(form.least_damping_ratio() < 0.0);
+    /// # Ok::<(), jeffcott::rotor::RotorError>(())
+    /// ```
+    pub fn least_damping_ratio(&self) -> f64 {
+        let largest = self.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
+        self.values
+            .iter()
+            .filter(|l| l.norm() > 1e-12 * largest)
+            .map(|l| -l.re / l.norm())
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// $\kappa_1(V)$ in balanced coordinates.
     pub fn condition(&self) -> f64 {
         self.condition

@@ -17,4 +17,5 @@ mod fe_reduction_s1;
 mod fe_reduction_table;
 mod fe_run_up;
 mod fe_s1;
+mod fe_stability_margin;
 mod fe_steady;
