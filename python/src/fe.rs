@@ -5,11 +5,10 @@
 use std::ffi::CString;
 
 use jeffcott::hybrid::{SimStats, Trajectory};
-use jeffcott::nalgebra::{DMatrix, DVector, Dyn, Vector2};
+use jeffcott::nalgebra::{DMatrix, DVector, Dyn};
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{
-    CraigBampton, DofLayout, LinearFreeFlight, LinearRotor, LinearSystem, ModeSelection,
-    RingedRotor, RotorMatrices,
+    CraigBampton, DofLayout, LinearRotor, LinearSystem, ModeSelection, RingedRotor, RotorMatrices,
 };
 use numpy::{AllowTypeChange, PyArray1, PyArrayLike2};
 use pyo3::exceptions::PyRuntimeWarning;
@@ -107,13 +106,13 @@ fn build(
         .map_err(value_error)
 }
 
-/// The least damping ratio of the integrated rotor without contact (NaN if its eigen-
-/// decomposition is refused).
+/// The least damping ratio of the integrated rotor without contact, from the eigenvalues of
+/// its free flight's closed form (NaN where that was refused as ill-conditioned).
 fn least_damping_ratio(model: &RingedRotor<LinearRotor>) -> f64 {
-    let system = model.rotor().system().clone();
-    LinearFreeFlight::new(system, [0, 1], Vector2::zeros())
-        .prepare()
-        .map_or(f64::NAN, |form| form.least_damping_ratio())
+    match model.closed_form() {
+        Some(Ok(form)) => form.least_damping_ratio(),
+        _ => f64::NAN,
+    }
 }
 
 /// A RuntimeWarning that the rotor is linearly unstable (`zeta` < 0).
@@ -227,7 +226,7 @@ pub fn fe_transient(
         offset: [ring_offset.0, ring_offset.1],
     };
     let model = py.detach(|| build(&lateral, system, at, modes))?;
-    let zeta = py.detach(|| least_damping_ratio(&model));
+    let zeta = least_damping_ratio(&model);
     warn_if_unstable(py, zeta)?;
     let default_method = if modes == 0 { "radau5" } else { "dop853" };
     let opts = sim_options(
