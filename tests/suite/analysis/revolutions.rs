@@ -150,8 +150,9 @@ fn located_peaks(dense: Option<f64>) -> (ProfiledJeffcott, Trajectory<U6>, Vec<R
 fn the_peak_is_located_between_the_strobes() {
     // The truth: the largest radius, relative to the ring's centre, of dense samples of the
     // same run every 1/4096 of its shortest revolution and of its strobes (the samples' own
-    // error at a smooth peak at most (2 pi / 4096)^2 / 8 = 3e-7 of the radius). The peak is located with the strobes
-    // and events as knots, and with dense samples 256 a revolution as knots too.
+    // error at a smooth peak at most (2 pi / 4096)^2 / 8 = 3e-7 of the radius). The peak is
+    // located with the strobes and events as knots, and with dense samples 256 a revolution
+    // as knots too.
     let (rotor, truth, revs) = located_peaks(Some(4096.0));
     let (_, _, strobes_only) = located_peaks(None);
     let (_, _, with_samples) = located_peaks(Some(256.0));
