@@ -135,7 +135,7 @@ use crate::ode::JacobianMut;
 use crate::ring::onset::OnsetScan;
 use crate::ring::Relaxation;
 use crate::ring::{
-    ForceJacobian, Kinematics, RingCache, RingError, RingGuard, RingMode, SnubberRing,
+    Branches, ForceJacobian, Kinematics, RingCache, RingError, RingGuard, RingMode, SnubberRing,
 };
 
 /// A rotor without the ring: smooth, of state dimension [`SmoothRotor::Dim`] (fixed, e.g.
@@ -1119,6 +1119,44 @@ impl<R> RingedRotor<R> {
         y[i] = s.x;
         y[j] = s.y;
         Ok(())
+    }
+
+    /// The force of the ring on the rotor at its station in a state `y` of a run (a sample's
+    /// or an event's), in contact or not (`in_contact`: the sample's mode label is not 1,
+    /// regime I). Zero in free flight (the massless ring relaxes on its own); in contact
+    /// $-f$, the reaction to the ring's elastic and damping force
+    /// $f = g(s) + C\thinspace J r^\prime$ ([`RingContact::force`](crate::ring::RingContact::force)) with the ring on the
+    /// branches of its position $s$ in `y` (its slots), located at the station's $r$ and
+    /// moving with $s^\prime = J r^\prime$. Its normal part $N = n\cdot f$,
+    /// $n = (r - s)/\gamma$, is the paper's contact force; the elastic part $g(s)$ lies along
+    /// $n$, the damping part too where both axes damp alike (regimes II and V). In the ring's
+    /// force unit (N for a ring [`SnubberRing::from_units`] in SI).
+    ///
+    /// # Errors
+    /// [`ModelError::InvalidState`] where the ring has no placement on those branches at $r$
+    /// (a state that is not one of the run's, or not finite).
+    pub fn contact_force(
+        &self,
+        y: &OVector<f64, R::Dim>,
+        in_contact: bool,
+    ) -> Result<Vector2<f64>, ModelError>
+    where
+        R: SmoothRotor,
+        DefaultAllocator: Allocator<R::Dim>,
+    {
+        if !in_contact {
+            return Ok(Vector2::new(0.0, 0.0));
+        }
+        let k = self.rotor.station(y);
+        let [i, j] = self.rotor.ring_slots();
+        let branches = Branches::of(&self.ring, &Vector2::new(y[i], y[j]));
+        let contact = self.ring.locate_on(&k.r, branches, f64::NAN).map_err(|e| {
+            ModelError::InvalidState {
+                t: f64::NAN,
+                reason: e.to_string(),
+            }
+        })?;
+        Ok(-contact.force(&k.v))
     }
 
     /// The station's acceleration under a ring force `f`, from the rotor's own equations (the

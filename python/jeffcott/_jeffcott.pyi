@@ -62,17 +62,43 @@ class Diagram:
     periods: npt.NDArray[np.int64]  # (V,), -1: none
     errors: list[str | None]
 
-class FeTransient:
-    t: npt.NDArray[np.float64]  # (N+1,) s
-    x: npt.NDArray[np.float64]  # (N+1,) m
-    y: npt.NDArray[np.float64]  # (N+1,) m
-    regimes: npt.NDArray[np.uint8]  # (N+1,)
+class ContactEpisodes:
+    start: npt.NDArray[np.float64]  # (E,) s: onset, or the run's start
+    end: npt.NDArray[np.float64]  # (E,) s: loss; NaN if open at the run's end
+    duration: npt.NDArray[np.float64]  # (E,) s
+    peak_force: npt.NDArray[np.float64]  # (E,) N: samples, onset and loss
+    impulse: npt.NDArray[np.float64]  # (E,) N s: trapezoid on samples, onset and loss
+
+class Revolutions:
+    start: npt.NDArray[np.float64]  # (R,) s
+    end: npt.NDArray[np.float64]  # (R,) s
+    speed: npt.NDArray[np.float64]  # (R,) rad/s, 2 pi / (end - start)
+    peak_radius: npt.NDArray[np.float64]  # (R,) m from the ring's rest centre, located
+    contact_time: npt.NDArray[np.float64]  # (R,) s
+
+class FeRun:
+    t: npt.NDArray[np.float64]  # (N,) s
+    speed: npt.NDArray[np.float64]  # (N,) rad/s
+    x: npt.NDArray[np.float64]  # (N,) m, the ring node
+    y: npt.NDArray[np.float64]  # (N,) m
+    vx: npt.NDArray[np.float64]  # (N,) m/s
+    vy: npt.NDArray[np.float64]  # (N,) m/s
+    ring_x: npt.NDArray[np.float64]  # (N,) m, the ring's centre from its rest
+    ring_y: npt.NDArray[np.float64]  # (N,) m
+    force_x: npt.NDArray[np.float64]  # (N,) N, the ring's force on the rotor
+    force_y: npt.NDArray[np.float64]  # (N,) N
+    normal_force: npt.NDArray[np.float64]  # (N,) N, >= 0
+    regimes: npt.NDArray[np.uint8]  # (N,)
     onsets: npt.NDArray[np.float64]  # s
     losses: npt.NDArray[np.float64]  # s
+    contacts: ContactEpisodes
+    revolutions: Revolutions
     dofs: int
     least_damping_ratio: float  # min -Re(lambda)/|lambda|; NaN if not computed
     linearly_unstable: bool  # least_damping_ratio < 0 (a RuntimeWarning too)
     stats: dict[str, int]
+
+FeTransient = FeRun
 
 class Orbit:
     period: int
@@ -303,4 +329,29 @@ def fe_transient(
     method: str | None = None,
     layout: str = "ross6",
     chunk: int = 50,
-) -> FeTransient: ...
+) -> FeRun: ...
+def fe_run_up(
+    M: npt.ArrayLike,
+    K: npt.ArrayLike,
+    C: npt.ArrayLike,
+    G: npt.ArrayLike,
+    times: npt.ArrayLike,
+    speeds: npt.ArrayLike,
+    *,
+    ring_node: int,
+    gap: float,
+    ring_stiffness: float,
+    ring_damping: float,
+    unbalance: Sequence[tuple[int, float, float]],
+    ring: bool = True,
+    t_end: float | None = None,
+    dt: float | None = None,
+    preload: tuple[float, float] = (0.0, 0.0),
+    ring_offset: tuple[float, float] = (0.0, 0.0),
+    modes: int = 0,
+    rtol: float = 1e-8,
+    atol: float | None = None,
+    method: str | None = None,
+    layout: str = "ross6",
+    chunk: int = 100,
+) -> FeRun: ...

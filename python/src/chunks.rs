@@ -22,12 +22,44 @@ pub type Outcome<D> = Result<SimStats, SimError<D>>;
 pub enum Output {
     /// Stroboscopic points `k = 0..=last` (the model's strobe times), `per_chunk` a chunk.
     Strobe { last: u64, per_chunk: u64 },
-    /// `count` samples at `t0 + i dt`, `per_chunk` a chunk, with the event log.
-    Dense { dt: f64, count: u64, per_chunk: u64 },
+    /// `count` samples at `t0 + i dt`, `per_chunk` a chunk, with the event log, and the
+    /// stroboscopic points up to the last sample if `strobes`.
+    Dense {
+        dt: f64,
+        count: u64,
+        per_chunk: u64,
+        strobes: bool,
+    },
 }
 
-/// The plan of chunk `j` starting at `t` (the previous chunk's end), or `None` past the end.
-fn plan_of<M: RotorModel>(model: &M, output: Output, j: u64, t: f64) -> Option<OutputPlan>
+impl Output {
+    /// The same output with the stroboscopic points too (dense outputs only).
+    pub fn with_strobes(self) -> Self {
+        match self {
+            Output::Dense {
+                dt,
+                count,
+                per_chunk,
+                ..
+            } => Output::Dense {
+                dt,
+                count,
+                per_chunk,
+                strobes: true,
+            },
+            strobe => strobe,
+        }
+    }
+}
+
+/// The plan of chunk `j` starting at `t` (the previous chunk's end), or `None` past the end;
+/// `strobes_done` stroboscopic points were recorded before it.
+fn plan_of<M: RotorModel>(
+    model: &M,
+    output: Output,
+    (j, t): (u64, f64),
+    strobes_done: u64,
+) -> Option<OutputPlan>
 where
     DefaultAllocator: Allocator<M::Dim>,
 {
@@ -48,6 +80,7 @@ where
             dt,
             count,
             per_chunk,
+            strobes,
         } => {
             let first = j * per_chunk + skip;
             let end = ((j + 1) * per_chunk).min(count.saturating_sub(1));
@@ -55,7 +88,11 @@ where
             // The driver's sample times are `t_start + dt i`: the last one is `t_end` exactly.
             (j == 0 || first <= end).then(|| OutputPlan {
                 t_end: t_start + dt * (end - first) as f64,
-                strobe: None,
+                // The strobes after those recorded, up to the chunk's end.
+                strobe: strobes.then_some(StrobeRange {
+                    first: strobes_done,
+                    last: u64::MAX - 1,
+                }),
                 dense: Some(DenseSampling { t_start, dt }),
                 events: true,
             })
@@ -94,7 +131,7 @@ where
 {
     let (mut t, mut y, mut stats) = (t0, y0, SimStats::default());
     for j in 0.. {
-        let Some(plan) = plan_of(model, output, j, t) else {
+        let Some(plan) = plan_of(model, output, (j, t), total.strobe.len() as u64) else {
             break;
         };
         let before = total.strobe.len() + total.samples.len();
@@ -109,7 +146,7 @@ where
         total.samples.extend(chunk.samples);
         total.events.extend(chunk.events);
         match result {
-            Ok(s) => add(&mut stats, &s),
+            Ok(s) => stats += s,
             Err(e) => return Ok(Err(e)),
         }
         match end {
@@ -177,20 +214,8 @@ where
     Ok(traj.strobe.pop().map_or(y0, |p| p.y))
 }
 
-/// Adds the work of one chunk.
-fn add(total: &mut SimStats, s: &SimStats) {
-    total.steps += s.steps;
-    total.rejected += s.rejected;
-    total.rhs_evals += s.rhs_evals;
-    total.exact_evals += s.exact_evals;
-    total.transitions += s.transitions;
-    total.unresolved_steps += s.unresolved_steps;
-    total.jacobians += s.jacobians;
-    total.lu_decompositions += s.lu_decompositions;
-}
-
 /// The work of a run as a dict (steps, rejected, rhs_evals, exact_evals, transitions,
-/// jacobians, lu_decompositions).
+/// jacobians, lu_decompositions, woodbury_decompositions).
 pub fn stats_dict<'py>(py: Python<'py>, s: &SimStats) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
     let d = pyo3::types::PyDict::new(py);
     d.set_item("steps", s.steps)?;
@@ -200,5 +225,6 @@ pub fn stats_dict<'py>(py: Python<'py>, s: &SimStats) -> PyResult<Bound<'py, pyo
     d.set_item("transitions", s.transitions)?;
     d.set_item("jacobians", s.jacobians)?;
     d.set_item("lu_decompositions", s.lu_decompositions)?;
+    d.set_item("woodbury_decompositions", s.woodbury_decompositions)?;
     Ok(d)
 }

@@ -11,6 +11,8 @@ mod chunks;
 mod continuation;
 mod errors;
 mod fe;
+mod fe_run;
+mod fe_run_up;
 mod interrupt;
 mod lyapunov;
 mod options;
@@ -34,7 +36,11 @@ mod _jeffcott {
     #[pymodule_export]
     use crate::errors::SimulationError;
     #[pymodule_export]
-    use crate::fe::{fe_transient, FeTransient};
+    use crate::fe::fe_transient;
+    #[pymodule_export]
+    use crate::fe_run::{ContactEpisodes, FeRun, Revolutions};
+    #[pymodule_export]
+    use crate::fe_run_up::fe_run_up;
     #[pymodule_export]
     use crate::lyapunov::{lyapunov_exponents, Lyapunov};
     #[pymodule_export]

@@ -221,6 +221,7 @@ pub fn dense_output(t_end: f64, dt: f64, chunk_time: f64) -> PyResult<Output> {
         dt,
         count,
         per_chunk,
+        strobes: false,
     })
 }
 

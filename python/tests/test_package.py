@@ -23,7 +23,8 @@ def test_every_signature_shows_its_defaults():
         f = getattr(jeffcott, name)
         if inspect.isbuiltin(f) or inspect.isfunction(f):
             shown[name] = str(inspect.signature(f))
-    assert "fe_transient" in shown and "lyapunov_exponents" in shown
+    assert {"fe_transient", "fe_run_up", "lyapunov_exponents"} <= shown.keys()
     assert not [n for n, s in shown.items() if "Ellipsis" in s or "..." in s], shown
     assert "preload=(0.0, 0.0)" in shown["fe_transient"]
+    assert "ring_offset=(0.0, 0.0)" in shown["fe_run_up"]
     assert "separation=1e-08" in shown["lyapunov_exponents"]

@@ -159,6 +159,41 @@ pub struct SimStats {
     pub woodbury_decompositions: u64,
 }
 
+/// The work of two runs together, field by field: the sum of a run resumed in pieces (e.g.
+/// chunk by chunk between Ctrl-C checks).
+///
+/// ```
+/// use jeffcott::hybrid::SimStats;
+/// let mut total = SimStats { steps: 3, woodbury_decompositions: 1, ..Default::default() };
+/// total += SimStats { steps: 4, woodbury_decompositions: 2, ..Default::default() };
+/// assert_eq!((total.steps, total.woodbury_decompositions), (7, 3));
+/// ```
+impl std::ops::AddAssign for SimStats {
+    fn add_assign(&mut self, s: Self) {
+        // Destructured: a field added to `SimStats` must be added here too.
+        let SimStats {
+            steps,
+            rejected,
+            rhs_evals,
+            exact_evals,
+            transitions,
+            unresolved_steps,
+            jacobians,
+            lu_decompositions,
+            woodbury_decompositions,
+        } = s;
+        self.steps += steps;
+        self.rejected += rejected;
+        self.rhs_evals += rhs_evals;
+        self.exact_evals += exact_evals;
+        self.transitions += transitions;
+        self.unresolved_steps += unresolved_steps;
+        self.jacobians += jacobians;
+        self.lu_decompositions += lu_decompositions;
+        self.woodbury_decompositions += woodbury_decompositions;
+    }
+}
+
 /// What went wrong in a run.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

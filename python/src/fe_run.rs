@@ -1,0 +1,282 @@
+//! What a run of a finite-element rotor on the ring gives back (`fe_transient`, `fe_run_up`):
+//! the ring node's motion, the ring, the contact force at the samples; each contact episode;
+//! each revolution's peak.
+
+use jeffcott::analysis::per_revolution;
+use jeffcott::hybrid::{EventRecord, SimStats, Trajectory};
+use jeffcott::nalgebra::{DVector, Dyn, Vector2};
+use jeffcott::rotor::{RingedRotor, SmoothRotor};
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::array;
+use crate::chunks::stats_dict;
+use crate::errors::value_error;
+
+/// The contact episodes of a run, one entry each, in time order.
+#[pyclass(module = "jeffcott", frozen, get_all)]
+pub struct ContactEpisodes {
+    /// When each contact starts (s): its onset, or the run's start if it starts in contact.
+    pub start: Py<PyArray1<f64>>,
+    /// When each ends (s): its loss; NaN for a contact that lasts to the run's end.
+    pub end: Py<PyArray1<f64>>,
+    /// ``end - start`` (s); NaN where ``end`` is.
+    pub duration: Py<PyArray1<f64>>,
+    /// The largest normal force (N) at the samples and at the contact's onset and loss.
+    pub peak_force: Py<PyArray1<f64>>,
+    /// The normal force's integral over the contact (N s), by the trapezoidal rule on the
+    /// samples and the onset and loss.
+    pub impulse: Py<PyArray1<f64>>,
+}
+
+/// The revolutions of a run, one entry each: from one revolution of the forcing phase to the
+/// next (the first starts at t = 0).
+#[pyclass(module = "jeffcott", frozen, get_all)]
+pub struct Revolutions {
+    /// When each starts (s).
+    pub start: Py<PyArray1<f64>>,
+    /// When each ends (s).
+    pub end: Py<PyArray1<f64>>,
+    /// Its mean speed 2 pi / (end - start) (rad/s).
+    pub speed: Py<PyArray1<f64>>,
+    /// The ring node's largest distance from the ring's rest centre in it (m), located on the
+    /// cubic Hermite interpolant of position and velocity through the samples, the revolution
+    /// starts and the events (the crate's ``analysis::per_revolution``).
+    pub peak_radius: Py<PyArray1<f64>>,
+    /// The time in contact in it (s).
+    pub contact_time: Py<PyArray1<f64>>,
+}
+
+/// A run of a finite-element rotor on the ring: at uniform samples the ring node's
+/// displacement and velocity, the ring and its force on the rotor; the contact events and
+/// episodes; the revolutions.
+#[pyclass(module = "jeffcott", frozen, get_all)]
+pub struct FeRun {
+    /// Sample times t_i = i dt (s), float64, shape (N,).
+    pub t: Py<PyArray1<f64>>,
+    /// The speed at the samples (rad/s), shape (N,).
+    pub speed: Py<PyArray1<f64>>,
+    /// The ring node's x from its undeflected position (m), shape (N,).
+    pub x: Py<PyArray1<f64>>,
+    /// The ring node's y (m), shape (N,).
+    pub y: Py<PyArray1<f64>>,
+    /// The ring node's x velocity (m/s), shape (N,).
+    pub vx: Py<PyArray1<f64>>,
+    /// The ring node's y velocity (m/s), shape (N,).
+    pub vy: Py<PyArray1<f64>>,
+    /// The ring centre's x from its rest position (m), shape (N,).
+    pub ring_x: Py<PyArray1<f64>>,
+    /// The ring centre's y (m), shape (N,).
+    pub ring_y: Py<PyArray1<f64>>,
+    /// The ring's force on the rotor, x (N), shape (N,); zero out of contact.
+    pub force_x: Py<PyArray1<f64>>,
+    /// The ring's force on the rotor, y (N), shape (N,).
+    pub force_y: Py<PyArray1<f64>>,
+    /// The normal contact force (N, >= 0 in contact), pressing the rotor back towards the
+    /// ring's centre, shape (N,).
+    pub normal_force: Py<PyArray1<f64>>,
+    /// Regime at the samples (1: no contact, 2..=5 contact), uint8, shape (N,).
+    pub regimes: Py<PyArray1<u8>>,
+    /// Times of the contact onsets (s).
+    pub onsets: Py<PyArray1<f64>>,
+    /// Times of the contact losses (s).
+    pub losses: Py<PyArray1<f64>>,
+    /// The contact episodes.
+    pub contacts: Py<ContactEpisodes>,
+    /// The revolutions.
+    pub revolutions: Py<Revolutions>,
+    /// Degrees of freedom integrated (after dropping z, theta and any reduction).
+    pub dofs: usize,
+    /// The least damping ratio of the integrated rotor's modes without contact (at the
+    /// reference speed: the run's, or a run-up's largest), min -Re(lambda)/|lambda| over its
+    /// nonzero eigenvalues (NaN if the eigen-decomposition was refused as ill-conditioned).
+    pub least_damping_ratio: f64,
+    /// Whether a mode grows without contact (``least_damping_ratio < 0``): the rotor is
+    /// linearly unstable, its free response grows whatever the ring does (a RuntimeWarning
+    /// says so when the run starts).
+    pub linearly_unstable: bool,
+    /// The work done (steps, rejected, rhs_evals, ..., lu_decompositions).
+    pub stats: Py<PyDict>,
+}
+
+/// What a run's result is made of besides its trajectory.
+pub struct RunFacts<'a, R: SmoothRotor<Dim = Dyn>> {
+    /// The model that ran.
+    pub model: &'a RingedRotor<R>,
+    /// The ring node's displacement from its undeflected position in a state.
+    pub displacement: &'a dyn Fn(&DVector<f64>) -> [f64; 2],
+    /// The speed at a time.
+    pub speed: &'a dyn Fn(f64) -> f64,
+    /// The degrees of freedom integrated.
+    pub dofs: usize,
+    /// The least damping ratio without contact.
+    pub zeta: f64,
+}
+
+/// The ring's force on the rotor and its normal part N = n . f (n from the ring's centre to
+/// the station) in a state of the run.
+fn force_of<R: SmoothRotor<Dim = Dyn>>(
+    model: &RingedRotor<R>,
+    y: &DVector<f64>,
+    in_contact: bool,
+) -> PyResult<(Vector2<f64>, f64)> {
+    let force = model.contact_force(y, in_contact).map_err(value_error)?;
+    if !in_contact {
+        return Ok((force, 0.0));
+    }
+    let r = model.rotor().station(y).r;
+    let [i, j] = model.rotor().ring_slots();
+    let n = r - Vector2::new(y[i], y[j]);
+    Ok((force, -n.dot(&force) / n.norm()))
+}
+
+/// The run's result from its trajectory (samples with strobes once a revolution, events).
+pub fn fe_run<R: SmoothRotor<Dim = Dyn>>(
+    py: Python<'_>,
+    facts: &RunFacts<'_, R>,
+    traj: &Trajectory<Dyn>,
+    stats: &SimStats,
+) -> PyResult<FeRun> {
+    let model = facts.model;
+    let s = &traj.samples;
+    let forces = s
+        .iter()
+        .map(|p| force_of(model, &p.y, p.label != 1))
+        .collect::<PyResult<Vec<_>>>()?;
+    let at = |p: &DVector<f64>| (facts.displacement)(p);
+    let velocity: Vec<_> = s.iter().map(|p| model.rotor().station(&p.y).v).collect();
+    let [i, j] = model.rotor().ring_slots();
+    let changes = |onset: bool| {
+        let e = traj
+            .events
+            .iter()
+            .filter(|e| e.from != e.to && (e.from == 1) == onset);
+        array(py, e.map(|e| e.t))
+    };
+    Ok(FeRun {
+        t: array(py, s.iter().map(|p| p.t)),
+        speed: array(py, s.iter().map(|p| (facts.speed)(p.t))),
+        x: array(py, s.iter().map(|p| at(&p.y)[0])),
+        y: array(py, s.iter().map(|p| at(&p.y)[1])),
+        vx: array(py, velocity.iter().map(|v| v.x)),
+        vy: array(py, velocity.iter().map(|v| v.y)),
+        ring_x: array(py, s.iter().map(|p| p.y[i])),
+        ring_y: array(py, s.iter().map(|p| p.y[j])),
+        force_x: array(py, forces.iter().map(|f| f.0.x)),
+        force_y: array(py, forces.iter().map(|f| f.0.y)),
+        normal_force: array(py, forces.iter().map(|f| f.1)),
+        regimes: array(py, s.iter().map(|p| p.label)),
+        onsets: changes(true),
+        losses: changes(false),
+        contacts: Py::new(py, episodes(py, model, traj, &forces)?)?,
+        revolutions: Py::new(py, revolutions(py, model, traj)?)?,
+        dofs: facts.dofs,
+        least_damping_ratio: facts.zeta,
+        linearly_unstable: facts.zeta < 0.0,
+        stats: stats_dict(py, stats)?.unbind(),
+    })
+}
+
+/// One contact episode: its start and end and the normal force at its knots.
+struct Episode {
+    start: f64,
+    end: f64,
+    knots: Vec<(f64, f64)>,
+}
+
+impl Episode {
+    fn peak(&self) -> f64 {
+        self.knots.iter().map(|k| k.1).fold(0.0, f64::max)
+    }
+
+    fn impulse(&self) -> f64 {
+        let panels = self.knots.windows(2);
+        panels
+            .map(|w| 0.5 * (w[1].0 - w[0].0) * (w[0].1 + w[1].1))
+            .sum()
+    }
+}
+
+/// The normal force in an event's state before (`before`) or after it, in contact.
+fn event_force<R: SmoothRotor<Dim = Dyn>>(
+    model: &RingedRotor<R>,
+    e: &EventRecord<Dyn>,
+    before: bool,
+) -> PyResult<f64> {
+    let y = if before { &e.before } else { &e.after };
+    Ok(force_of(model, y, true)?.1)
+}
+
+/// The contact episodes: from each onset (or a start in contact) to the next loss, the normal
+/// force at the onset, the samples in contact between, and the loss.
+fn episodes<R: SmoothRotor<Dim = Dyn>>(
+    py: Python<'_>,
+    model: &RingedRotor<R>,
+    traj: &Trajectory<Dyn>,
+    forces: &[(Vector2<f64>, f64)],
+) -> PyResult<ContactEpisodes> {
+    let mut all: Vec<Episode> = Vec::new();
+    let mut open: Option<Episode> = match traj.samples.first() {
+        Some(p) if p.label != 1 => Some(Episode {
+            start: p.t,
+            end: f64::NAN,
+            knots: Vec::new(),
+        }),
+        _ => None,
+    };
+    let mut samples = traj.samples.iter().zip(forces).peekable();
+    for e in traj.events.iter().filter(|e| e.from != e.to) {
+        // The samples before the event belong to the open episode, if any.
+        while let Some((p, f)) = samples.next_if(|(p, _)| p.t < e.t) {
+            if let Some(ep) = open.as_mut().filter(|_| p.label != 1) {
+                ep.knots.push((p.t, f.1));
+            }
+        }
+        if e.from == 1 {
+            let start = event_force(model, e, false)?;
+            open = Some(Episode {
+                start: e.t,
+                end: f64::NAN,
+                knots: vec![(e.t, start)],
+            });
+        } else if e.to == 1 {
+            if let Some(mut ep) = open.take() {
+                ep.knots.push((e.t, event_force(model, e, true)?));
+                ep.end = e.t;
+                all.push(ep);
+            }
+        }
+    }
+    if let Some(mut ep) = open {
+        ep.knots.extend(
+            samples
+                .filter(|(p, _)| p.label != 1)
+                .map(|(p, f)| (p.t, f.1)),
+        );
+        all.push(ep);
+    }
+    Ok(ContactEpisodes {
+        start: array(py, all.iter().map(|e| e.start)),
+        end: array(py, all.iter().map(|e| e.end)),
+        duration: array(py, all.iter().map(|e| e.end - e.start)),
+        peak_force: array(py, all.iter().map(Episode::peak)),
+        impulse: array(py, all.iter().map(Episode::impulse)),
+    })
+}
+
+/// The revolutions from the strobes (one a revolution).
+fn revolutions<R: SmoothRotor<Dim = Dyn>>(
+    py: Python<'_>,
+    model: &RingedRotor<R>,
+    traj: &Trajectory<Dyn>,
+) -> PyResult<Revolutions> {
+    let revs = per_revolution(traj, 1, |y| model.rotor().station(y)).map_err(value_error)?;
+    Ok(Revolutions {
+        start: array(py, revs.iter().map(|r| r.t_start)),
+        end: array(py, revs.iter().map(|r| r.t_end)),
+        speed: array(py, revs.iter().map(|r| r.speed)),
+        peak_radius: array(py, revs.iter().map(|r| r.max_radius)),
+        contact_time: array(py, revs.iter().map(|r| r.contact_time)),
+    })
+}

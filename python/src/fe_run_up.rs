@@ -1,0 +1,173 @@
+//! The run-up of a finite-element rotor on the ring: the speed a table of (time, speed)
+//! points, linear between them (the crate's `rotor::SpeedProfile::piecewise` and
+//! `rotor::ProfiledLinearRotor`), in SI units.
+
+use std::f64::consts::TAU;
+
+use jeffcott::hybrid::{SimStats, Trajectory};
+use jeffcott::nalgebra::{DVector, Dyn};
+use jeffcott::rotor::{Segment, SmoothRotor, SpeedProfile};
+use numpy::{AllowTypeChange, PyArrayLike1};
+use pyo3::prelude::*;
+
+use crate::chunks;
+use crate::errors::value_error;
+use crate::fe::{
+    default_method, lateral_matrices, rotor_of, system_at, warn_if_unstable, ArrayLike, RingAt,
+};
+use crate::fe_run::{fe_run, FeRun, RunFacts};
+use crate::options::sim_options;
+use crate::paper::dense_output;
+
+/// A 1-D array-like of numbers, as float64.
+type Column<'py> = PyArrayLike1<'py, f64, AllowTypeChange>;
+
+/// The profile through the table's points: from `times[0]` = 0 at `speeds[0]`, a ramp (or a
+/// hold, where two speeds are equal) to each next point; after the last, its speed held.
+fn profile_of(times: &Column<'_>, speeds: &Column<'_>) -> PyResult<SpeedProfile> {
+    let (t, w) = (times.as_array(), speeds.as_array());
+    if t.len() != w.len() || t.is_empty() {
+        return Err(value_error(format!(
+            "times and speeds must be as long as each other and not empty, got {} and {}",
+            t.len(),
+            w.len()
+        )));
+    }
+    if t[0] != 0.0 {
+        return Err(value_error(format!("times[0] = {} must be 0", t[0])));
+    }
+    let mut segments = Vec::with_capacity(t.len() - 1);
+    for i in 1..t.len() {
+        let duration = t[i] - t[i - 1];
+        if !(duration > 0.0 && duration.is_finite()) {
+            return Err(value_error(format!(
+                "times must increase: times[{i}] = {} after {}",
+                t[i],
+                t[i - 1]
+            )));
+        }
+        segments.push(if w[i] == w[i - 1] {
+            Segment::Hold { duration }
+        } else {
+            Segment::Ramp {
+                to: w[i],
+                rate: (w[i] - w[i - 1]) / duration,
+            }
+        });
+    }
+    SpeedProfile::piecewise(w[0], &segments).map_err(value_error)
+}
+
+/// Run-up (or run-down, or any speed history) of a finite-element rotor on the snubber ring,
+/// from rest (q = q' = 0, the ring at its centre) at t = 0 to ``t_end`` (s; default the
+/// table's last time), sampled every ``dt`` (s; default 1/128 of a revolution at the largest
+/// speed).
+///
+/// The speed Omega(t) (rad/s) goes through the points (``times[i]``, ``speeds[i]``), linear
+/// between them (constant acceleration; ``times[0]`` = 0, increasing), held at the last speed
+/// after the last point: two points make a ramp, three a ramp up and back down. The equations
+/// are M q'' + (C + Omega G) q' + K q = F(t): ``C`` and ``K`` (the bearings) as given, for
+/// all speeds; the out-of-balance m e pushes with m e (Omega^2 cos phi + Omega' sin phi,
+/// Omega^2 sin phi - Omega' cos phi), phi = phase + the integral of Omega (the radial and the
+/// tangential force of the accelerating mass). The rotor, the ring, ``modes``, ``rtol``,
+/// ``atol``, ``method`` and ``layout`` as in ``fe_transient``; ``ring=False`` runs without
+/// the ring (its gap 1 m). Runs ``chunk`` revolutions (at the largest speed) at a time with
+/// the GIL released, Ctrl-C checked between chunks. Memory: each sample keeps the state and
+/// its derivative until the run ends (2 (2 n + 2) floats, n the DOFs integrated).
+/// ``ValueError`` for bad input (the crate's message), ``SimulationError`` (``partial``: an
+/// ``FeRun``) for a failed run. Returns an ``FeRun`` (its ``speed`` the profile's at the
+/// samples, its least damping ratio at the largest speed).
+#[pyfunction]
+#[pyo3(
+    signature = (M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, rtol=1e-8, atol=None, method=None, layout="ross6", chunk=100),
+    // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
+    text_signature = "(M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, rtol=1e-08, atol=None, method=None, layout='ross6', chunk=100)"
+)]
+#[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
+pub fn fe_run_up(
+    py: Python<'_>,
+    M: ArrayLike<'_>,
+    K: ArrayLike<'_>,
+    C: ArrayLike<'_>,
+    G: ArrayLike<'_>,
+    times: Column<'_>,
+    speeds: Column<'_>,
+    ring_node: usize,
+    gap: f64,
+    ring_stiffness: f64,
+    ring_damping: f64,
+    unbalance: Vec<(usize, f64, f64)>,
+    ring: bool,
+    t_end: Option<f64>,
+    dt: Option<f64>,
+    preload: (f64, f64),
+    ring_offset: (f64, f64),
+    modes: usize,
+    rtol: f64,
+    atol: Option<f64>,
+    method: Option<&str>,
+    layout: &str,
+    chunk: u64,
+) -> PyResult<FeRun> {
+    let profile = profile_of(&times, &speeds)?;
+    let top = profile.eta_max();
+    if top.is_nan() || top <= 0.0 {
+        return Err(value_error("the speeds must not all be zero"));
+    }
+    let t_end = match t_end {
+        Some(t) => t,
+        None if profile.ramp_time() > 0.0 => profile.ramp_time(),
+        None => return Err(value_error("a constant speed needs t_end")),
+    };
+    let lateral = lateral_matrices([&M, &K, &C, &G], layout)?;
+    // The reference speed is the top one: it sets the state's scale.
+    let system = system_at(&lateral, top, &unbalance)?;
+    let gap = if ring { gap } else { 1.0 };
+    let at = RingAt::new(
+        ring_node,
+        [gap, ring_stiffness, ring_damping],
+        preload,
+        ring_offset,
+    )?;
+    let ring = at.ring;
+    let (model, zeta) = py.detach(|| {
+        let (rotor, cb) = rotor_of(&lateral, system, &at, modes)?;
+        let g = match &cb {
+            Some(cb) => cb.project(lateral.gyroscopic()).map_err(value_error)?,
+            None => lateral.gyroscopic().clone(),
+        };
+        let zeta = match rotor.linear_free_flight().map(|f| f.prepare()) {
+            Some(Ok(form)) => form.least_damping_ratio(),
+            _ => f64::NAN,
+        };
+        let profiled = rotor
+            .with_speed_profile(&g, profile.clone())
+            .and_then(|r| r.ringed(ring))
+            .map_err(value_error)?;
+        PyResult::Ok((profiled, zeta))
+    })?;
+    warn_if_unstable(py, zeta)?;
+    let opts = sim_options(
+        Some(rtol),
+        Some(atol.unwrap_or(rtol)),
+        Some(method.unwrap_or(default_method(modes))),
+    )?
+    .with_max_events_per_period(u32::MAX);
+    let period = TAU / top;
+    let dt = dt.unwrap_or(period / 128.0);
+    let output = dense_output(t_end, dt, chunk.max(1) as f64 * period)?.with_strobes();
+    let mut y0 = model.rotor().rotor().rest_state();
+    model.make_consistent(&mut y0).map_err(value_error)?;
+    let displacement = |y: &DVector<f64>| model.rotor().rotor().station_displacement(y);
+    let speed = |t: f64| profile.eta(t);
+    let facts = RunFacts {
+        model: &model,
+        displacement: &displacement,
+        speed: &speed,
+        dofs: model.rotor().rotor().system().dofs(),
+        zeta,
+    };
+    let result =
+        |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| fe_run(py, &facts, traj, stats);
+    chunks::run_into(py, &model, y0, output, &opts, result)
+}
