@@ -79,6 +79,7 @@ class Revolutions:
 class FeRun:
     t: npt.NDArray[np.float64]  # (N,) s
     speed: npt.NDArray[np.float64]  # (N,) rad/s
+    phase: npt.NDArray[np.float64]  # (N,) rad, the integral of the speed
     x: npt.NDArray[np.float64]  # (N,) m, the ring node
     y: npt.NDArray[np.float64]  # (N,) m
     vx: npt.NDArray[np.float64]  # (N,) m/s
@@ -99,6 +100,21 @@ class FeRun:
     stats: dict[str, int]
 
 FeTransient = FeRun
+
+class WhirlSpectrum:
+    frequency: npt.NDArray[np.float64]  # (B,) per unit of t
+    forward: npt.NDArray[np.float64]  # (B,)
+    backward: npt.NDArray[np.float64]  # (B,)
+
+class OrderTrack:
+    orders: npt.NDArray[np.float64]  # (K,)
+    time: npt.NDArray[np.float64]  # (W,) window centres
+    speed: npt.NDArray[np.float64]  # (W,) rad per unit of t
+    forward: npt.NDArray[np.float64]  # (W, K)
+    backward: npt.NDArray[np.float64]  # (W, K)
+    waterfall_orders: npt.NDArray[np.float64]  # (B,)
+    waterfall_forward: npt.NDArray[np.float64]  # (W, B)
+    waterfall_backward: npt.NDArray[np.float64]  # (W, B)
 
 class Orbit:
     period: int
@@ -355,3 +371,22 @@ def fe_run_up(
     layout: str = "ross6",
     chunk: int = 100,
 ) -> FeRun: ...
+def full_spectrum(
+    t: npt.ArrayLike, x: npt.ArrayLike, y: npt.ArrayLike, *, window: str = "hann"
+) -> WhirlSpectrum: ...
+def amplitude_spectrum(
+    t: npt.ArrayLike, x: npt.ArrayLike, *, window: str = "hann"
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def order_track(
+    t: npt.ArrayLike,
+    phase: npt.ArrayLike,
+    x: npt.ArrayLike,
+    y: npt.ArrayLike,
+    *,
+    orders: Sequence[float] = [0.5, 1.0, 1.5, 2.0, 3.0],
+    per_revolution: int = 32,
+    revolutions_per_window: int = 8,
+    hop_revolutions: int = 2,
+    window: str = "hann",
+    max_interpolation_error: float = 0.01,
+) -> OrderTrack: ...

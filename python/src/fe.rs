@@ -231,6 +231,7 @@ pub fn fe_transient(
         model: &model,
         displacement: &displacement,
         speed: &|_| speed,
+        phase: &|t| speed * t,
         dofs: model.rotor().system().dofs(),
         zeta,
     };

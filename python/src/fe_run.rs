@@ -57,6 +57,9 @@ pub struct FeRun {
     pub t: Py<PyArray1<f64>>,
     /// The speed at the samples (rad/s), shape (N,).
     pub speed: Py<PyArray1<f64>>,
+    /// The shaft's angle at the samples, the integral of the speed from t = 0 (rad), shape
+    /// (N,): the phase ``order_track`` takes.
+    pub phase: Py<PyArray1<f64>>,
     /// The ring node's x from its undeflected position (m), shape (N,).
     pub x: Py<PyArray1<f64>>,
     /// The ring node's y (m), shape (N,).
@@ -108,6 +111,8 @@ pub struct RunFacts<'a, R: SmoothRotor<Dim = Dyn>> {
     pub displacement: &'a dyn Fn(&DVector<f64>) -> [f64; 2],
     /// The speed at a time.
     pub speed: &'a dyn Fn(f64) -> f64,
+    /// The shaft's angle at a time (the integral of the speed from 0).
+    pub phase: &'a dyn Fn(f64) -> f64,
     /// The degrees of freedom integrated.
     pub dofs: usize,
     /// The least damping ratio without contact.
@@ -157,6 +162,7 @@ pub fn fe_run<R: SmoothRotor<Dim = Dyn>>(
     Ok(FeRun {
         t: array(py, s.iter().map(|p| p.t)),
         speed: array(py, s.iter().map(|p| (facts.speed)(p.t))),
+        phase: array(py, s.iter().map(|p| (facts.phase)(p.t))),
         x: array(py, s.iter().map(|p| at(&p.y)[0])),
         y: array(py, s.iter().map(|p| at(&p.y)[1])),
         vx: array(py, velocity.iter().map(|v| v.x)),

@@ -160,10 +160,12 @@ pub fn fe_run_up(
     model.make_consistent(&mut y0).map_err(value_error)?;
     let displacement = |y: &DVector<f64>| model.rotor().rotor().station_displacement(y);
     let speed = |t: f64| profile.eta(t);
+    let phase = |t: f64| profile.phase(t);
     let facts = RunFacts {
         model: &model,
         displacement: &displacement,
         speed: &speed,
+        phase: &phase,
         dofs: model.rotor().rotor().system().dofs(),
         zeta,
     };

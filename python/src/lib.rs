@@ -16,6 +16,7 @@ mod fe_run_up;
 mod interrupt;
 mod lyapunov;
 mod options;
+mod orders;
 mod paper;
 mod params;
 mod poincare;
@@ -43,6 +44,10 @@ mod _jeffcott {
     use crate::fe_run_up::fe_run_up;
     #[pymodule_export]
     use crate::lyapunov::{lyapunov_exponents, Lyapunov};
+    #[pymodule_export]
+    use crate::orders::{
+        amplitude_spectrum, full_spectrum, order_track, OrderTrack, WhirlSpectrum,
+    };
     #[pymodule_export]
     use crate::paper::{
         bifurcation, regime, ring_position, simulate, simulate_dense, DenseRun, Diagram, StrobeRun,
