@@ -96,7 +96,7 @@ class FeRun:
     revolutions: Revolutions
     dofs: int
     least_damping_ratio: float  # min -Re(lambda)/|lambda|; NaN if not computed
-    linearly_unstable: bool  # least_damping_ratio < 0 (a RuntimeWarning too)
+    linearly_unstable: bool  # a mode grows beyond rounding (a RuntimeWarning too)
     stats: dict[str, int]
 
 FeTransient = FeRun

@@ -9,7 +9,8 @@ use jeffcott::hybrid::{SimStats, Trajectory};
 use jeffcott::nalgebra::{DMatrix, DVector, Dyn};
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{
-    CraigBampton, DofLayout, LinearRotor, LinearSystem, ModeSelection, RotorMatrices,
+    CraigBampton, DofLayout, LinearClosedForm, LinearRotor, LinearSystem, ModeSelection,
+    RotorError, RotorMatrices,
 };
 use numpy::{AllowTypeChange, PyArrayLike2};
 use pyo3::exceptions::PyRuntimeWarning;
@@ -123,18 +124,43 @@ pub fn rotor_of(
     Ok((rotor, Some(cb)))
 }
 
-/// A RuntimeWarning that the rotor is linearly unstable (`zeta` < 0).
-pub fn warn_if_unstable(py: Python<'_>, zeta: f64) -> PyResult<()> {
-    if zeta >= 0.0 || zeta.is_nan() {
-        return Ok(());
+/// The rotor's stability without contact, from its free flight's closed form: the least
+/// damping ratio and whether a mode grows beyond rounding (NaN and false where the closed
+/// form was refused as ill-conditioned or not made).
+#[derive(Debug, Clone, Copy)]
+pub struct Margin {
+    pub zeta: f64,
+    pub unstable: bool,
+}
+
+impl Margin {
+    pub fn of(form: Option<Result<&LinearClosedForm, &RotorError>>) -> Self {
+        match form {
+            Some(Ok(form)) => Self {
+                zeta: form.least_damping_ratio(),
+                unstable: form.is_linearly_unstable(),
+            },
+            _ => Self {
+                zeta: f64::NAN,
+                unstable: false,
+            },
+        }
     }
-    let message = format!(
-        "the rotor is linearly unstable without contact (least damping ratio {:.3} %): its \
-         free response grows whatever the ring does; check the bearings' cross-coupling",
-        100.0 * zeta
-    );
-    let message = CString::new(message).map_err(value_error)?;
-    PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &message, 1)
+
+    /// A RuntimeWarning if the rotor is linearly unstable.
+    pub fn warn(&self, py: Python<'_>) -> PyResult<()> {
+        if !self.unstable {
+            return Ok(());
+        }
+        let message = format!(
+            "the rotor is linearly unstable without contact (least damping ratio {:.3} %): \
+             its free response grows whatever the ring does; check the bearings' \
+             cross-coupling",
+            100.0 * self.zeta
+        );
+        let message = CString::new(message).map_err(value_error)?;
+        PyErr::warn(py, &py.get_type::<PyRuntimeWarning>(), &message, 1)
+    }
 }
 
 /// The default method: Radau5 for the full model (stiff), DOP853 for a reduced one.
@@ -206,13 +232,9 @@ pub fn fe_transient(
         let (rotor, _) = rotor_of(&lateral, system, &at, modes)?;
         rotor.ringed(ring).map_err(value_error)
     })?;
-    // From the closed form the model prepared (NaN where it was refused): no second
-    // eigen-decomposition.
-    let zeta = match model.closed_form() {
-        Some(Ok(form)) => form.least_damping_ratio(),
-        _ => f64::NAN,
-    };
-    warn_if_unstable(py, zeta)?;
+    // From the closed form the model prepared: no second eigen-decomposition.
+    let margin = Margin::of(model.closed_form());
+    margin.warn(py)?;
     let opts = sim_options(
         Some(rtol),
         Some(atol.unwrap_or(rtol)),
@@ -233,7 +255,7 @@ pub fn fe_transient(
         speed: &|_| speed,
         phase: &|t| speed * t,
         dofs: model.rotor().system().dofs(),
-        zeta,
+        margin,
     };
     let result =
         |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| fe_run(py, &facts, traj, stats);

@@ -13,6 +13,7 @@ use pyo3::types::PyDict;
 use crate::arrays::array;
 use crate::chunks::stats_dict;
 use crate::errors::value_error;
+use crate::fe::Margin;
 
 /// The contact episodes of a run, one entry each, in time order.
 #[pyclass(module = "jeffcott", frozen, get_all)]
@@ -95,9 +96,10 @@ pub struct FeRun {
     /// reference speed: the run's, or a run-up's largest), min -Re(lambda)/|lambda| over its
     /// nonzero eigenvalues (NaN if the eigen-decomposition was refused as ill-conditioned).
     pub least_damping_ratio: f64,
-    /// Whether a mode grows without contact (``least_damping_ratio < 0``): the rotor is
-    /// linearly unstable, its free response grows whatever the ring does (a RuntimeWarning
-    /// says so when the run starts).
+    /// Whether a mode grows without contact beyond rounding (some eigenvalue's real part
+    /// above the decomposition's rounding level: an undamped rotor, whose least damping ratio
+    /// may come out -1e-14, is not unstable): the rotor is linearly unstable, its free
+    /// response grows whatever the ring does (a RuntimeWarning says so when the run starts).
     pub linearly_unstable: bool,
     /// The work done (steps, rejected, rhs_evals, ..., lu_decompositions).
     pub stats: Py<PyDict>,
@@ -115,8 +117,8 @@ pub struct RunFacts<'a, R: SmoothRotor<Dim = Dyn>> {
     pub phase: &'a dyn Fn(f64) -> f64,
     /// The degrees of freedom integrated.
     pub dofs: usize,
-    /// The least damping ratio without contact.
-    pub zeta: f64,
+    /// The rotor's stability without contact.
+    pub margin: Margin,
 }
 
 /// The ring's force on the rotor and its normal part N = n . f (n from the ring's centre to
@@ -178,8 +180,8 @@ pub fn fe_run<R: SmoothRotor<Dim = Dyn>>(
         contacts: Py::new(py, episodes(py, model, traj, &forces)?)?,
         revolutions: Py::new(py, revolutions(py, model, traj)?)?,
         dofs: facts.dofs,
-        least_damping_ratio: facts.zeta,
-        linearly_unstable: facts.zeta < 0.0,
+        least_damping_ratio: facts.margin.zeta,
+        linearly_unstable: facts.margin.unstable,
         stats: stats_dict(py, stats)?.unbind(),
     })
 }

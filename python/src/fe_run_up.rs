@@ -12,9 +12,7 @@ use pyo3::prelude::*;
 
 use crate::chunks;
 use crate::errors::value_error;
-use crate::fe::{
-    default_method, lateral_matrices, rotor_of, system_at, warn_if_unstable, ArrayLike, RingAt,
-};
+use crate::fe::{default_method, lateral_matrices, rotor_of, system_at, ArrayLike, Margin, RingAt};
 use crate::fe_run::{fe_run, FeRun, RunFacts};
 use crate::options::sim_options;
 use crate::paper::dense_output;
@@ -130,23 +128,21 @@ pub fn fe_run_up(
         ring_offset,
     )?;
     let ring = at.ring;
-    let (model, zeta) = py.detach(|| {
+    let (model, margin) = py.detach(|| {
         let (rotor, cb) = rotor_of(&lateral, system, &at, modes)?;
         let g = match &cb {
             Some(cb) => cb.project(lateral.gyroscopic()).map_err(value_error)?,
             None => lateral.gyroscopic().clone(),
         };
-        let zeta = match rotor.linear_free_flight().map(|f| f.prepare()) {
-            Some(Ok(form)) => form.least_damping_ratio(),
-            _ => f64::NAN,
-        };
+        let form = rotor.linear_free_flight().map(|f| f.prepare());
+        let margin = Margin::of(form.as_ref().map(|f| f.as_ref()));
         let profiled = rotor
             .with_speed_profile(&g, profile.clone())
             .and_then(|r| r.ringed(ring))
             .map_err(value_error)?;
-        PyResult::Ok((profiled, zeta))
+        PyResult::Ok((profiled, margin))
     })?;
-    warn_if_unstable(py, zeta)?;
+    margin.warn(py)?;
     let opts = sim_options(
         Some(rtol),
         Some(atol.unwrap_or(rtol)),
@@ -167,7 +163,7 @@ pub fn fe_run_up(
         speed: &speed,
         phase: &phase,
         dofs: model.rotor().rotor().system().dofs(),
-        zeta,
+        margin,
     };
     let result =
         |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| fe_run(py, &facts, traj, stats);

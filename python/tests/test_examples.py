@@ -29,3 +29,12 @@ def test_fig8_example_runs(tmp_path):
     stdout = run("paper_fig8.py", tmp_path / "fig8b.png", 7)
     assert stdout.startswith("7 values")
     assert (tmp_path / "fig8b.png").stat().st_size > 10_000
+
+
+def test_rub_run_up_example_runs(tmp_path):
+    pytest.importorskip("ross", reason="ROSS is not installed (it needs Python 3.13)")
+    pytest.importorskip("matplotlib")
+    stdout = run("rub_run_up.py", tmp_path / "rub_run_up.png")
+    ring, free = stdout.splitlines()[-2:]
+    assert ring.startswith("on the ring: peak") and free.startswith("without it: peak")
+    assert (tmp_path / "rub_run_up.png").stat().st_size > 10_000

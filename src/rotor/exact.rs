@@ -431,6 +431,39 @@ impl LinearClosedForm {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// The rounding level of the eigenvalues' real parts,
+    /// $\delta = \kappa_1(V)\thinspace r \max_j|\lambda_j|$ ([`LinearClosedForm::condition`],
+    /// [`LinearClosedForm::residual`] $r$): the first-order bound on how far a computed
+    /// eigenvalue may lie from the exact one of $A$. An undamped rotor's eigenvalues are on the
+    /// imaginary axis to within it, on either side.
+    pub fn growth_threshold(&self) -> f64 {
+        let largest = self.values.iter().map(|l| l.norm()).fold(0.0, f64::max);
+        self.condition * self.residual.max(f64::EPSILON) * largest
+    }
+
+    /// Whether a mode grows without contact beyond rounding: some
+    /// $\operatorname{Re}\lambda_k > \delta$ ([`LinearClosedForm::growth_threshold`]). An
+    /// undamped rotor (every $\operatorname{Re}\lambda_k$ zero up to rounding, its
+    /// [`LinearClosedForm::least_damping_ratio`] maybe $-10^{-17}$) is not unstable.
+    ///
+    /// ```
+    /// use jeffcott::nalgebra::{DMatrix, Vector2};
+    /// use jeffcott::rotor::{LinearFreeFlight, LinearSystem};
+    /// let form = |c: f64, q: f64| {
+    ///     let k = DMatrix::from_row_slice(2, 2, &[1.0, q, -q, 1.0]);
+    ///     let system = LinearSystem::new(DMatrix::identity(2, 2), DMatrix::identity(2, 2) * c, k, 2.0)?;
+    ///     LinearFreeFlight::new(system, [0, 1], Vector2::zeros()).prepare()
+    /// };
+    /// assert!(!form(0.0, 0.0)?.is_linearly_unstable()); // undamped: neutral
+    /// assert!(!form(0.02, 0.01)?.is_linearly_unstable()); // below the threshold c sqrt(k)
+    /// assert!(form(0.02, 0.05)?.is_linearly_unstable()); // above it
+    /// # Ok::<(), jeffcott::rotor::RotorError>(())
+    /// ```
+    pub fn is_linearly_unstable(&self) -> bool {
+        let threshold = self.growth_threshold();
+        self.values.iter().any(|l| l.re > threshold)
+    }
+
     /// $\kappa_1(V)$ in balanced coordinates.
     pub fn condition(&self) -> f64 {
         self.condition

@@ -52,3 +52,40 @@ fn a_rigid_body_mode_has_no_damping_ratio() {
     // overdamped (ratio 1).
     assert!((least_damping_ratio(0.3, 0.0, 0.0) - 1.0).abs() <= 1e-12);
 }
+
+#[test]
+fn an_undamped_rotor_is_neutral_not_unstable() {
+    // ROSS's rotor_example (42 DOF, bearings without damping, 1500 rpm): every eigenvalue is
+    // on the imaginary axis in exact arithmetic; computed, some real parts come out a hair
+    // positive. They lie within the rounding level, so the rotor is not called unstable.
+    // Truth: an undamped, gyroscopic system (M, K symmetric, G skew) is conservative.
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/rotors/rotor_example_1500rpm.mat"
+    );
+    let lateral = jeffcott::rotor::RotorMatrices::from_ross_mat(path)
+        .unwrap()
+        .lateral()
+        .unwrap();
+    let speed = 1500.0 * std::f64::consts::TAU / 60.0;
+    let system = LinearSystem::from_matrices(&lateral, speed)
+        .unwrap()
+        .with_unbalance(lateral.layout(), 2, 1e-4, 0.0)
+        .unwrap();
+    let x = lateral.x_dof(4).unwrap();
+    let form = LinearFreeFlight::new(system, [x, x + 1], Vector2::zeros())
+        .prepare()
+        .unwrap();
+    let largest_re = form
+        .eigenvalues()
+        .iter()
+        .map(|l| l.re.abs())
+        .fold(0.0, f64::max);
+    println!(
+        "least damping ratio {:e}, largest |Re| {largest_re:e}, threshold {:e}",
+        form.least_damping_ratio(),
+        form.growth_threshold()
+    );
+    assert!(largest_re <= form.growth_threshold());
+    assert!(!form.is_linearly_unstable());
+}
