@@ -95,6 +95,8 @@ class FeRun:
     contacts: ContactEpisodes
     revolutions: Revolutions
     dofs: int
+    modes: int  # Craig-Bampton modes kept, 0: the full model
+    mode_error: float  # the reduction's steady-response error over the run's speeds
     least_damping_ratio: float  # min -Re(lambda)/|lambda|; NaN if not computed
     linearly_unstable: bool  # a mode grows beyond rounding (a RuntimeWarning too)
     stats: dict[str, int]
@@ -339,7 +341,8 @@ def fe_transient(
     samples: int,
     preload: tuple[float, float] = (0.0, 0.0),
     ring_offset: tuple[float, float] = (0.0, 0.0),
-    modes: int = 0,
+    modes: int | str = 0,
+    mode_tolerance: float = 1e-3,
     rtol: float = 1e-8,
     atol: float | None = None,
     method: str | None = None,
@@ -364,7 +367,8 @@ def fe_run_up(
     dt: float | None = None,
     preload: tuple[float, float] = (0.0, 0.0),
     ring_offset: tuple[float, float] = (0.0, 0.0),
-    modes: int = 0,
+    modes: int | str = 0,
+    mode_tolerance: float = 1e-3,
     rtol: float = 1e-8,
     atol: float | None = None,
     method: str | None = None,
@@ -390,3 +394,27 @@ def order_track(
     window: str = "hann",
     max_interpolation_error: float = 0.01,
 ) -> OrderTrack: ...
+def fewest_modes(
+    M: npt.ArrayLike,
+    K: npt.ArrayLike,
+    C: npt.ArrayLike,
+    G: npt.ArrayLike,
+    speeds: Sequence[float],
+    *,
+    ring_node: int,
+    unbalance: Sequence[tuple[int, float, float]],
+    tolerance: float = 1e-3,
+    layout: str = "ross6",
+) -> tuple[int, float]: ...
+def response_error(
+    M: npt.ArrayLike,
+    K: npt.ArrayLike,
+    C: npt.ArrayLike,
+    G: npt.ArrayLike,
+    speeds: Sequence[float],
+    *,
+    ring_node: int,
+    unbalance: Sequence[tuple[int, float, float]],
+    modes: int,
+    layout: str = "ross6",
+) -> tuple[float, float]: ...

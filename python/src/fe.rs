@@ -103,25 +103,89 @@ impl RingAt {
     }
 }
 
-/// The rotor, full or reduced to `modes` Craig-Bampton modes (then the reduction too, for the
-/// matrices a run-up projects).
+/// How many Craig-Bampton modes: a count (0: the full model) or the fewest that meet a
+/// tolerance on the steady unbalance response at the ring node over the run's speeds.
+#[derive(Debug, Clone, Copy)]
+pub enum Modes {
+    Count(usize),
+    Auto { tolerance: f64 },
+}
+
+/// The keyword ``modes`` as given: an int or a name.
+#[derive(Debug, Clone, FromPyObject)]
+pub enum ModesArg {
+    Count(usize),
+    Name(String),
+}
+
+impl Modes {
+    /// From the keywords ``modes`` (an int or "auto") and ``mode_tolerance``.
+    pub fn new(modes: ModesArg, tolerance: f64) -> PyResult<Self> {
+        match modes {
+            ModesArg::Count(count) => Ok(Modes::Count(count)),
+            ModesArg::Name(name) if name == "auto" => Ok(Modes::Auto {
+                tolerance: crate::options::positive("mode_tolerance", tolerance)?,
+            }),
+            ModesArg::Name(other) => Err(value_error(format!(
+                "modes = '{other}' is not an int or 'auto'"
+            ))),
+        }
+    }
+
+    /// Whether the rotor is reduced.
+    pub fn reduces(&self) -> bool {
+        !matches!(self, Modes::Count(0))
+    }
+}
+
+/// What a reduction kept: its modes (0: none, the full model) and its worst relative error on
+/// the steady unbalance response at the ring node over the run's speeds (0 for the full
+/// model).
+#[derive(Debug, Clone, Copy)]
+pub struct Reduction {
+    pub modes: usize,
+    pub error: f64,
+}
+
+/// The rotor, full or reduced (`modes`), and the reduction for the matrices a run-up projects;
+/// `speeds` (rad/s, > 0) are the run's, where the reduction's error is measured.
 pub fn rotor_of(
     lateral: &RotorMatrices,
     system: LinearSystem,
     at: &RingAt,
-    modes: usize,
-) -> PyResult<(LinearRotor, Option<CraigBampton>)> {
-    if modes == 0 {
-        let x = lateral.x_dof(at.node).map_err(value_error)?;
-        let rotor = LinearRotor::new(system, [x, x + 1], at.offset).map_err(value_error)?;
-        return Ok((rotor, None));
-    }
-    let cb = CraigBampton::at_node(lateral, at.node, ModeSelection::Count(modes))
-        .map_err(value_error)?;
+    (modes, speeds): (Modes, &[f64]),
+) -> PyResult<(LinearRotor, Option<CraigBampton>, Reduction)> {
+    let x = lateral.x_dof(at.node).map_err(value_error)?;
+    let force = system.harmonic_force().clone();
+    let (cb, error) = match modes {
+        Modes::Count(0) => {
+            let rotor = LinearRotor::new(system, [x, x + 1], at.offset).map_err(value_error)?;
+            let none = Reduction {
+                modes: 0,
+                error: 0.0,
+            };
+            return Ok((rotor, None, none));
+        }
+        Modes::Count(count) => {
+            let cb = CraigBampton::at_node(lateral, at.node, ModeSelection::Count(count))
+                .map_err(value_error)?;
+            let worst = cb.response_error_sweep(lateral, &force, speeds);
+            (cb, worst.map_err(value_error)?.relative)
+        }
+        Modes::Auto { tolerance } => {
+            let found = CraigBampton::fewest_modes(lateral, &[x, x + 1], &force, speeds, tolerance);
+            let (cb, worst) = found.map_err(value_error)?;
+            (cb, worst.relative)
+        }
+    };
     // The reduced coordinates 0 and 1 are the ring node's x and y.
     let reduced = cb.reduce(&system).map_err(value_error)?;
     let rotor = LinearRotor::new(reduced, [0, 1], at.offset).map_err(value_error)?;
-    Ok((rotor, Some(cb)))
+    let kept = Reduction {
+        modes: cb.modes(),
+        error,
+    };
+    Ok((rotor, Some(cb), kept))
 }
 
 /// The rotor's stability without contact, from its free flight's closed form: the least
@@ -164,11 +228,11 @@ impl Margin {
 }
 
 /// The default method: Radau5 for the full model (stiff), DOP853 for a reduced one.
-pub fn default_method(modes: usize) -> &'static str {
-    if modes == 0 {
-        "radau5"
-    } else {
+pub fn default_method(modes: Modes) -> &'static str {
+    if modes.reduces() {
         "dop853"
+    } else {
+        "radau5"
     }
 }
 
@@ -183,7 +247,10 @@ pub fn default_method(modes: usize) -> &'static str {
 /// ``gap`` (m), unit stiffness ``ring_stiffness`` (N/m), unit damping ``ring_damping``
 /// (N s/m), ``preload`` (Delta_x, Delta_y) (m), rest centre at ``ring_offset`` (m) from the
 /// undeflected node. ``modes`` > 0 reduces the rotor to that many Craig-Bampton modes (the
-/// ring node's x, y kept physical). Method: radau5 for the full model, dop853 for a reduced
+/// ring node's x, y kept physical); ``modes="auto"`` to the fewest whose steady unbalance
+/// response at the ring node is within ``mode_tolerance`` (relative) of the full model's at
+/// the run's speed (the crate's ``CraigBampton::fewest_modes``; the result's ``modes`` and
+/// ``mode_error`` say what was kept and its error). Method: radau5 for the full model, dop853 for a reduced
 /// one, unless given; ``atol`` defaults to ``rtol``. Runs ``chunk`` samples at a time with
 /// the GIL released, Ctrl-C checked between chunks. ``ValueError`` for bad input (the
 /// crate's message), ``SimulationError`` (``partial``: an ``FeRun``) for a failed run.
@@ -191,9 +258,9 @@ pub fn default_method(modes: usize) -> &'static str {
 /// contact episodes and the revolutions.
 #[pyfunction]
 #[pyo3(
-    signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, rtol=1e-8, atol=None, method=None, layout="ross6", chunk=50),
+    signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, rtol=1e-8, atol=None, method=None, layout="ross6", chunk=50),
     // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
-    text_signature = "(M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, rtol=1e-08, atol=None, method=None, layout='ross6', chunk=50)"
+    text_signature = "(M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, rtol=1e-08, atol=None, method=None, layout='ross6', chunk=50)"
 )]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_transient(
@@ -212,13 +279,15 @@ pub fn fe_transient(
     samples: u64,
     preload: (f64, f64),
     ring_offset: (f64, f64),
-    modes: usize,
+    modes: ModesArg,
+    mode_tolerance: f64,
     rtol: f64,
     atol: Option<f64>,
     method: Option<&str>,
     layout: &str,
     chunk: u64,
 ) -> PyResult<FeRun> {
+    let modes = Modes::new(modes, mode_tolerance)?;
     let lateral = lateral_matrices([&M, &K, &C, &G], layout)?;
     let system = system_at(&lateral, speed, &unbalance)?;
     let at = RingAt::new(
@@ -228,9 +297,9 @@ pub fn fe_transient(
         ring_offset,
     )?;
     let ring = at.ring;
-    let model = py.detach(|| {
-        let (rotor, _) = rotor_of(&lateral, system, &at, modes)?;
-        rotor.ringed(ring).map_err(value_error)
+    let (model, reduction) = py.detach(|| {
+        let (rotor, _, reduction) = rotor_of(&lateral, system, &at, (modes, &[speed]))?;
+        PyResult::Ok((rotor.ringed(ring).map_err(value_error)?, reduction))
     })?;
     // From the closed form the model prepared: no second eigen-decomposition.
     let margin = Margin::of(model.closed_form());
@@ -255,6 +324,7 @@ pub fn fe_transient(
         speed: &|_| speed,
         phase: &|t| speed * t,
         dofs: model.rotor().system().dofs(),
+        reduction,
         margin,
     };
     let result =

@@ -13,7 +13,7 @@ use pyo3::types::PyDict;
 use crate::arrays::array;
 use crate::chunks::stats_dict;
 use crate::errors::value_error;
-use crate::fe::Margin;
+use crate::fe::{Margin, Reduction};
 
 /// The contact episodes of a run, one entry each, in time order.
 #[pyclass(module = "jeffcott", frozen, get_all)]
@@ -92,6 +92,11 @@ pub struct FeRun {
     pub revolutions: Py<Revolutions>,
     /// Degrees of freedom integrated (after dropping z, theta and any reduction).
     pub dofs: usize,
+    /// The Craig-Bampton modes kept (0: the full model).
+    pub modes: usize,
+    /// The reduction's worst relative error on the steady unbalance response at the ring node
+    /// over the run's speeds (0 for the full model).
+    pub mode_error: f64,
     /// The least damping ratio of the integrated rotor's modes without contact (at the
     /// reference speed: the run's, or a run-up's largest), min -Re(lambda)/|lambda| over its
     /// nonzero eigenvalues (NaN if the eigen-decomposition was refused as ill-conditioned).
@@ -117,6 +122,8 @@ pub struct RunFacts<'a, R: SmoothRotor<Dim = Dyn>> {
     pub phase: &'a dyn Fn(f64) -> f64,
     /// The degrees of freedom integrated.
     pub dofs: usize,
+    /// The reduction kept.
+    pub reduction: Reduction,
     /// The rotor's stability without contact.
     pub margin: Margin,
 }
@@ -180,6 +187,8 @@ pub fn fe_run<R: SmoothRotor<Dim = Dyn>>(
         contacts: Py::new(py, episodes(py, model, traj, &forces)?)?,
         revolutions: Py::new(py, revolutions(py, model, traj)?)?,
         dofs: facts.dofs,
+        modes: facts.reduction.modes,
+        mode_error: facts.reduction.error,
         least_damping_ratio: facts.margin.zeta,
         linearly_unstable: facts.margin.unstable,
         stats: stats_dict(py, stats)?.unbind(),

@@ -12,7 +12,10 @@ use pyo3::prelude::*;
 
 use crate::chunks;
 use crate::errors::value_error;
-use crate::fe::{default_method, lateral_matrices, rotor_of, system_at, ArrayLike, Margin, RingAt};
+use crate::fe::{
+    default_method, lateral_matrices, rotor_of, system_at, ArrayLike, Margin, Modes, ModesArg,
+    RingAt,
+};
 use crate::fe_run::{fe_run, FeRun, RunFacts};
 use crate::options::sim_options;
 use crate::paper::dense_output;
@@ -56,6 +59,17 @@ fn profile_of(times: &Column<'_>, speeds: &Column<'_>) -> PyResult<SpeedProfile>
     SpeedProfile::piecewise(w[0], &segments).map_err(value_error)
 }
 
+/// The speeds where a reduction's error is measured: 33 equally spaced from the table's
+/// slowest (at least 1/32 of its fastest) to its fastest, which is the last.
+fn speed_grid(speeds: &Column<'_>) -> Vec<f64> {
+    let w = speeds.as_array();
+    let top = w.iter().copied().fold(0.0, f64::max);
+    let low = w.iter().copied().fold(top, f64::min).max(top / 32.0);
+    (0..=32)
+        .map(|i| low + (top - low) * i as f64 / 32.0)
+        .collect()
+}
+
 /// Run-up (or run-down, or any speed history) of a finite-element rotor on the snubber ring,
 /// from rest (q = q' = 0, the ring at its centre) at t = 0 to ``t_end`` (s; default the
 /// table's last time), sampled every ``dt`` (s; default 1/128 of a revolution at the largest
@@ -68,7 +82,8 @@ fn profile_of(times: &Column<'_>, speeds: &Column<'_>) -> PyResult<SpeedProfile>
 /// all speeds; the out-of-balance m e pushes with m e (Omega^2 cos phi + Omega' sin phi,
 /// Omega^2 sin phi - Omega' cos phi), phi = phase + the integral of Omega (the radial and the
 /// tangential force of the accelerating mass). The rotor, the ring, ``modes``, ``rtol``,
-/// ``atol``, ``method`` and ``layout`` as in ``fe_transient``; ``ring=False`` runs without
+/// ``atol``, ``method`` and ``layout`` as in ``fe_transient``, the reduction's error measured
+/// at 33 speeds from the table's slowest (at least 1/32 of its fastest) to its fastest; ``ring=False`` runs without
 /// the ring (its gap 1 m). Runs ``chunk`` revolutions (at the largest speed) at a time with
 /// the GIL released, Ctrl-C checked between chunks. Memory: each sample keeps the state and
 /// its derivative until the run ends (2 (2 n + 2) floats, n the DOFs integrated).
@@ -77,9 +92,9 @@ fn profile_of(times: &Column<'_>, speeds: &Column<'_>) -> PyResult<SpeedProfile>
 /// samples, its least damping ratio at the largest speed).
 #[pyfunction]
 #[pyo3(
-    signature = (M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, rtol=1e-8, atol=None, method=None, layout="ross6", chunk=100),
+    signature = (M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, rtol=1e-8, atol=None, method=None, layout="ross6", chunk=100),
     // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
-    text_signature = "(M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, rtol=1e-08, atol=None, method=None, layout='ross6', chunk=100)"
+    text_signature = "(M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, rtol=1e-08, atol=None, method=None, layout='ross6', chunk=100)"
 )]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_run_up(
@@ -100,13 +115,15 @@ pub fn fe_run_up(
     dt: Option<f64>,
     preload: (f64, f64),
     ring_offset: (f64, f64),
-    modes: usize,
+    modes: ModesArg,
+    mode_tolerance: f64,
     rtol: f64,
     atol: Option<f64>,
     method: Option<&str>,
     layout: &str,
     chunk: u64,
 ) -> PyResult<FeRun> {
+    let modes = Modes::new(modes, mode_tolerance)?;
     let profile = profile_of(&times, &speeds)?;
     let top = profile.eta_max();
     if top.is_nan() || top <= 0.0 {
@@ -128,8 +145,9 @@ pub fn fe_run_up(
         ring_offset,
     )?;
     let ring = at.ring;
-    let (model, margin) = py.detach(|| {
-        let (rotor, cb) = rotor_of(&lateral, system, &at, modes)?;
+    let grid = speed_grid(&speeds);
+    let (model, reduction, margin) = py.detach(|| {
+        let (rotor, cb, reduction) = rotor_of(&lateral, system, &at, (modes, &grid))?;
         let g = match &cb {
             Some(cb) => cb.project(lateral.gyroscopic()).map_err(value_error)?,
             None => lateral.gyroscopic().clone(),
@@ -140,7 +158,7 @@ pub fn fe_run_up(
             .with_speed_profile(&g, profile.clone())
             .and_then(|r| r.ringed(ring))
             .map_err(value_error)?;
-        PyResult::Ok((profiled, margin))
+        PyResult::Ok((profiled, reduction, margin))
     })?;
     margin.warn(py)?;
     let opts = sim_options(
@@ -163,6 +181,7 @@ pub fn fe_run_up(
         speed: &speed,
         phase: &phase,
         dofs: model.rotor().rotor().system().dofs(),
+        reduction,
         margin,
     };
     let result =

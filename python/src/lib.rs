@@ -11,6 +11,7 @@ mod chunks;
 mod continuation;
 mod errors;
 mod fe;
+mod fe_modes;
 mod fe_run;
 mod fe_run_up;
 mod interrupt;
@@ -38,6 +39,8 @@ mod _jeffcott {
     use crate::errors::SimulationError;
     #[pymodule_export]
     use crate::fe::fe_transient;
+    #[pymodule_export]
+    use crate::fe_modes::{fewest_modes, response_error};
     #[pymodule_export]
     use crate::fe_run::{ContactEpisodes, FeRun, Revolutions};
     #[pymodule_export]
