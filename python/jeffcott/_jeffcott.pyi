@@ -89,6 +89,11 @@ class FeRun:
     force_x: npt.NDArray[np.float64]  # (N,) N, the ring's force on the rotor
     force_y: npt.NDArray[np.float64]  # (N,) N
     normal_force: npt.NDArray[np.float64]  # (N,) N, >= 0
+    probe_nodes: npt.NDArray[np.uint64]  # (P,)
+    probe_x: npt.NDArray[np.float64]  # (N, P) m
+    probe_y: npt.NDArray[np.float64]  # (N, P) m
+    probe_vx: npt.NDArray[np.float64]  # (N, P) m/s
+    probe_vy: npt.NDArray[np.float64]  # (N, P) m/s
     regimes: npt.NDArray[np.uint8]  # (N,)
     onsets: npt.NDArray[np.float64]  # s
     losses: npt.NDArray[np.float64]  # s
@@ -343,6 +348,7 @@ def fe_transient(
     ring_offset: tuple[float, float] = (0.0, 0.0),
     modes: int | str = 0,
     mode_tolerance: float = 1e-3,
+    probe_nodes: Sequence[int] = [],
     rtol: float = 1e-8,
     atol: float | None = None,
     method: str | None = None,
@@ -369,6 +375,7 @@ def fe_run_up(
     ring_offset: tuple[float, float] = (0.0, 0.0),
     modes: int | str = 0,
     mode_tolerance: float = 1e-3,
+    probe_nodes: Sequence[int] = [],
     rtol: float = 1e-8,
     atol: float | None = None,
     method: str | None = None,

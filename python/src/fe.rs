@@ -188,6 +188,49 @@ pub fn rotor_of(
     Ok((rotor, Some(cb), kept))
 }
 
+/// Where the probed nodes' x and y are in the integrated coordinates: a row each, applied to
+/// the state's q (displacements) and q' (velocities).
+pub struct Probes {
+    rows: Vec<[DVector<f64>; 2]>,
+}
+
+impl Probes {
+    /// The rows of `nodes` in the full model, or through the reduction's basis.
+    pub fn new(
+        lateral: &RotorMatrices,
+        cb: Option<&CraigBampton>,
+        nodes: &[usize],
+    ) -> PyResult<Self> {
+        let n = lateral.dofs();
+        let mut rows = Vec::with_capacity(nodes.len());
+        for &node in nodes {
+            let x = lateral.x_dof(node).map_err(value_error)?;
+            let row = |dof: usize| match cb {
+                Some(cb) => cb.basis().row(dof).transpose(),
+                None => DVector::from_fn(n, |i, _| f64::from(u8::from(i == dof))),
+            };
+            rows.push([row(x), row(x + 1)]);
+        }
+        Ok(Self { rows })
+    }
+
+    /// How many nodes are probed.
+    pub fn count(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// The probed x and y displacements (`velocity` false) or velocities of a state
+    /// `[q, q', s]`, node by node: `[x_0, y_0, x_1, y_1, ...]`.
+    pub fn read(&self, y: &DVector<f64>, velocity: bool) -> Vec<f64> {
+        let n = self.rows.first().map_or(0, |r| r[0].len());
+        let q = y.rows(if velocity { n } else { 0 }, n);
+        self.rows
+            .iter()
+            .flat_map(|r| [r[0].dot(&q), r[1].dot(&q)])
+            .collect()
+    }
+}
+
 /// The rotor's stability without contact, from its free flight's closed form: the least
 /// damping ratio and whether a mode grows beyond rounding (NaN and false where the closed
 /// form was refused as ill-conditioned or not made).
@@ -258,9 +301,9 @@ pub fn default_method(modes: Modes) -> &'static str {
 /// contact episodes and the revolutions.
 #[pyfunction]
 #[pyo3(
-    signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, rtol=1e-8, atol=None, method=None, layout="ross6", chunk=50),
+    signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], rtol=1e-8, atol=None, method=None, layout="ross6", chunk=50),
     // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
-    text_signature = "(M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, rtol=1e-08, atol=None, method=None, layout='ross6', chunk=50)"
+    text_signature = "(M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], rtol=1e-08, atol=None, method=None, layout='ross6', chunk=50)"
 )]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_transient(
@@ -281,6 +324,7 @@ pub fn fe_transient(
     ring_offset: (f64, f64),
     modes: ModesArg,
     mode_tolerance: f64,
+    probe_nodes: Vec<usize>,
     rtol: f64,
     atol: Option<f64>,
     method: Option<&str>,
@@ -297,9 +341,10 @@ pub fn fe_transient(
         ring_offset,
     )?;
     let ring = at.ring;
-    let (model, reduction) = py.detach(|| {
-        let (rotor, _, reduction) = rotor_of(&lateral, system, &at, (modes, &[speed]))?;
-        PyResult::Ok((rotor.ringed(ring).map_err(value_error)?, reduction))
+    let (model, reduction, probes) = py.detach(|| {
+        let (rotor, cb, reduction) = rotor_of(&lateral, system, &at, (modes, &[speed]))?;
+        let probes = Probes::new(&lateral, cb.as_ref(), &probe_nodes)?;
+        PyResult::Ok((rotor.ringed(ring).map_err(value_error)?, reduction, probes))
     })?;
     // From the closed form the model prepared: no second eigen-decomposition.
     let margin = Margin::of(model.closed_form());
@@ -326,6 +371,7 @@ pub fn fe_transient(
         dofs: model.rotor().system().dofs(),
         reduction,
         margin,
+        probes: (&probe_nodes, &probes),
     };
     let result =
         |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| fe_run(py, &facts, traj, stats);

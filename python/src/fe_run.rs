@@ -6,14 +6,14 @@ use jeffcott::analysis::per_revolution;
 use jeffcott::hybrid::{EventRecord, SimStats, Trajectory};
 use jeffcott::nalgebra::{DVector, Dyn, Vector2};
 use jeffcott::rotor::{RingedRotor, SmoothRotor};
-use numpy::PyArray1;
+use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::array;
+use crate::arrays::{array, table};
 use crate::chunks::stats_dict;
 use crate::errors::value_error;
-use crate::fe::{Margin, Reduction};
+use crate::fe::{Margin, Probes, Reduction};
 
 /// The contact episodes of a run, one entry each, in time order.
 #[pyclass(module = "jeffcott", frozen, get_all)]
@@ -80,6 +80,16 @@ pub struct FeRun {
     /// The normal contact force (N, >= 0 in contact), pressing the rotor back towards the
     /// ring's centre, shape (N,).
     pub normal_force: Py<PyArray1<f64>>,
+    /// The probed nodes (``probe_nodes``), shape (P,).
+    pub probe_nodes: Py<PyArray1<u64>>,
+    /// Their x displacements (m), shape (N, P).
+    pub probe_x: Py<PyArray2<f64>>,
+    /// Their y displacements (m), shape (N, P).
+    pub probe_y: Py<PyArray2<f64>>,
+    /// Their x velocities (m/s), shape (N, P).
+    pub probe_vx: Py<PyArray2<f64>>,
+    /// Their y velocities (m/s), shape (N, P).
+    pub probe_vy: Py<PyArray2<f64>>,
     /// Regime at the samples (1: no contact, 2..=5 contact), uint8, shape (N,).
     pub regimes: Py<PyArray1<u8>>,
     /// Times of the contact onsets (s).
@@ -126,6 +136,8 @@ pub struct RunFacts<'a, R: SmoothRotor<Dim = Dyn>> {
     pub reduction: Reduction,
     /// The rotor's stability without contact.
     pub margin: Margin,
+    /// The probed nodes and where they are in the state.
+    pub probes: (&'a [usize], &'a Probes),
 }
 
 /// The ring's force on the rotor and its normal part N = n . f (n from the ring's centre to
@@ -181,6 +193,11 @@ pub fn fe_run<R: SmoothRotor<Dim = Dyn>>(
         force_x: array(py, forces.iter().map(|f| f.0.x)),
         force_y: array(py, forces.iter().map(|f| f.0.y)),
         normal_force: array(py, forces.iter().map(|f| f.1)),
+        probe_nodes: array(py, facts.probes.0.iter().map(|&n| n as u64)),
+        probe_x: probed(py, facts.probes.1, traj, [false, false])?,
+        probe_y: probed(py, facts.probes.1, traj, [false, true])?,
+        probe_vx: probed(py, facts.probes.1, traj, [true, false])?,
+        probe_vy: probed(py, facts.probes.1, traj, [true, true])?,
         regimes: array(py, s.iter().map(|p| p.label)),
         onsets: changes(true),
         losses: changes(false),
@@ -193,6 +210,21 @@ pub fn fe_run<R: SmoothRotor<Dim = Dyn>>(
         linearly_unstable: facts.margin.unstable,
         stats: stats_dict(py, stats)?.unbind(),
     })
+}
+
+/// The probed nodes' x (`[velocity, y]` = `[false, false]`), y, x' or y' at the samples,
+/// (N, P).
+fn probed(
+    py: Python<'_>,
+    probes: &Probes,
+    traj: &Trajectory<Dyn>,
+    [velocity, y]: [bool; 2],
+) -> PyResult<Py<PyArray2<f64>>> {
+    let rows = traj.samples.iter().map(|p| {
+        let all = probes.read(&p.y, velocity);
+        all.into_iter().skip(usize::from(y)).step_by(2)
+    });
+    table(py, rows, probes.count())
 }
 
 /// One contact episode: its start and end and the normal force at its knots.

@@ -14,7 +14,7 @@ use crate::chunks;
 use crate::errors::value_error;
 use crate::fe::{
     default_method, lateral_matrices, rotor_of, system_at, ArrayLike, Margin, Modes, ModesArg,
-    RingAt,
+    Probes, RingAt,
 };
 use crate::fe_run::{fe_run, FeRun, RunFacts};
 use crate::options::sim_options;
@@ -82,7 +82,8 @@ fn speed_grid(speeds: &Column<'_>) -> Vec<f64> {
 /// all speeds; the out-of-balance m e pushes with m e (Omega^2 cos phi + Omega' sin phi,
 /// Omega^2 sin phi - Omega' cos phi), phi = phase + the integral of Omega (the radial and the
 /// tangential force of the accelerating mass). The rotor, the ring, ``modes``, ``rtol``,
-/// ``atol``, ``method`` and ``layout`` as in ``fe_transient``, the reduction's error measured
+/// ``atol``, ``method``, ``probe_nodes`` and ``layout`` as in ``fe_transient``, the
+/// reduction's error measured
 /// at 33 speeds from the table's slowest (at least 1/32 of its fastest) to its fastest; ``ring=False`` runs without
 /// the ring (its gap 1 m). Runs ``chunk`` revolutions (at the largest speed) at a time with
 /// the GIL released, Ctrl-C checked between chunks. Memory: each sample keeps the state and
@@ -92,9 +93,9 @@ fn speed_grid(speeds: &Column<'_>) -> Vec<f64> {
 /// samples, its least damping ratio at the largest speed).
 #[pyfunction]
 #[pyo3(
-    signature = (M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, rtol=1e-8, atol=None, method=None, layout="ross6", chunk=100),
+    signature = (M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], rtol=1e-8, atol=None, method=None, layout="ross6", chunk=100),
     // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
-    text_signature = "(M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, rtol=1e-08, atol=None, method=None, layout='ross6', chunk=100)"
+    text_signature = "(M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], rtol=1e-08, atol=None, method=None, layout='ross6', chunk=100)"
 )]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_run_up(
@@ -117,6 +118,7 @@ pub fn fe_run_up(
     ring_offset: (f64, f64),
     modes: ModesArg,
     mode_tolerance: f64,
+    probe_nodes: Vec<usize>,
     rtol: f64,
     atol: Option<f64>,
     method: Option<&str>,
@@ -146,8 +148,9 @@ pub fn fe_run_up(
     )?;
     let ring = at.ring;
     let grid = speed_grid(&speeds);
-    let (model, reduction, margin) = py.detach(|| {
+    let (model, reduction, margin, probes) = py.detach(|| {
         let (rotor, cb, reduction) = rotor_of(&lateral, system, &at, (modes, &grid))?;
+        let probes = Probes::new(&lateral, cb.as_ref(), &probe_nodes)?;
         let g = match &cb {
             Some(cb) => cb.project(lateral.gyroscopic()).map_err(value_error)?,
             None => lateral.gyroscopic().clone(),
@@ -158,7 +161,7 @@ pub fn fe_run_up(
             .with_speed_profile(&g, profile.clone())
             .and_then(|r| r.ringed(ring))
             .map_err(value_error)?;
-        PyResult::Ok((profiled, reduction, margin))
+        PyResult::Ok((profiled, reduction, margin, probes))
     })?;
     margin.warn(py)?;
     let opts = sim_options(
@@ -183,6 +186,7 @@ pub fn fe_run_up(
         dofs: model.rotor().rotor().system().dofs(),
         reduction,
         margin,
+        probes: (&probe_nodes, &probes),
     };
     let result =
         |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| fe_run(py, &facts, traj, stats);
