@@ -6,9 +6,8 @@ more than the same run from Rust), measured with the two interleaved.
 It starts the Rust side, `cargo bench --bench python_overhead` (benches/python_overhead.rs:
 the same run, `JeffcottModel::strobe_range` from rest with default options, timed in Rust),
 and talks to it over a pipe: each repetition times, for each scene (Fig. 8b, one contact a
-period; Fig. 9c, chaotic), one Rust run and one `jeffcott.simulate(p, periods)` with the
-default chunks of 100 periods and one in a single chunk, in an order that rotates from one
-repetition to the next.
+period; Fig. 9c, chaotic), one Rust run and one `jeffcott.simulate(p, periods)`, in an order
+that alternates from one repetition to the next.
 
 Two clocks: wall time, and the CPU time of the thread that runs the simulation (Python's
 `time.thread_time`, the same `clock_gettime` clock as the Rust side's; the Python call runs
@@ -17,8 +16,8 @@ time counts the waits for a core; the CPU time counts only the run's own work (c
 memory contention still show in it). For each clock: the median and the minimum of each
 column, and three ratios Python / Rust: of the medians, of the minima, and the median of the
 ratios within a repetition (runs under the same load). The integrator steps of each column
-show the work is the same; a chunked run of a chaotic scene takes other steps (each chunk
-restarts the integrator, and the chaotic trajectory drifts apart). A measurement, not a test.
+show the work is the same (the Python run is one run of the same driver, never restarted). A
+measurement, not a test.
 """
 
 import argparse
@@ -58,9 +57,9 @@ class RustTimer:
         self.proc.wait()
 
 
-def python_run(params, periods, chunk):
+def python_run(params, periods):
     wall, cpu = time.perf_counter(), time.thread_time()
-    run = jeffcott.simulate(params, periods, chunk=chunk)
+    run = jeffcott.simulate(params, periods)
     return time.perf_counter() - wall, time.thread_time() - cpu, run.stats["steps"]
 
 
@@ -86,8 +85,7 @@ def main():
     rust = RustTimer()
     columns = {
         "rust": lambda s, p: rust.run(s, args.periods),
-        "python, chunks of 100": lambda s, p: python_run(p, args.periods, 100),
-        "python, one chunk": lambda s, p: python_run(p, args.periods, args.periods),
+        "python": lambda s, p: python_run(p, args.periods),
     }
     names = list(columns)
     wall = {(s, c): [] for s in SCENES for c in names}

@@ -270,7 +270,6 @@ def run_up(
     rtol: float | None = None,
     atol: float | None = None,
     method: str | None = None,
-    chunk: int = 100,
 ) -> RunUp: ...
 def poincare(
     params: Params,
@@ -281,7 +280,6 @@ def poincare(
     rtol: float | None = None,
     atol: float | None = None,
     method: str | None = None,
-    chunk: int = 100,
 ) -> Section: ...
 def periodic_orbit(
     params: Params,
@@ -302,7 +300,6 @@ def simulate(
     atol: float | None = None,
     method: str | None = None,
     max_steps: int | None = None,
-    chunk: int = 100,
 ) -> StrobeRun: ...
 def simulate_dense(
     params: Params,
@@ -314,7 +311,6 @@ def simulate_dense(
     atol: float | None = None,
     method: str | None = None,
     max_steps: int | None = None,
-    chunk: int = 100,
 ) -> DenseRun: ...
 def bifurcation(
     params: Params,
@@ -353,7 +349,6 @@ def fe_transient(
     atol: float | None = None,
     method: str | None = None,
     layout: str = "ross6",
-    chunk: int = 50,
 ) -> FeRun: ...
 def fe_run_up(
     M: npt.ArrayLike,
@@ -380,7 +375,6 @@ def fe_run_up(
     atol: float | None = None,
     method: str | None = None,
     layout: str = "ross6",
-    chunk: int = 100,
 ) -> FeRun: ...
 def full_spectrum(
     t: npt.ArrayLike, x: npt.ArrayLike, y: npt.ArrayLike, *, window: str = "hann"

@@ -9,13 +9,13 @@ use numpy::{Complex64, PyArray1, PyArray2};
 use pyo3::prelude::*;
 
 use crate::arrays::{array, complex, table};
-use crate::chunks;
 use crate::errors::value_error;
 use crate::interrupt::CtrlC;
 use crate::lyapunov::stability_error;
 use crate::options::{positive, sim_options};
 use crate::paper::{start_state, swept};
 use crate::params::PyParams;
+use crate::runs;
 
 /// A special point of a continued branch.
 #[pyclass(name = "SpecialPoint", module = "jeffcott", frozen, get_all)]
@@ -150,8 +150,9 @@ fn options(
 /// from ``state0`` (default rest) at ``start``. ``ds`` (default 0.01), ``ds_max`` (0.02):
 /// arclength steps in scaled coordinates; ``max_points`` (5000). Options as ``simulate``.
 ///
-/// Runs with the GIL released; the transient goes in chunks and the continuation looks for
-/// Ctrl-C between its steps (``KeyboardInterrupt``, within about one step or bisection step).
+/// Runs with the GIL released; Ctrl-C stops the transient (as ``simulate``), and the
+/// continuation looks for it between its steps (``KeyboardInterrupt``, within about one step
+/// or bisection step).
 /// ``ValueError`` for bad input; ``SimulationError`` if no orbit is found at ``start`` or a
 /// run fails.
 #[pyfunction]
@@ -179,7 +180,7 @@ pub fn continue_orbit(
     let y0 = start_state(state0)?;
     let sim = sim_options(rtol, atol, method)?;
     let opts = options(ds, ds_max, max_points, bracket_width)?.with_sim(sim);
-    let guess = chunks::settle(py, &model, y0, transient, &sim)?;
+    let guess = runs::settle(py, &model, y0, transient, &sim)?;
     let build = |value: f64| family.model(value);
     let ctrl_c = CtrlC::new();
     let found = py.detach(|| {

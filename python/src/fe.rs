@@ -16,11 +16,11 @@ use numpy::{AllowTypeChange, PyArrayLike2};
 use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 
-use crate::chunks;
 use crate::errors::value_error;
 use crate::fe_run::{fe_run, FeRun, RunFacts};
 use crate::options::sim_options;
 use crate::paper::dense_output;
+use crate::runs;
 
 /// A matrix from any array-like that numpy reads as 2-D numbers (arrays of any float or int
 /// type, any memory order, nested lists), as float64.
@@ -294,16 +294,16 @@ pub fn default_method(modes: Modes) -> &'static str {
 /// response at the ring node is within ``mode_tolerance`` (relative) of the full model's at
 /// the run's speed (the crate's ``CraigBampton::fewest_modes``; the result's ``modes`` and
 /// ``mode_error`` say what was kept and its error). Method: radau5 for the full model, dop853 for a reduced
-/// one, unless given; ``atol`` defaults to ``rtol``. Runs ``chunk`` samples at a time with
-/// the GIL released, Ctrl-C checked between chunks. ``ValueError`` for bad input (the
+/// one, unless given; ``atol`` defaults to ``rtol``. Runs with the GIL released; Ctrl-C stops
+/// it. ``ValueError`` for bad input (the
 /// crate's message), ``SimulationError`` (``partial``: an ``FeRun``) for a failed run.
 /// Returns an ``FeRun``: the ring node's motion, the ring and its force at the samples, the
 /// contact episodes and the revolutions.
 #[pyfunction]
 #[pyo3(
-    signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], rtol=1e-8, atol=None, method=None, layout="ross6", chunk=50),
+    signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], rtol=1e-8, atol=None, method=None, layout="ross6"),
     // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
-    text_signature = "(M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], rtol=1e-08, atol=None, method=None, layout='ross6', chunk=50)"
+    text_signature = "(M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], rtol=1e-08, atol=None, method=None, layout='ross6')"
 )]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_transient(
@@ -329,7 +329,6 @@ pub fn fe_transient(
     atol: Option<f64>,
     method: Option<&str>,
     layout: &str,
-    chunk: u64,
 ) -> PyResult<FeRun> {
     let modes = Modes::new(modes, mode_tolerance)?;
     let lateral = lateral_matrices([&M, &K, &C, &G], layout)?;
@@ -359,7 +358,7 @@ pub fn fe_transient(
         return Err(value_error("samples must be at least 1"));
     }
     let dt = t_end / samples as f64;
-    let output = dense_output(t_end, dt, chunk.max(1) as f64 * dt)?.with_strobes();
+    let output = dense_output(t_end, dt)?.with_strobes();
     let mut y0 = model.rotor().rest_state();
     model.make_consistent(&mut y0).map_err(value_error)?;
     let displacement = |y: &DVector<f64>| model.rotor().station_displacement(y);
@@ -375,5 +374,5 @@ pub fn fe_transient(
     };
     let result =
         |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| fe_run(py, &facts, traj, stats);
-    chunks::run_into(py, &model, y0, output, &opts, result)
+    runs::run_into(py, &model, y0, output, &opts, result)
 }

@@ -11,9 +11,9 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::{array, table};
-use crate::chunks::stats_dict;
 use crate::errors::value_error;
 use crate::fe::{Margin, Probes, Reduction};
+use crate::runs::stats_dict;
 
 /// The contact episodes of a run, one entry each, in time order.
 #[pyclass(module = "jeffcott", frozen, get_all)]

@@ -10,7 +10,6 @@ use jeffcott::rotor::{Segment, SmoothRotor, SpeedProfile};
 use numpy::{AllowTypeChange, PyArrayLike1};
 use pyo3::prelude::*;
 
-use crate::chunks;
 use crate::errors::value_error;
 use crate::fe::{
     default_method, lateral_matrices, rotor_of, system_at, ArrayLike, Margin, Modes, ModesArg,
@@ -19,6 +18,7 @@ use crate::fe::{
 use crate::fe_run::{fe_run, FeRun, RunFacts};
 use crate::options::sim_options;
 use crate::paper::dense_output;
+use crate::runs;
 
 /// A 1-D array-like of numbers, as float64.
 type Column<'py> = PyArrayLike1<'py, f64, AllowTypeChange>;
@@ -85,17 +85,16 @@ fn speed_grid(speeds: &Column<'_>) -> Vec<f64> {
 /// ``atol``, ``method``, ``probe_nodes`` and ``layout`` as in ``fe_transient``, the
 /// reduction's error measured
 /// at 33 speeds from the table's slowest (at least 1/32 of its fastest) to its fastest; ``ring=False`` runs without
-/// the ring (its gap 1 m). Runs ``chunk`` revolutions (at the largest speed) at a time with
-/// the GIL released, Ctrl-C checked between chunks. Memory: each sample keeps the state and
+/// the ring (its gap 1 m). Runs with the GIL released; Ctrl-C stops it. Memory: each sample keeps the state and
 /// its derivative until the run ends (2 (2 n + 2) floats, n the DOFs integrated).
 /// ``ValueError`` for bad input (the crate's message), ``SimulationError`` (``partial``: an
 /// ``FeRun``) for a failed run. Returns an ``FeRun`` (its ``speed`` the profile's at the
 /// samples, its least damping ratio at the largest speed).
 #[pyfunction]
 #[pyo3(
-    signature = (M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], rtol=1e-8, atol=None, method=None, layout="ross6", chunk=100),
+    signature = (M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], rtol=1e-8, atol=None, method=None, layout="ross6"),
     // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
-    text_signature = "(M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], rtol=1e-08, atol=None, method=None, layout='ross6', chunk=100)"
+    text_signature = "(M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], rtol=1e-08, atol=None, method=None, layout='ross6')"
 )]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_run_up(
@@ -123,7 +122,6 @@ pub fn fe_run_up(
     atol: Option<f64>,
     method: Option<&str>,
     layout: &str,
-    chunk: u64,
 ) -> PyResult<FeRun> {
     let modes = Modes::new(modes, mode_tolerance)?;
     let profile = profile_of(&times, &speeds)?;
@@ -172,7 +170,7 @@ pub fn fe_run_up(
     .with_max_events_per_period(u32::MAX);
     let period = TAU / top;
     let dt = dt.unwrap_or(period / 128.0);
-    let output = dense_output(t_end, dt, chunk.max(1) as f64 * period)?.with_strobes();
+    let output = dense_output(t_end, dt)?.with_strobes();
     let mut y0 = model.rotor().rotor().rest_state();
     model.make_consistent(&mut y0).map_err(value_error)?;
     let displacement = |y: &DVector<f64>| model.rotor().rotor().station_displacement(y);
@@ -190,5 +188,5 @@ pub fn fe_run_up(
     };
     let result =
         |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| fe_run(py, &facts, traj, stats);
-    chunks::run_into(py, &model, y0, output, &opts, result)
+    runs::run_into(py, &model, y0, output, &opts, result)
 }

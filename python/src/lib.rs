@@ -1,13 +1,12 @@
 //! Python bindings of `jeffcott` (the extension module `jeffcott._jeffcott`): the paper's
 //! model and finite-element rotors on the snubber ring, numpy arrays in and out. The loops
 //! stay compiled: Python hands over arrays and parameters once, never a callback per step.
-//! Long runs release the GIL and run in chunks, checking for Ctrl-C between them; the
-//! Lyapunov exponents and the continuation, single library calls, check for it through the
-//! crate's `Progress` observer (`interrupt`).
+//! Long runs release the GIL; Ctrl-C stops them: a run through the driver's observer
+//! (`HybridObserver::should_stop`, `runs`), the Lyapunov exponents and the continuation
+//! through the crate's `Progress` observer (`interrupt`).
 
 mod arrays;
 mod basins;
-mod chunks;
 mod continuation;
 mod errors;
 mod fe;
@@ -22,6 +21,7 @@ mod paper;
 mod params;
 mod poincare;
 mod run_up;
+mod runs;
 mod stability;
 
 use pyo3::prelude::*;

@@ -7,11 +7,11 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
 use crate::arrays::{array, table};
-use crate::chunks;
 use crate::errors::{simulation_error, value_error};
 use crate::interrupt::CtrlC;
 use crate::paper::run_setup;
 use crate::params::PyParams;
+use crate::runs;
 
 /// Lyapunov exponents of the stroboscopic map (the crate's ``stability::lyapunov_exponents``).
 #[pyclass(module = "jeffcott", frozen, get_all)]
@@ -86,7 +86,7 @@ pub fn stability_error(py: Python<'_>, e: StabilityError) -> PyErr {
 /// largest exponent, Euclidean in [x, y, x', y'] (gaps, gaps per 1/omega_n; None skips it).
 /// Exponents are per forcing period (``per_time``: per unit tau). Options as ``simulate``.
 ///
-/// Runs with the GIL released; the transient goes in chunks (as ``simulate``), and Ctrl-C is
+/// Runs with the GIL released; Ctrl-C stops the transient (as ``simulate``) and is
 /// looked for between periods (``KeyboardInterrupt``).
 /// ``ValueError`` for bad input (e.g. ``batch > periods``); ``SimulationError`` if a run fails.
 #[pyfunction]
@@ -124,7 +124,7 @@ pub fn lyapunov_exponents(
         }
         opts = opts.with_exponents(n);
     }
-    let start = chunks::settle(py, &model, y0, transient, &opts.sim)?;
+    let start = runs::settle(py, &model, y0, transient, &opts.sim)?;
     let ctrl_c = CtrlC::new();
     let found = py.detach(|| lyapunov_exponents_with_progress(&model, &start, &opts, &ctrl_c));
     ctrl_c.raised()?;

@@ -12,10 +12,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::{array, table};
-use crate::chunks::{self, Output};
 use crate::errors::value_error;
 use crate::options::{positive, sim_options};
 use crate::params::PyParams;
+use crate::runs::{self, Output};
 
 /// Stroboscopic states of a run, one row per forcing period k = 0..=N (the first is the start).
 #[pyclass(module = "jeffcott", frozen, get_all)]
@@ -119,7 +119,7 @@ fn strobe_run(
         t: array(py, s.iter().map(|p| p.t)),
         states: states(py, s.iter().map(|p| &p.y))?,
         regimes: array(py, s.iter().map(|p| p.label)),
-        stats: chunks::stats_dict(py, stats)?.unbind(),
+        stats: runs::stats_dict(py, stats)?.unbind(),
     })
 }
 
@@ -138,7 +138,7 @@ fn dense_run(
         event_t: array(py, e.iter().map(|v| v.t)),
         event_kind: e.iter().map(|v| v.kind.to_string()).collect(),
         event_regime: array(py, e.iter().map(|v| v.to)),
-        stats: chunks::stats_dict(py, stats)?.unbind(),
+        stats: runs::stats_dict(py, stats)?.unbind(),
     })
 }
 
@@ -146,14 +146,13 @@ fn dense_run(
 /// from ``state0`` (default: rest, [0]*6) at t = 0.
 ///
 /// Tolerances and method as the crate's ``SimOptions`` (defaults rtol 1e-10, atol 1e-12,
-/// dop853; also dopri5, radau5); ``max_steps`` bounds the integrator's steps of each chunk.
-/// The run releases the GIL and goes ``chunk`` periods at a time, checking for Ctrl-C
-/// between chunks (``KeyboardInterrupt``).
+/// dop853; also dopri5, radau5); ``max_steps`` bounds the run's step attempts. The run
+/// releases the GIL; Ctrl-C stops it (``KeyboardInterrupt``).
 ///
 /// Raises ``ValueError`` for bad parameters or input, ``SimulationError`` (with ``partial``,
 /// a ``StrobeRun`` of the points before the failure) for a failed run.
 #[pyfunction]
-#[pyo3(signature = (params, periods, *, state0=None, rtol=None, atol=None, method=None, max_steps=None, chunk=100))]
+#[pyo3(signature = (params, periods, *, state0=None, rtol=None, atol=None, method=None, max_steps=None))]
 #[allow(clippy::too_many_arguments)] // Python keywords
 pub fn simulate(
     py: Python<'_>,
@@ -164,22 +163,18 @@ pub fn simulate(
     atol: Option<f64>,
     method: Option<&str>,
     max_steps: Option<u64>,
-    chunk: u64,
 ) -> PyResult<StrobeRun> {
     let (model, y0, opts) = run_setup(&params, state0, rtol, atol, method)?;
     let opts = with_max_steps(opts, max_steps);
-    let output = Output::Strobe {
-        last: periods,
-        per_chunk: chunk.max(1),
-    };
-    chunks::run_into(py, &model, y0, output, &opts, strobe_run)
+    let output = Output::Strobe { last: periods };
+    runs::run_into(py, &model, y0, output, &opts, strobe_run)
 }
 
 /// Dense run of the paper's model: samples at t_i = i dt for t_i <= t_end (non-dimensional
 /// time), from ``state0`` (default rest) at t = 0, with the event log. Options, Ctrl-C and
-/// errors as ``simulate`` (``chunk`` in forcing periods; ``partial`` a ``DenseRun``).
+/// errors as ``simulate`` (``partial`` a ``DenseRun``).
 #[pyfunction]
-#[pyo3(signature = (params, t_end, dt, *, state0=None, rtol=None, atol=None, method=None, max_steps=None, chunk=100))]
+#[pyo3(signature = (params, t_end, dt, *, state0=None, rtol=None, atol=None, method=None, max_steps=None))]
 #[allow(clippy::too_many_arguments)] // Python keywords
 pub fn simulate_dense(
     py: Python<'_>,
@@ -191,15 +186,14 @@ pub fn simulate_dense(
     atol: Option<f64>,
     method: Option<&str>,
     max_steps: Option<u64>,
-    chunk: u64,
 ) -> PyResult<DenseRun> {
     let (model, y0, opts) = run_setup(&params, state0, rtol, atol, method)?;
     let opts = with_max_steps(opts, max_steps);
-    let output = dense_output(t_end, dt, chunk as f64 * params.forcing_period())?;
-    chunks::run_into(py, &model, y0, output, &opts, dense_run)
+    let output = dense_output(t_end, dt)?;
+    runs::run_into(py, &model, y0, output, &opts, dense_run)
 }
 
-/// The options with a bound on the integrator's steps (per chunk), if given.
+/// The options with a bound on the run's step attempts, if given.
 fn with_max_steps(opts: SimOptions, max_steps: Option<u64>) -> SimOptions {
     match max_steps {
         Some(n) => opts.with_max_steps(n),
@@ -207,8 +201,8 @@ fn with_max_steps(opts: SimOptions, max_steps: Option<u64>) -> SimOptions {
     }
 }
 
-/// Samples `i dt <= t_end` (to a relative 1e-12), about `chunk_time` of them a chunk.
-pub fn dense_output(t_end: f64, dt: f64, chunk_time: f64) -> PyResult<Output> {
+/// Samples `i dt <= t_end` (to a relative 1e-12).
+pub fn dense_output(t_end: f64, dt: f64) -> PyResult<Output> {
     let dt = positive("dt", dt)?;
     if !(t_end.is_finite() && t_end >= 0.0) {
         return Err(value_error(format!(
@@ -216,11 +210,9 @@ pub fn dense_output(t_end: f64, dt: f64, chunk_time: f64) -> PyResult<Output> {
         )));
     }
     let count = (t_end / dt * (1.0 + 1e-12)).floor() as u64 + 1;
-    let per_chunk = ((chunk_time / dt).ceil() as u64).max(1);
     Ok(Output::Dense {
         dt,
         count,
-        per_chunk,
         strobes: false,
     })
 }

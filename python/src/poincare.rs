@@ -8,10 +8,10 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 
 use crate::arrays::array;
-use crate::chunks::{self, Output};
 use crate::errors::{run_error, value_error};
 use crate::paper::{run_setup, states};
 use crate::params::PyParams;
+use crate::runs::{self, Output};
 
 /// Recorded stroboscopic points k = transient + 1 ..= transient + record and their period.
 #[pyclass(module = "jeffcott", frozen, get_all)]
@@ -32,7 +32,7 @@ pub struct Section {
 /// crate's ``analysis::PeriodTest`` does (relative to the model's state scale). Options,
 /// Ctrl-C and errors as ``simulate`` (``partial`` a ``Section`` of the points so far).
 #[pyfunction]
-#[pyo3(signature = (params, *, transient=300, record=150, state0=None, rtol=None, atol=None, method=None, chunk=100))]
+#[pyo3(signature = (params, *, transient=300, record=150, state0=None, rtol=None, atol=None, method=None))]
 #[allow(clippy::too_many_arguments)] // Python keywords
 pub fn poincare(
     py: Python<'_>,
@@ -43,19 +43,15 @@ pub fn poincare(
     rtol: Option<f64>,
     atol: Option<f64>,
     method: Option<&str>,
-    chunk: u64,
 ) -> PyResult<Section> {
     if record < 2 {
         return Err(value_error("record must be at least 2"));
     }
     let (model, y0, opts) = run_setup(&params, state0, rtol, atol, method)?;
     let last = transient.saturating_add(record);
-    let output = Output::Strobe {
-        last,
-        per_chunk: chunk.max(1),
-    };
+    let output = Output::Strobe { last };
     let mut traj = Trajectory::default();
-    let outcome = chunks::run(py, &model, (0.0, y0), output, &opts, &mut traj)?;
+    let outcome = runs::run(py, &model, &y0, output, &opts, &mut traj)?;
     let kept: Vec<_> = traj.strobe.iter().filter(|p| p.k > transient).collect();
     let period = match &outcome {
         Ok(_) => {

@@ -1,8 +1,6 @@
 //! The run-up: the paper's rotor at a speed ramped at a constant rate (the crate's
 //! ``rotor::SpeedProfile::ramp`` and ``rotor::ProfiledJeffcott``), on the ring or off it.
 
-use std::f64::consts::TAU;
-
 use jeffcott::hybrid::{SimStats, Trajectory};
 use jeffcott::nalgebra::U6;
 use jeffcott::rotor::{ProfiledJeffcott, SpeedProfile};
@@ -11,11 +9,11 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::array;
-use crate::chunks::{self, stats_dict};
 use crate::errors::value_error;
 use crate::options::sim_options;
 use crate::paper::{dense_output, start_state, states};
 use crate::params::PyParams;
+use crate::runs::{self, stats_dict};
 
 /// Dense samples of a run-up at t_i = i dt (non-dimensional time tau), and its events.
 #[pyclass(name = "RunUp", module = "jeffcott", frozen, get_all)]
@@ -73,10 +71,10 @@ fn run_up_of(
 /// (default rest) at tau = 0. ``ring=False`` puts the ring out of reach (the linear rotor).
 ///
 /// Units: tau in 1/omega_n, rate in omega_n^2 (d eta per unit tau), lengths in gaps.
-/// Options, Ctrl-C (``chunk`` in periods at the largest speed) and errors as ``simulate``;
+/// Options, Ctrl-C and errors as ``simulate``;
 /// ``ValueError`` for a bad profile; ``SimulationError``'s ``partial`` is a ``RunUp``.
 #[pyfunction]
-#[pyo3(signature = (params, eta_from, eta_to, rate, *, t_end=None, dt=0.05, ring=true, state0=None, rtol=None, atol=None, method=None, chunk=100))]
+#[pyo3(signature = (params, eta_from, eta_to, rate, *, t_end=None, dt=0.05, ring=true, state0=None, rtol=None, atol=None, method=None))]
 #[allow(clippy::too_many_arguments)] // Python keywords
 pub fn run_up(
     py: Python<'_>,
@@ -91,7 +89,6 @@ pub fn run_up(
     rtol: Option<f64>,
     atol: Option<f64>,
     method: Option<&str>,
-    chunk: u64,
 ) -> PyResult<RunUp> {
     let profile = SpeedProfile::ramp(eta_from, eta_to, rate).map_err(value_error)?;
     let rotor = ProfiledJeffcott::new(params.checked()?, profile.clone()).map_err(value_error)?;
@@ -104,10 +101,9 @@ pub fn run_up(
     let y0 = start_state(state0)?;
     let opts = sim_options(rtol, atol, method)?;
     let t_end = t_end.unwrap_or(profile.ramp_time());
-    let chunk_time = chunk.max(1) as f64 * TAU / profile.eta_max();
-    let output = dense_output(t_end, dt, chunk_time)?;
+    let output = dense_output(t_end, dt)?;
     let result = |py: Python<'_>, traj: &Trajectory<U6>, stats: &SimStats| {
         run_up_of(py, &profile, traj, stats)
     };
-    chunks::run_into(py, &model, y0, output, &opts, result)
+    runs::run_into(py, &model, y0, output, &opts, result)
 }

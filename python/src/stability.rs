@@ -6,10 +6,10 @@ use numpy::{Complex64, PyArray1};
 use pyo3::prelude::*;
 
 use crate::arrays::{array, complex};
-use crate::chunks;
 use crate::errors::simulation_error;
 use crate::paper::run_setup;
 use crate::params::PyParams;
+use crate::runs;
 
 /// A periodic orbit of the stroboscopic map and its stability (non-dimensional units).
 #[pyclass(module = "jeffcott", frozen, get_all)]
@@ -69,7 +69,7 @@ pub fn periodic_orbit(
     method: Option<&str>,
 ) -> PyResult<Orbit> {
     let (model, y0, sim) = run_setup(&params, state0, rtol, atol, method)?;
-    let guess = chunks::settle(py, &model, y0, transient, &sim)?;
+    let guess = runs::settle(py, &model, y0, transient, &sim)?;
     let opts = OrbitOptions::default().with_sim(sim);
     let found = py.detach(|| jeffcott::stability::periodic_orbit(&model, &guess, period, &opts));
     match found {

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import jeffcott
+from conftest import interrupted_after
 
 # One node (layout lateral4: x, y, alpha, beta): mass 1, tilt inertia 0.02, polar 0.04; the
 # tilts coupled to x, y by kc; the critical near 10 rad/s.
@@ -214,13 +215,11 @@ def test_fe_run_up_bad_profile(times, speeds, kw):
                            ring_damping=0.0, unbalance=[(0, ME, 0.0)], layout="lateral4", **kw)
 
 
-def test_fe_run_up_in_chunks_keeps_every_revolution():
-    # A chunk a revolution (Ctrl-C checked between) against one chunk: the same revolutions
-    # (their starts are the profile's, in closed form), the same contacts to the runs' error.
-    one = crate_run_up(True, chunk=1000)
-    many = crate_run_up(True, chunk=1)
-    assert np.array_equal(one.revolutions.start, many.revolutions.start)
-    assert np.allclose(one.t, many.t, rtol=0, atol=1e-12)
-    assert one.onsets.shape == many.onsets.shape
-    assert np.max(np.abs(one.onsets - many.onsets)) <= 1e-8
-    assert np.max(np.abs(one.revolutions.peak_radius - many.revolutions.peak_radius)) <= 1e-8 * GAP
+def test_ctrl_c_stops_a_long_fe_run_up():
+    # One run of the crate's driver, stopped by its observer on Ctrl-C (no chunks).
+    M, K, C, G = matrices()
+    long_run = lambda: jeffcott.fe_run_up(
+        M, K, C, G, [0.0, 1e6], [6.0, 14.0], ring_node=0, gap=GAP, ring_stiffness=KS,
+        ring_damping=0.0, unbalance=[(0, ME, PHASE)], layout="lateral4", rtol=1e-11)
+    elapsed = interrupted_after(0.5, long_run)
+    assert elapsed < 5.0, elapsed

@@ -29,9 +29,9 @@ def load_reference(name):
     return p, rows
 
 
-# The Rust test's bound (tests/suite/simulation/reference.rs measures 5.3e-13 to 1.4e-12 in one
-# run); the chunked run restarts the integrator every `chunk` periods, so the 1e-10.
-ALLOWED = 1e-10
+# The Rust test's bound (tests/suite/simulation/reference.rs: 5e-12, measured 5.3e-13 to
+# 1.4e-12): the Python run is one run of the same driver (measured 4.3e-13 to 1.5e-12).
+ALLOWED = 5e-12
 
 
 @pytest.mark.parametrize("name", ["fig8a_eta2.0.csv", "fig8b_eta2.0.csv", "fig8b_eta3.0.csv"])
@@ -58,12 +58,12 @@ def test_strobe_shapes_and_dtypes():
 def test_dense_samples_agree_with_strobe_points():
     p = jeffcott.Params.preset("fig8b")
     period = p.forcing_period
-    dense = jeffcott.simulate_dense(p, 20 * period, period / 8, chunk=7)
+    dense = jeffcott.simulate_dense(p, 20 * period, period / 8)
     strobe = jeffcott.simulate(p, 20)
     assert dense.t.shape == (161,) and dense.states.shape == (161, 6)
     assert dense.derivatives.shape == (161, 6) and dense.regimes.dtype == np.uint8
     assert np.allclose(dense.t, np.arange(161) * period / 8, rtol=1e-14, atol=1e-13)
-    # The same trajectory through two output paths (and different chunks): within the
+    # The same trajectory through two output paths: within the
     # integration tolerance, far below the state's size (about 1).
     assert np.max(np.abs(dense.states[::8] - strobe.states)) < 1e-8
     assert len(dense.event_kind) == dense.event_t.shape[0] > 0
@@ -116,7 +116,7 @@ def test_invalid_field_set_later_is_caught_by_simulate():
 def test_failed_run_raises_simulation_error_with_partial():
     p = jeffcott.Params.preset("fig8b")
     with pytest.raises(jeffcott.SimulationError) as info:
-        jeffcott.simulate(p, 50, max_steps=3, chunk=5)
+        jeffcott.simulate(p, 50, max_steps=3)
     assert isinstance(info.value, RuntimeError)
     assert "step" in str(info.value)
     partial = info.value.partial
@@ -166,7 +166,7 @@ def test_bifurcation_columns_match_the_reference_trajectories():
 
 def test_ctrl_c_stops_a_long_run():
     p = jeffcott.Params.preset("fig9c")  # chaotic: contacts every period
-    elapsed = interrupted_after(0.5, lambda: jeffcott.simulate(p, 10**8, chunk=20))
+    elapsed = interrupted_after(0.5, lambda: jeffcott.simulate(p, 10**8))
     assert elapsed < 5.0, f"KeyboardInterrupt after {elapsed:.2f} s"
 
 
@@ -174,7 +174,7 @@ def test_run_releases_the_gil():
     # A Python thread keeps running while one chunk of a run goes on in the main thread: it
     # leaves time stamps inside the run's window (none could be there if the GIL were held).
     p = jeffcott.Params.preset("fig9c")
-    duration, inside = stamps_during(lambda: jeffcott.simulate(p, 20000, chunk=20000))
+    duration, inside = stamps_during(lambda: jeffcott.simulate(p, 20000))
     assert duration > 0.1, "the run is too short to tell"
     assert len(inside) >= 10, f"{len(inside)} stamps in a {duration:.3f} s run"
 

@@ -83,5 +83,5 @@ def test_run_up_bad_input(args, kw):
 
 def test_ctrl_c_stops_a_long_run_up():
     p = jeffcott.Params.preset("fig9c")
-    elapsed = interrupted_after(0.5, lambda: jeffcott.run_up(p, 0.5, 3.0, 1e-7, chunk=5))
+    elapsed = interrupted_after(0.5, lambda: jeffcott.run_up(p, 0.5, 3.0, 1e-7))
     assert elapsed < 5.0, f"KeyboardInterrupt after {elapsed:.2f} s"

@@ -65,10 +65,12 @@ pub enum SimFailureKind {
     InvalidOption,
     /// [`SimErrorKind::DimensionMismatch`].
     DimensionMismatch,
+    /// [`SimErrorKind::Stopped`] (the observer asked it to stop).
+    Stopped,
 }
 
 impl SimFailureKind {
-    const NAMES: [(SimFailureKind, &'static str); 7] = [
+    const NAMES: [(SimFailureKind, &'static str); 8] = [
         (SimFailureKind::Model, "model"),
         (SimFailureKind::Integrator, "integrator"),
         (SimFailureKind::Chattering, "chattering"),
@@ -76,6 +78,7 @@ impl SimFailureKind {
         (SimFailureKind::NonFinite, "non-finite"),
         (SimFailureKind::InvalidOption, "invalid-option"),
         (SimFailureKind::DimensionMismatch, "dimension-mismatch"),
+        (SimFailureKind::Stopped, "stopped"),
     ];
 
     /// The kind of a driver error.
@@ -91,11 +94,12 @@ impl SimFailureKind {
             SimErrorKind::NonFinite => SimFailureKind::NonFinite,
             SimErrorKind::InvalidOption { .. } => SimFailureKind::InvalidOption,
             SimErrorKind::DimensionMismatch { .. } => SimFailureKind::DimensionMismatch,
+            SimErrorKind::Stopped => SimFailureKind::Stopped,
         }
     }
 
     /// Its name (its `Display`): `"model"`, `"integrator"`, `"chattering"`, `"stalled"`,
-    /// `"non-finite"`, `"invalid-option"` or `"dimension-mismatch"`.
+    /// `"non-finite"`, `"invalid-option"`, `"dimension-mismatch"` or `"stopped"`.
     pub fn name(self) -> &'static str {
         Self::NAMES
             .iter()

@@ -284,6 +284,9 @@ pub enum SimErrorKind {
         )]
         hint: crate::StaticStr,
     },
+    /// The observer asked the run to stop ([`HybridObserver::should_stop`]).
+    #[error("stopped at the observer's request (HybridObserver::should_stop)")]
+    Stopped,
     /// The initial state's length is not the model's dimension
     /// ([`RotorModel::dim`](crate::hybrid::RotorModel::dim); only possible with
     /// [`Dyn`](nalgebra::Dyn)): a condition of the call, not of an option.
@@ -991,6 +994,11 @@ where
             if self.t >= t_end {
                 break None;
             }
+            if self.obs.should_stop() {
+                self.stats.exact_evals += seg.evaluations();
+                seg.eval(self.t, &mut self.y, &mut self.w.dy);
+                return Err(fail(SimErrorKind::Stopped, self.t, &self.y, self.stats));
+            }
         };
         self.stats.exact_evals += seg.evaluations();
         if found.is_none() {
@@ -1023,6 +1031,9 @@ where
                 }
                 collect(&mut self.stats, &self.integ);
                 return Ok(Some(h));
+            }
+            if self.obs.should_stop() {
+                return Err(self.fail_on_step(SimErrorKind::Stopped, true));
             }
             self.t = self.integ.t();
             self.y.copy_from(self.integ.y());

@@ -179,6 +179,13 @@ where
     fn on_event(&mut self, event: &EventRecord<D>) {
         let _ = event;
     }
+    /// Whether the run should stop now: asked after every step (and every output of a mode
+    /// in closed form). `true` ends the run with [`SimErrorKind::Stopped`](super::SimErrorKind::Stopped)
+    /// at the last good point, with what was recorded kept here: how a caller stops a long
+    /// run on a user's request (Ctrl-C) without cutting it into pieces. Default: never.
+    fn should_stop(&mut self) -> bool {
+        false
+    }
 }
 
 impl<D: Dim> HybridObserver<D> for () where DefaultAllocator: Allocator<D> {}

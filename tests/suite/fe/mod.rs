@@ -4,7 +4,7 @@ mod fe_contact_force;
 mod fe_contact_scale;
 mod fe_drive;
 mod fe_drive_jacobian;
-mod fe_eccentric;
+pub(crate) mod fe_eccentric;
 mod fe_energy;
 mod fe_error_weights;
 mod fe_exact;

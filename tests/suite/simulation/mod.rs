@@ -20,3 +20,4 @@ mod run_up_quasi_static;
 mod si_units;
 #[allow(clippy::module_inception)] // the paper's runs, in their area: `simulation::simulation::`
 mod simulation;
+mod stop;
