@@ -1125,9 +1125,10 @@ impl<R> RingedRotor<R> {
     /// or an event's), in contact or not (`in_contact`: the sample's mode label is not 1,
     /// regime I). Zero in free flight (the massless ring relaxes on its own); in contact
     /// $-f$, the reaction to the ring's elastic and damping force
-    /// $f = g(s) + C\thinspace J r^\prime$ ([`RingContact::force`](crate::ring::RingContact::force)) with the ring on the
-    /// branches of its position $s$ in `y` (its slots), located at the station's $r$ and
-    /// moving with $s^\prime = J r^\prime$. Its normal part $N = n\cdot f$,
+    /// $f = g(s) + C\thinspace J r^\prime$
+    /// ([`RingContact::force`](crate::ring::RingContact::force)) with the ring on the branches
+    /// of its position $s$ in `y` (its slots), located at the station's $r$ and moving with
+    /// $s^\prime = J r^\prime$. Its normal part $N = n\cdot f$,
     /// $n = (r - s)/\gamma$, is the paper's contact force; the elastic part $g(s)$ lies along
     /// $n$, the damping part too where both axes damp alike (regimes II and V). In the ring's
     /// force unit (N for a ring [`SnubberRing::from_units`] in SI).

@@ -345,6 +345,7 @@ def fe_transient(
     modes: int | str = 0,
     mode_tolerance: float = 1e-3,
     probe_nodes: Sequence[int] = [],
+    form: str = "physical",
     rtol: float = 1e-8,
     atol: float | None = None,
     method: str | None = None,

@@ -1,12 +1,11 @@
 //! A finite-element rotor on the snubber ring from numpy matrices, as a ROSS user has them
-//! (``rotor.M()``, ``rotor.K(w)``, ``rotor.C(w)``, ``rotor.G()``): the transient from rest at
-//! constant speed (`fe_transient`), in SI units; what a run-up shares with it (the rotor, the
-//! ring, the reduction, the stability warning).
+//! (``rotor.M()``, ``rotor.K(w)``, ``rotor.C(w)``, ``rotor.G()``), in SI units: what its runs
+//! share (the matrices, the ring, the reduction and its error, the probes, the stability
+//! warning).
 
 use std::ffi::CString;
 
-use jeffcott::hybrid::{SimStats, Trajectory};
-use jeffcott::nalgebra::{DMatrix, DVector, Dyn};
+use jeffcott::nalgebra::{DMatrix, DVector};
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{
     CraigBampton, DofLayout, LinearClosedForm, LinearRotor, LinearSystem, ModeSelection,
@@ -17,10 +16,6 @@ use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 
 use crate::errors::value_error;
-use crate::fe_run::{fe_run, FeRun, RunFacts};
-use crate::options::sim_options;
-use crate::paper::dense_output;
-use crate::runs;
 
 /// A matrix from any array-like that numpy reads as 2-D numbers (arrays of any float or int
 /// type, any memory order, nested lists), as float64.
@@ -277,102 +272,4 @@ pub fn default_method(modes: Modes) -> &'static str {
     } else {
         "radau5"
     }
-}
-
-/// Transient of a finite-element rotor on the snubber ring, from rest (q = q' = 0, the ring at
-/// its centre) at t = 0 to ``t_end`` (s), sampled ``samples`` + 1 times (every t_end/samples).
-///
-/// ``M, K, C, G``: square float64 arrays in SI units as ROSS gives them (``rotor.M(w)``,
-/// ``rotor.K(w)``, ``rotor.C(w)``, ``rotor.G()``) for M q'' + (C + speed G) q' + K q = F,
-/// layout ``"ross6"`` (6 DOFs a node: x, y, z, alpha, beta, theta; z and theta are dropped
-/// after checking they are uncoupled) or ``"lateral4"``. ``speed`` in rad/s. ``unbalance``:
-/// a list of (node, m e in kg m, phase in rad). The ring at ``ring_node`` (0-based): radial
-/// ``gap`` (m), unit stiffness ``ring_stiffness`` (N/m), unit damping ``ring_damping``
-/// (N s/m), ``preload`` (Delta_x, Delta_y) (m), rest centre at ``ring_offset`` (m) from the
-/// undeflected node. ``modes`` > 0 reduces the rotor to that many Craig-Bampton modes (the
-/// ring node's x, y kept physical); ``modes="auto"`` to the fewest whose steady unbalance
-/// response at the ring node is within ``mode_tolerance`` (relative) of the full model's at
-/// the run's speed (the crate's ``CraigBampton::fewest_modes``; the result's ``modes`` and
-/// ``mode_error`` say what was kept and its error). Method: radau5 for the full model, dop853 for a reduced
-/// one, unless given; ``atol`` defaults to ``rtol``. Runs with the GIL released; Ctrl-C stops
-/// it. ``ValueError`` for bad input (the
-/// crate's message), ``SimulationError`` (``partial``: an ``FeRun``) for a failed run.
-/// Returns an ``FeRun``: the ring node's motion, the ring and its force at the samples, the
-/// contact episodes and the revolutions.
-#[pyfunction]
-#[pyo3(
-    signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], rtol=1e-8, atol=None, method=None, layout="ross6"),
-    // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
-    text_signature = "(M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], rtol=1e-08, atol=None, method=None, layout='ross6')"
-)]
-#[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
-pub fn fe_transient(
-    py: Python<'_>,
-    M: ArrayLike<'_>,
-    K: ArrayLike<'_>,
-    C: ArrayLike<'_>,
-    G: ArrayLike<'_>,
-    speed: f64,
-    ring_node: usize,
-    gap: f64,
-    ring_stiffness: f64,
-    ring_damping: f64,
-    unbalance: Vec<(usize, f64, f64)>,
-    t_end: f64,
-    samples: u64,
-    preload: (f64, f64),
-    ring_offset: (f64, f64),
-    modes: ModesArg,
-    mode_tolerance: f64,
-    probe_nodes: Vec<usize>,
-    rtol: f64,
-    atol: Option<f64>,
-    method: Option<&str>,
-    layout: &str,
-) -> PyResult<FeRun> {
-    let modes = Modes::new(modes, mode_tolerance)?;
-    let lateral = lateral_matrices([&M, &K, &C, &G], layout)?;
-    let system = system_at(&lateral, speed, &unbalance)?;
-    let at = RingAt::new(
-        ring_node,
-        [gap, ring_stiffness, ring_damping],
-        preload,
-        ring_offset,
-    )?;
-    let ring = at.ring;
-    let (model, reduction, probes) = py.detach(|| {
-        let (rotor, cb, reduction) = rotor_of(&lateral, system, &at, (modes, &[speed]))?;
-        let probes = Probes::new(&lateral, cb.as_ref(), &probe_nodes)?;
-        PyResult::Ok((rotor.ringed(ring).map_err(value_error)?, reduction, probes))
-    })?;
-    // From the closed form the model prepared: no second eigen-decomposition.
-    let margin = Margin::of(model.closed_form());
-    margin.warn(py)?;
-    let opts = sim_options(
-        Some(rtol),
-        Some(atol.unwrap_or(rtol)),
-        Some(method.unwrap_or(default_method(modes))),
-    )?
-    .with_max_events_per_period(u32::MAX);
-    if samples == 0 {
-        return Err(value_error("samples must be at least 1"));
-    }
-    let dt = t_end / samples as f64;
-    let output = dense_output(t_end, dt)?.with_strobes();
-    let mut y0 = model.rotor().rest_state();
-    model.make_consistent(&mut y0).map_err(value_error)?;
-    let displacement = |y: &DVector<f64>| model.rotor().station_displacement(y);
-    let facts = RunFacts {
-        model: &model,
-        displacement: &displacement,
-        speed: &|_| speed,
-        phase: &|t| speed * t,
-        dofs: model.rotor().system().dofs(),
-        reduction,
-        margin,
-        probes: (&probe_nodes, &probes),
-    };
-    let result =
-        |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| fe_run(py, &facts, traj, stats);
-    runs::run_into(py, &model, y0, output, &opts, result)
 }

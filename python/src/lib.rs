@@ -13,6 +13,7 @@ mod fe;
 mod fe_modes;
 mod fe_run;
 mod fe_run_up;
+mod fe_transient;
 mod interrupt;
 mod lyapunov;
 mod options;
@@ -38,13 +39,13 @@ mod _jeffcott {
     #[pymodule_export]
     use crate::errors::SimulationError;
     #[pymodule_export]
-    use crate::fe::fe_transient;
-    #[pymodule_export]
     use crate::fe_modes::{fewest_modes, response_error};
     #[pymodule_export]
     use crate::fe_run::{ContactEpisodes, FeRun, Revolutions};
     #[pymodule_export]
     use crate::fe_run_up::fe_run_up;
+    #[pymodule_export]
+    use crate::fe_transient::fe_transient;
     #[pymodule_export]
     use crate::lyapunov::{lyapunov_exponents, Lyapunov};
     #[pymodule_export]

@@ -6,14 +6,16 @@ use pyo3::PyResult;
 
 use crate::errors::value_error;
 
-/// The integration method of a name (case-insensitive): dop853, dopri5, radau5.
+/// The integration method of a name (case-insensitive): dop853, dopri5, radau5, etd4 (which
+/// only a model with a diagonal linear part takes: a finite-element rotor in modal form).
 pub fn method(name: &str) -> PyResult<Method> {
     match name.to_ascii_lowercase().as_str() {
         "dop853" => Ok(Method::Dop853),
         "dopri5" => Ok(Method::Dopri5),
         "radau5" => Ok(Method::Radau5),
+        "etd4" => Ok(Method::Etd4),
         other => Err(value_error(format!(
-            "method '{other}' is not one of dop853, dopri5, radau5"
+            "method '{other}' is not one of dop853, dopri5, radau5, etd4"
         ))),
     }
 }

@@ -159,8 +159,8 @@ pub struct SimStats {
     pub woodbury_decompositions: u64,
 }
 
-/// The work of two runs together, field by field: the sum of a run resumed in pieces (e.g.
-/// chunk by chunk between Ctrl-C checks).
+/// The work of two runs together, field by field: the work of a run continued from where
+/// another ended (e.g. one stopped by its observer, [`SimErrorKind::Stopped`]).
 ///
 /// ```
 /// use jeffcott::hybrid::SimStats;
