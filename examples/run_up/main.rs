@@ -30,8 +30,9 @@
 //! With `--fe` a finite-element rotor runs instead (`rotor::ProfiledLinearRotor`): ROSS's
 //! 204-DOF `rotor_example_with_damping` (`--fe-mat`, default the repository's copy of
 //! `../shared/rotors/rotor_example_with_damping_1200rpm.mat`) with case S1's ring at node 12,
-//! reduced to 24 Craig-Bampton modes, from `--fe-from` (100) to `--fe-to` (260) rad/s at
-//! `--fe-rate` (50) rad/s² and back, with and without the ring: a line per run and leg, and
+//! reduced to 24 Craig-Bampton modes (each of these a flag: `--fe-ring-node`, `--fe-gap`,
+//! `--fe-ring-stiffness`, `--fe-ring-damping`, `--fe-unbalance`, `--fe-modes`), from
+//! `--fe-from` (100) to `--fe-to` (260) rad/s at `--fe-rate` (50) rad/s² and back, with and without the ring: a line per run and leg, and
 //! `fe_envelope.png` (with its CSV) in `--out` (default `target/run_up`).
 //!
 //! The scene flags are `simulate`'s (`--preset`, parameter overrides, `--rtol`, `--atol`,
@@ -114,8 +115,8 @@ struct Flags {
     /// Without --csv: run up and back, draw the envelope, the orders and the waterfall here
     #[arg(long, value_name = "DIR", conflicts_with = "csv")]
     out: Option<PathBuf>,
-    /// Instead: a finite-element rotor (ROSS's 204-DOF rotor with S1's ring at node 12,
-    /// reduced to 24 modes) up from --fe-from to --fe-to and back, with and without the ring;
+    /// Instead: a finite-element rotor (by default ROSS's 204-DOF rotor with S1's ring at node
+    /// 12, reduced to 24 modes) up from --fe-from to --fe-to and back, with and without the ring;
     /// writes fe_envelope.png in --out (default target/run_up)
     #[arg(long, conflicts_with_all = ["csv", "motor", "peak_rates"])]
     fe: bool,
@@ -132,6 +133,24 @@ struct Flags {
     /// With --fe: the rate, rad/s² [range: 1..=100000]
     #[arg(long, value_name = "NUMBER", default_value_t = 50.0, value_parser = f64_in(1.0, 1e5))]
     fe_rate: f64,
+    /// With --fe: the ring's node (0-based)
+    #[arg(long, value_name = "NODE", default_value_t = 12)]
+    fe_ring_node: usize,
+    /// With --fe: the ring's radial gap, m [range: 1e-9..=1]
+    #[arg(long, value_name = "NUMBER", default_value_t = 7.95e-5, value_parser = f64_in(1e-9, 1.0))]
+    fe_gap: f64,
+    /// With --fe: the ring's unit stiffness, N/m [range: 1..=1e12]
+    #[arg(long, value_name = "NUMBER", default_value_t = 1.1e6, value_parser = f64_in(1.0, 1e12))]
+    fe_ring_stiffness: f64,
+    /// With --fe: the ring's unit damping, N s/m [range: 0..=1e9]
+    #[arg(long, value_name = "NUMBER", default_value_t = 0.01, value_parser = f64_in(0.0, 1e9))]
+    fe_ring_damping: f64,
+    /// With --fe: the out-of-balance's node, m e (kg m) and phase (rad)
+    #[arg(long, value_name = "NODE,ME,PHASE", num_args = 1, value_delimiter = ',', default_values_t = [12.0, 2e-3, -std::f64::consts::FRAC_PI_2])]
+    fe_unbalance: Vec<f64>,
+    /// With --fe: the Craig-Bampton modes kept [range: 1..=10000]
+    #[arg(long, value_name = "COUNT", default_value_t = 24, value_parser = usize_in(1, 10_000))]
+    fe_modes: usize,
 }
 
 impl Flags {
@@ -352,13 +371,34 @@ fn fe_run(flags: &Flags) {
     if sweep.to <= sweep.from {
         fail("--fe-to must be above --fe-from");
     }
+    let setup = fe_setup(flags);
     let mat = flags.fe_mat.clone().unwrap_or_else(fe::default_mat);
     let dir = flags
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("target/run_up"));
     common::or_exit(std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display())));
-    common::or_exit(fe::run(&mat, &sweep, &dir));
+    common::or_exit(fe::run(&mat, (&sweep, &setup), &dir));
+}
+
+/// The ring, out-of-balance and reduction of `--fe` from its flags.
+fn fe_setup(flags: &Flags) -> fe::Setup {
+    let &[node, me, phase] = flags.fe_unbalance.as_slice() else {
+        fail("--fe-unbalance takes three numbers: NODE,ME,PHASE");
+    };
+    if node < 0.0 || node.fract() != 0.0 {
+        fail(format!(
+            "--fe-unbalance: the node {node} is not a node number"
+        ));
+    }
+    fe::Setup {
+        ring_node: flags.fe_ring_node,
+        gap: flags.fe_gap,
+        ring_stiffness: flags.fe_ring_stiffness,
+        ring_damping: flags.fe_ring_damping,
+        unbalance: (node as usize, me, phase),
+        modes: flags.fe_modes,
+    }
 }
 
 fn up_and_back(flags: &Flags, scene: &Scene, dir: &Path) {
@@ -441,6 +481,7 @@ fn peak_against_rate(flags: &Flags, scene: &Scene) {
             out: None,
             peak_rates: Vec::new(),
             fe_mat: None,
+            fe_unbalance: Vec::new(),
             ..*flags
         };
         let (rotor, traj, error) = run(&one, scene, ramp(&one));

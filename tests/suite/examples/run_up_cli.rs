@@ -325,3 +325,47 @@ fn fe_draws_the_envelope_of_a_finite_element_rotor() {
     let out = run(&["--fe", "--fe-from", "300", "--fe-to", "200"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// `--fe` with a ring of the user's: a gap of 1 m puts it out of reach, so the run "on the
+/// ring" is the run without it (the same peak line, no revolution touched), where the default
+/// ring is touched; a malformed `--fe-unbalance` is status 2.
+#[test]
+fn fe_takes_the_users_ring() {
+    let dir = std::env::temp_dir().join(format!("run_up_fe_ring_{}", std::process::id()));
+    let lines = |extra: &[&str]| {
+        let out = support::run_ok(
+            Command::new(support::example_exe("run_up"))
+                .args(["--fe", "--fe-rate", "1000", "--fe-modes", "8"])
+                .args(extra)
+                .arg("--out")
+                .arg(&dir),
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        let up = |name: &str| {
+            let line = text
+                .lines()
+                .find(|l| l.starts_with(name))
+                .unwrap()
+                .to_string();
+            let peak = line.split(" µm").next().unwrap().to_string();
+            let touched = line
+                .split("; ")
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .next()
+                .unwrap()
+                .to_string();
+            (peak.replace(name, ""), touched)
+        };
+        (up("fe on the ring, up"), up("fe without the ring, up"))
+    };
+    let (ring, free) = lines(&[]);
+    assert_ne!(ring.1, "0", "the default ring is touched");
+    let (far, free_again) = lines(&["--fe-gap", "1"]);
+    assert_eq!(far, (free.0.clone(), "0".to_string()));
+    assert_eq!(free_again, free);
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = run(&["--fe", "--fe-unbalance", "12,2e-3"]);
+    assert_eq!(out.status.code(), Some(2));
+}
