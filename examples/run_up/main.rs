@@ -137,7 +137,7 @@ struct Flags {
     #[arg(long, value_name = "NODE", default_value_t = 12)]
     fe_ring_node: usize,
     /// With --fe: the ring's radial gap, m [range: 1e-9..=1]
-    #[arg(long, value_name = "NUMBER", default_value_t = 7.95e-5, value_parser = f64_in(1e-9, 1.0))]
+    #[arg(long, value_name = "NUMBER", default_value = "7.95e-5", value_parser = f64_in(1e-9, 1.0))]
     fe_gap: f64,
     /// With --fe: the ring's unit stiffness, N/m [range: 1..=1e12]
     #[arg(long, value_name = "NUMBER", default_value_t = 1.1e6, value_parser = f64_in(1.0, 1e12))]
@@ -146,7 +146,13 @@ struct Flags {
     #[arg(long, value_name = "NUMBER", default_value_t = 0.01, value_parser = f64_in(0.0, 1e9))]
     fe_ring_damping: f64,
     /// With --fe: the out-of-balance's node, m e (kg m) and phase (rad)
-    #[arg(long, value_name = "NODE,ME,PHASE", num_args = 1, value_delimiter = ',', default_values_t = [12.0, 2e-3, -std::f64::consts::FRAC_PI_2])]
+    #[arg(
+        long,
+        value_name = "NODE,ME,PHASE",
+        num_args = 1,
+        value_delimiter = ',',
+        default_value = "12,2e-3,-1.5707963267948966"
+    )]
     fe_unbalance: Vec<f64>,
     /// With --fe: the Craig-Bampton modes kept [range: 1..=10000]
     #[arg(long, value_name = "COUNT", default_value_t = 24, value_parser = usize_in(1, 10_000))]

@@ -75,6 +75,8 @@ class Revolutions:
     speed: npt.NDArray[np.float64]  # (R,) rad/s, 2 pi / (end - start)
     peak_radius: npt.NDArray[np.float64]  # (R,) m from the ring's rest centre, located
     contact_time: npt.NDArray[np.float64]  # (R,) s
+    amplitude_1x: npt.NDArray[np.float64]  # (R,) m, the forward 1x whirl's radius
+    phase_1x: npt.NDArray[np.float64]  # (R,) rad, against FeRun.phase
 
 class FeRun:
     t: npt.NDArray[np.float64]  # (N,) s

@@ -2,7 +2,6 @@
 //! the ring node's motion, the ring, the contact force at the samples; each contact episode;
 //! each revolution's peak.
 
-use jeffcott::analysis::per_revolution;
 use jeffcott::hybrid::{EventRecord, SimStats, Trajectory};
 use jeffcott::nalgebra::{DVector, Dyn, Vector2};
 use jeffcott::rotor::{RingedRotor, SmoothRotor};
@@ -13,6 +12,7 @@ use pyo3::types::PyDict;
 use crate::arrays::{array, table};
 use crate::errors::value_error;
 use crate::fe::{Margin, Probes, Reduction};
+use crate::revolutions::{revolutions, Revolutions};
 use crate::runs::stats_dict;
 
 /// The contact episodes of a run, one entry each, in time order.
@@ -29,24 +29,6 @@ pub struct ContactEpisodes {
     /// The normal force's integral over the contact (N s), by the trapezoidal rule on the
     /// samples and the onset and loss.
     pub impulse: Py<PyArray1<f64>>,
-}
-
-/// The revolutions of a run, one entry each: from one revolution of the forcing phase to the
-/// next (the first starts at t = 0).
-#[pyclass(module = "jeffcott", frozen, get_all)]
-pub struct Revolutions {
-    /// When each starts (s).
-    pub start: Py<PyArray1<f64>>,
-    /// When each ends (s).
-    pub end: Py<PyArray1<f64>>,
-    /// Its mean speed 2 pi / (end - start) (rad/s).
-    pub speed: Py<PyArray1<f64>>,
-    /// The ring node's largest distance from the ring's rest centre in it (m), located on the
-    /// cubic Hermite interpolant of position and velocity through the samples, the revolution
-    /// starts and the events (the crate's ``analysis::per_revolution``).
-    pub peak_radius: Py<PyArray1<f64>>,
-    /// The time in contact in it (s).
-    pub contact_time: Py<PyArray1<f64>>,
 }
 
 /// A run of a finite-element rotor on the ring: at uniform samples the ring node's
@@ -202,7 +184,7 @@ pub fn fe_run<R: SmoothRotor<Dim = Dyn>>(
         onsets: changes(true),
         losses: changes(false),
         contacts: Py::new(py, episodes(py, model, traj, &forces)?)?,
-        revolutions: Py::new(py, revolutions(py, model, traj)?)?,
+        revolutions: Py::new(py, revolutions(py, facts, traj)?)?,
         dofs: facts.dofs,
         modes: facts.reduction.modes,
         mode_error: facts.reduction.error,
@@ -311,21 +293,5 @@ fn episodes<R: SmoothRotor<Dim = Dyn>>(
         duration: array(py, all.iter().map(|e| e.end - e.start)),
         peak_force: array(py, all.iter().map(Episode::peak)),
         impulse: array(py, all.iter().map(Episode::impulse)),
-    })
-}
-
-/// The revolutions from the strobes (one a revolution).
-fn revolutions<R: SmoothRotor<Dim = Dyn>>(
-    py: Python<'_>,
-    model: &RingedRotor<R>,
-    traj: &Trajectory<Dyn>,
-) -> PyResult<Revolutions> {
-    let revs = per_revolution(traj, 1, |y| model.rotor().station(y)).map_err(value_error)?;
-    Ok(Revolutions {
-        start: array(py, revs.iter().map(|r| r.t_start)),
-        end: array(py, revs.iter().map(|r| r.t_end)),
-        speed: array(py, revs.iter().map(|r| r.speed)),
-        peak_radius: array(py, revs.iter().map(|r| r.max_radius)),
-        contact_time: array(py, revs.iter().map(|r| r.contact_time)),
     })
 }

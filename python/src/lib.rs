@@ -21,6 +21,7 @@ mod orders;
 mod paper;
 mod params;
 mod poincare;
+mod revolutions;
 mod run_up;
 mod runs;
 mod stability;
@@ -41,7 +42,7 @@ mod _jeffcott {
     #[pymodule_export]
     use crate::fe_modes::{fewest_modes, response_error};
     #[pymodule_export]
-    use crate::fe_run::{ContactEpisodes, FeRun, Revolutions};
+    use crate::fe_run::{ContactEpisodes, FeRun};
     #[pymodule_export]
     use crate::fe_run_up::fe_run_up;
     #[pymodule_export]
@@ -60,6 +61,8 @@ mod _jeffcott {
     use crate::params::{presets, PyParams};
     #[pymodule_export]
     use crate::poincare::{poincare, Section};
+    #[pymodule_export]
+    use crate::revolutions::Revolutions;
     #[pymodule_export]
     use crate::run_up::{run_up, RunUp};
     #[pymodule_export]
