@@ -202,7 +202,7 @@ impl Probes {
             let x = lateral.x_dof(node).map_err(value_error)?;
             let row = |dof: usize| match cb {
                 Some(cb) => cb.basis().row(dof).transpose(),
-                None => DVector::from_fn(n, |i, _| f64::from(u8::from(i == dof))),
+                None => DVector::from_fn(n, |i, _| if i == dof { 1.0 } else { 0.0 }),
             };
             rows.push([row(x), row(x + 1)]);
         }
