@@ -95,6 +95,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod bearing_table;
 mod drive;
 mod drive_linear;
 mod exact;
@@ -110,6 +111,7 @@ mod run_up;
 mod speed;
 mod speed_law;
 
+pub use bearing_table::BearingTable;
 pub use drive::{DrivenJeffcott, MotorTorque, ETA, PHASE};
 pub use drive_linear::DrivenLinearRotor;
 pub use exact::{
@@ -332,6 +334,19 @@ pub enum RotorError {
         /// `"eta"`, `"strobes_per_revolution"`).
         field: &'static str,
         /// Its value.
+        value: f64,
+        /// What is wrong.
+        reason: &'static str,
+    },
+    /// A [`BearingTable`]'s grid point is invalid ([`BearingTable::new`]), or the table does
+    /// not fit the system it is given to.
+    #[error("bearing table: {field} at grid point {index}: {reason} (value {value})")]
+    BearingTable {
+        /// `"speeds"`, `"stiffness"` or `"damping"`.
+        field: &'static str,
+        /// The grid point (0-based).
+        index: usize,
+        /// The offending value (a speed, an entry, a count or a size, as `reason` says).
         value: f64,
         /// What is wrong.
         reason: &'static str,

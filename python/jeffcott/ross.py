@@ -2,11 +2,12 @@
 
 ``from_rotor(rotor, speed)`` reads the rotor's matrices at one speed (the bearings' and the
 frequency-dependent elements' coefficients at that speed) and its shaft's outer radius at each
-node; the ``FeRotor`` it returns runs ``fe_transient`` and ``fe_run_up`` on them. ROSS is not
+node; the ``FeRotor`` it returns runs ``fe_transient`` and ``fe_run_up`` on them, the run-up
+with the bearings' ``K`` and ``C`` read again on a grid of the run's speeds. ROSS is not
 imported here: any object with ROSS's ``M``, ``K``, ``C``, ``G`` and ``shaft_elements`` works.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -31,14 +32,30 @@ class FeRotor:
     #: The shaft's outer radius at each node (m), shape (n,): the largest of the shaft
     #: elements that end there; NaN at a node no shaft element ends at.
     shaft_radius: np.ndarray
+    #: The ``ross.Rotor`` the matrices came from (``None``: given as matrices only), read
+    #: again by ``run_up`` for the bearings at other speeds.
+    rotor: object = field(default=None, repr=False, compare=False)
 
     def transient(self, **kw) -> FeRun:
         """``fe_transient`` of this rotor at ``speed``; ``kw`` as ``fe_transient``'s."""
         return fe_transient(self.M, self.K, self.C, self.G, self.speed, **kw)
 
-    def run_up(self, times, speeds, **kw) -> FeRun:
-        """``fe_run_up`` of this rotor through the speed table (``times``, ``speeds``), with
-        ``K`` and ``C`` as evaluated at ``speed`` for every speed; ``kw`` as ``fe_run_up``'s."""
+    def run_up(self, times, speeds, *, bearing_points: int = 33, **kw) -> FeRun:
+        """``fe_run_up`` of this rotor through the speed table (``times``, ``speeds``); ``kw``
+        as ``fe_run_up``'s.
+
+        With the ROSS rotor known (``from_rotor``) and ``bearing_points`` > 1, ``K`` and ``C``
+        follow the speed: ``rotor.K(w, w)`` and ``rotor.C(w, w)`` read at ``bearing_points``
+        speeds equally spaced over the table's range (``fe_run_up``'s ``bearing_speeds``,
+        ``bearing_K``, ``bearing_C``; linear between them). Otherwise ``K`` and ``C`` are
+        those at ``speed`` for every speed."""
+        if self.rotor is not None and bearing_points > 1 and "bearing_speeds" not in kw:
+            w = np.asarray(speeds, dtype=np.float64)
+            grid = np.linspace(w.min(), w.max(), bearing_points)
+            if grid[-1] > grid[0]:
+                kw["bearing_speeds"] = grid
+                kw["bearing_K"] = np.array([self.rotor.K(s, s) for s in grid], dtype=np.float64)
+                kw["bearing_C"] = np.array([self.rotor.C(s, s) for s in grid], dtype=np.float64)
         return fe_run_up(self.M, self.K, self.C, self.G, times, speeds, **kw)
 
 
@@ -61,4 +78,4 @@ def from_rotor(rotor, speed: float) -> FeRotor:
     speed = float(speed)
     matrices = (rotor.M(speed, speed), rotor.K(speed, speed), rotor.C(speed, speed), rotor.G())
     M, K, C, G = (np.array(a, dtype=np.float64) for a in matrices)
-    return FeRotor(M, K, C, G, speed, shaft_radius(rotor))
+    return FeRotor(M, K, C, G, speed, shaft_radius(rotor), rotor)

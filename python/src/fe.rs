@@ -21,7 +21,7 @@ use crate::errors::value_error;
 /// type, any memory order, nested lists), as float64.
 pub type ArrayLike<'py> = PyArrayLike2<'py, f64, AllowTypeChange>;
 
-fn matrix(name: &str, a: &ArrayLike<'_>) -> PyResult<DMatrix<f64>> {
+pub(crate) fn matrix(name: &str, a: &ArrayLike<'_>) -> PyResult<DMatrix<f64>> {
     let v = a.as_array();
     let (r, c) = v.dim();
     if r != c {
@@ -32,7 +32,7 @@ fn matrix(name: &str, a: &ArrayLike<'_>) -> PyResult<DMatrix<f64>> {
     Ok(DMatrix::from_fn(r, c, |i, j| v[(i, j)]))
 }
 
-fn layout(name: &str) -> PyResult<DofLayout> {
+pub(crate) fn layout(name: &str) -> PyResult<DofLayout> {
     match name {
         "ross6" => Ok(DofLayout::Ross6),
         "lateral4" => Ok(DofLayout::Lateral4),

@@ -10,6 +10,7 @@ use jeffcott::rotor::{Segment, SmoothRotor, SpeedProfile};
 use numpy::{AllowTypeChange, PyArrayLike1};
 use pyo3::prelude::*;
 
+use crate::bearings::{Bearings, Stack};
 use crate::errors::value_error;
 use crate::fe::{
     default_method, lateral_matrices, rotor_of, system_at, ArrayLike, Margin, Modes, ModesArg,
@@ -78,8 +79,11 @@ fn speed_grid(speeds: &Column<'_>) -> Vec<f64> {
 /// The speed Omega(t) (rad/s) goes through the points (``times[i]``, ``speeds[i]``), linear
 /// between them (constant acceleration; ``times[0]`` = 0, increasing), held at the last speed
 /// after the last point: two points make a ramp, three a ramp up and back down. The equations
-/// are M q'' + (C + Omega G) q' + K q = F(t): ``C`` and ``K`` (the bearings) as given, for
-/// all speeds; the out-of-balance m e pushes with m e (Omega^2 cos phi + Omega' sin phi,
+/// are M q'' + (C + Omega G) q' + K q = F(t): ``C`` and ``K`` as given, for all speeds, or
+/// following the speed: ``bearing_K[i]`` and ``bearing_C[i]`` (each like ``K``, ``C``: shape
+/// (S, N, N)) at ``bearing_speeds[i]`` (rad/s, increasing), linear in Omega between them and
+/// held beyond them (sample ROSS's ``rotor.K(w)``, ``rotor.C(w)`` on a grid fine enough for
+/// that rule; ``jeffcott.ross.FeRotor.run_up`` does). The out-of-balance m e pushes with m e (Omega^2 cos phi + Omega' sin phi,
 /// Omega^2 sin phi - Omega' cos phi), phi = phase + the integral of Omega (the radial and the
 /// tangential force of the accelerating mass). The rotor, the ring, ``modes``, ``rtol``,
 /// ``atol``, ``method``, ``probe_nodes`` and ``layout`` as in ``fe_transient``, the
@@ -92,9 +96,9 @@ fn speed_grid(speeds: &Column<'_>) -> Vec<f64> {
 /// samples, its least damping ratio at the largest speed).
 #[pyfunction]
 #[pyo3(
-    signature = (M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], rtol=1e-8, atol=None, method=None, layout="ross6"),
+    signature = (M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], bearing_speeds=None, bearing_K=None, bearing_C=None, rtol=1e-8, atol=None, method=None, layout="ross6"),
     // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
-    text_signature = "(M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], rtol=1e-08, atol=None, method=None, layout='ross6')"
+    text_signature = "(M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], bearing_speeds=None, bearing_K=None, bearing_C=None, rtol=1e-08, atol=None, method=None, layout='ross6')"
 )]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_run_up(
@@ -118,6 +122,9 @@ pub fn fe_run_up(
     modes: ModesArg,
     mode_tolerance: f64,
     probe_nodes: Vec<usize>,
+    bearing_speeds: Option<Column<'_>>,
+    bearing_K: Option<Stack<'_>>,
+    bearing_C: Option<Stack<'_>>,
     rtol: f64,
     atol: Option<f64>,
     method: Option<&str>,
@@ -134,7 +141,16 @@ pub fn fe_run_up(
         None if profile.ramp_time() > 0.0 => profile.ramp_time(),
         None => return Err(value_error("a constant speed needs t_end")),
     };
-    let lateral = lateral_matrices([&M, &K, &C, &G], layout)?;
+    let mut lateral = lateral_matrices([&M, &K, &C, &G], layout)?;
+    let bearings = Bearings::from_args(
+        (&M, &G),
+        layout,
+        (bearing_speeds, bearing_K.as_ref(), bearing_C.as_ref()),
+    )?;
+    if let Some(b) = &bearings {
+        // The bearings at the reference speed: the reduction's modes and the margin's.
+        lateral = b.lateral_at(&lateral, top)?;
+    }
     // The reference speed is the top one: it sets the state's scale.
     let system = system_at(&lateral, top, &unbalance)?;
     let gap = if ring { gap } else { 1.0 };
@@ -155,8 +171,16 @@ pub fn fe_run_up(
         };
         let form = rotor.linear_free_flight().map(|f| f.prepare());
         let margin = Margin::of(form.as_ref().map(|f| f.as_ref()));
+        let table = bearings
+            .as_ref()
+            .map(|b| b.in_run(cb.as_ref()))
+            .transpose()?;
         let profiled = rotor
             .with_speed_profile(&g, profile.clone())
+            .and_then(|r| match &table {
+                Some(table) => r.with_bearing_table(table),
+                None => Ok(r),
+            })
             .and_then(|r| r.ringed(ring))
             .map_err(value_error)?;
         PyResult::Ok((profiled, reduction, margin, probes))

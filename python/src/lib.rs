@@ -7,6 +7,7 @@
 
 mod arrays;
 mod basins;
+mod bearings;
 mod continuation;
 mod errors;
 mod fe;

@@ -48,10 +48,12 @@ def phase_to(t_break):
 
 def field(t, z, contact, t_step, M, K, C, G):
     """z = [q, q']; the ring force -KS (|r| - GAP) r/|r| on the contact side (its smooth
-    extension inside the gap), none on the free side."""
+    extension inside the gap), none on the free side. K and C: matrices, or functions of the
+    speed."""
     n = 4
     q, v = z[:n], z[n:]
     w, rate, phi = speed_at(t, t_step)
+    K, C = (K(w), C(w)) if callable(K) else (K, C)
     f = np.zeros(n)
     f[0] = ME * (w * w * math.cos(PHASE + phi) + rate * math.sin(PHASE + phi))
     f[1] = ME * (w * w * math.sin(PHASE + phi) - rate * math.cos(PHASE + phi))
@@ -70,12 +72,12 @@ def rk4(t, z, h, contact, mats):
     return z + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
 
 
-def independent_run_up(t_end, h, ring, every):
+def independent_run_up(t_end, h, ring, every, mats=None):
     """Samples every h and the times the rotor crosses the gap: each step that crosses is
     cut at the crossing (secant on the step length), so that no step straddles the kink (the
     table's breaks are multiples of h: none straddles a jump of the rate either). A sample
-    every ``every`` steps."""
-    mats = matrices()
+    every ``every`` steps. ``mats``: (M, K, C, G), default ``matrices()``."""
+    mats = matrices() if mats is None else mats
     z, t, contact = np.zeros(8), 0.0, False
     samples, crossings = [z[:4].copy()], []
     depth = lambda z: math.hypot(z[0], z[1]) - GAP
@@ -129,6 +131,99 @@ def test_fe_run_up_follows_an_independent_solve(ring):
         assert np.max(np.abs(times - crossings)) <= 1e-7
     else:
         assert len(run.onsets) == 0 and np.all(run.normal_force == 0)
+
+
+# Bearings whose stiffness and damping follow the speed: a law sampled on five speeds.
+BEARING_SPEEDS = np.array([5.0, 8.0, 10.0, 12.0, 15.0])
+
+
+def bearing_at(w):
+    """The bearing's K and C at the speed w (rad/s): stiffer and cross-coupled as it spins."""
+    M, K, C, G = matrices()
+    s = (w / 10.0) ** 2
+    K = K.copy()
+    K[0, 0] += 30.0 * s
+    K[1, 1] += 20.0 * s
+    K[0, 1] += 4.0 * s
+    K[1, 0] -= 4.0 * s
+    C = C.copy()
+    C[0, 0] += 0.1 * s
+    return K, C
+
+
+def bearing_table():
+    Ks, Cs = zip(*(bearing_at(w) for w in BEARING_SPEEDS))
+    return np.array(Ks), np.array(Cs)
+
+
+def interpolated(table):
+    """The table's rule written out: each entry linear in the speed between the grid's
+    speeds, held beyond them (numpy's interp)."""
+    flat = table.reshape(len(BEARING_SPEEDS), -1)
+    return lambda w: np.array([np.interp(w, BEARING_SPEEDS, col) for col in flat.T]).reshape(4, 4)
+
+
+@pytest.mark.parametrize("ring", [False, True])
+def test_fe_run_up_with_bearings_that_follow_the_speed(ring):
+    # The independent solve above with K(w), C(w) by the table's rule; as tight as without.
+    dt = 2e-3
+    Ks, Cs = bearing_table()
+    M, _, _, G = matrices()
+    mats = (M, interpolated(Ks), interpolated(Cs), G)
+    truth, crossings = independent_run_up(TIMES[-1], dt / 4, ring, every=4, mats=mats)
+    run = crate_run_up(ring, dt=dt, bearing_speeds=BEARING_SPEEDS, bearing_K=Ks, bearing_C=Cs)
+    scale = np.max(np.hypot(truth[:, 0], truth[:, 1]))
+    err = np.max(np.hypot(run.x - truth[:, 0], run.y - truth[:, 1])) / scale
+    assert err <= 5e-8, f"{err:e} of the largest radius"
+    # The bearings matter: the run with K and C fixed is elsewhere.
+    fixed = crate_run_up(ring, dt=dt)
+    apart = np.max(np.hypot(fixed.x - run.x, fixed.y - run.y)) / scale
+    assert apart > 1e-2, f"{apart:e}"
+    if ring:
+        times = np.sort(np.concatenate([run.onsets, run.losses]))
+        assert times.shape == crossings.shape and len(run.onsets) >= 1
+        assert np.max(np.abs(times - crossings)) <= 1e-7
+
+
+@pytest.mark.parametrize(
+    "kw, message",
+    [
+        (dict(bearing_speeds=BEARING_SPEEDS), "go together"),
+        (dict(bearing_speeds=BEARING_SPEEDS[:3], bearing_K=np.zeros((5, 4, 4)),
+              bearing_C=np.zeros((5, 4, 4))), "shape"),
+        (dict(bearing_speeds=BEARING_SPEEDS[::-1], bearing_K=bearing_table()[0],
+              bearing_C=bearing_table()[1]), "speeds"),
+    ],
+)
+def test_fe_run_up_bad_bearings(kw, message):
+    with pytest.raises(ValueError, match=message):
+        crate_run_up(True, **kw)
+
+
+def test_ross_rotor_run_up_reads_its_bearings_on_a_grid():
+    # FeRotor.run_up reads rotor.K(w, w), rotor.C(w, w) on 33 speeds over the table's range:
+    # the same run as fe_run_up given that grid; bearing_points=0 keeps K and C at `speed`.
+    from jeffcott.ross import FeRotor
+
+    class Rotor:  # what FeRotor.run_up reads of a ross.Rotor
+        def K(self, frequency, speed):
+            return bearing_at(speed)[0]
+
+        def C(self, frequency, speed):
+            return bearing_at(speed)[1]
+
+    M, _, _, G = matrices()
+    K, C = bearing_at(14.0)
+    fe = FeRotor(M, K, C, G, 14.0, np.array([0.01]), Rotor())
+    args = dict(ring_node=0, gap=GAP, ring_stiffness=KS, ring_damping=0.0,
+                unbalance=[(0, ME, PHASE)], layout="lateral4", rtol=1e-9, dt=2e-2)
+    grid = np.linspace(6.0, 14.0, 33)
+    Ks, Cs = (np.array(a) for a in zip(*(bearing_at(w) for w in grid)))
+    direct = jeffcott.fe_run_up(M, K, C, G, TIMES, SPEEDS, bearing_speeds=grid, bearing_K=Ks,
+                                bearing_C=Cs, **args)
+    assert np.array_equal(fe.run_up(TIMES, SPEEDS, **args).x, direct.x)
+    fixed = jeffcott.fe_run_up(M, K, C, G, TIMES, SPEEDS, **args)
+    assert np.array_equal(fe.run_up(TIMES, SPEEDS, bearing_points=0, **args).x, fixed.x)
 
 
 def test_fe_run_up_contact_force_is_the_ring_elements():

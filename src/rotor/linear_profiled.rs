@@ -16,7 +16,10 @@
 //! (Euler) force of the accelerating mass, as in [`super::ProfiledJeffcott`]. *Every*
 //! synchronous force of the system is taken for an out-of-balance (scaled by $\Omega^2$).
 //! $C = D - \Omega_r G$ from the system's total damping $D$ and the gyroscopic matrix $G$
-//! given here (the bearings' coefficients stay those of the export speed).
+//! given here. The bearings' coefficients stay the system's, those of the export speed,
+//! unless a [`BearingTable`] gives them against the speed
+//! ([`ProfiledLinearRotor::with_bearing_table`]): then $K$ and $C$ above are $K(\Omega)$ and
+//! $C(\Omega)$.
 //!
 //! $K_{st}$ is the stiffness that multiplies the spin's acceleration in ROSS's transient
 //! (`Ksdt`, from the disks' polar inertia: $I_p\Omega^\prime$ couples the tilts). The crate's
@@ -40,8 +43,9 @@ use std::f64::consts::TAU;
 
 use nalgebra::{DMatrix, DVector, Dyn, Vector2};
 
+use super::bearing_table::SpeedCorrection;
 use super::matrices::check_matrix;
-use super::{LinearRotor, RingedRotor, RotorError, SmoothRotor, SpeedProfile};
+use super::{BearingTable, LinearRotor, RingedRotor, RotorError, SmoothRotor, SpeedProfile};
 use crate::ode::JacobianMut;
 use crate::ring::{ForceJacobian, Kinematics, SnubberRing};
 
@@ -51,8 +55,12 @@ use crate::ring::{ForceJacobian, Kinematics, SnubberRing};
 pub struct ProfiledLinearRotor {
     rotor: LinearRotor,
     profile: SpeedProfile,
+    /// $G$ as given.
+    gyroscopic_given: DMatrix<f64>,
     /// $-M^{-1}G$.
     gyroscopic: DMatrix<f64>,
+    /// Speed-dependent stiffness and damping, if given.
+    bearings: Option<SpeedCorrection>,
     /// $-M^{-1}K_{st}$, if given.
     acceleration_stiffness: Option<DMatrix<f64>>,
     /// Largest row sums of $|M^{-1}G|$ and $|M^{-1}K_{st}|$ ([`SmoothRotor::max_rate`]).
@@ -83,12 +91,15 @@ impl LinearRotor {
         profile: SpeedProfile,
     ) -> Result<ProfiledLinearRotor, RotorError> {
         check_matrix("G", gyroscopic, self.system().dofs())?;
+        let gyroscopic_given = gyroscopic.clone();
         let gyroscopic = -self.system().solve_mass(gyroscopic)?;
         Ok(ProfiledLinearRotor {
             row_bounds: [largest_row_sum(&gyroscopic), 0.0],
             rotor: self,
             profile,
+            gyroscopic_given,
             gyroscopic,
+            bearings: None,
             acceleration_stiffness: None,
             strobes_per_revolution: 1,
         })
@@ -109,6 +120,19 @@ impl ProfiledLinearRotor {
         let k = -self.rotor.system().solve_mass(stiffness)?;
         self.row_bounds[1] = largest_row_sum(&k);
         self.acceleration_stiffness = Some(k);
+        Ok(self)
+    }
+
+    /// With stiffness and damping that follow the speed ([`BearingTable`]: fluid-film bearings,
+    /// seals): the field is that of $K(\Omega)$ and $C(\Omega) + \Omega G$ in place of the
+    /// system's $K$ and $D$, with the table's rule between and beyond its grid speeds. The
+    /// state's scale stays the system's at its speed.
+    ///
+    /// # Errors
+    /// [`RotorError::BearingTable`] for a table of another size than the system.
+    pub fn with_bearing_table(mut self, table: &BearingTable) -> Result<Self, RotorError> {
+        let correction = SpeedCorrection::new(table, self.rotor.system(), &self.gyroscopic_given)?;
+        self.bearings = Some(correction);
         Ok(self)
     }
 
@@ -172,8 +196,8 @@ impl SmoothRotor for ProfiledLinearRotor {
     }
 
     /// [`LinearRotor`]'s field with $-(\Omega - \Omega_r)M^{-1}G q^\prime$,
-    /// $-\Omega^\prime M^{-1}K_{st}q$ and the out-of-balance at $\Omega(t)$, $\Phi(t)$: no
-    /// allocation.
+    /// $-\Omega^\prime M^{-1}K_{st}q$, the bearing table's correction (if given) and the
+    /// out-of-balance at $\Omega(t)$, $\Phi(t)$: no allocation.
     fn rhs(&self, t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
         let r = &self.rotor;
         let n = r.system().dofs();
@@ -187,6 +211,9 @@ impl SmoothRotor for ProfiledLinearRotor {
         }
         if let (Some(k), true) = (&self.acceleration_stiffness, rate != 0.0) {
             accel.gemv(rate, k, &y.rows(0, n), 1.0);
+        }
+        if let Some(bearings) = &self.bearings {
+            bearings.add_acceleration(speed, y, &mut accel);
         }
         Self::add_unbalance(r, (speed, rate, self.profile.phase(t)), &mut accel);
         if r.has_constant {
@@ -230,12 +257,17 @@ impl SmoothRotor for ProfiledLinearRotor {
 
     /// [`LinearRotor`]'s bound plus $|\Omega - \Omega_r|$ times the largest row sum of
     /// $|M^{-1}G|$ and $\sqrt{|\Omega^\prime|}$ times the root of $|M^{-1}K_{st}|$'s (the
-    /// added damping and stiffness: $\sqrt{a + c} \le \sqrt a + \sqrt c$).
+    /// added damping and stiffness: $\sqrt{a + c} \le \sqrt a + \sqrt c$), plus the bearing
+    /// table's bound (the same rule).
     fn max_rate(&self, t: f64, y: &DVector<f64>, stiffness: f64, damping: f64) -> Option<f64> {
         let base = self.rotor.max_rate(t, y, stiffness, damping)?;
         let excess = (self.profile.eta(t) - self.rotor.system().speed()).abs();
         let rate = self.profile.eta_rate(t).abs();
-        Some(base + excess * self.row_bounds[0] + (rate * self.row_bounds[1]).sqrt())
+        let bearings = self
+            .bearings
+            .as_ref()
+            .map_or(0.0, SpeedCorrection::rate_bound);
+        Some(base + excess * self.row_bounds[0] + (rate * self.row_bounds[1]).sqrt() + bearings)
     }
 
     fn second_order(&self) -> Option<usize> {
@@ -243,7 +275,8 @@ impl SmoothRotor for ProfiledLinearRotor {
     }
 
     /// [`LinearRotor`]'s Jacobian with $-(\Omega - \Omega_r)M^{-1}G$ added to the velocity
-    /// columns and $-\Omega^\prime M^{-1}K_{st}$ to the position columns.
+    /// columns, $-\Omega^\prime M^{-1}K_{st}$ to the position columns and the bearing table's
+    /// correction to both.
     fn jacobian(
         &self,
         t: f64,
@@ -264,6 +297,9 @@ impl SmoothRotor for ProfiledLinearRotor {
                     jac[(n + i, j)] += rate * k[(i, j)];
                 }
             }
+        }
+        if let Some(bearings) = &self.bearings {
+            bearings.add_jacobian(self.profile.eta(t), n, jac);
         }
         true
     }

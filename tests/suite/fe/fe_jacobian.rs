@@ -21,7 +21,7 @@ fn rotor() -> LinearRotor {
 }
 
 /// The anisotropic preloaded ring of the tests.
-fn ring() -> SnubberRing {
+pub(super) fn ring() -> SnubberRing {
     SnubberRing::new(
         RingAxis::new(30.0, 0.15),
         RingAxis::new(60.0, 0.05),
@@ -48,7 +48,7 @@ fn state(r: [f64; 2], seed: usize) -> DVector<f64> {
 /// states `state(r, seed)` (physical, `[q, q', s]`) carried to the model's coordinates by
 /// `coordinates`, over depths and angles of the station that reach free flight and the
 /// contact regimes; returns the regimes checked.
-fn check_jacobian<R: SmoothRotor<Dim = Dyn>>(
+pub(super) fn check_jacobian<R: SmoothRotor<Dim = Dyn>>(
     model: &RingedRotor<R>,
     coordinates: impl Fn(DVector<f64>) -> DVector<f64>,
 ) -> Vec<u8> {

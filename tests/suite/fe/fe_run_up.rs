@@ -27,14 +27,14 @@ use crate::duhamel::gauss_legendre;
 
 /// S1 reduced to `modes` modes: the rotor at S1's speed (exact free flight off), its ring and
 /// the reduced gyroscopic matrix.
-fn reduced(s1: &S1, modes: usize) -> (LinearRotor, SnubberRing, DMatrix<f64>) {
+pub(super) fn reduced(s1: &S1, modes: usize) -> (LinearRotor, SnubberRing, DMatrix<f64>) {
     let (cb, model) = reduction(s1, modes);
     let g = cb.project(s1.lateral().gyroscopic()).unwrap();
     let rotor = model.rotor().clone().with_exact_free_flight(false);
     (rotor, *model.ring(), g)
 }
 
-fn run<R: SmoothRotor<Dim = Dyn>>(
+pub(super) fn run<R: SmoothRotor<Dim = Dyn>>(
     model: &RingedRotor<R>,
     y0: &DVector<f64>,
     (t_end, dt): (f64, f64),
@@ -51,7 +51,7 @@ fn run<R: SmoothRotor<Dim = Dyn>>(
     traj
 }
 
-fn dop853(rtol: f64) -> SimOptions {
+pub(super) fn dop853(rtol: f64) -> SimOptions {
     SimOptions::default()
         .with_method(Method::Dop853)
         .with_rtol(rtol)
@@ -104,7 +104,21 @@ fn a_constant_profile_is_the_constant_speed_rotor_bit_for_bit() {
 /// unbalance $m e\Omega^2$, reduced by the same basis; free flight in closed form.
 fn at_speed(s1: &S1, modes: usize, speed: f64) -> LinearRotor {
     let lateral = s1.lateral();
-    let mut system = LinearSystem::from_matrices(&lateral, speed).unwrap();
+    at_speed_with(s1, modes, speed, (lateral.stiffness(), lateral.damping()))
+}
+
+/// [`at_speed`] with the full stiffness and damping `(K, C)` in place of S1's.
+pub(super) fn at_speed_with(
+    s1: &S1,
+    modes: usize,
+    speed: f64,
+    (stiffness, damping): (&DMatrix<f64>, &DMatrix<f64>),
+) -> LinearRotor {
+    let lateral = s1.lateral();
+    // The expression of `LinearSystem::from_matrices`: D = C + G speed.
+    let d = damping + lateral.gyroscopic() * speed;
+    let mut system =
+        LinearSystem::new(lateral.mass().clone(), d, stiffness.clone(), speed).unwrap();
     for u in s1.params["unbalance"].as_array().unwrap() {
         let node = u["node"].as_u64().unwrap() as usize;
         let me = u["magnitude_kg_m"].as_f64().unwrap();

@@ -1,5 +1,6 @@
 //! Finite-element rotors (ROSS exports) on the ring.
 
+mod fe_bearing_table;
 mod fe_contact_force;
 mod fe_contact_scale;
 mod fe_drive;
