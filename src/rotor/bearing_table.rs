@@ -279,6 +279,29 @@ impl SpeedCorrection {
         }
     }
 
+    /// Adds the correction's derivative by the speed at `speed`, applied to the state `y`,
+    /// to `out` (the acceleration rows of the speed's column, for a rotor whose speed is a
+    /// state): $(B_{i+1} - B_i)\thinspace y/(\Omega_{i+1} - \Omega_i)$ on the grid's interval
+    /// $i$ (the one above at a grid point), nothing beyond the grid (held there).
+    pub(super) fn add_speed_derivative(
+        &self,
+        speed: f64,
+        y: &DVector<f64>,
+        out: &mut DVectorViewMut<'_, f64>,
+    ) {
+        let last = self.speeds.len() - 1;
+        if last == 0 || speed < self.speeds[0] || speed >= self.speeds[last] {
+            return;
+        }
+        let i = self.speeds.partition_point(|&s| s <= speed) - 1;
+        let width = self.speeds[i + 1] - self.speeds[i];
+        for (k, &c) in self.columns.iter().enumerate() {
+            let v = y[c] / width;
+            out.axpy(v, &self.blocks[i + 1].column(k), 1.0);
+            out.axpy(-v, &self.blocks[i].column(k), 1.0);
+        }
+    }
+
     /// A bound of the rate the correction adds ([`super::SmoothRotor::max_rate`]): the root of
     /// the added stiffness's row bound plus the added damping's (a convex combination of the
     /// grid's blocks is bounded by their largest).

@@ -34,9 +34,13 @@ use std::f64::consts::TAU;
 
 use nalgebra::{DMatrix, DVector, DVectorViewMut, Dyn, Matrix2, Vector2};
 
+use super::bearing_table::SpeedCorrection;
 use super::drive::spin_acceleration;
 use super::matrices::check_matrix;
-use super::{LinearRotor, MotorTorque, ProfiledLinearRotor, RingedRotor, RotorError, SmoothRotor};
+use super::{
+    BearingTable, LinearRotor, MotorTorque, ProfiledLinearRotor, RingedRotor, RotorError,
+    SmoothRotor,
+};
 use crate::ode::JacobianMut;
 use crate::ring::{ForceJacobian, Kinematics, SnubberRing};
 
@@ -48,8 +52,12 @@ pub struct DrivenLinearRotor {
     rotor: LinearRotor,
     motor: MotorTorque,
     inertia: f64,
+    /// $G$ as given.
+    gyroscopic_given: DMatrix<f64>,
     /// $-M^{-1}G$.
     gyroscopic: DMatrix<f64>,
+    /// Speed-dependent stiffness and damping, if given.
+    bearings: Option<SpeedCorrection>,
     /// $b(\varphi) = $ `b[0]` $\cos\varphi$ + `b[1]` $\sin\varphi$.
     b: [DVector<f64>; 2],
     /// $M^{-1}b(\varphi)$, the same way.
@@ -77,6 +85,7 @@ impl LinearRotor {
     ) -> Result<DrivenLinearRotor, RotorError> {
         let system = self.system();
         check_matrix("G", gyroscopic, system.dofs())?;
+        let gyroscopic_given = gyroscopic.clone();
         let gyroscopic = -system.solve_mass(gyroscopic)?;
         let w2 = system.speed() * system.speed();
         let f = system.harmonic_force();
@@ -98,7 +107,9 @@ impl LinearRotor {
             rotor: self,
             motor,
             inertia,
+            gyroscopic_given,
             gyroscopic,
+            bearings: None,
             b,
             minv_b,
             q,
@@ -116,6 +127,18 @@ impl DrivenLinearRotor {
     /// The index of the phase $\varphi$ in the state, $2n + 3$.
     pub fn phase_index(&self) -> usize {
         self.speed_index() + 1
+    }
+
+    /// With stiffness and damping that follow the speed, as
+    /// [`ProfiledLinearRotor::with_bearing_table`]: at the state's speed $\Omega$ the field is
+    /// that of $K(\Omega)$ and $C(\Omega) + \Omega G$.
+    ///
+    /// # Errors
+    /// [`RotorError::BearingTable`] for a table of another size than the system.
+    pub fn with_bearing_table(mut self, table: &BearingTable) -> Result<Self, RotorError> {
+        let correction = SpeedCorrection::new(table, self.rotor.system(), &self.gyroscopic_given)?;
+        self.bearings = Some(correction);
+        Ok(self)
     }
 
     /// The rotor at the reference speed.
@@ -178,7 +201,8 @@ impl DrivenLinearRotor {
 
     /// Writes into `accel` the acceleration $a$ without the spin's coupling $-\Omega^\prime
     /// M^{-1}b$ and without the ring:
-    /// $a = [-M^{-1}K \mid -M^{-1}D]\thinspace(q, q^\prime) - (\Omega - \Omega_r)M^{-1}G q^\prime + \Omega^2\operatorname{Re}(M^{-1}\hat U e^{i\varphi}) + M^{-1}f_0$.
+    /// $a = [-M^{-1}K \mid -M^{-1}D]\thinspace(q, q^\prime) - (\Omega - \Omega_r)M^{-1}G q^\prime + \Omega^2\operatorname{Re}(M^{-1}\hat U e^{i\varphi}) + M^{-1}f_0$,
+    /// plus the bearing table's correction at $\Omega$ (if given).
     fn uncoupled_acceleration(&self, y: &DVector<f64>, accel: &mut DVectorViewMut<'_, f64>) {
         let r = &self.rotor;
         let n = r.system().dofs();
@@ -190,6 +214,9 @@ impl DrivenLinearRotor {
             &y.rows(n, n),
             1.0,
         );
+        if let Some(bearings) = &self.bearings {
+            bearings.add_acceleration(speed, y, accel);
+        }
         ProfiledLinearRotor::add_unbalance(r, (speed, 0.0, phase), accel);
         if r.has_constant {
             *accel += &r.forcing_constant;
@@ -211,6 +238,9 @@ impl DrivenLinearRotor {
         d_speed.gemv(1.0, &self.gyroscopic, &y.rows(n, n), 0.0);
         d_speed.axpy(2.0 * speed * cos / w2, &r.forcing_cos, 1.0);
         d_speed.axpy(2.0 * speed * sin / w2, &r.forcing_sin, 1.0);
+        if let Some(bearings) = &self.bearings {
+            bearings.add_speed_derivative(speed, y, &mut d_speed);
+        }
         let radial = speed * speed / w2;
         let mut column = jac.column_mut(self.phase_index());
         let mut d_phase = column.rows_mut(n, n);
@@ -298,13 +328,14 @@ impl SmoothRotor for DrivenLinearRotor {
     /// $\dot\Omega$ and $\dot\varphi = \Omega$. For a state component $y_j$, with $a_j =
     /// \partial a/\partial y_j$ ([`LinearRotor`]'s blocks $-M^{-1}K$, $-M^{-1}D$ and its
     /// contact part $-M^{-1}E_s(F_r, F_v)$, plus $-(\Omega - \Omega_r)M^{-1}G$ in the velocity
-    /// columns),
+    /// columns and the bearing table's correction at $\Omega$, if given),
     ///
     /// $$\frac{\partial\dot\Omega}{\partial y_j} = \frac{T_j - b\cdot a_j + \delta_{j\varphi}\big(\dot\Omega\thinspace\partial_\varphi(b\cdot M^{-1}b) - \partial_\varphi b\cdot a\big)}{\Delta}, \qquad \frac{\partial q^{\prime\prime}}{\partial y_j} = a_j - \frac{\partial\dot\Omega}{\partial y_j}M^{-1}b - \delta_{j\varphi}\dot\Omega\thinspace\partial_\varphi M^{-1}b,$$
     ///
     /// where $T_\Omega = T^\prime(\Omega)$ ([`MotorTorque::slope`]: exact for a linear motor,
     /// a central difference of $T$ alone for a user's closure) and $T_j = 0$ otherwise,
-    /// $a_\Omega = -M^{-1}Gq^\prime + 2\Omega\operatorname{Re}(M^{-1}\hat U e^{i\varphi})$,
+    /// $a_\Omega = -M^{-1}Gq^\prime + 2\Omega\operatorname{Re}(M^{-1}\hat U e^{i\varphi})$
+    /// (plus the table's slope between its grid speeds applied to $(q, q^\prime)$),
     /// $a_\varphi = \Omega^2\operatorname{Re}(iM^{-1}\hat U e^{i\varphi})$,
     /// $\partial_\varphi b = b(\varphi + \pi/2)$ (the same for $M^{-1}b$) and
     /// $\partial_\varphi(b\cdot M^{-1}b) = u^{\prime\mathsf T}(Q + Q^{\mathsf T})u$,
@@ -336,6 +367,9 @@ impl SmoothRotor for DrivenLinearRotor {
             column
                 .rows_mut(n, n)
                 .axpy(excess, &self.gyroscopic.column(j), 1.0);
+        }
+        if let Some(bearings) = &self.bearings {
+            bearings.add_jacobian(y[iw], n, jac);
         }
         let (sin, cos) = y[ip].sin_cos();
         let u = Vector2::new(cos, sin);

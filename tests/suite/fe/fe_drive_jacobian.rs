@@ -1,7 +1,8 @@
 //! The analytic Jacobian of a finite-element rotor on a non-ideal drive on a preloaded ring
 //! (`RotorModel::jacobian` of `RingedRotor<DrivenLinearRotor>`, which Radau5 uses) against
 //! central differences of the model's own right-hand side (an independent check: the field
-//! only), at random states, speeds and phases, in free flight and in contact.
+//! only), at random states, speeds and phases, in free flight and in contact; with bearings
+//! that follow the speed, also the field against the rotor built at the state's speed.
 //!
 //! Tolerance: entry $(i, j)$ within $10^{-7}\max|J| + 10^{-6}|J_{ij}|$. The differences'
 //! step is $h_j = 10^{-6}(1 + |y_j|)$: their rounding error is about
@@ -13,7 +14,10 @@
 use jeffcott::hybrid::RotorModel;
 use jeffcott::nalgebra::{Complex, DMatrix, DVector};
 use jeffcott::ring::{RingAxis, SnubberRing};
-use jeffcott::rotor::{DrivenLinearRotor, LinearRotor, LinearSystem, MotorTorque, RingedRotor};
+use jeffcott::rotor::{
+    BearingTable, DrivenLinearRotor, LinearRotor, LinearSystem, MotorTorque, RingedRotor,
+    SmoothRotor,
+};
 
 use crate::rng::Rng;
 
@@ -21,20 +25,55 @@ const N: usize = 8;
 const DIM: usize = 2 * N + 4;
 const SLOTS: [usize; 2] = [2 * N, 2 * N + 1];
 
-/// An 8-DOF rotor (reference speed 5 rad/s) with a large out-of-balance at DOFs 2, 3 (the
-/// station), a skew gyroscopic matrix, the polar inertia 1 (its coupling $b\cdot M^{-1}b$
-/// up to about 0.3 of it) and the motor `motor`, on an anisotropic preloaded ring (gap 1).
-fn model(motor: MotorTorque) -> RingedRotor<DrivenLinearRotor> {
+/// The test rotor's mass, stiffness, total damping at 5 rad/s and gyroscopic matrices.
+fn matrices() -> [DMatrix<f64>; 4] {
     let m = DMatrix::from_fn(N, N, |i, j| if i == j { 2.0 } else { 0.1 });
     let k = DMatrix::from_fn(N, N, |i, j| if i == j { 50.0 } else { -2.0 });
-    let system = LinearSystem::new(m, k.scale(1e-2), k, 5.0)
-        .unwrap()
-        .with_harmonic_force(2, Complex::new(20.0, -10.0))
-        .unwrap()
-        .with_harmonic_force(5, Complex::new(-6.0, 8.0))
-        .unwrap();
     let g = DMatrix::from_fn(N, N, |i, j| (i as f64 - j as f64) * 0.3);
-    let rotor = LinearRotor::new(system, [2, 3], [0.0, 0.0]).unwrap();
+    [m, k.scale(1e-2), k, g]
+}
+
+/// The test rotor's system at `speed` with its stiffness and total damping `(k, d)`: the
+/// out-of-balance (given at 5 rad/s) scaled to `speed`.
+fn system(speed: f64, (k, d): (DMatrix<f64>, DMatrix<f64>)) -> LinearSystem {
+    let [m, ..] = matrices();
+    let s = (speed / 5.0).powi(2);
+    LinearSystem::new(m, d, k, speed)
+        .unwrap()
+        .with_harmonic_force(2, Complex::new(20.0, -10.0) * s)
+        .unwrap()
+        .with_harmonic_force(5, Complex::new(-6.0, 8.0) * s)
+        .unwrap()
+}
+
+/// A bearing table on the test rotor: stiffer, cross-coupled and more damped with the speed
+/// at DOFs 0, 1, at 3, 5 and 7.5 rad/s ($C$ without the gyroscopic part: $D - 5G$ at rest).
+fn table() -> BearingTable {
+    let [_, d, k, g] = matrices();
+    let at = |s: f64| {
+        let (mut kk, mut cc) = (k.clone(), &d - &g * 5.0);
+        kk[(0, 0)] += 10.0 * s;
+        kk[(1, 1)] += 6.0 * s;
+        kk[(0, 1)] += 2.0 * s;
+        kk[(1, 0)] += 2.0 * s;
+        cc[(0, 0)] += 0.2 * s;
+        (kk, cc)
+    };
+    let (ks, cs): (Vec<_>, Vec<_>) = [0.5, 1.0, 2.5].into_iter().map(at).unzip();
+    BearingTable::new(vec![3.0, 5.0, 7.5], ks, cs).unwrap()
+}
+
+/// An 8-DOF rotor (reference speed 5 rad/s) with a large out-of-balance at DOFs 2, 3 (the
+/// station), a skew gyroscopic matrix, the polar inertia 1 (its coupling $b\cdot M^{-1}b$
+/// up to about 0.3 of it) and the motor `motor`, on an anisotropic preloaded ring (gap 1);
+/// with [`table`]'s bearings if `bearings`.
+fn model(motor: MotorTorque, bearings: bool) -> RingedRotor<DrivenLinearRotor> {
+    let [_, d, k, g] = matrices();
+    let rotor = LinearRotor::new(system(5.0, (k, d)), [2, 3], [0.0, 0.0]).unwrap();
+    let mut driven = rotor.with_drive(&g, 1.0, motor).unwrap();
+    if bearings {
+        driven = driven.with_bearing_table(&table()).unwrap();
+    }
     let ring = SnubberRing::new(
         RingAxis::new(30.0, 0.15),
         RingAxis::new(60.0, 0.05),
@@ -42,11 +81,7 @@ fn model(motor: MotorTorque) -> RingedRotor<DrivenLinearRotor> {
         1.0,
     )
     .unwrap();
-    rotor
-        .with_drive(&g, 1.0, motor)
-        .unwrap()
-        .ringed(ring)
-        .unwrap()
+    driven.ringed(ring).unwrap()
 }
 
 /// A random state with the station at `r`, the speed in [2, 9] rad/s and any phase.
@@ -84,8 +119,8 @@ fn differences(
 
 /// The analytic Jacobian against [`differences`] over random states in free flight and
 /// contact; returns the regimes reached.
-fn check(motor: MotorTorque, seed: u64) -> Vec<u8> {
-    let model = model(motor);
+fn check(motor: MotorTorque, seed: u64, bearings: bool) -> Vec<u8> {
+    let model = model(motor, bearings);
     let cache = model.new_cache();
     let mut rng = Rng(seed);
     let (mut regimes, mut checked) = (Vec::new(), 0);
@@ -128,15 +163,68 @@ fn check(motor: MotorTorque, seed: u64) -> Vec<u8> {
 /// central difference of $T$ alone): free flight and at least three contact regimes.
 #[test]
 fn driven_fe_rotor_jacobian_matches_differences_in_every_regime() {
-    let linear = check(MotorTorque::linear(3.0, 8.0).unwrap(), 1);
+    let linear = check(MotorTorque::linear(3.0, 8.0).unwrap(), 1, false);
     let user = check(
         MotorTorque::user(|w| 3.0 * (1.0 - w / 8.0) + 2.0 * (0.7 * w).sin()),
         2,
+        false,
     );
     println!("regimes checked: linear motor {linear:?}, user's motor {user:?}");
     for regimes in [linear, user] {
         assert!(regimes.len() >= 4, "regimes reached: {regimes:?}");
     }
+}
+
+/// With bearings that follow the speed ([`table`]; the speeds 2 to 9 rad/s reach below,
+/// between and above its grid): the Jacobian, the speed's column with the table's slope
+/// included, against differences in free flight and contact.
+#[test]
+fn driven_fe_rotor_with_a_bearing_table_jacobian_matches_differences() {
+    let regimes = check(MotorTorque::linear(3.0, 8.0).unwrap(), 3, true);
+    assert!(regimes.len() >= 4, "regimes reached: {regimes:?}");
+}
+
+/// With [`table`]'s bearings, the field at a state of speed $\Omega_s$ is that of the driven
+/// rotor without a table built at $\Omega_s$ from the matrices $K(\Omega_s)$ and
+/// $C(\Omega_s) + \Omega_s G$ interpolated here by hand (its reference speed $\Omega_s$: no
+/// correction at all), to rounding; at speeds below, between and above the grid.
+#[test]
+fn driven_fe_rotor_with_a_bearing_table_is_the_rotor_built_at_its_speed() {
+    let motor = || MotorTorque::linear(3.0, 8.0).unwrap();
+    let tabled = model(motor(), true);
+    let [_, d, k, g] = matrices();
+    let grid = [(3.0, 0.5), (5.0, 1.0), (7.5, 2.5)];
+    let mut worst = 0.0f64;
+    for (i, speed) in [2.0, 3.5, 4.2, 5.0, 6.1, 7.4, 9.0].into_iter().enumerate() {
+        // The table's factor at `speed`, by hand: linear between the grid's, held beyond.
+        let factor = match grid.iter().position(|&(s, _)| speed < s) {
+            Some(0) => grid[0].1,
+            None => grid[2].1,
+            Some(j) => {
+                let ((s0, f0), (s1, f1)) = (grid[j - 1], grid[j]);
+                f0 + (f1 - f0) * (speed - s0) / (s1 - s0)
+            }
+        };
+        let (mut kk, mut cc) = (k.clone(), &d - &g * 5.0);
+        kk[(0, 0)] += 10.0 * factor;
+        kk[(1, 1)] += 6.0 * factor;
+        kk[(0, 1)] += 2.0 * factor;
+        kk[(1, 0)] += 2.0 * factor;
+        cc[(0, 0)] += 0.2 * factor;
+        let built = LinearRotor::new(system(speed, (kk, cc + &g * speed)), [2, 3], [0.0, 0.0])
+            .unwrap()
+            .with_drive(&g, 1.0, motor())
+            .unwrap();
+        let mut rng = Rng(40 + i as u64);
+        let mut y = state(&mut rng, [0.3, 0.2]);
+        y[DIM - 2] = speed;
+        let (mut a, mut b) = (DVector::zeros(DIM), DVector::zeros(DIM));
+        tabled.rotor().rhs(0.37, &y, &mut a);
+        built.rhs(0.37, &y, &mut b);
+        worst = worst.max((&a - &b).amax() / b.amax());
+    }
+    println!("the field against the rotor built at its speed: {worst:.1e}");
+    assert!(worst < 1e-12, "{worst:e}");
 }
 
 /// A report (Radau5's cost with the analytic Jacobian): case S1 reduced to node 12 and 8 or
