@@ -234,6 +234,37 @@ fn a_constant_speed_between_grid_points_is_the_rotor_built_with_its_matrices() {
     );
 }
 
+/// A table that is the system's at every grid point (its `C` plus $\Omega_r G$ is the
+/// system's $D$, computed as `LinearSystem::from_matrices` computes it) changes nothing: the
+/// field with it is the field without it, bit for bit.
+#[test]
+fn a_table_equal_to_the_system_changes_nothing() {
+    let n = 6;
+    let m = DMatrix::from_fn(n, n, |i, j| if i == j { 2.0 } else { 0.1 });
+    let k = DMatrix::from_fn(n, n, |i, j| if i == j { 50.0 } else { -2.0 });
+    let c = k.scale(1e-2);
+    let g = DMatrix::from_fn(n, n, |i, j| ((i as f64) - (j as f64)) * 0.01);
+    let system = LinearSystem::new(m, &c + &g * 5.0, k.clone(), 5.0)
+        .unwrap()
+        .with_harmonic_force(2, Complex::new(1.0, -0.5))
+        .unwrap();
+    let profile = SpeedProfile::ramp(3.0, 8.0, 5.0).unwrap();
+    let plain = LinearRotor::new(system, [2, 3], [0.0, 0.0])
+        .unwrap()
+        .with_speed_profile(&g, profile)
+        .unwrap();
+    let table = BearingTable::new(vec![4.0, 7.0], vec![k.clone(), k], vec![c.clone(), c]).unwrap();
+    let tabled = plain.clone().with_bearing_table(&table).unwrap();
+    let dim = plain.dim().0;
+    for t in [0.0, 0.2, 0.5, 0.9] {
+        let y = DVector::from_fn(dim, |i, _| 0.3 * ((i * 5) as f64 + t).sin());
+        let (mut a, mut b) = (DVector::zeros(dim), DVector::zeros(dim));
+        plain.rhs(t, &y, &mut a);
+        tabled.rhs(t, &y, &mut b);
+        assert_eq!(a, b, "at t = {t}");
+    }
+}
+
 /// A linear rotor of `n` DOFs with a skew gyroscopic matrix, and a two-point table that
 /// changes the station's neighbours, on a ramp across it.
 fn small_profiled() -> ProfiledLinearRotor {
