@@ -46,21 +46,26 @@ fn system(speed: f64, (k, d): (DMatrix<f64>, DMatrix<f64>)) -> LinearSystem {
         .unwrap()
 }
 
-/// A bearing table on the test rotor: stiffer, cross-coupled and more damped with the speed
-/// at DOFs 0, 1, at 3, 5 and 7.5 rad/s ($C$ without the gyroscopic part: $D - 5G$ at rest).
-fn table() -> BearingTable {
+/// The test rotor's bearings at the speed factor `s`: stiffer, cross-coupled and more damped
+/// at DOFs 0, 1 ($C$ without the gyroscopic part: $D - 5G$ at rest).
+fn bearing(s: f64) -> (DMatrix<f64>, DMatrix<f64>) {
     let [_, d, k, g] = matrices();
-    let at = |s: f64| {
-        let (mut kk, mut cc) = (k.clone(), &d - &g * 5.0);
-        kk[(0, 0)] += 10.0 * s;
-        kk[(1, 1)] += 6.0 * s;
-        kk[(0, 1)] += 2.0 * s;
-        kk[(1, 0)] += 2.0 * s;
-        cc[(0, 0)] += 0.2 * s;
-        (kk, cc)
-    };
-    let (ks, cs): (Vec<_>, Vec<_>) = [0.5, 1.0, 2.5].into_iter().map(at).unzip();
-    BearingTable::new(vec![3.0, 5.0, 7.5], ks, cs).unwrap()
+    let (mut kk, mut cc) = (k, &d - &g * 5.0);
+    kk[(0, 0)] += 10.0 * s;
+    kk[(1, 1)] += 6.0 * s;
+    kk[(0, 1)] += 2.0 * s;
+    kk[(1, 0)] += 2.0 * s;
+    cc[(0, 0)] += 0.2 * s;
+    (kk, cc)
+}
+
+/// The grid of [`table`]: speeds (rad/s) and [`bearing`]'s factors.
+const GRID: [(f64, f64); 3] = [(3.0, 0.5), (5.0, 1.0), (7.5, 2.5)];
+
+/// A bearing table on the test rotor: [`bearing`] on [`GRID`].
+fn table() -> BearingTable {
+    let (ks, cs): (Vec<_>, Vec<_>) = GRID.iter().map(|&(_, f)| bearing(f)).unzip();
+    BearingTable::new(GRID.iter().map(|&(s, _)| s).collect(), ks, cs).unwrap()
 }
 
 /// An 8-DOF rotor (reference speed 5 rad/s) with a large out-of-balance at DOFs 2, 3 (the
@@ -192,25 +197,19 @@ fn driven_fe_rotor_with_a_bearing_table_jacobian_matches_differences() {
 fn driven_fe_rotor_with_a_bearing_table_is_the_rotor_built_at_its_speed() {
     let motor = || MotorTorque::linear(3.0, 8.0).unwrap();
     let tabled = model(motor(), true);
-    let [_, d, k, g] = matrices();
-    let grid = [(3.0, 0.5), (5.0, 1.0), (7.5, 2.5)];
+    let [.., g] = matrices();
     let mut worst = 0.0f64;
     for (i, speed) in [2.0, 3.5, 4.2, 5.0, 6.1, 7.4, 9.0].into_iter().enumerate() {
         // The table's factor at `speed`, by hand: linear between the grid's, held beyond.
-        let factor = match grid.iter().position(|&(s, _)| speed < s) {
-            Some(0) => grid[0].1,
-            None => grid[2].1,
+        let factor = match GRID.iter().position(|&(s, _)| speed < s) {
+            Some(0) => GRID[0].1,
+            None => GRID[2].1,
             Some(j) => {
-                let ((s0, f0), (s1, f1)) = (grid[j - 1], grid[j]);
+                let ((s0, f0), (s1, f1)) = (GRID[j - 1], GRID[j]);
                 f0 + (f1 - f0) * (speed - s0) / (s1 - s0)
             }
         };
-        let (mut kk, mut cc) = (k.clone(), &d - &g * 5.0);
-        kk[(0, 0)] += 10.0 * factor;
-        kk[(1, 1)] += 6.0 * factor;
-        kk[(0, 1)] += 2.0 * factor;
-        kk[(1, 0)] += 2.0 * factor;
-        cc[(0, 0)] += 0.2 * factor;
+        let (kk, cc) = bearing(factor);
         let built = LinearRotor::new(system(speed, (kk, cc + &g * speed)), [2, 3], [0.0, 0.0])
             .unwrap()
             .with_drive(&g, 1.0, motor())
