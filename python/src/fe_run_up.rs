@@ -83,8 +83,8 @@ fn speed_grid(speeds: &Column<'_>) -> Vec<f64> {
 /// following the speed: ``bearing_K[i]`` and ``bearing_C[i]`` (each like ``K``, ``C``: shape
 /// (S, N, N)) at ``bearing_speeds[i]`` (rad/s, increasing), linear in Omega between them and
 /// held beyond them (sample ROSS's ``rotor.K(w)``, ``rotor.C(w)`` on a grid fine enough for
-/// that rule; ``jeffcott.ross.FeRotor.run_up`` does). The out-of-balance m e pushes with m e (Omega^2 cos phi + Omega' sin phi,
-/// Omega^2 sin phi - Omega' cos phi), phi = phase + the integral of Omega (the radial and the
+/// that rule; ``jeffcott.ross.FeRotor.run_up`` does). The out-of-balance m e pushes with
+/// m e (Omega^2 cos phi + Omega' sin phi, Omega^2 sin phi - Omega' cos phi), phi = phase + the integral of Omega (the radial and the
 /// tangential force of the accelerating mass). The rotor, the ring, ``modes``, ``rtol``,
 /// ``atol``, ``method``, ``probe_nodes`` and ``layout`` as in ``fe_transient``, the
 /// reduction's error measured

@@ -290,10 +290,11 @@ impl SpeedCorrection {
         out: &mut DVectorViewMut<'_, f64>,
     ) {
         let last = self.speeds.len() - 1;
-        if last == 0 || speed < self.speeds[0] || speed >= self.speeds[last] {
+        if speed < self.speeds[0] || speed >= self.speeds[last] {
             return;
         }
-        let i = self.speeds.partition_point(|&s| s <= speed) - 1;
+        // On the grid, `bracket` gives the interval above the point (its weight 0).
+        let (i, _) = bracket(&self.speeds, speed);
         let width = self.speeds[i + 1] - self.speeds[i];
         for (k, &c) in self.columns.iter().enumerate() {
             let v = y[c] / width;
