@@ -1,10 +1,13 @@
 //! Snubber-ring element: cost of locating the ring (per regime, cold and warm-started,
-//! anisotropic), of the closed forms alone, and of the force evaluation.
+//! anisotropic), of the closed forms alone, of the force evaluation, and of the slipping ring
+//! with friction (chosen branches, and warm on fixed branches as an integrator calls it).
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use jeffcott::ring::{regime_ii_position, regime_v_position, Regime, RingAxis, SnubberRing};
+use jeffcott::ring::{
+    regime_ii_position, regime_v_position, FrictionRing, Regime, RingAxis, Slip, SnubberRing,
+};
 use nalgebra::Vector2;
 
 fn paper_ring() -> SnubberRing {
@@ -98,5 +101,42 @@ fn bench_force(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_locate, bench_closed_forms, bench_force);
+/// The slipping ring at the paper's ring (friction 0.3) per regime: chosen branches (what a
+/// transition calls) and on fixed branches from the multiplier one step away (what each step
+/// of an integrator calls).
+fn bench_friction(c: &mut Criterion) {
+    let rub = FrictionRing::new(paper_ring(), 0.3).unwrap();
+    let mut group = c.benchmark_group("ring_slipping");
+    for r in [
+        Vector2::new(1.2, 0.9),
+        Vector2::new(2.8, 0.6),
+        Vector2::new(0.5, 2.3),
+        Vector2::new(2.6, 2.0),
+    ] {
+        let contact = rub.locate_slipping(&r, Slip::Forward).unwrap();
+        let regime = contact.regime();
+        group.bench_function(format!("chosen/{regime}"), |b| {
+            b.iter(|| rub.locate_slipping(black_box(&r), Slip::Forward).unwrap())
+        });
+        let hint = rub
+            .locate_slipping_on(&(r * 0.999), Slip::Forward, contact.branches, f64::NAN)
+            .unwrap()
+            .multiplier;
+        group.bench_function(format!("warm/{regime}"), |b| {
+            b.iter(|| {
+                rub.locate_slipping_on(black_box(&r), Slip::Forward, contact.branches, hint)
+                    .unwrap()
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    bench_locate,
+    bench_closed_forms,
+    bench_force,
+    bench_friction
+);
 criterion_main!(benches);

@@ -60,7 +60,7 @@ impl RingContact {
 
 /// `(alpha, beta)` of `d = alpha/(beta + mu)` for one axis on `branch`, at rotor coordinate `r`.
 #[inline(always)]
-fn coefficients(axis: &RingAxis, branch: Branch, r: f64) -> (f64, f64) {
+pub(super) fn coefficients(axis: &RingAxis, branch: Branch, r: f64) -> (f64, f64) {
     let k = axis.stiffness;
     match branch {
         Branch::Inner => (k * r, k),
@@ -169,7 +169,7 @@ struct Equation {
 
 /// Inside the bracket and off the pole at u = 0.
 #[inline(always)]
-fn valid(u: f64, left: f64, right: f64) -> bool {
+pub(super) fn valid(u: f64, left: f64, right: f64) -> bool {
     u >= left && u <= right && u > 0.0
 }
 
@@ -253,56 +253,107 @@ impl Equation {
     }
 
     /// Safeguarded Newton from `u` in the bracket `[left, right]`, to the ring's rounding.
-    fn refine(&self, mut u: f64, mut left: f64, mut right: f64) -> Result<Root, RingError> {
-        let (ox, oy, gap) = (self.cx.1, self.cy.1, self.gap);
-        let mut iterations = 0;
-        while iterations < MAX_ITERATIONS {
-            iterations += 1;
-            let (dx, dy) = distances(self.cx, self.cy, gap, u);
-            let (px, py) = (ox + u, oy + u);
-            let f = dx * dx + dy * dy;
-            // -f'(u)/2, and |d'(u)|: how far the ring moves per unit of u.
-            let s3 = dx * dx / px + dy * dy / py;
-            let speed = ((dx / px).powi(2) + (dy / py).powi(2)).sqrt();
-            let residual = f.sqrt() / gap - 1.0; // > 0 left of the root
-            if residual > 0.0 {
-                left = u;
-            } else if residual < 0.0 {
-                right = u;
-            } else {
-                return Ok(self.root(u, iterations));
-            }
-            let step = f * residual / s3;
-            let mut next = u + step;
-            // Newton while it converges (a handful of steps); a step that leaves the bracket,
-            // and every step after the first 8 (Newton lost in the rounding of the residual),
-            // bisects: geometrically while the bracket spans orders of magnitude (next to the
-            // pole).
-            let newton = iterations <= 8 && valid(next, left, right);
-            if !newton {
-                next = if left > 0.0 && right > 4.0 * left {
-                    (left * right).sqrt()
-                } else {
-                    0.5 * (left + right)
-                };
-            }
-            // Resolved once a Newton step is below 1e-10 of u (the soft axis' scale: the error
-            // left is ~ step^2/u, below rounding) or moves the ring by less than its rounding,
-            // or the bracket is at adjacent floats or moves the ring by less than its rounding.
-            let rounding = 4.0 * f64::EPSILON * gap;
-            let done = (newton && (step.abs() <= 1e-10 * u || step.abs() * speed <= rounding))
-                || right <= left.next_up()
-                || (right - left) * speed <= rounding;
-            u = next;
-            if done {
-                return Ok(self.root(u, iterations));
-            }
-        }
-        Err(RingError::NotConverged {
-            iterations,
-            bracket: right - left,
-        })
+    fn refine(&self, u: f64, left: f64, right: f64) -> Result<Root, RingError> {
+        let (u, iterations) = refine(self, u, left, right)?;
+        Ok(self.root(u, iterations))
     }
+}
+
+impl Distance for Equation {
+    #[inline(always)]
+    fn probe(&self, u: f64) -> Probe {
+        let (ox, oy, gap) = (self.cx.1, self.cy.1, self.gap);
+        let (dx, dy) = distances(self.cx, self.cy, gap, u);
+        let (px, py) = (ox + u, oy + u);
+        Probe {
+            dist2: dx * dx + dy * dy,
+            // -f'(u)/2, and |d'(u)|: how far the ring moves per unit of u.
+            slope: dx * dx / px + dy * dy / py,
+            speed: ((dx / px).powi(2) + (dy / py).powi(2)).sqrt(),
+        }
+    }
+
+    #[inline(always)]
+    fn gap(&self) -> f64 {
+        self.gap
+    }
+}
+
+/// $|d|^2$ and its rates at one point of the ring's location equation, for [`refine`].
+pub(super) struct Probe {
+    /// $f = |d|^2$.
+    pub dist2: f64,
+    /// $-f^\prime(u)/2 > 0$.
+    pub slope: f64,
+    /// $|d^\prime(u)|$: how far the ring moves per unit of $u$.
+    pub speed: f64,
+}
+
+/// A ring location equation $|d(u)| = \gamma$ with $|d|$ strictly decreasing in $u > 0$: the
+/// frictionless one ([`Equation`]) and the slipping one of [`super::friction`].
+pub(super) trait Distance {
+    /// $|d|^2$ and its rates at `u`.
+    fn probe(&self, u: f64) -> Probe;
+    /// The constraint radius $\gamma$.
+    fn gap(&self) -> f64;
+}
+
+/// Safeguarded Newton on $|d(u)| = \gamma$ from `u` in the bracket `[left, right]`, to the
+/// ring's rounding: the one iteration of every ring location (module docs, "Stopping rule and
+/// tolerance"). Returns the root and the steps used.
+pub(super) fn refine<E: Distance>(
+    eq: &E,
+    mut u: f64,
+    mut left: f64,
+    mut right: f64,
+) -> Result<(f64, u32), RingError> {
+    let gap = eq.gap();
+    let mut iterations = 0;
+    while iterations < MAX_ITERATIONS {
+        iterations += 1;
+        let Probe {
+            dist2: f,
+            slope: s3,
+            speed,
+        } = eq.probe(u);
+        let residual = f.sqrt() / gap - 1.0; // > 0 left of the root
+        if residual > 0.0 {
+            left = u;
+        } else if residual < 0.0 {
+            right = u;
+        } else {
+            return Ok((u, iterations));
+        }
+        let step = f * residual / s3;
+        let mut next = u + step;
+        // Newton while it converges (a handful of steps); a step that leaves the bracket,
+        // and every step after the first 8 (Newton lost in the rounding of the residual),
+        // bisects: geometrically while the bracket spans orders of magnitude (next to the
+        // pole).
+        let newton = iterations <= 8 && valid(next, left, right);
+        if !newton {
+            next = if left > 0.0 && right > 4.0 * left {
+                (left * right).sqrt()
+            } else {
+                0.5 * (left + right)
+            };
+        }
+        // Resolved once a Newton step is below 1e-10 of u (the soft axis' scale: the error
+        // left is ~ step^2/u, below rounding) or moves the ring by less than its rounding,
+        // or the bracket is at adjacent floats or moves the ring by less than its rounding.
+        let rounding = 4.0 * f64::EPSILON * gap;
+        let done = (newton && (step.abs() <= 1e-10 * u || step.abs() * speed <= rounding))
+            || right <= left.next_up()
+            || (right - left) * speed <= rounding;
+        u = next;
+        if done {
+            return Ok((u, iterations));
+        }
+    }
+    Err(RingError::NotConverged {
+        iterations,
+        bracket: right - left,
+    })
 }
 
 impl SnubberRing {
@@ -432,7 +483,7 @@ impl SnubberRing {
     }
 
     /// Damping coefficients of the branches: $4\nu_2$ inner, $2\nu_2$ outer.
-    fn branch_damping(&self, b: Branches) -> Vector2<f64> {
+    pub(super) fn branch_damping(&self, b: Branches) -> Vector2<f64> {
         let unit = |b: Branch| if b.is_outer() { 2.0 } else { 4.0 } * self.damping;
         Vector2::new(unit(b.x), unit(b.y))
     }

@@ -299,6 +299,7 @@ use thiserror::Error;
 
 mod branch;
 mod element;
+pub mod friction;
 mod locate;
 pub mod onset;
 mod regime;
@@ -310,6 +311,7 @@ pub use branch::{Branch, Branches};
 pub use element::{
     Axis, Kinematics, RingCache, RingGuard, RingMode, RingState, RingTransition, ONSET_TOUCH,
 };
+pub use friction::{ContactStart, FrictionRing, RollContact, Slip, SlipContact};
 pub use locate::{regime_ii_position, regime_v_position, RingContact};
 pub use regime::{boundaries, Regime};
 pub use relax::Relaxation;
@@ -423,6 +425,26 @@ pub enum RingError {
         resolution: f64,
         /// Time of the transition.
         t: f64,
+    },
+    /// A friction coefficient at or above the bound below which every slipping location of
+    /// the ring is unique ([`FrictionRing::limit`]): beyond it the ring may have several
+    /// locations for one rotor position, and none would be picked silently.
+    #[error("friction = {friction} is at or above {limit}, the bound below which the slipping ring's location is unique for this ring's stiffnesses")]
+    FrictionBeyondUniqueness {
+        /// The friction coefficient $\mu_f$.
+        friction: f64,
+        /// [`FrictionRing::limit`] of the ring.
+        limit: f64,
+    },
+    /// At a contact start both slip senses are consistent (slipping forward has $v_+ > 0$ and
+    /// slipping backward $v_- < 0$): the start cannot be decided. Not expected for a rotor
+    /// moving into the ring (then $v_+ < v_-$).
+    #[error("contact start is ambiguous: forward slip velocity {forward} > 0 and backward {backward} < 0")]
+    SlipAmbiguous {
+        /// $v_+$, the slip velocity of the forward-slipping location.
+        forward: f64,
+        /// $v_-$, that of the backward-slipping location.
+        backward: f64,
     },
     /// In contact, the ring is not at its minimum-energy position $s^*(r)$.
     #[error("rotor in contact but the ring is {offset} away from its minimum-energy position; place it with SnubberRing::consistent_position")]

@@ -6,6 +6,7 @@ mod onset_bruteforce;
 mod onset_linear;
 mod ring_boundaries;
 mod ring_element;
+mod ring_friction;
 mod ring_locate;
 mod ring_relax;
 mod ring_sensitivity;

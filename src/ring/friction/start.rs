@@ -1,0 +1,54 @@
+//! How a contact with friction starts.
+
+use nalgebra::Vector2;
+
+use super::{FrictionRing, RollContact, Slip, SlipContact};
+use crate::ring::RingError;
+
+/// The mode a contact with friction starts in ([`FrictionRing::start`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactStart {
+    /// Slipping, in the sense of the record's [`SlipContact::friction`].
+    Slipping(SlipContact),
+    /// Rolling, at the frictionless location's contact direction (where $F_t = 0$).
+    Rolling(RollContact),
+}
+
+impl FrictionRing {
+    /// The mode a contact starts in with the rotor at `r` (`|r| > gap`), moving at `r_dot`,
+    /// for the shaft's surface speed `surface_speed` $= \eta a$ (MODEL.md's onset rule): with
+    /// $v_\pm$ the slip velocities of the locations slipping forward and backward, it slips
+    /// forward if $v_+ > 0$, backward if $v_- < 0$, and rolls otherwise, at the frictionless
+    /// location's direction (inside the friction cone: $F_t = 0$ there).
+    ///
+    /// # Errors
+    /// Those of [`FrictionRing::locate_slipping`]; [`RingError::SlipAmbiguous`] when both
+    /// $v_+ > 0$ and $v_- < 0$; [`RingError::NonFinite`] (`"r_dot.x"`, `"r_dot.y"`,
+    /// `"surface_speed"`).
+    pub fn start(
+        &self,
+        r: &Vector2<f64>,
+        r_dot: &Vector2<f64>,
+        surface_speed: f64,
+    ) -> Result<ContactStart, RingError> {
+        crate::ring::check_finite("r_dot.x", r_dot.x)?;
+        crate::ring::check_finite("r_dot.y", r_dot.y)?;
+        crate::ring::check_finite("surface_speed", surface_speed)?;
+        let forward = self.locate_slipping(r, Slip::Forward)?;
+        let backward = self.locate_slipping(r, Slip::Backward)?;
+        let v_plus = forward.slip_velocity(r_dot, surface_speed);
+        let v_minus = backward.slip_velocity(r_dot, surface_speed);
+        match (v_plus > 0.0, v_minus < 0.0) {
+            (true, true) => Err(RingError::SlipAmbiguous {
+                forward: v_plus,
+                backward: v_minus,
+            }),
+            (true, false) => Ok(ContactStart::Slipping(forward)),
+            (false, true) => Ok(ContactStart::Slipping(backward)),
+            (false, false) => {
+                let n = self.ring.locate(r)?.normal;
+                Ok(ContactStart::Rolling(self.rolling(r, n.y.atan2(n.x))?))
+            }
+        }
+    }
+}
