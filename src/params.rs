@@ -68,6 +68,25 @@ pub enum ParamError {
         /// Frequency ratio.
         eta: f64,
     },
+    /// A closed form that holds for a narrower model than these parameters: the field, its
+    /// value and what the closed form needs.
+    #[error("parameter `{field}` = {value}: the closed form needs {needs}")]
+    OutsideClosedForm {
+        /// Field name.
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        field: crate::StaticStr,
+        /// Offending value.
+        value: f64,
+        /// What the closed form needs of it.
+        #[cfg_attr(
+            feature = "serde",
+            serde(deserialize_with = "crate::serde_util::label")
+        )]
+        needs: crate::StaticStr,
+    },
     /// A preset name that is not known.
     #[error("unknown preset `{0}`; known: {known}", known = Preset::NAMES.join(", "))]
     UnknownPreset(String),
@@ -81,7 +100,7 @@ fn finite(field: &'static str, value: f64) -> Result<f64, ParamError> {
     }
 }
 
-fn non_negative(field: &'static str, value: f64) -> Result<f64, ParamError> {
+pub(crate) fn non_negative(field: &'static str, value: f64) -> Result<f64, ParamError> {
     finite(field, value)?;
     if value < 0.0 {
         Err(ParamError::Negative { field, value })

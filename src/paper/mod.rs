@@ -28,6 +28,7 @@ mod free_flight;
 mod linearization;
 mod model;
 mod planes;
+pub mod rub;
 mod sweep;
 
 pub use free_flight::{FreeFlight, FreeOscillator, RotorState};

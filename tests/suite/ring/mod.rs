@@ -10,3 +10,4 @@ mod ring_friction;
 mod ring_locate;
 mod ring_relax;
 mod ring_sensitivity;
+mod rub_closed_forms;
