@@ -217,24 +217,22 @@ impl RingContact {
     /// docs). Equals [`RingContact::normal_force`] for isotropic damping (regimes II and V, or
     /// $\nu_2 = 0$), where it returns exactly that.
     pub fn separation_force(&self, r_dot: &Vector2<f64>) -> f64 {
-        let (cx, cy) = (self.damping.x, self.damping.y);
-        if cx == cy {
+        if self.damping.x == self.damping.y {
             return self.normal_force(r_dot);
         }
-        // Multiplied through by c_x c_y: no division by a vanishing damping.
-        let (n, g) = (self.normal, self.elastic);
-        (cx * cy * n.dot(r_dot) + cy * n.x * g.x + cx * n.y * g.y)
-            / (cy * n.x * n.x + cx * n.y * n.y)
+        separation_force(self.damping, self.normal, self.elastic, r_dot)
     }
 
     /// The loss force $L = \max(N, \lambda)$: contact lasts while it is positive (module docs).
     /// Exactly the paper's $N$ for isotropic damping.
     pub fn loss_force(&self, r_dot: &Vector2<f64>) -> f64 {
-        let normal = self.normal_force(r_dot);
-        if self.damping.x == self.damping.y {
-            return normal;
-        }
-        normal.max(self.separation_force(r_dot))
+        loss_force(
+            self.damping,
+            self.normal,
+            self.elastic,
+            self.normal_force(r_dot),
+            r_dot,
+        )
     }
 
     /// Rounding level of [`RingContact::loss_force`]: its elastic part $2\mu\gamma$ carries
@@ -246,6 +244,36 @@ impl RingContact {
             .norm();
         16.0 * f64::EPSILON * (2.0 * (self.mu.abs() + stiffness) * gap + damping)
     }
+}
+
+/// $\lambda = (c_xc_y\thinspace n\cdot r^\prime + c_y n_x g_x + c_x n_y g_y)/(c_y n_x^2 + c_x n_y^2)$
+/// for anisotropic damping `c`: the normal force the freed ring's balance needs to keep
+/// $n\cdot(r^\prime - s^\prime) = 0$, i.e. (over $n\cdot C^{-1}n$) the rate at which a ring
+/// released now would part from the rotor, whatever held it in contact (module docs).
+/// Multiplied through by $c_xc_y$: no division by a vanishing damping.
+pub(crate) fn separation_force(
+    c: Vector2<f64>,
+    n: Vector2<f64>,
+    g: Vector2<f64>,
+    r_dot: &Vector2<f64>,
+) -> f64 {
+    let (cx, cy) = (c.x, c.y);
+    (cx * cy * n.dot(r_dot) + cy * n.x * g.x + cx * n.y * g.y) / (cy * n.x * n.x + cx * n.y * n.y)
+}
+
+/// The loss force $\max(N, \lambda)$ from the normal force `normal` $= n\cdot f$: `normal`
+/// itself for isotropic damping, where the two agree.
+pub(crate) fn loss_force(
+    c: Vector2<f64>,
+    n: Vector2<f64>,
+    g: Vector2<f64>,
+    normal: f64,
+    r_dot: &Vector2<f64>,
+) -> f64 {
+    if c.x == c.y {
+        return normal;
+    }
+    normal.max(separation_force(c, n, g, r_dot))
 }
 
 impl SnubberRing {

@@ -62,6 +62,13 @@ impl RollContact {
                 .component_mul(&self.ring_velocity(r_dot, surface_speed))
     }
 
+    /// The loss force $\max(n\cdot f, \lambda)$ ([`SlipContact::loss_force`](super::SlipContact::loss_force)):
+    /// contact lasts while it is positive.
+    pub fn loss_force(&self, r_dot: &Vector2<f64>, surface_speed: f64) -> f64 {
+        let normal = self.normal.dot(&self.force(r_dot, surface_speed));
+        crate::ring::element::loss_force(self.damping, self.normal, self.elastic, normal, r_dot)
+    }
+
     /// $\mu_f N - |F_t|$: rolling lasts while it is not negative.
     pub fn stick_margin(&self, friction: f64) -> f64 {
         friction * self.elastic_normal() - self.elastic_tangential().abs()

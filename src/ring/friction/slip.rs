@@ -85,6 +85,16 @@ impl SlipContact {
         self.tangent.dot(&self.force(r_dot))
     }
 
+    /// The loss force $\max(n\cdot f, \lambda)$: contact lasts while it is positive. $\lambda$
+    /// is the frictionless ring's separation force
+    /// ([`RingContact::separation_force`]) at this ring: once released the ring relaxes without
+    /// friction, so it parts from the rotor only if that is not positive either. Exactly
+    /// $n\cdot f$ for isotropic damping (regimes II and V), MODEL.md's rule.
+    pub fn loss_force(&self, r_dot: &Vector2<f64>) -> f64 {
+        let normal = self.normal_force(r_dot);
+        crate::ring::element::loss_force(self.damping, self.normal, self.elastic, normal, r_dot)
+    }
+
     /// $\gamma\theta^\prime = (r^\prime - s^\prime)\cdot t$: the speed at which the contact
     /// point runs round the ring (positive counter-clockwise).
     pub fn whirl_speed(&self, r_dot: &Vector2<f64>) -> f64 {

@@ -430,3 +430,52 @@ fn accuracy_over_constructed_contacts() {
     );
     assert!(worst_s <= 1e-12 && worst_law <= 1e-12);
 }
+
+proptest! {
+    #![proptest_config(cases())]
+
+    /// The loss force of a slipping or rolling contact: where it is negative the ring, released
+    /// now, parts from the rotor (the contact distance of the relaxing ring, `SnubberRing::relax`,
+    /// and the rotor moving on at `r'`, falls: measured by a difference here); where the
+    /// normal force alone is negative but the loss force is not (anisotropic damping), the
+    /// released ring would move back into the rotor. For isotropic damping it is `n . f`.
+    #[test]
+    fn a_ring_released_at_a_negative_loss_force_parts(
+        (ring, mu) in rings(prop_oneof![Just(0.0), 0.01f64..1.5]),
+        theta in -3.2f64..3.2,
+        load in -3.0f64..0.5,
+        forward in any::<bool>(),
+        (vx, vy) in (-3.0f64..3.0, -3.0f64..3.0),
+        surface in -2.0f64..2.0,
+    ) {
+        let ring = SnubberRing { damping: 0.05, ..ring };
+        let slip = if forward { Slip::Forward } else { Slip::Backward };
+        let n_force = 10f64.powf(load) * ring.x.stiffness.max(ring.y.stiffness) * ring.gap;
+        let (r, _) = constructed(&ring, theta, n_force, mu * slip.sign());
+        let rub = FrictionRing::new(ring, mu).unwrap();
+        let c = rub.locate_slipping(&r, slip).unwrap();
+        let r_dot = Vector2::new(vx, vy) * ring.gap;
+        let roll = rub.rolling(&r, c.normal.y.atan2(c.normal.x)).unwrap();
+        let cases = [
+            (c.loss_force(&r_dot), c.normal_force(&r_dot), c.damping),
+            (roll.loss_force(&r_dot, surface), roll.normal.dot(&roll.force(&r_dot, surface)), roll.damping),
+        ];
+        // The contact distance h = |r - s|^2 - gap^2 of the released ring, at a small time.
+        let dt = 1e-7 * ring.gap / (1.0 + r_dot.norm());
+        let h = |t: f64| (r + r_dot * t - ring.relax(&c.s, t)).norm_squared() - ring.gap * ring.gap;
+        let rate = (h(dt) - h(0.0)) / dt;
+        let scale = ring.gap * (r_dot.norm() + n_force / ring.damping);
+        for (loss, normal, damping) in cases {
+            prop_assert!(loss >= normal);
+            if damping.x == damping.y {
+                prop_assert_eq!(loss, normal);
+            }
+            if loss < -1e-6 * n_force {
+                prop_assert!(rate < 1e-6 * scale, "loss {:e}, yet parting rate {:e}", loss, rate);
+            }
+            if normal < -1e-6 * n_force && loss > 1e-6 * n_force {
+                prop_assert!(rate > -1e-6 * scale, "separation {:e} without the ring returning", loss);
+            }
+        }
+    }
+}
