@@ -35,6 +35,27 @@ pub struct ForceJacobian {
     pub force: Vector2<f64>,
 }
 
+impl ForceJacobian {
+    /// $\partial F/\partial r = G^\prime J + C\thinspace\partial(Jv)/\partial r$ and
+    /// $\partial F/\partial v = CJ$ from the branches' slopes $G^\prime$ and damping $C$ (both
+    /// diagonal) and a located ring's $J$ and second derivatives.
+    pub(super) fn of(
+        slopes: Vector2<f64>,
+        damping: Vector2<f64>,
+        jacobian: &Matrix2<f64>,
+        hess: &ContactHessian,
+        v: &Vector2<f64>,
+        force: Vector2<f64>,
+    ) -> Self {
+        let damping = Matrix2::from_diagonal(&damping);
+        ForceJacobian {
+            position: Matrix2::from_diagonal(&slopes) * jacobian + damping * hess.jacobian_times(v),
+            velocity: damping * jacobian,
+            force,
+        }
+    }
+}
+
 /// Gradient of a guard of the ring (module docs) with respect to the rotor's kinematics at the
 /// station, the ring's current position and time.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -65,7 +86,7 @@ impl GuardGradient {
 }
 
 /// Elastic slopes $g_i^\prime$ on the branches: $2K_i$ inner, $K_i$ outer.
-fn branch_slopes(ring: &SnubberRing, b: Branches) -> Vector2<f64> {
+pub(super) fn branch_slopes(ring: &SnubberRing, b: Branches) -> Vector2<f64> {
     let slope = |axis: &RingAxis, branch: Branch| {
         if branch.is_outer() {
             axis.stiffness
@@ -146,13 +167,8 @@ impl SnubberRing {
         hess: &ContactHessian,
         v: &Vector2<f64>,
     ) -> ForceJacobian {
-        let damping = Matrix2::from_diagonal(&c.damping);
-        let slopes = Matrix2::from_diagonal(&branch_slopes(self, c.branches));
-        ForceJacobian {
-            position: slopes * c.jacobian + damping * hess.jacobian_times(v),
-            velocity: damping * c.jacobian,
-            force: c.force(v),
-        }
+        let slopes = branch_slopes(self, c.branches);
+        ForceJacobian::of(slopes, c.damping, &c.jacobian, hess, v, c.force(v))
     }
 
     /// Gradient of the loss force $\max(N, \lambda)$ of [`RingContact::loss_force`] at rotor

@@ -77,6 +77,7 @@
 use super::{check_non_negative, RingAxis, RingError, SnubberRing};
 
 mod roll;
+mod sensitivity;
 mod slip;
 mod start;
 

@@ -5,7 +5,7 @@
 use jeffcott::ring::{
     Branches, ContactStart, FrictionRing, RingAxis, RingError, RollContact, Slip, SnubberRing,
 };
-use nalgebra::Vector2;
+use nalgebra::{Matrix2, Vector2};
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
 
@@ -476,6 +476,109 @@ proptest! {
             if normal < -1e-6 * n_force && loss > 1e-6 * n_force {
                 prop_assert!(rate > -1e-6 * scale, "separation {:e} without the ring returning", loss);
             }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(cases())]
+
+    /// The slipping ring's second derivatives, its force's Jacobian and the slip velocity's
+    /// gradient against Richardson-extrapolated central differences of the location on fixed
+    /// branches.
+    #[test]
+    fn second_derivatives_match_differences(
+        (ring, mu) in rings(prop_oneof![Just(0.0), 0.01f64..1.5]),
+        theta in -3.2f64..3.2,
+        load in -2.0f64..0.5,
+        forward in any::<bool>(),
+        (vx, vy) in (-3.0f64..3.0, -3.0f64..3.0),
+    ) {
+        let ring = SnubberRing { damping: 0.05, ..ring };
+        let slip = if forward { Slip::Forward } else { Slip::Backward };
+        let n_force = 10f64.powf(load) * ring.x.stiffness.max(ring.y.stiffness) * ring.gap;
+        let (r, _) = constructed(&ring, theta, n_force, mu * slip.sign());
+        let rub = FrictionRing::new(ring, mu).unwrap();
+        let c = rub.locate_slipping(&r, slip).unwrap();
+        let v = Vector2::new(vx, vy) * ring.gap;
+        let hess = rub.slip_hessian(&c);
+        let jac = rub.slip_force_jacobian(&c, &v);
+        let grad = rub.slip_velocity_gradient(&c, &v);
+        let at = |x: Vector2<f64>| rub.locate_slipping_on(&x, slip, c.branches, c.multiplier).unwrap();
+        let h = 1e-5 * (r.norm() + ring.gap);
+        // Richardson on a vector-valued central difference of `f` along axis k.
+        let diff = |k: usize, f: &dyn Fn(&jeffcott::ring::SlipContact) -> Vec<f64>| {
+            let central = |h: f64| {
+                let mut e = Vector2::zeros();
+                e[k] = h;
+                let (p, m) = (f(&at(r + e)), f(&at(r - e)));
+                p.iter().zip(&m).map(|(a, b)| (a - b) / (2.0 * h)).collect::<Vec<_>>()
+            };
+            let (coarse, fine) = (central(h), central(0.5 * h));
+            fine.iter().zip(&coarse).map(|(f, c)| (4.0 * f - c) / 3.0).collect::<Vec<_>>()
+        };
+        let size = |x: &[f64]| x.iter().fold(0f64, |a, b| a.max(b.abs()));
+        for k in 0..2 {
+            let dj = diff(k, &|c| c.jacobian.iter().copied().collect());
+            let got: Vec<f64> = hess.jacobian_derivative[k].iter().copied().collect();
+            let scale = 1.0 + size(&got) + c.jacobian.norm();
+            prop_assert!(dj.iter().zip(&got).all(|(a, b)| (a - b).abs() <= 1e-6 * scale), "dJ/dr_{}: {:?} vs {:?}", k, dj, got);
+            let dm = diff(k, &|c| vec![c.multiplier]);
+            let m_scale = 1.0 + hess.mu_gradient.norm() + c.multiplier.abs();
+            prop_assert!((dm[0] - hess.mu_gradient[k]).abs() <= 1e-6 * m_scale);
+            let dmg = diff(k, &|c| rub.slip_hessian(c).mu_gradient.iter().copied().collect());
+            let hm = hess.mu_hessian.column(k);
+            prop_assert!((dmg[0] - hm[0]).abs().max((dmg[1] - hm[1]).abs()) <= 1e-6 * (1.0 + hess.mu_hessian.norm() + m_scale));
+            let df = diff(k, &|c| c.force(&v).iter().copied().collect());
+            let col = jac.position.column(k);
+            let f_scale = 1.0 + jac.position.norm();
+            prop_assert!((df[0] - col[0]).abs().max((df[1] - col[1]).abs()) <= 1e-6 * f_scale);
+            let dv = diff(k, &|c| vec![c.slip_velocity(&v, 0.7)]);
+            prop_assert!((dv[0] - grad.r[k]).abs() <= 1e-6 * (1.0 + grad.r.norm()));
+        }
+        // Linear in v: the velocity parts exactly.
+        prop_assert!((jac.velocity - Matrix2::from_diagonal(&c.damping) * c.jacobian).norm() <= 1e-15 * jac.velocity.norm());
+        let (e1, e2) = (Vector2::x(), Vector2::y());
+        let lin = Vector2::new(
+            c.slip_velocity(&(v + e1), 0.7) - c.slip_velocity(&v, 0.7),
+            c.slip_velocity(&(v + e2), 0.7) - c.slip_velocity(&v, 0.7),
+        );
+        prop_assert!((lin - grad.v).norm() <= 1e-12 * (1.0 + v.norm()) * (1.0 + c.jacobian.norm()));
+        if mu == 0.0 {
+            let plain = ring.locate(&r).unwrap();
+            prop_assert_eq!(hess, ring.contact_hessian(&plain));
+        }
+    }
+
+    /// The rolling contact's stick margin gradient against central differences in the rotor's
+    /// position and the contact direction.
+    #[test]
+    fn stick_margin_gradient_matches_differences(
+        (ring, mu) in rings(prop_oneof![Just(0.0), 0.01f64..1.5]),
+        (x, y) in (-3.0f64..3.0, -3.0f64..3.0),
+        angle in -3.2f64..3.2,
+    ) {
+        let r = Vector2::new(x, y) * ring.gap;
+        let rub = FrictionRing::new(ring, mu).unwrap();
+        let roll = rub.rolling(&r, angle).unwrap();
+        prop_assume!(roll.elastic_tangential().abs() > 1e-6 * roll.elastic.norm());
+        let (grad_r, grad_angle) = rub.stick_margin_gradient(&roll);
+        let h = 1e-7 * (r.norm() + ring.gap);
+        let margin = |x: Vector2<f64>, a: f64| rub.rolling(&x, a).unwrap().stick_margin(mu);
+        // Only where no preload lies within the difference's reach (the force's slope jumps).
+        let same = |x: Vector2<f64>, a: f64| rub.rolling(&x, a).unwrap().branches == roll.branches;
+        for k in 0..2 {
+            let mut e = Vector2::zeros();
+            e[k] = h;
+            if same(r + e, angle) && same(r - e, angle) {
+                let fd = (margin(r + e, angle) - margin(r - e, angle)) / (2.0 * h);
+                prop_assert!((fd - grad_r[k]).abs() <= 1e-6 * (1.0 + grad_r.norm()));
+            }
+        }
+        let ha = 1e-7;
+        if same(r, angle + ha) && same(r, angle - ha) {
+            let fd = (margin(r, angle + ha) - margin(r, angle - ha)) / (2.0 * ha);
+            prop_assert!((fd - grad_angle).abs() <= 1e-6 * (1.0 + grad_angle.abs() + roll.elastic.norm() * ring.gap));
         }
     }
 }
