@@ -107,6 +107,7 @@ mod modal;
 mod reduction;
 #[cfg(feature = "mat")]
 mod ross;
+mod rub;
 mod run_up;
 mod speed;
 mod speed_law;
@@ -122,6 +123,7 @@ pub use linear_profiled::ProfiledLinearRotor;
 pub use matrices::{DofLayout, RotorMatrices};
 pub use modal::ModalRotor;
 pub use reduction::{CraigBampton, ModeSelection, ResponseError};
+pub use rub::{RubCache, RubMode, RubbingRotor};
 use run_up::paper_ring;
 pub use run_up::ProfiledJeffcott;
 pub use speed::{Segment, SpeedProfile};
@@ -139,6 +141,18 @@ use crate::ring::Relaxation;
 use crate::ring::{
     Branches, ForceJacobian, Kinematics, RingCache, RingError, RingGuard, RingMode, SnubberRing,
 };
+
+/// The shaft's spin at one instant ([`SmoothRotor::spin`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spin {
+    /// The spin speed $\Omega$ (the paper's $\eta$ in its units).
+    pub speed: f64,
+    /// The shaft's angle $\varphi$, $\varphi^\prime = \Omega$ (any origin: only its changes are
+    /// used).
+    pub angle: f64,
+    /// The spin's acceleration $\Omega^\prime$.
+    pub accel: f64,
+}
 
 /// A rotor without the ring: smooth, of state dimension [`SmoothRotor::Dim`] (fixed, e.g.
 /// `U6`, or `Dyn` for a size known at run time), with one station where the ring acts. The
@@ -186,6 +200,16 @@ where
     /// The forcing period (stroboscopic sampling and the chattering window use it; an unforced
     /// rotor gives a characteristic period, e.g. that of its first mode).
     fn forcing_period(&self) -> f64;
+
+    /// The shaft's spin at `(t, y)`: its speed and angle (rad/s and rad, or the model's time
+    /// unit), for a contact law that needs the motion of the shaft's surface (friction at the
+    /// ring, [`RubbingRotor`]). Default `None`: the rotor does not say, and such a law refuses
+    /// it. A rotor whose speed the contact could change (a non-ideal drive, whose speed
+    /// equation would need the rub torque) should keep `None` until it takes that torque.
+    fn spin(&self, t: f64, y: &OVector<f64, Self::Dim>) -> Option<Spin> {
+        let _ = (t, y);
+        None
+    }
 
     /// The time of the stroboscopic output `k` ([`RotorModel::strobe_time`], which
     /// [`RingedRotor`] passes on). Default $kP$, $P$ = [`SmoothRotor::forcing_period`]; a rotor
@@ -334,6 +358,17 @@ pub enum RotorError {
         /// `"eta"`, `"strobes_per_revolution"`).
         field: &'static str,
         /// Its value.
+        value: f64,
+        /// What is wrong.
+        reason: &'static str,
+    },
+    /// Friction at the ring cannot be added to this rotor ([`RubbingRotor::new`]): the field,
+    /// its value and why.
+    #[error("friction at the ring: {field} = {value}: {reason}")]
+    Friction {
+        /// `"shaft_radius"`, `"spin"` (the rotor gives none), `"x.preload"`, `"y.preload"`.
+        field: &'static str,
+        /// Its value (NaN where the rotor gives none).
         value: f64,
         /// What is wrong.
         reason: &'static str,

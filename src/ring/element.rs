@@ -1034,8 +1034,8 @@ impl SnubberRing {
     }
 
     /// Free flight from a ring released at `s` with the rotor at `k`: the ring and the rotor
-    /// touch and part.
-    fn release(&self, t: f64, k: &Kinematics, s: Vector2<f64>) -> RingTransition {
+    /// touch and part (a contact law with friction ends its contacts here too).
+    pub(crate) fn release(&self, t: f64, k: &Kinematics, s: Vector2<f64>) -> RingTransition {
         let relax = self.released(t, s);
         RingTransition {
             mode: RingMode::Free {

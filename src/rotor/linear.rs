@@ -764,6 +764,16 @@ impl SmoothRotor for LinearRotor {
         Some(self.system.dofs())
     }
 
+    /// The constant speed, and the angle $\Omega t$.
+    fn spin(&self, t: f64, _y: &DVector<f64>) -> Option<super::Spin> {
+        let speed = self.system.speed;
+        Some(super::Spin {
+            speed,
+            angle: speed * t,
+            accel: 0.0,
+        })
+    }
+
     fn forcing_period(&self) -> f64 {
         std::f64::consts::TAU / self.system.speed
     }

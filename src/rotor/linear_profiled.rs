@@ -234,6 +234,15 @@ impl SmoothRotor for ProfiledLinearRotor {
     }
 
     /// The period at the profile's largest speed (the shortest).
+    /// The profile's speed and phase.
+    fn spin(&self, t: f64, _y: &DVector<f64>) -> Option<super::Spin> {
+        Some(super::Spin {
+            speed: self.profile.eta(t),
+            angle: self.profile.phase(t),
+            accel: self.profile.eta_rate(t),
+        })
+    }
+
     fn forcing_period(&self) -> f64 {
         TAU / self.profile.eta_max()
     }

@@ -464,6 +464,15 @@ impl SmoothRotor for ModalRotor {
         true
     }
 
+    /// The constant speed, and the angle $\Omega t$.
+    fn spin(&self, t: f64, _y: &DVector<f64>) -> Option<super::Spin> {
+        Some(super::Spin {
+            speed: self.speed,
+            angle: self.speed * t,
+            accel: 0.0,
+        })
+    }
+
     fn forcing_period(&self) -> f64 {
         std::f64::consts::TAU / self.speed
     }

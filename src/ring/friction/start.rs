@@ -3,7 +3,15 @@
 use nalgebra::Vector2;
 
 use super::{FrictionRing, RollContact, Slip, SlipContact};
-use crate::ring::RingError;
+use crate::ring::{check_finite, Branches, RingError};
+
+/// Checks the rotor's velocity and the surface speed.
+fn check_motion(r_dot: &Vector2<f64>, surface_speed: f64) -> Result<(), RingError> {
+    check_finite("r_dot.x", r_dot.x)?;
+    check_finite("r_dot.y", r_dot.y)?;
+    check_finite("surface_speed", surface_speed)?;
+    Ok(())
+}
 
 /// The mode a contact with friction starts in ([`FrictionRing::start`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,11 +39,43 @@ impl FrictionRing {
         r_dot: &Vector2<f64>,
         surface_speed: f64,
     ) -> Result<ContactStart, RingError> {
-        crate::ring::check_finite("r_dot.x", r_dot.x)?;
-        crate::ring::check_finite("r_dot.y", r_dot.y)?;
-        crate::ring::check_finite("surface_speed", surface_speed)?;
+        check_motion(r_dot, surface_speed)?;
         let forward = self.locate_slipping(r, Slip::Forward)?;
         let backward = self.locate_slipping(r, Slip::Backward)?;
+        let plain = self.ring.locate(r)?;
+        self.decide(r, (forward, backward), plain.normal, r_dot, surface_speed)
+    }
+
+    /// As [`FrictionRing::start`] on given branches (their smooth extension): for a touch of
+    /// the gap circle within its rounding, where [`FrictionRing::start`] has no location
+    /// (`|r| <= gap`), with the branches the frictionless touch starts on.
+    ///
+    /// # Errors
+    /// As [`FrictionRing::start`], with [`RingError::NoPlacement`] where the branches have no
+    /// location at `r`.
+    pub fn start_on(
+        &self,
+        r: &Vector2<f64>,
+        r_dot: &Vector2<f64>,
+        surface_speed: f64,
+        branches: Branches,
+    ) -> Result<ContactStart, RingError> {
+        check_motion(r_dot, surface_speed)?;
+        let forward = self.locate_slipping_on(r, Slip::Forward, branches, f64::NAN)?;
+        let backward = self.locate_slipping_on(r, Slip::Backward, branches, f64::NAN)?;
+        let plain = self.ring.locate_on(r, branches, f64::NAN)?;
+        self.decide(r, (forward, backward), plain.normal, r_dot, surface_speed)
+    }
+
+    /// The onset rule on the two slipping locations; rolling at the frictionless normal.
+    fn decide(
+        &self,
+        r: &Vector2<f64>,
+        (forward, backward): (SlipContact, SlipContact),
+        normal: Vector2<f64>,
+        r_dot: &Vector2<f64>,
+        surface_speed: f64,
+    ) -> Result<ContactStart, RingError> {
         let v_plus = forward.slip_velocity(r_dot, surface_speed);
         let v_minus = backward.slip_velocity(r_dot, surface_speed);
         match (v_plus > 0.0, v_minus < 0.0) {
@@ -45,10 +85,9 @@ impl FrictionRing {
             }),
             (true, false) => Ok(ContactStart::Slipping(forward)),
             (false, true) => Ok(ContactStart::Slipping(backward)),
-            (false, false) => {
-                let n = self.ring.locate(r)?.normal;
-                Ok(ContactStart::Rolling(self.rolling(r, n.y.atan2(n.x))?))
-            }
+            (false, false) => Ok(ContactStart::Rolling(
+                self.rolling(r, normal.y.atan2(normal.x))?,
+            )),
         }
     }
 }

@@ -11,3 +11,4 @@ mod ring_locate;
 mod ring_relax;
 mod ring_sensitivity;
 mod rub_closed_forms;
+mod rub_simulation;

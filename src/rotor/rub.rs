@@ -1,0 +1,757 @@
+//! A rotor on the ring with Coulomb friction at the contact (docs/friction.md): the
+//! frictionless composition [`RingedRotor`] for free flight and the touch, the ring with
+//! friction ([`FrictionRing`]) for the contact, slipping or rolling.
+
+use std::cell::Cell;
+
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, Matrix2, OVector, Vector2};
+
+use super::{LinearFreeSegment, RingedRotor, RotorError, SmoothRotor, Spin};
+use crate::hybrid::{Flow, ModelError, RotorModel};
+use crate::numeric::Direction;
+use crate::ode::JacobianMut;
+use crate::ring::{
+    Branch, Branches, ContactStart, ForceJacobian, FrictionRing, Kinematics, RingCache, RingError,
+    RingMode, Slip,
+};
+
+/// The branches of a ring without preload: both axes beyond (no preload to cross).
+const OUTER: Branches = Branches {
+    x: Branch::Outer(0),
+    y: Branch::Outer(0),
+};
+
+/// The mode of a [`RubbingRotor`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RubMode {
+    /// The frictionless composition's mode: free flight (and, without friction, its contact).
+    Ring(RingMode),
+    /// In contact, the shaft slipping on the ring in this sense.
+    Slip(Slip),
+    /// In contact, the shaft rolling on the ring: the contact direction was `angle` when the
+    /// shaft's angle was `shaft`, and turns back as the shaft turns,
+    /// $\theta = \text{angle} - (a/\gamma)(\varphi - \text{shaft})$.
+    Roll {
+        /// The contact direction at the roll's start.
+        angle: f64,
+        /// The shaft's angle at the roll's start.
+        shaft: f64,
+    },
+}
+
+/// Per-run scratch of a [`RubbingRotor`]: the frictionless ring's, and the slipping ring's
+/// last multiplier (its warm start).
+#[derive(Debug, Default)]
+pub struct RubCache {
+    ring: RingCache,
+    hint: Cell<f64>,
+}
+
+/// Any [`SmoothRotor`] on the ring with Coulomb friction $\mu_f$ between a shaft of radius $a$
+/// and the ring (`../shared/MODEL.md`; docs/friction.md). Free flight, the touch and the
+/// closed forms are the frictionless [`RingedRotor`]'s; a contact that starts slips forward,
+/// slips backward or rolls by the ring's onset rule ([`FrictionRing::start`]) and moves
+/// between them at the slip velocity's zero (into rolling) and the friction cone's edge
+/// (out of it). With $\mu_f = 0$ every mode and number is the [`RingedRotor`]'s.
+///
+/// **Scope** (this version): a ring without preload; a rotor that gives its spin
+/// ([`SmoothRotor::spin`]: constant-speed and profiled rotors; a non-ideal drive does not yet
+/// take the rub torque, and is refused).
+///
+/// Mode labels ([`RotorModel::mode_label`]): the ring's 1..5 (regimes), 6 slipping forward,
+/// 7 slipping backward, 8 rolling.
+#[derive(Debug)]
+pub struct RubbingRotor<R> {
+    inner: RingedRotor<R>,
+    rub: FrictionRing,
+    radius: f64,
+}
+
+/// Guard indices of the contact modes.
+const LOSS: usize = 0;
+const GAP: usize = 1;
+/// The slip velocity's zero (slipping) or the friction cone's edge (rolling).
+const FRICTION: usize = 2;
+
+impl<R: SmoothRotor> RubbingRotor<R>
+where
+    DefaultAllocator: Allocator<R::Dim>,
+{
+    /// `inner` with friction coefficient `friction` between the ring and a shaft of radius
+    /// `shaft_radius` at the ring (in the ring's length unit).
+    ///
+    /// # Errors
+    /// [`RotorError::Ring`] for a friction coefficient the ring refuses
+    /// ([`FrictionRing::new`]); [`RotorError::Friction`] for a shaft radius that is not finite
+    /// and positive, a ring with a preload, or a rotor without a spin.
+    pub fn new(
+        inner: RingedRotor<R>,
+        friction: f64,
+        shaft_radius: f64,
+    ) -> Result<Self, RotorError> {
+        let bad = |field, value, reason| {
+            Err(RotorError::Friction {
+                field,
+                value,
+                reason,
+            })
+        };
+        if !(shaft_radius.is_finite() && shaft_radius > 0.0) {
+            return bad("shaft_radius", shaft_radius, "must be finite and > 0");
+        }
+        let ring = *inner.ring();
+        for (field, value) in [("x.preload", ring.x.preload), ("y.preload", ring.y.preload)] {
+            if value != 0.0 {
+                return bad(
+                    field,
+                    value,
+                    "friction on a preloaded ring is not built yet",
+                );
+            }
+        }
+        let rest = inner.zero_state();
+        if inner.rotor().spin(0.0, &rest).is_none() {
+            return bad(
+                "spin",
+                f64::NAN,
+                "the rotor gives no spin (SmoothRotor::spin); a driven rotor does not yet take the rub torque",
+            );
+        }
+        let rub = FrictionRing::new(ring, friction)?;
+        Ok(Self {
+            inner,
+            rub,
+            radius: shaft_radius,
+        })
+    }
+
+    /// The frictionless composition.
+    pub fn ringed(&self) -> &RingedRotor<R> {
+        &self.inner
+    }
+
+    /// The ring with friction.
+    pub fn friction_ring(&self) -> &FrictionRing {
+        &self.rub
+    }
+
+    /// The shaft's radius $a$ at the ring.
+    pub fn shaft_radius(&self) -> f64 {
+        self.radius
+    }
+
+    fn spin(&self, t: f64, y: &OVector<f64, R::Dim>) -> Spin {
+        let nan = Spin {
+            speed: f64::NAN,
+            angle: f64::NAN,
+            accel: f64::NAN,
+        };
+        self.inner.rotor.spin(t, y).unwrap_or(nan)
+    }
+
+    fn station(&self, y: &OVector<f64, R::Dim>) -> Kinematics {
+        self.inner.rotor.station(y)
+    }
+
+    /// The ring's position, velocity and force on the rotor in a contact mode.
+    fn contact(
+        &self,
+        mode: RubMode,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        cache: &RubCache,
+    ) -> Result<Contact, RingError> {
+        let k = self.station(y);
+        let spin = self.spin(t, y);
+        let surface = self.radius * spin.speed;
+        match mode {
+            RubMode::Slip(slip) => {
+                let c = self
+                    .rub
+                    .locate_slipping_on(&k.r, slip, OUTER, cache.hint.get())?;
+                cache.hint.set(c.multiplier);
+                let s_dot = c.ring_velocity(&k.v);
+                Ok(Contact {
+                    s: c.s,
+                    damping: c.damping,
+                    s_dot,
+                    force: c.force(&k.v),
+                    guards: [
+                        c.loss_force(&k.v),
+                        k.r.norm_squared() - self.rub.ring().gap.powi(2),
+                        slip.sign() * c.slip_velocity(&k.v, surface),
+                    ],
+                })
+            }
+            RubMode::Roll { angle, shaft } => {
+                let theta = angle - self.radius / self.rub.ring().gap * (spin.angle - shaft);
+                let c = self.rub.rolling(&k.r, theta)?;
+                Ok(Contact {
+                    s: c.s,
+                    damping: c.damping,
+                    s_dot: c.ring_velocity(&k.v, surface),
+                    force: c.force(&k.v, surface),
+                    guards: [
+                        c.loss_force(&k.v, surface),
+                        k.r.norm_squared() - self.rub.ring().gap.powi(2),
+                        c.stick_margin(self.rub.friction()),
+                    ],
+                })
+            }
+            RubMode::Ring(_) => Err(RingError::NoPlacement { x: k.r.x, y: k.r.y }),
+        }
+    }
+
+    /// The contact mode a contact starts in at `(t, y)` (the ring's onset rule, on `branches`
+    /// where given) and the ring's position there.
+    fn start(
+        &self,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        branches: Option<Branches>,
+    ) -> Result<(RubMode, Vector2<f64>), RingError> {
+        let k = self.station(y);
+        let spin = self.spin(t, y);
+        let surface = self.radius * spin.speed;
+        let start = match branches {
+            Some(b) => self.rub.start_on(&k.r, &k.v, surface, b)?,
+            None => self.rub.start(&k.r, &k.v, surface)?,
+        };
+        Ok(match start {
+            ContactStart::Slipping(c) => (RubMode::Slip(slip_of(c.friction)), c.s),
+            ContactStart::Rolling(c) => (
+                RubMode::Roll {
+                    angle: c.angle,
+                    shaft: spin.angle,
+                },
+                c.s,
+            ),
+        })
+    }
+
+    /// The rate of the friction guard of `mode` at `(t, y)`, the rotor's field taken in that
+    /// mode.
+    fn friction_rate(
+        &self,
+        mode: RubMode,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        cache: &RubCache,
+    ) -> Result<f64, RingError> {
+        let mut dy = y.clone_owned();
+        self.rhs(mode, t, y, &mut dy, cache);
+        self.guard_rates(mode, t, y, &dy, cache)
+            .map(|r| r[FRICTION])
+    }
+
+    /// The rates of the loss, gap and friction guards of a contact mode along the flow
+    /// (`dy` the field at `y`): from the ring's gradients and the station's acceleration.
+    fn guard_rates(
+        &self,
+        mode: RubMode,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        dy: &OVector<f64, R::Dim>,
+        cache: &RubCache,
+    ) -> Result<[f64; 3], RingError> {
+        let k = self.station(y);
+        let accel = self.station(dy).v;
+        let spin = self.spin(t, y);
+        let (gap, a) = (self.rub.ring().gap, self.radius);
+        let surface = a * spin.speed;
+        let gap_rate = 2.0 * k.r.dot(&k.v);
+        match mode {
+            RubMode::Slip(slip) => {
+                let c = self
+                    .rub
+                    .locate_slipping_on(&k.r, slip, OUTER, cache.hint.get())?;
+                let jac = self.rub.slip_force_jacobian(&c, &k.v);
+                // The loss force n . f (isotropic dampers: no preload), n' = (I - J) r'/gamma.
+                let n_dot = (k.v - c.jacobian * k.v) / gap;
+                let loss = n_dot.dot(&jac.force)
+                    + c.normal.dot(&(jac.position * k.v + jac.velocity * accel));
+                let g = self.rub.slip_velocity_gradient(&c, &k.v);
+                let v_rate = g.r.dot(&k.v) + g.v.dot(&accel) + a * spin.accel;
+                Ok([loss, gap_rate, slip.sign() * v_rate])
+            }
+            RubMode::Roll { angle, shaft } => {
+                let theta = angle - a / gap * (spin.angle - shaft);
+                let c = self.rub.rolling(&k.r, theta)?;
+                let theta_rate = -surface / gap;
+                let s_dot: Vector2<f64> = c.ring_velocity(&k.v, surface);
+                let ring = self.rub.ring();
+                // f = g(s) + C (r' + eta a t): f' = G' s' + C (r'' + (eta a)' t - eta a n theta').
+                let f = c.force(&k.v, surface);
+                let w: Vector2<f64> =
+                    accel + c.tangent * (a * spin.accel) - c.normal * (surface * theta_rate);
+                let f_rate = Vector2::new(
+                    ring.x.stiffness * s_dot.x + c.damping.x * w.x,
+                    ring.y.stiffness * s_dot.y + c.damping.y * w.y,
+                );
+                let loss = (c.tangent * theta_rate).dot(&f) + c.normal.dot(&f_rate);
+                let (gr, gtheta) = self.rub.stick_margin_gradient(&c);
+                Ok([loss, gap_rate, gr.dot(&k.v) + gtheta * theta_rate])
+            }
+            RubMode::Ring(_) => Err(RingError::NoPlacement { x: k.r.x, y: k.r.y }),
+        }
+    }
+
+    fn write_slots(&self, y: &mut OVector<f64, R::Dim>, s: Vector2<f64>) {
+        let [i, j] = self.inner.rotor.ring_slots();
+        y[i] = s.x;
+        y[j] = s.y;
+    }
+
+    /// A contact that ends (loss, or the rotor back at the gap circle): the ring relaxes from
+    /// where it is.
+    fn release(
+        &self,
+        mode: RubMode,
+        t: f64,
+        y: &mut OVector<f64, R::Dim>,
+    ) -> Result<RubMode, ModelError> {
+        let cache = RubCache::default();
+        let c = self
+            .contact(mode, t, y, &cache)
+            .map_err(|e| transition_error(t, e))?;
+        let next = self.rub.ring().release(t, &self.station(y), c.s);
+        self.write_slots(y, next.s);
+        Ok(RubMode::Ring(next.mode))
+    }
+
+    /// The slip velocity reached zero: the contact rolls, unless the friction cone would be
+    /// left at once, in which case the zero was a touch and the slip goes on.
+    fn stop(&self, slip: Slip, t: f64, y: &OVector<f64, R::Dim>) -> Result<RubMode, ModelError> {
+        let cache = RubCache::default();
+        let k = self.station(y);
+        let c = self
+            .rub
+            .locate_slipping_on(&k.r, slip, OUTER, f64::NAN)
+            .map_err(|e| transition_error(t, e))?;
+        let roll = RubMode::Roll {
+            angle: c.normal.y.atan2(c.normal.x),
+            shaft: self.spin(t, y).angle,
+        };
+        let rate = |m| {
+            self.friction_rate(m, t, y, &cache)
+                .map_err(|e| transition_error(t, e))
+        };
+        if rate(roll)? >= 0.0 {
+            return Ok(roll);
+        }
+        if rate(RubMode::Slip(slip))? >= 0.0 {
+            return Ok(RubMode::Slip(slip));
+        }
+        Err(ModelError::Transition {
+            t,
+            reason: "the slip velocity reached zero where neither rolling nor slipping on is consistent (the friction cone is left at once, and the slip would reverse)".into(),
+        })
+    }
+
+    /// The friction cone's edge while rolling: the contact slips in the sense of $F_t$.
+    fn slide(
+        &self,
+        mode: RubMode,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+    ) -> Result<RubMode, ModelError> {
+        let cache = RubCache::default();
+        let RubMode::Roll { angle, shaft } = mode else {
+            return Ok(mode);
+        };
+        let k = self.station(y);
+        let theta = angle - self.radius / self.rub.ring().gap * (self.spin(t, y).angle - shaft);
+        let c = self
+            .rub
+            .rolling(&k.r, theta)
+            .map_err(|e| transition_error(t, e))?;
+        let slip = c.release().unwrap_or(Slip::Forward);
+        let next = RubMode::Slip(slip);
+        let rate = self
+            .friction_rate(next, t, y, &cache)
+            .map_err(|e| transition_error(t, e))?;
+        if rate < 0.0 {
+            return Err(ModelError::Transition {
+                t,
+                reason: "rolling ends at the friction cone's edge but slipping in the sense of the friction force would reverse at once".into(),
+            });
+        }
+        Ok(next)
+    }
+}
+
+/// The ring in a contact mode.
+struct Contact {
+    s: Vector2<f64>,
+    /// The dampers' coefficients on the ring's branches.
+    damping: Vector2<f64>,
+    s_dot: Vector2<f64>,
+    force: Vector2<f64>,
+    /// Loss, gap and friction guards.
+    guards: [f64; 3],
+}
+
+fn slip_of(kappa: f64) -> Slip {
+    if kappa < 0.0 {
+        Slip::Backward
+    } else {
+        Slip::Forward
+    }
+}
+
+fn transition_error(t: f64, e: RingError) -> ModelError {
+    ModelError::Transition {
+        t,
+        reason: e.to_string(),
+    }
+}
+
+impl<R: SmoothRotor> RotorModel for RubbingRotor<R>
+where
+    DefaultAllocator: Allocator<R::Dim>,
+{
+    type Dim = R::Dim;
+    type Mode = RubMode;
+    type Segment = LinearFreeSegment;
+    type Cache = RubCache;
+
+    fn dim(&self) -> R::Dim {
+        self.inner.dim()
+    }
+
+    fn state_scale(&self) -> OVector<f64, R::Dim> {
+        self.inner.state_scale()
+    }
+
+    fn error_scale(&self) -> Option<OVector<f64, R::Dim>> {
+        self.inner.error_scale()
+    }
+
+    fn new_cache(&self) -> RubCache {
+        RubCache {
+            ring: self.inner.new_cache(),
+            hint: Cell::new(f64::NAN),
+        }
+    }
+
+    fn is_algebraic(&self, i: usize) -> bool {
+        self.inner.is_algebraic(i)
+    }
+
+    /// The frictionless composition's start, except that with friction a rotor beyond the gap
+    /// circle starts in the contact mode of the ring's onset rule (the driver then places the
+    /// ring for it).
+    fn initial_mode(&self, t: f64, y: &OVector<f64, R::Dim>) -> Result<RubMode, ModelError> {
+        let gap = self.rub.ring().gap;
+        if self.rub.friction() > 0.0 && self.station(y).r.norm() > gap {
+            return self
+                .start(t, y, None)
+                .map(|(m, _)| m)
+                .map_err(|e| ModelError::InvalidState {
+                    t,
+                    reason: e.to_string(),
+                });
+        }
+        let mode = self.inner.initial_mode(t, y)?;
+        if let (RingMode::Contact(b), true) = (mode, self.rub.friction() > 0.0) {
+            return self.start(t, y, Some(b)).map(|(m, _)| m).map_err(|e| {
+                ModelError::InvalidState {
+                    t,
+                    reason: e.to_string(),
+                }
+            });
+        }
+        Ok(RubMode::Ring(mode))
+    }
+
+    fn flow(&self, mode: RubMode) -> Flow {
+        match mode {
+            RubMode::Ring(m) => self.inner.flow(m),
+            _ => Flow::Integrated,
+        }
+    }
+
+    fn rhs(
+        &self,
+        mode: RubMode,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        dy: &mut OVector<f64, R::Dim>,
+        cache: &RubCache,
+    ) {
+        if let RubMode::Ring(m) = mode {
+            return self.inner.rhs(m, t, y, dy, &cache.ring);
+        }
+        self.inner.rotor.rhs(t, y, dy);
+        match self.contact(mode, t, y, cache) {
+            Ok(c) => {
+                self.inner.rotor.add_station_force(y, &-c.force, dy);
+                let [i, j] = self.inner.rotor.ring_slots();
+                dy[i] = c.s_dot.x;
+                dy[j] = c.s_dot.y;
+            }
+            Err(_) => dy.fill(f64::NAN),
+        }
+    }
+
+    fn guard_count(&self, mode: RubMode) -> usize {
+        match mode {
+            RubMode::Ring(m) => self.inner.guard_count(m),
+            _ => 3,
+        }
+    }
+
+    fn guard_direction(&self, mode: RubMode, i: usize) -> Direction {
+        match mode {
+            RubMode::Ring(m) => self.inner.guard_direction(m, i),
+            _ => Direction::Falling,
+        }
+    }
+
+    fn is_contact_onset(&self, mode: RubMode, i: usize) -> bool {
+        match mode {
+            RubMode::Ring(m) => self.inner.is_contact_onset(m, i),
+            _ => false,
+        }
+    }
+
+    fn guard_value(
+        &self,
+        mode: RubMode,
+        i: usize,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        cache: &RubCache,
+    ) -> f64 {
+        match mode {
+            RubMode::Ring(m) => self.inner.guard_value(m, i, t, y, &cache.ring),
+            _ => self
+                .contact(mode, t, y, cache)
+                .map_or(f64::NAN, |c| c.guards[i.min(FRICTION)]),
+        }
+    }
+
+    fn guard_derivative(
+        &self,
+        mode: RubMode,
+        i: usize,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        dy: &OVector<f64, R::Dim>,
+        cache: &RubCache,
+    ) -> Option<f64> {
+        match mode {
+            RubMode::Ring(m) => self.inner.guard_derivative(m, i, t, y, dy, &cache.ring),
+            _ => self
+                .guard_rates(mode, t, y, dy, cache)
+                .ok()
+                .map(|r| r[i.min(FRICTION)]),
+        }
+    }
+
+    fn guard_derivative_needs_rhs(&self) -> bool {
+        true
+    }
+
+    fn guard_derivative_needs_rhs_of(&self, mode: RubMode, i: usize) -> bool {
+        match mode {
+            RubMode::Ring(m) => self.inner.guard_derivative_needs_rhs_of(m, i),
+            _ => i != GAP,
+        }
+    }
+
+    fn guard_values(
+        &self,
+        mode: RubMode,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        dy: &OVector<f64, R::Dim>,
+        with_rates: bool,
+        cache: &RubCache,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
+        if let RubMode::Ring(m) = mode {
+            return self
+                .inner
+                .guard_values(m, t, y, dy, with_rates, &cache.ring, out);
+        }
+        let values = self.contact(mode, t, y, cache).map(|c| c.guards);
+        let rates = with_rates
+            .then(|| self.guard_rates(mode, t, y, dy, cache).ok())
+            .flatten();
+        for i in 0..3 {
+            out(
+                i,
+                values.as_ref().map_or(f64::NAN, |v| v[i]),
+                rates.map(|r| r[i]),
+            );
+        }
+    }
+
+    fn guard_error(
+        &self,
+        mode: RubMode,
+        i: usize,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        cache: &RubCache,
+    ) -> ModelError {
+        match mode {
+            RubMode::Ring(m) => self.inner.guard_error(m, i, t, y, &cache.ring),
+            _ => match self.contact(mode, t, y, cache) {
+                Err(e) => ModelError::InvalidState {
+                    t,
+                    reason: e.to_string(),
+                },
+                Ok(_) => ModelError::InvalidState {
+                    t,
+                    reason: format!("guard {i} of the friction contact returned NaN"),
+                },
+            },
+        }
+    }
+
+    fn guard_label(&self, mode: RubMode, i: usize) -> &'static str {
+        match (mode, i) {
+            (RubMode::Ring(m), _) => self.inner.guard_label(m, i),
+            (_, LOSS) => "contact loss",
+            (_, GAP) => "rotor at gap",
+            (RubMode::Slip(_), _) => "slip velocity zero",
+            _ => "friction cone's edge",
+        }
+    }
+
+    fn transition(
+        &self,
+        mode: RubMode,
+        guard: usize,
+        t: f64,
+        y: &mut OVector<f64, R::Dim>,
+    ) -> Result<RubMode, ModelError> {
+        match (mode, guard) {
+            (RubMode::Ring(m), _) => {
+                let next = self.inner.transition(m, guard, t, y)?;
+                let RingMode::Contact(b) = next else {
+                    return Ok(RubMode::Ring(next));
+                };
+                if self.rub.friction() == 0.0 {
+                    return Ok(RubMode::Ring(next));
+                }
+                let (mode, s) = self
+                    .start(t, y, Some(b))
+                    .map_err(|e| transition_error(t, e))?;
+                self.write_slots(y, s);
+                Ok(mode)
+            }
+            (_, LOSS | GAP) => self.release(mode, t, y),
+            (RubMode::Slip(slip), _) => self.stop(slip, t, y),
+            (RubMode::Roll { .. }, _) => self.slide(mode, t, y),
+        }
+    }
+
+    fn start_segment(&self, mode: RubMode, t: f64, y: &OVector<f64, R::Dim>) -> LinearFreeSegment {
+        let ring_mode = match mode {
+            RubMode::Ring(m) => m,
+            // Never started for a contact mode (integrated).
+            _ => RingMode::Contact(OUTER),
+        };
+        self.inner.start_segment(ring_mode, t, y)
+    }
+
+    fn project(&self, mode: RubMode, t: f64, y: &mut OVector<f64, R::Dim>, cache: &RubCache) {
+        match mode {
+            RubMode::Ring(m) => self.inner.project(m, t, y, &cache.ring),
+            _ => {
+                if let Ok(c) = self.contact(mode, t, y, cache) {
+                    self.write_slots(y, c.s);
+                }
+            }
+        }
+    }
+
+    fn mode_label(&self, mode: RubMode) -> u8 {
+        match mode {
+            RubMode::Ring(m) => self.inner.mode_label(m),
+            RubMode::Slip(Slip::Forward) => 6,
+            RubMode::Slip(Slip::Backward) => 7,
+            RubMode::Roll { .. } => 8,
+        }
+    }
+
+    fn forcing_period(&self) -> f64 {
+        self.inner.forcing_period()
+    }
+
+    fn strobe_time(&self, k: u64) -> f64 {
+        self.inner.strobe_time(k)
+    }
+
+    fn max_rate(&self, mode: RubMode, t: f64, y: &OVector<f64, R::Dim>) -> Option<f64> {
+        let ring_mode = match mode {
+            RubMode::Ring(m) => m,
+            _ => RingMode::Contact(OUTER),
+        };
+        self.inner.max_rate(ring_mode, t, y)
+    }
+
+    /// The frictionless composition's in its modes; in contact the rotor's Jacobian with the
+    /// ring force's: slipping, [`FrictionRing::slip_force_jacobian`]; rolling,
+    /// $\partial F/\partial r = G^\prime$ and $\partial F/\partial v = C$ (the contact direction
+    /// follows the shaft, not the rotor).
+    fn jacobian(
+        &self,
+        mode: RubMode,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        jac: &mut JacobianMut<'_, R::Dim>,
+        cache: &RubCache,
+    ) -> bool {
+        let k = self.station(y);
+        let force = match mode {
+            RubMode::Ring(m) => return self.inner.jacobian(m, t, y, jac, &cache.ring),
+            RubMode::Slip(slip) => {
+                match self
+                    .rub
+                    .locate_slipping_on(&k.r, slip, OUTER, cache.hint.get())
+                {
+                    Ok(c) => self.rub.slip_force_jacobian(&c, &k.v),
+                    Err(_) => return false,
+                }
+            }
+            RubMode::Roll { .. } => {
+                let Ok(c) = self.contact(mode, t, y, cache) else {
+                    return false;
+                };
+                let ring = self.rub.ring();
+                ForceJacobian {
+                    position: Matrix2::from_diagonal(&Vector2::new(
+                        ring.x.stiffness,
+                        ring.y.stiffness,
+                    )),
+                    velocity: Matrix2::from_diagonal(&c.damping),
+                    force: c.force,
+                }
+            }
+        };
+        if !self.inner.rotor.jacobian(t, y, Some(&force), jac) {
+            return false;
+        }
+        for i in self.inner.rotor.ring_slots() {
+            jac.row_mut(i).fill(0.0);
+        }
+        true
+    }
+
+    fn linear_part(&self) -> Option<&crate::ode::DiagonalLinearPart> {
+        self.inner.linear_part()
+    }
+
+    fn second_order(&self) -> Option<usize> {
+        self.inner.second_order()
+    }
+
+    fn diagonal_springs(&self) -> Option<crate::ode::DiagonalSprings<'_>> {
+        self.inner.diagonal_springs()
+    }
+}

@@ -1,0 +1,350 @@
+//! Simulations with friction at the ring (`rotor::RubbingRotor`) against the closed forms of
+//! `paper::rub` (from a start on the orbit) and the frictionless composition (at zero friction).
+
+use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, SimOptions, Trajectory};
+use jeffcott::nalgebra::{Complex, DMatrix, DVector, Vector2};
+use jeffcott::paper::rub::synchronous_rub;
+use jeffcott::params::Params;
+use jeffcott::ring::SnubberRing;
+use jeffcott::rotor::{LinearRotor, LinearSystem, RingedRotor, RubbingRotor};
+
+/// The paper's rotor (non-dimensional: M = I, K = I, C = 2 nu1 I, out-of-balance
+/// beta eta^2 at phase phi0) centred in an isotropic ring without preload.
+fn paper_rotor(p: &Params) -> RingedRotor<LinearRotor> {
+    let eye = DMatrix::<f64>::identity(2, 2);
+    let f = p.beta * p.eta * p.eta;
+    let phase = Complex::from_polar(f, p.phi0);
+    let system = LinearSystem::new(eye.clone(), &eye * (2.0 * p.nu1), eye, p.eta)
+        .unwrap()
+        .with_harmonic_force(0, phase)
+        .unwrap()
+        .with_harmonic_force(1, phase * Complex::new(0.0, -1.0))
+        .unwrap();
+    let ring = SnubberRing::isotropic(p.kx, 0.0, p.nu2).unwrap();
+    LinearRotor::new(system, [0, 1], [0.0, 0.0])
+        .unwrap()
+        .ringed(ring)
+        .unwrap()
+}
+
+/// Started on a synchronous full annular rub (`paper::rub`: 58 orbits at 40 speeds, radii
+/// 1.002 to 1.09), the simulation stays on it for three periods, slipping forward without an event.
+#[test]
+fn a_start_on_the_synchronous_rub_stays_on_it() {
+    let (mu, a) = (0.2, 5.0);
+    let mut checked = 0;
+    for i in 0..40 {
+        let eta = 0.6 + 0.05 * i as f64;
+        let p = Params {
+            eta,
+            nu1: 0.05,
+            nu2: 0.002,
+            kx: 30.0,
+            ky: 30.0,
+            beta: 0.5,
+            dx: 0.0,
+            dy: 0.0,
+            ex: 0.0,
+            ey: 0.0,
+            phi0: 0.3,
+        };
+        for rub in synchronous_rub(&p, mu).unwrap() {
+            let model = RubbingRotor::new(paper_rotor(&p), mu, a).unwrap();
+            let (r, v) = rub.rotor(0.0);
+            let s = rub.ring(0.0);
+            let y0 = DVector::from_vec(vec![r.x, r.y, v.x, v.y, s.x, s.y]);
+            let period = std::f64::consts::TAU / eta;
+            let plan = OutputPlan {
+                t_end: 3.0 * period,
+                strobe: None,
+                dense: Some(DenseSampling {
+                    t_start: 0.0,
+                    dt: period / 64.0,
+                }),
+                events: true,
+            };
+            let opts = SimOptions::default().with_rtol(1e-11).with_atol(1e-12);
+            let mut traj = Trajectory::default();
+            let stats = simulate(&model, 0.0, &y0, &plan, &opts, &mut traj);
+            stats.unwrap();
+            let mut worst = 0f64;
+            for smp in &traj.samples {
+                let (rc, _) = rub.rotor(smp.t);
+                worst = worst.max(((smp.y[0] - rc.x).powi(2) + (smp.y[1] - rc.y).powi(2)).sqrt());
+                assert_eq!(smp.label, 6, "slipping forward throughout");
+            }
+            assert!(
+                traj.events.is_empty(),
+                "{:?}",
+                traj.events.first().map(|e| e.kind)
+            );
+            assert!(
+                worst <= 1e-8 * rub.radius,
+                "eta {eta}: {worst:e} off the orbit"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 0);
+}
+
+/// The paper's rotor at `p` with the ring offset by its eccentricity.
+fn eccentric_rotor(p: &Params) -> RingedRotor<LinearRotor> {
+    let eye = DMatrix::<f64>::identity(2, 2);
+    let f = p.beta * p.eta * p.eta;
+    let phase = Complex::from_polar(f, p.phi0);
+    let system = LinearSystem::new(eye.clone(), &eye * (2.0 * p.nu1), eye, p.eta)
+        .unwrap()
+        .with_harmonic_force(0, phase)
+        .unwrap()
+        .with_harmonic_force(1, phase * Complex::new(0.0, -1.0))
+        .unwrap();
+    let ring = SnubberRing::new(
+        jeffcott::ring::RingAxis::new(p.kx, 0.0),
+        jeffcott::ring::RingAxis::new(p.ky, 0.0),
+        p.nu2,
+        1.0,
+    )
+    .unwrap();
+    // The station is q - offset: the ring's centre at -e from the rotor's rest.
+    LinearRotor::new(system, [0, 1], [-p.ex, -p.ey])
+        .unwrap()
+        .ringed(ring)
+        .unwrap()
+}
+
+/// The Fig. 8 rotor (anisotropic ring, eccentric) at `eta`.
+fn fig8(eta: f64) -> Params {
+    Params {
+        eta,
+        nu1: 0.125,
+        nu2: 0.002,
+        kx: 30.0,
+        ky: 20.0,
+        beta: 0.119,
+        dx: 0.0,
+        dy: 0.0,
+        ex: 0.9,
+        ey: 0.1,
+        phi0: 0.0,
+    }
+}
+
+/// Runs `model` from rest for `periods` forcing periods, 64 samples a period, with events.
+fn run<M>(model: &M, eta: f64, periods: f64) -> Trajectory<jeffcott::nalgebra::Dyn>
+where
+    M: jeffcott::hybrid::RotorModel<Dim = jeffcott::nalgebra::Dyn>,
+{
+    let period = std::f64::consts::TAU / eta;
+    let plan = OutputPlan {
+        t_end: periods * period,
+        strobe: None,
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: period / 64.0,
+        }),
+        events: true,
+    };
+    let opts = SimOptions::default().with_rtol(1e-10).with_atol(1e-11);
+    let mut traj = Trajectory::default();
+    simulate(model, 0.0, &DVector::zeros(6), &plan, &opts, &mut traj).unwrap();
+    traj
+}
+
+/// Along runs from rest with onsets, losses, slipping and rolling, every sample obeys
+/// Coulomb's law as written in MODEL.md, checked here from the sample alone (the rotor's and
+/// the ring's positions and velocities): on the circle; slipping forward with `v >= 0` and
+/// `F_t = mu N`; rolling with `v = 0` and `|F_t| <= mu N`; and the rotor's acceleration is the
+/// equation of motion's with the ring's force `g(s) + C s'`.
+#[test]
+fn every_sample_obeys_coulombs_law() {
+    let mut seen = std::collections::BTreeMap::new();
+    for (mu, a, eta) in [(0.2, 10.0, 2.5), (0.3, 0.05, 2.5), (0.5, 0.2, 3.0)] {
+        let p = fig8(eta);
+        let model = RubbingRotor::new(eccentric_rotor(&p), mu, a).unwrap();
+        let ring = *model.friction_ring().ring();
+        let traj = run(&model, eta, 60.0);
+        for e in &traj.events {
+            *seen.entry(e.kind).or_insert(0) += 1;
+        }
+        for smp in &traj.samples {
+            let (y, dy) = (&smp.y, &smp.dy);
+            let r = Vector2::new(y[0] + p.ex, y[1] + p.ey);
+            let (r_dot, s) = (Vector2::new(y[2], y[3]), Vector2::new(y[4], y[5]));
+            let s_dot = Vector2::new(dy[4], dy[5]);
+            let in_contact = smp.label >= 6;
+            let f = if in_contact {
+                ring.elastic_force(&s) + ring.damping_coefficients(&s).component_mul(&s_dot)
+            } else {
+                Vector2::zeros()
+            };
+            // The equation of motion: r'' = F - 2 nu1 r' - q - f.
+            let th = p.phi0 + eta * smp.t;
+            let forcing = Vector2::new(th.cos(), th.sin()) * (p.beta * eta * eta);
+            let accel = forcing - r_dot * (2.0 * p.nu1) - Vector2::new(y[0], y[1]) - f;
+            let scale = 1.0 + f.norm() + forcing.norm();
+            assert!(
+                (Vector2::new(dy[2], dy[3]) - accel).norm() <= 1e-12 * scale,
+                "t {}",
+                smp.t
+            );
+            if !in_contact {
+                continue;
+            }
+            *seen
+                .entry(["slip+", "slip-", "roll"][usize::from(smp.label - 6)])
+                .or_insert(0) += 1;
+            let n = r - s;
+            assert!(
+                (n.norm() - 1.0).abs() <= 1e-12,
+                "t {}: |r - s| = {}",
+                smp.t,
+                n.norm()
+            );
+            let t = Vector2::new(-n.y, n.x);
+            let g = ring.elastic_force(&s);
+            let (normal, tangential) = (n.dot(&g), t.dot(&g));
+            let v = (r_dot - s_dot).dot(&t) + eta * a;
+            let tol = 1e-9 * (1.0 + normal.abs());
+            match smp.label {
+                6 => assert!(
+                    v >= -1e-9 && (tangential - mu * normal).abs() <= tol,
+                    "t {}: v {v}, F_t {tangential}, N {normal}",
+                    smp.t
+                ),
+                7 => assert!(
+                    v <= 1e-9 && (tangential + mu * normal).abs() <= tol,
+                    "t {}",
+                    smp.t
+                ),
+                _ => assert!(
+                    v.abs() <= 1e-9 * (1.0 + eta * a) && tangential.abs() <= mu * normal + tol,
+                    "t {}: v {v}, F_t {tangential}, N {normal}",
+                    smp.t
+                ),
+            }
+        }
+    }
+    println!("events and samples seen: {seen:?}");
+    for kind in [
+        "slip+",
+        "roll",
+        "contact onset",
+        "contact loss",
+        "slip velocity zero",
+        "friction cone's edge",
+    ] {
+        assert!(seen.contains_key(kind), "{kind} never met: {seen:?}");
+    }
+}
+
+/// Without friction the composition is the frictionless one, bit for bit.
+#[test]
+fn without_friction_it_is_the_frictionless_rotor_bit_for_bit() {
+    let p = fig8(2.5);
+    let plain = run(&eccentric_rotor(&p), 2.5, 40.0);
+    let rub = run(
+        &RubbingRotor::new(eccentric_rotor(&p), 0.0, 1.0).unwrap(),
+        2.5,
+        40.0,
+    );
+    assert!(plain.events.len() > 10);
+    assert_eq!(plain.samples.len(), rub.samples.len());
+    for (a, b) in plain.samples.iter().zip(&rub.samples) {
+        assert_eq!((a.t, &a.y, &a.dy, a.label), (b.t, &b.y, &b.dy, b.label));
+    }
+    let times = |t: &Trajectory<_>| t.events.iter().map(|e| (e.t, e.kind)).collect::<Vec<_>>();
+    assert_eq!(times(&plain), times(&rub));
+}
+
+/// Started on a dry whip orbit (no out-of-balance, a shaft surface faster than the whirl),
+/// the simulation stays on it: a backward whirl slipping forward.
+#[test]
+fn a_start_on_dry_whip_stays_on_it() {
+    let (mu, a) = (0.3, 1.0);
+    let p = Params {
+        beta: 0.0,
+        ..fig8(8.0)
+    };
+    let p = Params {
+        ky: p.kx,
+        ex: 0.0,
+        ey: 0.0,
+        ..p
+    };
+    let whips = jeffcott::paper::rub::dry_whip(&p, mu).unwrap();
+    assert!(!whips.is_empty());
+    for whip in whips {
+        assert!(whip.frequency < p.eta * a);
+        let model = RubbingRotor::new(paper_rotor(&p), mu, a).unwrap();
+        let (r, v) = whip.rotor(0.0);
+        let s = whip.ring(0.0);
+        let y0 = DVector::from_vec(vec![r.x, r.y, v.x, v.y, s.x, s.y]);
+        let period = std::f64::consts::TAU / whip.frequency;
+        let plan = OutputPlan {
+            t_end: 3.0 * period,
+            strobe: None,
+            dense: Some(DenseSampling {
+                t_start: 0.0,
+                dt: period / 64.0,
+            }),
+            events: true,
+        };
+        let opts = SimOptions::default().with_rtol(1e-11).with_atol(1e-12);
+        let mut traj = Trajectory::default();
+        simulate(&model, 0.0, &y0, &plan, &opts, &mut traj).unwrap();
+        let mut worst = 0f64;
+        for smp in &traj.samples {
+            let (rc, _) = whip.rotor(smp.t);
+            worst = worst.max((Vector2::new(smp.y[0], smp.y[1]) - rc).norm());
+            assert_eq!(smp.label, 6);
+        }
+        println!(
+            "dry whip w {:.5} radius {:.4}: {worst:.1e} off over three whirls",
+            whip.frequency, whip.radius
+        );
+        assert!(traj.events.is_empty() && worst <= 1e-8 * whip.radius);
+    }
+}
+
+/// The contact guards' rates (`guard_derivative`, which event location and grazing detection
+/// read) against central differences of the guards along the flow, at contact samples of a run
+/// (slipping as they were, rolling from the sample's contact direction).
+#[test]
+fn contact_guard_rates_match_differences_along_the_flow() {
+    use jeffcott::hybrid::RotorModel;
+    use jeffcott::ring::Slip;
+    use jeffcott::rotor::RubMode;
+    let (mu, a, eta) = (0.3, 0.05, 2.5);
+    let p = fig8(eta);
+    let model = RubbingRotor::new(eccentric_rotor(&p), mu, a).unwrap();
+    let traj = run(&model, eta, 20.0);
+    let cache = model.new_cache();
+    let mut checked = 0;
+    for smp in traj.samples.iter().filter(|s| s.label >= 6) {
+        let (y, t) = (&smp.y, smp.t);
+        let n = Vector2::new(y[0] + p.ex - y[4], y[1] + p.ey - y[5]);
+        for mode in [
+            RubMode::Slip(Slip::Forward),
+            RubMode::Roll {
+                angle: n.y.atan2(n.x),
+                shaft: eta * t,
+            },
+        ] {
+            let mut dy = y.clone();
+            model.rhs(mode, t, y, &mut dy, &cache);
+            let h = 1e-6;
+            for i in 0..3 {
+                let g = |s: f64| model.guard_value(mode, i, t + s, &(y + &dy * s), &cache);
+                let fd = (g(h) - g(-h)) / (2.0 * h);
+                let rate = model.guard_derivative(mode, i, t, y, &dy, &cache).unwrap();
+                assert!(
+                    (fd - rate).abs() <= 1e-5 * (1.0 + rate.abs()),
+                    "t {t}, {mode:?}, guard {i}: rate {rate} vs differences {fd}"
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 100, "{checked}");
+}
