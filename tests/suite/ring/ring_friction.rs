@@ -40,6 +40,38 @@ fn constructed(
     (s + n * ring.gap, s)
 }
 
+/// A slipping contact constructed for a property case: the sense from `forward`, the normal
+/// force `10^load max K gap`; the rotor position, the constructed ring position, the ring with
+/// friction and the located contact.
+struct Case {
+    slip: Slip,
+    n_force: f64,
+    r: Vector2<f64>,
+    s: Vector2<f64>,
+    rub: FrictionRing,
+    c: jeffcott::ring::SlipContact,
+}
+
+fn case(ring: SnubberRing, mu: f64, theta: f64, load: f64, forward: bool) -> Case {
+    let slip = if forward {
+        Slip::Forward
+    } else {
+        Slip::Backward
+    };
+    let n_force = 10f64.powf(load) * ring.x.stiffness.max(ring.y.stiffness) * ring.gap;
+    let (r, s) = constructed(&ring, theta, n_force, mu * slip.sign());
+    let rub = FrictionRing::new(ring, mu).unwrap();
+    let c = rub.locate_slipping(&r, slip).unwrap();
+    Case {
+        slip,
+        n_force,
+        r,
+        s,
+        rub,
+        c,
+    }
+}
+
 fn cases() -> ProptestConfig {
     ProptestConfig {
         cases: 2000,
@@ -81,11 +113,7 @@ proptest! {
         load in -4.0f64..1.0,
         forward in any::<bool>(),
     ) {
-        let slip = if forward { Slip::Forward } else { Slip::Backward };
-        let n_force = 10f64.powf(load) * ring.x.stiffness.max(ring.y.stiffness) * ring.gap;
-        let (r, s) = constructed(&ring, theta, n_force, mu * slip.sign());
-        let rub = FrictionRing::new(ring, mu).unwrap();
-        let c = rub.locate_slipping(&r, slip).unwrap();
+        let Case { slip, n_force, r, s, c, .. } = case(ring, mu, theta, load, forward);
         let scale = r.norm() + ring.gap;
         prop_assert!((c.s - s).norm() <= 1e-12 * scale, "s {:?} vs {:?}", c.s, s);
         prop_assert!(((r - c.s).norm() - ring.gap).abs() <= 4e-15 * scale);
@@ -196,11 +224,7 @@ proptest! {
         load in -3.0f64..0.5,
         forward in any::<bool>(),
     ) {
-        let slip = if forward { Slip::Forward } else { Slip::Backward };
-        let n_force = 10f64.powf(load) * ring.x.stiffness.max(ring.y.stiffness) * ring.gap;
-        let (r, _) = constructed(&ring, theta, n_force, mu * slip.sign());
-        let rub = FrictionRing::new(ring, mu).unwrap();
-        let c = rub.locate_slipping(&r, slip).unwrap();
+        let Case { slip, r, rub, c, .. } = case(ring, mu, theta, load, forward);
         // Richardson's extrapolation of two central differences: error O(h^4).
         let h = 1e-6 * (r.norm() + ring.gap);
         let central = |k: usize, h: f64| {
@@ -449,11 +473,7 @@ proptest! {
         surface in -2.0f64..2.0,
     ) {
         let ring = SnubberRing { damping: 0.05, ..ring };
-        let slip = if forward { Slip::Forward } else { Slip::Backward };
-        let n_force = 10f64.powf(load) * ring.x.stiffness.max(ring.y.stiffness) * ring.gap;
-        let (r, _) = constructed(&ring, theta, n_force, mu * slip.sign());
-        let rub = FrictionRing::new(ring, mu).unwrap();
-        let c = rub.locate_slipping(&r, slip).unwrap();
+        let Case { n_force, r, rub, c, .. } = case(ring, mu, theta, load, forward);
         let r_dot = Vector2::new(vx, vy) * ring.gap;
         let roll = rub.rolling(&r, c.normal.y.atan2(c.normal.x)).unwrap();
         let cases = [
@@ -495,11 +515,7 @@ proptest! {
         (vx, vy) in (-3.0f64..3.0, -3.0f64..3.0),
     ) {
         let ring = SnubberRing { damping: 0.05, ..ring };
-        let slip = if forward { Slip::Forward } else { Slip::Backward };
-        let n_force = 10f64.powf(load) * ring.x.stiffness.max(ring.y.stiffness) * ring.gap;
-        let (r, _) = constructed(&ring, theta, n_force, mu * slip.sign());
-        let rub = FrictionRing::new(ring, mu).unwrap();
-        let c = rub.locate_slipping(&r, slip).unwrap();
+        let Case { slip, r, rub, c, .. } = case(ring, mu, theta, load, forward);
         let v = Vector2::new(vx, vy) * ring.gap;
         let hess = rub.slip_hessian(&c);
         let jac = rub.slip_force_jacobian(&c, &v);
