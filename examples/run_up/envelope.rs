@@ -26,14 +26,15 @@ pub fn draw(out: &Path, title: &str, legs: &[(String, Vec<Revolution>)]) -> Resu
 }
 
 /// Writes `revolutions.csv` in `out`: per leg and revolution, its start, mean speed, largest
-/// radius, time in contact and the fraction of time in each regime I..V.
+/// radius, time in contact and the fraction of time in each regime I..V (the friction's
+/// modes, never met by the frictionless run-up, are left out).
 pub fn write_table(out: &Path, legs: &[(String, Vec<Revolution>)]) -> Result<(), String> {
     let path = out.join("revolutions.csv");
     let mut text =
         String::from("leg,t_start,eta,max_radius,contact_time,occ_I,occ_II,occ_III,occ_IV,occ_V\n");
     for (leg, (_, revs)) in legs.iter().enumerate() {
         for r in revs {
-            let occ: Vec<String> = r.occupancy.iter().map(f64::to_string).collect();
+            let occ: Vec<String> = r.occupancy[..5].iter().map(f64::to_string).collect();
             text += &format!(
                 "{leg},{},{},{},{},{}\n",
                 r.t_start,

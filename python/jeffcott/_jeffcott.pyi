@@ -91,6 +91,7 @@ class FeRun:
     force_x: npt.NDArray[np.float64]  # (N,) N, the ring's force on the rotor
     force_y: npt.NDArray[np.float64]  # (N,) N
     normal_force: npt.NDArray[np.float64]  # (N,) N, >= 0
+    friction_force: npt.NDArray[np.float64]  # (N,) N, along the tangent (counter-clockwise)
     probe_nodes: npt.NDArray[np.uint64]  # (P,)
     probe_x: npt.NDArray[np.float64]  # (N, P) m
     probe_y: npt.NDArray[np.float64]  # (N, P) m
@@ -348,6 +349,8 @@ def fe_transient(
     mode_tolerance: float = 1e-3,
     probe_nodes: Sequence[int] = [],
     form: str = "physical",
+    friction: float = 0.0,
+    shaft_radius: float | None = None,
     rtol: float = 1e-8,
     atol: float | None = None,
     method: str | None = None,

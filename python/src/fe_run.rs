@@ -2,9 +2,9 @@
 //! the ring node's motion, the ring, the contact force at the samples; each contact episode;
 //! each revolution's peak.
 
-use jeffcott::hybrid::{EventRecord, SimStats, Trajectory};
+use jeffcott::hybrid::{EventRecord, ModelError, RotorModel, SimStats, Trajectory};
 use jeffcott::nalgebra::{DVector, Dyn, Vector2};
-use jeffcott::rotor::{RingedRotor, SmoothRotor};
+use jeffcott::rotor::{LinearClosedForm, RingedRotor, RotorError, RubbingRotor, SmoothRotor};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -62,6 +62,10 @@ pub struct FeRun {
     /// The normal contact force (N, >= 0 in contact), pressing the rotor back towards the
     /// ring's centre, shape (N,).
     pub normal_force: Py<PyArray1<f64>>,
+    /// The friction force (N): the ring's force on the rotor along the tangent (the contact
+    /// normal turned by +90 degrees, counter-clockwise), shape (N,); zero out of contact, and
+    /// without friction up to the ring dampers' tangential part.
+    pub friction_force: Py<PyArray1<f64>>,
     /// The probed nodes (``probe_nodes``), shape (P,).
     pub probe_nodes: Py<PyArray1<u64>>,
     /// Their x displacements (m), shape (N, P).
@@ -102,10 +106,57 @@ pub struct FeRun {
     pub stats: Py<PyDict>,
 }
 
+/// A finite-element run's model: the frictionless composition ([`RingedRotor`]) or the one
+/// with friction at the ring ([`RubbingRotor`]).
+pub trait RunModel: RotorModel<Dim = Dyn> + Sync {
+    /// The rotor without the ring.
+    type Rotor: SmoothRotor<Dim = Dyn>;
+    /// The rotor without the ring.
+    fn smooth(&self) -> &Self::Rotor;
+    /// The ring's force on the rotor at time `t` in a state `y` with the mode label `label`.
+    fn force(&self, t: f64, y: &DVector<f64>, label: u8) -> Result<Vector2<f64>, ModelError>;
+    /// The free flight's closed form, as [`RingedRotor::closed_form`].
+    fn closed_form(&self) -> Option<Result<&LinearClosedForm, &RotorError>>;
+    /// Writes the ring's position for the rotor's station into the state.
+    fn make_consistent(&self, y: &mut DVector<f64>) -> Result<(), ModelError>;
+}
+
+impl<R: SmoothRotor<Dim = Dyn> + Sync> RunModel for RingedRotor<R> {
+    type Rotor = R;
+    fn smooth(&self) -> &R {
+        self.rotor()
+    }
+    fn force(&self, _t: f64, y: &DVector<f64>, label: u8) -> Result<Vector2<f64>, ModelError> {
+        self.contact_force(y, label != 1)
+    }
+    fn closed_form(&self) -> Option<Result<&LinearClosedForm, &RotorError>> {
+        RingedRotor::closed_form(self)
+    }
+    fn make_consistent(&self, y: &mut DVector<f64>) -> Result<(), ModelError> {
+        RingedRotor::make_consistent(self, y)
+    }
+}
+
+impl<R: SmoothRotor<Dim = Dyn> + Sync> RunModel for RubbingRotor<R> {
+    type Rotor = R;
+    fn smooth(&self) -> &R {
+        self.ringed().rotor()
+    }
+    fn force(&self, t: f64, y: &DVector<f64>, label: u8) -> Result<Vector2<f64>, ModelError> {
+        self.contact_force(t, y, label)
+    }
+    fn closed_form(&self) -> Option<Result<&LinearClosedForm, &RotorError>> {
+        self.ringed().closed_form()
+    }
+    fn make_consistent(&self, y: &mut DVector<f64>) -> Result<(), ModelError> {
+        self.ringed().make_consistent(y)
+    }
+}
+
 /// What a run's result is made of besides its trajectory.
-pub struct RunFacts<'a, R: SmoothRotor<Dim = Dyn>> {
+pub struct RunFacts<'a, M: RunModel> {
     /// The model that ran.
-    pub model: &'a RingedRotor<R>,
+    pub model: &'a M,
     /// The ring node's displacement from its undeflected position in a state.
     pub displacement: &'a dyn Fn(&DVector<f64>) -> [f64; 2],
     /// The speed at a time.
@@ -122,27 +173,34 @@ pub struct RunFacts<'a, R: SmoothRotor<Dim = Dyn>> {
     pub probes: (&'a [usize], &'a Probes),
 }
 
-/// The ring's force on the rotor and its normal part N = n . f (n from the ring's centre to
-/// the station) in a state of the run.
-fn force_of<R: SmoothRotor<Dim = Dyn>>(
-    model: &RingedRotor<R>,
+/// The ring's force on the rotor, its normal part N = n . f (n from the ring's centre to the
+/// station) and its friction part t . f (t, n turned by +90 degrees) in a state of the run at
+/// time `t` with mode label `label`.
+fn force_of<M: RunModel>(
+    model: &M,
+    t: f64,
     y: &DVector<f64>,
-    in_contact: bool,
-) -> PyResult<(Vector2<f64>, f64)> {
-    let force = model.contact_force(y, in_contact).map_err(value_error)?;
-    if !in_contact {
-        return Ok((force, 0.0));
+    label: u8,
+) -> PyResult<(Vector2<f64>, f64, f64)> {
+    let force = model.force(t, y, label).map_err(value_error)?;
+    if label == 1 {
+        return Ok((force, 0.0, 0.0));
     }
-    let r = model.rotor().station(y).r;
-    let [i, j] = model.rotor().ring_slots();
+    let r = model.smooth().station(y).r;
+    let [i, j] = model.smooth().ring_slots();
     let n = r - Vector2::new(y[i], y[j]);
-    Ok((force, -n.dot(&force) / n.norm()))
+    let tangent = Vector2::new(-n.y, n.x);
+    Ok((
+        force,
+        -n.dot(&force) / n.norm(),
+        tangent.dot(&force) / n.norm(),
+    ))
 }
 
 /// The run's result from its trajectory (samples with strobes once a revolution, events).
-pub fn fe_run<R: SmoothRotor<Dim = Dyn>>(
+pub fn fe_run<M: RunModel>(
     py: Python<'_>,
-    facts: &RunFacts<'_, R>,
+    facts: &RunFacts<'_, M>,
     traj: &Trajectory<Dyn>,
     stats: &SimStats,
 ) -> PyResult<FeRun> {
@@ -150,16 +208,18 @@ pub fn fe_run<R: SmoothRotor<Dim = Dyn>>(
     let s = &traj.samples;
     let forces = s
         .iter()
-        .map(|p| force_of(model, &p.y, p.label != 1))
+        .map(|p| force_of(model, p.t, &p.y, p.label))
         .collect::<PyResult<Vec<_>>>()?;
     let at = |p: &DVector<f64>| (facts.displacement)(p);
-    let velocity: Vec<_> = s.iter().map(|p| model.rotor().station(&p.y).v).collect();
-    let [i, j] = model.rotor().ring_slots();
+    let velocity: Vec<_> = s.iter().map(|p| model.smooth().station(&p.y).v).collect();
+    let [i, j] = model.smooth().ring_slots();
     let changes = |onset: bool| {
         let e = traj
             .events
             .iter()
-            .filter(|e| e.from != e.to && (e.from == 1) == onset);
+            // Contact starts out of free flight and ends into it (a change of regime within
+            // a contact, or of the friction's mode, is neither).
+            .filter(|e| e.from != e.to && if onset { e.from == 1 } else { e.to == 1 });
         array(py, e.map(|e| e.t))
     };
     Ok(FeRun {
@@ -175,6 +235,7 @@ pub fn fe_run<R: SmoothRotor<Dim = Dyn>>(
         force_x: array(py, forces.iter().map(|f| f.0.x)),
         force_y: array(py, forces.iter().map(|f| f.0.y)),
         normal_force: array(py, forces.iter().map(|f| f.1)),
+        friction_force: array(py, forces.iter().map(|f| f.2)),
         probe_nodes: array(py, facts.probes.0.iter().map(|&n| n as u64)),
         probe_x: probed(py, facts.probes.1, traj, [false, false])?,
         probe_y: probed(py, facts.probes.1, traj, [false, true])?,
@@ -230,22 +291,22 @@ impl Episode {
 }
 
 /// The normal force in an event's state before (`before`) or after it, in contact.
-fn event_force<R: SmoothRotor<Dim = Dyn>>(
-    model: &RingedRotor<R>,
-    e: &EventRecord<Dyn>,
-    before: bool,
-) -> PyResult<f64> {
-    let y = if before { &e.before } else { &e.after };
-    Ok(force_of(model, y, true)?.1)
+fn event_force<M: RunModel>(model: &M, e: &EventRecord<Dyn>, before: bool) -> PyResult<f64> {
+    let (y, label) = if before {
+        (&e.before, e.from)
+    } else {
+        (&e.after, e.to)
+    };
+    Ok(force_of(model, e.t, y, label)?.1)
 }
 
 /// The contact episodes: from each onset (or a start in contact) to the next loss, the normal
 /// force at the onset, the samples in contact between, and the loss.
-fn episodes<R: SmoothRotor<Dim = Dyn>>(
+fn episodes<M: RunModel>(
     py: Python<'_>,
-    model: &RingedRotor<R>,
+    model: &M,
     traj: &Trajectory<Dyn>,
-    forces: &[(Vector2<f64>, f64)],
+    forces: &[(Vector2<f64>, f64, f64)],
 ) -> PyResult<ContactEpisodes> {
     let mut all: Vec<Episode> = Vec::new();
     let mut open: Option<Episode> = match traj.samples.first() {

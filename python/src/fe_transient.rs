@@ -3,7 +3,7 @@
 
 use jeffcott::hybrid::{SimOptions, SimStats, Trajectory};
 use jeffcott::nalgebra::{DVector, Dyn};
-use jeffcott::rotor::{ModalRotor, RingedRotor, SmoothRotor};
+use jeffcott::rotor::{LinearRotor, ModalRotor, RingedRotor, RubbingRotor, SmoothRotor};
 use pyo3::prelude::*;
 
 use crate::errors::value_error;
@@ -11,15 +11,16 @@ use crate::fe::{
     default_method, lateral_matrices, rotor_of, system_at, ArrayLike, Margin, Modes, ModesArg,
     Probes, Reduction, RingAt,
 };
-use crate::fe_run::{fe_run, FeRun, RunFacts};
+use crate::fe_run::{fe_run, FeRun, RunFacts, RunModel};
 use crate::options::sim_options;
 use crate::paper::dense_output;
 use crate::runs;
 
 /// What a transient needs besides its model: the speed, the samples, the options, what the
-/// reduction kept and the probes.
+/// reduction kept, the probes, and the friction at the ring with the shaft's radius there.
 struct Plan<'a> {
     speed: f64,
+    friction: (f64, Option<f64>),
     t_end: f64,
     samples: u64,
     opts: SimOptions,
@@ -28,16 +29,13 @@ struct Plan<'a> {
 }
 
 /// The run of `model` from rest (q = q' = 0, the ring consistent) as an ``FeRun``.
-fn transient_of<R>(
+fn transient_of<M: RunModel>(
     py: Python<'_>,
-    model: &RingedRotor<R>,
+    model: &M,
     displacement: &dyn Fn(&DVector<f64>) -> [f64; 2],
     dofs: usize,
     plan: Plan<'_>,
-) -> PyResult<FeRun>
-where
-    R: SmoothRotor<Dim = Dyn> + Sync,
-{
+) -> PyResult<FeRun> {
     // From the closed form the model prepared: no second eigen-decomposition.
     let margin = Margin::of(model.closed_form());
     margin.warn(py)?;
@@ -45,7 +43,7 @@ where
         return Err(value_error("samples must be at least 1"));
     }
     let output = dense_output(plan.t_end, plan.t_end / plan.samples as f64)?.with_strobes();
-    let mut y0 = DVector::zeros(model.rotor().dim().0);
+    let mut y0 = DVector::zeros(model.smooth().dim().0);
     model.make_consistent(&mut y0).map_err(value_error)?;
     let speed = plan.speed;
     let facts = RunFacts {
@@ -61,6 +59,34 @@ where
     let result =
         |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| fe_run(py, &facts, traj, stats);
     runs::run_into(py, model, y0, output, &plan.opts, result)
+}
+
+/// The run of the rotor on the ring, with friction at the ring when the plan has some (the
+/// crate's ``RubbingRotor``), else without (``RingedRotor``, as before).
+fn run_form<R>(
+    py: Python<'_>,
+    model: RingedRotor<R>,
+    displacement: fn(&R, &DVector<f64>) -> [f64; 2],
+    dofs: usize,
+    plan: Plan<'_>,
+) -> PyResult<FeRun>
+where
+    R: SmoothRotor<Dim = Dyn> + Sync,
+{
+    match plan.friction {
+        (0.0, _) => {
+            let at = |y: &DVector<f64>| displacement(model.rotor(), y);
+            transient_of(py, &model, &at, dofs, plan)
+        }
+        (mu, Some(radius)) => {
+            let model = RubbingRotor::new(model, mu, radius).map_err(value_error)?;
+            let at = |y: &DVector<f64>| displacement(model.ringed().rotor(), y);
+            transient_of(py, &model, &at, dofs, plan)
+        }
+        (_, None) => Err(value_error(
+            "friction needs shaft_radius: the shaft's radius at the ring node (m)",
+        )),
+    }
 }
 
 /// Transient of a finite-element rotor on the snubber ring, from rest (q = q' = 0, the ring at
@@ -84,15 +110,20 @@ where
 /// ``probe_nodes`` need the physical form. Method: radau5 for the full model, dop853 for a
 /// reduced one, etd4 in modal form, unless given (dop853, dopri5, radau5 in either form; etd4
 /// in modal form only; radau5 in modal form is slow, its Jacobian not analytic there: S1's
-/// 0.5 s took 345 s, where the physical form takes 3 s); ``atol`` defaults to ``rtol``. Runs with the GIL released; Ctrl-C stops it.
+/// 0.5 s took 345 s, where the physical form takes 3 s); ``atol`` defaults to ``rtol``.
+/// ``friction`` > 0: Coulomb friction at the ring (the crate's ``RubbingRotor``; docs/friction.md)
+/// between the ring and a shaft of radius ``shaft_radius`` (m, required then) spinning
+/// counter-clockwise: contacts slip forward (``regimes`` 6), backward (7) or roll (8), and
+/// ``friction_force`` records the tangential force; a ring without preload only (a preload
+/// with friction is a ``ValueError``). Runs with the GIL released; Ctrl-C stops it.
 /// ``ValueError`` for bad input (the crate's message), ``SimulationError`` (``partial``: an
 /// ``FeRun``) for a failed run. Returns an ``FeRun``: the ring node's motion, the ring and its
 /// force at the samples, the contact episodes and the revolutions.
 #[pyfunction]
 #[pyo3(
-    signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], form="physical", rtol=1e-8, atol=None, method=None, layout="ross6"),
+    signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], form="physical", friction=0.0, shaft_radius=None, rtol=1e-8, atol=None, method=None, layout="ross6"),
     // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
-    text_signature = "(M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], form='physical', rtol=1e-08, atol=None, method=None, layout='ross6')"
+    text_signature = "(M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], form='physical', friction=0.0, shaft_radius=None, rtol=1e-08, atol=None, method=None, layout='ross6')"
 )]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_transient(
@@ -115,6 +146,8 @@ pub fn fe_transient(
     mode_tolerance: f64,
     probe_nodes: Vec<usize>,
     form: &str,
+    friction: f64,
+    shaft_radius: Option<f64>,
     rtol: f64,
     atol: Option<f64>,
     method: Option<&str>,
@@ -155,8 +188,14 @@ pub fn fe_transient(
         PyResult::Ok((rotor, reduction, probes))
     })?;
     let dofs = rotor.system().dofs();
+    if !(friction.is_finite() && friction >= 0.0) {
+        return Err(value_error(format!(
+            "friction must be finite and >= 0, got {friction}"
+        )));
+    }
     let plan = Plan {
         speed,
+        friction: (friction, shaft_radius),
         t_end,
         samples,
         opts,
@@ -166,11 +205,9 @@ pub fn fe_transient(
     if modal {
         let model = py.detach(|| ModalRotor::new(&rotor).and_then(|m| m.ringed(at.ring)));
         let model = model.map_err(value_error)?;
-        let at = |y: &DVector<f64>| model.rotor().station_displacement(y);
-        transient_of(py, &model, &at, dofs, plan)
+        run_form(py, model, ModalRotor::station_displacement, dofs, plan)
     } else {
         let model = py.detach(|| rotor.ringed(at.ring)).map_err(value_error)?;
-        let at = |y: &DVector<f64>| model.rotor().station_displacement(y);
-        transient_of(py, &model, &at, dofs, plan)
+        run_form(py, model, LinearRotor::station_displacement, dofs, plan)
     }
 }

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 
 use crate::arrays::array;
 use crate::errors::value_error;
-use crate::fe_run::RunFacts;
+use crate::fe_run::{RunFacts, RunModel};
 
 /// The revolutions of a run, one entry each: from one revolution of the forcing phase to the
 /// next (the first starts at t = 0).
@@ -38,13 +38,13 @@ pub struct Revolutions {
 }
 
 /// The revolutions from the strobes (one a revolution, revolution i from strobe i to i + 1).
-pub fn revolutions<R: SmoothRotor<Dim = Dyn>>(
+pub fn revolutions<M: RunModel>(
     py: Python<'_>,
-    facts: &RunFacts<'_, R>,
+    facts: &RunFacts<'_, M>,
     traj: &Trajectory<Dyn>,
 ) -> PyResult<Revolutions> {
     let model = facts.model;
-    let revs = per_revolution(traj, 1, |y| model.rotor().station(y)).map_err(value_error)?;
+    let revs = per_revolution(traj, 1, |y| model.smooth().station(y)).map_err(value_error)?;
     let whirl: Vec<Complex<f64>> = traj
         .strobe
         .windows(2)
@@ -65,8 +65,8 @@ pub fn revolutions<R: SmoothRotor<Dim = Dyn>>(
 /// The forward 1x whirl coefficient of the ring node over the turn from `a` to `b` (the
 /// states `ya`, `yb` there): the trapezoidal rule in the phase on the ends and the samples
 /// between.
-fn first_order<R: SmoothRotor<Dim = Dyn>>(
-    facts: &RunFacts<'_, R>,
+fn first_order<M: RunModel>(
+    facts: &RunFacts<'_, M>,
     traj: &Trajectory<Dyn>,
     (a, b): (f64, f64),
     (ya, yb): (&DVector<f64>, &DVector<f64>),

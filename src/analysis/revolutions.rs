@@ -24,10 +24,12 @@ pub struct Revolution {
     /// and, between each two of them, the largest on the cubic Hermite interpolant of the
     /// station's position and velocity there ([`per_revolution`]).
     pub max_radius: f64,
-    /// The time spent in contact (regimes II to V).
+    /// The time spent in contact (regimes II to V, and the friction's modes).
     pub contact_time: f64,
-    /// The fraction of the revolution's time in each regime, I (free) to V; sums to 1.
-    pub occupancy: [f64; 5],
+    /// The fraction of the revolution's time in each mode label 1 to 8: the regimes I (free) to
+    /// V, then, with friction at the ring ([`RubbingRotor`](crate::rotor::RubbingRotor)),
+    /// slipping forward, slipping backward and rolling; sums to 1.
+    pub occupancy: [f64; 8],
 }
 
 impl Revolution {
@@ -100,7 +102,7 @@ where
             .chain(events.iter().map(|e| (e.t, Node::Event(e))))
             .collect();
         knots.sort_by(|x, y| x.0.total_cmp(&y.0));
-        let mut time_in = [0.0; 5];
+        let mut time_in = [0.0; 8];
         let (mut label, mut since) = (a.label, a.t);
         let mut peak = Peak::default();
         for (t, node) in knots {
@@ -205,13 +207,13 @@ fn segment_peak(a: &Knot, b: &Knot) -> f64 {
     radius
 }
 
-fn slot(time_in: &mut [f64; 5], label: u8) -> Result<&mut f64, AnalysisError> {
+fn slot(time_in: &mut [f64; 8], label: u8) -> Result<&mut f64, AnalysisError> {
     match label {
-        1..=5 => Ok(&mut time_in[usize::from(label - 1)]),
+        1..=8 => Ok(&mut time_in[usize::from(label - 1)]),
         _ => Err(AnalysisError::InvalidValue {
             name: "label",
             value: f64::from(label),
-            expected: "a ring regime number 1..=5",
+            expected: "a mode label 1..=8 (the ring's regimes, the friction's modes)",
         }),
     }
 }

@@ -141,6 +141,51 @@ where
         self.radius
     }
 
+    /// The force of the ring on the rotor at its station in a state `y` of a run at time `t`
+    /// with the mode label `label` (a sample's or an event's side): the frictionless
+    /// composition's ([`RingedRotor::contact_force`]) for the labels 1 to 5; slipping (6, 7),
+    /// $-(g(s) + CJr^\prime)$ with the ring located at the station's $r$; rolling (8),
+    /// $-(g(s) + C(r^\prime + \eta a\thinspace t))$ with the contact direction of the ring's
+    /// position in `y`. Its part along $t$ is the friction force, the rest the normal force.
+    ///
+    /// # Errors
+    /// [`ModelError::InvalidState`] where the ring has no placement (a state that is not one
+    /// of the run's).
+    pub fn contact_force(
+        &self,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        label: u8,
+    ) -> Result<Vector2<f64>, ModelError> {
+        let invalid = |e: RingError| ModelError::InvalidState {
+            t,
+            reason: e.to_string(),
+        };
+        let k = self.station(y);
+        let surface = self.radius * self.spin(t, y).speed;
+        match label {
+            6 | 7 => {
+                let slip = if label == 6 {
+                    Slip::Forward
+                } else {
+                    Slip::Backward
+                };
+                let c = self
+                    .rub
+                    .locate_slipping_on(&k.r, slip, OUTER, f64::NAN)
+                    .map_err(invalid)?;
+                Ok(-c.force(&k.v))
+            }
+            8 => {
+                let [i, j] = self.inner.rotor.ring_slots();
+                let n: Vector2<f64> = k.r - Vector2::new(y[i], y[j]);
+                let c = self.rub.rolling(&k.r, n.y.atan2(n.x)).map_err(invalid)?;
+                Ok(-c.force(&k.v, surface))
+            }
+            _ => self.inner.contact_force(y, label != 1),
+        }
+    }
+
     fn spin(&self, t: f64, y: &OVector<f64, R::Dim>) -> Spin {
         let nan = Spin {
             speed: f64::NAN,

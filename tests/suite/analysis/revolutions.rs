@@ -64,12 +64,18 @@ fn a_built_trajectory_reads_as_built() {
         (0.0, 2.0, tau / 2.0)
     );
     assert_eq!((revs[0].max_radius, revs[0].contact_time), (1.2, 0.5));
-    assert_eq!(revs[0].occupancy, [0.75, 0.25, 0.0, 0.0, 0.0]);
+    assert_eq!(
+        revs[0].occupancy,
+        [0.75, 0.25, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+    );
     assert_eq!((revs[1].max_radius, revs[1].contact_time), (1.05, 0.75));
-    assert_eq!(revs[1].occupancy, [0.25, 0.5, 0.25, 0.0, 0.0]);
+    assert_eq!(
+        revs[1].occupancy,
+        [0.25, 0.5, 0.25, 0.0, 0.0, 0.0, 0.0, 0.0]
+    );
     assert!(!revs[2].touched() && revs[2].max_radius == 0.9);
     let mut bad = traj.clone();
-    bad.strobe[0].label = 7;
+    bad.strobe[0].label = 9; // no mode of the ring or the friction
     assert!(matches!(
         per_revolution(&bad, 2, at),
         Err(AnalysisError::InvalidValue { name: "label", .. })

@@ -1,0 +1,81 @@
+"""Coulomb friction at the ring for a finite-element rotor (fe_transient's friction and
+shaft_radius): the law at every sample, computed here from the run's own forces, and the
+frictionless run unchanged."""
+
+import numpy as np
+import pytest
+
+import jeffcott
+
+# One node (layout lateral4: x, y, alpha, beta) with unit mass and stiffness, damping ratio
+# 0.05: the paper's rotor in its own units, on a ring of unit stiffness 30 and gap 1.
+NU1, K = 0.05, 30.0
+M, KK, C, G = np.eye(4), np.eye(4), 2 * NU1 * np.eye(4), np.zeros((4, 4))
+
+
+def run(beta, eta, ring_damping=0.0, **kw):
+    return jeffcott.fe_transient(
+        M, KK, C, G, eta, ring_node=0, gap=1.0, ring_stiffness=K,
+        ring_damping=ring_damping, unbalance=[(0, beta, 0.3)], t_end=60.0, samples=6000,
+        layout="lateral4", rtol=1e-10, **kw)
+
+
+@pytest.mark.parametrize("beta, eta, mu, a", [
+    (0.5, 1.2, 0.2, 5.0),   # slips forward only
+    (0.5, 1.2, 0.3, 0.05),  # slips and rolls
+    (0.3, 1.1, 0.5, 0.2),   # slips both ways and rolls
+])
+def test_fe_transient_friction_obeys_coulombs_law_at_every_sample(beta, eta, mu, a):
+    # Without ring dampers the ring's force is its springs' alone, so the law is exact: slipping
+    # forward (regime 6) the friction on the rotor is -mu N, backward (7) +mu N, rolling (8)
+    # at most mu N in size.
+    r = run(beta, eta, friction=mu, shaft_radius=a)
+    f, n = r.friction_force, r.normal_force
+    seen = set(np.unique(r.regimes))
+    assert seen <= {1, 6, 7, 8} and 6 in seen
+    for regime, sign in [(6, -1.0), (7, 1.0)]:
+        m = r.regimes == regime
+        assert np.all(n[m] > 0)
+        assert np.all(np.abs(f[m] - sign * mu * n[m]) <= 1e-12 * n[m])
+    m = r.regimes == 8
+    assert np.all(np.abs(f[m]) <= mu * n[m] * (1 + 1e-12))
+    out = r.regimes == 1
+    assert np.all(f[out] == 0) and np.all(n[out] == 0)
+    # The contact episodes run from onsets to losses, whatever the friction's modes between.
+    assert len(r.onsets) == len(r.contacts.start) and np.all(r.losses > 0)
+
+
+def test_fe_transient_friction_modes_are_all_met():
+    r = run(0.3, 1.1, friction=0.5, shaft_radius=0.2)
+    assert set(np.unique(r.regimes)) == {1, 6, 7, 8}
+
+
+def test_fe_transient_without_friction_is_the_frictionless_run():
+    plain = run(0.5, 1.2, ring_damping=0.004)
+    zero = run(0.5, 1.2, ring_damping=0.004, friction=0.0, shaft_radius=0.1)
+    assert np.array_equal(plain.x, zero.x) and np.array_equal(plain.y, zero.y)
+    assert np.array_equal(plain.regimes, zero.regimes)
+    # Without friction and dampers the ring's force is normal.
+    springs = run(0.5, 1.2)
+    assert np.all(np.abs(springs.friction_force) <= 1e-12 * np.max(springs.normal_force))
+
+
+@pytest.mark.parametrize("kw, message", [
+    (dict(friction=0.2), "shaft_radius"),
+    (dict(friction=-0.1, shaft_radius=0.1), "friction"),
+    (dict(friction=0.2, shaft_radius=0.1, preload=(0.1, 0.0)), "preload"),
+    (dict(friction=0.2, shaft_radius=-1.0), "shaft_radius"),
+])
+def test_fe_transient_bad_friction_raises_value_error(kw, message):
+    with pytest.raises(ValueError, match=message):
+        run(0.5, 1.2, **kw)
+
+
+def test_fe_transient_losses_are_the_ends_of_contact_only():
+    # A preloaded ring: contacts change regime (II to V) without ending. The losses are the
+    # ends of the contact episodes, never a change of regime (they were, before this was fixed).
+    r = run(0.5, 1.2, ring_damping=0.004, preload=(0.05, 0.05))
+    assert len(set(np.unique(r.regimes)) - {1, 2}) > 0, "no regime beyond II met"
+    ends = r.contacts.end[~np.isnan(r.contacts.end)]
+    assert len(r.losses) > 0 and np.array_equal(r.losses, ends)
+    assert len(r.onsets) == len(r.contacts.start)
