@@ -84,7 +84,8 @@ where
     /// # Errors
     /// [`RotorError::Ring`] for a friction coefficient the ring refuses
     /// ([`FrictionRing::new`]); [`RotorError::Friction`] for a shaft radius that is not finite
-    /// and positive, a ring with a preload, or a rotor without a spin.
+    /// and positive and, with friction, a ring with a preload or a rotor without a spin
+    /// (without friction every rotor and ring the frictionless composition takes).
     pub fn new(
         inner: RingedRotor<R>,
         friction: f64,
@@ -101,6 +102,15 @@ where
             return bad("shaft_radius", shaft_radius, "must be finite and > 0");
         }
         let ring = *inner.ring();
+        let rub = FrictionRing::new(ring, friction)?;
+        if friction == 0.0 {
+            // Everything is the frictionless composition's: nothing more to ask.
+            return Ok(Self {
+                inner,
+                rub,
+                radius: shaft_radius,
+            });
+        }
         for (field, value) in [("x.preload", ring.x.preload), ("y.preload", ring.y.preload)] {
             if value != 0.0 {
                 return bad(
@@ -118,7 +128,6 @@ where
                 "the rotor gives no spin (SmoothRotor::spin); a driven rotor does not yet take the rub torque",
             );
         }
-        let rub = FrictionRing::new(ring, friction)?;
         Ok(Self {
             inner,
             rub,
