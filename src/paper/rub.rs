@@ -201,9 +201,14 @@ pub fn dry_whip(params: &Params, friction: f64) -> Result<Vec<DryWhip>, ParamErr
     for i in 1..4 {
         companion[(i, i - 1)] = 1.0;
     }
+    // Not expected for a finite quartic; said rather than returning no whip.
     let values = eigen_decomposition(&companion)
-        .map(|e| e.values)
-        .unwrap_or_else(|_| nalgebra::DVector::zeros(0));
+        .map_err(|_| ParamError::OutsideClosedForm {
+            field: "friction",
+            value: mu,
+            needs: "a quartic whose companion matrix the eigen-solver resolves",
+        })?
+        .values;
     let slip = Complex::new(1.0, mu);
     let mut whips: Vec<DryWhip> = Vec::new();
     for lambda in values.iter() {

@@ -2,7 +2,6 @@
 
 use nalgebra::Vector2;
 
-use super::slip::check_position;
 use super::{FrictionRing, Slip};
 use crate::ring::{check_finite, Branches, Regime, RingError};
 
@@ -86,7 +85,8 @@ impl FrictionRing {
     /// # Errors
     /// [`RingError::NonFinite`] (`"r.x"`, `"r.y"`, `"angle"`).
     pub fn rolling(&self, r: &Vector2<f64>, angle: f64) -> Result<RollContact, RingError> {
-        check_position(r)?;
+        check_finite("r.x", r.x)?;
+        check_finite("r.y", r.y)?;
         check_finite("angle", angle)?;
         let (sin, cos) = angle.sin_cos();
         let (normal, tangent) = (Vector2::new(cos, sin), Vector2::new(-sin, cos));

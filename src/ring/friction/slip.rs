@@ -5,7 +5,7 @@ use nalgebra::{Matrix2, Vector2};
 use super::{FrictionRing, Slip};
 use crate::numeric::{bisect, Side};
 use crate::ring::locate::{coefficients, refine, valid, Distance, Probe, MAX_ITERATIONS};
-use crate::ring::{check_finite, Branch, Branches, Regime, RingContact, RingError};
+use crate::ring::{Branch, Branches, Regime, RingContact, RingError};
 
 /// The ring located in contact with a shaft slipping on it ([`FrictionRing::locate_slipping`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -419,13 +419,6 @@ fn violation(ring: &crate::ring::SnubberRing, b: Branches, s: &Vector2<f64>) -> 
         Branch::Outer(side) => (a.preload - f64::from(side) * si).max(0.0),
     };
     off(&ring.x, b.x, s.x) + off(&ring.y, b.y, s.y)
-}
-
-/// Checks a rotor position (shared by the slipping and rolling records).
-pub(super) fn check_position(r: &Vector2<f64>) -> Result<(), RingError> {
-    check_finite("r.x", r.x)?;
-    check_finite("r.y", r.y)?;
-    Ok(())
 }
 
 #[cfg(test)]
