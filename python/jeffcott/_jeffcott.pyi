@@ -380,6 +380,8 @@ def fe_run_up(
     bearing_speeds: npt.ArrayLike | None = None,
     bearing_K: npt.ArrayLike | None = None,
     bearing_C: npt.ArrayLike | None = None,
+    friction: float = 0.0,
+    shaft_radius: float | None = None,
     rtol: float = 1e-8,
     atol: float | None = None,
     method: str | None = None,

@@ -4,9 +4,9 @@
 
 use std::f64::consts::TAU;
 
-use jeffcott::hybrid::{SimStats, Trajectory};
+use jeffcott::hybrid::{SimOptions, SimStats, Trajectory};
 use jeffcott::nalgebra::{DVector, Dyn};
-use jeffcott::rotor::{Segment, SmoothRotor, SpeedProfile};
+use jeffcott::rotor::{ProfiledLinearRotor, RubbingRotor, Segment, SmoothRotor, SpeedProfile};
 use numpy::{AllowTypeChange, PyArrayLike1};
 use pyo3::prelude::*;
 
@@ -14,12 +14,12 @@ use crate::bearings::{Bearings, Stack};
 use crate::errors::value_error;
 use crate::fe::{
     default_method, lateral_matrices, rotor_of, system_at, ArrayLike, Margin, Modes, ModesArg,
-    Probes, RingAt,
+    Probes, Reduction, RingAt,
 };
-use crate::fe_run::{fe_run, FeRun, RunFacts};
+use crate::fe_run::{fe_run, FeRun, RunFacts, RunModel};
 use crate::options::sim_options;
 use crate::paper::dense_output;
-use crate::runs;
+use crate::runs::{self, Output};
 
 /// A 1-D array-like of numbers, as float64.
 type Column<'py> = PyArrayLike1<'py, f64, AllowTypeChange>;
@@ -86,7 +86,9 @@ fn speed_grid(speeds: &Column<'_>) -> Vec<f64> {
 /// that rule; ``jeffcott.ross.FeRotor.run_up`` does). The out-of-balance m e pushes with
 /// m e (Omega^2 cos phi + Omega' sin phi, Omega^2 sin phi - Omega' cos phi), phi = phase + the integral of Omega (the radial and the
 /// tangential force of the accelerating mass). The rotor, the ring, ``modes``, ``rtol``,
-/// ``atol``, ``method``, ``probe_nodes`` and ``layout`` as in ``fe_transient``, the
+/// ``atol``, ``method``, ``probe_nodes``, ``friction``, ``shaft_radius`` (Coulomb friction at
+/// the ring, the shaft's surface speed following the profile) and ``layout`` as in
+/// ``fe_transient``, the
 /// reduction's error measured
 /// at 33 speeds from the table's slowest (at least 1/32 of its fastest) to its fastest; ``ring=False`` runs without
 /// the ring (its gap 1 m). Runs with the GIL released; Ctrl-C stops it. Memory: each sample keeps the state and
@@ -96,9 +98,9 @@ fn speed_grid(speeds: &Column<'_>) -> Vec<f64> {
 /// samples, its least damping ratio at the largest speed).
 #[pyfunction]
 #[pyo3(
-    signature = (M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], bearing_speeds=None, bearing_K=None, bearing_C=None, rtol=1e-8, atol=None, method=None, layout="ross6"),
+    signature = (M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], bearing_speeds=None, bearing_K=None, bearing_C=None, friction=0.0, shaft_radius=None, rtol=1e-8, atol=None, method=None, layout="ross6"),
     // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
-    text_signature = "(M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], bearing_speeds=None, bearing_K=None, bearing_C=None, rtol=1e-08, atol=None, method=None, layout='ross6')"
+    text_signature = "(M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], bearing_speeds=None, bearing_K=None, bearing_C=None, friction=0.0, shaft_radius=None, rtol=1e-08, atol=None, method=None, layout='ross6')"
 )]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_run_up(
@@ -125,12 +127,19 @@ pub fn fe_run_up(
     bearing_speeds: Option<Column<'_>>,
     bearing_K: Option<Stack<'_>>,
     bearing_C: Option<Stack<'_>>,
+    friction: f64,
+    shaft_radius: Option<f64>,
     rtol: f64,
     atol: Option<f64>,
     method: Option<&str>,
     layout: &str,
 ) -> PyResult<FeRun> {
     let modes = Modes::new(modes, mode_tolerance)?;
+    if !(friction.is_finite() && friction >= 0.0) {
+        return Err(value_error(format!(
+            "friction must be finite and >= 0, got {friction}"
+        )));
+    }
     let profile = profile_of(&times, &speeds)?;
     let top = profile.eta_max();
     if top.is_nan() || top <= 0.0 {
@@ -197,20 +206,61 @@ pub fn fe_run_up(
     let output = dense_output(t_end, dt)?.with_strobes();
     let mut y0 = model.rotor().rotor().rest_state();
     model.make_consistent(&mut y0).map_err(value_error)?;
-    let displacement = |y: &DVector<f64>| model.rotor().rotor().station_displacement(y);
-    let speed = |t: f64| profile.eta(t);
-    let phase = |t: f64| profile.phase(t);
-    let facts = RunFacts {
-        model: &model,
-        displacement: &displacement,
-        speed: &speed,
-        phase: &phase,
-        dofs: model.rotor().rotor().system().dofs(),
+    let run = Run {
+        y0,
+        output,
+        opts,
+        profile: &profile,
         reduction,
         margin,
         probes: (&probe_nodes, &probes),
     };
-    let result =
-        |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| fe_run(py, &facts, traj, stats);
-    runs::run_into(py, &model, y0, output, &opts, result)
+    match (friction, shaft_radius) {
+        (0.0, _) => run.of(py, &model),
+        (mu, Some(radius)) => {
+            let model = RubbingRotor::new(model, mu, radius).map_err(value_error)?;
+            run.of(py, &model)
+        }
+        (_, None) => Err(value_error(
+            "friction needs shaft_radius: the shaft's radius at the ring node (m)",
+        )),
+    }
+}
+
+/// A run-up's plan besides its model.
+struct Run<'a> {
+    y0: DVector<f64>,
+    output: Output,
+    opts: SimOptions,
+    profile: &'a SpeedProfile,
+    reduction: Reduction,
+    margin: Margin,
+    probes: (&'a [usize], &'a Probes),
+}
+
+impl Run<'_> {
+    /// Runs `model` (with or without friction at the ring) as an ``FeRun``.
+    fn of<M: RunModel<Rotor = ProfiledLinearRotor>>(
+        self,
+        py: Python<'_>,
+        model: &M,
+    ) -> PyResult<FeRun> {
+        let displacement = |y: &DVector<f64>| model.smooth().rotor().station_displacement(y);
+        let speed = |t: f64| self.profile.eta(t);
+        let phase = |t: f64| self.profile.phase(t);
+        let facts = RunFacts {
+            model,
+            displacement: &displacement,
+            speed: &speed,
+            phase: &phase,
+            dofs: model.smooth().rotor().system().dofs(),
+            reduction: self.reduction,
+            margin: self.margin,
+            probes: self.probes,
+        };
+        let result = |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| {
+            fe_run(py, &facts, traj, stats)
+        };
+        runs::run_into(py, model, self.y0, self.output, &self.opts, result)
+    }
 }

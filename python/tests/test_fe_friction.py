@@ -79,3 +79,24 @@ def test_fe_transient_losses_are_the_ends_of_contact_only():
     ends = r.contacts.end[~np.isnan(r.contacts.end)]
     assert len(r.losses) > 0 and np.array_equal(r.losses, ends)
     assert len(r.onsets) == len(r.contacts.start)
+
+
+def test_fe_run_up_with_friction_obeys_coulombs_law():
+    # Through the rotor's critical speed (1) on a ring without dampers: the surface speed
+    # follows the profile; the law at every sample in contact.
+    mu = 0.3
+    r = jeffcott.fe_run_up(
+        M, KK, C, G, [0.0, 60.0], [0.6, 1.6], ring_node=0, gap=1.0, ring_stiffness=K,
+        ring_damping=0.0, unbalance=[(0, 0.3, 0.0)], layout="lateral4", rtol=1e-10,
+        friction=mu, shaft_radius=0.2)
+    f, n = r.friction_force, r.normal_force
+    assert 6 in set(np.unique(r.regimes))
+    for regime, sign in [(6, -1.0), (7, 1.0)]:
+        m = r.regimes == regime
+        assert np.all(np.abs(f[m] - sign * mu * n[m]) <= 1e-12 * n[m])
+    m = r.regimes == 8
+    assert np.all(np.abs(f[m]) <= mu * n[m] * (1 + 1e-12))
+    with pytest.raises(ValueError, match="shaft_radius"):
+        jeffcott.fe_run_up(
+            M, KK, C, G, [0.0, 60.0], [0.6, 1.6], ring_node=0, gap=1.0, ring_stiffness=K,
+            ring_damping=0.0, unbalance=[(0, 0.3, 0.0)], layout="lateral4", friction=mu)
