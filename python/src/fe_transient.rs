@@ -114,8 +114,9 @@ where
 /// ``friction`` > 0: Coulomb friction at the ring (the crate's ``RubbingRotor``; docs/friction.md)
 /// between the ring and a shaft of radius ``shaft_radius`` (m, required then) spinning
 /// counter-clockwise: contacts slip forward (``regimes`` 6), backward (7) or roll (8), and
-/// ``friction_force`` records the tangential force; a ring without preload only (a preload
-/// with friction is a ``ValueError``). Runs with the GIL released; Ctrl-C stops it.
+/// ``friction_force`` records the tangential force; a preloaded ring takes a friction
+/// coefficient below its bound of uniqueness (docs/friction.md; above it, a ``ValueError``).
+/// Runs with the GIL released; Ctrl-C stops it.
 /// ``ValueError`` for bad input (the crate's message), ``SimulationError`` (``partial``: an
 /// ``FeRun``) for a failed run. Returns an ``FeRun``: the ring node's motion, the ring and its
 /// force at the samples, the contact episodes and the revolutions.

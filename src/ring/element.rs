@@ -261,6 +261,36 @@ pub(crate) fn separation_force(
     (cx * cy * n.dot(r_dot) + cy * n.x * g.x + cx * n.y * g.y) / (cy * n.x * n.x + cx * n.y * n.y)
 }
 
+/// The motion of a contact that the rate of its loss force needs: the normal $n$, the elastic
+/// force $g$, the station's velocity $r^\prime$ and acceleration $r^{\prime\prime}$, with the
+/// rates $n^\prime$, $g^\prime$.
+pub(crate) struct LossMotion {
+    pub n: Vector2<f64>,
+    pub n_dot: Vector2<f64>,
+    pub g: Vector2<f64>,
+    pub g_dot: Vector2<f64>,
+    pub r_dot: Vector2<f64>,
+    pub r_ddot: Vector2<f64>,
+}
+
+/// The rate of [`loss_force`] along the motion `m`, given the normal force `normal` and its
+/// rate: that rate where the loss force is `normal`, else the rate of $\lambda = P/Q$
+/// ([`separation_force`], $P = c_xc_y\thinspace n\cdot r^\prime + c_yn_xg_x + c_xn_yg_y$,
+/// $Q = c_yn_x^2 + c_xn_y^2$), $\lambda^\prime = (P^\prime Q - PQ^\prime)/Q^2$.
+pub(crate) fn loss_force_rate(c: Vector2<f64>, m: &LossMotion, normal: f64, rate: f64) -> f64 {
+    if c.x == c.y || normal >= separation_force(c, m.n, m.g, &m.r_dot) {
+        return rate;
+    }
+    let (cx, cy, n, nd, g, gd) = (c.x, c.y, m.n, m.n_dot, m.g, m.g_dot);
+    let p = cx * cy * n.dot(&m.r_dot) + cy * n.x * g.x + cx * n.y * g.y;
+    let p_dot = cx * cy * (nd.dot(&m.r_dot) + n.dot(&m.r_ddot))
+        + cy * (nd.x * g.x + n.x * gd.x)
+        + cx * (nd.y * g.y + n.y * gd.y);
+    let q = cy * n.x * n.x + cx * n.y * n.y;
+    let q_dot = 2.0 * (cy * n.x * nd.x + cx * n.y * nd.y);
+    (p_dot * q - p * q_dot) / (q * q)
+}
+
 /// The loss force $\max(N, \lambda)$ from the normal force `normal` $= n\cdot f$: `normal`
 /// itself for isotropic damping, where the two agree.
 pub(crate) fn loss_force(
@@ -638,7 +668,7 @@ impl SnubberRing {
 
     /// Signed distance of an axis to its preload on the mode's branch: $|s_i| - D_i$ on the inner
     /// branch (negative inside), $\sigma s_i - D_i$ on the outer branch (positive beyond).
-    fn preload_distance(&self, b: &Branches, axis: Axis, s: f64) -> f64 {
+    pub(crate) fn preload_distance(&self, b: &Branches, axis: Axis, s: f64) -> f64 {
         let d = self.axis(axis).preload;
         match branch_of(b, axis) {
             Branch::Inner => s.abs() - d,
@@ -889,7 +919,7 @@ impl SnubberRing {
     /// preload the ring reaches (or passes, through its centre, to the other side's) within
     /// that time is crossed at `t`, since its guard would start inside an event detector's
     /// start-of-segment window and be taken for the zero at the start time.
-    fn branch_at(&self, axis: Axis, t: f64, s: f64, rate: f64) -> Option<Branch> {
+    pub(crate) fn branch_at(&self, axis: Axis, t: f64, s: f64, rate: f64) -> Option<Branch> {
         let d = self.axis(axis).preload;
         if d == 0.0 {
             return None;
@@ -1142,7 +1172,7 @@ impl SnubberRing {
 /// `s` on that axis: $\operatorname{sign}(s_i)$ on the inner branch ($|s_i| - D_i$),
 /// $\sigma$ on the outer one ($\sigma s_i - D_i$). Its rate and gradient are this times
 /// $s_i^\prime$ and $\nabla_r s_i$.
-pub(super) fn preload_sign(b: &Branches, axis: Axis, s: f64) -> f64 {
+pub(crate) fn preload_sign(b: &Branches, axis: Axis, s: f64) -> f64 {
     match branch_of(b, axis) {
         Branch::Inner => s.signum(),
         Branch::Outer(sigma) => f64::from(sigma),

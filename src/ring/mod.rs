@@ -308,6 +308,7 @@ mod sensitivity;
 pub(crate) mod station;
 
 pub use branch::{Branch, Branches};
+pub(crate) use element::{loss_force_rate, preload_sign, LossMotion};
 pub use element::{
     Axis, Kinematics, RingCache, RingGuard, RingMode, RingState, RingTransition, ONSET_TOUCH,
 };
@@ -712,6 +713,22 @@ impl SnubberRing {
     /// Elastic force `g(s) = grad E(s) = (g_x(s_x), g_y(s_y))` (see [`RingAxis::elastic_force`]).
     pub fn elastic_force(&self, s: &Vector2<f64>) -> Vector2<f64> {
         Vector2::new(self.x.elastic_force(s.x), self.y.elastic_force(s.y))
+    }
+
+    /// Elastic force on given branches, their force law's affine extension wherever `s` lies:
+    /// $g_i = 2K_is_i$ on the inner branch, $K_i(s_i + \sigma D_i)$ on the outer branch of side
+    /// $\sigma$. Equals [`SnubberRing::elastic_force`] where `branches` are `s`'s own.
+    pub fn elastic_force_on(&self, branches: Branches, s: &Vector2<f64>) -> Vector2<f64> {
+        let on = |axis: &RingAxis, branch: Branch, s: f64| match branch {
+            Branch::Inner => 2.0 * axis.stiffness * s,
+            Branch::Outer(side) => axis.stiffness * (s + f64::from(side) * axis.preload),
+        };
+        Vector2::new(on(&self.x, branches.x, s.x), on(&self.y, branches.y, s.y))
+    }
+
+    /// Diagonal of the elastic stiffness matrix on given branches: `2K` inner, `K` outer.
+    pub fn branch_slopes(&self, branches: Branches) -> Vector2<f64> {
+        sensitivity::branch_slopes(self, branches)
     }
 
     /// Diagonal of the elastic stiffness matrix `g'(s)`: `2K` inside, `K` beyond the preload.

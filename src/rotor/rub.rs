@@ -12,14 +12,8 @@ use crate::hybrid::{Flow, ModelError, RotorModel};
 use crate::numeric::Direction;
 use crate::ode::JacobianMut;
 use crate::ring::{
-    Branch, Branches, ContactStart, ForceJacobian, FrictionRing, Kinematics, RingCache, RingError,
-    RingMode, Slip,
-};
-
-/// The branches of a ring without preload: both axes beyond (no preload to cross).
-const OUTER: Branches = Branches {
-    x: Branch::Outer(0),
-    y: Branch::Outer(0),
+    loss_force_rate, preload_sign, Axis, Branch, Branches, ContactStart, ForceJacobian,
+    FrictionRing, Kinematics, LossMotion, RingCache, RingError, RingGuard, RingMode, Slip,
 };
 
 /// The mode of a [`RubbingRotor`].
@@ -27,8 +21,13 @@ const OUTER: Branches = Branches {
 pub enum RubMode {
     /// The frictionless composition's mode: free flight (and, without friction, its contact).
     Ring(RingMode),
-    /// In contact, the shaft slipping on the ring in this sense.
-    Slip(Slip),
+    /// In contact, the shaft slipping on the ring.
+    Slip {
+        /// The sense of the slip.
+        sense: Slip,
+        /// The ring's force-law branches (a preload crossing's event changes them).
+        branches: Branches,
+    },
     /// In contact, the shaft rolling on the ring: the contact direction was `angle` when the
     /// shaft's angle was `shaft`, and turns back as the shaft turns,
     /// $\theta = \text{angle} - (a/\gamma)(\varphi - \text{shaft})$.
@@ -37,7 +36,19 @@ pub enum RubMode {
         angle: f64,
         /// The shaft's angle at the roll's start.
         shaft: f64,
+        /// The ring's force-law branches (a preload crossing's event changes them).
+        branches: Branches,
     },
+}
+
+impl RubMode {
+    /// The ring's branches in a contact mode (`None` in the frictionless composition's modes).
+    pub fn branches(&self) -> Option<Branches> {
+        match *self {
+            RubMode::Ring(_) => None,
+            RubMode::Slip { branches, .. } | RubMode::Roll { branches, .. } => Some(branches),
+        }
+    }
 }
 
 /// Per-run scratch of a [`RubbingRotor`]: the frictionless ring's, and the slipping ring's
@@ -55,12 +66,17 @@ pub struct RubCache {
 /// between them at the slip velocity's zero (into rolling) and the friction cone's edge
 /// (out of it). With $\mu_f = 0$ every mode and number is the [`RingedRotor`]'s.
 ///
-/// **Scope** (this version): a ring without preload; a rotor that gives its spin
-/// ([`SmoothRotor::spin`]: constant-speed and profiled rotors; a non-ideal drive does not yet
-/// take the rub torque, and is refused).
+/// The ring may be preloaded and anisotropic: each contact mode keeps its force-law branches
+/// (the smooth extension of its regime) and ends at a preload crossing, as the frictionless
+/// contact does, with the ring's position continuous through it.
+///
+/// **Scope** (this version): a rotor that gives its spin ([`SmoothRotor::spin`]:
+/// constant-speed and profiled rotors; a non-ideal drive does not yet take the rub torque,
+/// and is refused).
 ///
 /// Mode labels ([`RotorModel::mode_label`]): the ring's 1..5 (regimes), 6 slipping forward,
-/// 7 slipping backward, 8 rolling.
+/// 7 slipping backward, 8 rolling. Guards of a contact mode: loss, gap, the friction guard,
+/// then one per preloaded axis (its preload crossing).
 #[derive(Debug)]
 pub struct RubbingRotor<R> {
     inner: RingedRotor<R>,
@@ -84,8 +100,8 @@ where
     /// # Errors
     /// [`RotorError::Ring`] for a friction coefficient the ring refuses
     /// ([`FrictionRing::new`]); [`RotorError::Friction`] for a shaft radius that is not finite
-    /// and positive and, with friction, a ring with a preload or a rotor without a spin
-    /// (without friction every rotor and ring the frictionless composition takes).
+    /// and positive and, with friction, a rotor without a spin (without friction every rotor
+    /// the frictionless composition takes).
     pub fn new(
         inner: RingedRotor<R>,
         friction: f64,
@@ -110,15 +126,6 @@ where
                 rub,
                 radius: shaft_radius,
             });
-        }
-        for (field, value) in [("x.preload", ring.x.preload), ("y.preload", ring.y.preload)] {
-            if value != 0.0 {
-                return bad(
-                    field,
-                    value,
-                    "friction on a preloaded ring is not built yet",
-                );
-            }
         }
         let rest = inner.zero_state();
         if inner.rotor().spin(0.0, &rest).is_none() {
@@ -172,6 +179,10 @@ where
         };
         let k = self.station(y);
         let surface = self.radius * self.spin(t, y).speed;
+        // The ring's position in `y` gives its branches (on a preload, either: the extensions
+        // meet there) and, rolling, the contact direction.
+        let s = self.ring_position(y);
+        let branches = Branches::of(self.rub.ring(), &s);
         match label {
             6 | 7 => {
                 let slip = if label == 6 {
@@ -181,14 +192,16 @@ where
                 };
                 let c = self
                     .rub
-                    .locate_slipping_on(&k.r, slip, OUTER, f64::NAN)
+                    .locate_slipping_on(&k.r, slip, branches, f64::NAN)
                     .map_err(invalid)?;
                 Ok(-c.force(&k.v))
             }
             8 => {
-                let [i, j] = self.inner.rotor.ring_slots();
-                let n: Vector2<f64> = k.r - Vector2::new(y[i], y[j]);
-                let c = self.rub.rolling(&k.r, n.y.atan2(n.x)).map_err(invalid)?;
+                let n: Vector2<f64> = k.r - s;
+                let c = self
+                    .rub
+                    .rolling_on(&k.r, n.y.atan2(n.x), branches)
+                    .map_err(invalid)?;
                 Ok(-c.force(&k.v, surface))
             }
             _ => self.inner.contact_force(y, label != 1),
@@ -208,6 +221,36 @@ where
         self.inner.rotor.station(y)
     }
 
+    /// The ring's position held in the state.
+    fn ring_position(&self, y: &OVector<f64, R::Dim>) -> Vector2<f64> {
+        let [i, j] = self.inner.rotor.ring_slots();
+        Vector2::new(y[i], y[j])
+    }
+
+    /// The ring's preload guard `i` (3 and on) of a contact mode on `branches`: the
+    /// frictionless contact's guard `i - 1` ([`crate::ring::SnubberRing::guard`]).
+    fn preload_guard(&self, branches: Branches, i: usize) -> Option<(Axis, RingGuard)> {
+        let guard = self
+            .rub
+            .ring()
+            .guard(&RingMode::Contact(branches), i.checked_sub(1)?)?;
+        match guard {
+            RingGuard::Preload { axis, .. } => Some((axis, guard)),
+            _ => None,
+        }
+    }
+
+    /// The frictionless composition's mode that stands for `mode` where only its branches
+    /// matter (the rate bound, the free segment).
+    fn ring_mode(mode: RubMode) -> RingMode {
+        match mode {
+            RubMode::Ring(m) => m,
+            RubMode::Slip { branches, .. } | RubMode::Roll { branches, .. } => {
+                RingMode::Contact(branches)
+            }
+        }
+    }
+
     /// The ring's position, velocity and force on the rotor in a contact mode.
     fn contact(
         &self,
@@ -220,29 +263,35 @@ where
         let spin = self.spin(t, y);
         let surface = self.radius * spin.speed;
         match mode {
-            RubMode::Slip(slip) => {
+            RubMode::Slip { sense, branches } => {
                 let c = self
                     .rub
-                    .locate_slipping_on(&k.r, slip, OUTER, cache.hint.get())?;
+                    .locate_slipping_on(&k.r, sense, branches, cache.hint.get())?;
                 cache.hint.set(c.multiplier);
                 let s_dot = c.ring_velocity(&k.v);
                 Ok(Contact {
                     s: c.s,
+                    branches,
                     damping: c.damping,
                     s_dot,
                     force: c.force(&k.v),
                     guards: [
                         c.loss_force(&k.v),
                         k.r.norm_squared() - self.rub.ring().gap.powi(2),
-                        slip.sign() * c.slip_velocity(&k.v, surface),
+                        sense.sign() * c.slip_velocity(&k.v, surface),
                     ],
                 })
             }
-            RubMode::Roll { angle, shaft } => {
+            RubMode::Roll {
+                angle,
+                shaft,
+                branches,
+            } => {
                 let theta = angle - self.radius / self.rub.ring().gap * (spin.angle - shaft);
-                let c = self.rub.rolling(&k.r, theta)?;
+                let c = self.rub.rolling_on(&k.r, theta, branches)?;
                 Ok(Contact {
                     s: c.s,
+                    branches,
                     damping: c.damping,
                     s_dot: c.ring_velocity(&k.v, surface),
                     force: c.force(&k.v, surface),
@@ -273,11 +322,18 @@ where
             None => self.rub.start(&k.r, &k.v, surface)?,
         };
         Ok(match start {
-            ContactStart::Slipping(c) => (RubMode::Slip(slip_of(c.friction)), c.s),
+            ContactStart::Slipping(c) => (
+                RubMode::Slip {
+                    sense: slip_of(c.friction),
+                    branches: c.branches,
+                },
+                c.s,
+            ),
             ContactStart::Rolling(c) => (
                 RubMode::Roll {
                     angle: c.angle,
                     shaft: spin.angle,
+                    branches: c.branches,
                 },
                 c.s,
             ),
@@ -315,40 +371,87 @@ where
         let (gap, a) = (self.rub.ring().gap, self.radius);
         let surface = a * spin.speed;
         let gap_rate = 2.0 * k.r.dot(&k.v);
+        // G' s' per axis (written out: the rotor's generic dimension confuses inference).
+        let g_dot = |b: Branches, s_dot: &Vector2<f64>| -> Vector2<f64> {
+            let k = self.rub.ring().branch_slopes(b);
+            Vector2::new(k.x * s_dot.x, k.y * s_dot.y)
+        };
         match mode {
-            RubMode::Slip(slip) => {
+            RubMode::Slip { sense, branches } => {
                 let c = self
                     .rub
-                    .locate_slipping_on(&k.r, slip, OUTER, cache.hint.get())?;
+                    .locate_slipping_on(&k.r, sense, branches, cache.hint.get())?;
                 let jac = self.rub.slip_force_jacobian(&c, &k.v);
-                // The loss force n . f (isotropic dampers: no preload), n' = (I - J) r'/gamma.
-                let n_dot = (k.v - c.jacobian * k.v) / gap;
-                let loss = n_dot.dot(&jac.force)
+                // n . f with n' = (I - J) r'/gamma, then max(n . f, lambda)'s rate.
+                let s_dot = c.ring_velocity(&k.v);
+                let n_dot = (k.v - s_dot) / gap;
+                let normal = c.normal.dot(&jac.force);
+                let normal_rate = n_dot.dot(&jac.force)
                     + c.normal.dot(&(jac.position * k.v + jac.velocity * accel));
+                let motion = LossMotion {
+                    n: c.normal,
+                    n_dot,
+                    g: c.elastic,
+                    g_dot: g_dot(branches, &s_dot),
+                    r_dot: k.v,
+                    r_ddot: accel,
+                };
+                let loss = loss_force_rate(c.damping, &motion, normal, normal_rate);
                 let g = self.rub.slip_velocity_gradient(&c, &k.v);
                 let v_rate = g.r.dot(&k.v) + g.v.dot(&accel) + a * spin.accel;
-                Ok([loss, gap_rate, slip.sign() * v_rate])
+                Ok([loss, gap_rate, sense.sign() * v_rate])
             }
-            RubMode::Roll { angle, shaft } => {
+            RubMode::Roll {
+                angle,
+                shaft,
+                branches,
+            } => {
                 let theta = angle - a / gap * (spin.angle - shaft);
-                let c = self.rub.rolling(&k.r, theta)?;
+                let c = self.rub.rolling_on(&k.r, theta, branches)?;
                 let theta_rate = -surface / gap;
                 let s_dot: Vector2<f64> = c.ring_velocity(&k.v, surface);
-                let ring = self.rub.ring();
                 // f = g(s) + C (r' + eta a t): f' = G' s' + C (r'' + (eta a)' t - eta a n theta').
                 let f = c.force(&k.v, surface);
                 let w: Vector2<f64> =
                     accel + c.tangent * (a * spin.accel) - c.normal * (surface * theta_rate);
-                let f_rate = Vector2::new(
-                    ring.x.stiffness * s_dot.x + c.damping.x * w.x,
-                    ring.y.stiffness * s_dot.y + c.damping.y * w.y,
-                );
-                let loss = (c.tangent * theta_rate).dot(&f) + c.normal.dot(&f_rate);
+                let g_dot = g_dot(branches, &s_dot);
+                let f_rate = Vector2::new(g_dot.x + c.damping.x * w.x, g_dot.y + c.damping.y * w.y);
+                let n_dot = c.tangent * theta_rate;
+                let normal_rate = n_dot.dot(&f) + c.normal.dot(&f_rate);
+                let motion = LossMotion {
+                    n: c.normal,
+                    n_dot,
+                    g: c.elastic,
+                    g_dot,
+                    r_dot: k.v,
+                    r_ddot: accel,
+                };
+                let loss = loss_force_rate(c.damping, &motion, c.normal.dot(&f), normal_rate);
                 let (gr, gtheta) = self.rub.stick_margin_gradient(&c);
                 Ok([loss, gap_rate, gr.dot(&k.v) + gtheta * theta_rate])
             }
             RubMode::Ring(_) => Err(RingError::NoPlacement { x: k.r.x, y: k.r.y }),
         }
+    }
+
+    /// The value of guard `i` of a contact mode at its ring `c`: loss, gap and friction, then
+    /// the preload distances ([`crate::ring::SnubberRing::guard_value`]'s).
+    fn guard_of(&self, c: &Contact, i: usize) -> f64 {
+        if i <= FRICTION {
+            return c.guards[i];
+        }
+        self.preload_guard(c.branches, i)
+            .map_or(f64::NAN, |(axis, _)| {
+                let s = c.s[axis.index()];
+                self.rub.ring().preload_distance(&c.branches, axis, s)
+            })
+    }
+
+    /// The rate of a preload guard `i` (3 and on) at the ring `c`: $\pm s_i^\prime$.
+    fn preload_rate(&self, c: &Contact, i: usize) -> Option<f64> {
+        let (axis, _) = self.preload_guard(c.branches, i)?;
+        let k = axis.index();
+        Some(preload_sign(&c.branches, axis, c.s[k]) * c.s_dot[k])
     }
 
     fn write_slots(&self, y: &mut OVector<f64, R::Dim>, s: Vector2<f64>) {
@@ -376,17 +479,25 @@ where
 
     /// The slip velocity reached zero: the contact rolls, unless the friction cone would be
     /// left at once, in which case the zero was a touch and the slip goes on.
-    fn stop(&self, slip: Slip, t: f64, y: &OVector<f64, R::Dim>) -> Result<RubMode, ModelError> {
+    fn stop(
+        &self,
+        sense: Slip,
+        branches: Branches,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+    ) -> Result<RubMode, ModelError> {
         let cache = RubCache::default();
         let k = self.station(y);
         let c = self
             .rub
-            .locate_slipping_on(&k.r, slip, OUTER, f64::NAN)
+            .locate_slipping_on(&k.r, sense, branches, f64::NAN)
             .map_err(|e| transition_error(t, e))?;
         let roll = RubMode::Roll {
             angle: c.normal.y.atan2(c.normal.x),
             shaft: self.spin(t, y).angle,
+            branches,
         };
+        let slip = RubMode::Slip { sense, branches };
         let rate = |m| {
             self.friction_rate(m, t, y, &cache)
                 .map_err(|e| transition_error(t, e))
@@ -394,8 +505,8 @@ where
         if rate(roll)? >= 0.0 {
             return Ok(roll);
         }
-        if rate(RubMode::Slip(slip))? >= 0.0 {
-            return Ok(RubMode::Slip(slip));
+        if rate(slip)? >= 0.0 {
+            return Ok(slip);
         }
         Err(ModelError::Transition {
             t,
@@ -411,21 +522,31 @@ where
         y: &OVector<f64, R::Dim>,
     ) -> Result<RubMode, ModelError> {
         let cache = RubCache::default();
-        let RubMode::Roll { angle, shaft } = mode else {
+        let RubMode::Roll {
+            angle,
+            shaft,
+            branches,
+        } = mode
+        else {
             return Ok(mode);
         };
         let k = self.station(y);
         let theta = angle - self.radius / self.rub.ring().gap * (self.spin(t, y).angle - shaft);
         let c = self
             .rub
-            .rolling(&k.r, theta)
+            .rolling_on(&k.r, theta, branches)
             .map_err(|e| transition_error(t, e))?;
-        let slip = c.release().unwrap_or(Slip::Forward);
-        let next = RubMode::Slip(slip);
+        let sense = c.release().unwrap_or(Slip::Forward);
+        let next = RubMode::Slip { sense, branches };
+        // The ring's velocity jumps (it is massless), and with it the slip velocity: slipping
+        // in the sense of F_t holds if that slip velocity has this sense, or is zero and gains it.
+        let c = self
+            .contact(next, t, y, &cache)
+            .map_err(|e| transition_error(t, e))?;
         let rate = self
             .friction_rate(next, t, y, &cache)
             .map_err(|e| transition_error(t, e))?;
-        if rate < 0.0 {
+        if c.guards[FRICTION] <= 0.0 && rate < 0.0 {
             return Err(ModelError::Transition {
                 t,
                 reason: "rolling ends at the friction cone's edge but slipping in the sense of the friction force would reverse at once".into(),
@@ -433,11 +554,100 @@ where
         }
         Ok(next)
     }
+
+    /// A preload crossing (guard `i`): the fired axis changes branch, the other takes the
+    /// branch it is on within the time resolution (a corner of the regime map), as in the
+    /// frictionless contact; the ring's position is continuous through it. Its velocity is
+    /// not (the slopes and dampers change), and with it the slip velocity: where that turns
+    /// against the slip, the contact rolls (the friction force cannot jump to the other side).
+    fn cross(
+        &self,
+        mode: RubMode,
+        i: usize,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+    ) -> Result<RubMode, ModelError> {
+        let c = self
+            .contact(mode, t, y, &RubCache::default())
+            .map_err(|e| transition_error(t, e))?;
+        let Some((axis, _)) = self.preload_guard(c.branches, i) else {
+            return Ok(mode);
+        };
+        let ring = self.rub.ring();
+        let mut next = c.branches;
+        let fired = axis.index();
+        let flipped = match branch_on(&next, fired) {
+            Branch::Inner => Branch::Outer(if c.s[fired] >= 0.0 { 1 } else { -1 }),
+            Branch::Outer(_) => Branch::Inner,
+        };
+        set_branch(&mut next, fired, flipped);
+        let other = [Axis::Y, Axis::X][fired];
+        let j = other.index();
+        if let Some(b) = ring.branch_at(other, t, c.s[j], c.s_dot[j]) {
+            set_branch(&mut next, j, b);
+        }
+        match mode {
+            RubMode::Slip { sense, .. } => {
+                let slip = RubMode::Slip {
+                    sense,
+                    branches: next,
+                };
+                let cache = RubCache::default();
+                let v = self
+                    .contact(slip, t, y, &cache)
+                    .map_err(|e| transition_error(t, e))?
+                    .guards[FRICTION];
+                if v >= 0.0 {
+                    return Ok(slip);
+                }
+                let n = self.station(y).r - c.s;
+                let roll = RubMode::Roll {
+                    angle: n.y.atan2(n.x),
+                    shaft: self.spin(t, y).angle,
+                    branches: next,
+                };
+                let rate = self
+                    .friction_rate(roll, t, y, &cache)
+                    .map_err(|e| transition_error(t, e))?;
+                if rate < 0.0 {
+                    return Err(ModelError::Transition {
+                        t,
+                        reason: "at a preload crossing the slip velocity turns against the slip and rolling would leave the friction cone at once".into(),
+                    });
+                }
+                Ok(roll)
+            }
+            RubMode::Roll { angle, shaft, .. } => Ok(RubMode::Roll {
+                angle,
+                shaft,
+                branches: next,
+            }),
+            RubMode::Ring(_) => Ok(mode),
+        }
+    }
+}
+
+fn branch_on(b: &Branches, i: usize) -> Branch {
+    if i == 0 {
+        b.x
+    } else {
+        b.y
+    }
+}
+
+fn set_branch(b: &mut Branches, i: usize, branch: Branch) {
+    if i == 0 {
+        b.x = branch;
+    } else {
+        b.y = branch;
+    }
 }
 
 /// The ring in a contact mode.
 struct Contact {
     s: Vector2<f64>,
+    /// The mode's branches.
+    branches: Branches,
     /// The dampers' coefficients on the ring's branches.
     damping: Vector2<f64>,
     s_dot: Vector2<f64>,
@@ -552,13 +762,17 @@ where
     fn guard_count(&self, mode: RubMode) -> usize {
         match mode {
             RubMode::Ring(m) => self.inner.guard_count(m),
-            _ => 3,
+            // The frictionless contact's loss, gap and preloads, and the friction guard.
+            _ => 1 + self.rub.ring().guard_count(&Self::ring_mode(mode)),
         }
     }
 
     fn guard_direction(&self, mode: RubMode, i: usize) -> Direction {
-        match mode {
-            RubMode::Ring(m) => self.inner.guard_direction(m, i),
+        match (mode, mode.branches()) {
+            (RubMode::Ring(m), _) => self.inner.guard_direction(m, i),
+            (_, Some(b)) if i > FRICTION => self
+                .preload_guard(b, i)
+                .map_or(Direction::Falling, |(_, g)| g.direction()),
             _ => Direction::Falling,
         }
     }
@@ -582,7 +796,7 @@ where
             RubMode::Ring(m) => self.inner.guard_value(m, i, t, y, &cache.ring),
             _ => self
                 .contact(mode, t, y, cache)
-                .map_or(f64::NAN, |c| c.guards[i.min(FRICTION)]),
+                .map_or(f64::NAN, |c| self.guard_of(&c, i)),
         }
     }
 
@@ -597,10 +811,11 @@ where
     ) -> Option<f64> {
         match mode {
             RubMode::Ring(m) => self.inner.guard_derivative(m, i, t, y, dy, &cache.ring),
-            _ => self
-                .guard_rates(mode, t, y, dy, cache)
+            _ if i > FRICTION => self
+                .contact(mode, t, y, cache)
                 .ok()
-                .map(|r| r[i.min(FRICTION)]),
+                .and_then(|c| self.preload_rate(&c, i)),
+            _ => self.guard_rates(mode, t, y, dy, cache).ok().map(|r| r[i]),
         }
     }
 
@@ -611,7 +826,8 @@ where
     fn guard_derivative_needs_rhs_of(&self, mode: RubMode, i: usize) -> bool {
         match mode {
             RubMode::Ring(m) => self.inner.guard_derivative_needs_rhs_of(m, i),
-            _ => i != GAP,
+            // The gap's and the preloads' rates need only the state.
+            _ => i == LOSS || i == FRICTION,
         }
     }
 
@@ -630,16 +846,20 @@ where
                 .inner
                 .guard_values(m, t, y, dy, with_rates, &cache.ring, out);
         }
-        let values = self.contact(mode, t, y, cache).map(|c| c.guards);
+        let contact = self.contact(mode, t, y, cache).ok();
         let rates = with_rates
             .then(|| self.guard_rates(mode, t, y, dy, cache).ok())
             .flatten();
-        for i in 0..3 {
-            out(
-                i,
-                values.as_ref().map_or(f64::NAN, |v| v[i]),
-                rates.map(|r| r[i]),
-            );
+        for i in 0..self.guard_count(mode) {
+            let value = contact.as_ref().map_or(f64::NAN, |c| self.guard_of(c, i));
+            let rate = if i <= FRICTION {
+                rates.map(|r| r[i])
+            } else {
+                with_rates
+                    .then(|| contact.as_ref().and_then(|c| self.preload_rate(c, i)))
+                    .flatten()
+            };
+            out(i, value, rate);
         }
     }
 
@@ -671,8 +891,11 @@ where
             (RubMode::Ring(m), _) => self.inner.guard_label(m, i),
             (_, LOSS) => "contact loss",
             (_, GAP) => "rotor at gap",
-            (RubMode::Slip(_), _) => "slip velocity zero",
-            _ => "friction cone's edge",
+            (RubMode::Slip { .. }, FRICTION) => "slip velocity zero",
+            (RubMode::Roll { .. }, FRICTION) => "friction cone's edge",
+            (RubMode::Slip { branches, .. } | RubMode::Roll { branches, .. }, _) => self
+                .preload_guard(branches, i)
+                .map_or("no such guard", |(_, g)| g.label()),
         }
     }
 
@@ -699,18 +922,15 @@ where
                 Ok(mode)
             }
             (_, LOSS | GAP) => self.release(mode, t, y),
-            (RubMode::Slip(slip), _) => self.stop(slip, t, y),
-            (RubMode::Roll { .. }, _) => self.slide(mode, t, y),
+            (RubMode::Slip { sense, branches }, FRICTION) => self.stop(sense, branches, t, y),
+            (RubMode::Roll { .. }, FRICTION) => self.slide(mode, t, y),
+            _ => self.cross(mode, guard, t, y),
         }
     }
 
     fn start_segment(&self, mode: RubMode, t: f64, y: &OVector<f64, R::Dim>) -> LinearFreeSegment {
-        let ring_mode = match mode {
-            RubMode::Ring(m) => m,
-            // Never started for a contact mode (integrated).
-            _ => RingMode::Contact(OUTER),
-        };
-        self.inner.start_segment(ring_mode, t, y)
+        // Never started for a contact mode (integrated).
+        self.inner.start_segment(Self::ring_mode(mode), t, y)
     }
 
     fn project(&self, mode: RubMode, t: f64, y: &mut OVector<f64, R::Dim>, cache: &RubCache) {
@@ -727,8 +947,14 @@ where
     fn mode_label(&self, mode: RubMode) -> u8 {
         match mode {
             RubMode::Ring(m) => self.inner.mode_label(m),
-            RubMode::Slip(Slip::Forward) => 6,
-            RubMode::Slip(Slip::Backward) => 7,
+            RubMode::Slip {
+                sense: Slip::Forward,
+                ..
+            } => 6,
+            RubMode::Slip {
+                sense: Slip::Backward,
+                ..
+            } => 7,
             RubMode::Roll { .. } => 8,
         }
     }
@@ -742,11 +968,7 @@ where
     }
 
     fn max_rate(&self, mode: RubMode, t: f64, y: &OVector<f64, R::Dim>) -> Option<f64> {
-        let ring_mode = match mode {
-            RubMode::Ring(m) => m,
-            _ => RingMode::Contact(OUTER),
-        };
-        self.inner.max_rate(ring_mode, t, y)
+        self.inner.max_rate(Self::ring_mode(mode), t, y)
     }
 
     /// The frictionless composition's in its modes; in contact the rotor's Jacobian with the
@@ -764,25 +986,21 @@ where
         let k = self.station(y);
         let force = match mode {
             RubMode::Ring(m) => return self.inner.jacobian(m, t, y, jac, &cache.ring),
-            RubMode::Slip(slip) => {
+            RubMode::Slip { sense, branches } => {
                 match self
                     .rub
-                    .locate_slipping_on(&k.r, slip, OUTER, cache.hint.get())
+                    .locate_slipping_on(&k.r, sense, branches, cache.hint.get())
                 {
                     Ok(c) => self.rub.slip_force_jacobian(&c, &k.v),
                     Err(_) => return false,
                 }
             }
-            RubMode::Roll { .. } => {
+            RubMode::Roll { branches, .. } => {
                 let Ok(c) = self.contact(mode, t, y, cache) else {
                     return false;
                 };
-                let ring = self.rub.ring();
                 ForceJacobian {
-                    position: Matrix2::from_diagonal(&Vector2::new(
-                        ring.x.stiffness,
-                        ring.y.stiffness,
-                    )),
+                    position: Matrix2::from_diagonal(&self.rub.ring().branch_slopes(branches)),
                     velocity: Matrix2::from_diagonal(&c.damping),
                     force: c.force,
                 }

@@ -85,13 +85,40 @@ impl FrictionRing {
     /// # Errors
     /// [`RingError::NonFinite`] (`"r.x"`, `"r.y"`, `"angle"`).
     pub fn rolling(&self, r: &Vector2<f64>, angle: f64) -> Result<RollContact, RingError> {
+        self.rolling_at(r, angle, None)
+    }
+
+    /// As [`FrictionRing::rolling`] on given branches: their force law's smooth (affine)
+    /// extension, $g_i = 2K_is_i$ inner and $K_i(s_i + \sigma D_i)$ outer, wherever $s$ lies
+    /// (a rolling mode keeps its branches until a preload crossing's event changes them).
+    ///
+    /// # Errors
+    /// As [`FrictionRing::rolling`].
+    pub fn rolling_on(
+        &self,
+        r: &Vector2<f64>,
+        angle: f64,
+        branches: Branches,
+    ) -> Result<RollContact, RingError> {
+        self.rolling_at(r, angle, Some(branches))
+    }
+
+    fn rolling_at(
+        &self,
+        r: &Vector2<f64>,
+        angle: f64,
+        branches: Option<Branches>,
+    ) -> Result<RollContact, RingError> {
         check_finite("r.x", r.x)?;
         check_finite("r.y", r.y)?;
         check_finite("angle", angle)?;
         let (sin, cos) = angle.sin_cos();
         let (normal, tangent) = (Vector2::new(cos, sin), Vector2::new(-sin, cos));
         let s = r - normal * self.ring.gap;
-        let branches = Branches::of(&self.ring, &s);
+        let (branches, elastic) = match branches {
+            None => (Branches::of(&self.ring, &s), self.ring.elastic_force(&s)),
+            Some(b) => (b, self.ring.elastic_force_on(b, &s)),
+        };
         Ok(RollContact {
             s,
             angle,
@@ -99,7 +126,7 @@ impl FrictionRing {
             tangent,
             branches,
             damping: self.ring.branch_damping(branches),
-            elastic: self.ring.elastic_force(&s),
+            elastic,
         })
     }
 }
