@@ -477,8 +477,12 @@ where
         Ok(RubMode::Ring(next.mode))
     }
 
-    /// The slip velocity reached zero: the contact rolls, unless the friction cone would be
-    /// left at once, in which case the zero was a touch and the slip goes on.
+    /// The slip velocity reached zero: the contact rolls, unless the slip velocity turns back
+    /// to its sense (a touch: the slip goes on). The slip velocity's rate decides, not the
+    /// stick margin's: where $v = 0$ the contact direction turns at $-\eta a/\gamma$ slipping
+    /// and rolling alike, so the margin's rate in rolling is zero there (to rounding) and the
+    /// margin grows at second order, $\tfrac12\partial_\theta(\mu_f N - |F_t|)\thinspace
+    /// \lvert v^\prime\rvert(t - t_0)^2/\gamma$, as the slipping location falls behind.
     fn stop(
         &self,
         sense: Slip,
@@ -488,29 +492,21 @@ where
     ) -> Result<RubMode, ModelError> {
         let cache = RubCache::default();
         let k = self.station(y);
+        let slip = RubMode::Slip { sense, branches };
+        let rate = self
+            .friction_rate(slip, t, y, &cache)
+            .map_err(|e| transition_error(t, e))?;
+        if rate > 0.0 {
+            return Ok(slip);
+        }
         let c = self
             .rub
             .locate_slipping_on(&k.r, sense, branches, f64::NAN)
             .map_err(|e| transition_error(t, e))?;
-        let roll = RubMode::Roll {
+        Ok(RubMode::Roll {
             angle: c.normal.y.atan2(c.normal.x),
             shaft: self.spin(t, y).angle,
             branches,
-        };
-        let slip = RubMode::Slip { sense, branches };
-        let rate = |m| {
-            self.friction_rate(m, t, y, &cache)
-                .map_err(|e| transition_error(t, e))
-        };
-        if rate(roll)? >= 0.0 {
-            return Ok(roll);
-        }
-        if rate(slip)? >= 0.0 {
-            return Ok(slip);
-        }
-        Err(ModelError::Transition {
-            t,
-            reason: "the slip velocity reached zero where neither rolling nor slipping on is consistent (the friction cone is left at once, and the slip would reverse)".into(),
         })
     }
 

@@ -12,3 +12,4 @@ mod ring_relax;
 mod ring_sensitivity;
 mod rub_closed_forms;
 mod rub_simulation;
+mod rub_smoothed;
