@@ -344,12 +344,15 @@ pub struct RingedRotor<R> {
 /// A rotor that cannot be put on the ring: the ring's parameters, or a [`SmoothRotor`] method
 /// that breaks its contract ([`RingedRotor::new`]). Each variant names the method and the
 /// values it gave.
-#[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
 pub enum RotorError {
     /// The ring's parameters are invalid.
     #[error(transparent)]
     Ring(#[from] RingError),
+    /// The paper's parameters are invalid (a rotor built from [`Params`](crate::params::Params)).
+    #[error(transparent)]
+    Params(#[from] crate::params::ParamError),
     /// A speed profile's parameter is invalid ([`SpeedProfile::piecewise`],
     /// [`SpeedProfile::from_fn`]).
     #[error("speed profile: {field} = {value}: {reason}")]

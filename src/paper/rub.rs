@@ -30,6 +30,60 @@ use nalgebra::{Complex, DMatrix, Vector2};
 
 use crate::numeric::{eigen_decomposition, illinois, RootOptions};
 use crate::params::{non_negative, ParamError, Params};
+use crate::ring::{RingAxis, SnubberRing};
+use crate::rotor::{LinearRotor, LinearSystem, RotorError, RubbingRotor};
+
+/// The paper's rotor on its ring with Coulomb friction `friction` $\mu_f$ between the ring and a
+/// shaft of radius `shaft_radius` $a$ (in gaps) at the ring (`../shared/MODEL.md`, "Beyond the
+/// paper: friction at the contact"): a [`RubbingRotor`] over the paper's equations written as a
+/// 2-DOF [`LinearRotor`] (unit mass and stiffness per axis, damping $2\nu_1$, the
+/// out-of-balance $\beta\eta^2(\cos(\varphi_0 + \eta\tau), \sin(\varphi_0 + \eta\tau))$, the
+/// constant force $e$ that puts the rotor's rest at $e$ from the ring's centre) and the ring of
+/// `params` (gap 1). Its state is the paper's, $(x, y, x^\prime, y^\prime, x_s, y_s)$, as
+/// [`JeffcottModel`](crate::JeffcottModel)'s; mode labels 1 to 5 are the regimes, 6, 7 and 8
+/// slipping forward, slipping backward and rolling. With `friction` 0 it is the paper's model
+/// through another implementation (the checks compare the two).
+///
+/// ```
+/// use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, Trajectory};
+/// use jeffcott::nalgebra::DVector;
+/// use jeffcott::paper::rub::rubbing_model;
+/// use jeffcott::params::Params;
+///
+/// let p = Params { eta: 2.5, ..Params::default() };
+/// let model = rubbing_model(&p, 0.3, 10.0)?;
+/// let mut run = Trajectory::default();
+/// let plan = OutputPlan { t_end: 20.0, strobe: None, dense: None, events: true };
+/// simulate(&model, 0.0, &DVector::zeros(6), &plan, &SimOptions::default(), &mut run).unwrap();
+/// assert!(run.events.iter().any(|e| e.to >= 6)); // contacts, with friction
+/// # Ok::<(), jeffcott::rotor::RotorError>(())
+/// ```
+///
+/// # Errors
+/// [`RotorError::Params`] for invalid parameters; those of [`RubbingRotor::new`] for the
+/// friction coefficient and the shaft radius.
+pub fn rubbing_model(
+    params: &Params,
+    friction: f64,
+    shaft_radius: f64,
+) -> Result<RubbingRotor<LinearRotor>, RotorError> {
+    let p = params.validated()?;
+    let eye = DMatrix::<f64>::identity(2, 2);
+    let force = Complex::from_polar(p.beta * p.eta * p.eta, p.phi0);
+    let system = LinearSystem::new(eye.clone(), &eye * (2.0 * p.nu1), eye, p.eta)?
+        .with_harmonic_force(0, force)?
+        .with_harmonic_force(1, force * Complex::new(0.0, -1.0))?
+        .with_constant_force(0, p.ex)?
+        .with_constant_force(1, p.ey)?;
+    let ring = SnubberRing::new(
+        RingAxis::new(p.kx, p.dx),
+        RingAxis::new(p.ky, p.dy),
+        p.nu2,
+        1.0,
+    )?;
+    let rotor = LinearRotor::new(system, [0, 1], [0.0, 0.0])?.ringed(ring)?;
+    RubbingRotor::new(rotor, friction, shaft_radius)
+}
 
 /// A synchronous forward full annular rub ([`synchronous_rub`]).
 #[derive(Debug, Clone, Copy, PartialEq)]

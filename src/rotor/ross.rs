@@ -25,17 +25,17 @@ impl RotorMatrices {
         let mat = matfile::MatFile::parse(std::io::BufReader::new(file))
             .map_err(|_| RotorError::NotMatFile)?;
         let get = |key: &'static str| -> Result<DMatrix<f64>, RotorError> {
-            let missing = RotorError::MissingMatrix { key };
-            let array = mat.find_by_name(key).ok_or(missing)?;
+            let missing = || RotorError::MissingMatrix { key };
+            let array = mat.find_by_name(key).ok_or_else(missing)?;
             let (rows, cols) = match array.size()[..] {
                 [rows, cols] => (rows, cols),
-                _ => return Err(missing),
+                _ => return Err(missing()),
             };
             match array.data() {
                 matfile::NumericData::Double { real, imag: None } if real.len() == rows * cols => {
                     Ok(DMatrix::from_column_slice(rows, cols, real))
                 }
-                _ => Err(missing),
+                _ => Err(missing()),
             }
         };
         Self::new(get("M")?, get("C")?, get("G")?, get("K")?, DofLayout::Ross6)

@@ -379,3 +379,57 @@ fn contact_guard_rates_match_differences_along_the_flow() {
     println!("rates checked per guard: {checked:?}");
     assert!(checked.iter().all(|&n| n > 100), "{checked:?}");
 }
+
+/// `paper::rub::rubbing_model` without friction is the paper's model: on every preset of the
+/// paper (preloads, anisotropy, eccentricity), from rest for 10 forcing periods, its events
+/// are `JeffcottModel`'s (kinds and regimes, times within 1e-7) and its samples within 1e-7 of
+/// the gap: two implementations of the same equations (the 2-DOF `LinearRotor` with the
+/// frictionless composition, and the paper's own model with its closed-form free flight).
+#[test]
+fn the_paper_rotor_written_as_a_rubbing_model_is_the_papers_model() {
+    use jeffcott::paper::rub::rubbing_model;
+    use jeffcott::params::Preset;
+    use jeffcott::JeffcottModel;
+    let opts = SimOptions::default().with_rtol(1e-11).with_atol(1e-12);
+    for preset in Preset::ALL {
+        let p = preset.params();
+        let period = std::f64::consts::TAU / p.eta;
+        let plan = plan(10.0 * period, period);
+        let paper = JeffcottModel::new(p).unwrap();
+        let (reference, _) = paper
+            .run(0.0, &jeffcott::nalgebra::SVector::zeros(), &plan, &opts)
+            .unwrap();
+        let model = rubbing_model(&p, 0.0, 1.0).unwrap();
+        let mut run = Trajectory::default();
+        simulate(&model, 0.0, &DVector::zeros(6), &plan, &opts, &mut run).unwrap();
+        assert_eq!(
+            run.events.len(),
+            reference.events.len(),
+            "{}",
+            preset.name()
+        );
+        for (a, b) in run.events.iter().zip(&reference.events) {
+            assert_eq!((a.kind, a.from, a.to), (b.kind, b.from, b.to));
+            assert!(
+                (a.t - b.t).abs() <= 1e-7,
+                "{}: {} vs {}",
+                preset.name(),
+                a.t,
+                b.t
+            );
+        }
+        assert_eq!(run.samples.len(), reference.samples.len());
+        let worst = run
+            .samples
+            .iter()
+            .zip(&reference.samples)
+            .map(|(a, b)| (0..6).map(|i| (a.y[i] - b.y[i]).abs()).fold(0.0, f64::max))
+            .fold(0.0, f64::max);
+        println!(
+            "{}: {} events, samples within {worst:.1e}",
+            preset.name(),
+            run.events.len()
+        );
+        assert!(worst <= 1e-7, "{}: {worst}", preset.name());
+    }
+}
