@@ -10,5 +10,6 @@ mod examples_help;
 mod figures_simulate;
 mod global_examples;
 mod ross_rotor_cli;
+mod rub_cli;
 mod run_up_cli;
 mod stability_cli;
