@@ -11,5 +11,6 @@ mod ring_locate;
 mod ring_relax;
 mod ring_sensitivity;
 mod rub_closed_forms;
+mod rub_energy;
 mod rub_simulation;
 mod rub_smoothed;
