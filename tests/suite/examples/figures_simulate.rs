@@ -171,3 +171,80 @@ fn help_exits_0() {
         assert!(text.contains(&format!("{flag} <")), "{flag}");
     }
 }
+
+/// `--friction MU --shaft-radius A`: the rows are `paper::rub::rubbing_model`'s stroboscopic
+/// states, bit for bit (printed in round-trip form), with the friction's regimes 6 to 8 among
+/// them when the contact is met at the strobe; bad friction input exits 2 naming the flag or
+/// the field.
+#[test]
+fn friction_runs_the_papers_rotor_with_friction() {
+    use jeffcott::hybrid::{simulate, OutputPlan, SimOptions, Trajectory};
+    use jeffcott::nalgebra::DVector;
+    use jeffcott::params::Preset;
+    // Fig. 8a at eta 2.5 and phi0 = 1, started beyond the gap: it slips forward at the start,
+    // and about half its strobes land in contact, rolling.
+    let args = [
+        "--preset",
+        "fig8a",
+        "--eta",
+        "2.5",
+        "--phi0",
+        "1",
+        "--friction",
+        "0.3",
+        "--shaft-radius",
+        "0.05",
+        "--x0",
+        "1.1",
+        "--periods",
+        "40",
+    ];
+    let out = run(&args);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let rows = rows(&out);
+    assert_eq!(rows.len(), 41);
+    let p = jeffcott::params::Params {
+        eta: 2.5,
+        phi0: 1.0,
+        ..Preset::Fig8a.params()
+    };
+    let model = jeffcott::paper::rub::rubbing_model(&p, 0.3, 0.05).unwrap();
+    let y0 = DVector::from_vec(vec![1.1, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    let mut traj = Trajectory::default();
+    let plan = OutputPlan::strobe(TAU / 2.5, 0, 40);
+    simulate(&model, 0.0, &y0, &plan, &SimOptions::default(), &mut traj).unwrap();
+    for (row, point) in rows.iter().zip(&traj.strobe) {
+        for (text, value) in row[2..8].iter().zip(point.y.iter()) {
+            assert_eq!(text.parse::<f64>().unwrap(), *value, "{row:?}");
+        }
+        assert_eq!(row[8], point.label.to_string());
+    }
+    assert_eq!(
+        rows[0][8], "6",
+        "starts beyond the gap, slipping forward: {:?}",
+        rows[0]
+    );
+    assert!(
+        rows.iter().filter(|r| r[8] == "8").count() > 10,
+        "rolling at the strobes"
+    );
+    for (flags, word) in [
+        (vec!["--friction", "0.3"], "--shaft-radius"),
+        (vec!["--friction", "-1", "--shaft-radius", "1"], "friction"),
+        (
+            vec!["--friction", "0.3", "--shaft-radius", "0"],
+            "shaft_radius",
+        ),
+        // Beyond 2 sqrt 2, the bound of a preloaded isotropic ring.
+        (
+            vec!["--friction", "3", "--shaft-radius", "1", "--delta-x", "0.1"],
+            "friction",
+        ),
+    ] {
+        let out = run(&flags);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{flags:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains(word), "{flags:?}: {err}");
+    }
+}
