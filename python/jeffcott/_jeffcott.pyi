@@ -303,6 +303,8 @@ def simulate(
     atol: float | None = None,
     method: str | None = None,
     max_steps: int | None = None,
+    friction: float = 0.0,
+    shaft_radius: float | None = None,
 ) -> StrobeRun: ...
 def simulate_dense(
     params: Params,
@@ -314,6 +316,8 @@ def simulate_dense(
     atol: float | None = None,
     method: str | None = None,
     max_steps: int | None = None,
+    friction: float = 0.0,
+    shaft_radius: float | None = None,
 ) -> DenseRun: ...
 def bifurcation(
     params: Params,

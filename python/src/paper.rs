@@ -3,8 +3,9 @@
 //! (one forcing period is $2\pi/\eta$), lengths in gaps, velocities in gaps times $\omega_n$.
 
 use jeffcott::analysis::{BifurcationOptions, SweepOptions};
-use jeffcott::hybrid::{SimOptions, Trajectory};
-use jeffcott::nalgebra::{Vector2, U6};
+use jeffcott::hybrid::{SimOptions, SimStats, Trajectory};
+use jeffcott::nalgebra::{allocator::Allocator, DVector, DefaultAllocator, Dim, OVector, Vector2};
+use jeffcott::paper::rub::rubbing_model;
 use jeffcott::paper::{JeffcottModel, ParamSweep, State, SweepParameter};
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3};
@@ -26,7 +27,8 @@ pub struct StrobeRun {
     pub t: Py<PyArray1<f64>>,
     /// States [x, y, x', y', x_s, y_s] (gaps, gaps per 1/omega_n), float64, shape (N+1, 6).
     pub states: Py<PyArray2<f64>>,
-    /// Regimes 1..=5 (I..V; 1 is free flight), uint8, shape (N+1,).
+    /// Regimes 1..=5 (I..V; 1 is free flight); with friction 6, 7, 8 (slipping forward,
+    /// slipping backward, rolling), uint8, shape (N+1,).
     pub regimes: Py<PyArray1<u8>>,
     /// The work done: steps, rejected, rhs_evals, exact_evals, transitions, jacobians,
     /// lu_decompositions.
@@ -42,7 +44,8 @@ pub struct DenseRun {
     pub states: Py<PyArray2<f64>>,
     /// Their time derivatives (the ring's velocity included), float64, shape (N, 6).
     pub derivatives: Py<PyArray2<f64>>,
-    /// Regimes 1..=5 at the samples, uint8, shape (N,).
+    /// Regimes 1..=5 at the samples (with friction 6, 7, 8: slipping forward, backward,
+    /// rolling), uint8, shape (N,).
     pub regimes: Py<PyArray1<u8>>,
     /// Event times, float64, shape (E,).
     pub event_t: Py<PyArray1<f64>>,
@@ -101,18 +104,20 @@ pub fn run_setup(
 }
 
 /// The states as the rows of an (N, 6) numpy array.
-pub fn states<'a>(
+pub fn states<'a, D: Dim>(
     py: Python<'_>,
-    states: impl ExactSizeIterator<Item = &'a State>,
-) -> PyResult<Py<PyArray2<f64>>> {
+    states: impl ExactSizeIterator<Item = &'a OVector<f64, D>>,
+) -> PyResult<Py<PyArray2<f64>>>
+where
+    DefaultAllocator: Allocator<D>,
+{
     table(py, states.map(|y| y.iter().copied()), 6)
 }
 
-fn strobe_run(
-    py: Python<'_>,
-    traj: &Trajectory<U6>,
-    stats: &jeffcott::hybrid::SimStats,
-) -> PyResult<StrobeRun> {
+fn strobe_run<D: Dim>(py: Python<'_>, traj: &Trajectory<D>, stats: &SimStats) -> PyResult<StrobeRun>
+where
+    DefaultAllocator: Allocator<D>,
+{
     let s = &traj.strobe;
     Ok(StrobeRun {
         k: array(py, s.iter().map(|p| p.k as i64)),
@@ -123,11 +128,10 @@ fn strobe_run(
     })
 }
 
-fn dense_run(
-    py: Python<'_>,
-    traj: &Trajectory<U6>,
-    stats: &jeffcott::hybrid::SimStats,
-) -> PyResult<DenseRun> {
+fn dense_run<D: Dim>(py: Python<'_>, traj: &Trajectory<D>, stats: &SimStats) -> PyResult<DenseRun>
+where
+    DefaultAllocator: Allocator<D>,
+{
     let s = &traj.samples;
     let e = &traj.events;
     Ok(DenseRun {
@@ -145,6 +149,12 @@ fn dense_run(
 /// Stroboscopic run of the paper's model: the states at t_k = 2 pi k / eta, k = 0..=periods,
 /// from ``state0`` (default: rest, [0]*6) at t = 0.
 ///
+/// ``friction`` > 0: Coulomb friction between the ring and a shaft of radius ``shaft_radius``
+/// (in gaps, required then) spinning counter-clockwise (the crate's
+/// ``paper::rub::rubbing_model``; docs/friction.md); ``regimes`` 6, 7, 8 are slipping forward,
+/// slipping backward and rolling. A ``state0`` beyond the gap starts in contact by the onset
+/// rule, the ring placed for it.
+///
 /// Tolerances and method as the crate's ``SimOptions`` (defaults rtol 1e-10, atol 1e-12,
 /// dop853; also dopri5, radau5); ``max_steps`` bounds the run's step attempts. The run
 /// releases the GIL; Ctrl-C stops it (``KeyboardInterrupt``).
@@ -152,7 +162,7 @@ fn dense_run(
 /// Raises ``ValueError`` for bad parameters or input, ``SimulationError`` (with ``partial``,
 /// a ``StrobeRun`` of the points before the failure) for a failed run.
 #[pyfunction]
-#[pyo3(signature = (params, periods, *, state0=None, rtol=None, atol=None, method=None, max_steps=None))]
+#[pyo3(signature = (params, periods, *, state0=None, rtol=None, atol=None, method=None, max_steps=None, friction=0.0, shaft_radius=None))]
 #[allow(clippy::too_many_arguments)] // Python keywords
 pub fn simulate(
     py: Python<'_>,
@@ -163,18 +173,45 @@ pub fn simulate(
     atol: Option<f64>,
     method: Option<&str>,
     max_steps: Option<u64>,
+    friction: f64,
+    shaft_radius: Option<f64>,
 ) -> PyResult<StrobeRun> {
     let (model, y0, opts) = run_setup(&params, state0, rtol, atol, method)?;
     let opts = with_max_steps(opts, max_steps);
     let output = Output::Strobe { last: periods };
-    runs::run_into(py, &model, y0, output, &opts, strobe_run)
+    match rub_of(&params, friction, shaft_radius)? {
+        None => runs::run_into(py, &model, y0, output, &opts, strobe_run),
+        Some(rub) => runs::run_into(py, &rub, dyn_state(&y0), output, &opts, strobe_run),
+    }
+}
+
+/// The paper's rotor with friction ([`rubbing_model`]) for `friction` > 0, `None` for 0.
+fn rub_of(
+    params: &PyParams,
+    friction: f64,
+    shaft_radius: Option<f64>,
+) -> PyResult<Option<jeffcott::rotor::RubbingRotor<jeffcott::rotor::LinearRotor>>> {
+    if friction == 0.0 {
+        return Ok(None);
+    }
+    let radius = shaft_radius.ok_or_else(|| {
+        value_error("friction needs shaft_radius: the shaft's radius at the ring, in gaps")
+    })?;
+    rubbing_model(&params.checked()?, friction, radius)
+        .map(Some)
+        .map_err(value_error)
+}
+
+/// The paper's state as the friction model's (the same layout).
+fn dyn_state(y: &State) -> DVector<f64> {
+    DVector::from_column_slice(y.as_slice())
 }
 
 /// Dense run of the paper's model: samples at t_i = i dt for t_i <= t_end (non-dimensional
-/// time), from ``state0`` (default rest) at t = 0, with the event log. Options, Ctrl-C and
-/// errors as ``simulate`` (``partial`` a ``DenseRun``).
+/// time), from ``state0`` (default rest) at t = 0, with the event log. Options, friction,
+/// Ctrl-C and errors as ``simulate`` (``partial`` a ``DenseRun``).
 #[pyfunction]
-#[pyo3(signature = (params, t_end, dt, *, state0=None, rtol=None, atol=None, method=None, max_steps=None))]
+#[pyo3(signature = (params, t_end, dt, *, state0=None, rtol=None, atol=None, method=None, max_steps=None, friction=0.0, shaft_radius=None))]
 #[allow(clippy::too_many_arguments)] // Python keywords
 pub fn simulate_dense(
     py: Python<'_>,
@@ -186,11 +223,16 @@ pub fn simulate_dense(
     atol: Option<f64>,
     method: Option<&str>,
     max_steps: Option<u64>,
+    friction: f64,
+    shaft_radius: Option<f64>,
 ) -> PyResult<DenseRun> {
     let (model, y0, opts) = run_setup(&params, state0, rtol, atol, method)?;
     let opts = with_max_steps(opts, max_steps);
     let output = dense_output(t_end, dt)?;
-    runs::run_into(py, &model, y0, output, &opts, dense_run)
+    match rub_of(&params, friction, shaft_radius)? {
+        None => runs::run_into(py, &model, y0, output, &opts, dense_run),
+        Some(rub) => runs::run_into(py, &rub, dyn_state(&y0), output, &opts, dense_run),
+    }
 }
 
 /// The options with a bound on the run's step attempts, if given.

@@ -101,3 +101,37 @@ def test_fe_run_up_with_friction_obeys_coulombs_law():
         jeffcott.fe_run_up(
             M, KK, C, G, [0.0, 60.0], [0.6, 1.6], ring_node=0, gap=1.0, ring_stiffness=K,
             ring_damping=0.0, unbalance=[(0, 0.3, 0.0)], layout="lateral4", friction=mu)
+
+
+def test_paper_simulate_with_friction_obeys_coulombs_law():
+    # The paper's rotor (Fig. 8a at eta 2.5) with friction from Python: at every dense sample in
+    # contact, slipping forward F_t = mu N with v > 0, rolling v = 0 and |F_t| <= mu N, from the
+    # sample's own states and derivatives and the ring's force law (no preload: g = K s).
+    mu, a = 0.3, 0.05
+    p = jeffcott.Params.preset("fig8a")
+    p.eta = 2.5
+    period = 2 * np.pi / p.eta
+    r = jeffcott.simulate_dense(p, 40 * period, period / 64, friction=mu, shaft_radius=a)
+    y, dy, reg = r.states, r.derivatives, r.regimes
+    assert {6, 8} <= set(np.unique(reg)) <= {1, 6, 7, 8}
+    for i in np.flatnonzero(reg >= 6):
+        n = y[i, :2] - y[i, 4:]
+        assert abs(np.hypot(*n) - 1) < 1e-12
+        t = np.array([-n[1], n[0]])
+        g = np.array([p.kx * y[i, 4], p.ky * y[i, 5]])
+        normal, tangential = n @ g, t @ g
+        v = (y[i, 2:4] - dy[i, 4:]) @ t + p.eta * a
+        if reg[i] == 6:
+            assert v >= -1e-9 and abs(tangential - mu * normal) <= 1e-9 * normal
+        elif reg[i] == 8:
+            assert abs(v) <= 1e-9 and abs(tangential) <= mu * normal * (1 + 1e-12)
+    # The stroboscopic run is the dense run's states at the forcing periods.
+    s = jeffcott.simulate(p, 40, friction=mu, shaft_radius=a)
+    assert np.allclose(s.states[-1], y[-1], rtol=0, atol=1e-9)
+    # Without friction, the paper's model as before; bad friction input is a ValueError.
+    plain = jeffcott.simulate(p, 10)
+    assert np.array_equal(plain.states, jeffcott.simulate(p, 10, friction=0.0).states)
+    with pytest.raises(ValueError, match="shaft_radius"):
+        jeffcott.simulate(p, 10, friction=0.3)
+    with pytest.raises(ValueError, match="friction"):
+        jeffcott.simulate(p, 10, friction=-0.3, shaft_radius=1.0)
