@@ -14,7 +14,7 @@ pub const ONSET_TOUCH: f64 = 1e-12;
 /// Relative distance to its preload within which the other axis counts as crossing at the same
 /// time as the axis whose guard fired (a corner of the regime map), or a starting contact takes
 /// the branch it moves into.
-const CORNER_TOL: f64 = 1e-10;
+pub(crate) const CORNER_TOL: f64 = 1e-10;
 
 /// Time, relative to $\max(|t|, 1)$, within which a ring moving towards its preload counts as
 /// on it: more than the resolution of an event located at $t$ and of the start-of-segment
@@ -948,14 +948,25 @@ impl SnubberRing {
     /// $64\varepsilon(|r| + \gamma)$, plus the distance the ring moves in the time resolution,
     /// $|s_i^\prime|\tau$), and the ring is within that resolution of it.
     fn check_resolution(&self, t: f64, c: &RingContact, k: &Kinematics) -> Result<(), RingError> {
-        let sd = c.ring_velocity(&k.v);
-        let rounding = 64.0 * f64::EPSILON * (k.r.norm() + self.gap);
+        self.check_preload_resolution(t, &k.r, &c.s, &c.ring_velocity(&k.v))
+    }
+
+    /// [`RingError::PreloadBelowResolution`] as [`SnubberRing::check_resolution`], for the ring
+    /// at `s` moving at `sd` with the rotor at `r` (a contact of any law: the friction's too).
+    pub(crate) fn check_preload_resolution(
+        &self,
+        t: f64,
+        r: &Vector2<f64>,
+        s: &Vector2<f64>,
+        sd: &Vector2<f64>,
+    ) -> Result<(), RingError> {
+        let rounding = 64.0 * f64::EPSILON * (r.norm() + self.gap);
         let tau = PRELOAD_TIME_TOL * t.abs().max(1.0);
         for (axis, field) in [(Axis::X, "x.preload"), (Axis::Y, "y.preload")] {
             let (i, d) = (axis.index(), self.axis(axis).preload);
             let resolution = rounding + (sd[i] * tau).abs();
             // (A NaN velocity, a ring without damping released at once, fails neither test.)
-            if d > 0.0 && 2.0 * d < resolution && c.s[i].abs() <= d + resolution {
+            if d > 0.0 && 2.0 * d < resolution && s[i].abs() <= d + resolution {
                 return Err(RingError::PreloadBelowResolution {
                     field,
                     preload: d,

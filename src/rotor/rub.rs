@@ -321,13 +321,14 @@ where
             Some(b) => self.rub.start_on(&k.r, &k.v, surface, b)?,
             None => self.rub.start(&k.r, &k.v, surface)?,
         };
-        Ok(match start {
+        let (mode, s, s_dot) = match start {
             ContactStart::Slipping(c) => (
                 RubMode::Slip {
                     sense: slip_of(c.friction),
                     branches: c.branches,
                 },
                 c.s,
+                c.ring_velocity(&k.v),
             ),
             ContactStart::Rolling(c) => (
                 RubMode::Roll {
@@ -336,8 +337,14 @@ where
                     branches: c.branches,
                 },
                 c.s,
+                c.ring_velocity(&k.v, surface),
             ),
-        })
+        };
+        // A preload narrower than the time resolution cannot be resolved (as without friction).
+        self.rub
+            .ring()
+            .check_preload_resolution(t, &k.r, &s, &s_dot)?;
+        Ok((mode, s))
     }
 
     /// The rate of the friction guard of `mode` at `(t, y)`, the rotor's field taken in that
@@ -570,6 +577,9 @@ where
             return Ok(mode);
         };
         let ring = self.rub.ring();
+        // A preload narrower than the time resolution cannot be resolved (as without friction).
+        ring.check_preload_resolution(t, &self.station(y).r, &c.s, &c.s_dot)
+            .map_err(|e| transition_error(t, e))?;
         let mut next = c.branches;
         let fired = axis.index();
         let flipped = match branch_on(&next, fired) {

@@ -412,7 +412,7 @@ impl FrictionRing {
 }
 
 /// How far a ring position lies off the given branches (0 on them).
-fn violation(ring: &crate::ring::SnubberRing, b: Branches, s: &Vector2<f64>) -> f64 {
+pub(super) fn violation(ring: &crate::ring::SnubberRing, b: Branches, s: &Vector2<f64>) -> f64 {
     let off = |a: &crate::ring::RingAxis, branch: Branch, si: f64| match branch {
         Branch::Inner => (si.abs() - a.preload).max(0.0),
         Branch::Outer(0) => 0.0,

@@ -2,7 +2,9 @@
 
 use nalgebra::Vector2;
 
+use super::slip::violation;
 use super::{FrictionRing, RollContact, Slip, SlipContact};
+use crate::ring::element::CORNER_TOL;
 use crate::ring::{check_finite, Branches, RingError};
 
 /// Checks the rotor's velocity and the surface speed.
@@ -48,7 +50,11 @@ impl FrictionRing {
 
     /// As [`FrictionRing::start`] on given branches (their smooth extension): for a touch of
     /// the gap circle within its rounding, where [`FrictionRing::start`] has no location
-    /// (`|r| <= gap`), with the branches the frictionless touch starts on.
+    /// (`|r| <= gap`), with the branches the frictionless touch starts on. Beyond the gap
+    /// circle, a slipping start that does not lie on `branches` (beyond the resolution at which
+    /// the frictionless contact decides a branch on a preload) is [`FrictionRing::start`]'s:
+    /// e.g. a touch of a ring that has not relaxed, whose frictionless location lies on other
+    /// branches than the slipping one.
     ///
     /// # Errors
     /// As [`FrictionRing::start`], with [`RingError::NoPlacement`] where the branches have no
@@ -64,7 +70,18 @@ impl FrictionRing {
         let forward = self.locate_slipping_on(r, Slip::Forward, branches, f64::NAN)?;
         let backward = self.locate_slipping_on(r, Slip::Backward, branches, f64::NAN)?;
         let plain = self.ring.locate_on(r, branches, f64::NAN)?;
-        self.decide(r, (forward, backward), plain.normal, r_dot, surface_speed)
+        let start = self.decide(r, (forward, backward), plain.normal, r_dot, surface_speed)?;
+        let (ring, gap) = (&self.ring, self.ring.gap);
+        let resolution =
+            CORNER_TOL * (ring.x.preload + ring.y.preload) + 64.0 * f64::EPSILON * (r.norm() + gap);
+        match start {
+            ContactStart::Slipping(c)
+                if r.norm() > gap && violation(ring, branches, &c.s) > resolution =>
+            {
+                self.start(r, r_dot, surface_speed)
+            }
+            _ => Ok(start),
+        }
     }
 
     /// The onset rule on the two slipping locations; rolling at the frictionless normal.

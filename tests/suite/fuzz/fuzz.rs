@@ -78,7 +78,7 @@ fn preload() -> impl Strategy<Value = f64> + Clone {
 /// 1e-6 from it, undamped); nu1 zero, light, critical and over-damped; nu2 zero, tiny,
 /// moderate and huge; K from 1e-3 to 1e4, anisotropic half the time; preloads zero, tiny,
 /// moderate and larger than the gap, unequal half the time; eccentricities up to 1e3 gaps.
-fn params() -> impl Strategy<Value = Params> {
+pub(super) fn params() -> impl Strategy<Value = Params> {
     let eta = prop_oneof![
         3 => 0.05f64..0.9,
         1 => 0.9f64..1.1,

@@ -8,5 +8,6 @@
 #[allow(clippy::module_inception)] // the fuzzer itself, in its area: `fuzz::fuzz::`
 mod fuzz;
 mod fuzz_findings;
+mod fuzz_friction;
 mod fuzz_linear;
 mod harness;
