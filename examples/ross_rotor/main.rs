@@ -11,6 +11,11 @@
 //! stderr (contacts, steps, seconds); draws in `--out` the orbit at the ring node with the gap
 //! circle (`orbit.png`) and x(t), y(t) (`displacement.png`).
 //!
+//! With `--friction MU` (> 0) Coulomb friction acts between the ring and a shaft of radius
+//! `--shaft-radius A` (m, the shaft's outer radius at the ring node; required then: ROSS's
+//! export holds the matrices only) spinning counter-clockwise (`rotor::RubbingRotor`,
+//! docs/friction.md); the summary line counts the slip stops and the ends of rolling.
+//!
 //! ```text
 //! cargo run --release --example ross_rotor -- --mat ../shared/rotors/rotor_example_with_damping_1200rpm.mat \
 //!     --speed-rpm 1200 --ring-node 12 --gap 7.95e-5 --ring-stiffness 1.1e6 --ring-damping 0.01 \
@@ -27,12 +32,13 @@ use clap::Parser;
 use common::cli::{f64_in, fail, parse, usize_in};
 use common::plot::{self, Figure, Series};
 use common::scene::MethodFlag;
+use jeffcott::hybrid::RotorModel;
 use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, SimOptions, Trajectory};
 use jeffcott::nalgebra::{DVector, Dyn};
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{
     CraigBampton, LinearClosedForm, LinearRotor, LinearSystem, ModalRotor, ModeSelection,
-    RingedRotor, RotorError, RotorMatrices, SmoothRotor,
+    RingedRotor, RotorError, RotorMatrices, RubbingRotor, SmoothRotor,
 };
 
 /// One out-of-balance: node, magnitude (kg m), phase (rad).
@@ -123,6 +129,12 @@ struct Flags {
     /// Folder of the pictures
     #[arg(long, value_name = "DIR", default_value = "target/figures/ross_rotor")]
     out: PathBuf,
+    /// Coulomb friction coefficient between ring and shaft (0: frictionless) [range: 0..=100]
+    #[arg(long, allow_hyphen_values = true, value_name = "MU", default_value = "0", value_parser = f64_in(0.0, 100.0))]
+    friction: f64,
+    /// The shaft's outer radius at the ring node (m; required with --friction > 0) [range: 1e-9..=100]
+    #[arg(long, allow_hyphen_values = true, value_name = "A", value_parser = f64_in(1e-9, 100.0))]
+    shaft_radius: Option<f64>,
 }
 
 /// A bad input: `error: ...` on stderr, status 2.
@@ -137,12 +149,17 @@ fn main() {
     let (run, free_flight) = if matches!(method(&f), MethodFlag::Etd4) {
         let modal = check(ModalRotor::new(model.rotor()), "modal form");
         let modal = check(modal.ringed(*model.ring()), "ring");
-        let at = |y: &DVector<f64>| modal.rotor().station_displacement(y);
         let free_flight = format!("{} (modal coordinates)", free_flight(modal.closed_form()));
-        (transient(&modal, &f, at), free_flight)
+        (
+            on_ring(modal, &f, ModalRotor::station_displacement),
+            free_flight,
+        )
     } else {
-        let at = |y: &DVector<f64>| model.rotor().station_displacement(y);
-        (transient(&model, &f, at), free_flight(model.closed_form()))
+        let free_flight = free_flight(model.closed_form());
+        (
+            on_ring(model, &f, LinearRotor::station_displacement),
+            free_flight,
+        )
     };
     write_csv(&run.samples);
     eprintln!("{}", summary(&f, dofs, kept, &free_flight, &run));
@@ -201,8 +218,16 @@ fn summary(f: &Flags, dofs: usize, kept: Option<f64>, free_flight: &str, run: &R
     let reduction = kept.map_or(String::new(), |w| {
         format!(" ({} modes, highest {w:.4e} rad/s)", f.modes)
     });
+    let friction = if f.friction > 0.0 {
+        format!(
+            ", friction {} ({} slip stops, {} ends of rolling)",
+            f.friction, run.stops, run.slides
+        )
+    } else {
+        String::new()
+    };
     format!(
-        "ross_rotor: {} DOFs{reduction}, {:?}, free flight {free_flight}, {} contacts, {} steps ({} rejected), {} events, {:.3} s",
+        "ross_rotor: {} DOFs{reduction}, {:?}, free flight {free_flight}, {} contacts{friction}, {} steps ({} rejected), {} events, {:.3} s",
         dofs,
         method(f).method(),
         run.contacts,
@@ -217,15 +242,39 @@ fn summary(f: &Flags, dofs: usize, kept: Option<f64>, free_flight: &str, run: &R
 struct Run {
     samples: Vec<[f64; 3]>,
     contacts: usize,
+    /// With friction: slip stops (into rolling) and ends of rolling.
+    stops: usize,
+    slides: usize,
     events: usize,
     steps: u64,
     rejected: u64,
     seconds: f64,
 }
 
-/// The transient of `model` from rest; `at` reads the ring node's displacement from a state.
-fn transient<R: SmoothRotor<Dim = Dyn>>(
-    model: &RingedRotor<R>,
+/// The transient of `model` on the ring, with friction if the flags ask for it; `at` reads the
+/// ring node's displacement from the rotor and a state.
+fn on_ring<R: SmoothRotor<Dim = Dyn>>(
+    model: RingedRotor<R>,
+    f: &Flags,
+    at: fn(&R, &DVector<f64>) -> [f64; 2],
+) -> Run {
+    let mut y0 = DVector::zeros(model.rotor().dim().0); // q = q' = 0, s = 0
+    check(model.make_consistent(&mut y0), "initial state");
+    if f.friction == 0.0 {
+        return transient(&model, &y0, f, |y| at(model.rotor(), y));
+    }
+    let radius = f.shaft_radius.unwrap_or_else(|| {
+        fail("--friction needs --shaft-radius (the shaft's outer radius at the ring node, m)")
+    });
+    let rub = check(RubbingRotor::new(model, f.friction, radius), "--friction");
+    transient(&rub, &y0, f, |y| at(rub.ringed().rotor(), y))
+}
+
+/// The transient of `model` from `y0` at rest; `at` reads the ring node's displacement from a
+/// state.
+fn transient<M: RotorModel<Dim = Dyn>>(
+    model: &M,
+    y0: &DVector<f64>,
     f: &Flags,
     at: impl Fn(&DVector<f64>) -> [f64; 2],
 ) -> Run {
@@ -241,11 +290,9 @@ fn transient<R: SmoothRotor<Dim = Dyn>>(
         .with_rtol(f.rtol)
         .with_atol(f.rtol)
         .with_max_events_per_period(u32::MAX);
-    let mut y0 = DVector::zeros(model.rotor().dim().0); // q = q' = 0, s = 0
-    check(model.make_consistent(&mut y0), "initial state");
     let mut rec = Trajectory::<Dyn>::default();
     let clock = Instant::now();
-    let stats = common::or_exit(simulate(model, 0.0, &y0, &plan, &opts, &mut rec));
+    let stats = common::or_exit(simulate(model, 0.0, y0, &plan, &opts, &mut rec));
     let seconds = clock.elapsed().as_secs_f64();
     let mut samples: Vec<[f64; 3]> = rec
         .samples
@@ -268,14 +315,12 @@ fn transient<R: SmoothRotor<Dim = Dyn>>(
     for (i, s) in samples.iter_mut().enumerate() {
         s[0] = i as f64 * dt;
     }
-    let contacts = rec
-        .events
-        .iter()
-        .filter(|e| e.kind == "contact onset")
-        .count();
+    let count = |kind: &str| rec.events.iter().filter(|e| e.kind == kind).count();
     Run {
         samples,
-        contacts,
+        contacts: count("contact onset"),
+        stops: count("slip velocity zero"),
+        slides: count("friction cone's edge"),
         events: rec.events.len(),
         steps: stats.steps,
         rejected: stats.rejected,
