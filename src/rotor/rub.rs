@@ -390,7 +390,7 @@ where
                 let c = self
                     .rub
                     .locate_slipping_on(&k.r, sense, branches, cache.hint.get())?;
-                let jac = self.rub.slip_force_jacobian(&c, &k.v);
+                let (jac, g) = self.rub.slip_rates(&c, &k.v);
                 // n . f with n' = (I - J) r'/gamma, then max(n . f, lambda)'s rate.
                 let s_dot = c.ring_velocity(&k.v);
                 let n_dot = (k.v - s_dot) / gap;
@@ -406,7 +406,6 @@ where
                     r_ddot: accel,
                 };
                 let loss = loss_force_rate(c.damping, &motion, normal, normal_rate);
-                let g = self.rub.slip_velocity_gradient(&c, &k.v);
                 let v_rate = g.r.dot(&k.v) + g.v.dot(&accel) + a * spin.accel;
                 Ok([loss, gap_rate, sense.sign() * v_rate])
             }

@@ -88,9 +88,28 @@ impl FrictionRing {
     /// Jacobian of the slipping ring's force $F = g(s(r)) + CJ(r)v$ at rotor velocity `v`
     /// (as [`SnubberRing::force_jacobian`](crate::ring::SnubberRing::force_jacobian)).
     pub fn slip_force_jacobian(&self, c: &SlipContact, v: &Vector2<f64>) -> ForceJacobian {
+        self.force_jacobian_with(c, v, &self.slip_hessian(c))
+    }
+
+    /// [`FrictionRing::slip_force_jacobian`] and [`FrictionRing::slip_velocity_gradient`] at
+    /// rotor velocity `v`, from one [`FrictionRing::slip_hessian`] (the rates of a slipping
+    /// contact's guards need both).
+    pub fn slip_rates(&self, c: &SlipContact, v: &Vector2<f64>) -> (ForceJacobian, GuardGradient) {
         let hess = self.slip_hessian(c);
+        (
+            self.force_jacobian_with(c, v, &hess),
+            velocity_gradient_with(c, v, &hess),
+        )
+    }
+
+    fn force_jacobian_with(
+        &self,
+        c: &SlipContact,
+        v: &Vector2<f64>,
+        hess: &ContactHessian,
+    ) -> ForceJacobian {
         let slopes = branch_slopes(&self.ring, c.branches);
-        ForceJacobian::of(slopes, c.damping, &c.jacobian, &hess, v, c.force(v))
+        ForceJacobian::of(slopes, c.damping, &c.jacobian, hess, v, c.force(v))
     }
 
     /// Gradient of the slip velocity $v = (r^\prime - Jr^\prime)\cdot t + \eta a$ of a slipping
@@ -99,13 +118,7 @@ impl FrictionRing {
     /// $(I - J)r^\prime$ lies along $t$), and to $r^\prime$, $(I - J)^{\mathsf T} t$; its
     /// derivative with respect to the surface speed $\eta a$ is 1.
     pub fn slip_velocity_gradient(&self, c: &SlipContact, r_dot: &Vector2<f64>) -> GuardGradient {
-        let hess = self.slip_hessian(c);
-        GuardGradient {
-            r: -(hess.jacobian_times(r_dot).transpose() * c.tangent),
-            v: (Matrix2::identity() - c.jacobian).transpose() * c.tangent,
-            s: Vector2::zeros(),
-            t: 0.0,
-        }
+        velocity_gradient_with(c, r_dot, &self.slip_hessian(c))
     }
 
     /// Gradient of the rolling contact's [`RollContact::stick_margin`]
@@ -122,5 +135,20 @@ impl FrictionRing {
         let d_normal = tangential - gap * n.dot(&(slopes * t));
         let d_tangential = -normal - gap * t.dot(&(slopes * t));
         (r, self.friction * d_normal - sign * d_tangential)
+    }
+}
+
+/// The slip velocity's gradient ([`FrictionRing::slip_velocity_gradient`]) from the contact's
+/// second derivatives `hess`.
+fn velocity_gradient_with(
+    c: &SlipContact,
+    r_dot: &Vector2<f64>,
+    hess: &ContactHessian,
+) -> GuardGradient {
+    GuardGradient {
+        r: -(hess.jacobian_times(r_dot).transpose() * c.tangent),
+        v: (Matrix2::identity() - c.jacobian).transpose() * c.tangent,
+        s: Vector2::zeros(),
+        t: 0.0,
     }
 }
