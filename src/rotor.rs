@@ -150,7 +150,9 @@ pub struct Spin {
     /// The shaft's angle $\varphi$, $\varphi^\prime = \Omega$ (any origin: only its changes are
     /// used).
     pub angle: f64,
-    /// The spin's acceleration $\Omega^\prime$.
+    /// The spin's acceleration $\Omega^\prime$ where it is imposed (a constant speed, a
+    /// profile); NaN where the spin is a state (a non-ideal drive,
+    /// [`SmoothRotor::spin_speed_index`]), whose acceleration is the field's component.
     pub accel: f64,
 }
 
@@ -204,11 +206,35 @@ where
     /// The shaft's spin at `(t, y)`: its speed and angle (rad/s and rad, or the model's time
     /// unit), for a contact law that needs the motion of the shaft's surface (friction at the
     /// ring, [`RubbingRotor`]). Default `None`: the rotor does not say, and such a law refuses
-    /// it. A rotor whose speed the contact could change (a non-ideal drive, whose speed
-    /// equation would need the rub torque) should keep `None` until it takes that torque.
+    /// it. A rotor whose speed is a state (a non-ideal drive) gives it with
+    /// [`SmoothRotor::spin_speed_index`] and takes the contact's torque
+    /// ([`SmoothRotor::add_shaft_torque`]).
     fn spin(&self, t: f64, y: &OVector<f64, Self::Dim>) -> Option<Spin> {
         let _ = (t, y);
         None
+    }
+
+    /// The index of the spin's speed $\Omega$ in the state where the spin is a state (a
+    /// non-ideal drive): its acceleration is then the field's component there, not
+    /// [`Spin::accel`], and a torque on the shaft changes it
+    /// ([`SmoothRotor::add_shaft_torque`]). Default `None`: the spin is imposed (a constant
+    /// speed, a profile), and a torque on the shaft is the drive's to absorb.
+    fn spin_speed_index(&self) -> Option<usize> {
+        None
+    }
+
+    /// Adds to `dy` the effect of a torque `torque` about the shaft's axis, positive in the
+    /// spin's sense (the rub torque of friction at the ring, [`RubbingRotor`]), at the state
+    /// `y`: for a rotor whose spin is a state ([`SmoothRotor::spin_speed_index`]), its share
+    /// of the spin's acceleration and of the accelerations coupled to it. Default: nothing (an
+    /// imposed spin; such a rotor must not override it).
+    fn add_shaft_torque(
+        &self,
+        y: &OVector<f64, Self::Dim>,
+        torque: f64,
+        dy: &mut OVector<f64, Self::Dim>,
+    ) {
+        let _ = (y, torque, dy);
     }
 
     /// The time of the stroboscopic output `k` ([`RotorModel::strobe_time`], which

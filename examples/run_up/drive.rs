@@ -1,12 +1,14 @@
 //! `--motor T0,OMEGA0,INERTIA`: the paper's rotor on a non-ideal drive
-//! (`rotor::DrivenJeffcott`), the speed driven by a DC motor through the polar inertia.
+//! (`rotor::DrivenJeffcott`), the speed driven by a DC motor through the polar inertia; with
+//! `--friction`, Coulomb friction at the ring whose rub torque brakes it
+//! (`rotor::RubbingRotor`).
 
 use std::f64::consts::TAU;
 use std::path::Path;
 
 use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, Trajectory};
 use jeffcott::nalgebra::U8;
-use jeffcott::rotor::{DrivenJeffcott, MotorTorque, ETA, PHASE};
+use jeffcott::rotor::{DrivenJeffcott, MotorTorque, RubbingRotor, ETA, PHASE};
 
 use crate::common::cli::fail;
 use crate::common::or_exit;
@@ -14,10 +16,12 @@ use crate::common::plot::{self, Figure, Series};
 use crate::common::scene::Scene;
 
 /// Runs the drive `motor` = `[T0, OMEGA0, INERTIA]` from `eta_from` for `duration`, sampled
-/// `samples` times per revolution at the no-load speed; prints the speed and a summary, and
-/// draws in `out`.
+/// `samples` times per revolution at the no-load speed, with `friction` = (mu, a) at the ring
+/// if given; prints the speed and a summary, and draws in `out`.
+#[allow(clippy::too_many_arguments)]
 pub fn run(
     motor: &[f64],
+    friction: Option<(f64, f64)>,
     eta_from: f64,
     duration: f64,
     no_ring: bool,
@@ -55,7 +59,14 @@ pub fn run(
         events: true,
     };
     let mut traj = Trajectory::<U8>::default();
-    let error = simulate(&model, 0.0, &start, &plan, &scene.opts, &mut traj).err();
+    let error = match friction {
+        None => simulate(&model, 0.0, &start, &plan, &scene.opts, &mut traj).err(),
+        Some((mu, a)) => {
+            let rub = RubbingRotor::new(model, mu, a)
+                .unwrap_or_else(|e| fail(format!("--friction: {e}")));
+            simulate(&rub, 0.0, &start, &plan, &scene.opts, &mut traj).err()
+        }
+    };
     summary(&traj, duration);
     if let Some(dir) = out {
         or_exit(std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display())));
@@ -84,12 +95,14 @@ fn summary(traj: &Trajectory<U8>, duration: f64) {
         .collect();
     let mean = late.iter().sum::<f64>() / late.len().max(1) as f64;
     let max = late.iter().copied().fold(0.0, f64::max);
-    let contacts = traj
-        .events
-        .iter()
-        .filter(|e| e.kind == "contact onset")
-        .count();
-    println!("last third: mean eta {mean:.5}, largest {max:.5}; {contacts} contacts");
+    let count = |kind: &str| traj.events.iter().filter(|e| e.kind == kind).count();
+    let contacts = count("contact onset");
+    print!("last third: mean eta {mean:.5}, largest {max:.5}; {contacts} contacts");
+    let (stops, rolls) = (count("slip velocity zero"), count("friction cone's edge"));
+    if traj.samples.iter().any(|s| s.label >= 6) {
+        print!(" ({stops} slip stops, {rolls} ends of rolling)");
+    }
+    println!();
 }
 
 /// Per revolution of the phase state ($\lfloor(\varphi - \varphi_0)/2\pi\rfloor$): its mean

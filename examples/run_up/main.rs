@@ -25,7 +25,10 @@
 //! $j$ = INERTIA, from $\eta = A$ for `--duration` (default 1500); it prints $\eta(\tau)$ at
 //! every tenth of the run, the mean and largest speed over its last third and the contacts,
 //! and with `--out DIR` draws `DIR/speed.png` ($\eta(\tau)$) and `DIR/drive_envelope.png`
-//! (the largest radius in each revolution against its mean speed), each with its CSV.
+//! (the largest radius in each revolution against its mean speed), each with its CSV. With
+//! `--friction MU --shaft-radius A` (A in gaps) Coulomb friction acts at the ring
+//! (`rotor::RubbingRotor`, docs/friction.md) and its rub torque $-a\thinspace t\cdot f$ brakes
+//! the drive; the summary then counts the slip stops and the ends of rolling.
 //!
 //! With `--fe` a finite-element rotor runs instead (`rotor::ProfiledLinearRotor`): ROSS's
 //! 204-DOF `rotor_example_with_damping` (`--fe-mat`, default the repository's copy of
@@ -99,6 +102,13 @@ struct Flags {
     /// inertia j = INERTIA (non-dimensional), from eta = A for --duration
     #[arg(long, value_name = "T0,OMEGA0,INERTIA", value_delimiter = ',', value_parser = f64_in(-1e6, 1e12), conflicts_with_all = ["csv", "peak_rates"])]
     motor: Vec<f64>,
+    /// With --motor: Coulomb friction between ring and shaft (>= 0; 0: frictionless), whose rub
+    /// torque brakes the drive
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3), default_value_t = 0.0)]
+    friction: f64,
+    /// With --motor and --friction > 0: the shaft's radius at the ring, in gaps [range: 0..=1000]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3))]
+    shaft_radius: Option<f64>,
     /// With --motor: how long the run lasts, tau [range: 0..=1000000]
     #[arg(long, value_name = "NUMBER", default_value_t = 1500.0, value_parser = f64_in(0.0, 1e6))]
     duration: f64,
@@ -306,9 +316,19 @@ fn main() {
         fe_run(&flags);
         return;
     }
+    if flags.motor.is_empty() && (flags.friction > 0.0 || flags.shaft_radius.is_some()) {
+        fail("--friction and --shaft-radius need --motor (a ramp's run-up with friction is not built yet)");
+    }
     if !flags.motor.is_empty() {
+        let friction = (flags.friction > 0.0).then(|| {
+            let radius = flags.shaft_radius.unwrap_or_else(|| {
+                fail("--friction needs --shaft-radius (the shaft's radius at the ring, in gaps)")
+            });
+            (flags.friction, radius)
+        });
         drive::run(
             &flags.motor,
+            friction,
             flags.eta_from(),
             flags.duration,
             flags.no_ring,

@@ -304,6 +304,29 @@ impl SmoothRotor for DrivenJeffcott {
         [4, 5]
     }
 
+    /// The state's speed $\eta$ and phase $\varphi$ (its acceleration is the field's).
+    fn spin(&self, _t: f64, y: &SVector<f64, 8>) -> Option<super::Spin> {
+        Some(super::Spin {
+            speed: y[ETA],
+            angle: y[PHASE],
+            accel: f64::NAN,
+        })
+    }
+
+    fn spin_speed_index(&self) -> Option<usize> {
+        Some(ETA)
+    }
+
+    /// A torque $t_c$ (in $k_r\gamma^2$) adds to the motor's: $\eta^\prime$ gains
+    /// $t_c/(j - \beta^2)$ and the accelerations its coupling, as for a force's share.
+    fn add_shaft_torque(&self, y: &SVector<f64, 8>, torque: f64, dy: &mut SVector<f64, 8>) {
+        let mut share = SVector::<f64, 8>::zeros();
+        let rate = self.couple(y[PHASE], torque, &mut share);
+        dy[2] += share[2];
+        dy[3] += share[3];
+        dy[ETA] += rate;
+    }
+
     /// $2\pi/\eta_\text{ref}$ (the parameters' `eta`).
     fn forcing_period(&self) -> f64 {
         TAU / self.eta_ref

@@ -301,6 +301,29 @@ impl SmoothRotor for DrivenLinearRotor {
         self.rotor.ring_slots()
     }
 
+    /// The state's speed $\Omega$ and phase $\varphi$ (its acceleration is the field's).
+    fn spin(&self, _t: f64, y: &DVector<f64>) -> Option<super::Spin> {
+        Some(super::Spin {
+            speed: y[self.speed_index()],
+            angle: y[self.phase_index()],
+            accel: f64::NAN,
+        })
+    }
+
+    fn spin_speed_index(&self) -> Option<usize> {
+        Some(self.speed_index())
+    }
+
+    /// A torque $T_c$ (N m) adds to the motor's: $\Omega^\prime$ gains
+    /// $T_c/(J - b\cdot M^{-1}b)$ and the accelerations its coupling $-M^{-1}b$. No allocation.
+    fn add_shaft_torque(&self, y: &DVector<f64>, torque: f64, dy: &mut DVector<f64>) {
+        let n = self.rotor.system().dofs();
+        let (sin, cos) = y[self.phase_index()].sin_cos();
+        let rate = spin_acceleration(torque, self.inertia, 0.0, self.b_minv_b((cos, sin)));
+        self.add_coupling((cos, sin), rate, &mut dy.rows_mut(n, n));
+        dy[self.speed_index()] += rate;
+    }
+
     /// $2\pi/\Omega_r$.
     fn forcing_period(&self) -> f64 {
         TAU / self.rotor.system().speed()

@@ -72,9 +72,11 @@ pub struct RubCache {
 /// (the smooth extension of its regime) and ends at a preload crossing, as the frictionless
 /// contact does, with the ring's position continuous through it.
 ///
-/// **Scope** (this version): a rotor that gives its spin ([`SmoothRotor::spin`]:
-/// constant-speed and profiled rotors; a non-ideal drive does not yet take the rub torque,
-/// and is refused).
+/// The rotor must give its spin ([`SmoothRotor::spin`]): a constant speed, a profile, or a
+/// non-ideal drive ([`super::DrivenJeffcott`], [`super::DrivenLinearRotor`]), whose speed
+/// equation then takes the rub torque $a\thinspace n\times(-f) = -a\thinspace t\cdot f$
+/// ([`SmoothRotor::add_shaft_torque`]; `../shared/MODEL.md`: $-F_t a$), $f$ the ring's force
+/// (dampers included), $n$ and $t$ the contact's normal and tangent.
 ///
 /// Mode labels ([`RotorModel::mode_label`]): the ring's 1..5 (regimes), 6 slipping forward,
 /// 7 slipping backward, 8 rolling. Guards of a contact mode: loss, gap, the friction guard,
@@ -102,8 +104,9 @@ where
     /// # Errors
     /// [`RotorError::Ring`] for a friction coefficient the ring refuses
     /// ([`FrictionRing::new`]); [`RotorError::Friction`] for a shaft radius that is not finite
-    /// and positive and, with friction, a rotor without a spin (without friction every rotor
-    /// the frictionless composition takes).
+    /// and positive and, with friction, a rotor without a spin or whose spin is a state that a
+    /// torque on the shaft does not accelerate ([`SmoothRotor::add_shaft_torque`]; without
+    /// friction every rotor the frictionless composition takes).
     pub fn new(
         inner: RingedRotor<R>,
         friction: f64,
@@ -134,8 +137,23 @@ where
             return bad(
                 "spin",
                 f64::NAN,
-                "the rotor gives no spin (SmoothRotor::spin); a driven rotor does not yet take the rub torque",
+                "the rotor gives no spin (SmoothRotor::spin)",
             );
+        }
+        if let Some(i) = inner.rotor().spin_speed_index() {
+            // A unit torque must accelerate the spin (a drive that ignores the rub torque
+            // would run on as if nothing braked it).
+            let mut dy = rest.clone();
+            dy.fill(0.0);
+            inner.rotor().add_shaft_torque(&rest, 1.0, &mut dy);
+            let rate = dy.get(i).copied().unwrap_or(f64::NAN);
+            if !(rate.is_finite() && rate > 0.0) {
+                return bad(
+                    "spin_speed_index",
+                    rate,
+                    "the spin is a state, but a unit torque on the shaft (SmoothRotor::add_shaft_torque) does not accelerate it",
+                );
+            }
         }
         Ok(Self {
             inner,
@@ -217,6 +235,15 @@ where
             accel: f64::NAN,
         };
         self.inner.rotor.spin(t, y).unwrap_or(nan)
+    }
+
+    /// The spin's acceleration at `(t, y)` under the field `dy`: the imposed one, or a
+    /// state's rate.
+    fn spin_accel(&self, t: f64, y: &OVector<f64, R::Dim>, dy: &OVector<f64, R::Dim>) -> f64 {
+        match self.inner.rotor.spin_speed_index() {
+            Some(i) => dy[i],
+            None => self.spin(t, y).accel,
+        }
     }
 
     fn station(&self, y: &OVector<f64, R::Dim>) -> Kinematics {
@@ -377,6 +404,7 @@ where
         let k = self.station(y);
         let accel = self.station(dy).v;
         let spin = self.spin(t, y);
+        let spin_accel = self.spin_accel(t, y, dy);
         let (gap, a) = (self.rub.ring().gap, self.radius);
         let surface = a * spin.speed;
         let gap_rate = 2.0 * k.r.dot(&k.v);
@@ -406,7 +434,7 @@ where
                     r_ddot: accel,
                 };
                 let loss = loss_force_rate(c.damping, &motion, normal, normal_rate);
-                let v_rate = g.r.dot(&k.v) + g.v.dot(&accel) + a * spin.accel;
+                let v_rate = g.r.dot(&k.v) + g.v.dot(&accel) + a * spin_accel;
                 Ok([loss, gap_rate, sense.sign() * v_rate])
             }
             RubMode::Roll {
@@ -421,7 +449,7 @@ where
                 // f = g(s) + C (r' + eta a t): f' = G' s' + C (r'' + (eta a)' t - eta a n theta').
                 let f = c.force(&k.v, surface);
                 let w: Vector2<f64> =
-                    accel + c.tangent * (a * spin.accel) - c.normal * (surface * theta_rate);
+                    accel + c.tangent * (a * spin_accel) - c.normal * (surface * theta_rate);
                 let g_dot = g_dot(branches, &s_dot);
                 let f_rate = Vector2::new(g_dot.x + c.damping.x * w.x, g_dot.y + c.damping.y * w.y);
                 let n_dot = c.tangent * theta_rate;
@@ -577,6 +605,12 @@ where
         match self.contact(mode, t, y, cache) {
             Ok(c) => {
                 self.inner.rotor.add_station_force(y, &-c.force, dy);
+                if self.inner.rotor.spin_speed_index().is_some() {
+                    // The rub torque a n x (-f) = -a t . f, t = (-n_y, n_x).
+                    let n = (self.station(y).r - c.s) / self.rub.ring().gap;
+                    let torque = -self.radius * (n.x * c.force.y - n.y * c.force.x);
+                    self.inner.rotor.add_shaft_torque(y, torque, dy);
+                }
                 let [i, j] = self.inner.rotor.ring_slots();
                 dy[i] = c.s_dot.x;
                 dy[j] = c.s_dot.y;
@@ -800,7 +834,9 @@ where
     /// The frictionless composition's in its modes; in contact the rotor's Jacobian with the
     /// ring force's: slipping, [`FrictionRing::slip_force_jacobian`]; rolling,
     /// $\partial F/\partial r = G^\prime$ and $\partial F/\partial v = C$ (the contact direction
-    /// follows the shaft, not the rotor).
+    /// follows the shaft, not the rotor). In contact on a non-ideal drive (the rub torque's
+    /// and the rolling direction's dependence on the spin's state are not written out), `false`:
+    /// finite differences.
     fn jacobian(
         &self,
         mode: RubMode,
@@ -812,6 +848,7 @@ where
         let k = self.station(y);
         let force = match mode {
             RubMode::Ring(m) => return self.inner.jacobian(m, t, y, jac, &cache.ring),
+            _ if self.inner.rotor.spin_speed_index().is_some() => return false,
             RubMode::Slip { sense, branches } => {
                 match self
                     .rub

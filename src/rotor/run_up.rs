@@ -178,6 +178,15 @@ impl SmoothRotor for ProfiledJeffcott {
         [4, 5]
     }
 
+    /// The profile's speed, phase and rate.
+    fn spin(&self, t: f64, _y: &SVector<f64, 6>) -> Option<super::Spin> {
+        Some(super::Spin {
+            speed: self.profile.eta(t),
+            angle: self.phase(t),
+            accel: self.profile.eta_rate(t),
+        })
+    }
+
     /// The period at the profile's largest speed (the shortest).
     fn forcing_period(&self) -> f64 {
         TAU / self.profile.eta_max()

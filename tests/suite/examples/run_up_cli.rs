@@ -301,6 +301,72 @@ fn motor_runs_the_non_ideal_drive() {
     }
 }
 
+/// `--motor` with `--friction`: the rub torque brakes the drive. Fig. 8a's rotor driven from
+/// 2.5 by $t = 3(1 - \eta/2.7)$, $j = 2$, rubs the ring slipping forward (shaft radius 0.5
+/// gaps, no slip stops), so the torque $-\mu_f N a$ only brakes: the mean speed of the last
+/// third falls below the frictionless run's (measured 2.6633 against 2.6791; the torque's work
+/// is checked by the energy balance of `ring::rub_energy`). Friction without `--motor` or
+/// without `--shaft-radius` is status 2.
+#[test]
+fn motor_with_friction_is_braked_by_the_rub_torque() {
+    let base = [
+        "--preset",
+        "fig8a",
+        "--eta-from",
+        "2.5",
+        "--samples-per-period",
+        "16",
+        "--motor",
+        "3,2.7,2",
+        "--duration",
+        "200",
+    ];
+    let last_line = |extra: &[&str]| {
+        let mut args = base.to_vec();
+        args.extend_from_slice(extra);
+        let out = support::run_ok(Command::new(support::example_exe("run_up")).args(args));
+        String::from_utf8(out.stdout)
+            .unwrap()
+            .lines()
+            .last()
+            .unwrap()
+            .to_string()
+    };
+    let mean = |line: &str| -> f64 {
+        let rest = line.strip_prefix("last third: mean eta ").unwrap();
+        rest.split(',').next().unwrap().parse().unwrap()
+    };
+    let dry = last_line(&[]);
+    let rub = last_line(&["--friction", "0.3", "--shaft-radius", "0.5"]);
+    assert!(
+        rub.contains("slip stops") && rub.contains("ends of rolling"),
+        "{rub}"
+    );
+    assert!(!dry.contains("slip stops"), "{dry}");
+    assert!(mean(&rub) < mean(&dry) - 0.005, "{rub} against {dry}");
+    for bad in [&base[..6], &base[..]] {
+        let mut a = bad.to_vec();
+        if a.len() == 6 {
+            a.extend_from_slice(&[
+                "--eta-to",
+                "3",
+                "--rate",
+                "0.1",
+                "--friction",
+                "0.3",
+                "--shaft-radius",
+                "1",
+            ]);
+        } else {
+            a.extend_from_slice(&["--friction", "0.3"]);
+        }
+        let out = run(&a);
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(out.status.code(), Some(2), "{a:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{a:?}: {err}");
+    }
+}
+
 /// `--fe`: ROSS's 204-DOF rotor (24 modes) up and back with and without the ring, fast
 /// (1000 rad/s²): a line per run and leg, `fe_envelope.png`, and one CSV row a whole
 /// revolution of each run (the phase's closed form: $2 \cdot 180 \cdot 0.16$ rad over

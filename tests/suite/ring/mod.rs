@@ -11,6 +11,7 @@ mod ring_locate;
 mod ring_relax;
 mod ring_sensitivity;
 mod rub_closed_forms;
+mod rub_drive;
 mod rub_energy;
 mod rub_simulation;
 mod rub_smoothed;
