@@ -176,8 +176,11 @@
 //!   (the derivative is evaluated with $\dot y = f(t, y_{\text{dense}}(t))$):
 //!   the extremum is bracketed; the Illinois method on $\dot g_i$ moves
 //!   towards it, and as soon as a probe $c$ has $g_i(c)$ of the opposite sign
-//!   (or zero) the two roots are bracketed by $[a, c]$ and $[c, b]$. The
-//!   first one in an allowed direction is located.
+//!   the two roots are bracketed by $[a, c]$ and $[c, b]$ (a probe where $g_i$ is
+//!   exactly zero does not stop it: next to a start where the guard leaves zero
+//!   it reads zero by rounding, and only a point strictly across brackets the
+//!   second root; it is the crossing if none is found). The first one in an
+//!   allowed direction is located.
 //!
 //! The first interval that yields a located root ends the scan; among the
 //! roots found in that interval the earliest wins, ties going to the lowest

@@ -754,9 +754,12 @@ where
 {
     /// The extremum search of a grazing pair of event `i` on the sample interval `a`..`b`
     /// (values of the same sign, derivatives of opposite signs): the Illinois method on
-    /// $\dot g$, stopped at the first probe where $g$ changes sign (or is zero), which it
-    /// returns; `None` when the extremum is reached without one, or the derivative has no
-    /// value (then, as for an event without a derivative, the pair is not searched).
+    /// $\dot g$, stopped at the first probe where $g$ changes sign, which it returns; else
+    /// the first probe where $g$ is zero (a zero alone does not stop it: a guard that leaves
+    /// its zero at the interval's start reads zero next to it, and only a point strictly across
+    /// brackets the second root); `None` when the extremum is reached without either, or the
+    /// derivative has no value (then, as for an event without a derivative, the pair is not
+    /// searched).
     fn extremum_search(
         &mut self,
         i: usize,
@@ -767,6 +770,8 @@ where
         let (t_a, g_a, d_a) = a;
         let (t_b, _, d_b) = b;
         let mut crossed: Option<(f64, f64)> = None;
+        // A probe exactly on zero: the crossing if none lies strictly across.
+        let mut touched: Option<(f64, f64)> = None;
         let mut g_nan: Option<f64> = None;
         let pos_g = g_a > 0.0;
         let mut evals = 0u64;
@@ -782,9 +787,14 @@ where
                 g_nan = Some(t);
                 return f64::NAN; // stops the search (below)
             }
-            if g == 0.0 || (g > 0.0) != pos_g {
+            if g != 0.0 && (g > 0.0) != pos_g {
                 crossed = Some((t, g));
                 return 0.0;
+            }
+            // On zero (a guard leaving its zero at the interval's start, to rounding) the
+            // search goes on: only a point strictly across brackets the pair's second root.
+            if g == 0.0 && touched.is_none() {
+                touched = Some((t, g));
             }
             if need_rhs {
                 self.sys.rhs(t, self.tmp, self.f_c);
@@ -801,7 +811,7 @@ where
         if search.map_or(true, |b| b.nan_at.is_some()) {
             return Ok(None);
         }
-        Ok(crossed)
+        Ok(crossed.or(touched))
     }
 
     /// **The crossing back** (start-of-segment rule 3): the guard `s`, on zero at the origin,

@@ -413,6 +413,50 @@ fn grazing_dip_found_with_derivative_missed_without() {
     assert!(first_event(&mut integ, &dip, &with, &opts).is_none());
 }
 
+/// A guard that leaves its zero at the start to rounding and falls back through it inside the
+/// first sample interval (the friction cone's margin of a roll that starts where a slip stops,
+/// `fuzz::fuzz_friction`): $g(0) = -6.7\times10^{-16}$, $\dot g(0) = 2.7\times10^{-15}$, reading
+/// exactly zero next to the start (its rounding), then the hump $10^{-3}t^2 - 10^{-2}t^3$ whose
+/// falling root is $t = 0.1$ (to $10^{-12}$). The grazing search's first probe lands next to
+/// the start, where the guard reads zero; only a probe strictly across brackets the falling
+/// root, which must be found (it was not: the zero ended the search).
+struct LeavesZeroAndFalls;
+
+impl LeavesZeroAndFalls {
+    fn g(t: f64) -> f64 {
+        if t > 0.0 && t <= 1e-9 {
+            return 0.0;
+        }
+        -6.7e-16 + 2.7e-15 * t + 1e-3 * t * t - 1e-2 * t * t * t
+    }
+}
+
+impl EventSet<U1> for LeavesZeroAndFalls {
+    fn len(&self) -> usize {
+        1
+    }
+    fn direction(&self, _i: usize) -> Direction {
+        Direction::Falling
+    }
+    fn value(&self, _i: usize, _t: f64, y: &V1) -> f64 {
+        Self::g(y[0])
+    }
+    fn derivative(&self, _i: usize, _t: f64, y: &V1, _dy: &V1) -> Option<f64> {
+        let t = y[0];
+        Some(2.7e-15 + 2e-3 * t - 3e-2 * t * t)
+    }
+}
+
+#[test]
+fn a_guard_leaving_zero_by_rounding_then_falling_through_it_is_found() {
+    let mut integ = one_big_step();
+    let opts = EventOptions::default();
+    let h = first_event(&mut integ, &unit, &LeavesZeroAndFalls, &opts).expect("the fall");
+    println!("the fall at {} (error {:.1e})", h.t, h.t - 0.1);
+    assert_eq!(h.direction, Direction::Falling);
+    assert!((h.t - 0.1).abs() < 1e-10, "{}", h.t);
+}
+
 #[test]
 fn terminal_versus_non_terminal() {
     type F = fn(f64, &V2) -> f64;
