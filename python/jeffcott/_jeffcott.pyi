@@ -273,6 +273,8 @@ def run_up(
     rtol: float | None = None,
     atol: float | None = None,
     method: str | None = None,
+    friction: float = 0.0,
+    shaft_radius: float | None = None,
 ) -> RunUp: ...
 def poincare(
     params: Params,

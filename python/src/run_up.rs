@@ -3,7 +3,7 @@
 
 use jeffcott::hybrid::{SimStats, Trajectory};
 use jeffcott::nalgebra::U6;
-use jeffcott::rotor::{ProfiledJeffcott, SpeedProfile};
+use jeffcott::rotor::{ProfiledJeffcott, RubbingRotor, SpeedProfile};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -28,7 +28,8 @@ pub struct RunUp {
     pub y: Py<PyArray1<f64>>,
     /// The states [x, y, x', y', x_s, y_s], float64, shape (N, 6).
     pub states: Py<PyArray2<f64>>,
-    /// Regimes 1..=5 at the samples, uint8, shape (N,).
+    /// Regimes 1..=5 at the samples (with friction 6, 7, 8: slipping forward, backward,
+    /// rolling), uint8, shape (N,).
     pub regimes: Py<PyArray1<u8>>,
     /// Event times tau, float64, shape (E,).
     pub event_t: Py<PyArray1<f64>>,
@@ -69,12 +70,15 @@ fn run_up_of(
 /// (beta eta'), the phase is phi0 + the integral of eta (``params.eta`` is not used).
 /// Samples at tau_i = i dt up to ``t_end`` (default: the ramp's end), from ``state0``
 /// (default rest) at tau = 0. ``ring=False`` puts the ring out of reach (the linear rotor).
+/// ``friction`` > 0: Coulomb friction between the ring and a shaft of radius ``shaft_radius``
+/// (in gaps; required then) whose surface moves at eta(tau) times it (``rotor::RubbingRotor``,
+/// docs/friction.md); ``regimes`` 6, 7, 8 are slipping forward, backward and rolling.
 ///
 /// Units: tau in 1/omega_n, rate in omega_n^2 (d eta per unit tau), lengths in gaps.
 /// Options, Ctrl-C and errors as ``simulate``;
-/// ``ValueError`` for a bad profile; ``SimulationError``'s ``partial`` is a ``RunUp``.
+/// ``ValueError`` for a bad profile or friction; ``SimulationError``'s ``partial`` is a ``RunUp``.
 #[pyfunction]
-#[pyo3(signature = (params, eta_from, eta_to, rate, *, t_end=None, dt=0.05, ring=true, state0=None, rtol=None, atol=None, method=None))]
+#[pyo3(signature = (params, eta_from, eta_to, rate, *, t_end=None, dt=0.05, ring=true, state0=None, rtol=None, atol=None, method=None, friction=0.0, shaft_radius=None))]
 #[allow(clippy::too_many_arguments)] // Python keywords
 pub fn run_up(
     py: Python<'_>,
@@ -89,6 +93,8 @@ pub fn run_up(
     rtol: Option<f64>,
     atol: Option<f64>,
     method: Option<&str>,
+    friction: f64,
+    shaft_radius: Option<f64>,
 ) -> PyResult<RunUp> {
     let profile = SpeedProfile::ramp(eta_from, eta_to, rate).map_err(value_error)?;
     let rotor = ProfiledJeffcott::new(params.checked()?, profile.clone()).map_err(value_error)?;
@@ -105,5 +111,12 @@ pub fn run_up(
     let result = |py: Python<'_>, traj: &Trajectory<U6>, stats: &SimStats| {
         run_up_of(py, &profile, traj, stats)
     };
+    if friction == 0.0 {
+        return runs::run_into(py, &model, y0, output, &opts, result);
+    }
+    let radius = shaft_radius.ok_or_else(|| {
+        value_error("friction needs shaft_radius: the shaft's radius at the ring, in gaps")
+    })?;
+    let model = RubbingRotor::new(model, friction, radius).map_err(value_error)?;
     runs::run_into(py, &model, y0, output, &opts, result)
 }

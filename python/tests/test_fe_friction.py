@@ -135,3 +135,36 @@ def test_paper_simulate_with_friction_obeys_coulombs_law():
         jeffcott.simulate(p, 10, friction=0.3)
     with pytest.raises(ValueError, match="friction"):
         jeffcott.simulate(p, 10, friction=-0.3, shaft_radius=1.0)
+
+
+def test_paper_run_up_with_friction_obeys_coulombs_law():
+    # The paper's rotor (Fig. 8a) run up from eta 2.3 to 2.7 with friction: at every sample in
+    # contact the ring is on the circle and its elastic force (no preload, no dampers' part:
+    # g = K s) obeys the law of the sample's regime, slipping forward F_t = mu N, backward
+    # -mu N, rolling |F_t| <= mu N, from the positions alone. The shaft's surface speed is
+    # the ramp's eta(tau) a, so slips stop and rolls end along the way.
+    mu, a = 0.3, 0.05
+    p = jeffcott.Params.preset("fig8a")
+    r = jeffcott.run_up(p, 2.3, 2.7, 0.004, dt=0.02, friction=mu, shaft_radius=a)
+    y, reg = r.states, r.regimes
+    assert {6, 8} <= set(np.unique(reg)) <= {1, 6, 7, 8}
+    assert {"slip velocity zero", "friction cone's edge"} <= set(r.event_kind)
+    for i in np.flatnonzero(reg >= 6):
+        n = y[i, :2] - y[i, 4:]
+        assert abs(np.hypot(*n) - 1) < 1e-12
+        t = np.array([-n[1], n[0]])
+        g = np.array([p.kx * y[i, 4], p.ky * y[i, 5]])
+        normal, tangential = n @ g, t @ g
+        assert normal > 0
+        if reg[i] == 8:
+            assert abs(tangential) <= mu * normal * (1 + 1e-12)
+        else:
+            sign = 1.0 if reg[i] == 6 else -1.0
+            assert abs(tangential - sign * mu * normal) <= 1e-9 * normal
+    # Without friction, the run-up as before; friction without a radius is a ValueError.
+    plain = jeffcott.run_up(p, 2.3, 2.7, 0.004, dt=0.02)
+    zero = jeffcott.run_up(p, 2.3, 2.7, 0.004, dt=0.02, friction=0.0, shaft_radius=a)
+    assert np.array_equal(plain.states, zero.states)
+    assert not np.array_equal(plain.states, r.states)
+    with pytest.raises(ValueError, match="shaft_radius"):
+        jeffcott.run_up(p, 2.3, 2.7, 0.004, friction=mu)
