@@ -8,6 +8,10 @@
 //! `target/figures/bifurcation`: `fig8a.png`, `fig8b.png`, the points behind them
 //! (`fig8a.csv`, `fig8b.csv`: eta, x) and the detected period per value
 //! (`fig8a_periods.csv`, ...). Run with `--help` for the flags.
+//!
+//! With `--friction MU --shaft-radius A` (A in gaps) the rotor meets its ring with Coulomb
+//! friction (`paper::rub::rubbing_model`, docs/friction.md): the same diagrams, of the rotor with
+//! friction, each η from rest or carried as above (not with `--locate-from`).
 
 #[path = "common/mod.rs"]
 mod common;
@@ -21,11 +25,15 @@ use common::csv::{fmt_f64, CsvWriter};
 use common::plot::{self, Figure};
 use common::Tolerances;
 use jeffcott::analysis::{
-    linspace, BifurcationOptions, LocatorOptions, StderrProgress, SweepOptions,
+    bifurcation, linspace, start_from, Bifurcation, BifurcationOptions, LocatorOptions,
+    StderrProgress, SweepOptions,
 };
 use jeffcott::hybrid::SimOptions;
+use jeffcott::nalgebra::allocator::Allocator;
+use jeffcott::nalgebra::{DVector, DefaultAllocator, Dim};
+use jeffcott::paper::rub::rubbing_model;
 use jeffcott::paper::{ParamSweep, SweepParameter};
-use jeffcott::params::Preset;
+use jeffcott::params::{Params, Preset};
 
 /// The paper's reported points: (diagram, eta, label).
 const PAPER_MARKS: [(&str, f64, &str); 9] = [
@@ -98,6 +106,30 @@ struct Flags {
     /// Periods recorded at each bisection step [range: 2..=1000000]
     #[arg(long, value_name = "COUNT", default_value = "200", value_parser = usize_in(2, 1_000_000))]
     locate_record: usize,
+    /// Coulomb friction coefficient between ring and shaft (0: the paper's frictionless
+    /// model) [range: 0..=1000]
+    #[arg(long, value_name = "NUMBER", default_value = "0", value_parser = f64_in(0.0, 1e3))]
+    friction: f64,
+    /// Shaft radius at the ring, in gaps (required with --friction > 0) [range: 0..=1000]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3))]
+    shaft_radius: Option<f64>,
+}
+
+/// What the outputs of one diagram are named and titled by.
+struct Diagram<'a> {
+    /// "a" or "b".
+    d: &'a str,
+    label: String,
+    base: Params,
+    /// (mu, a) with friction.
+    friction: Option<(f64, f64)>,
+    out: &'a std::path::Path,
+    tol: f64,
+    periods: (usize, usize),
+    mode_text: &'a str,
+    eta_range: (f64, f64),
+    /// The paper's marks drawn (its own preloads, no friction).
+    marks: bool,
 }
 
 fn main() {
@@ -119,6 +151,8 @@ fn main() {
         locate_hi,
         locate_transient,
         locate_record,
+        friction,
+        shaft_radius,
     } = parse();
     let (rtol, atol) = tolerances.get();
     // Unset values as NaN below.
@@ -136,7 +170,16 @@ fn main() {
         fail("--preload needs --diagram a or --diagram b");
     }
 
+    let friction = (friction > 0.0).then(|| {
+        let a = shaft_radius.unwrap_or_else(|| {
+            fail("--friction needs --shaft-radius (the shaft's radius at the ring, in gaps)")
+        });
+        (friction, a)
+    });
     if !locate_lo.is_nan() {
+        if friction.is_some() {
+            fail("--locate-from is not available with --friction");
+        }
         if diagram == "both" {
             fail("--locate-from needs --diagram a or --diagram b");
         }
@@ -218,77 +261,34 @@ fn main() {
         let label = format!("fig8{d}");
         let progress = StderrProgress::new(format!("{label} (D = {})", base.dx));
         let t0 = Instant::now();
-        let family = ParamSweep::new(base, SweepParameter::Eta);
-        let result = common::or_exit(family.bifurcation(&etas, &config, Some(&progress)));
-        let secs = t0.elapsed().as_secs_f64();
+        let diagram = Diagram {
+            d,
+            label: label.clone(),
+            base,
+            friction,
+            out: &out,
+            tol,
+            periods: (transient, record),
+            mode_text: &mode_text,
+            eta_range: (eta_min, eta_max),
+            marks: preload.is_nan() && friction.is_none(),
+        };
         let periods = (steps * (transient + record)) as f64;
         total_periods += periods;
-        eprintln!(
-            "{label}: {steps} values x {} periods in {secs:.2} s on {} threads = {:.1} µs per forcing period (wall)",
-            transient + record,
-            result.threads,
-            secs / periods * 1e6
-        );
-
-        // Failures and periods.
-        for f in result.failures() {
-            eprintln!("warning: {label}: eta = {} failed: {}", f.value, f.error);
-        }
-        let path = out.join(format!("{label}_periods.csv"));
-        let mut w = common::or_exit(CsvWriter::create(
-            &path,
-            &["eta", "period", "from_reset", "error"],
-        ));
-        for (v, c) in result.values.iter().zip(&result.columns) {
-            let fields = match c {
-                Ok(col) => [
-                    fmt_f64(*v),
-                    col.periodicity
-                        .period()
-                        .map_or("0".into(), |p| p.to_string()),
-                    col.from_reset.to_string(),
-                    String::new(),
-                ],
-                Err(e) => [fmt_f64(*v), String::new(), String::new(), e.to_string()],
-            };
-            common::or_exit(w.record(&fields));
-        }
-        common::or_exit(w.finish());
-
-        println!(
-            "{label} (D = {}): changes of the detected period (tol {tol}):",
-            base.dx
-        );
-        for c in result.period_changes() {
-            println!(
-                "  between eta = {:.4} and {:.4}: {} -> {}",
-                c.from, c.to, c.at_from, c.at_to
-            );
-        }
-
-        // The figure.
-        let pts = result.points(0);
-        let mut fig = Figure::new(
-            &format!(
-                "Fig. 8{d}: x(2πk/η), D = {}, ν₁ = {}, ν₂ = {}, K = {}, β = {}, eₓ = {}, φ₀ = {}; {transient}+{record} periods, {mode_text}",
-                base.dx, base.nu1, base.nu2, base.kx, base.beta, base.ex, base.phi0
-            ),
-            "η = Ω/ωₙ",
-            "x (rotor, units of the gap γ)",
-        )
-        .with_columns("eta", "x")
-        .with_size(1600, 1000)
-        .with_x_range(eta_min, eta_max.max(eta_min + 1e-9));
-        if preload.is_nan() {
-            for &(_, v, l) in PAPER_MARKS.iter().filter(|m| m.0 == d) {
-                if (eta_min..=eta_max).contains(&v) {
-                    fig = fig.with_mark(v, &format!("paper {l}"));
-                }
+        match friction {
+            None => {
+                let family = ParamSweep::new(base, SweepParameter::Eta);
+                let result = common::or_exit(family.bifurcation(&etas, &config, Some(&progress)));
+                write_outputs(&diagram, &result, t0.elapsed().as_secs_f64())
+            }
+            Some((mu, a)) => {
+                let build = |eta: f64| rubbing_model(&base.with_eta(eta), mu, a);
+                let start = start_from(DVector::zeros(6));
+                let result =
+                    common::or_exit(bifurcation(&etas, build, start, &config, Some(&progress)));
+                write_outputs(&diagram, &result, t0.elapsed().as_secs_f64())
             }
         }
-        let png = out.join(format!("{label}.png"));
-        common::or_exit(plot::bifurcation(&png, &fig, &pts));
-        eprintln!("wrote {} ({} points)", png.display(), pts.len());
     }
     let secs = start_all.elapsed().as_secs_f64();
     eprintln!(
@@ -296,4 +296,84 @@ fn main() {
         secs / total_periods * 1e6,
         out.display()
     );
+}
+
+/// Reports the time `secs` that `result` took, writes the periods' CSV, prints the period
+/// changes and draws the diagram.
+fn write_outputs<D: Dim, E: std::fmt::Display>(
+    g: &Diagram<'_>,
+    result: &Bifurcation<D, E>,
+    secs: f64,
+) where
+    DefaultAllocator: Allocator<D>,
+{
+    let (label, base, tol) = (&g.label, &g.base, g.tol);
+    let (transient, record) = g.periods;
+    let periods = (result.values.len() * (transient + record)) as f64;
+    eprintln!(
+        "{label}: {} values x {} periods in {secs:.2} s on {} threads = {:.1} µs per forcing period (wall)",
+        result.values.len(),
+        transient + record,
+        result.threads,
+        secs / periods * 1e6
+    );
+    for f in result.failures() {
+        eprintln!("warning: {label}: eta = {} failed: {}", f.value, f.error);
+    }
+    let path = g.out.join(format!("{label}_periods.csv"));
+    let mut w = common::or_exit(CsvWriter::create(
+        &path,
+        &["eta", "period", "from_reset", "error"],
+    ));
+    for (v, c) in result.values.iter().zip(&result.columns) {
+        let fields = match c {
+            Ok(col) => [
+                fmt_f64(*v),
+                col.periodicity
+                    .period()
+                    .map_or("0".into(), |p| p.to_string()),
+                col.from_reset.to_string(),
+                String::new(),
+            ],
+            Err(e) => [fmt_f64(*v), String::new(), String::new(), e.to_string()],
+        };
+        common::or_exit(w.record(&fields));
+    }
+    common::or_exit(w.finish());
+    let friction = g.friction.map_or(String::new(), |(mu, a)| {
+        format!(", friction {mu}, shaft radius {a}")
+    });
+    println!(
+        "{label} (D = {}{friction}): changes of the detected period (tol {tol}):",
+        base.dx
+    );
+    for c in result.period_changes() {
+        println!(
+            "  between eta = {:.4} and {:.4}: {} -> {}",
+            c.from, c.to, c.at_from, c.at_to
+        );
+    }
+    let pts = result.points(0);
+    let (eta_min, eta_max) = g.eta_range;
+    let mut fig = Figure::new(
+        &format!(
+            "Fig. 8{}: x(2πk/η), D = {}, ν₁ = {}, ν₂ = {}, K = {}, β = {}, eₓ = {}, φ₀ = {}{friction}; {transient}+{record} periods, {}",
+            g.d, base.dx, base.nu1, base.nu2, base.kx, base.beta, base.ex, base.phi0, g.mode_text
+        ),
+        "η = Ω/ωₙ",
+        "x (rotor, units of the gap γ)",
+    )
+    .with_columns("eta", "x")
+    .with_size(1600, 1000)
+    .with_x_range(eta_min, eta_max.max(eta_min + 1e-9));
+    if g.marks {
+        for &(_, v, l) in PAPER_MARKS.iter().filter(|m| m.0 == g.d) {
+            if (eta_min..=eta_max).contains(&v) {
+                fig = fig.with_mark(v, &format!("paper {l}"));
+            }
+        }
+    }
+    let png = g.out.join(format!("{label}.png"));
+    common::or_exit(plot::bifurcation(&png, &fig, &pts));
+    eprintln!("wrote {} ({} points)", png.display(), pts.len());
 }
