@@ -124,20 +124,10 @@ where
         if self.jacobian(mode, t, y, &mut view, cache) {
             return;
         }
-        let h = self.difference_step();
-        work.y.copy_from(y);
-        for j in 0..y.len() {
-            let step = h * (work.scale[j] + y[j].abs());
-            work.y[j] = y[j] + step;
-            self.rhs(mode, t, &work.y, &mut work.plus, cache);
-            work.y[j] = y[j] - step;
-            self.rhs(mode, t, &work.y, &mut work.minus, cache);
-            work.y[j] = y[j];
-            let inv = 0.5 / step;
-            for i in 0..y.len() {
-                jac[(i, j)] = (work.plus[i] - work.minus[i]) * inv;
-            }
-        }
+        let field = |y: &OVector<f64, Self::Dim>, dy: &mut OVector<f64, Self::Dim>| {
+            self.rhs(mode, t, y, dy, cache)
+        };
+        field_differences(field, y, self.difference_step(), jac, work);
     }
 
     /// The gradient $\nabla_y g$ of guard `i` of `mode` at $(t, y)$, written into `grad`, and
@@ -159,21 +149,9 @@ where
         cache: &Self::Cache,
         work: &mut Workspace<Self::Dim>,
     ) -> f64 {
-        let h = self.difference_step();
-        work.y.copy_from(y);
-        for j in 0..y.len() {
-            let step = h * (work.scale[j] + y[j].abs());
-            work.y[j] = y[j] + step;
-            let p = self.guard_value(mode, i, t, &work.y, cache);
-            work.y[j] = y[j] - step;
-            let m = self.guard_value(mode, i, t, &work.y, cache);
-            work.y[j] = y[j];
-            grad[j] = (p - m) * (0.5 / step);
-        }
-        let step = h * self.forcing_period();
-        let p = self.guard_value(mode, i, t + step, y, cache);
-        let m = self.guard_value(mode, i, t - step, y, cache);
-        (p - m) * (0.5 / step)
+        let value = |t: f64, y: &OVector<f64, Self::Dim>| self.guard_value(mode, i, t, y, cache);
+        let steps = (self.difference_step(), self.forcing_period());
+        guard_differences(value, t, y, steps, grad, work)
     }
 
     /// The Jacobian of the reset of the transition after guard `guard` of `mode` fired at
@@ -197,8 +175,6 @@ where
         rx: &mut OMatrix<f64, Self::Dim, Self::Dim>,
         rt: &mut OVector<f64, Self::Dim>,
     ) -> Result<(), ModelError> {
-        let h = self.difference_step();
-        let nominal = after;
         // The same outcome: the same mode label (a mode may carry continuous data, e.g. where
         // a ring was released, that moves with the state).
         let label = self.mode_label(next);
@@ -209,41 +185,9 @@ where
                 _ => None,
             }
         };
-        let difference = |plus: Option<OVector<f64, Self::Dim>>,
-                          minus: Option<OVector<f64, Self::Dim>>,
-                          step: f64,
-                          what: &str|
-         -> Result<OVector<f64, Self::Dim>, ModelError> {
-            match (plus, minus) {
-                (Some(p), Some(m)) => Ok((p - m) * (0.5 / step)),
-                (Some(p), None) => Ok((p - nominal) * (1.0 / step)),
-                (None, Some(m)) => Ok((nominal - m) * (1.0 / step)),
-                (None, None) => Err(ModelError::Transition {
-                    t,
-                    reason: format!(
-                        "the transition's outcome changes under a perturbation of {what} by \
-                         {step:e} on both sides: it is not differentiable by differences there \
-                         (override Variational::transition_jacobian)"
-                    ),
-                }),
-            }
-        };
-        let scale = self.state_scale();
-        let mut yp = y.clone_owned();
-        for j in 0..y.len() {
-            let step = h * (scale[j] + y[j].abs());
-            yp[j] = y[j] + step;
-            let plus = apply(t, &yp);
-            yp[j] = y[j] - step;
-            let minus = apply(t, &yp);
-            yp[j] = y[j];
-            let col = difference(plus, minus, step, "a state component")?;
-            rx.set_column(j, &col);
-        }
-        let step = h * self.forcing_period();
-        let col = difference(apply(t + step, y), apply(t - step, y), step, "the time")?;
-        rt.copy_from(&col);
-        Ok(())
+        let steps = (self.difference_step(), self.forcing_period());
+        let at = (t, y, after);
+        reset_differences(apply, at, &self.state_scale(), steps, rx, rt)
     }
 
     /// The Jacobian $\partial y(t)/\partial y(t_0)$ of the closed form of an exact `mode`
@@ -369,4 +313,115 @@ where
         let _ = (mode, t, y);
         None
     }
+}
+
+/// Central differences of a field `field` at `y` ([`Variational::rhs_jacobian`]'s default, and
+/// a model's own where its field depends on the state through more than `rhs` sees): column
+/// $j$ moves $y_j$ by $h\thinspace(s_j + |y_j|)$, $s$ the scale held by `work`.
+pub(crate) fn field_differences<D: Dim>(
+    mut field: impl FnMut(&OVector<f64, D>, &mut OVector<f64, D>),
+    y: &OVector<f64, D>,
+    h: f64,
+    jac: &mut OMatrix<f64, D, D>,
+    work: &mut Workspace<D>,
+) where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    work.y.copy_from(y);
+    for j in 0..y.len() {
+        let step = h * (work.scale[j] + y[j].abs());
+        work.y[j] = y[j] + step;
+        field(&work.y, &mut work.plus);
+        work.y[j] = y[j] - step;
+        field(&work.y, &mut work.minus);
+        work.y[j] = y[j];
+        let inv = 0.5 / step;
+        for i in 0..y.len() {
+            jac[(i, j)] = (work.plus[i] - work.minus[i]) * inv;
+        }
+    }
+}
+
+/// Central differences of a guard `value(t, y)` at $(t, y)$ ([`Variational::guard_gradient`]'s
+/// default): the gradient into `grad` (steps as [`field_differences`]'), the time derivative
+/// returned (step $hP$); `steps` = $(h, P)$.
+pub(crate) fn guard_differences<D: Dim>(
+    mut value: impl FnMut(f64, &OVector<f64, D>) -> f64,
+    t: f64,
+    y: &OVector<f64, D>,
+    (h, period): (f64, f64),
+    grad: &mut OVector<f64, D>,
+    work: &mut Workspace<D>,
+) -> f64
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    work.y.copy_from(y);
+    for j in 0..y.len() {
+        let step = h * (work.scale[j] + y[j].abs());
+        work.y[j] = y[j] + step;
+        let p = value(t, &work.y);
+        work.y[j] = y[j] - step;
+        let m = value(t, &work.y);
+        work.y[j] = y[j];
+        grad[j] = (p - m) * (0.5 / step);
+    }
+    let step = h * period;
+    let p = value(t + step, y);
+    let m = value(t - step, y);
+    (p - m) * (0.5 / step)
+}
+
+/// Central differences of a reset `apply(t, y)` (`None` where the perturbed transition has
+/// another outcome) at `at` = $(t, y, $ the nominal outcome$)$
+/// ([`Variational::transition_jacobian`]'s default): one-sided where one side changes the
+/// outcome; `steps` = $(h, P)$ and `scale` as [`guard_differences`]'.
+///
+/// # Errors
+/// [`ModelError::Transition`] where both sides of a component change the outcome.
+pub(crate) fn reset_differences<D: Dim>(
+    apply: impl Fn(f64, &OVector<f64, D>) -> Option<OVector<f64, D>>,
+    (t, y, nominal): (f64, &OVector<f64, D>, &OVector<f64, D>),
+    scale: &OVector<f64, D>,
+    (h, period): (f64, f64),
+    rx: &mut OMatrix<f64, D, D>,
+    rt: &mut OVector<f64, D>,
+) -> Result<(), ModelError>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    let difference = |plus: Option<OVector<f64, D>>,
+                      minus: Option<OVector<f64, D>>,
+                      step: f64,
+                      what: &str|
+     -> Result<OVector<f64, D>, ModelError> {
+        match (plus, minus) {
+            (Some(p), Some(m)) => Ok((p - m) * (0.5 / step)),
+            (Some(p), None) => Ok((p - nominal) * (1.0 / step)),
+            (None, Some(m)) => Ok((nominal - m) * (1.0 / step)),
+            (None, None) => Err(ModelError::Transition {
+                t,
+                reason: format!(
+                    "the transition's outcome changes under a perturbation of {what} by \
+                     {step:e} on both sides: it is not differentiable by differences there \
+                     (override Variational::transition_jacobian)"
+                ),
+            }),
+        }
+    };
+    let mut yp = y.clone_owned();
+    for j in 0..y.len() {
+        let step = h * (scale[j] + y[j].abs());
+        yp[j] = y[j] + step;
+        let plus = apply(t, &yp);
+        yp[j] = y[j] - step;
+        let minus = apply(t, &yp);
+        yp[j] = y[j];
+        let col = difference(plus, minus, step, "a state component")?;
+        rx.set_column(j, &col);
+    }
+    let step = h * period;
+    let col = difference(apply(t + step, y), apply(t - step, y), step, "the time")?;
+    rt.copy_from(&col);
+    Ok(())
 }

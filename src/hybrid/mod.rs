@@ -61,6 +61,7 @@ mod linearization;
 mod record;
 
 pub use driver::{simulate, SimError, SimErrorKind, SimOptions, SimStats};
+pub(crate) use linearization::{field_differences, guard_differences, reset_differences};
 pub use linearization::{Variational, VariationalAlloc, Workspace};
 pub use record::{
     DenseSampling, EventRecord, HybridObserver, OutputPlan, Sample, StrobePoint, StrobeRange,

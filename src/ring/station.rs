@@ -159,7 +159,8 @@ impl<'a> Station<'a> {
     }
 
     /// Rows `J (dr/dy) m` of the ring slots: the variation of a ring at `c`.
-    fn slaved_rows<D: Dim>(
+    /// The ring's rows of `out`: $J$ times the station's position rows of `source`.
+    pub(crate) fn slaved_rows<D: Dim>(
         &self,
         jac: &Matrix2<f64>,
         source: &OMatrix<f64, D, Dyn>,
@@ -177,6 +178,38 @@ impl<'a> Station<'a> {
             let ds = mat_vec(jac, dr);
             out[(self.slots[0], col)] = ds[0];
             out[(self.slots[1], col)] = ds[1];
+        }
+    }
+
+    /// The ring's rows of `m` while the shaft rolls on it: $s = r - \gamma n(\theta)$, the contact
+    /// direction's variation $\delta\theta$ fixed since the roll started (an imposed spin turns
+    /// it at a rate no state changes), read from `start` (the variation then) as
+    /// $\gamma\delta\theta = t_0\cdot(\delta r_0 - \delta s_0)$: $\delta s = \delta r -
+    /// t\thinspace\gamma\delta\theta$, `tangent` $t$ now and `tangent_start` $t_0$.
+    pub(crate) fn rolling_rows<D: Dim>(
+        &self,
+        tangent: Vector2<f64>,
+        tangent_start: Vector2<f64>,
+        start: &OMatrix<f64, D, Dyn>,
+        m: &mut OMatrix<f64, D, Dyn>,
+    ) where
+        DefaultAllocator: Allocator<D, Dyn>,
+    {
+        let position = |source: &OMatrix<f64, D, Dyn>, col: usize| {
+            let mut dr = Vector2::new(0.0, 0.0);
+            for &(a, j, c) in &self.map {
+                if a < 2 {
+                    dr[a] += c * source[(j, col)];
+                }
+            }
+            dr
+        };
+        for col in 0..m.ncols() {
+            let ds0 = Vector2::new(start[(self.slots[0], col)], start[(self.slots[1], col)]);
+            let turn = tangent_start.dot(&(position(start, col) - ds0));
+            let ds = position(m, col) - tangent * turn;
+            m[(self.slots[0], col)] = ds.x;
+            m[(self.slots[1], col)] = ds.y;
         }
     }
 

@@ -9,6 +9,7 @@ use nalgebra::{DefaultAllocator, Matrix2, OVector, Vector2};
 
 use super::{LinearFreeSegment, RingedRotor, RotorError, SmoothRotor, Spin};
 
+mod linearization;
 mod transition;
 use crate::hybrid::{Flow, ModelError, RotorModel};
 use crate::numeric::Direction;
@@ -31,7 +32,8 @@ pub enum RubMode {
         branches: Branches,
     },
     /// In contact, the shaft rolling on the ring: the contact direction was `angle` when the
-    /// shaft's angle was `shaft`, and turns back as the shaft turns,
+    /// shaft's angle was `shaft` (at the mode's last event: the roll's start or a preload
+    /// crossing), and turns back as the shaft turns,
     /// $\theta = \text{angle} - (a/\gamma)(\varphi - \text{shaft})$.
     Roll {
         /// The contact direction at the roll's start.

@@ -169,11 +169,16 @@ where
                 }
                 Ok(roll)
             }
-            RubMode::Roll { angle, shaft, .. } => Ok(RubMode::Roll {
-                angle,
-                shaft,
-                branches: next,
-            }),
+            RubMode::Roll { angle, shaft, .. } => {
+                // The same roll, referred to this event (the linearisation reads the
+                // contact's direction at the mode's start there).
+                let spin = self.spin(t, y).angle;
+                Ok(RubMode::Roll {
+                    angle: angle - self.radius / ring.gap * (spin - shaft),
+                    shaft: spin,
+                    branches: next,
+                })
+            }
             RubMode::Ring(_) => Ok(mode),
         }
     }

@@ -3,6 +3,7 @@
 //! `cargo test --test suite stability::`, or one module:
 //! `cargo test --test suite stability::stability_orbits::`.
 
+mod stability_friction;
 mod stability_honesty;
 mod stability_jacobian;
 mod stability_lyapunov;

@@ -23,7 +23,11 @@ fn tight() -> SimOptions {
 }
 
 /// Richardson central differences of P^n on z at `y`.
-fn fd_jacobian<M>(map: &StroboscopicMap<'_, M>, y: &OVector<f64, M::Dim>, h: f64) -> DMatrix<f64>
+pub(super) fn fd_jacobian<M>(
+    map: &StroboscopicMap<'_, M>,
+    y: &OVector<f64, M::Dim>,
+    h: f64,
+) -> DMatrix<f64>
 where
     M: Variational,
     DefaultAllocator: VariationalAlloc<M::Dim>,
