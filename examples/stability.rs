@@ -10,7 +10,10 @@
 //!   `{"period": N, "point": [x, y, vx, vy], "residual": r, "multipliers": [[re, im], ...],
 //!   "contacts": c, "min_depth": d, "grazing_margin": g, ...}`, multipliers sorted by
 //!   modulus, largest first; `min_depth` the smallest contact depth and `grazing_margin` the
-//!   closest free-flight approach to contact (`null` when there is none);
+//!   closest free-flight approach to contact (`null` when there is none); with
+//!   `--friction MU --shaft-radius A` (A in gaps) the rotor with Coulomb friction at the ring
+//!   (`paper::rub::rubbing_model`), whose section must fall in free flight (the slip's sense
+//!   and the roll's direction are the contact's history; `--phi0` moves the section);
 //! * `lyapunov --transient T --periods P`: the Lyapunov spectrum per forcing period by the
 //!   QR method, its batch-means standard error, and the largest exponent by the
 //!   two-trajectory method: `{"lambda": [l1, l2, l3, l4], "stderr": [...],
@@ -49,11 +52,14 @@ use common::or_exit;
 use common::plot::{self, Figure, Series};
 use common::scene::{Scene, SceneFlags};
 use jeffcott::analysis::{linspace, sweep, SweepOptions};
+use jeffcott::hybrid::VariationalAlloc;
+use jeffcott::nalgebra::DVector;
+use jeffcott::paper::rub::rubbing_model;
 use jeffcott::paper::{JeffcottModel, State};
 use jeffcott::params::Params;
 use jeffcott::stability::{
     locate_loss, lyapunov_exponents, periodic_orbit, LossOptions, LyapunovOptions, Multiplier,
-    OrbitOptions, StroboscopicMap,
+    OrbitOptions, PeriodicOrbit, StroboscopicMap,
 };
 use serde_json::{json, Value};
 
@@ -96,6 +102,18 @@ struct Transient {
     transient: usize,
 }
 
+/// `--friction` and `--shaft-radius`: Coulomb friction at the ring.
+#[derive(Args)]
+struct Friction {
+    /// Coulomb friction coefficient between ring and shaft (0: the paper's frictionless
+    /// model) [range: 0..=1000]
+    #[arg(long, value_name = "NUMBER", default_value = "0", value_parser = f64_in(0.0, 1e3))]
+    friction: f64,
+    /// Shaft radius at the ring, in gaps (required with --friction > 0) [range: 0..=1000]
+    #[arg(long, value_name = "NUMBER", value_parser = f64_in(0.0, 1e3))]
+    shaft_radius: Option<f64>,
+}
+
 /// `--period`, the period of the orbit.
 #[derive(Args)]
 struct Period {
@@ -131,6 +149,8 @@ enum Mode {
         period: Period,
         #[command(flatten)]
         transient: Transient,
+        #[command(flatten)]
+        friction: Friction,
     },
     /// The Lyapunov spectrum per forcing period (QR method) with its batch-means standard
     /// error, and the largest exponent by two trajectories
@@ -194,10 +214,12 @@ fn main() {
             scene,
             period,
             transient,
+            friction,
         } => orbit(
             &scene.scene(),
             period.period as u64,
             transient.transient as u64,
+            &friction,
         ),
         Mode::Lyapunov {
             scene,
@@ -269,12 +291,41 @@ fn print(v: Value) {
     println!("{v}");
 }
 
-fn orbit(scene: &Scene, period: u64, transient: u64) {
+fn orbit(scene: &Scene, period: u64, transient: u64, friction: &Friction) {
+    let opts = OrbitOptions::default().with_sim(scene.opts);
+    if friction.friction > 0.0 {
+        let radius = friction.shaft_radius.unwrap_or_else(|| {
+            fail("--friction needs --shaft-radius (the shaft's radius at the ring, in gaps)")
+        });
+        let model = rubbing_model(&scene.params, friction.friction, radius)
+            .unwrap_or_else(|e| fail(format!("--friction: {e}")));
+        let [x, y, vx, vy] = scene.start;
+        let start = DVector::from_vec(vec![x, y, vx, vy, 0.0, 0.0]);
+        let map = or_exit(StroboscopicMap::new(&model, transient.max(1), scene.opts));
+        let section = or_exit(map.advance(&start));
+        if section.label != 1 {
+            eprintln!(
+                "error: the section after the transient falls in a contact (regime {}): with friction the contact's history is not in the rotor's state; move the section with --phi0",
+                section.label
+            );
+            std::process::exit(1);
+        }
+        let o = or_exit(periodic_orbit(&model, &section.y, period, &opts));
+        return print(orbit_json(&o));
+    }
     let model = or_exit(JeffcottModel::new(scene.params));
     let guess = after_transient(&model, scene, transient);
-    let opts = OrbitOptions::default().with_sim(scene.opts);
     let o = or_exit(periodic_orbit(&model, &guess, period, &opts));
-    print(json!({
+    print(orbit_json(&o));
+}
+
+/// The JSON of a periodic orbit (the module docs list its keys).
+fn orbit_json<D: jeffcott::nalgebra::Dim>(o: &PeriodicOrbit<D>) -> Value
+where
+    jeffcott::nalgebra::DefaultAllocator: VariationalAlloc<D>,
+{
+    let period = o.period;
+    json!({
         "period": period,
         "point": o.point.as_slice(),
         "residual": o.residual,
@@ -286,7 +337,7 @@ fn orbit(scene: &Scene, period: u64, transient: u64) {
         "minimal_period": o.minimal_period,
         "min_event_margin": o.margins.min_event_margin,
         "iterations": o.iterations,
-    }));
+    })
 }
 
 fn lyapunov(scene: &Scene, transient: u64, periods: u64, batch: u64) {

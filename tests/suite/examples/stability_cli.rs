@@ -198,3 +198,67 @@ fn pictures_mode_writes_its_figures() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `orbit --friction MU --shaft-radius A`: the period-2 rub orbit of the Fig. 8 rotor on an
+/// isotropic ring at eta 2.5 (onsets into slip and into rolling, ends of rolling). Its point is
+/// checked by plain simulation, not by Newton: two forcing periods of `rubbing_model` from it
+/// return to it to 1e-9. A section that falls in a contact (eta 3 after 101 periods) is
+/// status 1 naming `--phi0`; friction without a radius is status 2.
+#[test]
+fn orbit_mode_with_friction_finds_the_rub_orbit() {
+    use jeffcott::hybrid::SimOptions;
+    use jeffcott::nalgebra::DVector;
+    use jeffcott::paper::rub::rubbing_model;
+    use jeffcott::params::Preset;
+    use jeffcott::stability::StroboscopicMap;
+
+    let scene = [
+        "--nu1",
+        "0.125",
+        "--k",
+        "30",
+        "--ex",
+        "0.9",
+        "--ey",
+        "0.1",
+        "--friction",
+        "0.3",
+        "--shaft-radius",
+        "0.05",
+        "--period",
+        "2",
+    ];
+    let mut args = vec!["orbit", "--eta", "2.5", "--transient", "100"];
+    args.extend_from_slice(&scene);
+    let v = json(&args);
+    assert_eq!(v["period"], 2);
+    assert!(f(&v["spectral_radius"]) < 1.0);
+    let point: Vec<f64> = v["point"].as_array().unwrap().iter().map(f).collect();
+    let p = Preset::Fig8a.params().with_eta(2.5);
+    let p = jeffcott::params::Params {
+        nu1: 0.125,
+        kx: 30.0,
+        ky: 30.0,
+        ex: 0.9,
+        ey: 0.1,
+        ..p
+    };
+    let model = rubbing_model(&p, 0.3, 0.05).unwrap();
+    let opts = SimOptions::default().with_rtol(1e-12).with_atol(1e-13);
+    let map = StroboscopicMap::new(&model, 2, opts).unwrap();
+    let y0 = DVector::from_vec(vec![point[0], point[1], point[2], point[3], 0.0, 0.0]);
+    let back = map.advance(&y0).unwrap();
+    let off = (0..4)
+        .map(|i| (back.y[i] - point[i]).abs())
+        .fold(0.0, f64::max);
+    eprintln!("the rub orbit's point comes back to {off:.1e}");
+    assert!(off < 1e-9, "{off:e}");
+    let mut contact = vec!["orbit", "--eta", "3", "--transient", "101"];
+    contact.extend_from_slice(&scene);
+    let out = run(&contact);
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("--phi0") && err.lines().count() == 1, "{err}");
+    let out = run(&["orbit", "--friction", "0.3"]);
+    assert_eq!(out.status.code(), Some(2));
+}
