@@ -103,6 +103,17 @@ def test_fe_run_up_with_friction_obeys_coulombs_law():
             ring_damping=0.0, unbalance=[(0, 0.3, 0.0)], layout="lateral4", friction=mu)
 
 
+def paper_contact(p, state):
+    """The paper's rotor in contact at `state` [x, y, x', y', x_s, y_s] (gap 1, no preload):
+    the ring on the circle (asserted), the tangent t and the ring's elastic normal force and
+    friction force, g = K s."""
+    n = state[:2] - state[4:]
+    assert abs(np.hypot(*n) - 1) < 1e-12
+    t = np.array([-n[1], n[0]])
+    g = np.array([p.kx * state[4], p.ky * state[5]])
+    return t, n @ g, t @ g
+
+
 def test_paper_simulate_with_friction_obeys_coulombs_law():
     # The paper's rotor (Fig. 8a at eta 2.5) with friction from Python: at every dense sample in
     # contact, slipping forward F_t = mu N with v > 0, rolling v = 0 and |F_t| <= mu N, from the
@@ -115,11 +126,7 @@ def test_paper_simulate_with_friction_obeys_coulombs_law():
     y, dy, reg = r.states, r.derivatives, r.regimes
     assert {6, 8} <= set(np.unique(reg)) <= {1, 6, 7, 8}
     for i in np.flatnonzero(reg >= 6):
-        n = y[i, :2] - y[i, 4:]
-        assert abs(np.hypot(*n) - 1) < 1e-12
-        t = np.array([-n[1], n[0]])
-        g = np.array([p.kx * y[i, 4], p.ky * y[i, 5]])
-        normal, tangential = n @ g, t @ g
+        t, normal, tangential = paper_contact(p, y[i])
         v = (y[i, 2:4] - dy[i, 4:]) @ t + p.eta * a
         if reg[i] == 6:
             assert v >= -1e-9 and abs(tangential - mu * normal) <= 1e-9 * normal
@@ -150,11 +157,7 @@ def test_paper_run_up_with_friction_obeys_coulombs_law():
     assert {6, 8} <= set(np.unique(reg)) <= {1, 6, 7, 8}
     assert {"slip velocity zero", "friction cone's edge"} <= set(r.event_kind)
     for i in np.flatnonzero(reg >= 6):
-        n = y[i, :2] - y[i, 4:]
-        assert abs(np.hypot(*n) - 1) < 1e-12
-        t = np.array([-n[1], n[0]])
-        g = np.array([p.kx * y[i, 4], p.ky * y[i, 5]])
-        normal, tangential = n @ g, t @ g
+        _, normal, tangential = paper_contact(p, y[i])
         assert normal > 0
         if reg[i] == 8:
             assert abs(tangential) <= mu * normal * (1 + 1e-12)

@@ -12,6 +12,6 @@ mod ring_relax;
 mod ring_sensitivity;
 mod rub_closed_forms;
 mod rub_drive;
-mod rub_energy;
+pub(crate) mod rub_energy;
 mod rub_simulation;
 mod rub_smoothed;

@@ -13,19 +13,7 @@ use jeffcott::rotor::{DrivenJeffcott, LinearRotor, LinearSystem, MotorTorque, Ru
 
 /// The Fig. 8 rotor on a preloaded anisotropic ring (`ring::rub_energy`'s scene).
 fn scene() -> Params {
-    Params {
-        eta: 3.0,
-        nu1: 0.125,
-        nu2: 0.002,
-        kx: 30.0,
-        ky: 20.0,
-        beta: 0.119,
-        dx: 0.05,
-        dy: 0.02,
-        ex: 0.9,
-        ey: 0.1,
-        phi0: 0.0,
-    }
+    super::rub_energy::scene(3.0, [0.05, 0.02])
 }
 
 const MU: f64 = 0.5;

@@ -169,8 +169,9 @@ fn ring_energy(p: &Params, y: &[f64]) -> f64 {
     axis(p.kx, p.dx, p.nu2, y[4]).0 + axis(p.ky, p.dy, p.nu2, y[5]).0
 }
 
-/// The Fig. 8 rotor on an anisotropic ring, preloaded or not, with friction.
-fn scene(eta: f64, preload: [f64; 2]) -> Params {
+/// The Fig. 8 rotor on an anisotropic ring, preloaded or not, with friction (the scenes of
+/// `ring::rub_drive` and `stability::stability_friction` too).
+pub(crate) fn scene(eta: f64, preload: [f64; 2]) -> Params {
     Params {
         eta,
         nu1: 0.125,

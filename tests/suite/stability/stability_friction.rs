@@ -4,6 +4,7 @@
 //! perturbed: no linearisation), and the Floquet multipliers of a synchronous full annular rub.
 
 use super::stability_models::fd_jacobian;
+use crate::ring::rub_energy::scene;
 
 use jeffcott::hybrid::{simulate, OutputPlan, RotorModel, SimOptions, Trajectory};
 use jeffcott::nalgebra::{DVector, Dyn};
@@ -14,23 +15,6 @@ use jeffcott::stability::{periodic_orbit, OrbitOptions, StroboscopicMap};
 
 fn tight() -> SimOptions {
     SimOptions::default().with_rtol(1e-13).with_atol(1e-15)
-}
-
-/// The Fig. 8 rotor on an anisotropic ring (`ring::rub_energy`'s scenes).
-fn scene(eta: f64, preload: [f64; 2]) -> Params {
-    Params {
-        eta,
-        nu1: 0.125,
-        nu2: 0.002,
-        kx: 30.0,
-        ky: 20.0,
-        beta: 0.119,
-        dx: preload[0],
-        dy: preload[1],
-        ex: 0.9,
-        ey: 0.1,
-        phi0: 0.0,
-    }
 }
 
 /// The attractor's stroboscopic states that fall in free flight (label 1), from one run of
