@@ -36,9 +36,9 @@ pub enum RubMode {
     /// crossing), and turns back as the shaft turns,
     /// $\theta = \text{angle} - (a/\gamma)(\varphi - \text{shaft})$.
     Roll {
-        /// The contact direction at the roll's start.
+        /// The contact direction at the mode's last event (the roll's start or a preload crossing).
         angle: f64,
-        /// The shaft's angle at the roll's start.
+        /// The shaft's angle at that event.
         shaft: f64,
         /// The ring's force-law branches (a preload crossing's event changes them).
         branches: Branches,
@@ -79,6 +79,9 @@ pub struct RubCache {
 /// equation then takes the rub torque $a\thinspace n\times(-f) = -a\thinspace t\cdot f$
 /// ([`SmoothRotor::add_shaft_torque`]; `../shared/MODEL.md`: $-F_t a$), $f$ the ring's force
 /// (dampers included), $n$ and $t$ the contact's normal and tangent.
+///
+/// Its linearisation ([`crate::hybrid::Variational`]: periodic orbits, Floquet multipliers,
+/// Lyapunov exponents) goes through slip and roll for an imposed spin (docs/friction.md).
 ///
 /// Mode labels ([`RotorModel::mode_label`]): the ring's 1..5 (regimes), 6 slipping forward,
 /// 7 slipping backward, 8 rolling. Guards of a contact mode: loss, gap, the friction guard,
