@@ -203,6 +203,8 @@ fn distinct_values_clusters() {
 }
 
 proptest! {
+    #![proptest_config(crate::rng::proptest_defaults())]
+
     #[test]
     fn constructed_period_is_found(
         p in 1usize..10,

@@ -32,8 +32,8 @@
 //! (`FUZZ_SEEDS=a,b,c` sets the seeds, decimal or `0x` hex, default the three of
 //! docs/reliability.md; each seed's counts are printed as it finishes; `FUZZ_RING_CASES` sets
 //! the number of ring-element cases; `FUZZ_FROM=<n>` draws cases 1 to n - 1 without running
-//! them, so that case n of a long run's report is reached in seconds.) The short run takes its seed from `FUZZ_SEED`, or from
-//! the clock when that is unset, and prints it: a failure is reproduced with
+//! them, so that case n of a long run's report is reached in seconds.) The short run takes its seed from `FUZZ_SEED` (`clock`
+//! draws one), else a fixed one, and prints it: a failure is reproduced with
 //! `FUZZ_SEED=<seed> cargo test --test suite fuzz::fuzz::fuzz_short`. The counts are in
 //! docs/reliability.md.
 
@@ -1327,8 +1327,8 @@ fn check_ring(c: RingCase) -> Result<String, String> {
 // ---------------------------------------------------------------------------------------------
 
 /// The short version (CI): simulation cases of both models and ring-element cases, from a
-/// seed that changes with every run unless `FUZZ_SEED` fixes it (printed, with the command
-/// that reproduces a failure).
+/// fixed seed unless `FUZZ_SEED` gives another (printed, with the command that reproduces a
+/// failure).
 #[test]
 fn fuzz_short() {
     let seed = short_seed();

@@ -59,7 +59,7 @@ fn bits(results: &[Outcome]) -> Vec<(usize, char, u64)> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(crate::rng::proptest_cases(64))]
 
     /// Points, results and errors of random f64s pass through the folder bit for bit: as
     /// computed (each outcome is read back from its record before it is returned), as read by

@@ -146,7 +146,7 @@ proptest! {
     #![proptest_config(ProptestConfig {
         cases: 64,
         failure_persistence: None,
-        ..ProptestConfig::default()
+        ..crate::rng::proptest_defaults()
     })]
 
     /// x = A cos(t - phi) first crosses zero at phi + pi/2 (mod pi) after t = 0.

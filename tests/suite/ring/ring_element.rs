@@ -346,7 +346,7 @@ fn arb_branch(preload: f64) -> impl Strategy<Value = Branch> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(2000))]
+    #![proptest_config(crate::rng::proptest_cases(2000))]
 
     /// The branch solver, over extreme anisotropy and the smooth extension of every branch
     /// (rotor inside or outside the circle): either a typed error, or a placement that meets

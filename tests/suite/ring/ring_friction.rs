@@ -76,7 +76,7 @@ fn cases() -> ProptestConfig {
     ProptestConfig {
         cases: 2000,
         failure_persistence: Some(Box::new(FileFailurePersistence::Off)),
-        ..ProptestConfig::default()
+        ..crate::rng::proptest_defaults()
     }
 }
 

@@ -145,7 +145,7 @@ proptest! {
         failure_persistence: Some(Box::new(FileFailurePersistence::Direct(
             "proptest-regressions/ring_locate.txt"
         ))),
-        ..ProptestConfig::default()
+        ..crate::rng::proptest_defaults()
     })]
 
     #[test]

@@ -30,7 +30,7 @@ proptest! {
         failure_persistence: Some(Box::new(FileFailurePersistence::Direct(
             "proptest-regressions/ring_relax.txt"
         ))),
-        ..ProptestConfig::default()
+        ..crate::rng::proptest_defaults()
     })]
 
     #[test]
