@@ -14,7 +14,7 @@
 //!   ([`analysis::locate_period_change`](crate::analysis::locate_period_change)). It returns a
 //!   [`Bisection`] (the final bracket, evaluations, `converged`).
 //! * [`eigen_decomposition`] — eigenvalues, eigenvectors and their inverse for a real
-//!   non-symmetric matrix (balancing, nalgebra's complex Schur form, back-substitution), with
+//!   non-symmetric matrix (balancing, then faer's complex Schur form and back-substitution), with
 //!   the eigenvector matrix's condition number and the backward error: the modal closed form of
 //!   a linear rotor's free flight ([`crate::rotor::LinearClosedForm`]) rests on it.
 //! * [`hermite_weights`], [`hermite_slope_weights`] — the cubic Hermite interpolant of an
@@ -90,11 +90,11 @@ pub enum NumericError {
         /// The entry.
         value: f64,
     },
-    /// The Schur iteration did not converge.
-    #[error("the Schur iteration did not converge in {iterations} iterations")]
+    /// The QR iteration of the Schur form did not converge.
+    #[error("the QR iteration of the Schur form of the {size} x {size} matrix did not converge")]
     NoConvergence {
-        /// The iteration limit.
-        iterations: usize,
+        /// The matrix's order.
+        size: usize,
     },
     /// The eigenvectors are linearly dependent to working precision (a defective matrix).
     #[error("the eigenvector matrix is singular to working precision (zero pivot in column {column}): the matrix is defective or nearly so")]
