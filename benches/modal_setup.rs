@@ -8,6 +8,12 @@
 //!   both ends, Rayleigh damping, and a gyroscopic coupling of each node's x and y at 1200 rpm
 //!   (no repeated eigenvalues, a spread of decades as a real shaft's).
 //!
+//! * `phi_functions/{first,after_setup}`: 1000 $\varphi$-functions (`ode::phi_functions`, the
+//!   exponential integrator's scalar work) before any decomposition ran in the process, and
+//!   after one: equal when `numeric::eigen_decomposition` clears the vector registers that
+//!   faer's assembly kernels leave dirty (without that, the second was ~15 times the first on
+//!   an x86 Xeon: docs/performance.md).
+//!
 //! Run: `cargo bench --bench modal_setup` (on a quiet machine; `uptime` for the load). The
 //! times against size and their fitted exponent are in docs/performance.md.
 
@@ -15,7 +21,8 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use jeffcott::nalgebra::DMatrix;
+use jeffcott::nalgebra::{Complex, DMatrix};
+use jeffcott::ode::phi_functions;
 use jeffcott::rotor::{LinearRotor, LinearSystem, ModalRotor};
 
 /// The synthetic shaft of `dofs` lateral DOFs (x of node i at 2i, y at 2i + 1), ring station at
@@ -53,6 +60,22 @@ fn shaft(dofs: usize) -> LinearRotor {
     LinearRotor::new(system, [station, station + 1], [0.0, 0.0]).expect("a station on the shaft")
 }
 
+/// 1000 phi-functions over a spread of arguments (the series and the exponential branches).
+fn phis() -> Complex<f64> {
+    (0..1000).fold(Complex::new(0.0, 0.0), |acc, k| {
+        let z = Complex::new(-3.0 + k as f64 * 3e-3, 2.0 - k as f64 * 2e-3);
+        acc + phi_functions(black_box(z))[1]
+    })
+}
+
+fn bench_phi_after_setup(c: &mut Criterion) {
+    let mut group = c.benchmark_group("phi_functions");
+    group.bench_function("first", |b| b.iter(phis));
+    black_box(ModalRotor::new(&shaft(64)).expect("modal form"));
+    group.bench_function("after_setup", |b| b.iter(phis));
+    group.finish();
+}
+
 fn bench_setup(c: &mut Criterion) {
     let mut group = c.benchmark_group("modal_setup");
     group.sample_size(10);
@@ -66,5 +89,5 @@ fn bench_setup(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_setup);
+criterion_group!(benches, bench_phi_after_setup, bench_setup);
 criterion_main!(benches);
