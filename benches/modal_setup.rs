@@ -11,7 +11,7 @@
 //! * `phi_functions/{first,after_setup}`: 1000 $\varphi$-functions (`ode::phi_functions`, the
 //!   exponential integrator's scalar work) before any decomposition ran in the process, and
 //!   after one: equal when `numeric::eigen_decomposition` clears the vector registers that
-//!   faer's assembly kernels leave dirty (without that, the second was ~15 times the first on
+//!   faer's assembly kernels leave dirty (without that, the second was 9 times the first on
 //!   an x86 Xeon: docs/performance.md).
 //!
 //! Run: `cargo bench --bench modal_setup` (on a quiet machine; `uptime` for the load). The

@@ -38,8 +38,8 @@ pub struct EigenDecomposition {
 /// found by faer's LU with partial pivoting. Complex, not the real Schur form: the real
 /// path's quasi-triangular back-substitution returns nearly parallel vectors for a repeated
 /// complex pair (measured: $\kappa_1(V) = 8.6\times10^{19}$ on an 8-DOF rotor whose pair is
-/// 7-fold, $10^3$ from the complex form), and every pair of an isotropic rotor at rest is
-/// double. The complex form costs about 2.5 times as much (0.75 s against 0.30 s at 672 states).
+/// 7-fold, $10^3$ from the complex form), and every pair of an isotropic rotor without
+/// gyroscopic coupling is double. The complex form costs about 2.5 times as much (0.75 s against 0.30 s at 672 states).
 ///
 /// Everything is returned **in balanced coordinates**: $A = D V \Lambda V^{-1} D^{-1}$. The
 /// condition number $\kappa_1(V) = |V|_1|V^{-1}|_1$ measures how much rounding the modal
