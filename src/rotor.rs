@@ -245,6 +245,14 @@ where
         self.forcing_period() * k as f64
     }
 
+    /// The stroboscopic output `k` at a phase in the state ([`RotorModel::strobe_phase`],
+    /// which [`RingedRotor`] passes on): `Some((i, φ_k))` for a rotor whose speed is a state
+    /// (the driven rotors: the shaft's turns). Default `None`.
+    fn strobe_phase(&self, k: u64) -> Option<(usize, f64)> {
+        let _ = k;
+        None
+    }
+
     /// A typical magnitude of each state component ([`RotorModel::state_scale`]), if the
     /// rotor knows one. Default `None`: [`RingedRotor`] derives it from the ring's gap and the
     /// station map (see [`RingedRotor::state_scale`](RotorModel::state_scale)); override it
@@ -1547,6 +1555,10 @@ where
 
     fn strobe_time(&self, k: u64) -> f64 {
         self.rotor.strobe_time(k)
+    }
+
+    fn strobe_phase(&self, k: u64) -> Option<(usize, f64)> {
+        self.rotor.strobe_phase(k)
     }
 
     fn max_rate(&self, mode: RingMode, t: f64, y: &OVector<f64, R::Dim>) -> Option<f64> {

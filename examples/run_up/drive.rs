@@ -6,9 +6,11 @@
 use std::f64::consts::TAU;
 use std::path::Path;
 
-use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, Trajectory};
-use jeffcott::nalgebra::U8;
-use jeffcott::rotor::{DrivenJeffcott, MotorTorque, RubbingRotor, ETA, PHASE};
+use jeffcott::analysis::per_revolution;
+use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, StrobeRange, Trajectory};
+use jeffcott::nalgebra::{SVector, U8};
+use jeffcott::ring::Kinematics;
+use jeffcott::rotor::{DrivenJeffcott, MotorTorque, RubbingRotor, ETA};
 
 use crate::common::cli::fail;
 use crate::common::or_exit;
@@ -49,9 +51,13 @@ pub fn run(
     let [x0, y0, vx0, vy0] = scene.start;
     let mut start = rotor.state_at([x0, y0], [vx0, vy0], eta_from);
     or_exit(model.make_consistent(&mut start));
+    // Strobes at the shaft's turns (the phase state's): the revolutions' bounds.
     let plan = OutputPlan {
         t_end: duration,
-        strobe: None,
+        strobe: Some(StrobeRange {
+            first: 0,
+            last: u64::MAX,
+        }),
         dense: Some(DenseSampling {
             t_start: 0.0,
             dt: TAU / (no_load * samples as f64),
@@ -105,27 +111,15 @@ fn summary(traj: &Trajectory<U8>, duration: f64) {
     println!();
 }
 
-/// Per revolution of the phase state ($\lfloor(\varphi - \varphi_0)/2\pi\rfloor$): its mean
-/// speed and the largest radius at its samples (the sampling's resolution).
+/// Per turn of the shaft (between the strobes, which the driven rotor puts at its turns): its
+/// mean speed and the largest radius, located on the interpolant through the samples
+/// ([`per_revolution`]).
 fn revolutions(traj: &Trajectory<U8>) -> Vec<(f64, f64)> {
-    let Some(first) = traj.samples.first() else {
-        return Vec::new();
-    };
-    let phi0 = first.y[PHASE];
-    let mut out = Vec::new();
-    let (mut turn, mut sum, mut n, mut radius) = (0.0, 0.0, 0, 0.0f64);
-    for s in &traj.samples {
-        let k = ((s.y[PHASE] - phi0) / TAU).floor();
-        if k > turn && n > 0 {
-            out.push((sum / f64::from(n), radius));
-            (sum, n, radius) = (0.0, 0, 0.0);
-        }
-        turn = k;
-        sum += s.y[ETA];
-        n += 1;
-        radius = radius.max(s.y[0].hypot(s.y[1]));
+    let station = |y: &SVector<f64, 8>| Kinematics::new([y[0], y[1]], [y[2], y[3]]);
+    match per_revolution(traj, 1, station) {
+        Ok(revs) => revs.iter().map(|r| (r.speed, r.max_radius)).collect(),
+        Err(e) => fail(format!("per revolution: {e}")),
     }
-    out
 }
 
 fn draw(

@@ -7,7 +7,7 @@ use thiserror::Error;
 
 use super::record::{EventRecord, HybridObserver, OutputPlan, Sample, StrobePoint};
 use super::{ExactSegment, Flow, GuardCrossing, ModelError, RotorModel};
-use crate::numeric::Direction;
+use crate::numeric::{illinois, Direction, RootOptions};
 use crate::ode::{
     find_first_event, AnyIntegrator, EventOptions, EventSet, EventState, Integrator, JacobianMut,
     Method, OdeError, OdeSystem, Options, Tolerance, MAX_SAMPLES,
@@ -409,9 +409,15 @@ where
 }
 
 /// Pending outputs, in time order. Strobe times are the model's
-/// ([`RotorModel::strobe_time`]), cached for the next index.
+/// ([`RotorModel::strobe_time`]), cached for the next index; or, for strobes at a phase in the
+/// state ([`RotorModel::strobe_phase`]), infinite until a step reaches the next one's phase
+/// and [`Schedule::locate_phase_strobe`] finds its time.
 struct Schedule {
     strobe_at: f64,
+    /// Strobes at a phase in the state, and the time of the last strobe (where the search for
+    /// the next begins).
+    by_phase: bool,
+    strobe_floor: f64,
     strobe_next: u64,
     strobe_last: u64,
     has_strobe: bool,
@@ -428,7 +434,11 @@ enum Due {
 }
 
 impl Schedule {
-    fn new<M: RotorModel>(plan: &OutputPlan, model: &M, t0: f64) -> Self
+    fn new<M: RotorModel>(
+        plan: &OutputPlan,
+        model: &M,
+        (t0, y0): (f64, &OVector<f64, M::Dim>),
+    ) -> Self
     where
         DefaultAllocator: Allocator<M::Dim>,
     {
@@ -436,8 +446,15 @@ impl Schedule {
         let (d0, dt) = plan
             .dense
             .map_or((f64::INFINITY, 1.0), |d| (d.t_start, d.dt));
+        let by_phase = model.strobe_phase(first).is_some();
         let mut s = Self {
-            strobe_at: model.strobe_time(first),
+            strobe_at: if by_phase {
+                f64::INFINITY
+            } else {
+                model.strobe_time(first)
+            },
+            by_phase,
+            strobe_floor: t0,
             strobe_next: first,
             strobe_last: last,
             has_strobe: plan.strobe.is_some() && first <= last,
@@ -447,8 +464,12 @@ impl Schedule {
             has_dense: plan.dense.is_some(),
             t_end: plan.t_end,
         };
-        // Skip outputs before the start.
-        while s.has_strobe && s.strobe_time() < t0 {
+        // Skip outputs before the start (phase strobes: targets the start has passed).
+        let passed = |s: &Self| match model.strobe_phase(s.strobe_next) {
+            Some((i, target)) => target < y0[i],
+            None => s.strobe_time() < t0,
+        };
+        while s.has_strobe && passed(&s) {
             s.advance_strobe(model);
         }
         while s.has_dense && s.dense_time() < t0 {
@@ -469,9 +490,64 @@ impl Schedule {
         self.strobe_next += 1;
         if self.strobe_next > self.strobe_last {
             self.has_strobe = false;
+        } else if self.by_phase {
+            // (Targets skipped at the start were never located: their time is infinite.)
+            if self.strobe_at.is_finite() {
+                self.strobe_floor = self.strobe_floor.max(self.strobe_at);
+            }
+            self.strobe_at = f64::INFINITY;
         } else {
             self.strobe_at = model.strobe_time(self.strobe_next);
         }
+    }
+
+    /// For strobes at a phase in the state: the time of the next one, if the state's phase
+    /// `phase_at(t)` reaches its target by `b` (the end of the stretch being output, whose
+    /// start is `a`), located by [`illinois`] to a few ulp. A no-op once it is located or
+    /// for strobes at known times. `phase_at(t, i)` is the state's component `i` at `t`.
+    /// `Err` carries a time where it gave NaN.
+    fn locate_phase_strobe<M: RotorModel>(
+        &mut self,
+        model: &M,
+        (a, b): (f64, f64),
+        mut phase_at: impl FnMut(f64, usize) -> f64,
+    ) -> Result<(), f64>
+    where
+        DefaultAllocator: Allocator<M::Dim>,
+    {
+        if !(self.by_phase && self.has_strobe && self.strobe_at == f64::INFINITY) {
+            return Ok(());
+        }
+        let Some((i, target)) = model.strobe_phase(self.strobe_next) else {
+            return Ok(());
+        };
+        let mut g = |t: f64| phase_at(t, i) - target;
+        let gb = g(b);
+        if gb.is_nan() {
+            return Err(b);
+        }
+        if gb < 0.0 {
+            return Ok(());
+        }
+        let a = a.max(self.strobe_floor).min(b);
+        let ga = g(a);
+        if ga.is_nan() {
+            return Err(a);
+        }
+        if ga >= 0.0 {
+            self.strobe_at = a;
+            return Ok(());
+        }
+        let opts = RootOptions {
+            tol: 4.0 * f64::EPSILON * a.abs().max(b.abs()),
+            ..RootOptions::default()
+        };
+        let root = illinois((a, ga), (b, gb), &opts, g).map_err(|_| a)?;
+        if let Some(t) = root.nan_at {
+            return Err(t);
+        }
+        self.strobe_at = root.hi;
+        Ok(())
     }
     fn advance_dense(&mut self) {
         self.dense_next += 1;
@@ -922,7 +998,7 @@ where
             integ,
             ev_state: EventState::with_dim(dim),
             w: Scratch::new(dim),
-            sched: Schedule::new(plan, model, t0),
+            sched: Schedule::new(plan, model, (t0, y0)),
             chatter: ChatterGuard {
                 window_start: t0,
                 count: 0,
@@ -977,7 +1053,22 @@ where
             let target = self.sched.next_time().min(t_end);
             let hit = seg.next_guard(self.t, target);
             let t_stop = hit.map_or(target, |h| h.t);
-            while let Some((to, due)) = self.sched.pop_due(t_stop, model) {
+            loop {
+                let (t, w) = (self.t, &mut self.w);
+                let located = self.sched.locate_phase_strobe(model, (t, t_stop), |to, i| {
+                    seg.eval(to, &mut w.yo, &mut w.dy);
+                    w.yo[i]
+                });
+                if located.is_err() {
+                    // The closed form is not finite inside the stretch: the last good state
+                    // is its start.
+                    seg.eval(self.t, &mut self.y, &mut self.w.dy);
+                    self.stats.exact_evals += seg.evaluations();
+                    return Err(fail(SimErrorKind::NonFinite, self.t, &self.y, self.stats));
+                }
+                let Some((to, due)) = self.sched.pop_due(t_stop, model) else {
+                    break;
+                };
                 seg.eval(to, &mut self.y, &mut self.w.dy);
                 self.w
                     .out
@@ -1115,7 +1206,26 @@ where
         label: u8,
     ) -> Result<(), SimError<M::Dim>> {
         let (model, mode, cache) = (self.model, self.mode, self.caches.outputs);
-        while let Some((to, due)) = self.sched.pop_due(t_stop, model) {
+        loop {
+            let (integ, yo) = (&mut self.integ, &mut self.w.yo);
+            let span = (integ.t_prev(), t_stop);
+            let located = self.sched.locate_phase_strobe(model, span, |to, i| {
+                // The step's ends as they are (a start on a target is a strobe there).
+                if to == integ.t() {
+                    integ.y()[i]
+                } else if to == integ.t_prev() {
+                    integ.y_prev()[i]
+                } else {
+                    integ.dense(sys, to, yo);
+                    yo[i]
+                }
+            });
+            if located.is_err() {
+                return Err(self.fail_on_step(SimErrorKind::NonFinite, false));
+            }
+            let Some((to, due)) = self.sched.pop_due(t_stop, model) else {
+                break;
+            };
             if to == self.integ.t() {
                 self.w.yo.copy_from(self.integ.y());
             } else {

@@ -652,6 +652,21 @@ where
         self.forcing_period() * k as f64
     }
 
+    /// Stroboscopic outputs at a **phase in the state** instead of at known times: `Some((i,
+    /// φ_k))` puts the output `k` where the state's component `i` (a shaft angle, increasing
+    /// with time) reaches $\varphi_k$, located on each step's dense output (or the closed
+    /// form) by [`illinois`](crate::numeric::illinois) to a few ulp of the time, and
+    /// [`RotorModel::strobe_time`] is not asked. For a model whose speed is a state (a
+    /// non-ideal drive): its strobes at the shaft's turns. A target already passed by the
+    /// start state is skipped; where the angle crosses a target and back within one step the
+    /// output is missed (the angle must increase: the shaft turns forwards). Must return the
+    /// same index for every `k` and targets that increase with `k`. Default `None` (the
+    /// strobes at [`RotorModel::strobe_time`]).
+    fn strobe_phase(&self, k: u64) -> Option<(usize, f64)> {
+        let _ = k;
+        None
+    }
+
     /// An upper bound $\lambda$ of the rates of the motion in `mode` at `(t, y)` (the spectral
     /// radius of the vector field's Jacobian, for a unit-mass oscillator of stiffness $k$ and
     /// damping coefficient $c$ bounded by $\sqrt{k} + c$, and the forcing's frequency), if the

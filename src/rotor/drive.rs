@@ -35,8 +35,9 @@
 //! $\int 2\nu_1|r^\prime|^2$ and the ring's losses (`tests/suite/simulation/drive_energy.rs`
 //! checks it).
 //!
-//! The strobes are at equal times (the phase is a state): $2\pi k/\eta_\text{ref}$ with the
-//! reference speed of [`DrivenJeffcott::new`].
+//! The strobes are at the shaft's turns, where the phase state reaches $\varphi_0 + 2\pi k$
+//! ([`RotorModel::strobe_phase`](crate::hybrid::RotorModel::strobe_phase)), so that a
+//! revolution's analysis ([`crate::analysis::per_revolution`]) sees the shaft's revolutions.
 
 use std::f64::consts::TAU;
 use std::fmt;
@@ -162,7 +163,7 @@ pub struct DrivenJeffcott {
 }
 
 impl DrivenJeffcott {
-    /// The rotor of `params` (whose `eta` is the reference speed: the strobes' period
+    /// The rotor of `params` (whose `eta` is the reference speed: the forcing period
     /// $2\pi/\eta$ and the velocities' scale; the speed itself is the state's) with the
     /// non-dimensional polar inertia `inertia` $= j = J_p/(M\gamma^2)$, driven by `motor`.
     ///
@@ -330,6 +331,11 @@ impl SmoothRotor for DrivenJeffcott {
     /// $2\pi/\eta_\text{ref}$ (the parameters' `eta`).
     fn forcing_period(&self) -> f64 {
         TAU / self.eta_ref
+    }
+
+    /// The shaft's turns: $\varphi = \varphi_0 + 2\pi k$ ($\varphi_0$ of the parameters).
+    fn strobe_phase(&self, k: u64) -> Option<(usize, f64)> {
+        Some((PHASE, self.params.phi0 + TAU * k as f64))
     }
 
     /// Positions 1 (the gap), velocities and the speed $\eta_\text{ref}$, the phase 1.

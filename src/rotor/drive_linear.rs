@@ -28,7 +28,8 @@
 //! checks it).
 //!
 //! Free flight is integrated, with [`super::RingedRotor`]'s onset guarantee (see
-//! [`super::ProfiledLinearRotor`]). The strobes are at equal times $2\pi k/\Omega_r$.
+//! [`super::ProfiledLinearRotor`]). The strobes are at the shaft's turns, where the phase state
+//! reaches $2\pi k$ ([`RotorModel::strobe_phase`](crate::hybrid::RotorModel::strobe_phase)).
 
 use std::f64::consts::TAU;
 
@@ -72,7 +73,7 @@ impl LinearRotor {
     /// This rotor on a non-ideal drive: the motor `motor` ($T(\Omega)$, N m) through the polar
     /// inertia `inertia` $J$ (kg m², the out-of-balance's included), with the gyroscopic
     /// matrix `gyroscopic` $G$ in the system's coordinates. The system's speed is the
-    /// reference $\Omega_r$ (the strobes' period, the state's scale).
+    /// reference $\Omega_r$ (the forcing period, the state's scale).
     ///
     /// # Errors
     /// As [`LinearRotor::with_speed_profile`] for $G$; [`RotorError::Inertia`] unless $J$ is
@@ -327,6 +328,12 @@ impl SmoothRotor for DrivenLinearRotor {
     /// $2\pi/\Omega_r$.
     fn forcing_period(&self) -> f64 {
         TAU / self.rotor.system().speed()
+    }
+
+    /// The shaft's turns: $\varphi = 2\pi k$ (from the phase 0 of
+    /// [`DrivenLinearRotor::rest_state`]).
+    fn strobe_phase(&self, k: u64) -> Option<(usize, f64)> {
+        Some((self.phase_index(), TAU * k as f64))
     }
 
     /// [`LinearRotor`]'s, the speed's $\Omega_r$ and the phase's 1 appended.

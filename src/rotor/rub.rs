@@ -832,6 +832,10 @@ where
         self.inner.strobe_time(k)
     }
 
+    fn strobe_phase(&self, k: u64) -> Option<(usize, f64)> {
+        self.inner.strobe_phase(k)
+    }
+
     fn max_rate(&self, mode: RubMode, t: f64, y: &OVector<f64, R::Dim>) -> Option<f64> {
         self.inner.max_rate(Self::ring_mode(mode), t, y)
     }

@@ -11,6 +11,7 @@ mod drive_energy;
 mod dyn_models;
 mod flexible_shaft;
 mod hard_cases;
+mod phase_strobes;
 mod reference;
 mod rotor_checks;
 mod run_up;
