@@ -362,19 +362,31 @@ def fe_transient(
     method: str | None = None,
     layout: str = "ross6",
 ) -> FeRun: ...
+class Motor:
+    @staticmethod
+    def linear(stall_torque: float, no_load_speed: float) -> Motor: ...
+    @staticmethod
+    def table(speeds: npt.ArrayLike, torques: npt.ArrayLike) -> Motor: ...
+    def torque(self, speed: float) -> float: ...
+    @property
+    def no_load_speed(self) -> float: ...
+
 def fe_run_up(
     M: npt.ArrayLike,
     K: npt.ArrayLike,
     C: npt.ArrayLike,
     G: npt.ArrayLike,
-    times: npt.ArrayLike,
-    speeds: npt.ArrayLike,
+    times: npt.ArrayLike | None = None,
+    speeds: npt.ArrayLike | None = None,
     *,
     ring_node: int,
     gap: float,
     ring_stiffness: float,
     ring_damping: float,
     unbalance: Sequence[tuple[int, float, float]],
+    motor: Motor | None = None,
+    inertia: float | None = None,
+    speed0: float | None = None,
     ring: bool = True,
     t_end: float | None = None,
     dt: float | None = None,

@@ -40,17 +40,21 @@ class FeRotor:
         """``fe_transient`` of this rotor at ``speed``; ``kw`` as ``fe_transient``'s."""
         return fe_transient(self.M, self.K, self.C, self.G, self.speed, **kw)
 
-    def run_up(self, times, speeds, *, bearing_points: int = 33, **kw) -> FeRun:
-        """``fe_run_up`` of this rotor through the speed table (``times``, ``speeds``); ``kw``
-        as ``fe_run_up``'s.
+    def run_up(self, times=None, speeds=None, *, bearing_points: int = 33, **kw) -> FeRun:
+        """``fe_run_up`` of this rotor through the speed table (``times``, ``speeds``), or on
+        a drive (``motor``, ``inertia``, ``speed0`` in ``kw``); ``kw`` as ``fe_run_up``'s.
 
         With the ROSS rotor known (``from_rotor``) and ``bearing_points`` > 1, ``K`` and ``C``
         follow the speed: ``rotor.K(w, w)`` and ``rotor.C(w, w)`` read at ``bearing_points``
-        speeds equally spaced over the table's range (``fe_run_up``'s ``bearing_speeds``,
-        ``bearing_K``, ``bearing_C``; linear between them). Otherwise ``K`` and ``C`` are
-        those at ``speed`` for every speed."""
+        speeds equally spaced over the table's range (a drive's: from ``speed0`` to the
+        motor's no-load speed; ``fe_run_up``'s ``bearing_speeds``, ``bearing_K``,
+        ``bearing_C``; linear between them, held beyond). Otherwise ``K`` and ``C`` are those
+        at ``speed`` for every speed."""
         if self.rotor is not None and bearing_points > 1 and "bearing_speeds" not in kw:
-            w = np.asarray(speeds, dtype=np.float64)
+            if speeds is None and kw.get("motor") is not None and kw.get("speed0") is not None:
+                w = np.array([kw["speed0"], kw["motor"].no_load_speed], dtype=np.float64)
+            else:
+                w = np.asarray(speeds, dtype=np.float64)
             grid = np.linspace(w.min(), w.max(), bearing_points)
             if grid[-1] > grid[0]:
                 kw["bearing_speeds"] = grid

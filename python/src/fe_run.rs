@@ -159,10 +159,10 @@ pub struct RunFacts<'a, M: RunModel> {
     pub model: &'a M,
     /// The ring node's displacement from its undeflected position in a state.
     pub displacement: &'a dyn Fn(&DVector<f64>) -> [f64; 2],
-    /// The speed at a time.
-    pub speed: &'a dyn Fn(f64) -> f64,
-    /// The shaft's angle at a time (the integral of the speed from 0).
-    pub phase: &'a dyn Fn(f64) -> f64,
+    /// The speed at a time and state (a driven rotor's is in its state).
+    pub speed: &'a dyn Fn(f64, &DVector<f64>) -> f64,
+    /// The shaft's angle at a time and state (the integral of the speed from 0).
+    pub phase: &'a dyn Fn(f64, &DVector<f64>) -> f64,
     /// The degrees of freedom integrated.
     pub dofs: usize,
     /// The reduction kept.
@@ -224,8 +224,8 @@ pub fn fe_run<M: RunModel>(
     };
     Ok(FeRun {
         t: array(py, s.iter().map(|p| p.t)),
-        speed: array(py, s.iter().map(|p| (facts.speed)(p.t))),
-        phase: array(py, s.iter().map(|p| (facts.phase)(p.t))),
+        speed: array(py, s.iter().map(|p| (facts.speed)(p.t, &p.y))),
+        phase: array(py, s.iter().map(|p| (facts.phase)(p.t, &p.y))),
         x: array(py, s.iter().map(|p| at(&p.y)[0])),
         y: array(py, s.iter().map(|p| at(&p.y)[1])),
         vx: array(py, velocity.iter().map(|v| v.x)),

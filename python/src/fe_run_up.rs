@@ -1,12 +1,16 @@
-//! The run-up of a finite-element rotor on the ring: the speed a table of (time, speed)
-//! points, linear between them (the crate's `rotor::SpeedProfile::piecewise` and
-//! `rotor::ProfiledLinearRotor`), in SI units.
+//! The run-up of a finite-element rotor on the ring, in SI units: the speed a table of (time,
+//! speed) points, linear between them (the crate's `rotor::SpeedProfile::piecewise` and
+//! `rotor::ProfiledLinearRotor`), or driven by a motor through the polar inertia (the non-ideal
+//! drive, `rotor::DrivenLinearRotor`).
 
 use std::f64::consts::TAU;
 
 use jeffcott::hybrid::{SimOptions, SimStats, Trajectory};
-use jeffcott::nalgebra::{DVector, Dyn};
-use jeffcott::rotor::{ProfiledLinearRotor, RubbingRotor, Segment, SmoothRotor, SpeedProfile};
+use jeffcott::nalgebra::{DMatrix, DVector, Dyn};
+use jeffcott::rotor::{
+    BearingTable, DrivenLinearRotor, LinearRotor, ProfiledLinearRotor, RingedRotor, RubbingRotor,
+    Segment, SmoothRotor, SpeedProfile,
+};
 use numpy::{AllowTypeChange, PyArrayLike1};
 use pyo3::prelude::*;
 
@@ -17,6 +21,7 @@ use crate::fe::{
     Probes, Reduction, RingAt,
 };
 use crate::fe_run::{fe_run, FeRun, RunFacts, RunModel};
+use crate::motor::Motor;
 use crate::options::sim_options;
 use crate::paper::dense_output;
 use crate::runs::{self, Output};
@@ -60,47 +65,119 @@ fn profile_of(times: &Column<'_>, speeds: &Column<'_>) -> PyResult<SpeedProfile>
     SpeedProfile::piecewise(w[0], &segments).map_err(value_error)
 }
 
-/// The speeds where a reduction's error is measured: 33 equally spaced from the table's
-/// slowest (at least 1/32 of its fastest) to its fastest, which is the last.
-fn speed_grid(speeds: &Column<'_>) -> Vec<f64> {
-    let w = speeds.as_array();
-    let top = w.iter().copied().fold(0.0, f64::max);
-    let low = w.iter().copied().fold(top, f64::min).max(top / 32.0);
+/// The speeds where a reduction's error is measured: 33 equally spaced from the slowest of
+/// `speeds` (at least 1/32 of the fastest) to the fastest, which is the last.
+fn speed_grid(speeds: &[f64]) -> Vec<f64> {
+    let top = speeds.iter().copied().fold(0.0, f64::max);
+    let low = speeds.iter().copied().fold(top, f64::min).max(top / 32.0);
     (0..=32)
         .map(|i| low + (top - low) * i as f64 / 32.0)
         .collect()
 }
 
+/// How the speed goes: a table's profile, or a motor's drive.
+enum Law {
+    Profile(SpeedProfile),
+    Drive {
+        motor: Motor,
+        inertia: f64,
+        speed0: f64,
+    },
+}
+
+impl Law {
+    /// From the keywords: ``times`` and ``speeds``, or ``motor``, ``inertia`` and ``speed0``.
+    fn new(
+        table: (Option<Column<'_>>, Option<Column<'_>>),
+        drive: (Option<Motor>, Option<f64>, Option<f64>),
+    ) -> PyResult<Self> {
+        match (table, drive) {
+            ((Some(times), Some(speeds)), (None, None, None)) => {
+                Ok(Law::Profile(profile_of(&times, &speeds)?))
+            }
+            ((None, None), (Some(motor), Some(inertia), Some(speed0))) => {
+                if !(speed0.is_finite() && speed0 >= 0.0) {
+                    return Err(value_error(format!(
+                        "speed0 = {speed0} must be finite and >= 0"
+                    )));
+                }
+                Ok(Law::Drive {
+                    motor,
+                    inertia,
+                    speed0,
+                })
+            }
+            ((None, None), _) => Err(value_error(
+                "a drive needs motor, inertia and speed0 (or give times and speeds)",
+            )),
+            ((Some(_), Some(_)), _) => Err(value_error(
+                "give times and speeds (a speed profile) or motor, inertia and speed0 (a \
+                 drive), not both",
+            )),
+            _ => Err(value_error("times and speeds go together")),
+        }
+    }
+
+    /// The reference speed (the state's scale, the forcing period of the step bound and the
+    /// margin's): the profile's largest; the drive's start or its motor's no-load speed,
+    /// whichever is larger.
+    fn reference(&self) -> f64 {
+        match self {
+            Law::Profile(p) => p.eta_max(),
+            Law::Drive { motor, speed0, .. } => motor.no_load().max(*speed0),
+        }
+    }
+
+    /// The speeds the run is expected to pass: the profile's points, or the drive's start and
+    /// reference.
+    fn speeds(&self, table: &[f64]) -> Vec<f64> {
+        match self {
+            Law::Profile(_) => table.to_vec(),
+            Law::Drive { speed0, .. } => vec![*speed0, self.reference()],
+        }
+    }
+}
+
 /// Run-up (or run-down, or any speed history) of a finite-element rotor on the snubber ring,
 /// from rest (q = q' = 0, the ring at its centre) at t = 0 to ``t_end`` (s; default the
-/// table's last time), sampled every ``dt`` (s; default 1/128 of a revolution at the largest
-/// speed).
+/// table's last time), sampled every ``dt`` (s; default 1/128 of a revolution at the reference
+/// speed: the largest of the table, or of a drive's ``speed0`` and its motor's no-load speed).
 ///
-/// The speed Omega(t) (rad/s) goes through the points (``times[i]``, ``speeds[i]``), linear
-/// between them (constant acceleration; ``times[0]`` = 0, increasing), held at the last speed
-/// after the last point: two points make a ramp, three a ramp up and back down. The equations
-/// are M q'' + (C + Omega G) q' + K q = F(t): ``C`` and ``K`` as given, for all speeds, or
-/// following the speed: ``bearing_K[i]`` and ``bearing_C[i]`` (each like ``K``, ``C``: shape
-/// (S, N, N)) at ``bearing_speeds[i]`` (rad/s, increasing), linear in Omega between them and
-/// held beyond them (sample ROSS's ``rotor.K(w)``, ``rotor.C(w)`` on a grid fine enough for
-/// that rule; ``jeffcott.ross.FeRotor.run_up`` does). The out-of-balance m e pushes with
-/// m e (Omega^2 cos phi + Omega' sin phi, Omega^2 sin phi - Omega' cos phi), phi = phase + the integral of Omega (the radial and the
-/// tangential force of the accelerating mass). The rotor, the ring, ``modes``, ``rtol``,
-/// ``atol``, ``method``, ``probe_nodes``, ``friction``, ``shaft_radius`` (Coulomb friction at
-/// the ring, the shaft's surface speed following the profile) and ``layout`` as in
-/// ``fe_transient``, the
-/// reduction's error measured
-/// at 33 speeds from the table's slowest (at least 1/32 of its fastest) to its fastest; ``ring=False`` runs without
-/// the ring (its gap 1 m). Runs with the GIL released; Ctrl-C stops it. Memory: each sample keeps the state and
-/// its derivative until the run ends (2 (2 n + 2) floats, n the DOFs integrated).
-/// ``ValueError`` for bad input (the crate's message), ``SimulationError`` (``partial``: an
-/// ``FeRun``) for a failed run. Returns an ``FeRun`` (its ``speed`` the profile's at the
-/// samples, its least damping ratio at the largest speed).
+/// The speed Omega(t) (rad/s), either prescribed or driven:
+///
+/// * prescribed: through the points (``times[i]``, ``speeds[i]``), linear between them
+///   (constant acceleration; ``times[0]`` = 0, increasing), held at the last speed after the
+///   last point: two points make a ramp, three a ramp up and back down;
+/// * driven (the non-ideal drive: give ``motor``, ``inertia`` and ``speed0`` instead of
+///   ``times`` and ``speeds``, and ``t_end``): J Omega' = T(Omega) minus the out-of-balance's
+///   reaction torque (and, with ``friction``, the rub torque), from Omega = ``speed0`` (rad/s)
+///   and the shaft's angle 0; ``motor`` a ``jeffcott.Motor`` (T in N m), ``inertia`` J the
+///   polar inertia of everything that spins (kg m^2, the out-of-balance's included; above
+///   the out-of-balance's own share, which any physical rotor is). The revolutions are the
+///   shaft's turns, located where its angle reaches 2 pi k.
+///
+/// The equations are M q'' + (C + Omega G) q' + K q = F(t): ``C`` and ``K`` as given, for all
+/// speeds, or following the speed: ``bearing_K[i]`` and ``bearing_C[i]`` (each like ``K``,
+/// ``C``: shape (S, N, N)) at ``bearing_speeds[i]`` (rad/s, increasing), linear in Omega
+/// between them and held beyond them (sample ROSS's ``rotor.K(w)``, ``rotor.C(w)`` on a grid
+/// fine enough for that rule; ``jeffcott.ross.FeRotor.run_up`` does). The out-of-balance m e
+/// pushes with m e (Omega^2 cos phi + Omega' sin phi, Omega^2 sin phi - Omega' cos phi), phi =
+/// phase + the shaft's angle (the radial and the tangential force of the accelerating mass).
+/// The rotor, the ring, ``modes``, ``rtol``, ``atol``, ``method``, ``probe_nodes``,
+/// ``friction``, ``shaft_radius`` (Coulomb friction at the ring, the shaft's surface speed
+/// following the speed) and ``layout`` as in ``fe_transient``, the reduction's error measured
+/// at 33 speeds from the slowest of the run (at least 1/32 of the reference) to the reference;
+/// ``ring=False`` runs without the ring (its gap 1 m). Runs with the GIL released; Ctrl-C stops
+/// it. Memory: each sample keeps the state and its derivative until the run ends (2 (2 n + 4)
+/// floats, n the DOFs integrated). ``ValueError`` for bad input (the crate's message),
+/// ``SimulationError`` (``partial``: an ``FeRun``) for a failed run. Returns an ``FeRun`` (its
+/// ``speed`` and ``phase`` the profile's or the drive's at the samples, its least damping
+/// ratio at the reference speed).
 #[pyfunction]
 #[pyo3(
-    signature = (M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], bearing_speeds=None, bearing_K=None, bearing_C=None, friction=0.0, shaft_radius=None, rtol=1e-8, atol=None, method=None, layout="ross6"),
+    signature = (M, K, C, G, times=None, speeds=None, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, motor=None, inertia=None, speed0=None, ring=true, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], bearing_speeds=None, bearing_K=None, bearing_C=None, friction=0.0, shaft_radius=None, rtol=1e-8, atol=None, method=None, layout="ross6"),
     // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
-    text_signature = "(M, K, C, G, times, speeds, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], bearing_speeds=None, bearing_K=None, bearing_C=None, friction=0.0, shaft_radius=None, rtol=1e-08, atol=None, method=None, layout='ross6')"
+    text_signature = "(M, K, C, G, times=None, speeds=None, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, motor=None, inertia=None, speed0=None, ring=True, t_end=None, dt=None, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], bearing_speeds=None, bearing_K=None, bearing_C=None, friction=0.0, shaft_radius=None, rtol=1e-08, atol=None, method=None, layout='ross6')"
 )]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_run_up(
@@ -109,13 +186,16 @@ pub fn fe_run_up(
     K: ArrayLike<'_>,
     C: ArrayLike<'_>,
     G: ArrayLike<'_>,
-    times: Column<'_>,
-    speeds: Column<'_>,
+    times: Option<Column<'_>>,
+    speeds: Option<Column<'_>>,
     ring_node: usize,
     gap: f64,
     ring_stiffness: f64,
     ring_damping: f64,
     unbalance: Vec<(usize, f64, f64)>,
+    motor: Option<PyRef<'_, Motor>>,
+    inertia: Option<f64>,
+    speed0: Option<f64>,
     ring: bool,
     t_end: Option<f64>,
     dt: Option<f64>,
@@ -135,20 +215,21 @@ pub fn fe_run_up(
     layout: &str,
 ) -> PyResult<FeRun> {
     let modes = Modes::new(modes, mode_tolerance)?;
-    if !(friction.is_finite() && friction >= 0.0) {
-        return Err(value_error(format!(
-            "friction must be finite and >= 0, got {friction}"
-        )));
-    }
-    let profile = profile_of(&times, &speeds)?;
-    let top = profile.eta_max();
+    let friction = Friction::new(friction, shaft_radius)?;
+    let table: Vec<f64> = speeds
+        .as_ref()
+        .map_or(Vec::new(), |s| s.as_array().to_vec());
+    let motor = motor.map(|m| (*m).clone());
+    let law = Law::new((times, speeds), (motor, inertia, speed0))?;
+    let top = law.reference();
     if top.is_nan() || top <= 0.0 {
         return Err(value_error("the speeds must not all be zero"));
     }
-    let t_end = match t_end {
-        Some(t) => t,
-        None if profile.ramp_time() > 0.0 => profile.ramp_time(),
-        None => return Err(value_error("a constant speed needs t_end")),
+    let t_end = match (&law, t_end) {
+        (_, Some(t)) => t,
+        (Law::Profile(p), None) if p.ramp_time() > 0.0 => p.ramp_time(),
+        (Law::Profile(_), None) => return Err(value_error("a constant speed needs t_end")),
+        (Law::Drive { .. }, None) => return Err(value_error("a drive needs t_end")),
     };
     let mut lateral = lateral_matrices([&M, &K, &C, &G], layout)?;
     let bearings = Bearings::from_args(
@@ -170,8 +251,8 @@ pub fn fe_run_up(
         ring_offset,
     )?;
     let ring = at.ring;
-    let grid = speed_grid(&speeds);
-    let (model, reduction, margin, probes) = py.detach(|| {
+    let grid = speed_grid(&law.speeds(&table));
+    let built = py.detach(|| {
         let (rotor, cb, reduction) = rotor_of(&lateral, system, &at, (modes, &grid))?;
         let probes = Probes::new(&lateral, cb.as_ref(), &probe_nodes)?;
         let g = match &cb {
@@ -184,76 +265,184 @@ pub fn fe_run_up(
             .as_ref()
             .map(|b| b.in_run(cb.as_ref()))
             .transpose()?;
-        let profiled = rotor
-            .with_speed_profile(&g, profile.clone())
-            .and_then(|r| match &table {
-                Some(table) => r.with_bearing_table(table),
-                None => Ok(r),
-            })
-            .and_then(|r| r.ringed(ring))
-            .map_err(value_error)?;
-        PyResult::Ok((profiled, reduction, margin, probes))
+        PyResult::Ok(Built {
+            rotor,
+            g,
+            table,
+            reduction,
+            margin,
+            probes,
+        })
     })?;
-    margin.warn(py)?;
+    built.margin.warn(py)?;
     let opts = sim_options(
         Some(rtol),
         Some(atol.unwrap_or(rtol)),
         Some(method.unwrap_or(default_method(modes))),
     )?
     .with_max_events_per_period(u32::MAX);
-    let period = TAU / top;
-    let dt = dt.unwrap_or(period / 128.0);
+    let dt = dt.unwrap_or(TAU / top / 128.0);
     let output = dense_output(t_end, dt)?.with_strobes();
-    let mut y0 = model.rotor().rotor().rest_state();
-    model.make_consistent(&mut y0).map_err(value_error)?;
-    let run = Run {
-        y0,
+    let plan = Plan {
         output,
         opts,
-        profile: &profile,
-        reduction,
-        margin,
-        probes: (&probe_nodes, &probes),
+        reduction: built.reduction,
+        margin: built.margin,
+        probes: (&probe_nodes, &built.probes),
+        friction,
     };
-    match (friction, shaft_radius) {
-        (0.0, _) => run.of(py, &model),
-        (mu, Some(radius)) => {
-            let model = RubbingRotor::new(model, mu, radius).map_err(value_error)?;
-            run.of(py, &model)
+    match &law {
+        Law::Profile(profile) => {
+            let profiled = built
+                .rotor
+                .with_speed_profile(&built.g, profile.clone())
+                .and_then(|r| match &built.table {
+                    Some(table) => r.with_bearing_table(table),
+                    None => Ok(r),
+                })
+                .and_then(|r| r.ringed(ring))
+                .map_err(value_error)?;
+            let y0 = profiled.rotor().rotor().rest_state();
+            let speed = |t: f64, _: &DVector<f64>| profile.eta(t);
+            let phase = |t: f64, _: &DVector<f64>| profile.phase(t);
+            plan.run(py, profiled, y0, (&speed, &phase))
         }
-        (_, None) => Err(value_error(
-            "friction needs shaft_radius: the shaft's radius at the ring node (m)",
-        )),
+        Law::Drive {
+            motor,
+            inertia,
+            speed0,
+        } => {
+            let driven = built
+                .rotor
+                .with_drive(&built.g, *inertia, motor.torque.clone())
+                .and_then(|r| match &built.table {
+                    Some(table) => r.with_bearing_table(table),
+                    None => Ok(r),
+                })
+                .and_then(|r| r.ringed(ring))
+                .map_err(value_error)?;
+            let y0 = driven.rotor().rest_state(*speed0);
+            let (si, pi) = (driven.rotor().speed_index(), driven.rotor().phase_index());
+            let speed = move |_: f64, y: &DVector<f64>| y[si];
+            let phase = move |_: f64, y: &DVector<f64>| y[pi];
+            plan.run(py, driven, y0, (&speed, &phase))
+        }
     }
 }
 
+/// What a run-up's rotor is built from, either law.
+struct Built {
+    rotor: LinearRotor,
+    g: DMatrix<f64>,
+    table: Option<BearingTable>,
+    reduction: Reduction,
+    margin: Margin,
+    probes: Probes,
+}
+
+/// Coulomb friction at the ring: its coefficient and the shaft's radius there (m).
+#[derive(Debug, Clone, Copy)]
+enum Friction {
+    None,
+    Coulomb { mu: f64, radius: f64 },
+}
+
+impl Friction {
+    fn new(mu: f64, radius: Option<f64>) -> PyResult<Self> {
+        if !(mu.is_finite() && mu >= 0.0) {
+            return Err(value_error(format!(
+                "friction must be finite and >= 0, got {mu}"
+            )));
+        }
+        match (mu, radius) {
+            (0.0, _) => Ok(Friction::None),
+            (mu, Some(radius)) => Ok(Friction::Coulomb { mu, radius }),
+            (_, None) => Err(value_error(
+                "friction needs shaft_radius: the shaft's radius at the ring node (m)",
+            )),
+        }
+    }
+}
+
+/// The ring node's displacement in a state of a run-up's rotor (m, from its undeflected
+/// position).
+trait Displaced: SmoothRotor<Dim = Dyn> + Sync {
+    fn displacement(&self, y: &DVector<f64>) -> [f64; 2];
+    /// The degrees of freedom integrated.
+    fn dofs(&self) -> usize;
+}
+
+impl Displaced for ProfiledLinearRotor {
+    fn displacement(&self, y: &DVector<f64>) -> [f64; 2] {
+        self.rotor().station_displacement(y)
+    }
+    fn dofs(&self) -> usize {
+        self.rotor().system().dofs()
+    }
+}
+
+impl Displaced for DrivenLinearRotor {
+    fn displacement(&self, y: &DVector<f64>) -> [f64; 2] {
+        self.station_displacement(y)
+    }
+    fn dofs(&self) -> usize {
+        self.rotor().system().dofs()
+    }
+}
+
+/// The speed and the shaft's angle at a sample.
+type SpeedAndPhase<'a> = (
+    &'a dyn Fn(f64, &DVector<f64>) -> f64,
+    &'a dyn Fn(f64, &DVector<f64>) -> f64,
+);
+
 /// A run-up's plan besides its model.
-struct Run<'a> {
-    y0: DVector<f64>,
+struct Plan<'a> {
     output: Output,
     opts: SimOptions,
-    profile: &'a SpeedProfile,
     reduction: Reduction,
     margin: Margin,
     probes: (&'a [usize], &'a Probes),
+    friction: Friction,
 }
 
-impl Run<'_> {
+impl Plan<'_> {
+    /// Runs `model` from rest (its ring placed), with friction at the ring if asked for.
+    fn run<R: Displaced>(
+        self,
+        py: Python<'_>,
+        model: RingedRotor<R>,
+        mut y0: DVector<f64>,
+        law: SpeedAndPhase<'_>,
+    ) -> PyResult<FeRun> {
+        model.make_consistent(&mut y0).map_err(value_error)?;
+        match self.friction {
+            Friction::None => self.of(py, &model, y0, law),
+            Friction::Coulomb { mu, radius } => {
+                let model = RubbingRotor::new(model, mu, radius).map_err(value_error)?;
+                self.of(py, &model, y0, law)
+            }
+        }
+    }
+
     /// Runs `model` (with or without friction at the ring) as an ``FeRun``.
-    fn of<M: RunModel<Rotor = ProfiledLinearRotor>>(
+    fn of<M: RunModel>(
         self,
         py: Python<'_>,
         model: &M,
-    ) -> PyResult<FeRun> {
-        let displacement = |y: &DVector<f64>| model.smooth().rotor().station_displacement(y);
-        let speed = |t: f64| self.profile.eta(t);
-        let phase = |t: f64| self.profile.phase(t);
+        y0: DVector<f64>,
+        (speed, phase): SpeedAndPhase<'_>,
+    ) -> PyResult<FeRun>
+    where
+        M::Rotor: Displaced,
+    {
+        let displacement = |y: &DVector<f64>| model.smooth().displacement(y);
         let facts = RunFacts {
             model,
             displacement: &displacement,
-            speed: &speed,
-            phase: &phase,
-            dofs: model.smooth().rotor().system().dofs(),
+            speed,
+            phase,
+            dofs: model.smooth().dofs(),
             reduction: self.reduction,
             margin: self.margin,
             probes: self.probes,
@@ -261,6 +450,6 @@ impl Run<'_> {
         let result = |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| {
             fe_run(py, &facts, traj, stats)
         };
-        runs::run_into(py, model, self.y0, self.output, &self.opts, result)
+        runs::run_into(py, model, y0, self.output, &self.opts, result)
     }
 }

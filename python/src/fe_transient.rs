@@ -49,8 +49,8 @@ fn transient_of<M: RunModel>(
     let facts = RunFacts {
         model,
         displacement,
-        speed: &|_| speed,
-        phase: &|t| speed * t,
+        speed: &|_, _| speed,
+        phase: &|t, _| speed * t,
         dofs,
         reduction: plan.reduction,
         margin,

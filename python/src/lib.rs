@@ -17,6 +17,7 @@ mod fe_run_up;
 mod fe_transient;
 mod interrupt;
 mod lyapunov;
+mod motor;
 mod options;
 mod orders;
 mod paper;
@@ -50,6 +51,8 @@ mod _jeffcott {
     use crate::fe_transient::fe_transient;
     #[pymodule_export]
     use crate::lyapunov::{lyapunov_exponents, Lyapunov};
+    #[pymodule_export]
+    use crate::motor::Motor;
     #[pymodule_export]
     use crate::orders::{
         amplitude_spectrum, full_spectrum, order_track, OrderTrack, WhirlSpectrum,

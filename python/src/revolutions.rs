@@ -75,7 +75,7 @@ fn first_order<M: RunModel>(
     let inner = &s[s.partition_point(|p| p.t <= a)..s.partition_point(|p| p.t < b)];
     let term = |t: f64, y: &DVector<f64>| {
         let [x, yy] = (facts.displacement)(y);
-        let phase = (facts.phase)(t);
+        let phase = (facts.phase)(t, y);
         (
             phase,
             Complex::new(x, yy) * Complex::from_polar(1.0, -phase),

@@ -147,6 +147,16 @@ impl DrivenLinearRotor {
         &self.rotor
     }
 
+    /// The ring node's displacement $(q_{i_x}, q_{i_y})$ in a state `y` of this rotor (m, from
+    /// its undeflected position; not relative to the ring), as
+    /// [`LinearRotor::station_displacement`]. NaN for a state of another length.
+    pub fn station_displacement(&self, y: &DVector<f64>) -> [f64; 2] {
+        if y.len() != self.phase_index() + 1 {
+            return [f64::NAN; 2];
+        }
+        self.rotor.station_dofs().map(|i| y[i])
+    }
+
     /// The motor.
     pub fn motor(&self) -> &MotorTorque {
         &self.motor
