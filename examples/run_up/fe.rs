@@ -4,24 +4,29 @@
 //! 2e-3 kg m at node 12), reduced to node 12's x, y and 24 Craig-Bampton modes; any ROSS
 //! export (`--fe-mat`), ring (`--fe-ring-node`, `--fe-gap`, `--fe-ring-stiffness`,
 //! `--fe-ring-damping`), out-of-balance (`--fe-unbalance NODE,ME,PHASE`) and mode count
-//! (`--fe-modes`). Run up from `--fe-from` to `--fe-to` rad/s at `--fe-rate` rad/s² and back
-//! down (`rotor::ProfiledLinearRotor`: the
-//! damping $C + \Omega(t)G$, the force $m e(\Omega^2\cos\varphi + \Omega^\prime\sin\varphi,
-//! \ldots)$), with and without the ring. Prints a line per run and leg, and writes
-//! `fe_envelope.png` (with `fe_envelope.csv`): the largest radius of the ring's node in each
-//! revolution against its mean speed.
+//! (`--fe-modes`). The speed ([`Law`]): up from `--fe-from` to `--fe-to` rad/s at `--fe-rate`
+//! rad/s² and back down; or through the user's table `--fe-profile FILE`; or driven by the DC
+//! motor `--fe-motor T0,OMEGA0,J` from `--fe-from` for `--fe-duration` s
+//! (`rotor::ProfiledLinearRotor`, `rotor::DrivenLinearRotor`: the damping $C + \Omega G$, the
+//! force $m e(\Omega^2\cos\varphi + \Omega^\prime\sin\varphi, \ldots)$). The bearings as the
+//! export has them, or following the speed (`--fe-bearing-mat SPEED:FILE`, one export per
+//! speed: `rotor::BearingTable`). With and without the ring. Prints a line per run and leg, and
+//! writes `fe_envelope.png` (with `fe_envelope.csv`): the largest radius of the ring's node in
+//! each revolution against its mean speed.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use jeffcott::analysis::{per_revolution, Revolution};
-use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, SimOptions, Trajectory};
-use jeffcott::nalgebra::Dyn;
+use jeffcott::hybrid::{
+    simulate, DenseSampling, OutputPlan, RotorModel, SimOptions, StrobeRange, Trajectory,
+};
+use jeffcott::nalgebra::{DMatrix, DVector, Dyn};
 use jeffcott::ode::Method;
-use jeffcott::ring::SnubberRing;
+use jeffcott::ring::{Kinematics, SnubberRing};
 use jeffcott::rotor::{
-    CraigBampton, LinearRotor, LinearSystem, ModeSelection, RingedRotor, RotorMatrices, Segment,
-    SmoothRotor, SpeedProfile,
+    BearingTable, CraigBampton, LinearRotor, LinearSystem, ModeSelection, MotorTorque,
+    RotorMatrices, Segment, SmoothRotor, SpeedProfile,
 };
 
 use crate::common::plot::{self, Figure, Series};
@@ -47,102 +52,338 @@ pub struct Setup {
     pub unbalance: (usize, f64, f64),
     /// The Craig-Bampton modes kept.
     pub modes: usize,
+    /// Bearings that follow the speed: ROSS exports at these speeds (rad/s), their lateral
+    /// stiffness and damping linear between them and held beyond them.
+    pub bearings: Vec<(f64, PathBuf)>,
 }
-/// Strobes a revolution (the envelope's resolution).
+
+/// Strobes a revolution of a prescribed speed (the envelope's resolution; a driven rotor's
+/// strobes are its shaft's turns, one a revolution).
 const SAMPLES: u32 = 16;
 
-/// The sweep: speeds (rad/s) and rate (rad/s²).
-pub struct Sweep {
-    pub from: f64,
-    pub to: f64,
-    pub rate: f64,
+/// How the speed goes.
+pub enum Law {
+    /// Up from `from` to `to` (rad/s) at `rate` (rad/s²) and back down.
+    Sweep { from: f64, to: f64, rate: f64 },
+    /// Through the points (time s, speed rad/s) of a table, linear between them, held after.
+    Table(Vec<(f64, f64)>),
+    /// Driven by the DC motor $T = T_0(1 - \Omega/\Omega_0)$ (N m) through the polar inertia
+    /// $J$ (kg m²) from `from` (rad/s) for `duration` (s).
+    Motor {
+        stall: f64,
+        no_load: f64,
+        inertia: f64,
+        from: f64,
+        duration: f64,
+    },
 }
 
-/// The reduced rotor at the sweep's profile, on the ring or without it (a gap of 1 m).
-fn model(
-    mat: &Path,
-    (sweep, setup): (&Sweep, &Setup),
-    ring: bool,
-) -> Result<RingedRotor<jeffcott::rotor::ProfiledLinearRotor>, String> {
-    let err = |e: jeffcott::rotor::RotorError| e.to_string();
-    let lateral = RotorMatrices::from_ross_mat(mat)
+impl Law {
+    /// The reference speed (the state's scale, the samples' spacing): the largest the law
+    /// prescribes, or the larger of the drive's start and its motor's no-load speed.
+    fn reference(&self) -> f64 {
+        match self {
+            Law::Sweep { from, to, .. } => from.max(*to),
+            Law::Table(points) => points.iter().map(|p| p.1).fold(0.0, f64::max),
+            Law::Motor { no_load, from, .. } => no_load.max(*from),
+        }
+    }
+
+    /// How long the run lasts (s).
+    fn duration(&self) -> f64 {
+        match self {
+            Law::Sweep { from, to, rate } => 2.0 * (to - from) / rate,
+            Law::Table(points) => points.last().map_or(0.0, |p| p.0),
+            Law::Motor { duration, .. } => *duration,
+        }
+    }
+
+    /// The prescribed profile (a drive has none).
+    fn profile(&self) -> Result<SpeedProfile, String> {
+        let err = |e: jeffcott::rotor::RotorError| e.to_string();
+        let (start, segments) = match self {
+            Law::Sweep { from, to, rate } => (
+                *from,
+                vec![
+                    Segment::Ramp {
+                        to: *to,
+                        rate: *rate,
+                    },
+                    Segment::Ramp {
+                        to: *from,
+                        rate: -rate,
+                    },
+                ],
+            ),
+            Law::Table(points) => (points[0].1, table_segments(points)?),
+            Law::Motor { .. } => return Err("a drive's speed is not prescribed".into()),
+        };
+        SpeedProfile::piecewise(start, &segments).map_err(err)
+    }
+
+    /// The legs a run is cut into for the summary and the envelope: up and down for a sweep,
+    /// one otherwise.
+    fn legs(&self) -> Vec<(&'static str, f64)> {
+        match self {
+            Law::Sweep { from, to, rate } => vec![("up", (to - from) / rate), ("down", f64::MAX)],
+            Law::Table(_) => vec![("table", f64::MAX)],
+            Law::Motor { .. } => vec![("driven", f64::MAX)],
+        }
+    }
+}
+
+/// The table's segments: a ramp (or a hold, where two speeds are equal) to each next point;
+/// the first point's time must be 0 and the times increasing.
+fn table_segments(points: &[(f64, f64)]) -> Result<Vec<Segment>, String> {
+    if points.first().is_none_or(|p| p.0 != 0.0) {
+        return Err("--fe-profile: the first time must be 0".into());
+    }
+    points
+        .windows(2)
+        .map(|w| {
+            let duration = w[1].0 - w[0].0;
+            if !(duration > 0.0 && duration.is_finite()) {
+                return Err(format!(
+                    "--fe-profile: the times must increase ({} after {})",
+                    w[1].0, w[0].0
+                ));
+            }
+            Ok(if w[1].1 == w[0].1 {
+                Segment::Hold { duration }
+            } else {
+                Segment::Ramp {
+                    to: w[1].1,
+                    rate: (w[1].1 - w[0].1) / duration,
+                }
+            })
+        })
+        .collect()
+}
+
+/// Reads a table of `time,speed` rows (s, rad/s): blank lines, `#` comments and a first line
+/// that is not two numbers (a header) skipped; the first time 0, the times increasing.
+pub fn read_table(path: &Path) -> Result<Vec<(f64, f64)>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut points = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let numbers: Vec<Result<f64, _>> = line.split(',').map(|v| v.trim().parse()).collect();
+        match numbers.as_slice() {
+            [Ok(t), Ok(w)] => points.push((*t, *w)),
+            _ if points.is_empty() && i == 0 => {} // a header
+            _ => {
+                return Err(format!(
+                    "{}:{}: not `time,speed`: {line}",
+                    path.display(),
+                    i + 1
+                ));
+            }
+        }
+    }
+    if points.len() < 2 {
+        return Err(format!("{}: fewer than 2 points", path.display()));
+    }
+    table_segments(&points)?;
+    Ok(points)
+}
+
+/// The lateral matrices of a ROSS export.
+fn lateral_of(mat: &Path) -> Result<RotorMatrices, String> {
+    RotorMatrices::from_ross_mat(mat)
         .and_then(|m| m.lateral())
-        .map_err(|e| format!("{}: {e}", mat.display()))?;
+        .map_err(|e| format!("{}: {e}", mat.display()))
+}
+
+/// The bearings' table from the exports at their speeds, or none.
+fn bearing_table(setup: &Setup, dofs: usize) -> Result<Option<BearingTable>, String> {
+    if setup.bearings.is_empty() {
+        return Ok(None);
+    }
+    let mut points: Vec<(f64, DMatrix<f64>, DMatrix<f64>)> = Vec::new();
+    for (speed, path) in &setup.bearings {
+        let lateral = lateral_of(path)?;
+        if lateral.dofs() != dofs {
+            return Err(format!(
+                "{}: {} lateral DOFs, the rotor has {dofs}",
+                path.display(),
+                lateral.dofs()
+            ));
+        }
+        points.push((
+            *speed,
+            lateral.stiffness().clone(),
+            lateral.damping().clone(),
+        ));
+    }
+    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let speeds = points.iter().map(|p| p.0).collect();
+    let (ks, cs) = points.into_iter().map(|p| (p.1, p.2)).unzip();
+    BearingTable::new(speeds, ks, cs)
+        .map(Some)
+        .map_err(|e| format!("--fe-bearing-mat: {e}"))
+}
+
+/// Checks the rotor's and the bearings' exports before a run: each readable, the bearings' of
+/// the rotor's size and at increasing, finite speeds.
+pub fn check(mat: &Path, setup: &Setup) -> Result<(), String> {
+    bearing_table(setup, lateral_of(mat)?.dofs()).map(|_| ())
+}
+
+/// The reduced rotor at the reference speed, its gyroscopic matrix and bearing table in the
+/// reduced coordinates, and the ring (a gap of 1 m without it).
+struct Reduced {
+    rotor: LinearRotor,
+    g: DMatrix<f64>,
+    table: Option<BearingTable>,
+    ring: SnubberRing,
+}
+
+fn reduced(mat: &Path, (law, setup): (&Law, &Setup), ring: bool) -> Result<Reduced, String> {
+    let err = |e: jeffcott::rotor::RotorError| e.to_string();
+    let mut lateral = lateral_of(mat)?;
+    let table = bearing_table(setup, lateral.dofs())?;
+    let top = law.reference();
+    if let Some(t) = &table {
+        // The modes and the state's scale with the bearings at the reference speed.
+        lateral = RotorMatrices::new(
+            lateral.mass().clone(),
+            t.damping_at(top),
+            lateral.gyroscopic().clone(),
+            t.stiffness_at(top),
+            lateral.layout(),
+        )
+        .map_err(err)?;
+    }
     let x = lateral.x_dof(setup.ring_node).map_err(err)?;
     let (node, me, phase) = setup.unbalance;
-    // The reference speed is the top one: it sets the state's scale.
-    let system = LinearSystem::from_matrices(&lateral, sweep.from.max(sweep.to))
+    let system = LinearSystem::from_matrices(&lateral, top)
         .and_then(|s| s.with_unbalance(lateral.layout(), node, me, phase))
         .map_err(err)?;
     let cb = CraigBampton::from_rotor(&lateral, &[x, x + 1], ModeSelection::Count(setup.modes))
         .map_err(err)?;
-    let g = cb.project(lateral.gyroscopic()).map_err(err)?;
-    let legs = [
-        Segment::Ramp {
-            to: sweep.to,
-            rate: sweep.rate,
-        },
-        Segment::Ramp {
-            to: sweep.from,
-            rate: -sweep.rate,
-        },
-    ];
-    let profile = SpeedProfile::piecewise(sweep.from, &legs).map_err(err)?;
     let gap = if ring { setup.gap } else { 1.0 };
-    let ring = SnubberRing::from_units(setup.ring_stiffness, setup.ring_damping, [0.0; 2], gap)
-        .map_err(|e| e.to_string())?;
-    LinearRotor::new(cb.reduce(&system).map_err(err)?, [0, 1], [0.0; 2])
-        .and_then(|r| r.with_speed_profile(&g, profile))
-        .and_then(|r| r.with_strobes_per_revolution(SAMPLES))
-        .and_then(|r| r.ringed(ring))
-        .map_err(err)
+    Ok(Reduced {
+        rotor: LinearRotor::new(cb.reduce(&system).map_err(err)?, [0, 1], [0.0; 2]).map_err(err)?,
+        g: cb.project(lateral.gyroscopic()).map_err(err)?,
+        table: table
+            .map(|t| cb.project_table(&t))
+            .transpose()
+            .map_err(err)?,
+        ring: SnubberRing::from_units(setup.ring_stiffness, setup.ring_damping, [0.0; 2], gap)
+            .map_err(|e| e.to_string())?,
+    })
 }
 
-/// Runs the sweep up and back with and without the ring, prints a line per run and leg and
-/// draws `fe_envelope.png` in `out`.
-pub fn run(mat: &Path, (sweep, setup): (&Sweep, &Setup), out: &Path) -> Result<(), String> {
-    let turn = (sweep.to - sweep.from) / sweep.rate;
+/// One run of the law with or without the ring: its revolutions and its event count.
+fn run_once(
+    mat: &Path,
+    (law, setup): (&Law, &Setup),
+    ring: bool,
+) -> Result<(Vec<Revolution>, usize), String> {
+    let err = |e: jeffcott::rotor::RotorError| e.to_string();
+    let r = reduced(mat, (law, setup), ring)?;
+    if let Law::Motor {
+        stall,
+        no_load,
+        inertia,
+        from,
+        ..
+    } = law
+    {
+        let motor = MotorTorque::linear(*stall, *no_load).map_err(|e| e.to_string())?;
+        let mut driven = r.rotor.with_drive(&r.g, *inertia, motor).map_err(err)?;
+        if let Some(t) = &r.table {
+            driven = driven.with_bearing_table(t).map_err(err)?;
+        }
+        let model = driven.ringed(r.ring).map_err(err)?;
+        let y0 = model.rotor().rest_state(*from);
+        let station = |y: &DVector<f64>| model.rotor().station(y);
+        return simulate_law(&model, y0, law, (1, &station));
+    }
+    let mut profiled = r
+        .rotor
+        .with_speed_profile(&r.g, law.profile()?)
+        .and_then(|p| p.with_strobes_per_revolution(SAMPLES))
+        .map_err(err)?;
+    if let Some(t) = &r.table {
+        profiled = profiled.with_bearing_table(t).map_err(err)?;
+    }
+    let model = profiled.ringed(r.ring).map_err(err)?;
+    let y0 = model.rotor().rotor().rest_state();
+    let station = |y: &DVector<f64>| model.rotor().station(y);
+    simulate_law(&model, y0, law, (SAMPLES as usize, &station))
+}
+
+/// The ring node's kinematics in a state.
+type Station<'a> = dyn Fn(&DVector<f64>) -> Kinematics + 'a;
+
+/// Simulates `model` from `y0` over the law's duration with strobes (`per_revolution` a
+/// revolution) and dense samples 256 a revolution at the reference speed (knots of the
+/// per-revolution peak); its revolutions and events.
+fn simulate_law<M: RotorModel<Dim = Dyn>>(
+    model: &M,
+    y0: DVector<f64>,
+    law: &Law,
+    (per_turn, station): (usize, &Station<'_>),
+) -> Result<(Vec<Revolution>, usize), String> {
+    let plan = OutputPlan {
+        t_end: law.duration(),
+        strobe: Some(StrobeRange {
+            first: 0,
+            last: u64::MAX - 1,
+        }),
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: std::f64::consts::TAU / law.reference() / 256.0,
+        }),
+        events: true,
+    };
+    let opts = SimOptions::default()
+        .with_method(Method::Dop853)
+        .with_rtol(1e-9)
+        .with_atol(1e-9);
+    let mut traj = Trajectory::<Dyn>::default();
+    simulate(model, 0.0, &y0, &plan, &opts, &mut traj).map_err(|e| e.to_string())?;
+    let revs = per_revolution(&traj, per_turn, station).map_err(|e| e.to_string())?;
+    Ok((revs, traj.events.len()))
+}
+
+/// Runs the law with and without the ring, prints a line per run and leg and draws
+/// `fe_envelope.png` in `out`.
+pub fn run(mat: &Path, (law, setup): (&Law, &Setup), out: &Path) -> Result<(), String> {
     let mut legs = Vec::new();
     for ring in [true, false] {
-        let model = model(mat, (sweep, setup), ring)?;
         let start = Instant::now();
-        let mut plan = OutputPlan::every_strobe(2.0 * turn);
-        // Dense samples 256 a revolution at the top speed: knots of the per-revolution peak.
-        plan.dense = Some(DenseSampling {
-            t_start: 0.0,
-            dt: std::f64::consts::TAU / sweep.from.max(sweep.to) / 256.0,
-        });
-        let opts = SimOptions::default()
-            .with_method(Method::Dop853)
-            .with_rtol(1e-9)
-            .with_atol(1e-9);
-        let mut traj = Trajectory::<Dyn>::default();
-        let y0 = model.rotor().rotor().rest_state();
-        simulate(&model, 0.0, &y0, &plan, &opts, &mut traj).map_err(|e| e.to_string())?;
-        let revs = per_revolution(&traj, SAMPLES as usize, |y| model.rotor().station(y))
-            .map_err(|e| e.to_string())?;
-        let (up, down): (Vec<Revolution>, Vec<Revolution>) =
-            revs.into_iter().partition(|r| r.t_start < turn);
+        let (revs, events) = run_once(mat, (law, setup), ring)?;
+        let seconds = start.elapsed().as_secs_f64();
         let name = if ring {
             "on the ring"
         } else {
             "without the ring"
         };
-        for (leg, revs) in [("up", &up), ("down", &down)] {
-            let seconds = start.elapsed().as_secs_f64();
-            summary((name, leg), revs, &traj, (setup.gap, seconds));
+        let mut from = 0.0;
+        for (leg, until) in law.legs() {
+            let part: Vec<Revolution> = revs
+                .iter()
+                .filter(|r| r.t_start >= from && r.t_start < until)
+                .cloned()
+                .collect();
+            from = until;
+            summary((name, leg), &part, events, (setup.gap, seconds));
+            legs.push((format!("{name}, {leg}"), part));
         }
-        legs.push((format!("{name}, up"), up));
-        legs.push((format!("{name}, down"), down));
     }
-    draw(out, (sweep, setup), &legs)
+    draw(out, (law, setup), &legs)
 }
 
 /// One line: the leg's peak radius, its speed, and the revolutions that touched.
 fn summary(
     (name, leg): (&str, &str),
     revs: &[Revolution],
-    traj: &Trajectory<Dyn>,
+    events: usize,
     (gap, seconds): (f64, f64),
 ) {
     let peak = revs
@@ -151,24 +392,36 @@ fn summary(
     let touched = revs.iter().filter(|r| r.touched()).count();
     if let Some(p) = peak {
         println!(
-            "fe {name}, {leg}: peak radius {:.4} µm ({:.3} gaps) at {:.1} rad/s; {touched} of {} revolutions touched; {} events in the run, {seconds:.1} s",
+            "fe {name}, {leg}: peak radius {:.4} µm ({:.3} gaps) at {:.1} rad/s; {touched} of {} revolutions touched; {events} events in the run, {seconds:.1} s",
             p.max_radius * 1e6,
             p.max_radius / gap,
             p.speed,
             revs.len(),
-            traj.events.len()
         );
     }
 }
 
 fn draw(
     out: &Path,
-    (sweep, setup): (&Sweep, &Setup),
+    (law, setup): (&Law, &Setup),
     legs: &[(String, Vec<Revolution>)],
 ) -> Result<(), String> {
+    let how = match law {
+        Law::Sweep { from, to, rate } => format!("{from} ↔ {to} rad/s at {rate} rad/s²"),
+        Law::Table(points) => format!("a table of {} points", points.len()),
+        Law::Motor {
+            stall,
+            no_load,
+            inertia,
+            from,
+            ..
+        } => format!(
+            "motor T0 = {stall} N m, Ω0 = {no_load} rad/s, J = {inertia} kg m², from {from} rad/s"
+        ),
+    };
     let title = format!(
-        "ROSS rotor ({} modes), ring at node {}: {} ↔ {} rad/s at {} rad/s²",
-        setup.modes, setup.ring_node, sweep.from, sweep.to, sweep.rate
+        "ROSS rotor ({} modes), ring at node {}: {how}",
+        setup.modes, setup.ring_node
     );
     let fig = Figure::new(&title, "Ω (rad/s)", "largest |r| per revolution (µm)")
         .with_columns("omega_rad_s", "radius_um")

@@ -36,7 +36,13 @@
 //! reduced to 24 Craig-Bampton modes (each of these a flag: `--fe-ring-node`, `--fe-gap`,
 //! `--fe-ring-stiffness`, `--fe-ring-damping`, `--fe-unbalance`, `--fe-modes`), from
 //! `--fe-from` (100) to `--fe-to` (260) rad/s at `--fe-rate` (50) rad/s² and back, with and without the ring: a line per run and leg, and
-//! `fe_envelope.png` (with its CSV) in `--out` (default `target/run_up`).
+//! `fe_envelope.png` (with its CSV) in `--out` (default `target/run_up`). The speed may instead
+//! follow the user's table (`--fe-profile FILE`: `time,speed` rows, s and rad/s, linear
+//! between them) or be driven by a DC motor (`--fe-motor T0,OMEGA0,J`: $T = T_0(1 -
+//! \Omega/\Omega_0)$ N m through the polar inertia $J$ kg m², from `--fe-from` for
+//! `--fe-duration` s, `rotor::DrivenLinearRotor`); the bearings may follow the speed
+//! (`--fe-bearing-mat SPEED:FILE`, repeated: ROSS exports of the rotor at several speeds, their
+//! lateral stiffness and damping linear between the speeds, `rotor::BearingTable`).
 //!
 //! The scene flags are `simulate`'s (`--preset`, parameter overrides, `--rtol`, `--atol`,
 //! `--method`, the initial rotor state `--x0 --y0 --vx0 --vy0`, default at rest at the origin;
@@ -167,6 +173,28 @@ struct Flags {
     /// With --fe: the Craig-Bampton modes kept [range: 1..=10000]
     #[arg(long, value_name = "COUNT", default_value_t = 24, value_parser = usize_in(1, 10_000))]
     fe_modes: usize,
+    /// With --fe: the speed through a table instead of up and back: a CSV of time,speed rows
+    /// (s, rad/s; the first time 0; a header line allowed), linear between them, held after
+    #[arg(
+        long,
+        value_name = "FILE",
+        requires = "fe",
+        conflicts_with = "fe_motor"
+    )]
+    fe_profile: Option<PathBuf>,
+    /// With --fe: the speed driven instead (the non-ideal drive): the DC motor
+    /// T = T0 (1 - Omega/OMEGA0) (N m) through the polar inertia J (kg m²), from --fe-from
+    /// for --fe-duration
+    #[arg(long, value_name = "T0,OMEGA0,J", value_delimiter = ',', value_parser = f64_in(-1e12, 1e12), requires = "fe")]
+    fe_motor: Vec<f64>,
+    /// With --fe-motor: how long the run lasts, s [range: 0..=1000]
+    #[arg(long, value_name = "NUMBER", default_value_t = 2.0, value_parser = f64_in(0.0, 1e3))]
+    fe_duration: f64,
+    /// With --fe: bearings that follow the speed: the rotor exported by ROSS at SPEED (rad/s),
+    /// its lateral stiffness and damping taken (repeat for each speed; linear between the
+    /// speeds, held beyond them)
+    #[arg(long, value_name = "SPEED:FILE", requires = "fe")]
+    fe_bearing_mat: Vec<String>,
 }
 
 impl Flags {
@@ -387,16 +415,10 @@ fn run_tour() {
     fe_run(&flags);
 }
 
-/// `--fe`: the finite-element rotor up and back, with and without the ring.
+/// `--fe`: the finite-element rotor up and back (or through a table, or on a motor), with
+/// and without the ring.
 fn fe_run(flags: &Flags) {
-    let sweep = fe::Sweep {
-        from: flags.fe_from,
-        to: flags.fe_to,
-        rate: flags.fe_rate,
-    };
-    if sweep.to <= sweep.from {
-        fail("--fe-to must be above --fe-from");
-    }
+    let law = fe_law(flags);
     let setup = fe_setup(flags);
     let mat = flags.fe_mat.clone().unwrap_or_else(fe::default_mat);
     let dir = flags
@@ -404,7 +426,52 @@ fn fe_run(flags: &Flags) {
         .clone()
         .unwrap_or_else(|| PathBuf::from("target/run_up"));
     common::or_exit(std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display())));
-    common::or_exit(fe::run(&mat, (&sweep, &setup), &dir));
+    // Bad files are bad input (status 2), found before the runs.
+    fe::check(&mat, &setup).unwrap_or_else(|e| fail(e));
+    common::or_exit(fe::run(&mat, (&law, &setup), &dir));
+}
+
+/// How the speed of `--fe` goes, from its flags.
+fn fe_law(flags: &Flags) -> fe::Law {
+    if let Some(path) = &flags.fe_profile {
+        return fe::Law::Table(fe::read_table(path).unwrap_or_else(|e| fail(e)));
+    }
+    if !flags.fe_motor.is_empty() {
+        let &[stall, no_load, inertia] = flags.fe_motor.as_slice() else {
+            fail("--fe-motor takes three numbers: T0,OMEGA0,J");
+        };
+        return fe::Law::Motor {
+            stall,
+            no_load,
+            inertia,
+            from: flags.fe_from,
+            duration: flags.fe_duration,
+        };
+    }
+    if flags.fe_to <= flags.fe_from {
+        fail("--fe-to must be above --fe-from");
+    }
+    fe::Law::Sweep {
+        from: flags.fe_from,
+        to: flags.fe_to,
+        rate: flags.fe_rate,
+    }
+}
+
+/// `--fe-bearing-mat SPEED:FILE`, each.
+fn fe_bearings(flags: &Flags) -> Vec<(f64, PathBuf)> {
+    let parse = |item: &String| {
+        let (speed, file) = item
+            .split_once(':')
+            .unwrap_or_else(|| fail(format!("--fe-bearing-mat {item}: not SPEED:FILE")));
+        let speed: f64 = speed.parse().unwrap_or_else(|_| {
+            fail(format!(
+                "--fe-bearing-mat {item}: the speed is not a number"
+            ))
+        });
+        (speed, PathBuf::from(file))
+    };
+    flags.fe_bearing_mat.iter().map(parse).collect()
 }
 
 /// The ring, out-of-balance and reduction of `--fe` from its flags.
@@ -424,6 +491,7 @@ fn fe_setup(flags: &Flags) -> fe::Setup {
         ring_damping: flags.fe_ring_damping,
         unbalance: (node as usize, me, phase),
         modes: flags.fe_modes,
+        bearings: fe_bearings(flags),
     }
 }
 
@@ -508,6 +576,9 @@ fn peak_against_rate(flags: &Flags, scene: &Scene) {
             peak_rates: Vec::new(),
             fe_mat: None,
             fe_unbalance: Vec::new(),
+            fe_profile: None,
+            fe_motor: Vec::new(),
+            fe_bearing_mat: Vec::new(),
             ..*flags
         };
         let (rotor, traj, error) = run(&one, scene, ramp(&one));

@@ -93,19 +93,9 @@ impl Bearings {
 
     /// The table in the run's coordinates: as it is, or projected by the reduction `cb`.
     pub fn in_run(&self, cb: Option<&CraigBampton>) -> PyResult<BearingTable> {
-        let Some(cb) = cb else {
-            return Ok(self.table.clone());
-        };
-        let project = |matrices: &[DMatrix<f64>]| -> PyResult<Vec<DMatrix<f64>>> {
-            matrices
-                .iter()
-                .map(|a| cb.project(a).map_err(value_error))
-                .collect()
-        };
-        let (ks, cs) = (
-            project(self.table.stiffness())?,
-            project(self.table.damping())?,
-        );
-        BearingTable::new(self.table.speeds().to_vec(), ks, cs).map_err(value_error)
+        match cb {
+            None => Ok(self.table.clone()),
+            Some(cb) => cb.project_table(&self.table).map_err(value_error),
+        }
     }
 }

@@ -3,7 +3,7 @@
 use nalgebra::{Cholesky, ComplexField, DMatrix, DVector, SymmetricEigen};
 
 use super::matrices::{check_mass, check_matrix};
-use super::{RotorError, RotorMatrices};
+use super::{BearingTable, RotorError, RotorMatrices};
 
 mod response;
 
@@ -228,6 +228,21 @@ impl CraigBampton {
     pub fn project(&self, a: &DMatrix<f64>) -> Result<DMatrix<f64>, RotorError> {
         check_matrix("projected", a, self.full_dofs())?;
         Ok(self.basis.tr_mul(&(a * &self.basis)))
+    }
+
+    /// A [`BearingTable`] of the full model in the reduced coordinates: each grid point's
+    /// stiffness and damping projected ([`CraigBampton::project`]), the speeds as they are.
+    /// Linear interpolation commutes with the projection, so the reduced table at any speed
+    /// is the projection of the full one there.
+    ///
+    /// # Errors
+    /// [`RotorError::MatrixShape`] for a table of another size than the full model.
+    pub fn project_table(&self, table: &BearingTable) -> Result<BearingTable, RotorError> {
+        let project = |matrices: &[DMatrix<f64>]| -> Result<Vec<DMatrix<f64>>, RotorError> {
+            matrices.iter().map(|a| self.project(a)).collect()
+        };
+        let (ks, cs) = (project(table.stiffness())?, project(table.damping())?);
+        BearingTable::new(table.speeds().to_vec(), ks, cs)
     }
 
     /// $T^{\mathsf T} f$: the reduced counterpart of a full force vector, real (`f64`) or

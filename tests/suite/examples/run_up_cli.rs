@@ -435,3 +435,164 @@ fn fe_takes_the_users_ring() {
     let out = run(&["--fe", "--fe-unbalance", "12,2e-3"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// The `--fe` runs' summary lines (one per run and leg) of `run_up --fe` with `args`, each
+/// without its run time (the text after the last comma).
+fn fe_lines(args: &[&str]) -> Vec<String> {
+    let dir = std::env::temp_dir().join(format!("run_up_fe_laws_{}", std::process::id()));
+    let out = support::run_ok(
+        Command::new(support::example_exe("run_up"))
+            .arg("--fe")
+            .args(args)
+            .arg("--out")
+            .arg(&dir),
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    let text = String::from_utf8(out.stdout).unwrap();
+    text.lines()
+        .map(|l| l.rsplit_once(", ").map_or(l, |p| p.0).to_string())
+        .collect()
+}
+
+/// A file of the repository's `tests/data`.
+fn data_path(relative: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(relative)
+}
+
+/// A file in the temporary folder with `text`.
+fn temp_file(name: &str, text: &str) -> std::path::PathBuf {
+    let path = std::env::temp_dir().join(format!("{}_{name}", std::process::id()));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// `--fe-profile FILE` (the user's table) and `--fe-motor T0,OMEGA0,J` (the drive) against
+/// runs they must reproduce: a table through the sweep's points is the sweep (its one leg's
+/// peak the larger of the sweep's two, every revolution of both legs); a drive of huge inertia
+/// whose motor holds 150 rad/s is the table holding 150 rad/s (the same peaks and contacts;
+/// the speed moves by 1e-9 of itself). Bad tables are status 2.
+#[test]
+fn fe_takes_a_table_or_a_motor() {
+    let sweep = fe_lines(&["--fe-rate", "1000", "--fe-modes", "8"]);
+    let points = temp_file(
+        "sweep.csv",
+        "time_s,speed_rad_s\n0,100\n0.16,260\n0.32,100\n",
+    );
+    let table = fe_lines(&["--fe-profile", points.to_str().unwrap(), "--fe-modes", "8"]);
+    assert_eq!(table.len(), 2, "{table:?}");
+    let peak = |l: &str| {
+        l.split(" rad/s;")
+            .next()
+            .unwrap()
+            .split(": ")
+            .nth(1)
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(peak(&table[0]), peak(&sweep[0]), "{table:?} {sweep:?}");
+    assert!(table[0].contains("9 of 9 revolutions touched"), "{table:?}");
+    assert!(
+        sweep[0].contains("5 of 5") && sweep[1].contains("4 of 4"),
+        "{sweep:?}"
+    );
+
+    let mat = data_path("rotors/rotor_example_bearings_150rads.mat");
+    let hold = temp_file("hold.csv", "0,150\n0.3,150\n");
+    let scene = [
+        "--fe-mat",
+        mat.to_str().unwrap(),
+        "--fe-ring-node",
+        "3",
+        "--fe-gap",
+        "4e-5",
+        "--fe-unbalance",
+        "2,1e-3,0",
+        "--fe-modes",
+        "12",
+    ];
+    let held = fe_lines(&[&scene[..], &["--fe-profile", hold.to_str().unwrap()]].concat());
+    let motor = [
+        "--fe-motor",
+        "1e12,150,1e10",
+        "--fe-from",
+        "150",
+        "--fe-duration",
+        "0.3",
+    ];
+    let driven = fe_lines(&[&scene[..], &motor[..]].concat());
+    assert_eq!(held.len(), 2);
+    for (d, h) in driven.iter().zip(&held) {
+        assert_eq!(d.replace("driven", "table"), *h);
+    }
+    assert!(held[0].contains("5 events"), "{held:?}");
+
+    for bad in [
+        "0,100\n",
+        "1,100\n2,200\n",
+        "0,100\n0,200\n",
+        "0,100\nx,y\n",
+    ] {
+        let file = temp_file("bad.csv", bad);
+        let out = run(&["--fe", "--fe-profile", file.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}");
+    }
+    let out = run(&["--fe", "--fe-motor", "1,2"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+/// `--fe-bearing-mat SPEED:FILE`: ROSS's `rotor_example` with bearings that stiffen with the
+/// speed, exported by ROSS at 100, 150 and 200 rad/s (`tests/data/rotors/export_bearing_rotors.py`).
+/// Held at 150 rad/s, the rotor with the three exports as its bearing table is the rotor of the
+/// export at 150 alone (the table's value at a grid point), and not the one at 100 (the
+/// bearings matter). A table of another rotor's size, two equal speeds, or no `SPEED:` are
+/// status 2.
+#[test]
+fn fe_bearings_follow_the_speed_from_exports_at_several_speeds() {
+    let mat = |w: u32| data_path(&format!("rotors/rotor_example_bearings_{w}rads.mat"));
+    let hold = temp_file("hold150.csv", "0,150\n0.3,150\n");
+    let scene = |m: &std::path::Path| {
+        vec![
+            "--fe-mat".to_string(),
+            m.to_str().unwrap().to_string(),
+            "--fe-profile".into(),
+            hold.to_str().unwrap().into(),
+            "--fe-ring-node".into(),
+            "3".into(),
+            "--fe-gap".into(),
+            "4e-5".into(),
+            "--fe-unbalance".into(),
+            "2,1e-3,0".into(),
+            "--fe-modes".into(),
+            "12".into(),
+        ]
+    };
+    let table: Vec<String> = [100, 150, 200]
+        .iter()
+        .flat_map(|&w| {
+            [
+                "--fe-bearing-mat".to_string(),
+                format!("{w}:{}", mat(w).display()),
+            ]
+        })
+        .collect();
+    let lines = |v: Vec<String>| fe_lines(&v.iter().map(String::as_str).collect::<Vec<_>>());
+    let with_table = lines([scene(&mat(100)), table.clone()].concat());
+    let at_150 = lines(scene(&mat(150)));
+    let at_100 = lines(scene(&mat(100)));
+    assert_eq!(with_table, at_150);
+    assert_ne!(with_table[0], at_100[0], "the bearings must matter");
+
+    let other = data_path("rotors/rotor_example_1500rpm.mat");
+    for bad in [
+        format!("100:{}", other.display()),
+        format!("{}", mat(100).display()),
+    ] {
+        let out = run(&["--fe", "--fe-bearing-mat", &bad]);
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+    }
+    let same = format!("100:{}", mat(100).display());
+    let out = run(&["--fe", "--fe-bearing-mat", &same, "--fe-bearing-mat", &same]);
+    assert_eq!(out.status.code(), Some(2));
+}

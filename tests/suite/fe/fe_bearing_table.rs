@@ -303,3 +303,45 @@ fn the_jacobian_with_a_table_matches_differences_in_every_regime() {
     let regimes = super::fe_jacobian::check_jacobian(&model, |y| y);
     assert!(regimes.len() >= 4, "{regimes:?}");
 }
+
+/// `CraigBampton::project_table`: the reduced table is the projected one at every speed
+/// (between, on and beyond the grid's points), against the full table's matrices interpolated
+/// by the rule written out here and projected here ($T^{\mathsf T} A T$ with the basis).
+#[test]
+fn a_projected_table_is_the_projection_at_every_speed() {
+    let s1 = S1::load();
+    let (cb, model) = reduction(&s1, 8);
+    let speed = model.rotor().system().speed();
+    let full = table(&s1, speed, |a| a.clone());
+    let reduced = cb.project_table(&full).unwrap();
+    let t = cb.basis();
+    for w in [0.5, 0.8, 0.9, 1.1, 1.3, 1.5, 2.0].map(|f| f * speed) {
+        let (lo, hi) = (GRID[0].0 * speed, GRID[2].0 * speed);
+        // The rule: linear between the two points around w, held beyond the ends.
+        let entry = |pick: usize| -> DMatrix<f64> {
+            let at = |i: usize| {
+                let (k, c) = bearings_at(&s1, GRID[i].1);
+                if pick == 0 {
+                    k
+                } else {
+                    c
+                }
+            };
+            if w <= lo {
+                return at(0);
+            }
+            if w >= hi {
+                return at(2);
+            }
+            let i = if w <= GRID[1].0 * speed { 0 } else { 1 };
+            let (a, b) = (GRID[i].0 * speed, GRID[i + 1].0 * speed);
+            let s = (w - a) / (b - a);
+            at(i) * (1.0 - s) + at(i + 1) * s
+        };
+        for (pick, got) in [(0, reduced.stiffness_at(w)), (1, reduced.damping_at(w))] {
+            let want = t.transpose() * entry(pick) * t;
+            let err = (&got - &want).amax() / want.amax();
+            assert!(err < 1e-12, "speed {w}: {err:e}");
+        }
+    }
+}
