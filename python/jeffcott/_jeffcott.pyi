@@ -204,6 +204,7 @@ class Basins:
 class RunUp:
     tau: npt.NDArray[np.float64]  # (N,) 1/omega_n
     eta: npt.NDArray[np.float64]  # (N,)
+    phase: npt.NDArray[np.float64]  # (N,) rad
     x: npt.NDArray[np.float64]  # (N,) gaps
     y: npt.NDArray[np.float64]  # (N,) gaps
     states: npt.NDArray[np.float64]  # (N, 6)
@@ -263,9 +264,11 @@ def basins(
 def run_up(
     params: Params,
     eta_from: float,
-    eta_to: float,
-    rate: float,
+    eta_to: float | None = None,
+    rate: float | None = None,
     *,
+    motor: Motor | None = None,
+    inertia: float | None = None,
     t_end: float | None = None,
     dt: float = 0.05,
     ring: bool = True,

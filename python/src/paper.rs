@@ -111,7 +111,8 @@ pub fn states<'a, D: Dim>(
 where
     DefaultAllocator: Allocator<D>,
 {
-    table(py, states.map(|y| y.iter().copied()), 6)
+    // The rotor's and the ring's six (a driven rotor's speed and phase follow).
+    table(py, states.map(|y| y.iter().copied().take(6)), 6)
 }
 
 fn strobe_run<D: Dim>(py: Python<'_>, traj: &Trajectory<D>, stats: &SimStats) -> PyResult<StrobeRun>

@@ -85,3 +85,99 @@ def test_ctrl_c_stops_a_long_run_up():
     p = jeffcott.Params.preset("fig9c")
     elapsed = interrupted_after(0.5, lambda: jeffcott.run_up(p, 0.5, 3.0, 1e-7))
     assert elapsed < 5.0, f"KeyboardInterrupt after {elapsed:.2f} s"
+
+
+# The paper's rotor on a drive (``run_up(..., motor=, inertia=)``, rotor::DrivenJeffcott).
+
+def driven_field(z, p, j, torque):
+    """z = [x, y, x', y', eta, phi]; the equations of MODEL.md's units written out: the
+    rotor's two and j eta' = t(eta) + beta (x'' sin phi - y'' cos phi), solved together."""
+    x, y, vx, vy, eta, phi = z
+    s, c = math.sin(phi), math.cos(phi)
+    b = p.beta
+    A = np.array([[1.0, 0.0, -b * s], [0.0, 1.0, b * c], [-b * s, b * c, j]])
+    rhs = np.array([b * eta * eta * c - 2 * p.nu1 * vx - (x - p.ex),
+                    b * eta * eta * s - 2 * p.nu1 * vy - (y - p.ey), torque(eta)])
+    ax, ay, deta = np.linalg.solve(A, rhs)
+    return np.array([vx, vy, ax, ay, deta, eta])
+
+
+def test_driven_run_up_off_the_ring_follows_an_independent_solve():
+    # Off the ring, a DC motor t = 0.05 (1 - eta / 3) through j = 2 from eta = 0.3, at rest at
+    # the origin: against RK4 on the equations written out here (h = dt / 8). (With a stall
+    # torque of 0.2 the same rotor passes the resonance and nears eta = 2.9 by tau = 150.)
+    p = jeffcott.Params.preset("fig8a")
+    p.nu1, p.phi0 = 0.05, 0.3
+    stall, no_load, j, dt, t_end = 0.05, 3.0, 2.0, 0.05, 150.0
+    torque = lambda eta: stall * (1.0 - eta / no_load)
+    r = jeffcott.run_up(p, 0.3, motor=jeffcott.Motor.linear(stall, no_load), inertia=j,
+                        t_end=t_end, dt=dt, ring=False, rtol=1e-12, atol=1e-13)
+    z, h = np.array([0.0, 0.0, 0.0, 0.0, 0.3, p.phi0]), dt / 8
+    truth = [z.copy()]
+    for _ in range(round(t_end / h)):
+        k1 = driven_field(z, p, j, torque)
+        k2 = driven_field(z + h / 2 * k1, p, j, torque)
+        k3 = driven_field(z + h / 2 * k2, p, j, torque)
+        k4 = driven_field(z + h * k3, p, j, torque)
+        z = z + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        truth.append(z.copy())
+    truth = np.array(truth[::8])
+    assert r.tau.shape == (len(truth),) and math.isnan(r.ramp_time)
+    scale = np.max(np.hypot(truth[:, 0], truth[:, 1]))
+    assert np.max(np.hypot(r.x - truth[:, 0], r.y - truth[:, 1])) <= 1e-8 * scale
+    assert np.max(np.abs(r.eta - truth[:, 4])) <= 1e-9
+    assert np.max(np.abs(r.phase - truth[:, 5])) <= 1e-8 * truth[-1, 5]
+    # The Sommerfeld effect: this motor cannot pass the resonance (eta near 1) off the ring;
+    # the speed hangs below it, as in the finite-element drive of test_fe_drive.py.
+    late = r.tau > t_end / 2
+    assert 0.85 < np.min(r.eta[late]) and np.max(r.eta[late]) < 1.0
+
+
+def test_driven_run_up_of_huge_inertia_is_the_constant_speed_model():
+    # A motor holding eta = 2 through j = 1e10 (its speed moves by about 1e-8): Fig. 8a's rotor
+    # from (0.9, 0) on the ring, against simulate_dense at eta = 2 (the paper's model).
+    p = jeffcott.Params.preset("fig8a")
+    p.eta = 2.0
+    start = [0.9, 0.0, 0.0, 0.0, 0.0, 0.0]
+    t_end = 20 * math.pi
+    r = jeffcott.run_up(p, 2.0, motor=jeffcott.Motor.linear(1e8, 2.0), inertia=1e10,
+                        t_end=t_end, dt=0.1, state0=start, rtol=1e-11, atol=1e-12)
+    d = jeffcott.simulate_dense(p, t_end, 0.1, state0=start, rtol=1e-11, atol=1e-12)
+    assert len(r.event_t) >= 4 and len(r.event_t) == len(d.event_t)
+    assert np.max(np.abs(r.states - d.states)) <= 1e-6
+    assert np.max(np.abs(r.eta - 2.0)) <= 1e-7
+    assert np.allclose(r.phase, p.phi0 + 2.0 * r.tau, rtol=1e-7)
+
+
+@pytest.mark.parametrize("kw, message", [
+    (dict(eta_to=2.0, rate=0.1, inertia=2.0), "not both"),
+    (dict(eta_to=2.0), "go together"),
+    (dict(inertia=2.0), "motor and inertia"),
+    (dict(inertia=2.0, motor="m"), "t_end"),
+    (dict(inertia=1e-9, motor="m", t_end=1.0), "inertia"),
+])
+def test_driven_run_up_bad_input(kw, message):
+    p = jeffcott.Params.preset("fig8a")
+    if kw.get("motor") == "m":
+        kw["motor"] = jeffcott.Motor.linear(0.05, 3.0)
+    if "inertia" in kw and "motor" not in kw and "rate" in kw:
+        kw["motor"] = jeffcott.Motor.linear(0.05, 3.0)
+    with pytest.raises(ValueError, match=message):
+        jeffcott.run_up(p, 0.3, **kw)
+
+
+def test_driven_run_up_with_friction_is_braked():
+    # Fig. 8a's rotor on a drive (t = 0.2 (1 - eta / 3), j = 2, from eta = 0.5) on the ring,
+    # with Coulomb friction mu = 0.2 at a shaft of radius 5 gaps: it slips (regime 6) and rolls
+    # (8) on the ring, and the rub torque holds the speed down (about 1.2 against 1.6 without
+    # friction over the second half). A check of the plumbing: the torque itself is checked
+    # in Rust (tests/suite/ring/rub_drive.rs) and on the finite-element rotor here
+    # (test_fe_drive.py).
+    p = jeffcott.Params.preset("fig8a")
+    kw = dict(motor=jeffcott.Motor.linear(0.2, 3.0), inertia=2.0, t_end=100.0, dt=0.05,
+              rtol=1e-9)
+    free = jeffcott.run_up(p, 0.5, **kw)
+    rub = jeffcott.run_up(p, 0.5, friction=0.2, shaft_radius=5.0, **kw)
+    assert {6, 8} <= set(np.unique(rub.regimes)) and set(np.unique(free.regimes)) <= {1, 2, 3, 4, 5}
+    late = free.tau > 50.0
+    assert np.mean(rub.eta[late]) < np.mean(free.eta[late]) - 0.2
