@@ -92,6 +92,11 @@ class FeRun:
     force_y: npt.NDArray[np.float64]  # (N,) N
     normal_force: npt.NDArray[np.float64]  # (N,) N, >= 0
     friction_force: npt.NDArray[np.float64]  # (N,) N, along the tangent (counter-clockwise)
+    whirl_rate: npt.NDArray[np.float64]  # (N,) rad/s, > 0 forward, < 0 backward
+    slip_velocity: npt.NDArray[np.float64]  # (N,) m/s; 0 rolling, NaN free or frictionless
+    rub_torque: npt.NDArray[np.float64]  # (N,) N m on the shaft, shaft_radius * friction_force
+    friction_power: npt.NDArray[np.float64]  # (N,) W dissipated by friction, >= 0
+    friction_energy: float  # J, the power's trapezoidal integral over the samples
     probe_nodes: npt.NDArray[np.uint64]  # (P,)
     probe_x: npt.NDArray[np.float64]  # (N, P) m
     probe_y: npt.NDArray[np.float64]  # (N, P) m

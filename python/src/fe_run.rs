@@ -66,6 +66,22 @@ pub struct FeRun {
     /// normal turned by +90 degrees, counter-clockwise), shape (N,); zero out of contact, and
     /// without friction up to the ring dampers' tangential part.
     pub friction_force: Py<PyArray1<f64>>,
+    /// The ring node's whirl rate about its undeflected position (rad/s): (x vy - y vx) /
+    /// (x^2 + y^2), > 0 forward (with the spin), < 0 backward; NaN where x = y = 0, shape (N,).
+    pub whirl_rate: Py<PyArray1<f64>>,
+    /// The slip velocity at the contact (m/s): the shaft's surface over the ring along the
+    /// tangent, (r' - s') . t + speed shaft_radius, > 0 where it slides forward; 0 while
+    /// rolling; NaN out of contact and without friction, shape (N,).
+    pub slip_velocity: Py<PyArray1<f64>>,
+    /// The rub torque on the shaft (N m): shaft_radius times ``friction_force`` (< 0 brakes a
+    /// shaft slipping forward); 0 without friction, shape (N,).
+    pub rub_torque: Py<PyArray1<f64>>,
+    /// The power friction dissipates (W): -``friction_force`` times ``slip_velocity`` (>= 0)
+    /// while slipping, 0 otherwise, shape (N,).
+    pub friction_power: Py<PyArray1<f64>>,
+    /// The energy friction dissipated over the run (J): ``friction_power`` integrated by the
+    /// trapezoidal rule on the samples (refine ``dt`` to converge it).
+    pub friction_energy: f64,
     /// The probed nodes (``probe_nodes``), shape (P,).
     pub probe_nodes: Py<PyArray1<u64>>,
     /// Their x displacements (m), shape (N, P).
@@ -119,6 +135,10 @@ pub trait RunModel: RotorModel<Dim = Dyn> + Sync {
     fn closed_form(&self) -> Option<Result<&LinearClosedForm, &RotorError>>;
     /// Writes the ring's position for the rotor's station into the state.
     fn make_consistent(&self, y: &mut DVector<f64>) -> Result<(), ModelError>;
+    /// The slip velocity at the contact (m/s): NaN out of contact and without friction.
+    fn slip_velocity(&self, t: f64, y: &DVector<f64>, label: u8) -> Result<f64, ModelError>;
+    /// The shaft's radius at the ring (m), 0 without friction.
+    fn shaft_radius(&self) -> f64;
 }
 
 impl<R: SmoothRotor<Dim = Dyn> + Sync> RunModel for RingedRotor<R> {
@@ -135,6 +155,12 @@ impl<R: SmoothRotor<Dim = Dyn> + Sync> RunModel for RingedRotor<R> {
     fn make_consistent(&self, y: &mut DVector<f64>) -> Result<(), ModelError> {
         RingedRotor::make_consistent(self, y)
     }
+    fn slip_velocity(&self, _t: f64, _y: &DVector<f64>, _label: u8) -> Result<f64, ModelError> {
+        Ok(f64::NAN)
+    }
+    fn shaft_radius(&self) -> f64 {
+        0.0
+    }
 }
 
 impl<R: SmoothRotor<Dim = Dyn> + Sync> RunModel for RubbingRotor<R> {
@@ -150,6 +176,12 @@ impl<R: SmoothRotor<Dim = Dyn> + Sync> RunModel for RubbingRotor<R> {
     }
     fn make_consistent(&self, y: &mut DVector<f64>) -> Result<(), ModelError> {
         self.ringed().make_consistent(y)
+    }
+    fn slip_velocity(&self, t: f64, y: &DVector<f64>, label: u8) -> Result<f64, ModelError> {
+        RubbingRotor::slip_velocity(self, t, y, label)
+    }
+    fn shaft_radius(&self) -> f64 {
+        RubbingRotor::shaft_radius(self)
     }
 }
 
@@ -212,6 +244,7 @@ pub fn fe_run<M: RunModel>(
         .collect::<PyResult<Vec<_>>>()?;
     let at = |p: &DVector<f64>| (facts.displacement)(p);
     let velocity: Vec<_> = s.iter().map(|p| model.smooth().station(&p.y).v).collect();
+    let rub = rub_outputs(model, traj, &forces)?;
     let [i, j] = model.smooth().ring_slots();
     let changes = |onset: bool| {
         let e = traj
@@ -236,6 +269,21 @@ pub fn fe_run<M: RunModel>(
         force_y: array(py, forces.iter().map(|f| f.0.y)),
         normal_force: array(py, forces.iter().map(|f| f.1)),
         friction_force: array(py, forces.iter().map(|f| f.2)),
+        whirl_rate: array(
+            py,
+            s.iter().zip(&velocity).map(|(p, v)| {
+                let [x, y] = at(&p.y);
+                (x * v.y - y * v.x) / (x * x + y * y)
+            }),
+        ),
+        slip_velocity: array(py, rub.iter().map(|r| r.0)),
+        rub_torque: array(py, forces.iter().map(|f| model.shaft_radius() * f.2)),
+        friction_power: array(py, rub.iter().map(|r| r.1)),
+        friction_energy: s
+            .windows(2)
+            .zip(rub.windows(2))
+            .map(|(p, r)| 0.5 * (p[1].t - p[0].t) * (r[0].1 + r[1].1))
+            .sum(),
         probe_nodes: array(py, facts.probes.0.iter().map(|&n| n as u64)),
         probe_x: probed(py, facts.probes.1, traj, [false, false])?,
         probe_y: probed(py, facts.probes.1, traj, [false, true])?,
@@ -253,6 +301,26 @@ pub fn fe_run<M: RunModel>(
         linearly_unstable: facts.margin.unstable,
         stats: stats_dict(py, stats)?.unbind(),
     })
+}
+
+/// The slip velocity and the power friction dissipates at each sample (NaN and 0 out of
+/// contact or without friction; 0 and 0 rolling).
+fn rub_outputs<M: RunModel>(
+    model: &M,
+    traj: &Trajectory<Dyn>,
+    forces: &[(Vector2<f64>, f64, f64)],
+) -> PyResult<Vec<(f64, f64)>> {
+    traj.samples
+        .iter()
+        .zip(forces)
+        .map(|(p, f)| {
+            let v = model
+                .slip_velocity(p.t, &p.y, p.label)
+                .map_err(value_error)?;
+            let power = if v.is_nan() { 0.0 } else { -f.2 * v };
+            Ok((v, power))
+        })
+        .collect()
 }
 
 /// The probed nodes' x (`[velocity, y]` = `[false, false]`), y, x' or y' at the samples,

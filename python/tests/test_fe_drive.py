@@ -137,7 +137,7 @@ def test_fe_drive_revolutions_are_the_shafts_turns():
 
 def test_fe_drive_with_friction_is_braked_by_the_rub_torque():
     # The shaft's equation read off the samples (central differences of the speed and the
-    # ring node's velocity, away from the events): J w' - T(w) - u.q'' is the rub torque
+    # ring node's velocity, away from the events): J w' - T(w) - u.q'' is ``rub_torque``,
     # a f_t (f_t the ring's force on the rotor along the tangent, ``friction_force``; the
     # contact point at a n from the shaft's centre), which brakes the shaft.
     a, h = 0.05, 1e-4
@@ -147,7 +147,7 @@ def test_fe_drive_with_friction_is_braked_by_the_rub_torque():
     phi = PHASE + run.phase[1:-1]
     u_dot_acc = ME * (np.sin(phi) * d(run.vx) - np.cos(phi) * d(run.vy))
     residual = J * d(run.speed) - motor_torque(run.speed[1:-1]) - u_dot_acc
-    rub = a * run.friction_force[1:-1]
+    rub = run.rub_torque[1:-1]
     labels = run.regimes
     steady = (labels[:-2] == labels[1:-1]) & (labels[2:] == labels[1:-1])
     events = np.concatenate([run.onsets, run.losses])
@@ -238,3 +238,43 @@ def test_ross_rotor_drive_reads_its_bearings_from_the_start_to_no_load():
     assert np.array_equal(fe.run_up(**args).x, direct.x)
     fixed = jeffcott.fe_run_up(M, K, C, G, **args)
     assert not np.array_equal(fixed.x, direct.x)
+
+
+def test_fe_rub_outputs_against_the_samples():
+    # The slip velocity against the contact direction's turning read off the samples: n the
+    # direction of (x, y) - (ring_x, ring_y), v = gap theta' + speed a (theta' by central
+    # differences); the whirl rate against the turning of (x, y); the friction's power is
+    # -f_t v (>= 0 while slipping, 0 rolling or free), its energy the trapezoid of the power.
+    a, h = 0.05, 1e-4
+    run = crate_drive(True, rtol=1e-10, dt=h, t_end=3.0, friction=0.3, shaft_radius=a)
+    labels = run.regimes
+    inner = slice(1, -1)
+    steady = (labels[:-2] == labels[1:-1]) & (labels[2:] == labels[1:-1])
+    events = np.concatenate([run.onsets, run.losses])
+    far = np.min(np.abs(run.t[inner, None] - events[None, :]), axis=1) > 3 * h
+    slipping = steady & far & ((labels[inner] == 6) | (labels[inner] == 7))
+    assert slipping.sum() > 1000
+    theta = np.unwrap(np.arctan2(run.y - run.ring_y, run.x - run.ring_x))
+    v_fd = GAP * (theta[2:] - theta[:-2]) / (2 * h) + run.speed[inner] * a
+    v = run.slip_velocity[inner]
+    size = np.max(np.abs(v[slipping]))
+    assert np.max(np.abs(v[slipping] - v_fd[slipping])) <= 1e-5 * size
+    assert np.all(np.isnan(run.slip_velocity[labels == 1]))
+    assert np.all(run.slip_velocity[labels == 8] == 0.0)
+    psi = np.unwrap(np.arctan2(run.y, run.x))
+    w_fd = (psi[2:] - psi[:-2]) / (2 * h)
+    # (Away from the start at rest, where the angle of (x, y) is not defined.)
+    free_or_steady = steady & far & (np.hypot(run.x, run.y)[inner] > 0.1 * GAP)
+    rate = run.whirl_rate[inner]
+    assert np.max(np.abs(rate[free_or_steady] - w_fd[free_or_steady])) <= 1e-4 * np.max(
+        np.abs(rate[free_or_steady]))
+    power = run.friction_power
+    assert np.all(power >= -1e-12 * np.max(power)) and np.max(power) > 0
+    assert np.array_equal(power[labels != 6][labels[labels != 6] != 7], np.zeros(np.sum((labels != 6) & (labels != 7))))
+    slip = (labels == 6) | (labels == 7)
+    assert np.allclose(power[slip], -run.friction_force[slip] * run.slip_velocity[slip], rtol=1e-15)
+    assert run.friction_energy == pytest.approx(np.trapezoid(power, run.t), rel=1e-12)
+    # Without friction: no slip velocity, torque, power or energy.
+    free = crate_drive(True, rtol=1e-9, dt=1e-3, t_end=1.0)
+    assert np.all(np.isnan(free.slip_velocity)) and np.all(free.rub_torque == 0)
+    assert np.all(free.friction_power == 0) and free.friction_energy == 0

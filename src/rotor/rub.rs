@@ -233,6 +233,41 @@ where
         }
     }
 
+    /// The slip velocity $v = (r^\prime - s^\prime)\cdot t + \Omega a$ at the contact in a
+    /// state `y` of a run at time `t` with the mode label `label` (MODEL.md: the contact
+    /// direction's whirl speed plus the shaft's surface speed; $> 0$ where the shaft's surface
+    /// slides forward over the ring): slipping (6, 7) with the ring located at the station's
+    /// $r$ and its velocity $s^\prime$ from that location's sensitivity; rolling (8), 0 (the
+    /// contact sticks); NaN out of contact (labels 1 to 5: no friction acts). Friction
+    /// dissipates $-f_t v \ge 0$ per unit time ($f_t$ the ring's force on the rotor along
+    /// $t$, [`RubbingRotor::contact_force`]'s tangential part).
+    ///
+    /// # Errors
+    /// As [`RubbingRotor::contact_force`].
+    pub fn slip_velocity(
+        &self,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        label: u8,
+    ) -> Result<f64, ModelError> {
+        let slip = match label {
+            6 => Slip::Forward,
+            7 => Slip::Backward,
+            8 => return Ok(0.0),
+            _ => return Ok(f64::NAN),
+        };
+        let k = self.station(y);
+        let s = self.ring_position(y);
+        let c = self
+            .rub
+            .locate_slipping_on(&k.r, slip, Branches::of(self.rub.ring(), &s), f64::NAN)
+            .map_err(|e| ModelError::InvalidState {
+                t,
+                reason: e.to_string(),
+            })?;
+        Ok(c.slip_velocity(&k.v, self.radius * self.spin(t, y).speed))
+    }
+
     fn spin(&self, t: f64, y: &OVector<f64, R::Dim>) -> Spin {
         let nan = Spin {
             speed: f64::NAN,

@@ -172,7 +172,7 @@ fn coulomb_scenes() -> Vec<(f64, f64, Params)> {
 /// rotor's and the ring's positions and velocities, the ring's force law at its position):
 /// on the circle; slipping forward with `v >= 0` and `F_t = mu N`; rolling with `v = 0` and
 /// `|F_t| <= mu N`; and the rotor's acceleration is the equation of motion's with the ring's
-/// force `g(s) + C(s) s'`.
+/// force `g(s) + C(s) s'`. `RubbingRotor::slip_velocity` is that `v` (NaN out of contact).
 #[test]
 fn every_sample_obeys_coulombs_law() {
     let mut seen = std::collections::BTreeMap::new();
@@ -210,6 +210,7 @@ fn every_sample_obeys_coulombs_law() {
                 smp.t
             );
             if !in_contact {
+                assert!(model.slip_velocity(smp.t, y, smp.label).unwrap().is_nan());
                 continue;
             }
             *seen
@@ -226,6 +227,19 @@ fn every_sample_obeys_coulombs_law() {
             let g = ring.elastic_force(&s);
             let (normal, tangential) = (n.dot(&g), t.dot(&g));
             let v = (r_dot - s_dot).dot(&t) + eta * a;
+            // The crate's own slip velocity (from the ring's location and its sensitivity,
+            // not the field's s'): the same; 0 exactly while rolling.
+            let crate_v = model.slip_velocity(smp.t, y, smp.label).unwrap();
+            if smp.label == 8 {
+                assert_eq!(crate_v, 0.0, "t {}", smp.t);
+            } else {
+                let scale = r_dot.norm() + eta * a;
+                assert!(
+                    (crate_v - v).abs() <= 1e-10 * scale,
+                    "t {}: {crate_v} vs {v}",
+                    smp.t
+                );
+            }
             let tol = 1e-9 * (1.0 + normal.abs());
             match smp.label {
                 6 => assert!(
