@@ -3,6 +3,7 @@ set, as the Rust tests read them), else the shared set beside the clone (../shar
 
 import _thread
 import signal
+import sys
 import threading
 import time
 from pathlib import Path
@@ -10,6 +11,11 @@ from pathlib import Path
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
+
+# `python -m pytest` started inside python/ puts that folder (the package's source, without
+# its compiled part) first on sys.path, and `import jeffcott` then failed; the tests are of
+# the installed package.
+sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != REPO / "python"]
 
 # The Ctrl-C tests raise it with `_thread.interrupt_main`, which does nothing where SIGINT is
 # ignored, as a shell starts a background job (`nohup ... &`): there, Python installs no

@@ -28,3 +28,21 @@ def test_every_signature_shows_its_defaults():
     assert "preload=(0.0, 0.0)" in shown["fe_transient"]
     assert "ring_offset=(0.0, 0.0)" in shown["fe_run_up"]
     assert "separation=1e-08" in shown["lyapunov_exponents"]
+
+
+def test_python_m_pytest_inside_the_package_folder_tests_the_installed_package(tmp_path):
+    # `python -m pytest` started in python/ puts the source folder (no compiled part) first on
+    # sys.path; conftest.py takes it off, so the tests import the installed package. A test
+    # file of this one check, run so from python/ in a fresh interpreter.
+    import subprocess
+    import sys
+
+    check = REPO / "python" / "tests" / f"_tmp_{tmp_path.name}_test_installed.py"
+    check.write_text("import jeffcott\n\ndef test_compiled():\n    assert jeffcott.fe_run_up\n")
+    try:
+        run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+                              str(check.relative_to(REPO / "python"))],
+                             cwd=REPO / "python", capture_output=True, text=True, timeout=120)
+    finally:
+        check.unlink()
+    assert run.returncode == 0, run.stdout + run.stderr
