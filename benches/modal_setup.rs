@@ -14,6 +14,13 @@
 //!   faer's assembly kernels leave dirty (without that, the second was 9 times the first on
 //!   an x86 Xeon: docs/performance.md).
 //!
+//! * `modal_step/<dofs>`: one revolution of the same shaft in modal form on a snubber ring,
+//!   driven by an out-of-balance at the ring's node into a steady full annular rub (the
+//!   contact lasts the whole revolution), from a state after 8 revolutions: the modal form's
+//!   ETD4 at `rtol` = `atol` = $10^{-6}$ (the state's scale in the gap's units), the stepping in
+//!   contact that a rub study spends its time in. The set-up is outside the timer; the steps
+//!   a revolution are printed once a size.
+//!
 //! Run: `cargo bench --bench modal_setup` (on a quiet machine; `uptime` for the load). The
 //! times against size and their fitted exponent are in docs/performance.md.
 
@@ -21,13 +28,21 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use jeffcott::nalgebra::{Complex, DMatrix};
-use jeffcott::ode::phi_functions;
-use jeffcott::rotor::{LinearRotor, LinearSystem, ModalRotor};
+use jeffcott::hybrid::{simulate, OutputPlan, RotorModel, SimOptions, Trajectory};
+use jeffcott::nalgebra::{Complex, DMatrix, DVector, Dyn};
+use jeffcott::ode::{phi_functions, Method};
+use jeffcott::ring::SnubberRing;
+use jeffcott::rotor::{LinearRotor, LinearSystem, ModalRotor, RingedRotor};
 
 /// The synthetic shaft of `dofs` lateral DOFs (x of node i at 2i, y at 2i + 1), ring station at
 /// its middle node.
 fn shaft(dofs: usize) -> LinearRotor {
+    shaft_forced(dofs, 0.0)
+}
+
+/// [`shaft`] with a forward rotating force of `force` N at the station's node (an
+/// out-of-balance at the shaft's speed).
+fn shaft_forced(dofs: usize, force: f64) -> LinearRotor {
     let nodes = dofs / 2;
     let speed = 1200.0 * std::f64::consts::TAU / 60.0;
     let mut k = DMatrix::<f64>::zeros(dofs, dofs);
@@ -55,8 +70,11 @@ fn shaft(dofs: usize) -> LinearRotor {
         k[(2 * node + 1, 2 * node + 1)] += 1.5e7;
     }
     let damping = &m * 2.0 + &k * 1e-5 + &g * speed;
-    let system = LinearSystem::new(m, damping, k, speed).expect("a valid shaft");
     let station = 2 * (nodes / 2);
+    let system = LinearSystem::new(m, damping, k, speed)
+        .and_then(|s| s.with_harmonic_force(station, Complex::new(force, 0.0)))
+        .and_then(|s| s.with_harmonic_force(station + 1, Complex::new(0.0, -force)))
+        .expect("a valid shaft");
     LinearRotor::new(system, [station, station + 1], [0.0, 0.0]).expect("a station on the shaft")
 }
 
@@ -89,5 +107,57 @@ fn bench_setup(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_phi_after_setup, bench_setup);
+/// The forced shaft of `dofs` DOFs in modal form on a ring (gap 20 µm, 1e6 N/m, 100 N s/m)
+/// that its steady whirl (about 0.1 mm free) presses into, and the state after 8 revolutions
+/// from rest.
+fn rubbing(dofs: usize, opts: &SimOptions) -> (RingedRotor<ModalRotor>, DVector<f64>) {
+    let ring = SnubberRing::from_units(1e6, 100.0, [0.0, 0.0], 2e-5).expect("a ring");
+    let model = ModalRotor::new(&shaft_forced(dofs, 2e3))
+        .and_then(|m| m.ringed(ring))
+        .expect("the modal rotor on the ring");
+    let mut y = model.rotor().rest_state();
+    model.make_consistent(&mut y).expect("the ring placed");
+    let plan = OutputPlan::strobe(model.forcing_period(), 8, 8);
+    let mut traj = Trajectory::<Dyn>::default();
+    simulate(&model, 0.0, &y, &plan, opts, &mut traj).expect("the transient");
+    let last = traj.strobe.pop().expect("the 8th strobe").y;
+    (model, last)
+}
+
+fn bench_step(c: &mut Criterion) {
+    let mut group = c.benchmark_group("modal_step");
+    group.sample_size(10);
+    group.warm_up_time(Duration::from_millis(500));
+    let opts = SimOptions::default()
+        .with_method(Method::Etd4)
+        .with_rtol(1e-6)
+        .with_atol(1e-6);
+    for dofs in [8, 16, 32, 64, 128, 256, 512] {
+        let (model, y0) = rubbing(dofs, &opts);
+        let period = model.forcing_period();
+        let t0 = 8.0 * period;
+        let plan = OutputPlan {
+            events: true,
+            ..OutputPlan::strobe(period, 8, 9)
+        };
+        let mut traj = Trajectory::<Dyn>::default();
+        let stats = simulate(&model, t0, &y0, &plan, &opts, &mut traj).expect("a revolution");
+        let in_contact = traj.events.is_empty() && traj.strobe.iter().all(|p| p.label != 1);
+        eprintln!(
+            "modal_step/{dofs}: {} steps ({} rejected), {} events a revolution; in contact throughout: {in_contact}",
+            stats.steps,
+            stats.rejected,
+            traj.events.len()
+        );
+        group.bench_with_input(BenchmarkId::from_parameter(dofs), &y0, |b, y0| {
+            b.iter(|| {
+                let stats = simulate(&model, t0, y0, &plan, &opts, &mut ());
+                black_box(stats.expect("a revolution"))
+            });
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_phi_after_setup, bench_setup, bench_step);
 criterion_main!(benches);
