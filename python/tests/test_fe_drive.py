@@ -215,18 +215,11 @@ def test_ross_rotor_drive_reads_its_bearings_from_the_start_to_no_load():
     # FeRotor.run_up on a drive reads rotor.K(w, w), rotor.C(w, w) on 33 speeds from speed0
     # to the motor's no-load speed: the same run as fe_run_up given that grid.
     from jeffcott.ross import FeRotor
-    from test_fe_run_up import bearing_at
-
-    class Rotor:  # what FeRotor.run_up reads of a ross.Rotor
-        def K(self, frequency, speed):
-            return bearing_at(speed)[0]
-
-        def C(self, frequency, speed):
-            return bearing_at(speed)[1]
+    from test_fe_run_up import BearingRotor, bearing_at
 
     M, _, _, G = matrices()
     K, C = bearing_at(W0)
-    fe = FeRotor(M, K, C, G, W0, np.array([0.01]), Rotor())
+    fe = FeRotor(M, K, C, G, W0, np.array([0.01]), BearingRotor())
     motor = jeffcott.Motor.linear(T0, W0)
     args = dict(ring_node=0, gap=GAP, ring_stiffness=KS, ring_damping=0.0,
                 unbalance=[(0, ME, PHASE)], layout="lateral4", rtol=1e-9, dt=2e-2,

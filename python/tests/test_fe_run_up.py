@@ -151,6 +151,16 @@ def bearing_at(w):
     return K, C
 
 
+class BearingRotor:
+    """What FeRotor.run_up reads of a ross.Rotor: its bearings' K and C at a speed."""
+
+    def K(self, frequency, speed):
+        return bearing_at(speed)[0]
+
+    def C(self, frequency, speed):
+        return bearing_at(speed)[1]
+
+
 def bearing_table():
     Ks, Cs = zip(*(bearing_at(w) for w in BEARING_SPEEDS))
     return np.array(Ks), np.array(Cs)
@@ -205,16 +215,9 @@ def test_ross_rotor_run_up_reads_its_bearings_on_a_grid():
     # the same run as fe_run_up given that grid; bearing_points=0 keeps K and C at `speed`.
     from jeffcott.ross import FeRotor
 
-    class Rotor:  # what FeRotor.run_up reads of a ross.Rotor
-        def K(self, frequency, speed):
-            return bearing_at(speed)[0]
-
-        def C(self, frequency, speed):
-            return bearing_at(speed)[1]
-
     M, _, _, G = matrices()
     K, C = bearing_at(14.0)
-    fe = FeRotor(M, K, C, G, 14.0, np.array([0.01]), Rotor())
+    fe = FeRotor(M, K, C, G, 14.0, np.array([0.01]), BearingRotor())
     args = dict(ring_node=0, gap=GAP, ring_stiffness=KS, ring_damping=0.0,
                 unbalance=[(0, ME, PHASE)], layout="lateral4", rtol=1e-9, dt=2e-2)
     grid = np.linspace(6.0, 14.0, 33)
