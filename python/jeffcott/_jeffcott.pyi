@@ -112,6 +112,7 @@ class FeRun:
     mode_error: float  # the reduction's steady-response error over the run's speeds
     least_damping_ratio: float  # min -Re(lambda)/|lambda|; NaN if not computed
     linearly_unstable: bool  # a mode grows beyond rounding (a RuntimeWarning too)
+    method: str  # the integration method that ran: asked for, or the default picked
     stats: dict[str, int]
 
 FeTransient = FeRun

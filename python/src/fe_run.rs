@@ -118,6 +118,9 @@ pub struct FeRun {
     /// may come out -1e-14, is not unstable): the rotor is linearly unstable, its free
     /// response grows whatever the ring does (a RuntimeWarning says so when the run starts).
     pub linearly_unstable: bool,
+    /// The integration method that ran, lower case: the one asked for, or the default picked
+    /// (radau5 for the full model, dop853 for a reduced one, etd4 in modal form).
+    pub method: String,
     /// The work done (steps, rejected, rhs_evals, ..., lu_decompositions).
     pub stats: Py<PyDict>,
 }
@@ -203,6 +206,8 @@ pub struct RunFacts<'a, M: RunModel> {
     pub margin: Margin,
     /// The probed nodes and where they are in the state.
     pub probes: (&'a [usize], &'a Probes),
+    /// The integration method's name, as asked for or picked.
+    pub method: &'a str,
 }
 
 /// The ring's force on the rotor, its normal part N = n . f (n from the ring's centre to the
@@ -299,6 +304,7 @@ pub fn fe_run<M: RunModel>(
         mode_error: facts.reduction.error,
         least_damping_ratio: facts.margin.zeta,
         linearly_unstable: facts.margin.unstable,
+        method: facts.method.to_ascii_lowercase(),
         stats: stats_dict(py, stats)?.unbind(),
     })
 }

@@ -275,17 +275,15 @@ pub fn fe_run_up(
         })
     })?;
     built.margin.warn(py)?;
-    let opts = sim_options(
-        Some(rtol),
-        Some(atol.unwrap_or(rtol)),
-        Some(method.unwrap_or(default_method(modes))),
-    )?
-    .with_max_events_per_period(u32::MAX);
+    let method = method.unwrap_or(default_method(modes));
+    let opts = sim_options(Some(rtol), Some(atol.unwrap_or(rtol)), Some(method))?
+        .with_max_events_per_period(u32::MAX);
     let dt = dt.unwrap_or(TAU / top / 128.0);
     let output = dense_output(t_end, dt)?.with_strobes();
     let plan = Plan {
         output,
         opts,
+        method,
         reduction: built.reduction,
         margin: built.margin,
         probes: (&probe_nodes, &built.probes),
@@ -400,6 +398,8 @@ type SpeedAndPhase<'a> = (
 struct Plan<'a> {
     output: Output,
     opts: SimOptions,
+    /// The method's name, as asked for or picked.
+    method: &'a str,
     reduction: Reduction,
     margin: Margin,
     probes: (&'a [usize], &'a Probes),
@@ -446,6 +446,7 @@ impl Plan<'_> {
             reduction: self.reduction,
             margin: self.margin,
             probes: self.probes,
+            method: self.method,
         };
         let result = |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| {
             fe_run(py, &facts, traj, stats)

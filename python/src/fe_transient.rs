@@ -24,6 +24,8 @@ struct Plan<'a> {
     t_end: f64,
     samples: u64,
     opts: SimOptions,
+    /// The method's name, as asked for or picked.
+    method: &'a str,
     reduction: Reduction,
     probes: (&'a [usize], &'a Probes),
 }
@@ -55,6 +57,7 @@ fn transient_of<M: RunModel>(
         reduction: plan.reduction,
         margin,
         probes: plan.probes,
+        method: plan.method,
     };
     let result =
         |py: Python<'_>, traj: &Trajectory<Dyn>, stats: &SimStats| fe_run(py, &facts, traj, stats);
@@ -200,6 +203,7 @@ pub fn fe_transient(
         t_end,
         samples,
         opts,
+        method,
         reduction,
         probes: (&probe_nodes, &probes),
     };

@@ -271,3 +271,21 @@ def test_fe_rub_outputs_against_the_samples():
     free = crate_drive(True, rtol=1e-9, dt=1e-3, t_end=1.0)
     assert np.all(np.isnan(free.slip_velocity)) and np.all(free.rub_torque == 0)
     assert np.all(free.friction_power == 0) and free.friction_energy == 0
+
+
+def test_fe_runs_say_which_method_ran():
+    # The default picked (radau5 for the full model, dop853 reduced, etd4 in modal form) or
+    # the one asked for, lower case.
+    M, K, C, G = matrices()
+    ring = dict(ring_node=0, gap=GAP, ring_stiffness=KS, ring_damping=0.0,
+                unbalance=[(0, ME, PHASE)], layout="lateral4")
+    up = lambda **kw: jeffcott.fe_run_up(M, K, C, G, [0.0, 0.5], [6.0, 7.0], dt=0.05, **ring,
+                                         **kw).method
+    assert up() == "radau5"
+    assert up(modes=1) == "dop853"
+    assert up(method="DOPRI5") == "dopri5"
+    assert crate_drive(True, t_end=0.5, dt=0.05).method == "radau5"
+    run = lambda **kw: jeffcott.fe_transient(M, K, C, G, 8.0, t_end=0.5, samples=10, **ring,
+                                             **kw).method
+    assert run() == "radau5" and run(form="modal") == "etd4"
+    assert run(form="modal", method="dop853") == "dop853"
