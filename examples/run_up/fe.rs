@@ -248,14 +248,7 @@ fn reduced(mat: &Path, (law, setup): (&Law, &Setup), ring: bool) -> Result<Reduc
     let top = law.reference();
     if let Some(t) = &table {
         // The modes and the state's scale with the bearings at the reference speed.
-        lateral = RotorMatrices::new(
-            lateral.mass().clone(),
-            t.damping_at(top),
-            lateral.gyroscopic().clone(),
-            t.stiffness_at(top),
-            lateral.layout(),
-        )
-        .map_err(err)?;
+        lateral = t.matrices_at(&lateral, top).map_err(err)?;
     }
     let x = lateral.x_dof(setup.ring_node).map_err(err)?;
     let (node, me, phase) = setup.unbalance;

@@ -81,14 +81,7 @@ impl Bearings {
 
     /// The lateral matrices `lateral` with the table's K and C at `speed` (the run's reference).
     pub fn lateral_at(&self, lateral: &RotorMatrices, speed: f64) -> PyResult<RotorMatrices> {
-        RotorMatrices::new(
-            lateral.mass().clone(),
-            self.table.damping_at(speed),
-            lateral.gyroscopic().clone(),
-            self.table.stiffness_at(speed),
-            lateral.layout(),
-        )
-        .map_err(value_error)
+        self.table.matrices_at(lateral, speed).map_err(value_error)
     }
 
     /// The table in the run's coordinates: as it is, or projected by the reduction `cb`.

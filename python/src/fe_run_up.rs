@@ -22,7 +22,7 @@ use crate::fe::{
 };
 use crate::fe_run::{fe_run, FeRun, RunFacts, RunModel};
 use crate::motor::Motor;
-use crate::options::sim_options;
+use crate::options::{coulomb, sim_options};
 use crate::paper::dense_output;
 use crate::runs::{self, Output};
 
@@ -124,7 +124,7 @@ impl Law {
     fn reference(&self) -> f64 {
         match self {
             Law::Profile(p) => p.eta_max(),
-            Law::Drive { motor, speed0, .. } => motor.no_load().max(*speed0),
+            Law::Drive { motor, speed0, .. } => motor.no_load_speed().max(*speed0),
         }
     }
 
@@ -215,7 +215,7 @@ pub fn fe_run_up(
     layout: &str,
 ) -> PyResult<FeRun> {
     let modes = Modes::new(modes, mode_tolerance)?;
-    let friction = Friction::new(friction, shaft_radius)?;
+    let friction = coulomb(friction, shaft_radius, "in m")?;
     let table: Vec<f64> = speeds
         .as_ref()
         .map_or(Vec::new(), |s| s.as_array().to_vec());
@@ -338,30 +338,6 @@ struct Built {
     probes: Probes,
 }
 
-/// Coulomb friction at the ring: its coefficient and the shaft's radius there (m).
-#[derive(Debug, Clone, Copy)]
-enum Friction {
-    None,
-    Coulomb { mu: f64, radius: f64 },
-}
-
-impl Friction {
-    fn new(mu: f64, radius: Option<f64>) -> PyResult<Self> {
-        if !(mu.is_finite() && mu >= 0.0) {
-            return Err(value_error(format!(
-                "friction must be finite and >= 0, got {mu}"
-            )));
-        }
-        match (mu, radius) {
-            (0.0, _) => Ok(Friction::None),
-            (mu, Some(radius)) => Ok(Friction::Coulomb { mu, radius }),
-            (_, None) => Err(value_error(
-                "friction needs shaft_radius: the shaft's radius at the ring node (m)",
-            )),
-        }
-    }
-}
-
 /// The ring node's displacement in a state of a run-up's rotor (m, from its undeflected
 /// position).
 trait Displaced: SmoothRotor<Dim = Dyn> + Sync {
@@ -403,7 +379,8 @@ struct Plan<'a> {
     reduction: Reduction,
     margin: Margin,
     probes: (&'a [usize], &'a Probes),
-    friction: Friction,
+    /// Coulomb friction at the ring: (mu, the shaft's radius in m).
+    friction: Option<(f64, f64)>,
 }
 
 impl Plan<'_> {
@@ -417,8 +394,8 @@ impl Plan<'_> {
     ) -> PyResult<FeRun> {
         model.make_consistent(&mut y0).map_err(value_error)?;
         match self.friction {
-            Friction::None => self.of(py, &model, y0, law),
-            Friction::Coulomb { mu, radius } => {
+            None => self.of(py, &model, y0, law),
+            Some((mu, radius)) => {
                 let model = RubbingRotor::new(model, mu, radius).map_err(value_error)?;
                 self.of(py, &model, y0, law)
             }

@@ -12,7 +12,7 @@ use crate::fe::{
     Probes, Reduction, RingAt,
 };
 use crate::fe_run::{fe_run, FeRun, RunFacts, RunModel};
-use crate::options::sim_options;
+use crate::options::{coulomb, sim_options};
 use crate::paper::dense_output;
 use crate::runs;
 
@@ -20,7 +20,8 @@ use crate::runs;
 /// reduction kept, the probes, and the friction at the ring with the shaft's radius there.
 struct Plan<'a> {
     speed: f64,
-    friction: (f64, Option<f64>),
+    /// Coulomb friction at the ring: (mu, the shaft's radius in m).
+    friction: Option<(f64, f64)>,
     t_end: f64,
     samples: u64,
     opts: SimOptions,
@@ -77,18 +78,15 @@ where
     R: SmoothRotor<Dim = Dyn> + Sync,
 {
     match plan.friction {
-        (0.0, _) => {
+        None => {
             let at = |y: &DVector<f64>| displacement(model.rotor(), y);
             transient_of(py, &model, &at, dofs, plan)
         }
-        (mu, Some(radius)) => {
+        Some((mu, radius)) => {
             let model = RubbingRotor::new(model, mu, radius).map_err(value_error)?;
             let at = |y: &DVector<f64>| displacement(model.ringed().rotor(), y);
             transient_of(py, &model, &at, dofs, plan)
         }
-        (_, None) => Err(value_error(
-            "friction needs shaft_radius: the shaft's radius at the ring node (m)",
-        )),
     }
 }
 
@@ -192,14 +190,9 @@ pub fn fe_transient(
         PyResult::Ok((rotor, reduction, probes))
     })?;
     let dofs = rotor.system().dofs();
-    if !(friction.is_finite() && friction >= 0.0) {
-        return Err(value_error(format!(
-            "friction must be finite and >= 0, got {friction}"
-        )));
-    }
     let plan = Plan {
         speed,
-        friction: (friction, shaft_radius),
+        friction: coulomb(friction, shaft_radius, "in m")?,
         t_end,
         samples,
         opts,

@@ -88,19 +88,12 @@ impl Motor {
     /// The speed (rad/s) where the torque first falls to zero from above (a linear motor's
     /// no-load speed); a table whose torque never does: its last speed.
     #[getter]
-    fn no_load_speed(&self) -> f64 {
+    pub fn no_load_speed(&self) -> f64 {
         self.no_load
     }
 
     fn __repr__(&self) -> String {
         self.description.clone()
-    }
-}
-
-impl Motor {
-    /// The speed of the no-load point (see ``no_load_speed``).
-    pub fn no_load(&self) -> f64 {
-        self.no_load
     }
 }
 

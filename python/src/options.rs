@@ -49,3 +49,21 @@ pub fn positive(name: &str, value: f64) -> PyResult<f64> {
         )))
     }
 }
+
+/// Coulomb friction at the ring from the keywords ``friction`` (the coefficient, finite and
+/// not negative) and ``shaft_radius`` (required when it is positive; `units` names its unit
+/// in the error): `None` for a frictionless run, else `(mu, radius)`.
+pub fn coulomb(mu: f64, radius: Option<f64>, units: &str) -> PyResult<Option<(f64, f64)>> {
+    if !(mu.is_finite() && mu >= 0.0) {
+        return Err(value_error(format!(
+            "friction must be finite and >= 0, got {mu}"
+        )));
+    }
+    match (mu, radius) {
+        (0.0, _) => Ok(None),
+        (mu, Some(radius)) => Ok(Some((mu, radius))),
+        (_, None) => Err(value_error(format!(
+            "friction needs shaft_radius: the shaft's radius at the ring, {units}"
+        ))),
+    }
+}

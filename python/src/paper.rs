@@ -14,7 +14,7 @@ use pyo3::types::PyDict;
 
 use crate::arrays::{array, table};
 use crate::errors::value_error;
-use crate::options::{positive, sim_options};
+use crate::options::{coulomb, positive, sim_options};
 use crate::params::PyParams;
 use crate::runs::{self, Output};
 
@@ -192,13 +192,10 @@ fn rub_of(
     friction: f64,
     shaft_radius: Option<f64>,
 ) -> PyResult<Option<jeffcott::rotor::RubbingRotor<jeffcott::rotor::LinearRotor>>> {
-    if friction == 0.0 {
+    let Some((mu, radius)) = coulomb(friction, shaft_radius, "in gaps")? else {
         return Ok(None);
-    }
-    let radius = shaft_radius.ok_or_else(|| {
-        value_error("friction needs shaft_radius: the shaft's radius at the ring, in gaps")
-    })?;
-    rubbing_model(&params.checked()?, friction, radius)
+    };
+    rubbing_model(&params.checked()?, mu, radius)
         .map(Some)
         .map_err(value_error)
 }

@@ -17,7 +17,7 @@ use pyo3::types::PyDict;
 use crate::arrays::array;
 use crate::errors::value_error;
 use crate::motor::Motor;
-use crate::options::sim_options;
+use crate::options::{coulomb, sim_options};
 use crate::paper::{dense_output, start_state, states};
 use crate::params::PyParams;
 use crate::runs::{self, stats_dict, Output};
@@ -131,15 +131,7 @@ pub fn run_up(
     shaft_radius: Option<f64>,
 ) -> PyResult<RunUp> {
     let opts = sim_options(rtol, atol, method)?;
-    let friction = match (friction, shaft_radius) {
-        (0.0, _) => None,
-        (mu, Some(radius)) => Some((mu, radius)),
-        (_, None) => {
-            return Err(value_error(
-                "friction needs shaft_radius: the shaft's radius at the ring, in gaps",
-            ));
-        }
-    };
+    let friction = coulomb(friction, shaft_radius, "in gaps")?;
     let plan = Plan {
         y0: start_state(state0)?,
         opts,
@@ -210,7 +202,7 @@ impl Plan {
             .t_end
             .ok_or_else(|| value_error("a drive needs t_end"))?;
         let params = Params {
-            eta: motor.no_load().max(eta_from),
+            eta: motor.no_load_speed().max(eta_from),
             ..params
         };
         let rotor = DrivenJeffcott::new(params, j, motor.torque.clone()).map_err(value_error)?;

@@ -4,7 +4,7 @@
 
 use nalgebra::{DMatrix, DVector, DVectorViewMut, Dyn};
 
-use super::{LinearSystem, RotorError};
+use super::{LinearSystem, RotorError, RotorMatrices};
 use crate::ode::JacobianMut;
 
 /// A rotor's stiffness $K(\Omega)$ and damping $C(\Omega)$ on a grid of speeds
@@ -140,6 +140,25 @@ impl BearingTable {
     /// $C(\Omega)$ by the table's rule.
     pub fn damping_at(&self, speed: f64) -> DMatrix<f64> {
         interpolate(&self.speeds, &self.damping, speed)
+    }
+
+    /// `matrices` with their stiffness and damping replaced by the table's at `speed` (mass,
+    /// gyroscopic matrix and layout kept): the rotor at one speed, e.g. for its modes.
+    ///
+    /// # Errors
+    /// As [`RotorMatrices::new`] (a table of another size than `matrices`).
+    pub fn matrices_at(
+        &self,
+        matrices: &RotorMatrices,
+        speed: f64,
+    ) -> Result<RotorMatrices, RotorError> {
+        RotorMatrices::new(
+            matrices.mass().clone(),
+            self.damping_at(speed),
+            matrices.gyroscopic().clone(),
+            self.stiffness_at(speed),
+            matrices.layout(),
+        )
     }
 }
 
