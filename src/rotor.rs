@@ -1247,6 +1247,32 @@ impl<R> RingedRotor<R> {
         Ok(-contact.force(&k.v))
     }
 
+    /// The contact's normal force $N = -n\cdot f$ at the state `y` ($f$ the force on the rotor,
+    /// [`RingedRotor::contact_force`], $n = (r - s)/\gamma$ the outward normal): what presses
+    /// the rotor and the ring together, 0 out of contact. A loss event is where it falls
+    /// through 0. In the ring's force unit.
+    ///
+    /// # Errors
+    /// Those of [`RingedRotor::contact_force`].
+    pub fn normal_force(
+        &self,
+        y: &OVector<f64, R::Dim>,
+        in_contact: bool,
+    ) -> Result<f64, ModelError>
+    where
+        R: SmoothRotor,
+        DefaultAllocator: Allocator<R::Dim>,
+    {
+        if !in_contact {
+            return Ok(0.0);
+        }
+        let f = self.contact_force(y, true)?;
+        let r = self.rotor.station(y).r;
+        let [i, j] = self.rotor.ring_slots();
+        let d = r - Vector2::new(y[i], y[j]);
+        Ok(-d.dot(&f) / d.norm())
+    }
+
     /// The station's acceleration under a ring force `f`, from the rotor's own equations (the
     /// station map is linear, so it maps $y^\prime$ to the station's acceleration). Asked for
     /// only at a touch whose load is zero to rounding: the allocation is rare.

@@ -680,6 +680,29 @@ impl LinearRotor {
         true
     }
 
+    /// The state at $t = 0$ of the rotor's steady orbit without the ring: the static
+    /// deflection plus the synchronous response, $q = q_s + \operatorname{Re} X$,
+    /// $q^\prime = \operatorname{Re}(i\Omega X) = -\Omega\operatorname{Im} X$
+    /// ([`LinearSystem::steady_response`], [`LinearSystem::static_deflection`]), the ring at its
+    /// rest centre. Off the ring this is the periodic orbit itself: the start of a continuation
+    /// in speed from below the first contact
+    /// ([`rub_map`](crate::stability::rub_map)).
+    ///
+    /// # Errors
+    /// Those of the two solves ([`RotorError::Singular`]).
+    pub fn steady_state(&self) -> Result<DVector<f64>, RotorError> {
+        let n = self.system.dofs();
+        let x = self.system.steady_response()?;
+        let q0 = self.system.static_deflection()?;
+        let w = self.system.speed;
+        let mut y = DVector::zeros(2 * n + 2);
+        for i in 0..n {
+            y[i] = q0[i] + x[i].re;
+            y[n + i] = -w * x[i].im;
+        }
+        Ok(y)
+    }
+
     /// The state at rest: $q = q^\prime = 0$ and the ring at its rest centre ($s = 0$), as
     /// ROSS's Newmark starts. If the offset puts the undeflected node beyond the gap, place the
     /// ring with [`super::RingedRotor::make_consistent`].

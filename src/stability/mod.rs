@@ -23,6 +23,7 @@
 //! | [`lyapunov_exponents`] | QR (Benettin) spectrum with batch-means errors, two-trajectory check |
 //! | [`continue_orbit`], [`switch_at_flip`] | the continuation core: pseudo-arclength along a parameter (a closure builds the model) through folds, with fold, flip, Neimark–Sacker and grazing located, and branch switching at a flip |
 //! | [`lyapunov_exponents_with_progress`], [`continue_orbit_with_progress`] | the same with a [`Progress`](crate::analysis::Progress) observer, told of each period or point and asked between them whether to stop (Ctrl-C, a time limit): a stopped run returns what it computed ([`StabilityError::Stopped`], [`BranchEnd::Stopped`]) |
+//! | [`rub_map`] | a branch continued in the speed (or any parameter), each orbit measured at the ring: largest radius, fraction of the period in contact, largest normal force, stability ([the rub map](#the-rub-map)) |
 //! | [`locate_loss`] | its natural-parameter case: where a stable orbit loses stability (flip, fold, Neimark–Sacker, grazing), or a failure with its error |
 //! | [`multipliers`], [`newton_fixed_point`], [`BatchEstimate`] | the numerics underneath, on plain matrices and closures ([Floquet multipliers](#floquet-multipliers), [Newton](#newton), [batch means and QR](#batch-means-and-qr)) |
 //!
@@ -331,6 +332,31 @@
 //! Any other end (a model that cannot be built, a failed simulation, Newton failing with no
 //! such evidence, the step budget exhausted) is reported as a [`BranchFailure`] with its
 //! error, where it happened and the last orbit found, never as a located point.
+//!
+//! # The rub map
+//!
+//! What a design engineer asks of a rotor that may touch its ring: where contact starts over
+//! the speed range, how far the rub branch reaches, where it jumps (its folds) and whether it
+//! is stable. These are properties of the steady periodic orbits, not of one run-up (whose
+//! jump depends on its ramp rate). [`rub_map`] continues the branch of period-$n$ orbits with
+//! [`continue_orbit_with_progress`] (every special point located) and measures each orbit at
+//! the ring by one run over its period from its point, with dense samples and its events: the
+//! station's **largest radius** (located between the knots on the Hermite interpolant, as
+//! [`per_revolution`](crate::analysis::per_revolution) does), the **fraction of the period in
+//! contact** (from the events' times: 1 for a full annular rub, whose orbit has no onset), and
+//! the **largest normal force** over the samples and the events' states (sampled). A model
+//! says what the ring sees through the reader it is given ([`RingReading`]: for a rotor on the
+//! ring, its station and [`RingedRotor::normal_force`](crate::rotor::RingedRotor::normal_force)).
+//! From below the first contact the start is the linear steady orbit
+//! ([`LinearRotor::steady_state`](crate::rotor::LinearRotor::steady_state)), where Newton
+//! converges at once. The first grazing is the speed where that linear orbit's ellipse reaches
+//! the gap; the test `stability::stability_rub_map` checks it against the closed form to
+//! $10^{-8}$, a rub orbit against a long run to its attractor and its multipliers against a
+//! perturbation's growth.
+//!
+//! The Jacobian is the dense monodromy matrix of the variational equations: $n$ columns per
+//! step, so a reduced or modal model (tens of modes) is the size it suits; the matrix-free
+//! path for hundreds of coordinates (Newton-Krylov, Arnoldi) is not built yet.
 
 mod augmented;
 mod continuation;
@@ -340,6 +366,7 @@ mod lyapunov;
 mod map;
 mod newton;
 mod orbit;
+mod rub_map;
 mod saltation;
 mod statistics;
 
@@ -358,6 +385,7 @@ pub use lyapunov::{
 pub use map::{Advanced, Linearization, StroboscopicMap};
 pub use newton::{newton_fixed_point, FixedPoint, MapValue, NewtonError, NewtonOptions};
 pub use orbit::{periodic_orbit, OrbitMargins, OrbitOptions, PeriodicOrbit};
+pub use rub_map::{rub_map, RingReading, RubMap, RubMapOptions, RubPoint};
 pub use saltation::{saltation, EventLinearization, Saltation, SaltationError, GRAZING_MARGIN};
 
 pub use statistics::BatchEstimate;

@@ -106,7 +106,7 @@ pub(crate) fn canonical(structure: &[&'static str]) -> Vec<&'static str> {
 }
 
 /// The model at `p`, or why the builder could not make it.
-fn model<B, M, E>(build: &B, p: f64) -> Result<M, StabilityError>
+pub(super) fn model<B, M, E>(build: &B, p: f64) -> Result<M, StabilityError>
 where
     B: Fn(f64) -> Result<M, E>,
     E: std::fmt::Display,
