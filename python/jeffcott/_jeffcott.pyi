@@ -344,6 +344,58 @@ def bifurcation(
 ) -> Diagram: ...
 def ring_position(params: Params, x: float, y: float) -> tuple[float, float]: ...
 def regime(params: Params, x: float, y: float) -> int: ...
+class RubSpecialPoint:
+    kind: str  # "fold", "flip", "neimark-sacker", "grazing"
+    speed: float  # rad/s
+    bracket: tuple[float, float]
+    converged: bool
+    unconverged: str | None
+    spectral_radius: float
+    contacts: tuple[int, int]
+
+class RubMap:
+    speed: npt.NDArray[np.float64]  # (N,) rad/s
+    amplitude: npt.NDArray[np.float64]  # (N,) m
+    contact_fraction: npt.NDArray[np.float64]  # (N,)
+    peak_force: npt.NDArray[np.float64]  # (N,) N
+    stable: npt.NDArray[np.bool_]  # (N,)
+    spectral_radius: npt.NDArray[np.float64]  # (N,)
+    contacts: npt.NDArray[np.int64]  # (N,)
+    specials: list[RubSpecialPoint]
+    end: str  # "reached", "max-points", "stalled", "stopped"
+    end_reason: tuple[float, str] | None
+    failures: list[tuple[int, str]]
+    modes: int
+    mode_error: float
+
+def fe_rub_map(
+    M: npt.ArrayLike,
+    K: npt.ArrayLike,
+    C: npt.ArrayLike,
+    G: npt.ArrayLike,
+    speed_from: float,
+    speed_to: float,
+    *,
+    ring_node: int,
+    gap: float,
+    ring_stiffness: float,
+    ring_damping: float,
+    unbalance: Sequence[tuple[int, float, float]],
+    preload: tuple[float, float] = (0.0, 0.0),
+    ring_offset: tuple[float, float] = (0.0, 0.0),
+    modes: int | str = 0,
+    mode_tolerance: float = 1e-3,
+    transient: int = 0,
+    ds: float | None = None,
+    ds_max: float = 0.2,
+    max_points: int = 2000,
+    bracket_width: float | None = None,
+    samples: int = 256,
+    rtol: float = 1e-9,
+    atol: float | None = None,
+    method: str | None = None,
+    layout: str = "ross6",
+) -> RubMap: ...
 def fe_transient(
     M: npt.ArrayLike,
     K: npt.ArrayLike,

@@ -118,14 +118,15 @@ fn branch(py: Python<'_>, name: &str, b: &Branch) -> PyResult<ContinuedBranch> {
     })
 }
 
-/// The continuation's options from the Python keywords (None keeps the crate's default).
-fn options(
+/// The continuation's options from the Python keywords (None keeps `base`'s).
+pub fn options(
+    base: ContinuationOptions,
     ds: Option<f64>,
     ds_max: Option<f64>,
     max_points: Option<usize>,
     bracket_width: Option<f64>,
 ) -> PyResult<ContinuationOptions> {
-    let mut o = ContinuationOptions::default();
+    let mut o = base;
     if let Some(v) = ds {
         o = o.with_ds(positive("ds", v)?);
     }
@@ -179,7 +180,14 @@ pub fn continue_orbit(
     let model: JeffcottModel = family.model(start).map_err(value_error)?;
     let y0 = start_state(state0)?;
     let sim = sim_options(rtol, atol, method)?;
-    let opts = options(ds, ds_max, max_points, bracket_width)?.with_sim(sim);
+    let opts = options(
+        ContinuationOptions::default(),
+        ds,
+        ds_max,
+        max_points,
+        bracket_width,
+    )?
+    .with_sim(sim);
     let guess = runs::settle(py, &model, y0, transient, &sim)?;
     let build = |value: f64| family.model(value);
     let ctrl_c = CtrlC::new();

@@ -63,11 +63,18 @@ pub fn system_at(
     speed: f64,
     unbalance: &[(usize, f64, f64)],
 ) -> PyResult<LinearSystem> {
-    let mut system = LinearSystem::from_matrices(lateral, speed).map_err(value_error)?;
+    system_of(lateral, speed, unbalance).map_err(value_error)
+}
+
+/// [`system_at`] with the crate's error (for a closure run without the GIL).
+pub fn system_of(
+    lateral: &RotorMatrices,
+    speed: f64,
+    unbalance: &[(usize, f64, f64)],
+) -> Result<LinearSystem, RotorError> {
+    let mut system = LinearSystem::from_matrices(lateral, speed)?;
     for &(node, me, phase) in unbalance {
-        system = system
-            .with_unbalance(lateral.layout(), node, me, phase)
-            .map_err(value_error)?;
+        system = system.with_unbalance(lateral.layout(), node, me, phase)?;
     }
     Ok(system)
 }

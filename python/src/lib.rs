@@ -12,6 +12,7 @@ mod continuation;
 mod errors;
 mod fe;
 mod fe_modes;
+mod fe_rub_map;
 mod fe_run;
 mod fe_run_up;
 mod fe_transient;
@@ -43,6 +44,8 @@ mod _jeffcott {
     use crate::errors::SimulationError;
     #[pymodule_export]
     use crate::fe_modes::{fewest_modes, response_error};
+    #[pymodule_export]
+    use crate::fe_rub_map::{fe_rub_map, FeRubMap, RubSpecialPoint};
     #[pymodule_export]
     use crate::fe_run::{ContactEpisodes, FeRun};
     #[pymodule_export]

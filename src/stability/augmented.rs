@@ -21,6 +21,37 @@ use crate::hybrid::{
 };
 use crate::numeric::Direction;
 
+/// The event structure of an orbit: its events' guard labels in order from the section; for
+/// an orbit without events, the mode it stays in (`"in mode 1"` for the ring's free flight),
+/// so that a free orbit and a permanent contact (a full annular rub) differ, and the speed
+/// where one becomes the other is a grazing.
+pub(crate) fn event_structure(events: &[LinearEvent], label: u8) -> Vec<&'static str> {
+    const STAY: [&str; 17] = [
+        "in mode 0",
+        "in mode 1",
+        "in mode 2",
+        "in mode 3",
+        "in mode 4",
+        "in mode 5",
+        "in mode 6",
+        "in mode 7",
+        "in mode 8",
+        "in mode 9",
+        "in mode 10",
+        "in mode 11",
+        "in mode 12",
+        "in mode 13",
+        "in mode 14",
+        "in mode 15",
+        "in a mode above 15",
+    ];
+    if events.is_empty() {
+        vec![STAY[usize::from(label).min(16)]]
+    } else {
+        events.iter().map(|e| e.kind).collect()
+    }
+}
+
 /// One event crossed by a linearised trajectory, with the crossing's margin.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -226,7 +226,9 @@
 //! [**fold**](SpecialKind::Fold) (a real multiplier through $+1$), of real negative ones a
 //! [**flip**](SpecialKind::Flip) (through $-1$), of complex ones a
 //! [**Neimark–Sacker**](SpecialKind::NeimarkSacker) bifurcation. A change of the orbit's
-//! **event structure** (the guards crossed over one orbit, compared up to a rotation) is a
+//! **event structure** (the guards crossed over one orbit, compared up to a rotation; for an
+//! orbit without events the mode it stays in, so that a permanent contact differs from free
+//! flight) is a
 //! [**grazing**](SpecialKind::Grazing): the margin of a contact onset (or of a regime boundary
 //! in contact) going to zero, a contact gained or lost; the multipliers do not announce it.
 //! The contacts per orbit are the events on guards the model calls contact onsets
@@ -244,7 +246,10 @@
 //! the section $\tau = 0$ (the rotor's $(x, y, x^\prime, y^\prime)$ for the paper's model) and
 //! $p$ the parameter, the model being built at each $p$ by a closure. The branch is followed in
 //! the **scaled** coordinates $w = (z_i/s_i,\ p/s_p)$, $s_i$ the model's
-//! [`state_scale`](crate::hybrid::RotorModel::state_scale) and $s_p$
+//! [`error_scale`](crate::hybrid::RotorModel::error_scale) where it gives one (a
+//! finite-element rotor's: each velocity weighed by its coordinate's own frequency, so that
+//! the high modes a contact excites do not dominate the step), else its
+//! [`state_scale`](crate::hybrid::RotorModel::state_scale), and $s_p$
 //! [`ContinuationOptions::param_scale`] (so that the arclength does not mix units), in its
 //! arclength $s$ (pseudo-arclength): from a point $w_k$ with unit tangent $t_k$ (the null
 //! vector of $[F_w\ F_p]$, oriented along the last one), the predictor $w_k + \Delta s\thinspace
@@ -259,7 +264,15 @@
 //! is within $10^3$ `atol`). The step grows by 1.5 after an easy correction (at most 3
 //! iterations) up to [`ContinuationOptions::ds_max`] and halves after a failed one (a
 //! correction that does not converge, or one larger than the step: Newton jumped to another
-//! branch); the branch ends if it falls below [`ContinuationOptions::ds_min`].
+//! branch). Below [`ContinuationOptions::ds_min`] the corrector gets one more chance, a
+//! **leap**: where a contact starts the map is only once differentiable (and where a
+//! permanent contact starts, a full annular rub, its Jacobian jumps), and Newton, its
+//! Jacobian taken on one side, can fail at every step across it. The leap steps the parameter
+//! alone, by a quarter, a half and then all of `ds_max`, runs 200 periods there from the last
+//! orbit and corrects at that parameter from where the run ended: past a grazing into a stable
+//! contact the run lands next to the orbit. If no leap converges the branch ends
+//! ([`BranchEnd::Stalled`]); after one, the step starts again from
+//! [`ContinuationOptions::ds`], and the grazing between is located as any special point.
 //!
 //! ## Special points
 //!

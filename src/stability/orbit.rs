@@ -1,6 +1,6 @@
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 
-use super::augmented::LinearEvent;
+use super::augmented::{event_structure, LinearEvent};
 use super::error::StabilityError;
 use super::floquet::{multipliers, Multiplier};
 use super::map::{Linearization, StroboscopicMap};
@@ -292,7 +292,8 @@ where
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
     let min_event_margin = events.iter().map(|e| e.margin).fold(1.0, f64::min);
-    let structure = events.iter().map(|e| e.kind).collect();
+    let label = model.initial_mode(0.0, state).map(|m| model.mode_label(m));
+    let structure = event_structure(events, label.unwrap_or(0));
     let has_depth = model
         .initial_mode(0.0, state)
         .ok()

@@ -22,10 +22,16 @@ pub struct RingReading {
 }
 
 /// Options of [`rub_map`]: the continuation's, and how finely each orbit is sampled.
+///
+/// The default continuation is [`ContinuationOptions::default`] with 20 corrector
+/// iterations (not 8): where a contact starts or ends (a grazing) the map is only once
+/// differentiable and Newton's convergence slows from quadratic (on the 8-mode S1 rotor the
+/// first correction past the grazing needed 9 to 12).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
 pub struct RubMapOptions {
-    /// The continuation's options ([`continue_orbit`](super::continue_orbit)).
+    /// The continuation's options ([`continue_orbit`](super::continue_orbit)); default: 20
+    /// corrector iterations.
     pub continuation: ContinuationOptions,
     /// Dense samples over each orbit's period (at least 4): knots of the located peak radius
     /// and the points where the normal force is read. Default 256.
@@ -35,7 +41,7 @@ pub struct RubMapOptions {
 impl Default for RubMapOptions {
     fn default() -> Self {
         Self {
-            continuation: ContinuationOptions::default(),
+            continuation: ContinuationOptions::default().with_max_iterations(20),
             samples: 256,
         }
     }

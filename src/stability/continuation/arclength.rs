@@ -6,6 +6,7 @@ use super::engine::{march, narrow, Flow, Growth, Mode, Probe, StepControl};
 use super::{canonical, crossings, model, SpecialKind};
 use crate::analysis::Progress;
 use crate::hybrid::{SimOptions, Variational, VariationalAlloc};
+use crate::stability::augmented::event_structure;
 use crate::stability::newton::{self, NewtonOptions, Rule, System};
 use crate::stability::orbit::newton_error;
 use crate::stability::{multipliers, Multiplier, StabilityError, StroboscopicMap, GRAZING_MARGIN};
@@ -147,7 +148,9 @@ pub struct BranchPoint {
     /// Contact onsets per orbit
     /// ([`RotorModel::is_contact_onset`](crate::hybrid::RotorModel::is_contact_onset)).
     pub contacts: usize,
-    /// The guards crossed over one orbit, in order from the section.
+    /// The guards crossed over one orbit, in order from the section; for an orbit without
+    /// events, the mode it stays in (`"in mode 1"`: free flight; `"in mode 2"` to `"in mode
+    /// 5"`: a permanent contact in that regime).
     #[cfg_attr(
         feature = "serde",
         serde(deserialize_with = "crate::serde_util::labels")
@@ -309,7 +312,7 @@ where
     ) -> Result<(Self, M), StabilityError> {
         let model = model(build, p0)?;
         let map = StroboscopicMap::new(&model, period, opts.sim)?;
-        let scale = map.reduce(&model.state_scale());
+        let scale = map.reduce(&model.error_scale().unwrap_or_else(|| model.state_scale()));
         let param_scale = opts
             .param_scale
             .unwrap_or(if p0 == 0.0 { 1.0 } else { p0.abs() });
@@ -387,7 +390,7 @@ where
             f: (&lin.value - &z).component_div(s),
             top,
             state,
-            structure: lin.events.iter().map(|e| e.kind).collect(),
+            structure: event_structure(&lin.events, lin.label),
             contacts: lin.events.iter().filter(|e| e.contact_onset).count(),
             min_margin: lin.min_margin(),
             jac: lin.jacobian,
@@ -741,9 +744,58 @@ where
         Flow::Go(next)
     }
 
+    /// Before the branch ends, a leap: where a contact starts (a grazing, above all the start
+    /// of a permanent contact, a full annular rub) the map is not twice differentiable and
+    /// Newton, its Jacobian taken on one side, can fail at every step across it. The leap
+    /// steps the parameter alone (by [`LEAPS`] of the largest step, in the branch's
+    /// direction), runs [`SETTLE`] periods there from the last orbit, and corrects the
+    /// parameter held fixed from where that run ends: past a grazing into a stable contact
+    /// the run lands near the orbit. The special point between is located as any other.
     fn stall(&mut self, cur: Self::Point, reason: StabilityError) -> Flow<Self::Point, BranchEnd> {
+        for fraction in LEAPS {
+            if let Ok(next) = leap(self.solver, &cur, &self.t, fraction) {
+                return self.accept(cur, next);
+            }
+        }
         Flow::Stop(self.solver.stalled(&cur.w, reason))
     }
+}
+
+/// The leaps tried at a stall, in fractions of the largest step (smallest first: the least
+/// of the branch skipped).
+const LEAPS: [f64; 3] = [0.25, 0.5, 1.0];
+
+/// Periods run before a leap's correction.
+const SETTLE: u64 = 200;
+
+/// The leap of [`Arclength::stall`] from `cur` with tangent `t`: the parameter stepped by
+/// `fraction` of the largest step, the state settled there, corrected at that parameter.
+fn leap<B, M, E>(
+    solver: &Solver<'_, B>,
+    cur: &Solved<M::Dim>,
+    t: &DVector<f64>,
+    fraction: f64,
+) -> Result<Solved<M::Dim>, StabilityError>
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    let k = cur.w.len() - 1;
+    let mut pred = cur.w.clone();
+    pred[k] += t[k].signum() * fraction * solver.opts.ds_max;
+    let at = model(solver.build, pred[k] * solver.param_scale)?;
+    let map = StroboscopicMap::new(&at, solver.period, solver.opts.sim)?;
+    let mut y = cur.eval.state.clone();
+    for _ in 0..SETTLE.div_ceil(solver.period) {
+        y = map.advance(&y)?.y;
+    }
+    let z = map.reduce(&y).component_div(&solver.scale);
+    pred.rows_mut(0, k).copy_from(&z);
+    let mut along_p = DVector::zeros(k + 1);
+    along_p[k] = 1.0;
+    solver.correct(&pred, &along_p, &pred, &y)
 }
 
 /// One end of a locator's bracket: the corrected point, its branch point and its $DP^n$.

@@ -98,7 +98,11 @@ pub(super) fn march<M: Mode>(mode: &mut M, first: M::Point, control: &StepContro
                     ds = half;
                     continue;
                 }
-                None => (mode.stall(cur, failure), false),
+                None => {
+                    // A stall the mode passed (a leap, a located grazing) starts afresh.
+                    ds = control.first;
+                    (mode.stall(cur, failure), false)
+                }
             },
         };
         match flow {

@@ -25,7 +25,8 @@ pub enum SpecialKind {
     /// A complex pair through the unit circle.
     NeimarkSacker,
     /// The event structure changes: a contact (or a regime boundary in contact) appears or
-    /// disappears, the margin of its event going to zero.
+    /// disappears, the margin of its event going to zero; or an orbit without events goes from
+    /// free flight into a permanent contact (a full annular rub starts) or back.
     Grazing,
 }
 

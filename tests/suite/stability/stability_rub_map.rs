@@ -10,9 +10,7 @@ use jeffcott::nalgebra::Complex;
 use jeffcott::nalgebra::{DMatrix, DVector};
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{LinearRotor, LinearSystem, RingedRotor, SmoothRotor};
-use jeffcott::stability::{
-    rub_map, ContinuationOptions, RingReading, RubMap, RubMapOptions, SpecialKind,
-};
+use jeffcott::stability::{rub_map, RingReading, RubMap, RubMapOptions, SpecialKind};
 
 /// Unit mass per axis, natural frequencies 1 (x) and 1.2 (y), damping 0.05, out-of-balance
 /// 0.05 (kg m), gap 0.5, ring stiffness 20 per unit and damping 0.05.
@@ -22,8 +20,17 @@ const KXY: [f64; 2] = [1.0, 1.44];
 const C: f64 = 0.05;
 
 fn model(speed: f64) -> Result<RingedRotor<LinearRotor>, String> {
+    rotor_with(KXY, speed)
+}
+
+/// The rotor with isotropic supports of stiffness `k`.
+fn isotropic(k: f64, speed: f64) -> Result<RingedRotor<LinearRotor>, String> {
+    rotor_with([k, k], speed)
+}
+
+fn rotor_with(stiffness: [f64; 2], speed: f64) -> Result<RingedRotor<LinearRotor>, String> {
     let m = DMatrix::identity(2, 2);
-    let k = DMatrix::from_diagonal(&DVector::from_row_slice(&KXY));
+    let k = DMatrix::from_diagonal(&DVector::from_row_slice(&stiffness));
     let c = DMatrix::identity(2, 2) * C;
     let f = ME * speed * speed;
     let system = LinearSystem::new(m, c, k, speed)
@@ -62,8 +69,9 @@ fn tight() -> SimOptions {
 
 fn map(from: f64, to: f64) -> RubMap {
     let guess = model(from).unwrap().rotor().steady_state().unwrap();
-    let opts = RubMapOptions::default().with_continuation(
-        ContinuationOptions::default()
+    let base = RubMapOptions::default();
+    let opts = base.with_continuation(
+        base.continuation
             .with_sim(tight())
             .with_ds_max(0.05)
             .with_max_points(400),
@@ -187,5 +195,45 @@ fn a_rub_orbit_is_the_attractor_and_its_multipliers_are_the_perturbations_rate()
         } else {
             assert!(mu > 1.0);
         }
+    }
+}
+
+/// With isotropic supports the free orbit is a circle: the rub starts as a permanent contact
+/// (a full annular rub, no onset event), a grazing all the same, located where the circle's
+/// radius $|X| = m e\Omega^2/|k - \Omega^2 + i c\Omega|$ reaches the gap (closed form, solved
+/// here for $\Omega$ in closed form: a quadratic in $\Omega^2$), to 1e-8 in speed; beyond it
+/// the orbit is in contact all the period.
+#[test]
+fn an_isotropic_rotors_full_annular_rub_starts_at_a_located_grazing() {
+    let k = 1.0;
+    let build = |speed: f64| isotropic(k, speed);
+    // |X| = gap: (me W^2)^2 = gap^2 ((k - W^2)^2 + c^2 W^2), a quadratic in u = W^2:
+    // (me^2 - gap^2) u^2 + gap^2 (2k - c^2) u - gap^2 k^2 = 0, the root below resonance.
+    let (a, b, c0) = (
+        ME * ME - GAP * GAP,
+        GAP * GAP * (2.0 * k - C * C),
+        -GAP * GAP * k * k,
+    );
+    let u = (-b + (b * b - 4.0 * a * c0).sqrt()) / (2.0 * a);
+    let graze = u.sqrt();
+    let guess = build(0.8).unwrap().rotor().steady_state().unwrap();
+    let base = RubMapOptions::default();
+    let opts = base.with_continuation(
+        base.continuation
+            .with_sim(tight())
+            .with_ds_max(0.05)
+            .with_max_points(60),
+    );
+    let rub = rub_map(build, (0.8, 1.0), &guess, 1, &opts, read, &()).unwrap();
+    let first = rub.branch.specials.first().expect("a special point");
+    println!("grazing {:.12} (closed form {graze:.12})", first.parameter);
+    assert_eq!(first.kind, SpecialKind::Grazing);
+    assert!(first.converged, "{:?}", first.unconverged);
+    assert!((first.parameter - graze).abs() <= 1e-8);
+    let beyond = rub.points.iter().filter(|p| p.parameter > graze + 1e-6);
+    assert!(beyond.clone().count() >= 3);
+    for p in beyond {
+        assert_eq!((p.contact_fraction, p.contacts), (1.0, 0));
+        assert!(p.amplitude > GAP && p.peak_force > 0.0);
     }
 }
