@@ -769,7 +769,7 @@ const LEAPS: [f64; 3] = [0.25, 0.5, 1.0];
 const SETTLE: u64 = 200;
 
 /// The leap of [`Arclength::stall`] from `cur` with tangent `t`: the parameter stepped by
-/// `fraction` of the largest step, the state settled there, corrected at that parameter.
+/// `fraction` of the largest step, the orbit found there by [`settled`].
 fn leap<B, M, E>(
     solver: &Solver<'_, B>,
     cur: &Solved<M::Dim>,
@@ -783,19 +783,39 @@ where
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
     let k = cur.w.len() - 1;
-    let mut pred = cur.w.clone();
-    pred[k] += t[k].signum() * fraction * solver.opts.ds_max;
-    let at = model(solver.build, pred[k] * solver.param_scale)?;
+    let p = cur.w[k] + t[k].signum() * fraction * solver.opts.ds_max;
+    settled(solver, p, &cur.eval.state)
+}
+
+/// The orbit at the scaled parameter `p` found the robust way, where Newton from a prediction
+/// fails at a non-smooth point: [`SETTLE`] periods run there from the full state `from`, then
+/// the correction with the parameter held fixed from where the run ended.
+fn settled<B, M, E>(
+    solver: &Solver<'_, B>,
+    p: f64,
+    from: &OVector<f64, M::Dim>,
+) -> Result<Solved<M::Dim>, StabilityError>
+where
+    B: Fn(f64) -> Result<M, E>,
+    E: std::fmt::Display,
+    M: Variational,
+    DefaultAllocator: VariationalAlloc<M::Dim>,
+{
+    let at = model(solver.build, p * solver.param_scale)?;
     let map = StroboscopicMap::new(&at, solver.period, solver.opts.sim)?;
-    let mut y = cur.eval.state.clone();
+    let mut y = from.clone();
     for _ in 0..SETTLE.div_ceil(solver.period) {
         y = map.advance(&y)?.y;
     }
-    let z = map.reduce(&y).component_div(&solver.scale);
-    pred.rows_mut(0, k).copy_from(&z);
+    let k = solver.scale.len();
+    let mut start = DVector::zeros(k + 1);
+    start
+        .rows_mut(0, k)
+        .copy_from(&map.reduce(&y).component_div(&solver.scale));
+    start[k] = p;
     let mut along_p = DVector::zeros(k + 1);
     along_p[k] = 1.0;
-    solver.correct(&pred, &along_p, &pred, &y)
+    solver.correct(&start, &along_p, &start, &y)
 }
 
 /// One end of a locator's bracket: the corrected point, its branch point and its $DP^n$.
@@ -848,8 +868,13 @@ where
         }
         let mid = (&near.w + &far.w) * 0.5;
         let normal = &far.w - &near.w;
+        let k = mid.len() - 1;
+        // Where the contact starts Newton may fail from the midpoint; the orbit a run settles
+        // to at the midpoint's parameter is then the probe (from either end's state).
         match solver
             .correct(&mid, &normal, &mid, &near.state)
+            .or_else(|e| settled(solver, mid[k], &near.state).map_err(|_| e))
+            .or_else(|e| settled(solver, mid[k], &far.state).map_err(|_| e))
             .and_then(|s| solver.point(&s, 0.0).map(|p| end(&s, &p)))
         {
             Ok(e) if same(&e.point) => Ok(Probe::Near(e)),
