@@ -12,7 +12,8 @@
 //! export has them, or following the speed (`--fe-bearing-mat SPEED:FILE`, one export per
 //! speed: `rotor::BearingTable`). With and without the ring. Prints a line per run and leg, and
 //! writes `fe_envelope.png` (with `fe_envelope.csv`): the largest radius of the ring's node in
-//! each revolution against its mean speed.
+//! each revolution against its mean speed; with `--fe-rub-map`, over the rotor's rub map
+//! ([`super::rub_map`]).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -55,6 +56,9 @@ pub struct Setup {
     /// Bearings that follow the speed: ROSS exports at these speeds (rad/s), their lateral
     /// stiffness and damping linear between them and held beyond them.
     pub bearings: Vec<(f64, PathBuf)>,
+    /// Whether to draw the rub map of the same rotor over a sweep's envelope
+    /// ([`super::rub_map`]).
+    pub rub_map: bool,
 }
 
 /// Strobes a revolution of a prescribed speed (the envelope's resolution; a driven rotor's
@@ -241,32 +245,69 @@ struct Reduced {
     ring: SnubberRing,
 }
 
+/// The rotor's matrices as exported, its bearings' table (if any) and its reduction, made with
+/// the bearings at the reference speed `top` (the modes and the state's scale there).
+pub struct Rotor {
+    pub lateral: RotorMatrices,
+    pub table: Option<BearingTable>,
+    pub cb: CraigBampton,
+}
+
+impl Rotor {
+    pub fn new(mat: &Path, setup: &Setup, top: f64) -> Result<Self, String> {
+        let lateral = lateral_of(mat)?;
+        let table = bearing_table(setup, lateral.dofs())?;
+        let at_top = at_speed(&lateral, table.as_ref(), top)?;
+        let x = at_top.x_dof(setup.ring_node).map_err(|e| e.to_string())?;
+        let modes = ModeSelection::Count(setup.modes);
+        let cb =
+            CraigBampton::from_rotor(&at_top, &[x, x + 1], modes).map_err(|e| e.to_string())?;
+        Ok(Self { lateral, table, cb })
+    }
+
+    /// The reduced system at `speed` with the out-of-balance, the bearings at that speed.
+    pub fn system(&self, setup: &Setup, speed: f64) -> Result<LinearSystem, String> {
+        let err = |e: jeffcott::rotor::RotorError| e.to_string();
+        let lateral = at_speed(&self.lateral, self.table.as_ref(), speed)?;
+        let (node, me, phase) = setup.unbalance;
+        let system = LinearSystem::from_matrices(&lateral, speed)
+            .and_then(|s| s.with_unbalance(lateral.layout(), node, me, phase))
+            .map_err(err)?;
+        self.cb.reduce(&system).map_err(err)
+    }
+}
+
+/// The matrices with the bearings of the table at `speed` (as exported without a table).
+fn at_speed(
+    lateral: &RotorMatrices,
+    table: Option<&BearingTable>,
+    speed: f64,
+) -> Result<RotorMatrices, String> {
+    match table {
+        Some(t) => t.matrices_at(lateral, speed).map_err(|e| e.to_string()),
+        None => Ok(lateral.clone()),
+    }
+}
+
+/// The ring of the setup (a gap of 1 m without it).
+pub fn ring_of(setup: &Setup, ring: bool) -> Result<SnubberRing, String> {
+    let gap = if ring { setup.gap } else { 1.0 };
+    SnubberRing::from_units(setup.ring_stiffness, setup.ring_damping, [0.0; 2], gap)
+        .map_err(|e| e.to_string())
+}
+
 fn reduced(mat: &Path, (law, setup): (&Law, &Setup), ring: bool) -> Result<Reduced, String> {
     let err = |e: jeffcott::rotor::RotorError| e.to_string();
-    let mut lateral = lateral_of(mat)?;
-    let table = bearing_table(setup, lateral.dofs())?;
     let top = law.reference();
-    if let Some(t) = &table {
-        // The modes and the state's scale with the bearings at the reference speed.
-        lateral = t.matrices_at(&lateral, top).map_err(err)?;
-    }
-    let x = lateral.x_dof(setup.ring_node).map_err(err)?;
-    let (node, me, phase) = setup.unbalance;
-    let system = LinearSystem::from_matrices(&lateral, top)
-        .and_then(|s| s.with_unbalance(lateral.layout(), node, me, phase))
-        .map_err(err)?;
-    let cb = CraigBampton::from_rotor(&lateral, &[x, x + 1], ModeSelection::Count(setup.modes))
-        .map_err(err)?;
-    let gap = if ring { setup.gap } else { 1.0 };
+    let r = Rotor::new(mat, setup, top)?;
     Ok(Reduced {
-        rotor: LinearRotor::new(cb.reduce(&system).map_err(err)?, [0, 1], [0.0; 2]).map_err(err)?,
-        g: cb.project(lateral.gyroscopic()).map_err(err)?,
-        table: table
-            .map(|t| cb.project_table(&t))
+        rotor: LinearRotor::new(r.system(setup, top)?, [0, 1], [0.0; 2]).map_err(err)?,
+        g: r.cb.project(r.lateral.gyroscopic()).map_err(err)?,
+        table: (r.table.as_ref())
+            .map(|t| r.cb.project_table(t))
             .transpose()
             .map_err(err)?,
-        ring: SnubberRing::from_units(setup.ring_stiffness, setup.ring_damping, [0.0; 2], gap)
-            .map_err(|e| e.to_string())?,
+        ring: ring_of(setup, ring)?,
     })
 }
 
@@ -369,7 +410,16 @@ pub fn run(mat: &Path, (law, setup): (&Law, &Setup), out: &Path) -> Result<(), S
             legs.push((format!("{name}, {leg}"), part));
         }
     }
-    draw(out, (law, setup), &legs)
+    let map = match law {
+        Law::Sweep { from, to, .. } if setup.rub_map => {
+            Some(super::rub_map::compute(mat, setup, (*from, *to))?)
+        }
+        _ if setup.rub_map => {
+            return Err("--fe-rub-map needs a sweep (not a table or a motor)".into())
+        }
+        _ => None,
+    };
+    draw(out, (law, setup), &legs, map.as_ref())
 }
 
 /// One line: the leg's peak radius, its speed, and the revolutions that touched.
@@ -398,6 +448,7 @@ fn draw(
     out: &Path,
     (law, setup): (&Law, &Setup),
     legs: &[(String, Vec<Revolution>)],
+    map: Option<&jeffcott::stability::RubMap>,
 ) -> Result<(), String> {
     let how = match law {
         Law::Sweep { from, to, rate } => format!("{from} ↔ {to} rad/s at {rate} rad/s²"),
@@ -420,7 +471,7 @@ fn draw(
         .with_columns("omega_rad_s", "radius_um")
         .with_log(false, true)
         .with_note(&format!("the ring's gap: {:.1} µm", setup.gap * 1e6));
-    let series: Vec<Series> = legs
+    let mut series: Vec<Series> = legs
         .iter()
         .map(|(label, revs)| {
             Series::new(
@@ -429,5 +480,6 @@ fn draw(
             )
         })
         .collect();
+    series.extend(map.into_iter().flat_map(super::rub_map::series));
     plot::lines(out.join("fe_envelope.png"), &fig, &series).map_err(|e| e.to_string())
 }

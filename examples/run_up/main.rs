@@ -42,7 +42,11 @@
 //! \Omega/\Omega_0)$ N m through the polar inertia $J$ kg m², from `--fe-from` for
 //! `--fe-duration` s, `rotor::DrivenLinearRotor`); the bearings may follow the speed
 //! (`--fe-bearing-mat SPEED:FILE`, repeated: ROSS exports of the rotor at several speeds, their
-//! lateral stiffness and damping linear between the speeds, `rotor::BearingTable`).
+//! lateral stiffness and damping linear between the speeds, `rotor::BearingTable`). With
+//! `--fe-rub-map` the sweep's rotor's rub map too (`stability::rub_map`: its steady orbits on
+//! the ring continued in speed from `--fe-from`, below the first contact, to `--fe-to`, with
+//! their stability and every grazing, fold, flip and Neimark-Sacker point printed), drawn over
+//! the envelopes (docs/rub-map.md).
 //!
 //! The scene flags are `simulate`'s (`--preset`, parameter overrides, `--rtol`, `--atol`,
 //! `--method`, the initial rotor state `--x0 --y0 --vx0 --vy0`, default at rest at the origin;
@@ -70,6 +74,7 @@ mod drive;
 mod envelope;
 mod fe;
 mod orders;
+mod rub_map;
 mod tour;
 
 use std::io::{self, BufWriter, Write};
@@ -195,6 +200,12 @@ struct Flags {
     /// speeds, held beyond them)
     #[arg(long, value_name = "SPEED:FILE", requires = "fe")]
     fe_bearing_mat: Vec<String>,
+    /// With --fe: also the rub map of the same rotor from --fe-from to --fe-to (its steady
+    /// orbits on the ring continued in speed, with their stability, grazings, folds, flips and
+    /// Neimark-Sacker points; stability::rub_map), drawn over the envelopes. --fe-from must be
+    /// below the first contact
+    #[arg(long, requires = "fe", conflicts_with_all = ["fe_profile", "fe_motor"])]
+    fe_rub_map: bool,
 }
 
 impl Flags {
@@ -492,6 +503,7 @@ fn fe_setup(flags: &Flags) -> fe::Setup {
         unbalance: (node as usize, me, phase),
         modes: flags.fe_modes,
         bearings: fe_bearings(flags),
+        rub_map: flags.fe_rub_map,
     }
 }
 

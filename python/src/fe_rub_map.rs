@@ -157,7 +157,8 @@ fn read(
 /// in seconds and the full 200-DOF model takes minutes. ``ds`` (default 0.01), ``ds_max``
 /// (0.2): arclength steps in coordinates scaled by the gap; ``max_points`` (2000);
 /// ``samples``: dense samples an orbit for its measures (256). ``rtol`` (1e-9), ``atol``
-/// (``rtol``), ``method``: the runs' (dop853 for a reduced rotor, radau5 for the full one).
+/// (``rtol``), ``method``: the runs' (dop853 for a reduced rotor, radau5 for the full one);
+/// the orbits are converged to 10 ``rtol`` (relative to the gap), above the runs' noise.
 ///
 /// Runs with the GIL released; Ctrl-C stops it between steps (``KeyboardInterrupt``).
 /// ``ValueError`` for bad input; ``SimulationError`` if no orbit is found at the start.
@@ -207,9 +208,12 @@ pub fn fe_rub_map(
         Some(max_points),
         bracket_width,
     )?;
-    let opts = base
-        .with_continuation(continuation.with_sim(sim))
-        .with_samples(samples);
+    // The corrector's tolerance above the runs' noise (a map integrated at rtol is no more
+    // exact than that).
+    let continuation = continuation
+        .with_sim(sim)
+        .with_atol((10.0 * rtol).max(1e-10));
+    let opts = base.with_continuation(continuation).with_samples(samples);
     let lateral = lateral_matrices([&M, &K, &C, &G], layout)?;
     let at = RingAt::new(
         ring_node,

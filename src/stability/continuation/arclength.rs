@@ -871,8 +871,25 @@ where
         let k = mid.len() - 1;
         // Where the contact starts Newton may fail from the midpoint; the orbit a run settles
         // to at the midpoint's parameter is then the probe (from either end's state).
+        // A correction farther from the midpoint than the ends (the hyperplane met the branch
+        // again, beyond them) is not a probe of this bracket.
+        let reach = 0.5 * (&far.w - &near.w).norm();
+        let inside = |s: Solved<M::Dim>| {
+            if (&s.w - &mid).norm() <= reach {
+                Ok(s)
+            } else {
+                Err(StabilityError::LeftBranch {
+                    parameter: s.w[k] * solver.param_scale,
+                    correction: (&s.w - &mid).norm(),
+                    max_correction: reach,
+                    minimal_period: solver.period,
+                    expected_period: solver.period,
+                })
+            }
+        };
         match solver
             .correct(&mid, &normal, &mid, &near.state)
+            .and_then(inside)
             .or_else(|e| settled(solver, mid[k], &near.state).map_err(|_| e))
             .or_else(|e| settled(solver, mid[k], &far.state).map_err(|_| e))
             .and_then(|s| solver.point(&s, 0.0).map(|p| end(&s, &p)))
