@@ -14,7 +14,7 @@ use jeffcott::paper::{ParamSweep, RotorStart, SweepParameter};
 use jeffcott::params::{Params, Preset, Scales};
 use jeffcott::stability::{
     continue_orbit, locate_loss, periodic_orbit, ContinuationOptions, LossOptions, LyapunovOptions,
-    NewtonOptions, OrbitOptions, SpecialKind, StroboscopicMap,
+    NewtonOptions, OrbitOptions, RubMap, RubMapOptions, RubPoint, SpecialKind, StroboscopicMap,
 };
 use jeffcott::JeffcottModel;
 use serde::{de::DeserializeOwned, Serialize};
@@ -281,6 +281,24 @@ fn continuation_points_round_trip() {
     assert!(!branch.specials.is_empty());
     let back = round_trip(&branch);
     assert_eq!(back.points[0].structure, ["contact onset", "contact loss"]);
+    // A rub map holds the branch and one measure per point.
+    let map = RubMap {
+        points: (branch.points.iter())
+            .map(|p| RubPoint {
+                parameter: p.parameter,
+                amplitude: 1.0 + p.parameter / 3.0,
+                contact_fraction: 0.1,
+                peak_force: 0.7,
+                stable: p.stable,
+                contacts: p.contacts,
+                grazing: p.grazing,
+            })
+            .collect(),
+        branch,
+        failures: vec![],
+    };
+    assert_eq!(round_trip(&map), map);
+    round_trip(&RubMapOptions::default());
 }
 
 /// Values a run cannot produce but a file may hold: a count above its array is refused.

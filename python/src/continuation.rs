@@ -86,9 +86,10 @@ fn special(py: Python<'_>, s: &SpecialPoint) -> PyResult<Py<SpecialPointPy>> {
     Py::new(py, point)
 }
 
-fn branch(py: Python<'_>, name: &str, b: &Branch) -> PyResult<ContinuedBranch> {
-    let p = &b.points;
-    let (end, end_reason) = match &b.end {
+/// How a branch ended, as Python reads it: "reached", "max-points", "stopped" or "stalled"
+/// (with the last parameter and the corrector's last failure).
+pub fn branch_end(end: &BranchEnd) -> (&'static str, Option<(f64, String)>) {
+    match end {
         BranchEnd::Reached => ("reached", None),
         BranchEnd::MaxPoints => ("max-points", None),
         BranchEnd::Stopped { .. } => ("stopped", None),
@@ -96,7 +97,12 @@ fn branch(py: Python<'_>, name: &str, b: &Branch) -> PyResult<ContinuedBranch> {
             ("stalled", Some((*parameter, reason.to_string())))
         }
         _ => ("other", None),
-    };
+    }
+}
+
+fn branch(py: Python<'_>, name: &str, b: &Branch) -> PyResult<ContinuedBranch> {
+    let p = &b.points;
+    let (end, end_reason) = branch_end(&b.end);
     Ok(ContinuedBranch {
         parameter_name: name.to_string(),
         period: b.period,

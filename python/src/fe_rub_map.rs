@@ -3,12 +3,12 @@
 
 use jeffcott::nalgebra::DVector;
 use jeffcott::rotor::{LinearRotor, RingedRotor, SmoothRotor};
-use jeffcott::stability::{rub_map, BranchEnd, RingReading, RubMap, RubMapOptions, SpecialPoint};
+use jeffcott::stability::{rub_map, RingReading, RubMap, RubMapOptions, SpecialPoint};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 
 use crate::arrays::array;
-use crate::continuation::options;
+use crate::continuation::{branch_end, options};
 use crate::errors::value_error;
 use crate::fe::{
     default_method, lateral_matrices, rotor_of, system_at, system_of, ArrayLike, Modes, ModesArg,
@@ -88,15 +88,7 @@ fn special(py: Python<'_>, s: &SpecialPoint) -> PyResult<Py<RubSpecialPoint>> {
 
 fn result(py: Python<'_>, map: &RubMap, reduction: crate::fe::Reduction) -> PyResult<FeRubMap> {
     let p = &map.points;
-    let (end, end_reason) = match &map.branch.end {
-        BranchEnd::Reached => ("reached", None),
-        BranchEnd::MaxPoints => ("max-points", None),
-        BranchEnd::Stopped { .. } => ("stopped", None),
-        BranchEnd::Stalled { parameter, reason } => {
-            ("stalled", Some((*parameter, reason.to_string())))
-        }
-        _ => ("other", None),
-    };
+    let (end, end_reason) = branch_end(&map.branch.end);
     let radius = map
         .branch
         .points

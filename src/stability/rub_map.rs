@@ -28,6 +28,7 @@ pub struct RingReading {
 /// differentiable and Newton's convergence slows from quadratic (on the 8-mode S1 rotor the
 /// first correction past the grazing needed 9 to 12).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub struct RubMapOptions {
     /// The continuation's options ([`continue_orbit`](super::continue_orbit)); default: 20
@@ -62,6 +63,7 @@ impl RubMapOptions {
 
 /// One orbit of the rub map, as measured at the ring.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RubPoint {
     /// The parameter (the speed).
     pub parameter: f64,
@@ -86,6 +88,7 @@ pub struct RubPoint {
 /// A rub map: the continued branch (its points, special points and end, as
 /// [`continue_orbit`](super::continue_orbit) returns them) and each point measured.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RubMap {
     /// The branch.
     pub branch: Branch,
