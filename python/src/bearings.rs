@@ -1,4 +1,4 @@
-//! Bearings whose stiffness and damping follow the speed, for ``fe_run_up``: the full
+//! Bearings whose stiffness and damping follow the speed, for ``fe_run_up`` and ``fe_rub_map``: the full
 //! matrices on a grid of speeds, cut to the lateral DOFs as the run's matrices are and
 //! projected by the run's reduction (the crate's ``rotor::BearingTable``).
 
@@ -82,6 +82,11 @@ impl Bearings {
     /// The lateral matrices `lateral` with the table's K and C at `speed` (the run's reference).
     pub fn lateral_at(&self, lateral: &RotorMatrices, speed: f64) -> PyResult<RotorMatrices> {
         self.table.matrices_at(lateral, speed).map_err(value_error)
+    }
+
+    /// The table of the lateral matrices (for a closure run without the GIL).
+    pub fn table(&self) -> &BearingTable {
+        &self.table
     }
 
     /// The table in the run's coordinates: as it is, or projected by the reduction `cb`.

@@ -4,10 +4,11 @@
 use jeffcott::nalgebra::DVector;
 use jeffcott::rotor::{LinearRotor, RingedRotor, SmoothRotor};
 use jeffcott::stability::{rub_map, RingReading, RubMap, RubMapOptions, SpecialPoint};
-use numpy::PyArray1;
+use numpy::{AllowTypeChange, PyArray1, PyArrayLike1};
 use pyo3::prelude::*;
 
 use crate::arrays::array;
+use crate::bearings::{Bearings, Stack};
 use crate::continuation::{branch_end, options};
 use crate::errors::value_error;
 use crate::fe::{
@@ -140,8 +141,9 @@ fn read(
 /// stability (the crate's ``stability::rub_map``).
 ///
 /// The rotor, the ring and the out-of-balance as ``fe_transient`` takes them (speeds in rad/s;
-/// the speed enters ``speed * G`` and the out-of-balance; the bearings are those of the
-/// matrices given). The branch starts at the rotor's linear steady orbit at ``speed_from``
+/// the speed enters ``speed * G`` and the out-of-balance), the bearings as given or following
+/// the speed as ``fe_run_up`` takes them (``bearing_speeds``, ``bearing_K``, ``bearing_C``;
+/// the reduction made with the bearings at the higher end of the range). The branch starts at the rotor's linear steady orbit at ``speed_from``
 /// (exact there when it clears the ring), or, with ``transient`` > 0, where a run from it
 /// settles after that many revolutions (a start in contact). ``modes`` > 0 (or "auto")
 /// reduces the rotor (Craig-Bampton, the ring node kept physical): the Jacobian is the dense
@@ -157,8 +159,8 @@ fn read(
 /// Returns a ``RubMap``.
 #[pyfunction]
 #[pyo3(
-    signature = (M, K, C, G, speed_from, speed_to, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, transient=0, ds=None, ds_max=0.2, max_points=2000, bracket_width=None, samples=256, rtol=1e-9, atol=None, method=None, layout="ross6"),
-    text_signature = "(M, K, C, G, speed_from, speed_to, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, transient=0, ds=None, ds_max=0.2, max_points=2000, bracket_width=None, samples=256, rtol=1e-09, atol=None, method=None, layout='ross6')"
+    signature = (M, K, C, G, speed_from, speed_to, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, bearing_speeds=None, bearing_K=None, bearing_C=None, transient=0, ds=None, ds_max=0.2, max_points=2000, bracket_width=None, samples=256, rtol=1e-9, atol=None, method=None, layout="ross6"),
+    text_signature = "(M, K, C, G, speed_from, speed_to, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, bearing_speeds=None, bearing_K=None, bearing_C=None, transient=0, ds=None, ds_max=0.2, max_points=2000, bracket_width=None, samples=256, rtol=1e-09, atol=None, method=None, layout='ross6')"
 )]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_rub_map(
@@ -178,6 +180,9 @@ pub fn fe_rub_map(
     ring_offset: (f64, f64),
     modes: ModesArg,
     mode_tolerance: f64,
+    bearing_speeds: Option<PyArrayLike1<'_, f64, AllowTypeChange>>,
+    bearing_K: Option<Stack<'_>>,
+    bearing_C: Option<Stack<'_>>,
     transient: u64,
     ds: Option<f64>,
     ds_max: f64,
@@ -206,7 +211,20 @@ pub fn fe_rub_map(
         .with_sim(sim)
         .with_atol((10.0 * rtol).max(1e-10));
     let opts = base.with_continuation(continuation).with_samples(samples);
-    let lateral = lateral_matrices([&M, &K, &C, &G], layout)?;
+    let exported = lateral_matrices([&M, &K, &C, &G], layout)?;
+    let bearings = Bearings::from_args(
+        (&M, &G),
+        layout,
+        (bearing_speeds, bearing_K.as_ref(), bearing_C.as_ref()),
+    )?;
+    let table = bearings.as_ref().map(Bearings::table);
+    // The matrices at a speed: the bearings there where they follow it.
+    let at_speed = |speed: f64| match table {
+        Some(t) => t.matrices_at(&exported, speed),
+        None => Ok(exported.clone()),
+    };
+    // The reduction's modes with the bearings at the higher end of the range.
+    let lateral = at_speed(speed_from.max(speed_to)).map_err(value_error)?;
     let at = RingAt::new(
         ring_node,
         [gap, ring_stiffness, ring_damping],
@@ -218,7 +236,9 @@ pub fn fe_rub_map(
     let (_, cb, reduction) = py.detach(|| rotor_of(&lateral, first, &at, (modes, &speeds)))?;
     let x = lateral.x_dof(ring_node).map_err(value_error)?;
     let build = |speed: f64| -> Result<RingedRotor<LinearRotor>, String> {
-        let system = system_of(&lateral, speed, &unbalance).map_err(|e| e.to_string())?;
+        let system = at_speed(speed)
+            .and_then(|l| system_of(&l, speed, &unbalance))
+            .map_err(|e| e.to_string())?;
         let rotor = match &cb {
             Some(cb) => {
                 let reduced = cb.reduce(&system).map_err(|e| e.to_string())?;

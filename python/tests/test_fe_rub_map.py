@@ -73,6 +73,34 @@ def test_the_first_contact_is_where_numpys_linear_response_reaches_the_gap(mats,
     assert m.failures == [] and m.modes == 0 and m.mode_error == 0.0
 
 
+def test_bearings_that_follow_the_speed_move_the_first_contact_as_numpy_says():
+    # The supports 20 % stiffer at 10 rad/s than at 6, linear between (as BearingTable
+    # interpolates): numpy's response with K(w) at each speed is the truth.
+    M, K, C, G = anisotropic()
+    K10 = K.copy()
+    K10[:2, :2] *= 1.2
+
+    def k_at(w):
+        return K + (w - 6.0) / 4.0 * (K10 - K)
+
+    def radius(w):
+        return free_radius((M, k_at(w), C, G), w)
+
+    lo, hi = 6.0, 9.99
+    assert radius(lo) < GAP < radius(hi)
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if radius(mid) < GAP else (lo, mid)
+    graze = 0.5 * (lo + hi)
+    m = rub_map((M, K, C, G), 6.0, 9.99, max_points=80, bearing_speeds=[6.0, 10.0],
+                bearing_K=[K, K10], bearing_C=[C, C])
+    first = m.specials[0]
+    assert first.kind == "grazing" and first.converged, first.unconverged
+    assert abs(first.speed - graze) <= 1e-8, (first.speed, graze)
+    # Without the table the contact comes elsewhere: the bearings were followed.
+    assert abs(graze - first_contact(anisotropic(), 6.0, 9.9)) > 1e-3
+
+
 def test_bad_input_is_a_value_error():
     M, K, C, G = matrices()
     with pytest.raises(ValueError, match="speed"):
