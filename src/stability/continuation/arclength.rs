@@ -481,6 +481,23 @@ where
         })
     }
 
+    /// The error of a correction that landed at the scaled point `w`, `correction` away from
+    /// where it was aimed, more than `max_correction`: it left the branch (or the bracket).
+    fn left_branch(
+        &self,
+        w: &DVector<f64>,
+        correction: f64,
+        max_correction: f64,
+    ) -> StabilityError {
+        StabilityError::LeftBranch {
+            parameter: w[w.len() - 1] * self.param_scale,
+            correction,
+            max_correction,
+            minimal_period: self.period,
+            expected_period: self.period,
+        }
+    }
+
     /// The end of a branch that stalled at the scaled point `w` for `reason`.
     fn stalled(&self, w: &DVector<f64>, reason: StabilityError) -> BranchEnd {
         BranchEnd::Stalled {
@@ -582,14 +599,7 @@ where
     let jump = (&s.w - &pred).amax();
     let largest = ds.max(10.0 * solver.opts.atol);
     if jump > largest {
-        let k = s.w.len() - 1;
-        return Err(StabilityError::LeftBranch {
-            parameter: s.w[k] * solver.param_scale,
-            correction: jump,
-            max_correction: largest,
-            minimal_period: solver.period,
-            expected_period: solver.period,
-        });
+        return Err(solver.left_branch(&s.w, jump, largest));
     }
     Ok(s)
 }
@@ -869,22 +879,17 @@ where
         let mid = (&near.w + &far.w) * 0.5;
         let normal = &far.w - &near.w;
         let k = mid.len() - 1;
-        // Where the contact starts Newton may fail from the midpoint; the orbit a run settles
-        // to at the midpoint's parameter is then the probe (from either end's state).
         // A correction farther from the midpoint than the ends (the hyperplane met the branch
-        // again, beyond them) is not a probe of this bracket.
+        // again, beyond them) is not a probe of this bracket. Where it is not, or Newton fails
+        // (where a contact starts), the probe is the orbit a run settles to at the midpoint's
+        // parameter (from either end's state).
         let reach = 0.5 * (&far.w - &near.w).norm();
         let inside = |s: Solved<M::Dim>| {
-            if (&s.w - &mid).norm() <= reach {
+            let off = (&s.w - &mid).norm();
+            if off <= reach {
                 Ok(s)
             } else {
-                Err(StabilityError::LeftBranch {
-                    parameter: s.w[k] * solver.param_scale,
-                    correction: (&s.w - &mid).norm(),
-                    max_correction: reach,
-                    minimal_period: solver.period,
-                    expected_period: solver.period,
-                })
+                Err(solver.left_branch(&s.w, off, reach))
             }
         };
         match solver
