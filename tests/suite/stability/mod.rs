@@ -10,5 +10,6 @@ mod stability_lyapunov;
 mod stability_models;
 mod stability_orbits;
 mod stability_progress;
+mod stability_rub_fold;
 mod stability_rub_map;
 mod stability_saltation;

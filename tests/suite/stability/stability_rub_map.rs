@@ -14,21 +14,32 @@ use jeffcott::stability::{rub_map, RingReading, RubMap, RubMapOptions, SpecialKi
 
 /// Unit mass per axis, natural frequencies 1 (x) and 1.2 (y), damping 0.05, out-of-balance
 /// 0.05 (kg m), gap 0.5, ring stiffness 20 per unit and damping 0.05.
-const ME: f64 = 0.05;
-const GAP: f64 = 0.5;
+pub(super) const ME: f64 = 0.05;
+pub(super) const GAP: f64 = 0.5;
 const KXY: [f64; 2] = [1.0, 1.44];
-const C: f64 = 0.05;
+pub(super) const C: f64 = 0.05;
+/// The ring's damping per unit.
+pub(super) const RING_DAMPING: f64 = 0.05;
+
+/// The ring's stiffness per unit.
+const RING_STIFFNESS: f64 = 20.0;
 
 fn model(speed: f64) -> Result<RingedRotor<LinearRotor>, String> {
-    rotor_with(KXY, speed)
+    rotor_with(KXY, RING_STIFFNESS, speed)
 }
 
 /// The rotor with isotropic supports of stiffness `k`.
 fn isotropic(k: f64, speed: f64) -> Result<RingedRotor<LinearRotor>, String> {
-    rotor_with([k, k], speed)
+    rotor_with([k, k], RING_STIFFNESS, speed)
 }
 
-fn rotor_with(stiffness: [f64; 2], speed: f64) -> Result<RingedRotor<LinearRotor>, String> {
+/// The rotor with supports of stiffness `stiffness` (x, y) on a ring of stiffness
+/// `ring_stiffness` per unit, at `speed`.
+pub(super) fn rotor_with(
+    stiffness: [f64; 2],
+    ring_stiffness: f64,
+    speed: f64,
+) -> Result<RingedRotor<LinearRotor>, String> {
     let m = DMatrix::identity(2, 2);
     let k = DMatrix::from_diagonal(&DVector::from_row_slice(&stiffness));
     let c = DMatrix::identity(2, 2) * C;
@@ -37,7 +48,8 @@ fn rotor_with(stiffness: [f64; 2], speed: f64) -> Result<RingedRotor<LinearRotor
         .and_then(|s| s.with_harmonic_force(0, Complex::new(f, 0.0)))
         .and_then(|s| s.with_harmonic_force(1, Complex::new(0.0, -f)))
         .map_err(|e| e.to_string())?;
-    let ring = SnubberRing::from_units(20.0, 0.05, [0.0, 0.0], GAP).map_err(|e| e.to_string())?;
+    let ring = SnubberRing::from_units(ring_stiffness, RING_DAMPING, [0.0, 0.0], GAP)
+        .map_err(|e| e.to_string())?;
     LinearRotor::new(system, [0, 1], [0.0, 0.0])
         .and_then(|r| r.ringed(ring))
         .map_err(|e| e.to_string())
@@ -56,14 +68,18 @@ fn free_amplitude(speed: f64) -> f64 {
     ((x.norm_sqr() + y.norm_sqr() + (x * x + y * y).norm()) / 2.0).sqrt()
 }
 
-fn read(m: &RingedRotor<LinearRotor>, y: &DVector<f64>, c: bool) -> Result<RingReading, String> {
+pub(super) fn read(
+    m: &RingedRotor<LinearRotor>,
+    y: &DVector<f64>,
+    c: bool,
+) -> Result<RingReading, String> {
     Ok(RingReading {
         station: m.rotor().station(y),
         normal_force: m.normal_force(y, c).map_err(|e| e.to_string())?,
     })
 }
 
-fn tight() -> SimOptions {
+pub(super) fn tight() -> SimOptions {
     SimOptions::default().with_rtol(1e-11).with_atol(1e-11)
 }
 
