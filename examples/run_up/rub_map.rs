@@ -61,7 +61,7 @@ pub fn compute(mat: &Path, setup: &Setup, (from, to): (f64, f64)) -> Result<RubM
         .with_atol(1e-8);
     let opts = base.with_continuation(continuation.with_max_points(5000));
     let clock = Instant::now();
-    let progress = StderrProgress::new("rub map (points)");
+    let progress = StderrProgress::new("rub map (thousandths of the way)");
     let map =
         rub_map(build, (from, to), &guess, 1, &opts, read, &progress).map_err(|e| e.to_string())?;
     println!(

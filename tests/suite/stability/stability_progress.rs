@@ -16,7 +16,7 @@ use jeffcott::stability::{
     StabilityError,
 };
 
-/// Records every update; asks to stop once `stop_after` units are done (never if `None`), or
+/// Records every update; asks to stop after `stop_after` updates (never if `None`), or
 /// (`stop_in_bisection`) at the second question with no update since the last (the first
 /// question a special point's bisection asks).
 #[derive(Default)]
@@ -35,8 +35,8 @@ impl Progress for Recorder {
 
     fn should_stop(&self) -> bool {
         let asked = self.questions_since_update.fetch_add(1, Ordering::SeqCst) + 1;
-        let done = self.updates.lock().unwrap().last().map_or(0, |u| u.0);
-        self.stop_after.is_some_and(|n| done >= n) || (self.stop_in_bisection && asked >= 2)
+        let updates = self.updates.lock().unwrap().len();
+        self.stop_after.is_some_and(|n| updates >= n) || (self.stop_in_bisection && asked >= 2)
     }
 }
 
@@ -129,8 +129,53 @@ fn a_stopped_branch_holds_the_points_computed_before_the_stop() {
     assert_eq!(branch.points, shorter.points);
     let last = branch.points[2].parameter;
     assert_eq!(branch.end, BranchEnd::Stopped { parameter: last });
-    let expected: Vec<_> = (1..=3).map(|k| (k, 5000)).collect();
-    assert_eq!(*observer.updates.lock().unwrap(), expected);
+    assert_eq!(
+        *observer.updates.lock().unwrap(),
+        thousandths(&branch.points, 2.0, 2.3, 5000)
+    );
+}
+
+/// The progress a branch from `from` to `to` reports at each of its points, as documented: the
+/// thousandths of the larger of the points' share of `max_points` and the share of the way to
+/// `to` reached so far.
+fn thousandths(
+    points: &[jeffcott::stability::BranchPoint],
+    from: f64,
+    to: f64,
+    max_points: usize,
+) -> Vec<(usize, usize)> {
+    let mut reach = 0.0f64;
+    (1..=points.len())
+        .map(|k| {
+            reach = reach.max((points[k - 1].parameter - from) / (to - from));
+            let share = (k as f64 / max_points as f64).max(reach).min(1.0);
+            ((1000.0 * share).floor() as usize, 1000)
+        })
+        .collect()
+}
+
+/// A branch that reaches its end in far fewer points than `max_points` says so: its progress
+/// follows the parameter's way to the end, 1000 of 1000 at the last point (counted in points
+/// it showed a few per cent there).
+#[test]
+fn a_branch_reports_its_way_to_the_end_not_its_share_of_max_points() {
+    let (build, guess) = fig8a_start();
+    let observer = Recorder::default();
+    let opts = ContinuationOptions::default();
+    let branch =
+        continue_orbit_with_progress(&build, 2.0, 2.3, &guess, 1, &opts, &observer).unwrap();
+    assert_eq!(branch.end, BranchEnd::Reached);
+    assert!(
+        branch.points.len() < opts.max_points / 10,
+        "{}",
+        branch.points.len()
+    );
+    let updates = observer.updates.lock().unwrap();
+    assert_eq!(
+        *updates,
+        thousandths(&branch.points, 2.0, 2.3, opts.max_points)
+    );
+    assert_eq!(updates.last(), Some(&(1000, 1000)));
 }
 
 #[test]
