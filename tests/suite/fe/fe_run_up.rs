@@ -18,7 +18,8 @@ use jeffcott::numeric::eigen_decomposition;
 use jeffcott::ode::Method;
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{
-    LinearRotor, LinearSystem, ProfiledLinearRotor, RingedRotor, SmoothRotor, SpeedProfile,
+    CraigBampton, LinearRotor, LinearSystem, ProfiledLinearRotor, RingedRotor, RotorMatrices,
+    SmoothRotor, SpeedProfile,
 };
 
 use super::fe_reduction_s1::reduction;
@@ -112,9 +113,22 @@ pub(super) fn at_speed_with(
     s1: &S1,
     modes: usize,
     speed: f64,
+    stiffness_damping: (&DMatrix<f64>, &DMatrix<f64>),
+) -> LinearRotor {
+    let (cb, model) = reduction(s1, modes);
+    let basis = (&cb, model.rotor().ring_offset());
+    reduced_at(s1, &s1.lateral(), basis, speed, stiffness_damping)
+}
+
+/// The full system of `lateral` at `speed` ($C + \Omega G$, S1's unbalance $m e\Omega^2$)
+/// reduced by the basis `cb`, the ring at reduced coordinates 0 and 1 with `offset`.
+pub(super) fn reduced_at(
+    s1: &S1,
+    lateral: &RotorMatrices,
+    (cb, offset): (&CraigBampton, [f64; 2]),
+    speed: f64,
     (stiffness, damping): (&DMatrix<f64>, &DMatrix<f64>),
 ) -> LinearRotor {
-    let lateral = s1.lateral();
     // The expression of `LinearSystem::from_matrices`: D = C + G speed.
     let d = damping + lateral.gyroscopic() * speed;
     let mut system =
@@ -127,9 +141,8 @@ pub(super) fn at_speed_with(
             .with_unbalance(lateral.layout(), node, me, phase)
             .unwrap();
     }
-    let (cb, model) = reduction(s1, modes);
     let reduced = cb.reduce(&system).unwrap();
-    LinearRotor::new(reduced, [0, 1], model.rotor().ring_offset()).unwrap()
+    LinearRotor::new(reduced, [0, 1], offset).unwrap()
 }
 
 /// A constant profile at 1.3 times S1's speed (above the first critical: the gyroscopic

@@ -17,6 +17,7 @@ mod fe_modal_exact;
 mod fe_reduction;
 mod fe_reduction_s1;
 mod fe_reduction_table;
+mod fe_rub_map;
 mod fe_run_up;
 mod fe_s1;
 mod fe_stability_margin;
