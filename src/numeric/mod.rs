@@ -1,6 +1,6 @@
 //! The crate's scalar numerical tools, below every other layer (it imports nothing of the
 //! crate): one bracketing root finder, one bisection helper, one non-symmetric
-//! eigen-decomposition, the cubic Hermite interpolant, and the direction type of a sign change.
+//! eigen-decomposition and one Krylov eigensolver, the cubic Hermite interpolant, and the direction type of a sign change.
 //!
 //! * [`illinois`] — the bracketing root finder (Illinois-modified regula falsi with a bisection
 //!   safeguard) for a continuous scalar function with a sign change on a bracket: the event
@@ -17,6 +17,10 @@
 //!   non-symmetric matrix (balancing, then faer's complex Schur form and back-substitution), with
 //!   the eigenvector matrix's condition number and the backward error: the modal closed form of
 //!   a linear rotor's free flight ([`crate::rotor::LinearClosedForm`]) rests on it.
+//! * [`arnoldi`] — the eigenvalues of largest modulus of an operator known by its action
+//!   (Krylov, matrix-free): the dominant Floquet multipliers of a large model
+//!   ([`stability::dominant_multipliers`](crate::stability::dominant_multipliers)) without its
+//!   dense monodromy matrix.
 //! * [`hermite_weights`], [`hermite_slope_weights`] — the cubic Hermite interpolant of an
 //!   interval from the values and slopes at its ends: Poincaré sections located between samples
 //!   ([`analysis::section_crossings_hermite`](crate::analysis::section_crossings_hermite)) and
@@ -43,12 +47,14 @@
 //! # Ok::<(), jeffcott::numeric::NumericError>(())
 //! ```
 
+mod arnoldi;
 mod bisect;
 mod eigen;
 mod hermite;
 pub(crate) mod lu;
 mod roots;
 
+pub use arnoldi::{arnoldi, ArnoldiOptions, RitzValues};
 pub use bisect::{bisect, Bisection, Side};
 pub use eigen::{eigen_decomposition, EigenDecomposition};
 pub use hermite::{hermite_slope_weights, hermite_weights};
@@ -56,6 +62,7 @@ pub use roots::{illinois, Bracket, RootOptions};
 
 /// Errors of the numerical tools.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum NumericError {
     /// The root finder's input has no sign change: `fa` is zero or NaN, or `fb` is NaN or of the
@@ -102,6 +109,28 @@ pub enum NumericError {
         /// The column of the zero pivot.
         column: usize,
     },
+    /// An input of [`arnoldi`] out of range.
+    #[error("arnoldi: {field:?} = {value} is out of range (count in 1..=n, tol > 0, a non-zero finite start, actions of the start's size and finite)")]
+    InvalidArnoldi {
+        /// The input.
+        field: ArnoldiInput,
+        /// Its value.
+        value: f64,
+    },
+}
+
+/// The inputs of [`arnoldi`] that [`NumericError::InvalidArnoldi`] names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum ArnoldiInput {
+    /// [`ArnoldiOptions::count`]: 0, or above the operator's size (the value given).
+    Count,
+    /// [`ArnoldiOptions::tol`]: not positive and finite.
+    Tol,
+    /// The start vector: its norm zero or non-finite (the norm given).
+    Start,
+    /// An action: of another size than the start (its size given) or with a non-finite entry.
+    Action,
 }
 
 /// Direction of a sign change of a scalar function $g$ (the crate's one direction type): which

@@ -128,6 +128,10 @@ pub enum StabilityError {
     /// The multipliers could not be computed.
     #[error(transparent)]
     Floquet(#[from] FloquetError),
+    /// A numeric tool failed or was given options out of range (the Krylov eigensolver of
+    /// [`dominant_multipliers`](super::dominant_multipliers)).
+    #[error(transparent)]
+    Numeric(#[from] crate::numeric::NumericError),
     /// A run of the map ended without its stroboscopic point (the driver returned without
     /// reaching the section): a condition of the run, not of an option.
     #[error("the run of {periods} forcing periods produced no stroboscopic point")]

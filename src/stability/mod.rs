@@ -20,6 +20,7 @@
 //! | [`saltation()`] | the saltation matrix of one event, any dimension, typed grazing flag |
 //! | [`StroboscopicMap`] | $P^n$ on the non-algebraic components and its Jacobian $DP^n$ (or $DP^n Q$) |
 //! | [`periodic_orbit`] | Newton on $P^n(z) - z$: point, residual, multipliers, grazing margins |
+//! | [`dominant_multipliers`] | the multipliers of largest modulus matrix-free: Arnoldi on the Jacobian-vector products $DP^n q$, never the dense $DP^n$ (large models) |
 //! | [`lyapunov_exponents`] | QR (Benettin) spectrum with batch-means errors, two-trajectory check |
 //! | [`continue_orbit`], [`switch_at_flip`] | the continuation core: pseudo-arclength along a parameter (a closure builds the model) through folds, with fold, flip, Neimark–Sacker and grazing located, and branch switching at a flip |
 //! | [`lyapunov_exponents_with_progress`], [`continue_orbit_with_progress`] | the same with a [`Progress`](crate::analysis::Progress) observer, told of each period or point and asked between them whether to stop (Ctrl-C, a time limit): a stopped run returns what it computed ([`StabilityError::Stopped`], [`BranchEnd::Stopped`]) |
@@ -373,6 +374,7 @@
 
 mod augmented;
 mod continuation;
+mod dominant;
 mod error;
 mod floquet;
 mod lyapunov;
@@ -389,6 +391,7 @@ pub use continuation::{
     BranchFailure, BranchPoint, Continuation, ContinuationOptions, ContinuationPoint, LossOptions,
     SpecialKind, SpecialPoint, StabilityLoss,
 };
+pub use dominant::{dominant_multipliers, DominantMultipliers};
 pub use error::StabilityError;
 pub use floquet::{multipliers, CrossingKind, FloquetError, Multiplier};
 pub use lyapunov::{

@@ -6,10 +6,14 @@
 
 use jeffcott::hybrid::{ModelError, SimOptions};
 use jeffcott::nalgebra::{Complex, DVector};
+use jeffcott::numeric::ArnoldiOptions;
 use jeffcott::ode::Method;
 use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{CraigBampton, LinearRotor, RingedRotor, RotorMatrices, SmoothRotor};
-use jeffcott::stability::{rub_map, RingReading, RubMapOptions, SpecialKind};
+use jeffcott::stability::{
+    dominant_multipliers, multipliers, rub_map, RingReading, RubMapOptions, SpecialKind,
+    StroboscopicMap,
+};
 
 use super::fe_reduction_s1::reduction;
 use super::fe_run_up::reduced_at;
@@ -17,7 +21,7 @@ use super::fe_s1::S1;
 
 const MODES: usize = 8;
 
-/// S1's rotor reduced to [`MODES`] modes, built at any speed by one basis.
+/// S1's rotor reduced, built at any speed by one basis.
 struct Rotor {
     s1: S1,
     lateral: RotorMatrices,
@@ -26,9 +30,9 @@ struct Rotor {
 }
 
 impl Rotor {
-    fn new() -> Self {
+    fn new(modes: usize) -> Self {
         let s1 = S1::load();
-        let (cb, model) = reduction(&s1, MODES);
+        let (cb, model) = reduction(&s1, modes);
         // S1's ring is centred and the rotor has no constant force: the orbits are centred.
         assert_eq!(model.rotor().ring_offset(), [0.0, 0.0]);
         let ring = *model.ring();
@@ -57,7 +61,7 @@ impl Rotor {
 /// reaches the gap, to 1e-8 rad/s.
 #[test]
 fn the_first_contact_of_the_ross_rotor_is_where_its_unbalance_response_reaches_the_gap() {
-    let rotor = Rotor::new();
+    let rotor = Rotor::new(MODES);
     let gap = rotor.s1.gap;
     let (mut lo, mut hi) = (77.0, 78.0);
     assert!(rotor.steady_radius(lo) < gap && rotor.steady_radius(hi) > gap);
@@ -98,4 +102,64 @@ fn the_first_contact_of_the_ross_rotor_is_where_its_unbalance_response_reaches_t
     );
     assert!(first.converged, "{:?}", first.unconverged);
     assert!((first.parameter - graze).abs() <= 1e-8);
+}
+
+/// The dominant Floquet multipliers by Arnoldi on Jacobian-vector products
+/// (`dominant_multipliers`) against the eigenvalues of the dense Jacobian of the same map
+/// (`StroboscopicMap::linearize`, then `multipliers`), on S1's rotor reduced to 24 modes at
+/// 100 rad/s, over the revolution after two from rest, in which it bounces into a permanent
+/// contact (5 events, each with its saltation in both paths): each to 1e-8, in fewer actions
+/// than the map has components.
+#[test]
+fn arnoldis_dominant_multipliers_are_the_dense_monodromys() {
+    let rotor = Rotor::new(24);
+    let model = rotor.at(100.0).ringed(rotor.ring).unwrap();
+    let sim = SimOptions::default()
+        .with_method(Method::Dop853)
+        .with_rtol(1e-12)
+        .with_atol(1e-12);
+    let mut y = model.rotor().rest_state();
+    model.make_consistent(&mut y).unwrap();
+    let y = StroboscopicMap::new(&model, 2, sim)
+        .unwrap()
+        .advance(&y)
+        .unwrap()
+        .y;
+    let dense = StroboscopicMap::new(&model, 1, sim)
+        .unwrap()
+        .linearize(&y)
+        .unwrap();
+    let components = dense.jacobian.nrows();
+    assert!(dense.events.len() >= 3, "{} events", dense.events.len());
+    let reference = multipliers(&dense.jacobian).unwrap();
+    let opts = ArnoldiOptions {
+        count: 6,
+        max_dim: 60,
+        tol: 1e-10,
+    };
+    let found = dominant_multipliers(&model, &y, 1, sim, &opts).unwrap();
+    println!(
+        "{components} components, {} events; {} actions, residuals up to {:.1e}",
+        dense.events.len(),
+        found.actions,
+        found.residuals.iter().fold(0.0f64, |a, &b| a.max(b))
+    );
+    assert!(found.converged && found.actions < components);
+    assert_eq!(found.multipliers.len(), 6);
+    // Matched to the nearest dense one (a conjugate pair's order is rounding's).
+    for m in &found.multipliers {
+        let err = reference
+            .iter()
+            .map(|r| (m.re - r.re).hypot(m.im - r.im))
+            .fold(f64::INFINITY, f64::min);
+        println!("{:.12} {:+.12}i: {err:.1e} from the dense one", m.re, m.im);
+        assert!(err <= 1e-8);
+    }
+    // And they are the dense ones of largest modulus.
+    let smallest = found
+        .multipliers
+        .iter()
+        .map(|m| m.modulus())
+        .fold(f64::INFINITY, f64::min);
+    assert!(reference[6].modulus() <= smallest + 1e-8);
 }
