@@ -1,6 +1,7 @@
 //! The crate's scalar numerical tools, below every other layer (it imports nothing of the
 //! crate): one bracketing root finder, one bisection helper, one non-symmetric
-//! eigen-decomposition and one Krylov eigensolver, the cubic Hermite interpolant, and the direction type of a sign change.
+//! eigen-decomposition and one Krylov eigensolver, the cubic Hermite interpolant, and the
+//! direction type of a sign change.
 //!
 //! * [`illinois`] — the bracketing root finder (Illinois-modified regula falsi with a bisection
 //!   safeguard) for a continuous scalar function with a sign change on a bracket: the event

@@ -1022,11 +1022,11 @@ where
 
 /// [`continue_orbit`] with an observer: `progress` is told `(done, 1000)` after each point
 /// of the branch, `done` the thousandths of the branch done (the larger of the points' share
-/// of `max_points` and the share of the way from `from` to `to` reached), and asked ([`Progress::should_stop`]) before each step and each
-/// bisection step of a special point's location whether to stop. Once it says yes (it is not
-/// asked again), the branch ends with [`BranchEnd::Stopped`] at the next point; a special
-/// point whose location it cut short is unconverged, with [`StabilityError::Stopped`]. The
-/// start's Newton is not cut short. Until the stop the results are those of
+/// of `max_points` and the share of the way from `from` to `to` reached), and asked
+/// ([`Progress::should_stop`]) before each step and each bisection step of a special point's
+/// location whether to stop. Once it says yes (it is not asked again), the branch ends with
+/// [`BranchEnd::Stopped`] at the next point; a special point whose location it cut short is
+/// unconverged, with [`StabilityError::Stopped`]. The start's Newton is not cut short. Until the stop the results are those of
 /// [`continue_orbit`], bit for bit.
 ///
 /// # Errors

@@ -7,9 +7,11 @@
 use jeffcott::hybrid::{simulate, DenseSampling, OutputPlan, Trajectory};
 use jeffcott::nalgebra::{DMatrix, DVector, Dyn};
 use jeffcott::rotor::{LinearRotor, RingedRotor, SpeedProfile};
-use jeffcott::stability::{rub_map, BranchPoint, RubMap, RubMapOptions, SpecialKind};
+use jeffcott::stability::{rub_map, BranchPoint, RubMap, SpecialKind};
 
-use super::stability_rub_map::{read, rotor_with, tight, C, GAP, ME, RING_DAMPING};
+use super::stability_rub_map::{
+    isotropic_grazings, options, read, rotor_with, tight, C, GAP, ME, RING_DAMPING,
+};
 
 /// The ring's stiffness per unit: soft enough for a fold just above the first critical.
 const KS: f64 = 2.0;
@@ -55,27 +57,7 @@ fn closed_form_fold() -> f64 {
 
 fn map() -> RubMap {
     let guess = model(0.8).unwrap().rotor().steady_state().unwrap();
-    let base = RubMapOptions::default();
-    let opts = base.with_continuation(
-        base.continuation
-            .with_sim(tight())
-            .with_ds_max(0.05)
-            .with_max_points(400),
-    );
-    rub_map(model, (0.8, 1.6), &guess, 1, &opts, read, &()).unwrap()
-}
-
-/// The free orbit's radius $m e\Omega^2/|1 - \Omega^2 + ic\Omega|$ reaches the gap below and
-/// above the critical speed: the roots of $(m^2e^2 - g^2)u^2 + g^2(2 - c^2)u - g^2 = 0$ in
-/// $u = \Omega^2$ (smaller first).
-fn free_orbit_grazings() -> [f64; 2] {
-    let (a, b, c0) = (ME * ME - GAP * GAP, GAP * GAP * (2.0 - C * C), -GAP * GAP);
-    let root = (b * b - 4.0 * a * c0).sqrt();
-    // a < 0: the root with +sqrt is the smaller.
-    [
-        ((-b + root) / (2.0 * a)).sqrt(),
-        ((-b - root) / (2.0 * a)).sqrt(),
-    ]
+    rub_map(model, (0.8, 1.6), &guess, 1, &options(400), read, &()).unwrap()
 }
 
 /// The branch from below the first critical: a full annular rub from the first grazing up to
@@ -87,7 +69,7 @@ fn free_orbit_grazings() -> [f64; 2] {
 #[test]
 fn the_rub_branch_folds_where_the_closed_forms_roots_meet() {
     let fold = closed_form_fold();
-    let grazings = free_orbit_grazings();
+    let grazings = isotropic_grazings(1.0);
     let rub = map();
     assert!(rub.failures.is_empty(), "{:?}", rub.failures);
     let specials = &rub.branch.specials;

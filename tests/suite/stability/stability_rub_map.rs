@@ -12,17 +12,14 @@ use jeffcott::ring::SnubberRing;
 use jeffcott::rotor::{LinearRotor, LinearSystem, RingedRotor, SmoothRotor};
 use jeffcott::stability::{rub_map, RingReading, RubMap, RubMapOptions, SpecialKind};
 
-/// Unit mass per axis, natural frequencies 1 (x) and 1.2 (y), damping 0.05, out-of-balance
-/// 0.05 (kg m), gap 0.5, ring stiffness 20 per unit and damping 0.05.
+// Unit mass per axis, natural frequencies 1 (x) and 1.2 (y), damping 0.05, out-of-balance
+// 0.05 (kg m), gap 0.5, ring stiffness 20 per unit and damping 0.05.
 pub(super) const ME: f64 = 0.05;
 pub(super) const GAP: f64 = 0.5;
 const KXY: [f64; 2] = [1.0, 1.44];
 pub(super) const C: f64 = 0.05;
-/// The ring's damping per unit.
-pub(super) const RING_DAMPING: f64 = 0.05;
-
-/// The ring's stiffness per unit.
 const RING_STIFFNESS: f64 = 20.0;
+pub(super) const RING_DAMPING: f64 = 0.05;
 
 fn model(speed: f64) -> Result<RingedRotor<LinearRotor>, String> {
     rotor_with(KXY, RING_STIFFNESS, speed)
@@ -83,16 +80,38 @@ pub(super) fn tight() -> SimOptions {
     SimOptions::default().with_rtol(1e-11).with_atol(1e-11)
 }
 
-fn map(from: f64, to: f64) -> RubMap {
-    let guess = model(from).unwrap().rotor().steady_state().unwrap();
+/// The maps' options: runs at 1e-11, steps up to 0.05, at most `max_points` orbits.
+pub(super) fn options(max_points: usize) -> RubMapOptions {
     let base = RubMapOptions::default();
-    let opts = base.with_continuation(
+    base.with_continuation(
         base.continuation
             .with_sim(tight())
             .with_ds_max(0.05)
-            .with_max_points(400),
+            .with_max_points(max_points),
+    )
+}
+
+fn map(from: f64, to: f64) -> RubMap {
+    let guess = model(from).unwrap().rotor().steady_state().unwrap();
+    rub_map(model, (from, to), &guess, 1, &options(400), read, &()).unwrap()
+}
+
+/// An isotropic rotor's free circle of radius $m e\Omega^2/|k - \Omega^2 + i c\Omega|$ reaches
+/// the gap below and above its critical speed: $|X| = g$ is
+/// $(m^2e^2 - g^2)u^2 + g^2(2k - c^2)u - g^2k^2 = 0$, a quadratic in $u = \Omega^2$ whose roots
+/// are both positive ($m e < g$). The two speeds, smaller first.
+pub(super) fn isotropic_grazings(k: f64) -> [f64; 2] {
+    let (a, b, c0) = (
+        ME * ME - GAP * GAP,
+        GAP * GAP * (2.0 * k - C * C),
+        -GAP * GAP * k * k,
     );
-    rub_map(model, (from, to), &guess, 1, &opts, read, &()).unwrap()
+    let root = (b * b - 4.0 * a * c0).sqrt();
+    // a < 0: the root with +sqrt is the smaller.
+    [
+        ((-b + root) / (2.0 * a)).sqrt(),
+        ((-b - root) / (2.0 * a)).sqrt(),
+    ]
 }
 
 /// The first grazing is where the free orbit's ellipse reaches the gap: located to 1e-8 in
@@ -223,24 +242,9 @@ fn a_rub_orbit_is_the_attractor_and_its_multipliers_are_the_perturbations_rate()
 fn an_isotropic_rotors_full_annular_rub_starts_at_a_located_grazing() {
     let k = 1.0;
     let build = |speed: f64| isotropic(k, speed);
-    // |X| = gap: (me W^2)^2 = gap^2 ((k - W^2)^2 + c^2 W^2), a quadratic in u = W^2:
-    // (me^2 - gap^2) u^2 + gap^2 (2k - c^2) u - gap^2 k^2 = 0, the root below resonance.
-    let (a, b, c0) = (
-        ME * ME - GAP * GAP,
-        GAP * GAP * (2.0 * k - C * C),
-        -GAP * GAP * k * k,
-    );
-    let u = (-b + (b * b - 4.0 * a * c0).sqrt()) / (2.0 * a);
-    let graze = u.sqrt();
+    let graze = isotropic_grazings(k)[0];
     let guess = build(0.8).unwrap().rotor().steady_state().unwrap();
-    let base = RubMapOptions::default();
-    let opts = base.with_continuation(
-        base.continuation
-            .with_sim(tight())
-            .with_ds_max(0.05)
-            .with_max_points(60),
-    );
-    let rub = rub_map(build, (0.8, 1.0), &guess, 1, &opts, read, &()).unwrap();
+    let rub = rub_map(build, (0.8, 1.0), &guess, 1, &options(60), read, &()).unwrap();
     let first = rub.branch.specials.first().expect("a special point");
     println!("grazing {:.12} (closed form {graze:.12})", first.parameter);
     assert_eq!(first.kind, SpecialKind::Grazing);
