@@ -147,6 +147,8 @@ pub(crate) struct Zero<X> {
     pub(crate) residual: f64,
     pub(crate) iterations: u32,
     pub(crate) evaluations: u32,
+    /// The evaluations of the full [`System`] among them.
+    pub(crate) full_evaluations: u32,
 }
 
 /// How [`solve`] steps and stops.
@@ -206,18 +208,66 @@ fn check<E>(opts: &NewtonOptions) -> Result<(), NewtonError<E>> {
 /// `u`. Used by [`newton_fixed_point`] and the continuation's corrector.
 pub(crate) fn solve<X, E>(
     u0: &DVector<f64>,
-    mut eval: impl FnMut(&DVector<f64>) -> Result<System<X>, E>,
+    eval: impl FnMut(&DVector<f64>) -> Result<System<X>, E>,
     rule: &Rule<'_>,
 ) -> Result<Zero<X>, NewtonError<E>> {
+    solve_held(
+        u0,
+        eval,
+        None::<Held<fn(&DVector<f64>) -> Result<DVector<f64>, E>>>,
+        rule,
+    )
+}
+
+/// A Newton matrix held over the steps ([`solve_held`]): the simplified (chord) Newton.
+pub(crate) struct Held<R> {
+    /// The matrix to start from: $\partial G/\partial u$ at a point near `u0` (a branch's
+    /// previous point).
+    pub(crate) matrix: DMatrix<f64>,
+    /// $G(u)$ alone: far cheaper than the [`System`] where the matrix is the variational
+    /// equations' (one run instead of one with a column per component).
+    pub(crate) residual: R,
+}
+
+/// Whether a held matrix still serves: the scaled residual of a chord step must fall at least
+/// by this factor, or the matrix is refreshed where the step landed (as Hairer's RADAU5 does
+/// with its contraction estimate).
+const CHORD_CONTRACTION: f64 = 0.5;
+
+/// [`solve`], with the Newton matrix `held` over the steps when given (the simplified Newton:
+/// each step one evaluation of $G$ alone), refreshed by `eval` where a step does not contract
+/// by [`CHORD_CONTRACTION`] or the held matrix is singular, and `eval` taken once more at the
+/// zero (its [`System`] is returned). Without `held`, every step evaluates the [`System`]:
+/// Newton itself.
+pub(crate) fn solve_held<X, E, R>(
+    u0: &DVector<f64>,
+    mut eval: impl FnMut(&DVector<f64>) -> Result<System<X>, E>,
+    held: Option<Held<R>>,
+    rule: &Rule<'_>,
+) -> Result<Zero<X>, NewtonError<E>>
+where
+    R: FnMut(&DVector<f64>) -> Result<DVector<f64>, E>,
+{
     check(rule.opts)?;
     let opts = rule.opts;
-    let mut evaluations = 0u32;
-    let mut eval = |u: &DVector<f64>, evaluations: &mut u32| {
+    let (mut evaluations, mut full_evaluations) = (0u32, 0u32);
+    let chord = held.is_some();
+    let (mut residual_of, held_matrix) = match held {
+        Some(h) => (Some(h.residual), Some(h.matrix)),
+        None => (None, None),
+    };
+    // One evaluation at `u`: the full System (`full`), or G alone with the held matrix.
+    let mut at = |u: &DVector<f64>, full: bool, evaluations: &mut u32| {
         *evaluations += 1;
-        eval(u).map_err(|error| NewtonError::Map {
+        full_evaluations += u32::from(full || residual_of.is_none());
+        let map_error = |error| NewtonError::Map {
             at: u.clone(),
             error,
-        })
+        };
+        match residual_of.as_mut() {
+            Some(residual) if !full => residual(u).map(Point::Residual).map_err(map_error),
+            _ => eval(u).map(Point::Full).map_err(map_error),
+        }
     };
     let not_converged = |last, residual, iterations, reason| NewtonError::NotConverged {
         last,
@@ -227,18 +277,31 @@ pub(crate) fn solve<X, E>(
         reason,
     };
     let mut u = u0.clone();
-    let mut current = eval(&u, &mut evaluations)?;
-    let mut scaled = rule.scaled(&current.residual, &u);
+    let mut current = at(&u, held_matrix.is_none(), &mut evaluations)?;
+    let mut matrix = match &current {
+        Point::Full(s) => s.matrix.clone(),
+        Point::Residual(_) => held_matrix.unwrap_or_default(),
+    };
+    let mut lu = matrix.clone().lu();
+    let mut scaled = rule.scaled(current.residual(), &u);
     let mut iterations = 1u32;
     loop {
-        let residual = current.residual.amax();
+        let residual = current.residual().amax();
         if scaled <= 1.0 {
+            let system = match current {
+                Point::Full(s) => s,
+                Point::Residual(_) => match at(&u, true, &mut evaluations)? {
+                    Point::Full(s) => s,
+                    Point::Residual(_) => unreachable!("a full evaluation asked"),
+                },
+            };
             return Ok(Zero {
                 u,
-                system: current,
+                system,
                 residual,
                 iterations,
                 evaluations,
+                full_evaluations,
             });
         }
         if !residual.is_finite() {
@@ -257,15 +320,25 @@ pub(crate) fn solve<X, E>(
                 "iteration limit reached",
             ));
         }
-        let step = current.matrix.clone().lu().solve(&(-&current.residual));
-        let Some(step) = step.filter(|s| !rule.line_search || s.iter().all(|v| v.is_finite()))
-        else {
-            return Err(NewtonError::Singular { at: u, residual });
+        let fresh = matches!(current, Point::Full(_));
+        let solved = lu.solve(&(-current.residual()));
+        let step = solved.filter(|s| !rule.line_search || s.iter().all(|v| v.is_finite()));
+        let Some(step) = step else {
+            if fresh {
+                return Err(NewtonError::Singular { at: u, residual });
+            }
+            // A held matrix singular here: the one at this iterate instead.
+            current = at(&u, true, &mut evaluations)?;
+            if let Point::Full(s) = &current {
+                matrix.copy_from(&s.matrix);
+                lu = matrix.clone().lu();
+            }
+            continue;
         };
         let trial = |factor: f64| {
             let trial = &u + &step * factor;
-            let value = eval(&trial, &mut evaluations)?;
-            let st = rule.scaled(&value.residual, &trial);
+            let value = at(&trial, !chord, &mut evaluations)?;
+            let st = rule.scaled(value.residual(), &trial);
             Ok((trial, value, st))
         };
         let Some((ut, value, st)) = halve(trial, rule, scaled)? else {
@@ -273,15 +346,55 @@ pub(crate) fn solve<X, E>(
                 "no step lowers the residual (it is at the map's noise, or the guess is poor)";
             return Err(not_converged(u, residual, iterations, reason));
         };
-        u = ut;
-        current = value;
-        scaled = st;
+        let stale = chord && st > CHORD_CONTRACTION * scaled;
+        if chord && !stale {
+            broyden(
+                &mut matrix,
+                &(&ut - &u),
+                &(value.residual() - current.residual()),
+            );
+        }
+        (u, current, scaled) = (ut, value, st);
+        if stale && scaled > 1.0 {
+            current = at(&u, true, &mut evaluations)?;
+        }
+        if let Point::Full(s) = &current {
+            matrix.copy_from(&s.matrix);
+        }
+        lu = matrix.clone().lu();
         iterations += 1;
     }
 }
 
+/// Broyden's ("good") rank-one update of the Newton matrix `b` by a step `s` and the change
+/// `y` of the residual it made: $B \leftarrow B + (y - Bs)\,s^T / s^Ts$, the least change
+/// of $B$ with $Bs = y$. It turns the held matrix's linear convergence superlinear, and
+/// leaves exact rows (a linear constraint's) exact.
+fn broyden(b: &mut DMatrix<f64>, s: &DVector<f64>, y: &DVector<f64>) {
+    let ss = s.norm_squared();
+    if ss > 0.0 && ss.is_finite() {
+        let r = y - &*b * s;
+        b.ger(1.0 / ss, &r, s, 1.0);
+    }
+}
+
+/// One evaluation of [`solve_held`]: the full [`System`], or the residual alone.
+enum Point<X> {
+    Full(System<X>),
+    Residual(DVector<f64>),
+}
+
+impl<X> Point<X> {
+    fn residual(&self) -> &DVector<f64> {
+        match self {
+            Point::Full(s) => &s.residual,
+            Point::Residual(g) => g,
+        }
+    }
+}
+
 /// A trial step of [`solve`]: the point, the system there and its scaled residual.
-type Trial<X> = (DVector<f64>, System<X>, f64);
+type Trial<X> = (DVector<f64>, Point<X>, f64);
 
 /// The full step, halved (with the line search) until it lowers the scaled residual
 /// `scaled`; `None` if no halving does.
@@ -412,6 +525,76 @@ mod tests {
             }
             other => panic!("{other:?}"),
         }
+    }
+
+    /// [`map`]'s fixed-point system $G = P(z) - z$ and its residual alone.
+    fn system(z: &DVector<f64>) -> Result<System<()>, ()> {
+        let m = map(z)?;
+        Ok(System {
+            residual: &m.value - z,
+            matrix: &m.jacobian - DMatrix::identity(2, 2),
+            extra: (),
+        })
+    }
+
+    fn held(matrix: DMatrix<f64>) -> Held<impl FnMut(&DVector<f64>) -> Result<DVector<f64>, ()>> {
+        Held {
+            matrix,
+            residual: |z: &DVector<f64>| system(z).map(|s| s.residual),
+        }
+    }
+
+    #[test]
+    fn a_held_matrix_reaches_newtons_zero_and_returns_the_system_there() {
+        let opts = NewtonOptions::default();
+        let ones = DVector::from_element(2, 1.0);
+        let rule = Rule {
+            opts: &opts,
+            scale: &ones,
+            constraint: None,
+            line_search: false,
+        };
+        let guess = DVector::from_vec(vec![1.1, 1.9]);
+        // The matrix of a point 0.05 away: near, not exact.
+        let near = system(&DVector::from_vec(vec![1.05, 1.95])).unwrap().matrix;
+        let newton = solve(&guess, system, &rule).unwrap();
+        let chord = solve_held(&guess, system, Some(held(near)), &rule).unwrap();
+        assert!((&chord.u - &newton.u).amax() < 1e-11);
+        // One full evaluation, at the zero: its matrix is the map's there.
+        assert_eq!(chord.full_evaluations, 1);
+        let exact = system(&chord.u).unwrap().matrix;
+        assert_eq!(chord.system.matrix, exact);
+        assert_eq!(newton.full_evaluations, newton.evaluations);
+    }
+
+    #[test]
+    fn a_held_matrix_that_does_not_contract_is_refreshed() {
+        let opts = NewtonOptions::default();
+        let ones = DVector::from_element(2, 1.0);
+        let rule = Rule {
+            opts: &opts,
+            scale: &ones,
+            constraint: None,
+            line_search: false,
+        };
+        let guess = DVector::from_vec(vec![1.1, 1.9]);
+        // Three times the true matrix: each chord step a third of Newton's, the residual
+        // falling by about 2/3 a step, too slowly.
+        let wrong = system(&guess).unwrap().matrix * 3.0;
+        let chord = solve_held(&guess, system, Some(held(wrong)), &rule).unwrap();
+        assert!((chord.u[0] - 1.0).abs() < 1e-12 && (chord.u[1] - 2.0).abs() < 1e-12);
+        assert!(chord.full_evaluations >= 2, "{}", chord.full_evaluations);
+    }
+
+    #[test]
+    fn broydens_update_meets_the_secant_and_keeps_an_exact_row() {
+        let mut b = DMatrix::from_row_slice(2, 2, &[1.0, 2.0, 3.0, 4.0]);
+        let s = DVector::from_vec(vec![0.5, -1.0]);
+        // The second row's change is exactly its row times s: that row must not move.
+        let y = DVector::from_vec(vec![2.0, 3.0 * 0.5 - 4.0]);
+        broyden(&mut b, &s, &y);
+        assert!((&b * &s - &y).amax() < 1e-15);
+        assert_eq!(b.row(1), DMatrix::from_row_slice(1, 2, &[3.0, 4.0]).row(0));
     }
 
     #[test]

@@ -7,7 +7,7 @@ use super::{canonical, crossings, model, SpecialKind};
 use crate::analysis::Progress;
 use crate::hybrid::{SimOptions, Variational, VariationalAlloc};
 use crate::stability::augmented::event_structure;
-use crate::stability::newton::{self, NewtonOptions, Rule, System};
+use crate::stability::newton::{self, Held, NewtonOptions, Rule, System};
 use crate::stability::orbit::newton_error;
 use crate::stability::{multipliers, Multiplier, StabilityError, StroboscopicMap, GRAZING_MARGIN};
 
@@ -257,14 +257,11 @@ where
     min_margin: f64,
 }
 
-/// The bordered Jacobian of the continuation at `e`: $[F_w\ F_p]$ over `row`, the
-/// constraint's normal (corrector) or the previous tangent (tangent).
-fn bordered<D: nalgebra::Dim>(e: &Eval<D>, row: &DVector<f64>) -> DMatrix<f64>
-where
-    DefaultAllocator: VariationalAlloc<D>,
-{
-    let k = e.f.len();
-    let mut a = e.top.clone().insert_row(k, 0.0);
+/// The bordered Jacobian of the continuation of `top` $= [F_w\ F_p]$ (an [`Eval`]'s): `top`
+/// over `row`, the constraint's normal (corrector) or the previous tangent (tangent).
+fn bordered(top: &DMatrix<f64>, row: &DVector<f64>) -> DMatrix<f64> {
+    let k = top.nrows();
+    let mut a = top.clone().insert_row(k, 0.0);
     for j in 0..=k {
         a[(k, j)] = row[j];
     }
@@ -279,6 +276,9 @@ where
     w: DVector<f64>,
     eval: Eval<D>,
     iterations: u32,
+    /// Whether the full evaluation was made before the zero (Newton itself, or a held
+    /// matrix refreshed): a correction harder than a simplified Newton's few steps.
+    refreshed: bool,
 }
 
 /// The branch's model builder, period, options and scales.
@@ -397,10 +397,27 @@ where
         })
     }
 
-    /// The one Newton (full steps) on $F(w) = 0$, $n\cdot(w - c) = 0$ from `start`.
+    /// $F$ alone at the scaled point `w` (one run of the map, no variational equations).
+    fn residual(
+        &self,
+        w: &DVector<f64>,
+        template: &OVector<f64, M::Dim>,
+    ) -> Result<DVector<f64>, StabilityError> {
+        let (z, p) = self.unscaled(w);
+        let at_p = model(self.build, p)?;
+        let map = StroboscopicMap::new(&at_p, self.period, self.opts.sim)?;
+        let end = map.advance(&map.state(template, &z))?;
+        Ok((map.reduce(&end.y) - &z).component_div(&self.scale))
+    }
+
+    /// The one Newton (full steps) on $F(w) = 0$, $n\cdot(w - c) = 0$ from `start`; with
+    /// `held` (the $[F_w\ F_p]$ of a point near `start`, e.g. the branch's previous point) the
+    /// simplified Newton on it, each step one run of the map instead of one with the
+    /// variational equations and $F_p$'s two, the full evaluation made once at the zero
+    /// (and where a step does not contract).
     fn correct(
         &self,
-        start: &DVector<f64>,
+        (start, held): (&DVector<f64>, Option<&DMatrix<f64>>),
         normal: &DVector<f64>,
         c: &DVector<f64>,
         template: &OVector<f64, M::Dim>,
@@ -422,23 +439,31 @@ where
                 let residual = e.f.clone().push(normal.dot(&(w - c)));
                 System {
                     residual,
-                    matrix: bordered(&e, normal),
+                    matrix: bordered(&e.top, normal),
                     extra: e,
                 }
             })
         };
-        let zero = newton::solve(start, eval, &rule).map_err(newton_error)?;
+        let held = held.map(|top| Held {
+            matrix: bordered(top, normal),
+            residual: |w: &DVector<f64>| {
+                let f = self.residual(w, template)?;
+                Ok(f.push(normal.dot(&(w - c))))
+            },
+        });
+        let zero = newton::solve_held(start, eval, held, &rule).map_err(newton_error)?;
         Ok(Solved {
             w: zero.u,
             eval: zero.system.extra,
             iterations: zero.iterations - 1,
+            refreshed: zero.full_evaluations > 1,
         })
     }
 
     /// The unit tangent at a solved point, oriented along `prev`.
     fn tangent(&self, e: &Eval<M::Dim>, prev: &DVector<f64>) -> DVector<f64> {
         let k = e.f.len();
-        let a = bordered(e, prev);
+        let a = bordered(&e.top, prev);
         let mut rhs = DVector::<f64>::zeros(k + 1);
         rhs[k] = 1.0;
         match a.lu().solve(&rhs) {
@@ -595,7 +620,7 @@ where
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
     let pred = &cur.w + t * ds;
-    let s = solver.correct(&pred, t, &pred, &cur.eval.state)?;
+    let s = solver.correct((&pred, Some(&cur.eval.top)), t, &pred, &cur.eval.state)?;
     let jump = (&s.w - &pred).amax();
     let largest = ds.max(10.0 * solver.opts.atol);
     if jump > largest {
@@ -751,7 +776,8 @@ where
     }
 
     fn easy(&self, next: &Solved<M::Dim>) -> bool {
-        next.iterations <= 3
+        // A held matrix converges linearly: more steps, each one run, for the same ease.
+        next.iterations <= 3 || (!next.refreshed && next.iterations <= 6)
     }
 
     fn accept(&mut self, cur: Self::Point, next: Self::Point) -> Flow<Self::Point, BranchEnd> {
@@ -849,7 +875,7 @@ where
     start[k] = p;
     let mut along_p = DVector::zeros(k + 1);
     along_p[k] = 1.0;
-    solver.correct(&start, &along_p, &start, &y)
+    solver.correct((&start, None), &along_p, &start, &y)
 }
 
 /// One end of a locator's bracket: the corrected point, its branch point and its $DP^n$.
@@ -906,7 +932,10 @@ where
         // A correction farther from the midpoint than the ends (the hyperplane met the branch
         // again, beyond them) is not a probe of this bracket. Where it is not, or Newton fails
         // (where a contact starts), the probe is the orbit a run settles to at the midpoint's
-        // parameter (from either end's state).
+        // parameter (from either end's state). Newton itself, not the simplified Newton of the
+        // steps: held from an end, at a fold where a contact starts (an isotropic rotor's
+        // rub branch turning where it meets the free orbit), it found probes that never
+        // narrowed the bracket.
         let reach = 0.5 * (&far.w - &near.w).norm();
         let inside = |s: Solved<M::Dim>| {
             let off = (&s.w - &mid).norm();
@@ -917,7 +946,7 @@ where
             }
         };
         match solver
-            .correct(&mid, &normal, &mid, &near.state)
+            .correct((&mid, None), &normal, &mid, &near.state)
             .and_then(inside)
             .or_else(|e| settled(solver, mid[k], &near.state).map_err(|_| e))
             .or_else(|e| settled(solver, mid[k], &far.state).map_err(|_| e))
@@ -1068,7 +1097,9 @@ where
     // The start at fixed p: the constraint row is e_p.
     let mut normal = DVector::<f64>::zeros(k + 1);
     normal[k] = 1.0;
-    let first = solver.correct(&w, &normal, &w, guess).map_err(no_start)?;
+    let first = solver
+        .correct((&w, None), &normal, &w, guess)
+        .map_err(no_start)?;
     let dir = (to - from).signum();
     Ok(follow(&solver, first, dir, (from.min(to), from.max(to))))
 }
@@ -1163,7 +1194,7 @@ where
     let mut last = None;
     for amplitude in [1e-3, 3e-3, 1e-2, 3e-2, 0.1] {
         let start = base + normal * amplitude;
-        match solver.correct(&start, normal, &start, template) {
+        match solver.correct((&start, None), normal, &start, template) {
             Ok(s) => {
                 // Not the period-n orbit again: P^n(z) differs from z.
                 let e = single.eval(&s.w, &s.eval.state)?;
