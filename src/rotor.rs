@@ -363,6 +363,26 @@ where
         let _ = (t, y, contact, jac);
         false
     }
+
+    /// The product $J\,V$ of [`SmoothRotor::jacobian`]'s $J$ (with `contact` as there) and
+    /// the columns of $V$, written into `out` (every row outside the ring slots'; both
+    /// column-major, as many rows as the state, `v` as long as `out`), without
+    /// forming $J$: the variational equations $V^\prime = JV$ of a rotor with hundreds of
+    /// coordinates, where $J$'s structure (a second-order system's identity block, the
+    /// contact's rank-two coupling) makes the product a fraction of the dense one. Returns
+    /// `false` (the default, writing nothing): the product is then the dense one of
+    /// [`SmoothRotor::jacobian`]'s matrix.
+    fn jacobian_product(
+        &self,
+        t: f64,
+        y: &OVector<f64, Self::Dim>,
+        contact: Option<&ForceJacobian>,
+        v: &[f64],
+        out: &mut [f64],
+    ) -> bool {
+        let _ = (t, y, contact, v, out);
+        false
+    }
 }
 
 /// A [`SmoothRotor`] with the snubber ring at its station: a [`RotorModel`] whose modes are the
@@ -1293,6 +1313,30 @@ impl<R> RingedRotor<R> {
     }
 }
 
+impl<R: SmoothRotor> RingedRotor<R>
+where
+    DefaultAllocator: Allocator<R::Dim>,
+{
+    /// The ring force's Jacobian in `mode` at `y` ([`SnubberRing::force_jacobian`] on the
+    /// mode's branches): `Some(None)` out of contact, `None` where the ring cannot be placed
+    /// on the branches.
+    pub(crate) fn force_jacobian(
+        &self,
+        mode: RingMode,
+        y: &OVector<f64, R::Dim>,
+        cache: &RingCache,
+    ) -> Option<Option<ForceJacobian>> {
+        match mode {
+            RingMode::Contact(branches) => {
+                let k = self.rotor.station(y);
+                let c = self.ring.contact_on(branches, &k.r, cache).ok()?;
+                Some(Some(self.ring.force_jacobian(&c, &k.v)))
+            }
+            _ => Some(None),
+        }
+    }
+}
+
 impl<R: SmoothRotor> RotorModel for RingedRotor<R>
 where
     DefaultAllocator: Allocator<R::Dim>,
@@ -1614,15 +1658,8 @@ where
         jac: &mut JacobianMut<'_, R::Dim>,
         cache: &RingCache,
     ) -> bool {
-        let force = match mode {
-            RingMode::Contact(branches) => {
-                let k = self.rotor.station(y);
-                match self.ring.contact_on(branches, &k.r, cache) {
-                    Ok(c) => Some(self.ring.force_jacobian(&c, &k.v)),
-                    Err(_) => return false,
-                }
-            }
-            _ => None,
+        let Some(force) = self.force_jacobian(mode, y, cache) else {
+            return false;
         };
         if !self.rotor.jacobian(t, y, force.as_ref(), jac) {
             return false;

@@ -130,6 +130,26 @@ where
         field_differences(field, y, self.difference_step(), jac, work);
     }
 
+    /// The right-hand side of the variational equations, $JV$: the Jacobian of the field of
+    /// `mode` at $(t, y)$ ([`Variational::rhs_jacobian`]) times the variation `v`, written
+    /// into `out` (`jac` is scratch). Only the rows of the non-algebraic components are used.
+    /// Default: the Jacobian into `jac`, then the dense product; a model whose Jacobian has
+    /// structure (a large rotor's) overrides it with a product that does not form $J$.
+    #[allow(clippy::too_many_arguments)]
+    fn rhs_jacobian_product(
+        &self,
+        mode: Self::Mode,
+        t: f64,
+        y: &OVector<f64, Self::Dim>,
+        v: &OMatrix<f64, Self::Dim, Dyn>,
+        out: &mut OMatrix<f64, Self::Dim, Dyn>,
+        jac: &mut OMatrix<f64, Self::Dim, Self::Dim>,
+        (cache, work): (&Self::Cache, &mut Workspace<Self::Dim>),
+    ) {
+        self.rhs_jacobian(mode, t, y, jac, cache, work);
+        out.gemm(1.0, jac, v, 0.0);
+    }
+
     /// The gradient $\nabla_y g$ of guard `i` of `mode` at $(t, y)$, written into `grad`, and
     /// $\partial g/\partial t$, returned: the guard as a function of the **full** state, in
     /// which algebraic components stand for themselves (a guard that reads a relaxing ring

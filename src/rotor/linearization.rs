@@ -27,6 +27,32 @@ impl<R: SmoothRotor> Variational for RingedRotor<R>
 where
     DefaultAllocator: VariationalAlloc<R::Dim>,
 {
+    /// The rotor's [`SmoothRotor::jacobian_product`] where it has one (the ring force's
+    /// Jacobian on the mode's branches in contact, the ring slots' rows zero), else the dense
+    /// product of [`RotorModel::jacobian`](crate::hybrid::RotorModel::jacobian).
+    fn rhs_jacobian_product(
+        &self,
+        mode: RingMode,
+        t: f64,
+        y: &OVector<f64, R::Dim>,
+        v: &OMatrix<f64, R::Dim, Dyn>,
+        out: &mut OMatrix<f64, R::Dim, Dyn>,
+        jac: &mut OMatrix<f64, R::Dim, R::Dim>,
+        (cache, work): (&RingCache, &mut Workspace<R::Dim>),
+    ) {
+        if let Some(force) = self.force_jacobian(mode, y, cache) {
+            let rotor = self.rotor();
+            if rotor.jacobian_product(t, y, force.as_ref(), v.as_slice(), out.as_mut_slice()) {
+                for i in rotor.ring_slots() {
+                    out.row_mut(i).fill(0.0);
+                }
+                return;
+            }
+        }
+        self.rhs_jacobian(mode, t, y, jac, cache, work);
+        out.gemm(1.0, jac, v, 0.0);
+    }
+
     fn guard_gradient(
         &self,
         mode: RingMode,

@@ -272,8 +272,7 @@ where
         self.model
             .algebraic_variation(mode, t, yi, b, m, &cache.inner);
         self.model
-            .rhs_jacobian(mode, t, yi, jac, &cache.inner, work);
-        dm.gemm(1.0, jac, m, 0.0);
+            .rhs_jacobian_product(mode, t, yi, m, dm, jac, (&cache.inner, work));
         for i in 0..n {
             if self.model.is_algebraic_variation(i) {
                 dm.row_mut(i).fill(0.0);

@@ -3,9 +3,9 @@
 //! central differences of the model's own right-hand side, in free flight and in every contact
 //! regime the states below reach.
 
-use jeffcott::hybrid::RotorModel;
+use jeffcott::hybrid::{RotorModel, Variational, Workspace};
 use jeffcott::nalgebra::{Complex, DMatrix, DVector, Dyn};
-use jeffcott::ring::{RingAxis, SnubberRing};
+use jeffcott::ring::{RingAxis, RingMode, SnubberRing};
 use jeffcott::rotor::{LinearRotor, LinearSystem, ModalRotor, RingedRotor, SmoothRotor};
 
 /// An 8-DOF rotor with the station at DOFs 2, 3 (gap 1).
@@ -92,6 +92,7 @@ pub(super) fn check_jacobian<R: SmoothRotor<Dim = Dyn>>(
                     );
                 }
             }
+            check_product(model, (mode, t, &y), &jac, seed + a);
             regimes.push(model.mode_label(mode));
             checked += 1;
         }
@@ -105,9 +106,43 @@ pub(super) fn check_jacobian<R: SmoothRotor<Dim = Dyn>>(
     regimes
 }
 
+/// The variational equations' product $JV$ (`Variational::rhs_jacobian_product`: the linear
+/// rotor's own, without forming $J$; the modal rotor's the dense default) against the
+/// Jacobian `jac` times $V$, outside the ring's slots (whose rows are algebraic).
+fn check_product<R: SmoothRotor<Dim = Dyn>>(
+    model: &RingedRotor<R>,
+    (mode, t, y): (RingMode, f64, &DVector<f64>),
+    jac: &DMatrix<f64>,
+    seed: usize,
+) {
+    let dim = y.len();
+    let v = DMatrix::from_fn(dim, 3, |i, c| ((i * 5 + c * 11 + seed) as f64).cos());
+    let (mut out, mut scratch) = (DMatrix::zeros(dim, 3), DMatrix::zeros(dim, dim));
+    let mut work = Workspace::new(model);
+    let cache = model.new_cache();
+    model.rhs_jacobian_product(mode, t, y, &v, &mut out, &mut scratch, (&cache, &mut work));
+    let dense = jac * &v;
+    let size = jac.amax() * v.amax() * dim as f64;
+    let slots = model.rotor().ring_slots();
+    for i in (0..dim).filter(|i| !slots.contains(i)) {
+        for c in 0..3 {
+            let (got, want) = (out[(i, c)], dense[(i, c)]);
+            assert!(
+                (got - want).abs() <= 1e-14 * size,
+                "mode {mode:?}: (JV)[{i}, {c}] = {got}, J times V {want}"
+            );
+        }
+    }
+}
+
 #[test]
 fn ringed_linear_rotor_jacobian_matches_differences_in_every_regime() {
     check_jacobian(&model(), |y| y);
+    // The product checked there is the linear rotor's own (not the dense fallback).
+    let (rotor, y) = (rotor(), state([0.2, 0.1], 1));
+    let v = DMatrix::from_fn(18, 2, |i, c| (i + 3 * c) as f64);
+    let mut out = DMatrix::zeros(18, 2);
+    assert!(rotor.jacobian_product(0.0, &y, None, v.as_slice(), out.as_mut_slice()));
 }
 
 /// The modal form's Jacobian (issue 31, L3): without its own, Radau5 took forward differences,
