@@ -284,7 +284,7 @@ where
     };
     let mut lu = matrix.clone().lu();
     let mut scaled = rule.scaled(current.residual(), &u);
-    let mut iterations = 1u32;
+    let (mut iterations, mut rising) = (1u32, 0u32);
     loop {
         let residual = current.residual().amax();
         if scaled <= 1.0 {
@@ -346,6 +346,14 @@ where
                 "no step lowers the residual (it is at the map's noise, or the guess is poor)";
             return Err(not_converged(u, residual, iterations, reason));
         };
+        // Held, a corrector is one of many tried (a smaller step follows): where even the
+        // Jacobian at the iterate raises the residual twice there is no zero near, and the
+        // steps left would each cost a full evaluation.
+        rising += u32::from(chord && fresh && st >= scaled);
+        if rising >= 2 {
+            let reason = "the residual rose twice under the Jacobian at the iterate";
+            return Err(not_converged(u, residual, iterations, reason));
+        }
         let stale = chord && st > CHORD_CONTRACTION * scaled;
         if chord && !stale {
             broyden(
@@ -584,6 +592,41 @@ mod tests {
         let chord = solve_held(&guess, system, Some(held(wrong)), &rule).unwrap();
         assert!((chord.u[0] - 1.0).abs() < 1e-12 && (chord.u[1] - 2.0).abs() < 1e-12);
         assert!(chord.full_evaluations >= 2, "{}", chord.full_evaluations);
+    }
+
+    #[test]
+    fn a_held_correction_without_a_zero_gives_up_when_newton_raises_the_residual_twice() {
+        // G = (x^2 + 1, y): no zero; Newton's x wanders (x -> (x^2 - 1)/2x).
+        let g = |u: &DVector<f64>| DVector::from_vec(vec![u[0] * u[0] + 1.0, u[1]]);
+        let full = |u: &DVector<f64>| {
+            Ok::<_, ()>(System {
+                residual: g(u),
+                matrix: DMatrix::from_row_slice(2, 2, &[2.0 * u[0], 0.0, 0.0, 1.0]),
+                extra: (),
+            })
+        };
+        let opts = NewtonOptions::default();
+        let ones = DVector::from_element(2, 1.0);
+        let rule = Rule {
+            opts: &opts,
+            scale: &ones,
+            constraint: None,
+            line_search: false,
+        };
+        let start = DVector::from_vec(vec![0.7, 0.1]);
+        let held = Held {
+            matrix: full(&start).unwrap().matrix,
+            residual: |u: &DVector<f64>| Ok::<_, ()>(g(u)),
+        };
+        match solve_held(&start, full, Some(held), &rule) {
+            Err(NewtonError::NotConverged {
+                iterations, reason, ..
+            }) => {
+                assert!(reason.contains("rose twice"), "{reason}");
+                assert!(iterations < opts.max_iterations, "{iterations}");
+            }
+            other => panic!("{:?}", other.map(|z| z.u)),
+        }
     }
 
     #[test]

@@ -11,6 +11,8 @@ use crate::stability::newton::{self, Held, NewtonOptions, Rule, System};
 use crate::stability::orbit::newton_error;
 use crate::stability::{multipliers, Multiplier, StabilityError, StroboscopicMap, GRAZING_MARGIN};
 
+mod probe;
+
 /// Options of [`continue_orbit`] and [`switch_at_flip`]: `Default`, then the builder methods.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -886,7 +888,28 @@ where
     w: DVector<f64>,
     point: BranchPoint,
     jac: DMatrix<f64>,
+    /// Its $[F_w\ F_p]$, or for a [`Solver::structure_probe`]'s the one it held.
+    top: DMatrix<f64>,
     state: OVector<f64, D>,
+    /// Whether `point` has its multipliers and `jac` its Jacobian (not a structure probe's).
+    complete: bool,
+}
+
+impl<D: nalgebra::Dim> End<D>
+where
+    DefaultAllocator: VariationalAlloc<D>,
+{
+    /// The end at a solved point.
+    fn of(s: &Solved<D>, point: &BranchPoint) -> Self {
+        End {
+            w: s.w.clone(),
+            point: point.clone(),
+            jac: s.eval.jac.clone(),
+            top: s.eval.top.clone(),
+            state: s.eval.state.clone(),
+            complete: true,
+        }
+    }
 }
 
 /// Locates the special point `kind` between the solved points `a` and `b` (branch points
@@ -905,12 +928,7 @@ where
     M: Variational,
     DefaultAllocator: VariationalAlloc<M::Dim>,
 {
-    let end = |s: &Solved<M::Dim>, point: &BranchPoint| End {
-        w: s.w.clone(),
-        point: point.clone(),
-        jac: s.eval.jac.clone(),
-        state: s.eval.state.clone(),
-    };
+    let end = End::of;
     let width = solver.opts.bracket_width;
     // The bisection on the secant's fraction; each probe bisects the ends in (z, p) and stops
     // the search (`Err`) once they are within the width (`None`) or the corrector fails.
@@ -937,14 +955,24 @@ where
         // rub branch turning where it meets the free orbit), it found probes that never
         // narrowed the bracket.
         let reach = 0.5 * (&far.w - &near.w).norm();
-        let inside = |s: Solved<M::Dim>| {
-            let off = (&s.w - &mid).norm();
-            if off <= reach {
-                Ok(s)
-            } else {
-                Err(solver.left_branch(&s.w, off, reach))
-            }
+        let within = |w: &DVector<f64>| {
+            let off = (w - &mid).norm();
+            (off <= reach)
+                .then_some(())
+                .ok_or_else(|| solver.left_branch(w, off, reach))
         };
+        let inside = |s: Solved<M::Dim>| within(&s.w).map(|()| s);
+        // A grazing reads the probe's event structure alone: the cheap probe first.
+        if kind == SpecialKind::Grazing {
+            let probe = solver.structure_probe(&mid, &normal, &near.top, &near.state);
+            if let Ok(e) = probe.and_then(|e| within(&e.w).map(|()| e)) {
+                return Ok(if same(&e.point) {
+                    Probe::Near(e)
+                } else {
+                    Probe::Far(e)
+                });
+            }
+        }
         match solver
             .correct((&mid, None), &normal, &mid, &near.state)
             .and_then(inside)
@@ -969,6 +997,8 @@ where
             parameter: 0.5 * (pn + pf),
         })
     });
+    let normal = &far.w - &near.w;
+    let near = solver.completed(near, &normal);
     special(kind, (pn, &near), (pf, &far), unconverged, after_point)
 }
 
