@@ -535,6 +535,16 @@ mod tests {
         }
     }
 
+    /// Full steps, no constraint.
+    fn full_steps<'a>(opts: &'a NewtonOptions, ones: &'a DVector<f64>) -> Rule<'a> {
+        Rule {
+            opts,
+            scale: ones,
+            constraint: None,
+            line_search: false,
+        }
+    }
+
     /// [`map`]'s fixed-point system $G = P(z) - z$ and its residual alone.
     fn system(z: &DVector<f64>) -> Result<System<()>, ()> {
         let m = map(z)?;
@@ -554,14 +564,8 @@ mod tests {
 
     #[test]
     fn a_held_matrix_reaches_newtons_zero_and_returns_the_system_there() {
-        let opts = NewtonOptions::default();
-        let ones = DVector::from_element(2, 1.0);
-        let rule = Rule {
-            opts: &opts,
-            scale: &ones,
-            constraint: None,
-            line_search: false,
-        };
+        let (opts, ones) = (NewtonOptions::default(), DVector::from_element(2, 1.0));
+        let rule = full_steps(&opts, &ones);
         let guess = DVector::from_vec(vec![1.1, 1.9]);
         // The matrix of a point 0.05 away: near, not exact.
         let near = system(&DVector::from_vec(vec![1.05, 1.95])).unwrap().matrix;
@@ -577,14 +581,8 @@ mod tests {
 
     #[test]
     fn a_held_matrix_that_does_not_contract_is_refreshed() {
-        let opts = NewtonOptions::default();
-        let ones = DVector::from_element(2, 1.0);
-        let rule = Rule {
-            opts: &opts,
-            scale: &ones,
-            constraint: None,
-            line_search: false,
-        };
+        let (opts, ones) = (NewtonOptions::default(), DVector::from_element(2, 1.0));
+        let rule = full_steps(&opts, &ones);
         let guess = DVector::from_vec(vec![1.1, 1.9]);
         // Three times the true matrix: each chord step a third of Newton's, the residual
         // falling by about 2/3 a step, too slowly.
@@ -605,14 +603,8 @@ mod tests {
                 extra: (),
             })
         };
-        let opts = NewtonOptions::default();
-        let ones = DVector::from_element(2, 1.0);
-        let rule = Rule {
-            opts: &opts,
-            scale: &ones,
-            constraint: None,
-            line_search: false,
-        };
+        let (opts, ones) = (NewtonOptions::default(), DVector::from_element(2, 1.0));
+        let rule = full_steps(&opts, &ones);
         let start = DVector::from_vec(vec![0.7, 0.1]);
         let held = Held {
             matrix: full(&start).unwrap().matrix,

@@ -270,6 +270,17 @@ fn bordered(top: &DMatrix<f64>, row: &DVector<f64>) -> DMatrix<f64> {
     a
 }
 
+/// The corrector's stopping rule: full steps (the constraint may need the residual to grow),
+/// the constraint row converged at 1e3 `atol`.
+fn corrector_rule<'a>(newton: &'a NewtonOptions, ones: &'a DVector<f64>) -> Rule<'a> {
+    Rule {
+        opts: newton,
+        scale: ones,
+        constraint: Some(1e3),
+        line_search: false,
+    }
+}
+
 /// A corrected point.
 struct Solved<D: nalgebra::Dim>
 where
@@ -278,9 +289,9 @@ where
     w: DVector<f64>,
     eval: Eval<D>,
     iterations: u32,
-    /// Whether the full evaluation was made before the zero (Newton itself, or a held
-    /// matrix refreshed): a correction harder than a simplified Newton's few steps.
-    refreshed: bool,
+    /// Full evaluations made (the variational equations and $F_p$'s runs), the zero's
+    /// included: Newton's one a step, a held matrix's one at the zero and one a refresh.
+    full_evaluations: u32,
 }
 
 /// The branch's model builder, period, options and scales.
@@ -399,6 +410,17 @@ where
         })
     }
 
+    /// The corrector's Newton options (at most `steps` steps) and the scale of its residual
+    /// of `len` components: $F_i / s_i$ has scale 1, and its relative part is
+    /// rtol $|z_i| / s_i$.
+    fn corrector(&self, steps: u32, len: usize) -> (NewtonOptions, DVector<f64>) {
+        let newton = NewtonOptions::default()
+            .with_atol(self.opts.atol)
+            .with_rtol(self.opts.rtol)
+            .with_max_iterations(steps + 1);
+        (newton, DVector::from_element(len, 1.0))
+    }
+
     /// $F$ alone at the scaled point `w` (one run of the map, no variational equations).
     fn residual(
         &self,
@@ -424,18 +446,8 @@ where
         c: &DVector<f64>,
         template: &OVector<f64, M::Dim>,
     ) -> Result<Solved<M::Dim>, StabilityError> {
-        let newton = NewtonOptions::default()
-            .with_atol(self.opts.atol)
-            .with_rtol(self.opts.rtol)
-            .with_max_iterations(self.opts.max_iterations + 1);
-        // The residual is F_i / s_i: its scale is 1, and its relative part rtol |z_i| / s_i.
-        let ones = DVector::from_element(start.len(), 1.0);
-        let rule = Rule {
-            opts: &newton,
-            scale: &ones,
-            constraint: Some(1e3),
-            line_search: false,
-        };
+        let (newton, ones) = self.corrector(self.opts.max_iterations, start.len());
+        let rule = corrector_rule(&newton, &ones);
         let eval = |w: &DVector<f64>| {
             self.eval(w, template).map(|e| {
                 let residual = e.f.clone().push(normal.dot(&(w - c)));
@@ -458,7 +470,7 @@ where
             w: zero.u,
             eval: zero.system.extra,
             iterations: zero.iterations - 1,
-            refreshed: zero.full_evaluations > 1,
+            full_evaluations: zero.full_evaluations,
         })
     }
 
@@ -778,8 +790,9 @@ where
     }
 
     fn easy(&self, next: &Solved<M::Dim>) -> bool {
-        // A held matrix converges linearly: more steps, each one run, for the same ease.
-        next.iterations <= 3 || (!next.refreshed && next.iterations <= 6)
+        // Easy: at most Newton's three steps, or a held matrix's six (each one run) with at
+        // most one refresh (no more full evaluations than Newton's easy correction).
+        next.iterations <= 3 || (next.full_evaluations <= 2 && next.iterations <= 6)
     }
 
     fn accept(&mut self, cur: Self::Point, next: Self::Point) -> Flow<Self::Point, BranchEnd> {
@@ -950,10 +963,11 @@ where
         // A correction farther from the midpoint than the ends (the hyperplane met the branch
         // again, beyond them) is not a probe of this bracket. Where it is not, or Newton fails
         // (where a contact starts), the probe is the orbit a run settles to at the midpoint's
-        // parameter (from either end's state). Newton itself, not the simplified Newton of the
-        // steps: held from an end, at a fold where a contact starts (an isotropic rotor's
-        // rub branch turning where it meets the free orbit), it found probes that never
-        // narrowed the bracket.
+        // parameter (from either end's state). A grazing's bisection reads the probe's event
+        // structure alone, and first tries the cheap probe (the simplified Newton held at an
+        // end, no Jacobian); the others need the multipliers and take Newton itself (held, at
+        // a fold where a contact starts, an isotropic rotor's rub branch turning where it
+        // meets the free orbit, their probes never narrowed the bracket).
         let reach = 0.5 * (&far.w - &near.w).norm();
         let within = |w: &DVector<f64>| {
             let off = (w - &mid).norm();
@@ -962,7 +976,6 @@ where
                 .ok_or_else(|| solver.left_branch(w, off, reach))
         };
         let inside = |s: Solved<M::Dim>| within(&s.w).map(|()| s);
-        // A grazing reads the probe's event structure alone: the cheap probe first.
         if kind == SpecialKind::Grazing {
             let probe = solver.structure_probe(&mid, &normal, &near.top, &near.state);
             if let Ok(e) = probe.and_then(|e| within(&e.w).map(|()| e)) {

@@ -2,10 +2,10 @@
 
 use nalgebra::{DMatrix, DVector, DefaultAllocator, OVector};
 
-use super::{bordered, model, BranchPoint, End, Solver};
+use super::{bordered, corrector_rule, model, BranchPoint, End, Solver};
 use crate::hybrid::{Variational, VariationalAlloc};
 use crate::stability::augmented::event_structure;
-use crate::stability::newton::{self, NewtonOptions, Rule, System};
+use crate::stability::newton::{self, System};
 use crate::stability::orbit::newton_error;
 use crate::stability::{StabilityError, StroboscopicMap, GRAZING_MARGIN};
 
@@ -44,17 +44,9 @@ where
         top: &DMatrix<f64>,
         template: &OVector<f64, M::Dim>,
     ) -> Result<End<M::Dim>, StabilityError> {
-        let newton = NewtonOptions::default()
-            .with_atol(self.opts.atol)
-            .with_rtol(self.opts.rtol)
-            .with_max_iterations(self.opts.max_iterations.min(PROBE_STEPS) + 1);
-        let ones = DVector::from_element(mid.len(), 1.0);
-        let rule = Rule {
-            opts: &newton,
-            scale: &ones,
-            constraint: Some(1e3),
-            line_search: false,
-        };
+        let steps = self.opts.max_iterations.min(PROBE_STEPS);
+        let (newton, ones) = self.corrector(steps, mid.len());
+        let rule = corrector_rule(&newton, &ones);
         let matrix = bordered(top, normal);
         let eval = |w: &DVector<f64>| {
             let (z, p) = self.unscaled(w);
