@@ -364,8 +364,8 @@ where
         false
     }
 
-    /// The product $J\,V$ of [`SmoothRotor::jacobian`]'s $J$ (with `contact` as there) and
-    /// the columns of $V$, written into `out` (every row outside the ring slots'; both
+    /// The product $J\thinspace V$ of [`SmoothRotor::jacobian`]'s $J$ (with `contact` as
+    /// there) and the columns of $V$, written into `out` (every row outside the ring slots'; both
     /// column-major, as many rows as the state, `v` as long as `out`), without
     /// forming $J$: the variational equations $V^\prime = JV$ of a rotor with hundreds of
     /// coordinates, where $J$'s structure (a second-order system's identity block, the

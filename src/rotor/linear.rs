@@ -783,8 +783,8 @@ impl SmoothRotor for LinearRotor {
 
     /// [`SmoothRotor::jacobian`]'s $J$ times $V$ without forming $J$: the position rows are
     /// $V$'s velocity rows, the velocity rows $-M^{-1}(K, D)$ times $V$'s position and
-    /// velocity rows, and in contact the rank-two $-M^{-1}E_s\,(F_r V_r + F_v V_v)$ ($V_r$,
-    /// $V_v$: $V$'s rows of the station's positions and velocities); about half the dense
+    /// velocity rows, and in contact the rank-two
+    /// $-M^{-1}E_s\thinspace(F_r V_r + F_v V_v)$ ($V_r$, $V_v$: $V$'s rows of the station's positions and velocities); about half the dense
     /// product's work and no $J$ written.
     fn jacobian_product(
         &self,

@@ -375,8 +375,8 @@ where
 }
 
 /// Broyden's ("good") rank-one update of the Newton matrix `b` by a step `s` and the change
-/// `y` of the residual it made: $B \leftarrow B + (y - Bs)\,s^T / s^Ts$, the least change
-/// of $B$ with $Bs = y$. It turns the held matrix's linear convergence superlinear, and
+/// `y` of the residual it made: $B \leftarrow B + (y - Bs)\thinspace s^T / s^Ts$, the
+/// least change of $B$ with $Bs = y$. It turns the held matrix's linear convergence superlinear, and
 /// leaves exact rows (a linear constraint's) exact.
 fn broyden(b: &mut DMatrix<f64>, s: &DVector<f64>, y: &DVector<f64>) {
     let ss = s.norm_squared();
