@@ -138,7 +138,7 @@
 //! error is the RMS norm over the $n_c$ error-controlled components
 //! $$\mathrm{err} = \sqrt{\tfrac{1}{n_c} \sum_i \big(e_i / s_i\big)^2},\qquad
 //! s_i = \mathrm{atol}\_i + \mathrm{rtol}\_i \max(|y_{0,i}|, |y_{1,i}|),$$
-//! (DOP853 uses Hairer's combination of its 5th- and 3rd-order estimates).
+//! (DOP853 uses Hairer's combination of its 5th- and 3rd-order estimates, per component).
 //! A component with $\mathrm{atol}\_i = +\infty$ has $s_i = \infty$: it adds
 //! nothing to the sum and is not counted in $n_c$ (see [`Options::atol`]);
 //! otherwise $n_c = N$. The step is accepted when $\mathrm{err} \le 1$ and the
