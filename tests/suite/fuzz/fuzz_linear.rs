@@ -1280,10 +1280,11 @@ fn etd4_restarts_at_a_held_preload() {
 /// bound ($h\lambda$ up to 8.5), where that component's 5th- and 3rd-order estimates are
 /// alike; combined over the sums (Hairer's code), the other components' large 3rd-order
 /// estimates shrank it: the steps' true local errors (measured against 64 substeps) were 1.1
-/// to 47 times the estimate (median 8), and the run's samples 416, 222 and 85 `rtol` off the reference at the case's
-/// `rtol` ($3.6\times10^{-7}$), $10^{-9}$ and $10^{-11}$ (1024 samples a period; at the
-/// case's `rtol` DOPRI5 1.0, RADAU5 0.03). Combined component by component: 4.8, 3.1 and 1.2
-/// `rtol`, in about the same number of steps at the case's `rtol` (67 against 66).
+/// to 47 times the estimate (median 8), and the run's samples 416, 222 and 85 `rtol` off the
+/// reference at the case's `rtol` ($3.6\times10^{-7}$), $10^{-9}$ and $10^{-11}$ (1024
+/// samples a period; at the case's `rtol` DOPRI5 1.0, RADAU5 0.03). Combined component by
+/// component: 4.8, 3.1 and 1.2 `rtol`, in about the same number of steps at the case's `rtol`
+/// (67 against 66).
 #[test]
 fn dop853_on_a_contact_made_stiff_follows_its_tolerance() {
     let c = Case {
