@@ -1574,3 +1574,103 @@ fn a_contact_missed_by_more_than_the_allowed_error_is_not_a_tie() {
         Ok(_) => panic!("a contact missed by more than the allowed error passed"),
     }
 }
+
+/// Every transition of case `FUZZ_FROM` of each seed of `FUZZ_SEEDS`, touches without load
+/// included, with the ring's position before and after (its last two state slots): the
+/// reference, the second reference, and the run `FUZZ_RUN` (`physical`, `modal` or
+/// `integrated`, with `FUZZ_METHOD` DOP853, RADAU5 or ETD4, at the case's `rtol` or at
+/// `FUZZ_RTOL`; default physical DOP853). A measurement tool behind the numbers of
+/// docs/reliability.md (the touches of cases 16 and 4309, the excursions of zero length), e.g.
+/// `FUZZ_SEEDS=0x00F02210 FUZZ_FROM=7449 FUZZ_RUN=modal cargo test --test suite
+/// fuzz::fuzz_linear::fuzz_linear_case_transitions -- --ignored --nocapture`.
+#[test]
+#[ignore = "measurement: FUZZ_SEEDS=s FUZZ_FROM=n FUZZ_RUN=form FUZZ_METHOD=m cargo test --test suite fuzz_linear_case_transitions -- --ignored --nocapture"]
+fn fuzz_linear_case_transitions() {
+    let case_n: u32 = env("FUZZ_FROM", 1).max(1);
+    for seed in long_seeds() {
+        fuzz(REGRESSIONS, case(), case_n, seed, false, show_transitions)
+            .unwrap_or_else(|e| panic!("seed {seed:#x}: {e}"));
+    }
+}
+
+/// The transitions of one run of a case, for [`fuzz_linear_case_transitions`].
+fn print_transitions<M: RotorModel<Dim = Dyn>>(
+    model: &M,
+    y0: &DVector<f64>,
+    s: &Setup,
+    run: (Method, f64),
+) {
+    let plan = OutputPlan {
+        t_end: s.t_end,
+        strobe: None,
+        dense: Some(DenseSampling {
+            t_start: 0.0,
+            dt: s.period / SAMPLES_PER_PERIOD,
+        }),
+        events: true,
+    };
+    let opts = SimOptions::default()
+        .with_method(run.0)
+        .with_rtol(run.1)
+        .with_atol(run.1);
+    let mut trajectory = Trajectory::<Dyn>::default();
+    if let Err(e) = simulate(model, 0.0, y0, &plan, &opts, &mut trajectory) {
+        println!("  failed: {}", e.kind);
+    }
+    let ring = |y: &DVector<f64>| [y[y.len() - 2], y[y.len() - 1]];
+    for e in &trajectory.events {
+        println!(
+            "  {:.16} {}->{} {:<22} ring {:?} -> {:?}",
+            e.t,
+            e.from,
+            e.to,
+            e.kind,
+            ring(&e.before),
+            ring(&e.after)
+        );
+    }
+}
+
+/// [`fuzz_linear_case_transitions`] on one case.
+fn show_transitions(c: Case) -> Result<String, String> {
+    let s = setup(&c)?;
+    let method = match std::env::var("FUZZ_METHOD").as_deref() {
+        Ok("RADAU5") => Method::Radau5,
+        Ok("ETD4") => Method::Etd4,
+        _ => Method::Dop853,
+    };
+    let form = std::env::var("FUZZ_RUN").unwrap_or_else(|_| "physical".into());
+    let tol = env("FUZZ_RTOL", c.tol);
+    println!("{c:?}\ngap {}, rtol {tol}", s.ring.gap);
+    let integrated = s.rotor.clone().with_exact_free_flight(false).ringed(s.ring);
+    let integrated = integrated.map_err(|e| e.to_string())?;
+    let rest = integrated.rotor().rest_state();
+    for (name, run) in [
+        (
+            "reference (integrated DOP853)",
+            (Method::Dop853, REFERENCE_TOL),
+        ),
+        (
+            "second reference (integrated RADAU5)",
+            (Method::Radau5, REFERENCE_TOL),
+        ),
+    ] {
+        println!("{name}:");
+        print_transitions(&integrated, &rest, &s, run);
+    }
+    println!("{form} {}:", method.name());
+    match form.as_str() {
+        "modal" => {
+            let modal = ModalRotor::new(&s.rotor).map_err(|e| e.to_string())?;
+            let model = modal.ringed(s.ring).map_err(|e| e.to_string())?;
+            print_transitions(&model, &model.rotor().rest_state(), &s, (method, tol));
+        }
+        "integrated" => print_transitions(&integrated, &rest, &s, (method, tol)),
+        _ => {
+            let physical = s.rotor.clone().with_exact_free_flight(true).ringed(s.ring);
+            let physical = physical.map_err(|e| e.to_string())?;
+            print_transitions(&physical, &physical.rotor().rest_state(), &s, (method, tol));
+        }
+    }
+    Ok("shown".into())
+}
