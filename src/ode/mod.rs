@@ -251,9 +251,11 @@
 //!    grazing pair) is still found;
 //! 3. **a guard on zero leaves it in the direction it is moving.** Any other
 //!    event is *on zero* at $t_o$ if $|g_i(t_o)| \le$ `value_tol`, or if it
-//!    reaches zero within the window: $g_i \dot g_i < 0$ and
+//!    is within the window of zero, whichever way it moves:
 //!    $|g_i(t_o)| \le |\dot g_i|\thinspace w$ (the round-off left by a located
-//!    root or a reset map). A derivative of exactly zero is a derivative: such
+//!    root or a reset map, on either side of zero; a guard a few ulps on its
+//!    new side, moving away, may read the old side next to the start, and a
+//!    root searched from there lands in that rounding). A derivative of exactly zero is a derivative: such
 //!    a guard is on zero only within `value_tol`, and one off zero (offset by a
 //!    margin at a tangency) that curves through zero inside the window crosses.
 //!    Its direction of motion is the sign of
@@ -270,7 +272,8 @@
 //!    both crossings fall inside the first sample interval (steps spanning
 //!    whole flights), where the samples at its ends have the same sign: when
 //!    the first sample $t_k$ with $|g_i| >$ `value_tol` (for a guard armed at
-//!    the origin: $t_1$, with no sign change and no grazing pair found)
+//!    the origin: $t_1$, with no grazing pair found and no sign change, or a
+//!    sign change whose root lies within the window: the start's zero)
 //!    shows the guard on the side it must cross back into, in an allowed
 //!    direction, and its motion at $t_o$ pointed the other way, the detector
 //!    evaluates $g_i(t_p)$; if it is beyond `value_tol` on the other side,

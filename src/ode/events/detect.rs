@@ -189,8 +189,8 @@ impl Step {
     /// origin a guard is armed with its sign. At the origin (rule 1) one beyond `value_tol` is
     /// armed, one on zero waits for the first sample beyond it; the event that just fired
     /// keeps its post-crossing sign (rule 2), so that the second root of a grazing pair in
-    /// the same sample interval is still found; any other guard on zero, or reaching it
-    /// within the window, records how it leaves zero (rule 3: towards the sign of its
+    /// the same sample interval is still found; any other guard on zero, or within the
+    /// window of it on either side, records how it leaves zero (rule 3: towards the sign of its
     /// derivative, or unknown without one: the probe decides), because leaving zero is the
     /// start, not an event, while crossing back is.
     fn arm(&self, slots: &mut [Slot]) {
@@ -220,13 +220,15 @@ impl Step {
                 };
             }
             if self.at_origin && self.fired != Some(i) && !g.is_nan() {
-                // How this guard may leave zero (start-of-segment rule). A derivative of
-                // exactly zero is a derivative: such a guard is on zero only within
-                // `value_tol` (a guard offset from zero at a tangency, then curving through it
-                // inside the window, crosses; it does not leave the start's zero).
+                // How this guard may leave zero (start-of-segment rule). Within the window of
+                // zero, whichever way it moves, it is on zero: the round-off of a located root
+                // or a reset map puts it either side. A derivative of exactly zero is a
+                // derivative: such a guard is on zero only within `value_tol` (a guard offset
+                // from zero at a tangency, then curving through it inside the window, crosses;
+                // it does not leave the start's zero).
                 let d = s.d_ref;
                 s.leave = if s.has_der && !d.is_nan() {
-                    let on_zero = g.abs() <= vtol || (g * d < 0.0 && g.abs() <= d.abs() * window);
+                    let on_zero = g.abs() <= vtol || g.abs() <= d.abs() * window;
                     match (on_zero, d != 0.0) {
                         (false, _) => Leave::No,
                         (true, true) => Leave::Towards(d.signum()),
@@ -499,7 +501,8 @@ where
     /// has a **sign change** ([`Scan::sign_change`]) or maybe a **grazing pair**
     /// ([`Scan::grazing`]); a guard that may have left zero at the origin is checked for
     /// **the crossing back** ([`Scan::crossing_back`]) at the first sample that shows it on
-    /// the side it must cross back into. Returns its located root, if any and not the zero
+    /// the side it must cross back into (also past a sign change whose root was the start's
+    /// zero). Returns its located root, if any and not the zero
     /// left at the start.
     fn guard_interval(
         &mut self,
@@ -530,7 +533,10 @@ where
             let g_a = s.g_ref;
             if g_b == 0.0 || (g_b > 0.0) != (g_a > 0.0) {
                 candidate = self.sign_change(s, i, iv, end, zero_at_start)?;
-                check_return = false;
+                // A guard on zero at the origin that read the far side of zero in its
+                // rounding: the root located there is that zero, and the crossing the
+                // interval's end shows is further on.
+                check_return = iv.k == 1 && candidate.is_none() && s.leave != Leave::No;
             } else {
                 candidate = self.grazing(s, i, iv, end, zero_at_start)?;
                 // No sign change over the first interval: it may hide a

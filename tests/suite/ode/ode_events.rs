@@ -457,6 +457,53 @@ fn a_guard_leaving_zero_by_rounding_then_falling_through_it_is_found() {
     assert!((h.t - 0.1).abs() < 1e-10, "{}", h.t);
 }
 
+/// A guard that starts a segment on the right side of zero by its rounding and moving away
+/// from it, then crosses back through zero inside the first sample interval: a preload
+/// crossing of the ring in modal coordinates (the linear-rotor fuzzer's case 7449 of seed
+/// `0x00F02210`): the new mode's preload distance $|s_x| - D_x$ starts at
+/// $-2.6\times10^{-16}$ with $\dot g = -0.7$, reads $+4.5\times10^{-16}$ a few ulps on (the
+/// rounding of a station summed from every mode), and has a kink where $s_x$ passes 0. Here
+/// $g = |t - 0.035| - 0.035 - 2.6\times10^{-16}$, rising root $t = 0.07$, reading
+/// $+4.5\times10^{-16}$ for $0 < t \le 10^{-14}$. The secant from a start that close to zero
+/// lands in the rounding, and the crossing was reported there, $9\times10^{-16}$ after the
+/// start, instead of at 0.07 (the run then left the preload at once where the reference stays
+/// in it for 0.012).
+struct LeavesZeroByRoundingAndRises;
+
+impl LeavesZeroByRoundingAndRises {
+    fn g(t: f64) -> f64 {
+        if t > 0.0 && t <= 1e-14 {
+            return 4.5e-16;
+        }
+        (t - 0.035).abs() - 0.035 - 2.6e-16
+    }
+}
+
+impl EventSet<U1> for LeavesZeroByRoundingAndRises {
+    fn len(&self) -> usize {
+        1
+    }
+    fn direction(&self, _i: usize) -> Direction {
+        Direction::Rising
+    }
+    fn value(&self, _i: usize, _t: f64, y: &V1) -> f64 {
+        Self::g(y[0])
+    }
+    fn derivative(&self, _i: usize, _t: f64, y: &V1, _dy: &V1) -> Option<f64> {
+        Some((y[0] - 0.035).signum())
+    }
+}
+
+#[test]
+fn a_guard_off_zero_by_rounding_is_found_at_its_root_not_in_its_rounding() {
+    let mut integ = one_big_step();
+    let opts = EventOptions::default();
+    let h = first_event(&mut integ, &unit, &LeavesZeroByRoundingAndRises, &opts).expect("rise");
+    println!("the rise at {} (error {:.1e})", h.t, h.t - 0.07);
+    assert_eq!(h.direction, Direction::Rising);
+    assert!((h.t - 0.07).abs() < 1e-10, "{}", h.t);
+}
+
 #[test]
 fn terminal_versus_non_terminal() {
     type F = fn(f64, &V2) -> f64;
