@@ -272,8 +272,11 @@
 //!    both crossings fall inside the first sample interval (steps spanning
 //!    whole flights), where the samples at its ends have the same sign: when
 //!    the first sample $t_k$ with $|g_i| >$ `value_tol` (for a guard armed at
-//!    the origin: $t_1$, with no grazing pair found and no sign change, or a
-//!    sign change whose root lies within the window: the start's zero)
+//!    the origin: $t_1$, with no grazing pair found and no sign change; or
+//!    with a sign change, first of all when its derivative pointed away from
+//!    $t_1$'s side, since next to the start its rounding may read either side
+//!    of zero, beyond the window where it moves slowly; else when the root
+//!    searched from the start is within the window, the start's zero)
 //!    shows the guard on the side it must cross back into, in an allowed
 //!    direction, and its motion at $t_o$ pointed the other way, the detector
 //!    evaluates $g_i(t_p)$; if it is beyond `value_tol` on the other side,

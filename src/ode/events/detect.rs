@@ -532,11 +532,22 @@ where
         } else {
             let g_a = s.g_ref;
             if g_b == 0.0 || (g_b > 0.0) != (g_a > 0.0) {
-                candidate = self.sign_change(s, i, iv, end, zero_at_start)?;
-                // A guard on zero at the origin that read the far side of zero in its
-                // rounding: the root located there is that zero, and the crossing the
-                // interval's end shows is further on.
-                check_return = iv.k == 1 && candidate.is_none() && s.leave != Leave::No;
+                // A guard on zero at the origin that left it away from g_b crosses back: its
+                // rounding next to the start may read either side of zero (further than the
+                // window where it moves slowly), so the crossing is searched beyond the probe
+                // first, then, if the probe does not show the departure, from the start.
+                let away = iv.k == 1
+                    && g_b != 0.0
+                    && matches!(s.leave, Leave::Towards(d) if (d > 0.0) != (g_b > 0.0));
+                if away {
+                    candidate = self.crossing_back(s, i, iv, g_b, zero_at_start)?;
+                }
+                if candidate.is_none() {
+                    candidate = self.sign_change(s, i, iv, end, zero_at_start)?;
+                }
+                // A guard on zero whose root here is the start's zero (ignored): the crossing
+                // the interval's end shows is further on.
+                check_return = iv.k == 1 && !away && candidate.is_none() && s.leave != Leave::No;
             } else {
                 candidate = self.grazing(s, i, iv, end, zero_at_start)?;
                 // No sign change over the first interval: it may hide a

@@ -904,12 +904,18 @@ fn only_ties(
 
 /// The largest sample error in gaps.
 fn sample_error(run: &Run, reference: &Run, gap: f64) -> f64 {
+    sample_error_before(run, reference, gap, usize::MAX)
+}
+
+/// The largest error in gaps of the first `n` samples.
+fn sample_error_before(run: &Run, reference: &Run, gap: f64, n: usize) -> f64 {
     if run.samples.len() != reference.samples.len() {
         return f64::INFINITY;
     }
     run.samples
         .iter()
         .zip(&reference.samples)
+        .take(n)
         .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]) / gap)
         .fold(
             0.0,
@@ -1001,6 +1007,13 @@ impl<'a> Reference<'a> {
         self.apart() / REFERENCE_TOL
     }
 
+    /// [`Reference::amplification`] over the first `n` samples only.
+    fn amplification_before(&self, n: usize) -> f64 {
+        self.second.as_ref().map_or(f64::NAN, |second| {
+            sample_error_before(second, &self.run, self.s.ring.gap, n) / REFERENCE_TOL
+        })
+    }
+
     /// The reference with the station nudged by `tol` gaps at the start: how far one error
     /// of the run's tolerance carries by the case's own dynamics.
     fn nudged(&mut self, tol: f64) -> Result<&Run, String> {
@@ -1042,6 +1055,12 @@ enum Verdict {
     /// bar ([`AMPLIFYING`]): the two references miss it as well. The run is within
     /// [`METHOD_SPREAD`] times their error ratio ([`Reference::amplification`]).
     Amplified,
+    /// A run's transitions differ, and the case amplifies errors made at a tolerance beyond
+    /// the bar up to the first difference: the run is within [`METHOD_SPREAD`] times the
+    /// references' error ratio up to there, and its transitions differ from the reference's
+    /// only by grazes and ties within the error that ratio carries
+    /// ([`transitions_differ`]).
+    AmplifiedTransitions,
 }
 
 /// One run against the reference: `Err` is a defect.
@@ -1082,7 +1101,8 @@ fn compare(run: &Run, r: &mut Reference, tol: f64) -> Result<Verdict, String> {
             return Ok(Verdict::Graze);
         }
         if !only_ties(&run.events, &shallow, r, allowed * gap)? {
-            return unless_unconverged(r, allowed, first_difference(&run.events, &reference));
+            let defect = first_difference(&run.events, &reference);
+            return transitions_differ(run, r, tol, defect);
         }
         if err <= allowed * amplification.max(1.0) {
             return Ok(Verdict::Tie);
@@ -1117,6 +1137,60 @@ fn samples_off(
     verdict
 }
 
+/// Transitions of a run at `tol` that differ from the reference's by more than grazes and
+/// ties within the allowed error: the `defect`, unless the reference is not converged
+/// ([`unless_unconverged`]) or the case amplifies up to the first difference at $t_d$:
+/// the references more than [`AMPLIFYING`] times their tolerance apart over the samples
+/// before $t_d$ ($A_d$), the run's error over its `tol` there at most [`METHOD_SPREAD`]
+/// $A_d$, and its transitions different from the reference's only by grazes and ties
+/// within the error so carried, [`METHOD_SPREAD`] $A_d$ `tol` gaps
+/// ([`Verdict::AmplifiedTransitions`]): a boundary the reference passes closer than the
+/// error its own tolerance grows into by then.
+fn transitions_differ(
+    run: &Run,
+    r: &mut Reference,
+    tol: f64,
+    defect: String,
+) -> Result<Verdict, String> {
+    let verdict = unless_unconverged(r, ALLOWED_PER_RTOL * tol, defect);
+    if verdict.is_ok() {
+        return verdict;
+    }
+    let gap = r.s.ring.gap;
+    let n = samples_before(r.s, first_difference_time(&run.events, &r.run.events));
+    let a = r.amplification_before(n);
+    let err = sample_error_before(run, &r.run, gap, n);
+    if !(a > AMPLIFYING && err / tol <= METHOD_SPREAD * a) {
+        return verdict;
+    }
+    let carried = METHOD_SPREAD * a * tol * gap;
+    let span = (
+        r.s.t_end,
+        r.s.period,
+        [r.s.ring.x.preload, r.s.ring.y.preload],
+    );
+    let reference = r.run.events.clone();
+    let shallow = shallow_episodes(run, &reference, r.fine()?, span, carried);
+    if only_grazes(run, &reference, &shallow) || only_ties(&run.events, &shallow, r, carried)? {
+        return Ok(Verdict::AmplifiedTransitions);
+    }
+    verdict
+}
+
+/// The number of samples (every `period / SAMPLES_PER_PERIOD` from 0) at or before `t`.
+fn samples_before(s: &Setup, t: f64) -> usize {
+    let dt = s.period / SAMPLES_PER_PERIOD;
+    (t / dt).floor() as usize + 1
+}
+
+/// The time of the first transition where `run` and `reference` differ (the earlier of the
+/// two at that index; the end of time if they do not).
+fn first_difference_time(run: &[(u8, u8, f64)], reference: &[(u8, u8, f64)]) -> f64 {
+    let i = first_different(run, reference);
+    let at = |events: &[(u8, u8, f64)]| events.get(i).map_or(f64::INFINITY, |e| e.2);
+    at(run).min(at(reference))
+}
+
 /// The `defect`, unless the reference is not converged to the `allowed` error
 /// ([`Reference::converged`]): then the case is [`Verdict::Unconverged`].
 fn unless_unconverged(r: &mut Reference, allowed: f64, defect: String) -> Result<Verdict, String> {
@@ -1127,13 +1201,18 @@ fn unless_unconverged(r: &mut Reference, allowed: f64, defect: String) -> Result
     }
 }
 
-/// The first transition where `run` and `reference` differ, with the counts.
-fn first_difference(run: &[(u8, u8, f64)], reference: &[(u8, u8, f64)]) -> String {
-    let i = run
-        .iter()
+/// The index of the first transition where `run` and `reference` differ (the shorter one's
+/// length if one is the start of the other).
+fn first_different(run: &[(u8, u8, f64)], reference: &[(u8, u8, f64)]) -> usize {
+    run.iter()
         .zip(reference)
         .take_while(|(a, b)| (a.0, a.1) == (b.0, b.1))
-        .count();
+        .count()
+}
+
+/// The first transition where `run` and `reference` differ, with the counts.
+fn first_difference(run: &[(u8, u8, f64)], reference: &[(u8, u8, f64)]) -> String {
+    let i = first_different(run, reference);
     format!(
         "events differ at transition {i}: {:?}, reference {:?} ({} and {} transitions)",
         run.get(i),
@@ -1195,6 +1274,8 @@ fn label(reference: &Run, verdicts: &[Verdict], refused: &[String]) -> String {
     let any = |f: fn(&Verdict) -> bool| verdicts.iter().any(f);
     let how = if any(|v| matches!(v, Verdict::Unconverged)) {
         "unconverged (a run is off, and a second reference by RADAU5 is off the first by more than the allowed error)"
+    } else if any(|v| matches!(v, Verdict::AmplifiedTransitions)) {
+        "amplified transitions (a run's transitions differ, by grazes and ties within the error the references' distance up to there carries)"
     } else if any(|v| matches!(v, Verdict::Amplified)) {
         "amplified (a run's samples are off, and the two references are more than 100 of their tolerance apart: the case carries an error made at a tolerance that far)"
     } else if any(|v| matches!(v, Verdict::Undecided)) {
@@ -1480,6 +1561,14 @@ impl Run {
     }
 }
 
+/// `run` with every sample moved by `length` along x (the sample errors then exact).
+fn moved(run: &Run, length: f64) -> Run {
+    Run {
+        samples: run.samples.iter().map(|p| [p[0] + length, p[1]]).collect(),
+        ..run.with_events(run.events.clone())
+    }
+}
+
 /// The *amplified* label on the case of [`case_1212`] with its second reference and its run
 /// moved by hand (every sample by the same distance, so the sample errors are exact): a run
 /// whose error over its `rtol` is within [`METHOD_SPREAD`] times the references' distance over
@@ -1489,14 +1578,7 @@ impl Run {
 fn a_run_off_as_far_as_the_references_amplify_is_labelled_amplified() {
     let c = case_1212();
     let (s, reference) = setup_and_reference(&c);
-    let moved = |run: &Run, gaps: f64| Run {
-        samples: run
-            .samples
-            .iter()
-            .map(|p| [p[0] + gaps * s.ring.gap, p[1]])
-            .collect(),
-        ..run.with_events(run.events.clone())
-    };
+    let moved = |run: &Run, gaps: f64| moved(run, gaps * s.ring.gap);
     // (references apart over their tolerance, run's error over its rtol, amplified?)
     for (apart, error, amplified) in [
         (1000.0, 5000.0, true),
@@ -1518,6 +1600,64 @@ fn a_run_off_as_far_as_the_references_amplify_is_labelled_amplified() {
                 .unwrap_or_else(|| panic!("{apart}, {error}: not a defect"));
             assert!(defect.starts_with(SAMPLES_OFF), "{defect}");
         }
+    }
+}
+
+/// Case 4081 of seed `12345` (the long run): the physical form with DOP853 at the case's
+/// `rtol` (2.3e-7) meets the ring once more than the reference near the end (90 transitions
+/// against 88, an onset at 192.02), on a case whose references (DOP853 and RADAU5 at 1e-12)
+/// are 5.3e-8 gaps apart, 5.3e4 times their tolerance: *amplified transitions*. With the
+/// second reference replaced by the first moved 50 times its tolerance (a case that does not
+/// amplify) the same run is a defect.
+#[test]
+fn transitions_that_differ_where_the_references_amplify_are_labelled_amplified() {
+    let c = case_4081();
+    let (s, reference) = setup_and_reference(&c);
+    let dt = s.period / SAMPLES_PER_PERIOD;
+    let run = run_form(&s, Form::Physical, (Method::Dop853, c.tol), dt).expect("the run");
+    assert_ne!(kinds(&run.events), kinds(&reference.events));
+    let mut r = Reference::new(&s, reference.with_events(reference.events.clone()));
+    let verdict = compare(&run, &mut r, c.tol);
+    println!("references {:.1e} gaps apart", r.apart());
+    assert!(
+        matches!(verdict, Ok(Verdict::AmplifiedTransitions)),
+        "{:?}",
+        verdict.err()
+    );
+    let mut r = Reference::new(&s, reference.with_events(reference.events.clone()));
+    r.second = Some(moved(&reference, 50.0 * REFERENCE_TOL * s.ring.gap));
+    let defect = compare(&run, &mut r, c.tol)
+        .err()
+        .expect("a defect where the references are close");
+    assert!(defect.starts_with("events differ"), "{defect}");
+}
+
+/// Case 4081 of seed `12345` ([`transitions_that_differ_where_the_references_amplify_are_labelled_amplified`]).
+fn case_4081() -> Case {
+    Case {
+        nodes: 4,
+        station: 0,
+        unbalance: (0, 1.6008717281990492),
+        shape: 15270827929433217325,
+        mass_spread: 2.638077788263607,
+        mass_coupling: 0.4219675168905391,
+        shaft: 0.16147213179391087,
+        mount_decades: 3.514383359812145,
+        stiffness_coupling: 0.0819933910350203,
+        cross: 0.0,
+        zeta_min: 8.745362172591098e-6,
+        damping_coupling: 0.5750034139563853,
+        gyro: 0.13458982819215765,
+        gravity: None,
+        critical: 0,
+        speed_ratio: 0.39392256442184187,
+        reach: 7.000350437236921,
+        ring_stiffness: 17.581402265459005,
+        ring_zeta: 0.0013770798430914396,
+        preload: [0.9059298044529862, 0.12226035921645619],
+        offset: (0.39123871254290987, 2.2900735097007447),
+        periods: 4,
+        tol: 2.314498185380416e-7,
     }
 }
 

@@ -459,23 +459,32 @@ fn a_guard_leaving_zero_by_rounding_then_falling_through_it_is_found() {
 
 /// A guard that starts a segment on the right side of zero by its rounding and moving away
 /// from it, then crosses back through zero inside the first sample interval: a preload
-/// crossing of the ring in modal coordinates (the linear-rotor fuzzer's case 7449 of seed
-/// `0x00F02210`): the new mode's preload distance $|s_x| - D_x$ starts at
-/// $-2.6\times10^{-16}$ with $\dot g = -0.7$, reads $+4.5\times10^{-16}$ a few ulps on (the
-/// rounding of a station summed from every mode), and has a kink where $s_x$ passes 0. Here
-/// $g = |t - 0.035| - 0.035 - 2.6\times10^{-16}$, rising root $t = 0.07$, reading
-/// $+4.5\times10^{-16}$ for $0 < t \le 10^{-14}$. The secant from a start that close to zero
-/// lands in the rounding, and the crossing was reported there, $9\times10^{-16}$ after the
-/// start, instead of at 0.07 (the run then left the preload at once where the reference stays
-/// in it for 0.012).
-struct LeavesZeroByRoundingAndRises;
+/// crossing of the ring in modal coordinates (the linear-rotor fuzzer's cases 7449 and 3755
+/// of seed `0x00F02210`). On 7449 the new mode's preload distance $|s_x| - D_x$ starts at
+/// $-2.6\times10^{-16}$ with $\dot g = -0.7$ and reads $+4.5\times10^{-16}$ a few ulps on (the
+/// rounding of a station summed from every mode); on 3755, $-1.1\times10^{-17}$ with
+/// $\dot g = -0.009$, and $+6.9\times10^{-18}$ at $5.3\times10^{-15}$, beyond the re-arm
+/// window ($3.5\times10^{-15}$). Both have a kink where $s$ passes 0. Here
+/// $g = c\thinspace(|t - 0.035| - 0.035) - g_0$, rising root $t = 0.07$, reading a
+/// rounding `noise` on a stretch next to the start. The root search from a start that close
+/// to zero lands in the rounding, and the crossing was reported there instead of at 0.07
+/// (the run then left the preload at once where the reference stays in it for 0.012).
+struct LeavesZeroByRoundingAndRises {
+    /// $c$.
+    slope: f64,
+    /// $g_0$.
+    offset: f64,
+    /// `(a, b, v)`: the guard reads `v` on $(a, b]$.
+    noise: (f64, f64, f64),
+}
 
 impl LeavesZeroByRoundingAndRises {
-    fn g(t: f64) -> f64 {
-        if t > 0.0 && t <= 1e-14 {
-            return 4.5e-16;
+    fn g(&self, t: f64) -> f64 {
+        let (a, b, v) = self.noise;
+        if t > a && t <= b {
+            return v;
         }
-        (t - 0.035).abs() - 0.035 - 2.6e-16
+        self.slope * ((t - 0.035).abs() - 0.035) - self.offset
     }
 }
 
@@ -487,21 +496,34 @@ impl EventSet<U1> for LeavesZeroByRoundingAndRises {
         Direction::Rising
     }
     fn value(&self, _i: usize, _t: f64, y: &V1) -> f64 {
-        Self::g(y[0])
+        self.g(y[0])
     }
     fn derivative(&self, _i: usize, _t: f64, y: &V1, _dy: &V1) -> Option<f64> {
-        Some((y[0] - 0.035).signum())
+        Some(self.slope * (y[0] - 0.035).signum())
     }
 }
 
 #[test]
 fn a_guard_off_zero_by_rounding_is_found_at_its_root_not_in_its_rounding() {
-    let mut integ = one_big_step();
     let opts = EventOptions::default();
-    let h = first_event(&mut integ, &unit, &LeavesZeroByRoundingAndRises, &opts).expect("rise");
-    println!("the rise at {} (error {:.1e})", h.t, h.t - 0.07);
-    assert_eq!(h.direction, Direction::Rising);
-    assert!((h.t - 0.07).abs() < 1e-10, "{}", h.t);
+    for guard in [
+        LeavesZeroByRoundingAndRises {
+            slope: 1.0,
+            offset: 2.6e-16,
+            noise: (0.0, 1e-14, 4.5e-16),
+        },
+        LeavesZeroByRoundingAndRises {
+            slope: 0.009,
+            offset: 1.1e-17,
+            noise: (4e-15, 1e-14, 4.5e-17),
+        },
+    ] {
+        let mut integ = one_big_step();
+        let h = first_event(&mut integ, &unit, &guard, &opts).expect("rise");
+        println!("the rise at {} (error {:.1e})", h.t, h.t - 0.07);
+        assert_eq!(h.direction, Direction::Rising);
+        assert!((h.t - 0.07).abs() < 1e-10, "slope {}: {}", guard.slope, h.t);
+    }
 }
 
 #[test]
