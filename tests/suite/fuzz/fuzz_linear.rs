@@ -1004,7 +1004,7 @@ impl<'a> Reference<'a> {
     /// [`Reference::apart`] over [`REFERENCE_TOL`]: how many times over the case carries the
     /// errors made at that tolerance.
     fn amplification(&self) -> f64 {
-        self.apart() / REFERENCE_TOL
+        self.amplification_before(usize::MAX)
     }
 
     /// [`Reference::amplification`] over the first `n` samples only.
