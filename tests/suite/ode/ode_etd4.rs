@@ -288,12 +288,14 @@ fn phi_series(z: f64, k: usize) -> f64 {
     sum
 }
 
-/// $\varphi_k(z)$ on both sides of the switch from the series to the recurrence ($|z| = 1$),
+/// $\varphi_k(z)$ on both sides of the switch from the series to the recurrence ($|z| = 1$)
+/// and of the series' shorter forms (11 terms below $|z| = 1/8$, 15 below $1/2$; issue 32),
 /// against the series summed term by term for real positive $z$ (no cancellation there) and
 /// against the defining relation $\varphi_{k}(z) = z\varphi_{k+1}(z) + 1/k!$.
 #[test]
 fn phi_functions_are_accurate_across_their_switch() {
-    for z in [0.3, 0.999_999, 1.000_001, 2.5, 10.0] {
+    let bands = [0.01, 0.124_999, 0.125_001, 0.3, 0.499_999, 0.500_001];
+    for z in bands.into_iter().chain([0.999_999, 1.000_001, 2.5, 10.0]) {
         let p = phi_functions(C::new(z, 0.0));
         for k in 0..4 {
             let want = phi_series(z, k);
@@ -301,6 +303,8 @@ fn phi_functions_are_accurate_across_their_switch() {
         }
     }
     for z in [
+        C::new(0.06, -0.1),
+        C::new(-0.3, 0.35),
         C::new(-0.7, 0.6),
         C::new(-3.0, 40.0),
         C::new(-1e5, 2e3),
@@ -325,7 +329,7 @@ fn phi_functions_are_accurate_across_their_switch() {
 #[test]
 fn higher_phi_functions_are_accurate_across_their_switch() {
     let mut worst = 0.0f64;
-    for z in [0.3, 0.999_999, 1.000_001, 2.5, 10.0] {
+    for z in [0.1, 0.3, 0.999_999, 1.000_001, 2.5, 10.0] {
         let p = phi_functions_to::<6>(C::new(z, 0.0));
         assert_eq!(p[..4], phi_functions(C::new(z, 0.0)));
         for (k, pk) in p.iter().enumerate() {

@@ -124,3 +124,53 @@ fn the_errors_follow_the_tolerance_in_contact() {
         );
     }
 }
+
+/// [`Whirl`] with a right-hand side that is not finite past `t_fail`: every step that reaches
+/// past it is refused, until the step size underflows.
+struct Failing {
+    whirl: Whirl,
+    t_fail: f64,
+}
+
+impl OdeSystem<U2> for Failing {
+    fn rhs(&self, t: f64, y: &V2, dy: &mut V2) {
+        self.whirl.rhs(t, y, dy);
+        if t > self.t_fail {
+            dy.fill(f64::NAN);
+        }
+    }
+    fn linear_part(&self) -> Option<&DiagonalLinearPart> {
+        Some(&self.whirl.lp)
+    }
+}
+
+/// The dense output reuses the accepted trial's $\varphi$-functions and forcing increments
+/// (issue 32), which a later trial overwrites: after a step that fails (its trials refused
+/// until the step size underflows), the dense output on the last accepted step is the one it
+/// gave before that step, bit for bit, at each eighth of the step. The truth is a clone of
+/// the integrator taken before the failing step.
+#[test]
+fn a_failed_step_leaves_the_dense_output_of_the_accepted_one() {
+    let sys = Failing {
+        whirl: Whirl::new(),
+        t_fail: 2.0,
+    };
+    let mut etd = Etd4::new(Options::default().with_rtol(1e-8).with_atol(1e-8)).unwrap();
+    etd.reset(&sys, 0.0, &V2::new(1.5, 0.0), false).unwrap();
+    let mut before = etd.clone();
+    let mut steps = 0;
+    while etd.step(&sys, 10.0).is_ok() {
+        before = etd.clone();
+        steps += 1;
+        assert!(steps < 100_000, "the failing step never came");
+    }
+    assert!(steps > 0 && etd.t() <= sys.t_fail);
+    let (t0, t1) = (etd.t_prev(), etd.t());
+    let (mut want, mut got) = (V2::zeros(), V2::zeros());
+    for k in 1..8 {
+        let t = t0 + (k as f64 / 8.0) * (t1 - t0);
+        before.dense(&sys, t, &mut want);
+        etd.dense(&sys, t, &mut got);
+        assert_eq!(got, want, "at t = {t}");
+    }
+}

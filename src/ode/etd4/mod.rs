@@ -3,6 +3,10 @@ use nalgebra::{Complex, DefaultAllocator, Dim, DimName, OVector};
 
 use super::core::{core_accessors, fit, zeros, Core, Trial, TrialIo};
 use super::linear_part::{phi_functions, phi_functions_to, DiagonalLinearPart, Forcing, Slot};
+use dense::{quadratic_middle, quartic_coefficients, DenseStep, Quartic};
+
+mod dense;
+mod forcing;
 use super::{controller::scale, Integrator, OdeError, OdeSystem, Options, Stats};
 
 /// The four nonlinear stage values of one ETDRK4 step: $N_a$ at $t$, $N_b$, $N_c$ at
@@ -94,8 +98,10 @@ struct Forced<'a> {
 /// $[0, 20]$ (`tests/suite/ode/ode_etd4_forcing.rs`, with the local extrapolation): the
 /// forcing in $N$, the solution 0.40 of its size off in 5 905 steps (1.19 off, with $\omega h$
 /// up to 9 900, before it); declared, 4e-15 of its size in 5 steps. With a rest
-/// $N = (-0.3 + 0.2i)u$ and $\omega = 100$, declared: 9.7e-3 of the size (97 tol; 8.5e-3
-/// before), 6.4e-9 with the steps capped at a quarter period (6e-8 before). So declare the forcing, and where the rest depends on the forced motion
+/// $N = (-0.3 + 0.2i)u$ and $\omega = 100$, declared: 1.2e-2 of the size in 32 steps (119
+/// tol; 9.7e-3 in 33 before issue 32's reordered rounding flipped one step's acceptance, 8.5e-3
+/// before the extrapolation), 7.1e-9 with the steps capped at a quarter period (6e-8 before
+/// the extrapolation). So declare the forcing, and where the rest depends on the forced motion
 /// cap the steps at a fraction of its period ([`Options::h_max`];
 /// [`crate::hybrid::simulate`] caps them at a quarter of the model's forcing period).
 ///
@@ -123,12 +129,19 @@ struct Forced<'a> {
 /// quadratic through the stages alone, $O(h^4)$: 2.9 times the steps' error on
 /// `ode_etd4_dense.rs`'s rotor at tol $10^{-5}$, and growing as the tolerance tightened.)
 ///
-/// **Cost.** Every operation is per block: $O(N)$ a step besides the evaluations of $f$
-/// (three $\varphi$ evaluations per block and trial; a forced block six more a trial). A dense
-/// output costs one evaluation of $\varphi_0, \dots, \varphi_5$ per block (a forced block three
-/// more), and the first one of a step two evaluations of $f$ and the quartic's ends. Nothing
-/// is allocated after construction. The steps are set by $N$ (a contact, an undeclared forcing), not by the
-/// fastest mode of $L$ or the declared forcing.
+/// **Cost.** Every operation is per block: $O(N)$ a step besides the evaluations of $f$. A
+/// trial evaluates the $\varphi$-functions three times per block, at $h\lambda/4$ and
+/// $h\lambda/2$ (to $\varphi_5$, kept for the dense output) and at $h\lambda$; a forced
+/// block's exact responses come from those $e^{s\lambda}$ in closed form,
+/// $I(\pm i\omega, s) = (e^{s\lambda} - e^{\pm i\omega s})/(\lambda \mp i\omega)$ with the
+/// inverses set up once, where $s|\lambda \mp i\omega| \ge 1/8$ (the cancellation costs at
+/// most $7\times10^{-15}$ relative), the series above nearer resonance, and
+/// $e^{\pm i\omega s}$ once per length for all blocks. A dense output costs one evaluation of $\varphi_0, \dots, \varphi_5$ per block
+/// (the forced response from it); the first one of a step two evaluations of $f$, its nodes
+/// and jumps from the accepted trial's $\varphi$-functions and increments. (Issue 32: 41
+/// evaluations of $\varphi$ a step per forced block with four event samples, now 7.) Nothing
+/// is allocated after construction. The steps are set by $N$ (a contact, an undeclared
+/// forcing), not by the fastest mode of $L$ or the declared forcing.
 ///
 /// A system without [`OdeSystem::linear_part`] (or with one of another dimension) is refused
 /// by [`Integrator::reset`] and [`Integrator::step`] ([`OdeError::NoLinearPart`]).
@@ -153,22 +166,29 @@ where
     /// Scratch: stage states and $f$.
     stage: [OVector<f64, D>; 3],
     fk: OVector<f64, D>,
-    /// Per block (at its first component): coefficients of a step of $h$ and of $h/2$.
+    /// Per block (at its first component): coefficients of a step of $h$ and of $h/2$, and
+    /// the dense output's $\varphi$-functions at $h\lambda/4$ and $h\lambda/2$.
     coef_full: Vec<Coefficients>,
     coef_half: Vec<Coefficients>,
+    coef_dense: Vec<DenseSets>,
     /// Per forced block: the declared forcing's increments of the full step and of the two
     /// half steps of the trial.
     increments: [Vec<Increments>; 3],
+    /// The trial's $(t, h)$ that the coefficients and increments are of: the accepted step's
+    /// when a step has just succeeded, which its dense output then reuses.
+    coef_at: (f64, f64),
     /// The dense output's nodes of $N$ besides the half steps' first stages: at a quarter and
     /// three quarters of the accepted step (on the stages' quadratic) and at its end.
     quarters: [OVector<f64, D>; 2],
     n_end: OVector<f64, D>,
+    /// Per half step and block, the dense output's quartic in powers of $\theta$.
+    quartic: [Vec<Quartic>; 2],
     /// Per half step, what the dense output's quartic misses of the half step's end (added
     /// in proportion to $\theta^3$, so that the output is continuous and its slope and
     /// curvature at the half step's start are the quartic's).
     jumps: [OVector<f64, D>; 2],
-    /// Whether `quarters`, `n_end` and `jumps` are those of the accepted step (computed at its
-    /// first dense output).
+    /// Whether `quarters`, `n_end`, `quartic` and `jumps` are those of the accepted step
+    /// (computed at its first dense output).
     dense_ready: bool,
 }
 
@@ -217,20 +237,26 @@ fn for_blocks(slots: &[Slot], mut op: impl FnMut(usize, bool)) {
     }
 }
 
-/// The coefficients of steps of $h$ and $h/2$ for every block.
+/// $[\varphi_0, \dots, \varphi_5]$ of one block at $h\lambda/4$ and $h\lambda/2$: the dense
+/// output's at the middle and the end of a half step ([`dense`]).
+type DenseSets = [[Complex<f64>; 6]; 2];
+
+/// The coefficients of steps of $h$ and $h/2$ for every block, and the dense output's
+/// $\varphi$-functions at the half steps' middles and ends.
 fn coefficients(
     lp: &DiagonalLinearPart,
     h: f64,
     full: &mut [Coefficients],
     half: &mut [Coefficients],
+    dense: &mut [DenseSets],
 ) {
     let values = lp.values();
     for_blocks(lp.slots(), |i, _| {
         let z = values[i] * h;
-        let q = phi_functions(z * 0.25);
-        let m = phi_functions(z * 0.5);
+        let q = phi_functions_to::<6>(z * 0.25);
+        let m = phi_functions_to::<6>(z * 0.5);
         let w = phi_functions(z);
-        let weights = |p: &[Complex<f64>; 4], tau: f64| {
+        let weights = |p: &[Complex<f64>], tau: f64| {
             [
                 (p[1] - p[2] * 3.0 + p[3] * 4.0) * tau,
                 (p[2] * 2.0 - p[3] * 4.0) * tau,
@@ -241,22 +267,16 @@ fn coefficients(
         full[i] = [m[0], m[1] * (0.5 * h), w[0], f1, f2, f3, w[1] * h];
         let [g1, g2, g3] = weights(&m, 0.5 * h);
         half[i] = [q[0], q[1] * (0.25 * h), m[0], g1, g2, g3, m[1] * (0.5 * h)];
+        dense[i] = [q, m];
     });
-}
-
-/// $\int_0^s e^{(s - r)\lambda} e^{\mu r}\thinspace dr = s\thinspace e^{\mu s}
-/// \varphi_1(s(\lambda - \mu))$: no division by $\mu - \lambda$, so exact at and near
-/// resonance ($\mu = \lambda$ gives $s e^{\mu s}$), and no $e^{s\lambda}$ apart, which
-/// underflows for a stiff $\lambda$ while $\varphi_1$ of the difference overflows.
-fn response(lambda: Complex<f64>, mu: Complex<f64>, s: f64) -> Complex<f64> {
-    (mu * s).exp() * phi_functions((lambda - mu) * s)[1] * s
 }
 
 /// The forcing's [`Increments`] of a trial from `t` with step `h`: of the full step and of
 /// the two half steps (`out`), for each forced block, with
 /// $F(t_0, s) = A_+ e^{i\omega t_0} I(i\omega, s) + A_- e^{-i\omega t_0} I(-i\omega, s) +
-/// c\thinspace I(0, s)$ ([`response`]; $I(0, s) = s\varphi_1(s\lambda)$ is in the
-/// coefficients).
+/// c\thinspace I(0, s)$ ([`forcing::combine`]): $I(\pm i\omega, s)$ once per length from the
+/// coefficients' $e^{s\lambda}$ ([`forcing::Harmonics::of`]), $I(0, s) = s\varphi_1(s\lambda)$
+/// from the coefficients.
 fn forcing_increments(
     lp: &DiagonalLinearPart,
     forcing: &Forcing,
@@ -266,23 +286,19 @@ fn forcing_increments(
     out: &mut [Vec<Increments>; 3],
 ) {
     let w = forcing.frequency;
-    let phase = |time: f64| {
-        let (sin, cos) = (w * time).sin_cos();
-        Complex::new(cos, sin)
-    };
-    let p = [t, t + 0.25 * h, t + 0.5 * h, t + 0.75 * h].map(phase);
-    let mu = Complex::new(0.0, w);
+    let p = [t, t + 0.25 * h, t + 0.5 * h, t + 0.75 * h].map(|time| forcing::unit(w * time));
+    let lengths = [0.25 * h, 0.5 * h, h].map(|s| forcing::Harmonics::new(w, s));
     let values = lp.values();
     let [f_full, f_first, f_second] = out;
     for &i in &forcing.forced {
-        let [ap, am, c] = forcing.blocks[i].exponential();
-        let lambda = values[i];
-        let [q, m, e] =
-            [0.25 * h, 0.5 * h, h].map(|s| [response(lambda, mu, s), response(lambda, -mu, s)]);
-        let (q0, m0, e0) = (half[i][1], full[i][1], full[i][6]);
-        let f = |pk: Complex<f64>, r: [Complex<f64>; 2], r0: Complex<f64>| {
-            ap * pk * r[0] + am * pk.conj() * r[1] + c * r0
+        let Some(block) = &forcing.responses[i] else {
+            continue;
         };
+        let lambda = values[i];
+        let exps = [half[i][0], full[i][0], full[i][2]];
+        let [q, m, e] = [0, 1, 2].map(|k| lengths[k].of(lambda, exps[k], block));
+        let (q0, m0, e0) = (half[i][1], full[i][1], full[i][6]);
+        let f = |pk, r, r0| forcing::combine(block, pk, r, r0);
         f_full[i] = [f(p[0], m, m0), f(p[2], m, m0), f(p[0], e, e0)];
         f_first[i] = [f(p[0], q, q0), f(p[1], q, q0), f(p[0], m, m0)];
         f_second[i] = [f(p[2], q, q0), f(p[3], q, q0), f(p[2], m, m0)];
@@ -435,9 +451,12 @@ where
             fk: z.clone(),
             coef_full: vec![unit; n],
             coef_half: vec![unit; n],
+            coef_dense: vec![[[Complex::new(0.0, 0.0); 6]; 2]; n],
             increments: std::array::from_fn(|_| vec![[Complex::new(0.0, 0.0); 3]; n]),
+            coef_at: (f64::NAN, f64::NAN),
             quarters: [z.clone(), z.clone()],
             n_end: z.clone(),
+            quartic: std::array::from_fn(|_| vec![[Complex::new(0.0, 0.0); 5]; n]),
             jumps: [z.clone(), z],
             dense_ready: false,
         })
@@ -475,219 +494,59 @@ where
             u_mid,
             stage,
             fk,
+            coef_full,
+            coef_half,
+            coef_dense,
+            increments,
+            coef_at,
             quarters,
             n_end,
+            quartic,
             jumps,
             ..
         } = self;
         let (t0, h) = (core.t_prev, core.h_dense);
+        // The last trial is the accepted step's unless a later step failed or was refused.
+        if *coef_at != (t0, h) {
+            coefficients(lp, h, coef_full, coef_half, coef_dense);
+            if let Some(forcing) = lp.forcing() {
+                let cf = (coef_full.as_slice(), coef_half.as_slice());
+                forcing_increments(lp, forcing, cf, t0, h, increments);
+            }
+            *coef_at = (t0, h);
+        }
+        let starts = [&core.y_prev, &*u_mid];
         for (j, q) in quarters.iter_mut().enumerate() {
             let t = t0 + (0.25 + 0.5 * j as f64) * h;
             let u = &mut stage[0];
-            quadratic_at(lp, halves, &core.y_prev, u_mid, t0, h, t, u.as_mut_slice());
+            let interpolant = (&halves[j], starts[j].as_slice());
+            let cached = (coef_dense.as_slice(), increments[1 + j].as_slice());
+            quadratic_middle(lp, interpolant, cached, 0.5 * h, u.as_mut_slice());
             nonlinear(sys, lp, t, u, fk, q);
         }
         core.stats.rhs_evals += 2;
         rest(lp, t0 + h, &core.y_end, &core.f_end, n_end);
+        let nodes = [
+            &halves[0].n[0],
+            &quarters[0],
+            &halves[1].n[0],
+            &quarters[1],
+            n_end,
+        ];
+        quartic_coefficients(lp, nodes.map(|v| v.as_slice()), quartic);
         let [jump0, jump1] = jumps;
-        let starts = [&core.y_prev, &*u_mid];
-        let dense = DenseStep::new(halves, (quarters, n_end), starts, t0, h);
+        let dense = DenseStep::new(quartic, starts, t0, h);
         for (half, (jump, end)) in [(jump0, &*u_mid), (jump1, &core.y_end)]
             .into_iter()
             .enumerate()
         {
-            dense.on_half(lp, half, 1.0, jump.as_mut_slice());
+            let cached = (coef_dense.as_slice(), increments[1 + half].as_slice());
+            dense.half_end(lp, half, cached, jump.as_mut_slice());
             for (d, e) in jump.iter_mut().zip(end.iter()) {
                 *d = e - *d;
             }
         }
         self.dense_ready = true;
-    }
-}
-
-/// The stages' interpolant at `t` into `out`: on the half step of `[t_prev, t_prev + h]` that
-/// holds `t` (extrapolated outside the step), the quadrature of the quadratic through the half
-/// step's stages ($N_a$, $N_m = (N_b + N_c)/2$, $N_d$) to $\theta\tau$. Its local error is
-/// $O(\tau^4)$, one order short of the step's (the stages are of order 4 only in the step's
-/// weights): it places the dense output's nodes ([`Etd4::prepare_dense`]), which need no more.
-#[allow(clippy::too_many_arguments)]
-fn quadratic_at<D: Dim>(
-    lp: &DiagonalLinearPart,
-    halves: &[Stages<D>; 2],
-    y_prev: &OVector<f64, D>,
-    u_mid: &OVector<f64, D>,
-    t_prev: f64,
-    h: f64,
-    t: f64,
-    out: &mut [f64],
-) where
-    DefaultAllocator: Allocator<D>,
-{
-    let tau = 0.5 * h;
-    let s = (t - t_prev) / tau;
-    let (half, u0, theta) = if s <= 1.0 {
-        (&halves[0], y_prev.as_slice(), s)
-    } else {
-        (&halves[1], u_mid.as_slice(), s - 1.0)
-    };
-    let [na, nb, nc, nd] = half.n.each_ref().map(|v| v.as_slice());
-    let values = lp.values();
-    for_blocks(lp.slots(), |i, p| {
-        let phi = phi_functions(values[i] * (theta * tau));
-        let a = get(na, i, p);
-        let m = (get(nb, i, p) + get(nc, i, p)) * 0.5;
-        let d = get(nd, i, p);
-        let p2 = m * 4.0 - a * 3.0 - d;
-        let p3 = (a - m * 2.0 + d) * 4.0;
-        let value = phi[0] * get(u0, i, p)
-            + (phi[1] * a + phi[2] * p2 * theta + phi[3] * p3 * (theta * theta)) * (theta * tau);
-        put(out, i, p, value);
-    });
-    if let Some(forcing) = lp.forcing() {
-        let t0 = if s <= 1.0 { t_prev } else { t_prev + tau };
-        add_forced_response(lp, forcing, t0, theta * tau, out);
-    }
-}
-
-/// Six times the coefficients of the quartic through the dense output's nodes of $N$ at
-/// $0, \tau/2, \tau, 3\tau/2, 2\tau$ (an accepted step of two half steps of length $\tau$), in
-/// powers of $\theta$ on the first half step ($t = t_{\text{prev}} + \theta\tau$, `[0]`) and
-/// on the second ($t = t_{\text{prev}} + (1 + \theta)\tau$, `[1]`): row $k$ gives the
-/// coefficient of $\theta^k$, column $j$ the weight of node $j$ (Lagrange's basis on the
-/// nodes $0, 1/2, 1, 3/2, 2$ in units of $\tau$, shifted by 0 or 1; exact rationals).
-const QUARTIC: [[[f64; 5]; 5]; 2] = [
-    [
-        [6.0, 0.0, 0.0, 0.0, 0.0],
-        [-25.0, 48.0, -36.0, 16.0, -3.0],
-        [35.0, -104.0, 114.0, -56.0, 11.0],
-        [-20.0, 72.0, -96.0, 56.0, -12.0],
-        [4.0, -16.0, 24.0, -16.0, 4.0],
-    ],
-    [
-        [0.0, 0.0, 6.0, 0.0, 0.0],
-        [1.0, -8.0, 0.0, 8.0, -1.0],
-        [-1.0, 16.0, -30.0, 16.0, -1.0],
-        [-4.0, 8.0, 0.0, -8.0, 4.0],
-        [4.0, -16.0, 24.0, -16.0, 4.0],
-    ],
-];
-
-/// $k!/6$ for $k < 5$: the factor of $\theta^k$'s coefficient in [`QUARTIC`] in the dense
-/// output ($\int_0^{\theta\tau} e^{(\theta\tau - r)\lambda}(r/\tau)^k\thinspace dr =
-/// k!\thinspace\theta^{k+1}\tau\thinspace\varphi_{k+1}(\theta\tau\lambda)$).
-const FACTORIAL_SIXTH: [f64; 5] = [1.0 / 6.0, 1.0 / 6.0, 2.0 / 6.0, 1.0, 4.0];
-
-/// The dense output's data of one accepted step of length `h` from `t_prev`: the five nodes
-/// of $N$ ([`QUARTIC`]), the states at the half steps' starts, and, once computed, the
-/// half steps' jumps.
-#[derive(Clone, Copy)]
-struct DenseStep<'a> {
-    nodes: [&'a [f64]; 5],
-    starts: [&'a [f64]; 2],
-    jumps: Option<[&'a [f64]; 2]>,
-    t_prev: f64,
-    h: f64,
-}
-
-impl<'a> DenseStep<'a> {
-    /// The dense output's data from the accepted step's stages, nodes and starts, without
-    /// jumps.
-    fn new<D: Dim>(
-        halves: &'a [Stages<D>; 2],
-        (quarters, n_end): (&'a [OVector<f64, D>; 2], &'a OVector<f64, D>),
-        starts: [&'a OVector<f64, D>; 2],
-        t_prev: f64,
-        h: f64,
-    ) -> Self
-    where
-        DefaultAllocator: Allocator<D>,
-    {
-        DenseStep {
-            nodes: [
-                halves[0].n[0].as_slice(),
-                quarters[0].as_slice(),
-                halves[1].n[0].as_slice(),
-                quarters[1].as_slice(),
-                n_end.as_slice(),
-            ],
-            starts: starts.map(|u| u.as_slice()),
-            jumps: None,
-            t_prev,
-            h,
-        }
-    }
-
-    /// With the half steps' jumps.
-    fn with_jumps<D: Dim>(self, jumps: &'a [OVector<f64, D>; 2]) -> Self
-    where
-        DefaultAllocator: Allocator<D>,
-    {
-        DenseStep {
-            jumps: Some([jumps[0].as_slice(), jumps[1].as_slice()]),
-            ..self
-        }
-    }
-
-    /// The dense output at `t` into `out` (extrapolated outside the step): on the half step
-    /// that holds it, [`DenseStep::on_half`].
-    fn at(&self, lp: &DiagonalLinearPart, t: f64, out: &mut [f64]) {
-        let s = (t - self.t_prev) / (0.5 * self.h);
-        let half = usize::from(s > 1.0);
-        self.on_half(lp, half, s - half as f64, out);
-    }
-
-    /// The dense output at $\theta$ of half step `half` into `out`: from its start $u_j$,
-    /// $e^{\theta\tau L}u_j + F(t_j, \theta\tau) + \theta\tau\sum_k k!\thinspace c_k\theta^k
-    /// \varphi_{k+1}(\theta\tau L) + \theta^3\delta_j$ with $c_k$ the quartic's coefficients
-    /// ([`QUARTIC`]) and $\delta_j$ the half step's jump (if known).
-    fn on_half(&self, lp: &DiagonalLinearPart, half: usize, theta: f64, out: &mut [f64]) {
-        let tau = 0.5 * self.h;
-        let (u0, rows) = (self.starts[half], &QUARTIC[half]);
-        let values = lp.values();
-        let zero = Complex::new(0.0, 0.0);
-        for_blocks(lp.slots(), |i, p| {
-            let phi = phi_functions_to::<6>(values[i] * (theta * tau));
-            let v = self.nodes.map(|n| get(n, i, p));
-            let (mut sum, mut power) = (zero, 1.0);
-            for (k, row) in rows.iter().enumerate() {
-                let c = row.iter().zip(&v).fold(zero, |a, (w, x)| a + x * *w);
-                sum += phi[k + 1] * c * (FACTORIAL_SIXTH[k] * power);
-                power *= theta;
-            }
-            let mut value = phi[0] * get(u0, i, p) + sum * (theta * tau);
-            if let Some(jumps) = self.jumps {
-                value += get(jumps[half], i, p) * (theta * theta * theta);
-            }
-            put(out, i, p, value);
-        });
-        if let Some(forcing) = lp.forcing() {
-            let t0 = self.t_prev + half as f64 * tau;
-            add_forced_response(lp, forcing, t0, theta * tau, out);
-        }
-    }
-}
-
-/// `out += F(t0, s)` at each forced block: its exact response from zero to the declared
-/// forcing over $[t_0, t_0 + s]$ (as [`forcing_increments`]).
-fn add_forced_response(
-    lp: &DiagonalLinearPart,
-    forcing: &Forcing,
-    t0: f64,
-    s: f64,
-    out: &mut [f64],
-) {
-    let w = forcing.frequency;
-    let (sin, cos) = (w * t0).sin_cos();
-    let (pk, mu) = (Complex::new(cos, sin), Complex::new(0.0, w));
-    let (values, slots) = (lp.values(), lp.slots());
-    for &i in &forcing.forced {
-        let [ap, am, c] = forcing.blocks[i].exponential();
-        let lambda = values[i];
-        let constant = phi_functions(lambda * s)[1] * s;
-        let f = ap * pk * response(lambda, mu, s)
-            + am * pk.conj() * response(lambda, -mu, s)
-            + c * constant;
-        put_add(out, i, slots[i] == Slot::PairRe, f);
     }
 }
 
@@ -718,7 +577,9 @@ where
             fk,
             coef_full,
             coef_half,
+            coef_dense,
             increments,
+            coef_at,
             ..
         } = self;
         let t_before = core.t;
@@ -734,11 +595,12 @@ where
                 stats,
                 ..
             } = io;
-            coefficients(lp, h, coef_full, coef_half);
+            coefficients(lp, h, coef_full, coef_half, coef_dense);
             if let Some(forcing) = lp.forcing() {
                 let cf = (coef_full.as_slice(), coef_half.as_slice());
                 forcing_increments(lp, forcing, cf, t, h, increments);
             }
+            *coef_at = (t, h);
             let forced = |k: usize| {
                 lp.forcing().map(|f| Forced {
                     blocks: &f.forced,
@@ -807,15 +669,13 @@ where
                 self.prepare_dense(sys, lp);
                 let Etd4 {
                     core,
-                    halves,
                     u_mid,
-                    quarters,
-                    n_end,
+                    quartic,
                     jumps,
                     ..
                 } = self;
                 let starts = [&core.y_prev, &*u_mid];
-                DenseStep::new(halves, (quarters, n_end), starts, core.t_prev, core.h_dense)
+                DenseStep::new(quartic, starts, core.t_prev, core.h_dense)
                     .with_jumps(jumps)
                     .at(lp, t, out.as_mut_slice());
             }
@@ -832,10 +692,8 @@ where
         self.prepare_dense(sys, lp);
         let Etd4 {
             core,
-            halves,
             u_mid,
-            quarters,
-            n_end,
+            quartic,
             jumps,
             ..
         } = self;
@@ -846,15 +704,9 @@ where
             h_dense,
             ..
         } = core;
-        DenseStep::new(
-            halves,
-            (quarters, n_end),
-            [y_prev, u_mid],
-            *t_prev,
-            *h_dense,
-        )
-        .with_jumps(jumps)
-        .at(lp, t_new, y_new.as_mut_slice());
+        DenseStep::new(quartic, [y_prev, u_mid], *t_prev, *h_dense)
+            .with_jumps(jumps)
+            .at(lp, t_new, y_new.as_mut_slice());
         core.apply_truncate(sys, t_new)
     }
 
