@@ -88,7 +88,9 @@ pub(crate) struct Forcing {
 pub(crate) struct BlockResponse {
     /// $[A_+, A_-, c]$ ([`BlockForcing::exponential`]).
     pub(crate) amplitudes: [Complex<f64>; 3],
-    /// $1/(\lambda - i\omega)$, $1/(\lambda + i\omega)$ (not finite at resonance).
+    /// $1/(\lambda - i\omega)$, $1/(\lambda + i\omega)$; 0 where it is not finite (at or
+    /// within $10^{-154}$ of resonance), with the modulus 0 too, so that the series is taken
+    /// and the declaration still equals itself.
     pub(crate) inverse: [Complex<f64>; 2],
     /// $|\lambda - i\omega|$, $|\lambda + i\omega|$.
     pub(crate) modulus: [f64; 2],
@@ -97,10 +99,13 @@ pub(crate) struct BlockResponse {
 impl BlockResponse {
     fn new(lambda: Complex<f64>, omega: f64, block: &BlockForcing) -> Self {
         let detuning = [-1.0, 1.0].map(|sign| lambda + Complex::new(0.0, sign * omega));
+        let inverse = detuning.map(|d| d.inv());
+        let finite = inverse.map(|v| v.re.is_finite() && v.im.is_finite());
+        let zero = Complex::new(0.0, 0.0);
         BlockResponse {
             amplitudes: block.exponential(),
-            inverse: detuning.map(|d| d.inv()),
-            modulus: detuning.map(|d| d.norm()),
+            inverse: std::array::from_fn(|k| if finite[k] { inverse[k] } else { zero }),
+            modulus: std::array::from_fn(|k| if finite[k] { detuning[k].norm() } else { 0.0 }),
         }
     }
 }

@@ -314,6 +314,16 @@ fn a_forcing_declaration_is_checked() {
     assert_eq!(forced.block_forcing(1), Some(imaginary));
     assert_eq!(forced.block_forcing(0), None);
     assert_eq!(lp().forcing_frequency(), None);
+    // A declaration equals its copy, at exact resonance too (lambda = 2i against omega = 2, and
+    // omega = 0 on the component outside every block), where the detunings set up for the
+    // exact response have no inverse (issue 32: they are stored as 0, not as NaN).
+    let resonant = DiagonalLinearPart::new(4, &[], &[(1, C::new(0.0, 2.0))])
+        .unwrap()
+        .with_forcing(2.0, &[(1, imaginary), (3, unit)])
+        .unwrap();
+    assert_eq!(resonant, resonant.clone());
+    let constant = lp().with_forcing(0.0, &[(3, unit)]).unwrap();
+    assert_eq!(constant, constant.clone());
     // g(t) = a cos 3t + b sin 3t + c: the pair (1, 2) gets cos 3t + 0.5 i sin 3t, component 3
     // cos 3t, component 0 nothing.
     let mut g = [9.0; 4];
