@@ -1,13 +1,13 @@
 use nalgebra::allocator::Allocator;
 use nalgebra::{Complex, DefaultAllocator, Dim, DimName, OVector};
 
-use super::core::{core_accessors, fit, zeros, Core, Trial, TrialIo};
-use super::linear_part::{phi_functions, phi_functions_to, DiagonalLinearPart, Forcing, Slot};
-use dense::{quadratic_middle, quartic_coefficients, DenseStep, Quartic};
-
 mod dense;
 mod forcing;
+
+use super::core::{core_accessors, fit, zeros, Core, Trial, TrialIo};
+use super::linear_part::{phi_functions, phi_functions_to, DiagonalLinearPart, Forcing, Slot};
 use super::{controller::scale, Integrator, OdeError, OdeSystem, Options, Stats};
+use dense::{quadratic_middle, quartic_coefficients, DenseStep, Quartic};
 
 /// The four nonlinear stage values of one ETDRK4 step: $N_a$ at $t$, $N_b$, $N_c$ at
 /// $t + \tau/2$, $N_d$ at $t + \tau$.
@@ -136,8 +136,9 @@ struct Forced<'a> {
 /// $I(\pm i\omega, s) = (e^{s\lambda} - e^{\pm i\omega s})/(\lambda \mp i\omega)$ with the
 /// inverses set up once, where $s|\lambda \mp i\omega| \ge 1/8$ (the cancellation costs at
 /// most $7\times10^{-15}$ relative), the series above nearer resonance, and
-/// $e^{\pm i\omega s}$ once per length for all blocks. A dense output costs one evaluation of $\varphi_0, \dots, \varphi_5$ per block
-/// (the forced response from it); the first one of a step two evaluations of $f$, its nodes
+/// $e^{\pm i\omega s}$ once per length for all blocks. A dense output costs one evaluation of
+/// $\varphi_0, \dots, \varphi_5$ per block (the forced response from it) and five products
+/// with the quartic's coefficients; the first one of a step two evaluations of $f$, its nodes
 /// and jumps from the accepted trial's $\varphi$-functions and increments. (Issue 32: 41
 /// evaluations of $\varphi$ a step per forced block with four event samples, now 7.) Nothing
 /// is allocated after construction. The steps are set by $N$ (a contact, an undeclared
