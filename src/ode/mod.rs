@@ -165,7 +165,10 @@
 //! For the last accepted step $[t_{\text{prev}}, t]$ (or its part after the
 //! last reported hit, see [`EventState`]) the detector evaluates every active
 //! event $g_i$ at `samples_per_step` equally spaced interior dense-output
-//! points plus both ends. Scanning the sample intervals in time order:
+//! points plus both ends, every event of a sample at once
+//! ([`EventSet::values_and_derivatives`]: a set whose events share work, a
+//! contact location, does it once a sample). Scanning the sample intervals in
+//! time order:
 //!
 //! * **sign change** — $g_i(a) \ne 0$ and ($g_i(b) = 0$ or
 //!   $\operatorname{sign} g_i(b) \ne \operatorname{sign} g_i(a)$): a crossing
@@ -173,7 +176,10 @@
 //!   direction is allowed, the root is located by the Illinois method.
 //! * **grazing pair** — no sign change, but the event supplies
 //!   [`EventSet::derivative`] and $\dot g_i$ changes sign between $a$ and $b$
-//!   (the derivative is evaluated with $\dot y = f(t, y_{\text{dense}}(t))$):
+//!   (the derivative is evaluated with $\dot y = f(t, y_{\text{dense}}(t))$,
+//!   at the step's ends the integrator's own $f$ ([`Integrator::dy`]), and no
+//!   $f$ at all for an event whose derivative does not read it,
+//!   [`EventSet::derivative_needs_rhs_of`]):
 //!   the extremum is bracketed; the Illinois method on $\dot g_i$ moves
 //!   towards it, and as soon as a probe $c$ has $g_i(c)$ of the opposite sign
 //!   the two roots are bracketed by $[a, c]$ and $[c, b]$ (a probe where $g_i$ is

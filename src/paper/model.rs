@@ -15,7 +15,8 @@ use crate::numeric::Direction;
 use crate::params::{ParamError, Params};
 use crate::ring::onset::OnsetScan;
 use crate::ring::{
-    Kinematics, Relaxation, RingAxis, RingCache, RingError, RingGuard, RingMode, SnubberRing,
+    AccelOfForce, Kinematics, Relaxation, RingAxis, RingCache, RingError, RingGuard, RingMode,
+    SnubberRing,
 };
 
 /// State `[x, y, x', y', x_s, y_s]`: rotor position and velocity, ring position.
@@ -231,6 +232,18 @@ impl JeffcottModel {
         (c, s)
     }
 
+    /// The rotor's acceleration but for the ring's force:
+    /// $\beta\eta^2(\cos, \sin)(\varphi_0 + \eta t) - 2\nu_1 r^\prime - (r - e)$, the forcing by
+    /// [`JeffcottModel::forcing_phase`] (so `rhs` and the guards' rates share its bits).
+    fn accel_off_ring(&self, t: f64, y: &State, cache: &Cache) -> Vector2<f64> {
+        let (cs, sn) = self.forcing_phase(t, cache);
+        let p = &self.params;
+        Vector2::new(
+            self.amp * cs - 2.0 * p.nu1 * y[2] - (y[0] - p.ex),
+            self.amp * sn - 2.0 * p.nu1 * y[3] - (y[1] - p.ey),
+        )
+    }
+
     /// The rotor's kinematics at the ring.
     fn kinematics(y: &State) -> Kinematics {
         Kinematics::new([y[0], y[1]], [y[2], y[3]])
@@ -315,22 +328,18 @@ impl RotorModel for JeffcottModel {
     }
 
     fn rhs(&self, mode: Mode, t: f64, y: &State, dy: &mut State, cache: &Cache) {
-        let (cs, sn) = self.forcing_phase(t, cache);
-        let p = &self.params;
-        let mut fx = self.amp * cs - 2.0 * p.nu1 * y[2] - (y[0] - p.ex);
-        let mut fy = self.amp * sn - 2.0 * p.nu1 * y[3] - (y[1] - p.ey);
+        let mut f = self.accel_off_ring(t, y, cache);
         let (sdx, sdy) = match self
             .ring
             .ring_state(&mode, t, &Self::kinematics(y), &cache.ring)
         {
             Ok(ring) => {
-                fx -= ring.force.x;
-                fy -= ring.force.y;
+                f -= ring.force;
                 (ring.s_dot.x, ring.s_dot.y)
             }
             Err(_) => (f64::NAN, f64::NAN),
         };
-        *dy = State::from([y[2], y[3], fx, fy, sdx, sdy]);
+        *dy = State::from([y[2], y[3], f.x, f.y, sdx, sdy]);
     }
 
     fn guard_count(&self, mode: Mode) -> usize {
@@ -358,26 +367,29 @@ impl RotorModel for JeffcottModel {
         i: usize,
         t: f64,
         y: &State,
-        dy: &State,
+        _dy: &State,
         cache: &Cache,
     ) -> Option<f64> {
         let guard = self.guard_of(&mode, i);
         let k = Self::kinematics(y);
-        // The loss force's rate needs the rotor's acceleration, from `dy` (the event detector
-        // has it for free at a step's ends).
-        let accel = Vector2::new(dy[2], dy[3]);
+        if guard != RingGuard::Loss {
+            // Position and velocity suffice: they are in the state.
+            return self.ring.guard_rate(&mode, guard, t, &k, &cache.ring);
+        }
+        // The loss force's rate needs the rotor's acceleration: the right-hand side's, from
+        // the same formulas.
+        let mut accel = self.accel_off_ring(t, y, cache);
+        if let Ok(ring) = self.ring.ring_state(&mode, t, &k, &cache.ring) {
+            accel -= ring.force;
+        }
         self.ring
             .guard_rate_with_accel(&mode, guard, t, &k, &accel, &cache.ring)
     }
 
     fn guard_derivative_needs_rhs(&self) -> bool {
-        // The loss guard's rate reads the rotor's acceleration.
-        true
-    }
-
-    fn guard_derivative_needs_rhs_of(&self, mode: Mode, i: usize) -> bool {
-        // The others need only the rotor's position and velocity, which are in the state.
-        self.guard_of(&mode, i) == RingGuard::Loss
+        // Every rate is computed from the state (the loss guard's with the acceleration of
+        // `rhs`): the event detector evaluates no right-hand side at its samples.
+        false
     }
 
     fn guard_values(
@@ -385,17 +397,18 @@ impl RotorModel for JeffcottModel {
         mode: Mode,
         t: f64,
         y: &State,
-        dy: &State,
+        _dy: &State,
         with_rates: bool,
         cache: &Cache,
         out: &mut dyn FnMut(usize, f64, Option<f64>),
     ) {
-        let accel = Vector2::new(dy[2], dy[3]);
-        self.ring.guard_values(
+        // The acceleration of `rhs` from the ring's force at the contact the guards locate.
+        let accel_of = |force: &Vector2<f64>| self.accel_off_ring(t, y, cache) - force;
+        self.ring.guard_values_with(
             &mode,
             t,
             &Self::kinematics(y),
-            with_rates.then_some(&accel),
+            with_rates.then_some(&accel_of as AccelOfForce<'_>),
             &cache.ring,
             out,
         );

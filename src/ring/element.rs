@@ -5,6 +5,11 @@ use nalgebra::Vector2;
 use super::{Branch, Branches, Regime, Relaxation, RingContact, RingError, SnubberRing};
 use crate::numeric::Direction;
 
+/// The station's acceleration $r^{\prime\prime}$ given the ring's force $f$ on the rotor
+/// ([`SnubberRing::guard_values_with`]): a rotor's right-hand side at one point, as a
+/// function of the one force it cannot know before the ring is located.
+pub type AccelOfForce<'a> = &'a dyn Fn(&Vector2<f64>) -> Vector2<f64>;
+
 /// Relative distance inside the gap circle within which a touch still counts as a touch of the
 /// circle itself (the onset time is located to rounding): the contact branches' smooth
 /// extension covers that hair. Farther inside, a touch by a relaxing ring leaves the ring at its
@@ -627,6 +632,26 @@ impl SnubberRing {
         cache: &RingCache,
         out: &mut dyn FnMut(usize, f64, Option<f64>),
     ) {
+        let given = accel.map(|a| move |_: &Vector2<f64>| *a);
+        let accel_of = given.as_ref().map(|f| f as AccelOfForce<'_>);
+        self.guard_values_with(mode, t, k, accel_of, cache, out);
+    }
+
+    /// As [`SnubberRing::guard_values`], with the station's acceleration $r^{\prime\prime}$
+    /// from the ring's force on the rotor: `accel_of(f)`, called at most once a point with the
+    /// force $f$ ([`RingContact::force`]) of the contact the guards are evaluated on (rates are
+    /// returned when `accel_of` is given). A rotor whose acceleration depends on that force,
+    /// every rotor on the ring, so locates the ring once a point for its guards and their
+    /// rates, not once for its right-hand side and again for the guards.
+    pub fn guard_values_with(
+        &self,
+        mode: &RingMode,
+        t: f64,
+        k: &Kinematics,
+        accel_of: Option<AccelOfForce<'_>>,
+        cache: &RingCache,
+        out: &mut dyn FnMut(usize, f64, Option<f64>),
+    ) {
         let b = match mode {
             RingMode::Free {
                 relax,
@@ -634,21 +659,25 @@ impl SnubberRing {
                 ..
             } => {
                 let (value, rate) = self.onset_guard(relax, *onset_margin, t, k);
-                out(0, value, accel.map(|_| rate));
+                out(0, value, accel_of.map(|_| rate));
                 return;
             }
             RingMode::Contact(b) => b,
         };
         let n = self.guard_count(mode);
         let gap = self.gap_guard(k);
+        let with_rates = accel_of.is_some();
         let done = self.with_contact(*b, &k.r, cache, |c| {
+            let accel = accel_of.map(|f| f(&c.force(&k.v)));
             for i in 0..n {
                 match self.guard(mode, i) {
-                    Some(RingGuard::Gap) => out(i, gap.0, accel.map(|_| gap.1)),
+                    Some(RingGuard::Gap) => out(i, gap.0, with_rates.then_some(gap.1)),
                     Some(guard) => out(
                         i,
                         self.placed_value(b, guard, c, k),
-                        accel.and_then(|a| self.placed_rate(b, guard, c, k, Some(a))),
+                        accel
+                            .as_ref()
+                            .and_then(|a| self.placed_rate(b, guard, c, k, Some(a))),
                     ),
                     None => {}
                 }
@@ -658,7 +687,7 @@ impl SnubberRing {
             // No placement: the contact guards are NaN (the gap guard needs none).
             for i in 0..n {
                 if i == 1 {
-                    out(1, gap.0, accel.map(|_| gap.1));
+                    out(1, gap.0, with_rates.then_some(gap.1));
                 } else {
                     out(i, f64::NAN, None);
                 }

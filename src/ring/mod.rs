@@ -310,7 +310,8 @@ pub(crate) mod station;
 pub use branch::{Branch, Branches};
 pub(crate) use element::{loss_force_rate, preload_sign, LossMotion};
 pub use element::{
-    Axis, Kinematics, RingCache, RingGuard, RingMode, RingState, RingTransition, ONSET_TOUCH,
+    AccelOfForce, Axis, Kinematics, RingCache, RingGuard, RingMode, RingState, RingTransition,
+    ONSET_TOUCH,
 };
 pub use friction::{ContactStart, FrictionRing, RollContact, Slip, SlipContact};
 pub use locate::{regime_ii_position, regime_v_position, RingContact};

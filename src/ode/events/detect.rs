@@ -39,28 +39,36 @@ fn hermite_extremum(a: (f64, f64, f64), b: (f64, f64, f64)) -> Option<(f64, f64)
     let p = |s: f64| c0 + s * (c1 + s * (c2 + s * c3));
     // p'(s) = c1 + 2 c2 s + 3 c3 s^2.
     let (qa, qb, qc) = (3.0 * c3, 2.0 * c2, c1);
-    let mut roots = [f64::NAN; 2];
-    if qa.abs() <= 1e-14 * (qb.abs() + qc.abs()) {
-        if qb != 0.0 {
-            roots[0] = -qc / qb;
+    let (r0, r1) = if qa.abs() <= 1e-14 * (qb.abs() + qc.abs()) {
+        if qb == 0.0 {
+            return None;
         }
+        (-qc / qb, f64::NAN)
     } else {
         let disc = qb * qb - 4.0 * qa * qc;
-        if disc >= 0.0 {
-            let q = -0.5 * (qb + qb.signum() * disc.sqrt());
-            roots[0] = q / qa;
-            if q != 0.0 {
-                roots[1] = qc / q;
-            }
+        if disc.is_nan() || disc < 0.0 {
+            return None;
+        }
+        let q = -0.5 * (qb + qb.signum() * disc.sqrt());
+        (q / qa, if q != 0.0 { qc / q } else { f64::NAN })
+    };
+    // The interior root whose value is nearer zero on the ends' side (signed distance, negative
+    // across it); the first on a tie.
+    let inside = |s: f64| s > 0.0 && s < 1.0;
+    let side = |v: f64| v * ga.signum();
+    match (inside(r0), inside(r1)) {
+        (false, false) => None,
+        (true, false) => Some((ta + r0 * h, p(r0))),
+        (false, true) => Some((ta + r1 * h, p(r1))),
+        (true, true) => {
+            let (v0, v1) = (p(r0), p(r1));
+            Some(if side(v1).total_cmp(&side(v0)).is_lt() {
+                (ta + r1 * h, v1)
+            } else {
+                (ta + r0 * h, v0)
+            })
         }
     }
-    // Signed distance to zero on the ends' side (negative across it).
-    let side = |v: f64| v * ga.signum();
-    roots
-        .into_iter()
-        .filter(|s| *s > 0.0 && *s < 1.0)
-        .map(|s| (ta + s * h, p(s)))
-        .min_by(|x, y| side(x.1).total_cmp(&side(y.1)))
 }
 
 /// Whether a value `v` on a sample interval whose ends have the values `ga`, `gb` (same sign)
@@ -447,7 +455,9 @@ where
                 step.start + step.span * (k as f64 / (m + 1) as f64)
             };
             y_at(self.integ, self.sys, t_b, y_b);
-            if need_rhs {
+            // At the step's end the integrator has f (the start of the next step reads the same).
+            let f_known = need_rhs && t_b == self.integ.t() && copy_known(self.integ.dy(), f_b);
+            if need_rhs && !f_known {
                 self.sys.rhs(t_b, y_b, f_b);
                 self.integ.stats_mut().rhs_evals += 1;
             }
@@ -459,19 +469,14 @@ where
                 tol,
                 best: None,
             };
+            self.values_at_end(slots, t_b, y_b, if need_rhs { f_b } else { self.zero });
             let mut any_nan = false;
             for (i, s) in slots.iter_mut().enumerate() {
                 s.nan = false;
                 if !s.active {
                     continue;
                 }
-                let dy_b: &OVector<f64, D> = if s.needs_rhs { f_b } else { self.zero };
-                let d_b = if s.has_der {
-                    self.events.derivative(i, t_b, y_b, dy_b).unwrap_or(0.0)
-                } else {
-                    0.0
-                };
-                let g_b = self.events.value(i, t_b, y_b);
+                let (g_b, d_b) = s.end;
                 if g_b.is_nan() {
                     // No sign at this sample: decided after the interval's other events.
                     s.nan = true;
@@ -493,6 +498,29 @@ where
             t_a = t_b;
         }
         Ok(None)
+    }
+
+    /// Every active guard's value and derivative (0 without one) at a sample `t_b` into its
+    /// slot's `end`, all at once: a set whose guards share work (a contact location) does it
+    /// once a sample. `dy_b` is $f$ there when some guard's derivative reads it, else zeros (a
+    /// derivative that does not read it ignores it).
+    fn values_at_end(
+        &self,
+        slots: &mut [Slot],
+        t_b: f64,
+        y_b: &OVector<f64, D>,
+        dy_b: &OVector<f64, D>,
+    ) {
+        for s in slots.iter_mut() {
+            s.end = (f64::NAN, 0.0);
+        }
+        self.events
+            .values_and_derivatives(t_b, y_b, dy_b, true, &mut |i, g, d| {
+                let s = &mut slots[i];
+                if s.active {
+                    s.end = (g, if s.has_der { d.unwrap_or(0.0) } else { 0.0 });
+                }
+            });
     }
 
     /// The rules of one guard over one sample interval, given its value and derivative at

@@ -24,6 +24,8 @@ pub(super) struct Slot {
     pub needs_rhs: bool,
     /// NaN at the right end of the current sample interval.
     pub nan: bool,
+    /// $g$ and $\dot g$ (0 if unknown) at the right end of the current sample interval.
+    pub end: (f64, f64),
 }
 
 /// Whether a guard may have left zero at the segment origin.
@@ -49,6 +51,7 @@ impl Default for Slot {
             leave: Leave::No,
             needs_rhs: false,
             nan: false,
+            end: (f64::NAN, 0.0),
         }
     }
 }

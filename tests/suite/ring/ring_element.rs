@@ -447,6 +447,55 @@ proptest! {
         }
     }
 
+    /// `guard_values_with`, the acceleration from the ring's force at the contact the guards
+    /// locate, gives bitwise the rates of the one-guard methods given the acceleration a
+    /// right-hand side computes, $a - f$ with $f$ the force of `ring_state` (without a
+    /// placement: $a$), and asks for the force at most once a point.
+    #[test]
+    fn guards_with_the_acceleration_from_the_ring_force_equal_single_guards_bitwise(
+        kx in 1e-2f64..1e3, ky in 1e-2f64..1e3,
+        dx in prop_oneof![Just(0.0), 1e-3f64..1.5], dy in prop_oneof![Just(0.0), 1e-3f64..1.5],
+        nu2 in prop_oneof![Just(0.0), 1e-4f64..0.1],
+        rad in 0.5f64..4.0, ang in 0.0f64..std::f64::consts::TAU,
+        vx in -5.0f64..5.0, vy in -5.0f64..5.0, off_ring in (-50.0f64..50.0, -50.0f64..50.0),
+        bx_seed in 0usize..3, by_seed in 0usize..3,
+    ) {
+        let ring = ring(kx, dx, ky, dy, nu2);
+        let pick = |d: f64, seed: usize| if d == 0.0 { Branch::Outer(0) } else {
+            [Branch::Inner, Branch::Outer(1), Branch::Outer(-1)][seed]
+        };
+        let mode = RingMode::Contact(Branches { x: pick(dx, bx_seed), y: pick(dy, by_seed) });
+        let t = 0.5;
+        let k = Kinematics::new([rad * ang.cos(), rad * ang.sin()], [vx, vy]);
+        let off_ring = Vector2::new(off_ring.0, off_ring.1);
+        let (with_cache, single_cache) = (RingCache::default(), RingCache::default());
+        let calls = std::cell::Cell::new(0);
+        let accel_of = |f: &Vector2<f64>| {
+            calls.set(calls.get() + 1);
+            off_ring - f
+        };
+        let mut batched = Vec::new();
+        ring.guard_values_with(&mode, t, &k, Some(&accel_of), &with_cache, &mut |i, v, r| {
+            batched.push((i, v, r));
+        });
+        prop_assert!(calls.get() <= 1, "the force asked for {} times", calls.get());
+        let accel = match ring.ring_state(&mode, t, &k, &single_cache) {
+            Ok(state) => off_ring - state.force,
+            Err(_) => off_ring,
+        };
+        prop_assert_eq!(batched.len(), ring.guard_count(&mode));
+        for (i, value, rate) in batched {
+            let guard = ring.guard(&mode, i).unwrap();
+            let single = ring.guard_value(&mode, guard, t, &k, &single_cache);
+            let single_rate = ring.guard_rate_with_accel(&mode, guard, t, &k, &accel, &single_cache);
+            prop_assert_eq!(value.to_bits(), single.to_bits(), "{:?}: {} vs {}", guard, value, single);
+            prop_assert_eq!(
+                rate.map(f64::to_bits), single_rate.map(f64::to_bits),
+                "{:?}: {:?} vs {:?}", guard, rate, single_rate
+            );
+        }
+    }
+
     /// The chosen branches of the true minimiser are consistent with where the ring is.
     #[test]
     fn located_branches_match_the_ring_position(

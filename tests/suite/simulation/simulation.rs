@@ -559,3 +559,92 @@ fn max_steps_bounds_the_whole_run_not_one_phase() {
     assert!(!err.partial.strobe.is_empty());
     assert!(err.error.t > 0.0);
 }
+
+/// The paper's model computes its guards' rates from the state alone (the event detector
+/// evaluates no right-hand side at its samples): the loss guard's rate is bitwise the ring's
+/// rate given the acceleration of the model's own `rhs`, by the one-guard method and by the
+/// batched one, whatever `dy` is passed; the other guards' rates ignore it too. Checked on
+/// Fig. 8b with an anisotropic ring (Newton placements) and the isotropic one (closed form),
+/// on every branch pair and at random states and times.
+#[test]
+fn guard_rates_need_no_rhs_and_equal_the_rhs_acceleration_bitwise() {
+    use jeffcott::hybrid::RotorModel;
+    use jeffcott::ring::{Branch, Branches, Kinematics, RingCache, RingMode};
+    let mut seed = 0x5EED_u64;
+    let mut next = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / 2f64.powi(53)
+    };
+    for params in [
+        Preset::Fig8b.params(),
+        Params {
+            ky: 12.0,
+            ..Preset::Fig8b.params()
+        },
+    ] {
+        let model = JeffcottModel::new(params).unwrap();
+        assert!(!model.guard_derivative_needs_rhs());
+        let ring = model.ring();
+        for (bx, by) in [
+            (Branch::Inner, Branch::Inner),
+            (Branch::Outer(1), Branch::Outer(-1)),
+            (Branch::Inner, Branch::Outer(1)),
+        ] {
+            let mode = RingMode::Contact(Branches { x: bx, y: by });
+            for _ in 0..50 {
+                let (rad, ang) = (1.0 + 0.5 * next(), std::f64::consts::TAU * next());
+                let y = State::from([
+                    rad * ang.cos(),
+                    rad * ang.sin(),
+                    4.0 * next() - 2.0,
+                    4.0 * next() - 2.0,
+                    0.0,
+                    0.0,
+                ]);
+                let t = 20.0 * next();
+                let mut dy = State::zeros();
+                model.rhs(mode, t, &y, &mut dy, &model.new_cache());
+                let k = Kinematics::new([y[0], y[1]], [y[2], y[3]]);
+                let accel = Vector2::new(dy[2], dy[3]);
+                let junk = State::repeat(1e3);
+                let mut batched = Vec::new();
+                model.guard_values(
+                    mode,
+                    t,
+                    &y,
+                    &junk,
+                    true,
+                    &model.new_cache(),
+                    &mut |i, _, r| {
+                        batched.push((i, r));
+                    },
+                );
+                assert_eq!(batched.len(), model.guard_count(mode));
+                for (i, rate) in batched {
+                    let guard = ring.guard(&mode, i).unwrap();
+                    let expected = ring.guard_rate_with_accel(
+                        &mode,
+                        guard,
+                        t,
+                        &k,
+                        &accel,
+                        &RingCache::default(),
+                    );
+                    let single = model.guard_derivative(mode, i, t, &y, &junk, &model.new_cache());
+                    assert_eq!(
+                        rate.map(f64::to_bits),
+                        expected.map(f64::to_bits),
+                        "{guard:?} at {y:?}"
+                    );
+                    assert_eq!(
+                        single.map(f64::to_bits),
+                        expected.map(f64::to_bits),
+                        "{guard:?} at {y:?}"
+                    );
+                }
+            }
+        }
+    }
+}
