@@ -120,7 +120,7 @@ def main():
     ap.add_argument("--modes", type=int, default=0, help="crate: modes kept (0: full model)")
     ap.add_argument("--rtol", type=float, default=1e-8, help="crate: relative tolerance")
     ap.add_argument("--method", default=None,
-                    help="crate: integration method (default: the example's, radau5 for the full model, dop853 for a reduced one)")
+                    help="crate: integration method (default: the example's, etd4 in modal form for the full model, dop853 for a reduced one)")
     ap.add_argument("--shared", default="../shared", help="the shared data folder")
     ap.add_argument("--friction", type=float, default=0.0,
                     help="Coulomb friction at the ring, both codes (0: frictionless, against the reference)")

@@ -418,7 +418,7 @@ def fe_transient(
     modes: int | str = 0,
     mode_tolerance: float = 1e-3,
     probe_nodes: Sequence[int] = [],
-    form: str = "physical",
+    form: str | None = None,
     friction: float = 0.0,
     shaft_radius: float | None = None,
     rtol: float = 1e-8,

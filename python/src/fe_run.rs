@@ -119,7 +119,9 @@ pub struct FeRun {
     /// response grows whatever the ring does (a RuntimeWarning says so when the run starts).
     pub linearly_unstable: bool,
     /// The integration method that ran, lower case: the one asked for, or the default picked
-    /// (radau5 for the full model, dop853 for a reduced one, etd4 in modal form).
+    /// (``fe_transient``: etd4 in modal form for the full model, radau5 where no modal form
+    /// can be built or in physical form; ``fe_run_up``: radau5 for the full model; dop853 for
+    /// a reduced one).
     pub method: String,
     /// The work done (steps, rejected, rhs_evals, ..., lu_decompositions).
     pub stats: Py<PyDict>,

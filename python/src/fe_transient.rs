@@ -108,10 +108,15 @@ where
 /// displacements and velocities the result records too (through the reduction's basis).
 /// ``form="modal"`` runs the (full or reduced) rotor in its modal coordinates (the crate's
 /// ``ModalRotor``: free flight exact, and the method ``etd4``, exponential, its default);
-/// ``probe_nodes`` need the physical form. Method: radau5 for the full model, dop853 for a
-/// reduced one, etd4 in modal form, unless given (dop853, dopri5, radau5 in either form; etd4
-/// in modal form only; radau5 in modal form is slow, its Jacobian not analytic there: S1's
-/// 0.5 s took 345 s, where the physical form takes 3 s); ``atol`` defaults to ``rtol``.
+/// ``form="physical"`` in its physical (or reduced) coordinates; ``probe_nodes`` need the
+/// physical form. By default (``form=None``, ``method=None``) the fastest path measured to
+/// the requested accuracy (docs/fe-rotors.md): the full model in modal form with etd4
+/// (physical with radau5 where the modal form cannot be built, or with ``probe_nodes``), a
+/// reduced one in physical form with dop853; the result's ``method`` says which ran. A method
+/// given without a form: etd4 in modal form, the others in physical form (dop853, dopri5,
+/// radau5 in either form; etd4 in modal form only; radau5 in modal form is slow, its Jacobian
+/// not analytic there: S1's 0.5 s took 345 s, where the physical form takes 3 s); ``atol``
+/// defaults to ``rtol``.
 /// ``friction`` > 0: Coulomb friction at the ring (the crate's ``RubbingRotor``; docs/friction.md)
 /// between the ring and a shaft of radius ``shaft_radius`` (m, required then) spinning
 /// counter-clockwise: contacts slip forward (``regimes`` 6), backward (7) or roll (8), and
@@ -123,9 +128,9 @@ where
 /// force at the samples, the contact episodes and the revolutions.
 #[pyfunction]
 #[pyo3(
-    signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], form="physical", friction=0.0, shaft_radius=None, rtol=1e-8, atol=None, method=None, layout="ross6"),
+    signature = (M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=ModesArg::Count(0), mode_tolerance=1e-3, probe_nodes=vec![], form=None, friction=0.0, shaft_radius=None, rtol=1e-8, atol=None, method=None, layout="ross6"),
     // Written out: pyo3 shows a tuple default as `...` (Python's Ellipsis) in help().
-    text_signature = "(M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], form='physical', friction=0.0, shaft_radius=None, rtol=1e-08, atol=None, method=None, layout='ross6')"
+    text_signature = "(M, K, C, G, speed, *, ring_node, gap, ring_stiffness, ring_damping, unbalance, t_end, samples, preload=(0.0, 0.0), ring_offset=(0.0, 0.0), modes=0, mode_tolerance=0.001, probe_nodes=[], form=None, friction=0.0, shaft_radius=None, rtol=1e-08, atol=None, method=None, layout='ross6')"
 )]
 #[allow(clippy::too_many_arguments, non_snake_case)] // Python keywords, ROSS's names
 pub fn fe_transient(
@@ -147,7 +152,7 @@ pub fn fe_transient(
     modes: ModesArg,
     mode_tolerance: f64,
     probe_nodes: Vec<usize>,
-    form: &str,
+    form: Option<&str>,
     friction: f64,
     shaft_radius: Option<f64>,
     rtol: f64,
@@ -156,26 +161,36 @@ pub fn fe_transient(
     layout: &str,
 ) -> PyResult<FeRun> {
     let modes = Modes::new(modes, mode_tolerance)?;
+    // The default path: the full model in modal form with ETD4, unless a probe or another
+    // method asks for the physical form.
+    let auto = form.is_none()
+        && !modes.reduces()
+        && probe_nodes.is_empty()
+        && method.is_none_or(|m| m.eq_ignore_ascii_case("etd4"));
     let modal = match form {
-        "physical" => false,
-        "modal" => true,
-        other => {
+        None => auto || method.is_some_and(|m| m.eq_ignore_ascii_case("etd4")),
+        Some("physical") => false,
+        Some("modal") => true,
+        Some(other) => {
             return Err(value_error(format!(
                 "form '{other}' is not physical or modal"
             )))
         }
     };
-    let method = method.unwrap_or(if modal { "etd4" } else { default_method(modes) });
+    let mut method = method.unwrap_or(if modal { "etd4" } else { default_method(modes) });
     if method.eq_ignore_ascii_case("etd4") && !modal {
         return Err(value_error(format!(
-            "method '{method}' with form '{form}': etd4 steps the modal form only (form='modal')"
+            "method '{method}' with form 'physical': etd4 steps the modal form only (form='modal')"
         )));
     }
     if modal && !probe_nodes.is_empty() {
         return Err(value_error("probe_nodes need form='physical'"));
     }
-    let opts = sim_options(Some(rtol), Some(atol.unwrap_or(rtol)), Some(method))?
-        .with_max_events_per_period(u32::MAX);
+    let options = |method| {
+        sim_options(Some(rtol), Some(atol.unwrap_or(rtol)), Some(method))
+            .map(|o| o.with_max_events_per_period(u32::MAX))
+    };
+    let mut opts = options(method)?;
     let lateral = lateral_matrices([&M, &K, &C, &G], layout)?;
     let system = system_at(&lateral, speed, &unbalance)?;
     let at = RingAt::new(
@@ -190,6 +205,20 @@ pub fn fe_transient(
         PyResult::Ok((rotor, reduction, probes))
     })?;
     let dofs = rotor.system().dofs();
+    let modal_form = if modal {
+        match py.detach(|| ModalRotor::new(&rotor).and_then(|m| m.ringed(at.ring))) {
+            Ok(model) => Some(model),
+            // The default's fallback: the physical form with its default method.
+            Err(_) if auto => {
+                method = default_method(modes);
+                opts = options(method)?;
+                None
+            }
+            Err(e) => return Err(value_error(e)),
+        }
+    } else {
+        None
+    };
     let plan = Plan {
         speed,
         friction: coulomb(friction, shaft_radius, "in m")?,
@@ -200,9 +229,7 @@ pub fn fe_transient(
         reduction,
         probes: (&probe_nodes, &probes),
     };
-    if modal {
-        let model = py.detach(|| ModalRotor::new(&rotor).and_then(|m| m.ringed(at.ring)));
-        let model = model.map_err(value_error)?;
+    if let Some(model) = modal_form {
         run_form(py, model, ModalRotor::station_displacement, dofs, plan)
     } else {
         let model = py.detach(|| rotor.ringed(at.ring)).map_err(value_error)?;

@@ -43,7 +43,8 @@ def events(t_end):
 def test_s1_full_model_radau5():
     # tests/suite/fe/fe_s1.rs: all 1001 samples within 1e-6 of the gap, 7 onsets and 6 losses at
     # the reference's times (within 1e-9 s).
-    run, p = s1_run(0.5, rtol=1e-8)
+    run, p = s1_run(0.5, rtol=1e-8, form="physical")
+    assert run.method == "radau5"
     ref = reference(0.5)
     assert run.t.shape == run.x.shape == run.y.shape == (1001,)
     assert run.x.dtype == np.float64 and run.regimes.dtype == np.uint8
@@ -158,6 +159,20 @@ def test_fe_linearly_unstable_rotor_is_flagged(q, unstable):
     assert abs(run.least_damping_ratio - truth) <= 1e-12
 
 
+def test_s1_full_model_default_is_modal_etd4():
+    # The default path for the full model (the fastest measured, docs/fe-rotors.md): the modal
+    # form with ETD4, within 1e-6 of the gap of the shared reference (4.97e-9 measured at rtol
+    # 1e-8) with its onsets and losses.
+    run, p = s1_run(0.5, rtol=1e-8)
+    assert run.method == "etd4" and run.dofs == 136
+    ref = reference(0.5)
+    err = np.max(np.hypot(run.x - ref[:, 1], run.y - ref[:, 2])) / p["gamma_m"]
+    assert err <= 1e-6, f"{err:e} gap"
+    onsets, losses = events(0.5)
+    assert np.max(np.abs(run.onsets - onsets)) <= 1e-6
+    assert np.max(np.abs(run.losses - losses)) <= 1e-6
+
+
 @pytest.mark.parametrize("kw, allowed", [(dict(), 1e-6), (dict(method="dop853", modes=24), 1e-4)])
 def test_s1_modal_form(kw, allowed):
     # The modal form (free flight exact; in contact ETD4, its default, or DOP853) against the
@@ -174,8 +189,8 @@ def test_s1_modal_form(kw, allowed):
     assert run.dofs == (136 if "modes" not in kw else 26) and run.stats["steps"] > 0
 
 
-@pytest.mark.parametrize("kw", [dict(method="etd4"), dict(form="modal", probe_nodes=[3]),
-                                dict(form="spectral")])
+@pytest.mark.parametrize("kw", [dict(method="etd4", form="physical"),
+                                dict(form="modal", probe_nodes=[3]), dict(form="spectral")])
 def test_fe_form_and_method_must_agree(kw):
     with pytest.raises(ValueError):
         s1_run(0.01, **kw)

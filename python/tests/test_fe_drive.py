@@ -274,8 +274,8 @@ def test_fe_rub_outputs_against_the_samples():
 
 
 def test_fe_runs_say_which_method_ran():
-    # The default picked (radau5 for the full model, dop853 reduced, etd4 in modal form) or
-    # the one asked for, lower case.
+    # The default picked (fe_run_up: radau5 for the full model, dop853 reduced, etd4 in modal
+    # form) or the one asked for, lower case.
     M, K, C, G = matrices()
     ring = dict(ring_node=0, gap=GAP, ring_stiffness=KS, ring_damping=0.0,
                 unbalance=[(0, ME, PHASE)], layout="lateral4")
@@ -287,5 +287,9 @@ def test_fe_runs_say_which_method_ran():
     assert crate_drive(True, t_end=0.5, dt=0.05).method == "radau5"
     run = lambda **kw: jeffcott.fe_transient(M, K, C, G, 8.0, t_end=0.5, samples=10, **ring,
                                              **kw).method
-    assert run() == "radau5" and run(form="modal") == "etd4"
+    # fe_transient's default for the full model: the modal form with etd4; the physical
+    # form's radau5, a reduced rotor's dop853, or a probe's physical form on request.
+    assert run() == "etd4" and run(form="modal") == "etd4"
+    assert run(form="physical") == "radau5" and run(modes=1) == "dop853"
+    assert run(probe_nodes=[0]) == "radau5" and run(method="etd4") == "etd4"
     assert run(form="modal", method="dop853") == "dop853"
