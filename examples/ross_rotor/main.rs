@@ -149,13 +149,13 @@ fn check<T, E: std::fmt::Display>(r: Result<T, E>, what: &str) -> T {
 
 fn main() {
     let mut f: Flags = parse();
-    let (model, kept) = model(&f);
-    let dofs = model.rotor().system().dofs();
+    let (rotor, ring, kept) = model(&f);
+    let dofs = rotor.system().dofs();
     let asked = f.method.is_some();
     f.method = Some(method(&f));
     let mut picked = if asked { "" } else { " (default)" }.to_string();
     let modal = match f.method {
-        Some(MethodFlag::Etd4) => match ModalRotor::new(model.rotor()) {
+        Some(MethodFlag::Etd4) => match ModalRotor::new(&rotor) {
             Ok(modal) => Some(modal),
             Err(e) if !asked => {
                 // The default's fallback: the stiff physical form, and why.
@@ -167,14 +167,17 @@ fn main() {
         },
         _ => None,
     };
+    // Each form on the ring with its own decomposition (the physical one is not built for the
+    // modal run: one eigen-decomposition, not two).
     let (run, free_flight) = if let Some(modal) = modal {
-        let modal = check(modal.ringed(*model.ring()), "ring");
+        let modal = check(modal.ringed(ring), "ring");
         let free_flight = format!("{} (modal coordinates)", free_flight(modal.closed_form()));
         (
             on_ring(modal, &f, ModalRotor::station_displacement),
             free_flight,
         )
     } else {
+        let model = check(rotor.ringed(ring), "ring");
         let free_flight = free_flight(model.closed_form());
         (
             on_ring(model, &f, LinearRotor::station_displacement),
@@ -195,9 +198,9 @@ fn free_flight(closed_form: Option<Result<&LinearClosedForm, &RotorError>>) -> S
     }
 }
 
-/// The rotor of the flags on the ring, full or reduced, and the highest kept mode's frequency
+/// The rotor of the flags, full or reduced, its ring, and the highest kept mode's frequency
 /// (rad/s) of a reduction. Bad input exits with status 2.
-fn model(f: &Flags) -> (RingedRotor<LinearRotor>, Option<f64>) {
+fn model(f: &Flags) -> (LinearRotor, SnubberRing, Option<f64>) {
     let matrices = check(
         RotorMatrices::from_ross_mat(&f.mat),
         &f.mat.display().to_string(),
@@ -230,7 +233,7 @@ fn model(f: &Flags) -> (RingedRotor<LinearRotor>, Option<f64>) {
         let rotor = check(LinearRotor::new(reduced, [0, 1], offset), "rotor");
         (rotor, cb.frequencies().last().copied())
     };
-    (check(rotor.ringed(ring), "ring"), kept)
+    (rotor, ring, kept)
 }
 
 /// The summary line: the model, the method (`picked`: whether it is the default), how free
