@@ -173,6 +173,19 @@ def test_s1_full_model_default_is_modal_etd4():
     assert np.max(np.abs(run.losses - losses)) <= 1e-6
 
 
+def test_fe_transient_default_falls_back_to_radau5_without_a_modal_form():
+    # A free-free rotor (K = 0 on x, y: the rigid modes at lambda = 0 are defective) has no
+    # modal form: asked for, a ValueError says why; by default the physical form with radau5
+    # runs, and `method` says so.
+    M, K, C, G = np.eye(4), np.diag([0.0, 0.0, 1.0, 1.0]), np.zeros((4, 4)), np.zeros((4, 4))
+    kw = dict(ring_node=0, gap=1.0, ring_stiffness=1.0, ring_damping=0.0,
+              unbalance=[(0, 1e-3, 0.0)], t_end=1.0, samples=10, layout="lateral4")
+    with pytest.raises(ValueError, match="condition number"):
+        jeffcott.fe_transient(M, K, C, G, 1.0, form="modal", **kw)
+    run = jeffcott.fe_transient(M, K, C, G, 1.0, **kw)
+    assert run.method == "radau5" and run.t.shape == (11,)
+
+
 @pytest.mark.parametrize("kw, allowed", [(dict(), 1e-6), (dict(method="dop853", modes=24), 1e-4)])
 def test_s1_modal_form(kw, allowed):
     # The modal form (free flight exact; in contact ETD4, its default, or DOP853) against the
