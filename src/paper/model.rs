@@ -232,11 +232,11 @@ impl JeffcottModel {
         (c, s)
     }
 
-    /// The rotor's acceleration but for the ring's force:
-    /// $\beta\eta^2(\cos, \sin)(\varphi_0 + \eta t) - 2\nu_1 r^\prime - (r - e)$, the forcing by
-    /// [`JeffcottModel::forcing_phase`] (so `rhs` and the guards' rates share its bits).
-    fn accel_off_ring(&self, t: f64, y: &State, cache: &Cache) -> Vector2<f64> {
-        let (cs, sn) = self.forcing_phase(t, cache);
+    /// The rotor's acceleration but for the ring's force, given the forcing phase's
+    /// $(\cos, \sin)(\varphi_0 + \eta t)$: $\beta\eta^2(\cos, \sin) - 2\nu_1 r^\prime - (r - e)$
+    /// (`rhs` and the guards' rates pass [`JeffcottModel::forcing_phase`]'s, so they share its
+    /// bits).
+    fn accel_off_ring(&self, (cs, sn): (f64, f64), y: &State) -> Vector2<f64> {
         let p = &self.params;
         Vector2::new(
             self.amp * cs - 2.0 * p.nu1 * y[2] - (y[0] - p.ex),
@@ -328,7 +328,7 @@ impl RotorModel for JeffcottModel {
     }
 
     fn rhs(&self, mode: Mode, t: f64, y: &State, dy: &mut State, cache: &Cache) {
-        let mut f = self.accel_off_ring(t, y, cache);
+        let mut f = self.accel_off_ring(self.forcing_phase(t, cache), y);
         let (sdx, sdy) = match self
             .ring
             .ring_state(&mode, t, &Self::kinematics(y), &cache.ring)
@@ -378,7 +378,7 @@ impl RotorModel for JeffcottModel {
         }
         // The loss force's rate needs the rotor's acceleration: the right-hand side's, from
         // the same formulas.
-        let mut accel = self.accel_off_ring(t, y, cache);
+        let mut accel = self.accel_off_ring(self.forcing_phase(t, cache), y);
         if let Ok(ring) = self.ring.ring_state(&mode, t, &k, &cache.ring) {
             accel -= ring.force;
         }
@@ -403,7 +403,8 @@ impl RotorModel for JeffcottModel {
         out: &mut dyn FnMut(usize, f64, Option<f64>),
     ) {
         // The acceleration of `rhs` from the ring's force at the contact the guards locate.
-        let accel_of = |force: &Vector2<f64>| self.accel_off_ring(t, y, cache) - force;
+        let accel_of =
+            |force: &Vector2<f64>| self.accel_off_ring(self.forcing_phase(t, cache), y) - force;
         self.ring.guard_values_with(
             &mode,
             t,
@@ -439,10 +440,7 @@ impl RotorModel for JeffcottModel {
         // The rotor's acceleration without the ring, for the ring's acceptance test.
         let p = &self.params;
         let (sn, cs) = (p.phi0 + p.eta * t).sin_cos();
-        let free = Vector2::new(
-            self.amp * cs - 2.0 * p.nu1 * y[2] - (y[0] - p.ex),
-            self.amp * sn - 2.0 * p.nu1 * y[3] - (y[1] - p.ey),
-        );
+        let free = self.accel_off_ring((cs, sn), y);
         let next = self
             .ring
             .transition(

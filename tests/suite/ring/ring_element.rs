@@ -17,6 +17,16 @@ fn ring(kx: f64, dx: f64, ky: f64, dy: f64, nu2: f64) -> SnubberRing {
     SnubberRing::new(RingAxis::new(kx, dx), RingAxis::new(ky, dy), nu2, 1.0).unwrap()
 }
 
+/// The branch a property test draws for an axis with preload `d`: the one branch of an
+/// unpreloaded axis, else inner or either outer side by `seed` (0, 1, 2).
+fn drawn_branch(d: f64, seed: usize) -> Branch {
+    if d == 0.0 {
+        Branch::Outer(0)
+    } else {
+        [Branch::Inner, Branch::Outer(1), Branch::Outer(-1)][seed]
+    }
+}
+
 /// Deterministic pseudo-random numbers in [0, 1) (SplitMix64).
 struct Rng(u64);
 impl Rng {
@@ -359,10 +369,7 @@ proptest! {
         bx_seed in 0usize..3, by_seed in 0usize..3,
     ) {
         let ring = ring(kx, dx, ky, dy, 0.01);
-        let pick = |d: f64, seed: usize| if d == 0.0 { Branch::Outer(0) } else {
-            [Branch::Inner, Branch::Outer(1), Branch::Outer(-1)][seed]
-        };
-        let b = Branches { x: pick(dx, bx_seed), y: pick(dy, by_seed) };
+        let b = Branches { x: drawn_branch(dx, bx_seed), y: drawn_branch(dy, by_seed) };
         let r = Vector2::new(rad * ang.cos(), rad * ang.sin());
         match ring.locate_on(&r, b, f64::NAN) {
             Ok(c) => {
@@ -402,9 +409,6 @@ proptest! {
         bx_seed in 0usize..3, by_seed in 0usize..3, warm in prop::option::of((1.0f64..3.0, 0.0f64..6.3)),
     ) {
         let ring = ring(kx, dx, ky, dy, nu2);
-        let pick = |d: f64, seed: usize| if d == 0.0 { Branch::Outer(0) } else {
-            [Branch::Inner, Branch::Outer(1), Branch::Outer(-1)][seed]
-        };
         let mode = if free {
             RingMode::Free {
                 relax: jeffcott::ring::Relaxation { t0, s0: Vector2::new(s0.0, s0.1) },
@@ -412,7 +416,7 @@ proptest! {
                 onset_margin: margin,
             }
         } else {
-            RingMode::Contact(Branches { x: pick(dx, bx_seed), y: pick(dy, by_seed) })
+            RingMode::Contact(Branches { x: drawn_branch(dx, bx_seed), y: drawn_branch(dy, by_seed) })
         };
         let t = t0 + dt;
         let k = Kinematics::new([rad * ang.cos(), rad * ang.sin()], [vx, vy]);
@@ -461,10 +465,7 @@ proptest! {
         bx_seed in 0usize..3, by_seed in 0usize..3,
     ) {
         let ring = ring(kx, dx, ky, dy, nu2);
-        let pick = |d: f64, seed: usize| if d == 0.0 { Branch::Outer(0) } else {
-            [Branch::Inner, Branch::Outer(1), Branch::Outer(-1)][seed]
-        };
-        let mode = RingMode::Contact(Branches { x: pick(dx, bx_seed), y: pick(dy, by_seed) });
+        let mode = RingMode::Contact(Branches { x: drawn_branch(dx, bx_seed), y: drawn_branch(dy, by_seed) });
         let t = 0.5;
         let k = Kinematics::new([rad * ang.cos(), rad * ang.sin()], [vx, vy]);
         let off_ring = Vector2::new(off_ring.0, off_ring.1);
