@@ -36,8 +36,10 @@ pub struct SimOptions {
     /// Largest step as a fraction of the forcing period (> 0). Default 0.25.
     pub max_step_fraction: f64,
     /// Interior samples per step for guard detection on the dense output, in
-    /// `1..=`[`MAX_SAMPLES`]. Default 4.
-    pub event_samples: usize,
+    /// `1..=`[`MAX_SAMPLES`], evenly spaced. Default `None`: the method's
+    /// ([`Method::event_samples`]: 4, and 3 for ETD4, whose dense output is cheapest at the
+    /// step's quarters).
+    pub event_samples: Option<usize>,
     /// Chattering bound: more transitions than this within one forcing period is an error
     /// ([`SimErrorKind::Chattering`]), reported once time is seen to advance past the transition
     /// that exceeded the bound (so that raising it lets the run go further). Default 1000.
@@ -88,10 +90,17 @@ impl SimOptions {
         self
     }
 
-    /// With [`event_samples`](Self::event_samples) = `value`.
+    /// The interior samples per step a run takes: [`event_samples`](Self::event_samples), or
+    /// the method's.
+    pub fn samples_per_step(&self) -> usize {
+        self.event_samples
+            .unwrap_or_else(|| self.method.event_samples())
+    }
+
+    /// With [`event_samples`](Self::event_samples) = `Some(value)`.
     #[must_use]
     pub fn with_event_samples(mut self, value: usize) -> Self {
-        self.event_samples = value;
+        self.event_samples = Some(value);
         self
     }
 
@@ -118,7 +127,7 @@ impl Default for SimOptions {
             atol: 1e-12,
             steps_per_period: 400,
             max_step_fraction: 0.25,
-            event_samples: 4,
+            event_samples: None,
             max_events_per_period: 1000,
             max_steps: 10_000_000,
         }
@@ -695,10 +704,11 @@ fn check_options(
             "t_end must be finite and not before the start",
         );
     }
-    if opts.event_samples == 0 || opts.event_samples > MAX_SAMPLES {
+    let samples = opts.samples_per_step();
+    if samples == 0 || samples > MAX_SAMPLES {
         return bad(
             "event_samples",
-            opts.event_samples as f64,
+            samples as f64,
             "use 1..=ode::MAX_SAMPLES (64) interior samples per step, e.g. 4",
         );
     }
@@ -994,7 +1004,7 @@ where
             caches,
             fixed_step: opts.method == Method::Rk4,
             max_steps: opts.max_steps,
-            ev_opts: EventOptions::default().with_samples_per_step(opts.event_samples),
+            ev_opts: EventOptions::default().with_samples_per_step(opts.samples_per_step()),
             integ,
             ev_state: EventState::with_dim(dim),
             w: Scratch::new(dim),

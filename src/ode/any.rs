@@ -43,6 +43,17 @@ impl Method {
         matches!(self, Method::Radau5)
     }
 
+    /// Interior samples per step at which the event detector reads the guards on this
+    /// method's dense output, unless a run asks for others: 3 for ETD4, at the step's quarters,
+    /// where its dense output reuses the $\varphi$-functions its step computed instead of
+    /// evaluating its own; 4 for the others (at fifths).
+    pub fn event_samples(self) -> usize {
+        match self {
+            Method::Etd4 => 3,
+            Method::Dop853 | Method::Dopri5 | Method::Rk4 | Method::Radau5 => 4,
+        }
+    }
+
     /// Classical order of the propagating formula (8, 5, 4, 5, 4).
     pub fn order(self) -> u32 {
         match self {

@@ -101,6 +101,9 @@ pub(super) struct DenseStep<'a> {
     quartic: [&'a [Quartic]; 2],
     starts: [&'a [f64]; 2],
     jumps: Option<[&'a [f64]; 2]>,
+    /// The accepted trial's $\varphi$-functions and forcing increments, when they are this
+    /// step's: the output at a half step's middle or end reuses them.
+    cached: Option<(&'a [DenseSets], [&'a [Increments]; 2])>,
     t_prev: f64,
     h: f64,
 }
@@ -120,9 +123,23 @@ impl<'a> DenseStep<'a> {
             quartic: [quartic[0].as_slice(), quartic[1].as_slice()],
             starts: starts.map(|u| u.as_slice()),
             jumps: None,
+            cached: None,
             t_prev,
             h,
         }
+    }
+
+    /// With the last trial's $\varphi$-functions at $h\lambda/4$ and $h\lambda/2$ and its half
+    /// steps' forcing increments, if that trial, at `(t, h)`, is this step (a later trial that
+    /// failed overwrites them).
+    pub(super) fn reusing(
+        self,
+        trial: (f64, f64),
+        sets: &'a [DenseSets],
+        increments: [&'a [Increments]; 2],
+    ) -> Self {
+        let cached = (trial == (self.t_prev, self.h)).then_some((sets, increments));
+        DenseStep { cached, ..self }
     }
 
     /// With the half steps' jumps.
@@ -140,6 +157,17 @@ impl<'a> DenseStep<'a> {
     /// that holds it, with $\varphi_0, \dots, \varphi_5$ at $\theta\tau\lambda$ and the
     /// forcing's exact response ([`Window`]) computed here.
     pub(super) fn at(&self, lp: &DiagonalLinearPart, t: f64, out: &mut [f64]) {
+        if let Some((sets, increments)) = self.cached
+            && let Some((half, end)) = self.quarter_point(t)
+        {
+            // The half step's middle (theta = 1/2) or end (theta = 1): the trial's sets.
+            let (theta, set, part) = if end { (1.0, 1, 2) } else { (0.5, 0, 0) };
+            let increments = increments[half];
+            self.on_half(lp, half, theta, out, |i| {
+                (sets[i][set], increments[i][part])
+            });
+            return;
+        }
         let tau = 0.5 * self.h;
         let s = (t - self.t_prev) / tau;
         let half = usize::from(s > 1.0);
@@ -156,6 +184,24 @@ impl<'a> DenseStep<'a> {
             });
             (phi, forced)
         });
+    }
+
+    /// Which point of the step `t` is within rounding of, if one the trial's
+    /// $\varphi$-functions serve: `(half, end)` for the middle (`end` false) or the end of half
+    /// step `half`, at $t_{\text{prev}} + (2\thinspace\text{half} + 1 + \text{end})\thinspace h/4$.
+    /// Within rounding: $4\varepsilon$ of the larger of $|t_{\text{prev}}|$ and $|t_{\text{prev}} +
+    /// h|$ (the event detector's samples at the step's quarters, computed from the step's ends,
+    /// fall there), so the output is the one at that point, off by less than the detector's
+    /// time tolerance.
+    fn quarter_point(&self, t: f64) -> Option<(usize, bool)> {
+        let slack = 4.0 * f64::EPSILON * self.t_prev.abs().max((self.t_prev + self.h).abs());
+        let quarters = (t - self.t_prev) / (0.25 * self.h);
+        let k = quarters.round();
+        if !(1.0..=4.0).contains(&k) || (t - (self.t_prev + k * 0.25 * self.h)).abs() > slack {
+            return None;
+        }
+        let k = k as usize;
+        Some(((k - 1) / 2, k % 2 == 0))
     }
 
     /// The end of half step `half` without its jump into `out`, from the coefficients'
@@ -200,5 +246,97 @@ impl<'a> DenseStep<'a> {
             }
             put(out, i, p, value + forced);
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Complex;
+
+    use super::super::{coefficients, forcing_increments, Coefficients, DenseSets, Increments};
+    use super::{DenseStep, Quartic};
+    use crate::ode::linear_part::{BlockForcing, DiagonalLinearPart};
+
+    /// At a step's quarters the output from the trial's $\varphi$-functions and increments is
+    /// the computed one, bit for bit (on a step from 0 of length 1, where the quarters and
+    /// each $\theta$ are exact): stiff, slow, oscillating and near-resonant blocks, real and
+    /// complex, forced and not.
+    #[test]
+    fn the_cached_quarters_are_the_computed_output_bitwise() {
+        let (w, dim) = (3.0, 9);
+        let lp = DiagonalLinearPart::new(
+            dim,
+            &[(0, -2.0e4), (1, -0.3), (8, 0.0)],
+            &[
+                (2, Complex::new(-0.01, 3.0)),
+                (4, Complex::new(-5.0, 40.0)),
+                (6, Complex::new(-0.2, -1.0)),
+            ],
+        )
+        .unwrap()
+        .with_forcing(
+            w,
+            &[
+                (1, forced([(0.7, 0.0), (0.1, 0.0), (-0.2, 0.0)])),
+                (2, forced([(1.0, 0.5), (-0.5, 1.0), (0.0, 1.0)])),
+                (6, forced([(-0.4, 0.1), (0.2, 0.3), (0.3, 0.2)])),
+                (8, forced([(0.0, 0.0), (0.0, 0.0), (0.5, 0.0)])),
+            ],
+        )
+        .unwrap();
+        let h = 1.0;
+        let zero = Complex::new(0.0, 0.0);
+        let (mut full, mut half): (Vec<Coefficients>, Vec<Coefficients>) =
+            (vec![[zero; 7]; dim], vec![[zero; 7]; dim]);
+        let mut sets: Vec<DenseSets> = vec![[[zero; 6]; 2]; dim];
+        coefficients(&lp, h, &mut full, &mut half, &mut sets);
+        let mut increments: [Vec<Increments>; 3] = std::array::from_fn(|_| vec![[zero; 3]; dim]);
+        forcing_increments(
+            &lp,
+            lp.forcing().unwrap(),
+            (&full, &half),
+            0.0,
+            h,
+            &mut increments,
+        );
+        // Any quartic, starts and jumps: the two paths share them.
+        let value = |k: usize| Complex::new((k as f64 * 0.37).sin(), (k as f64 * 0.61).cos());
+        let quartic: [Vec<Quartic>; 2] = std::array::from_fn(|j| {
+            (0..dim)
+                .map(|i| std::array::from_fn(|k| value(i * 11 + k + 5 * j)))
+                .collect()
+        });
+        let starts: [nalgebra::DVector<f64>; 2] =
+            std::array::from_fn(|j| nalgebra::DVector::from_fn(dim, |i, _| value(3 * i + j).re));
+        let jumps: [nalgebra::DVector<f64>; 2] = std::array::from_fn(|j| {
+            nalgebra::DVector::from_fn(dim, |i, _| 1e-3 * value(7 * i + j).im)
+        });
+        let plain = DenseStep::new(&quartic, [&starts[0], &starts[1]], 0.0, h).with_jumps(&jumps);
+        let cached = plain.reusing((0.0, h), &sets, [&increments[1], &increments[2]]);
+        let stale = plain.reusing((0.0, 0.5), &sets, [&increments[1], &increments[2]]);
+        assert!(stale.cached.is_none(), "another trial's sets taken");
+        for k in 1..=4 {
+            let t = k as f64 * 0.25;
+            assert!(
+                cached.quarter_point(t).is_some(),
+                "quarter {k} not recognised"
+            );
+            let (mut a, mut b) = (vec![0.0; dim], vec![0.0; dim]);
+            plain.at(&lp, t, &mut a);
+            cached.at(&lp, t, &mut b);
+            let bits = |v: Vec<f64>| v.into_iter().map(f64::to_bits).collect::<Vec<_>>();
+            let (a, b) = (bits(a), bits(b));
+            assert_eq!(a, b, "at t = {t}");
+        }
+        // Off the quarters (beyond rounding) nothing is taken from the cache.
+        for t in [0.1, 0.25 + 1e-12, 0.5 - 1e-9, 0.9] {
+            assert!(cached.quarter_point(t).is_none(), "t = {t}");
+        }
+    }
+
+    /// A block's forcing from its amplitudes' (re, im): cos, sin, constant.
+    fn forced(amplitudes: [(f64, f64); 3]) -> BlockForcing {
+        let [cos, sin, constant] = amplitudes.map(|(re, im)| Complex::new(re, im));
+        BlockForcing { cos, sin, constant }
     }
 }

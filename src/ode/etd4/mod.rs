@@ -673,11 +673,15 @@ where
                     u_mid,
                     quartic,
                     jumps,
+                    coef_dense,
+                    increments,
+                    coef_at,
                     ..
                 } = self;
                 let starts = [&core.y_prev, &*u_mid];
                 DenseStep::new(quartic, starts, core.t_prev, core.h_dense)
                     .with_jumps(jumps)
+                    .reusing(*coef_at, coef_dense, [&increments[1], &increments[2]])
                     .at(lp, t, out.as_mut_slice());
             }
             _ => self.core.copy_state(out),
@@ -696,6 +700,9 @@ where
             u_mid,
             quartic,
             jumps,
+            coef_dense,
+            increments,
+            coef_at,
             ..
         } = self;
         let Core {
@@ -707,6 +714,7 @@ where
         } = core;
         DenseStep::new(quartic, [y_prev, u_mid], *t_prev, *h_dense)
             .with_jumps(jumps)
+            .reusing(*coef_at, coef_dense, [&increments[1], &increments[2]])
             .at(lp, t_new, y_new.as_mut_slice());
         core.apply_truncate(sys, t_new)
     }

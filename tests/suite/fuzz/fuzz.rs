@@ -398,7 +398,8 @@ fn invalid_fields(o: &SimOptions) -> Vec<&'static str> {
     if !(o.max_step_fraction.is_finite() && o.max_step_fraction > 0.0) {
         bad.push("max_step_fraction");
     }
-    if o.event_samples == 0 || o.event_samples > jeffcott::ode::MAX_SAMPLES {
+    let samples = o.samples_per_step();
+    if samples == 0 || samples > jeffcott::ode::MAX_SAMPLES {
         bad.push("event_samples");
     }
     bad

@@ -95,8 +95,8 @@ fn texts(scan: &GridScan) -> Vec<String> {
 fn a_resume_with_another_setting_is_refused_naming_it() {
     let dir = started("setting");
     let mut other = quick();
-    let stored = other.opts.event_samples;
-    other.opts.event_samples = stored + 1;
+    let stored = other.opts.samples_per_step();
+    other.opts.event_samples = Some(stored + 1);
     match resume(&dir, &grid(), &other) {
         Err(StoreError::SettingMismatch {
             setting,
@@ -108,7 +108,8 @@ fn a_resume_with_another_setting_is_refused_naming_it() {
             (
                 "settings.opts.event_samples",
                 &*(stored + 1).to_string(),
-                &*stored.to_string()
+                // Stored: the method's default, `None`.
+                "null"
             )
         ),
         other => panic!("{:?}", other.map(|s| s.results.computed)),
